@@ -1,0 +1,3 @@
+/* SPDX-License-Identifier: MIT
+ * Placeholder until strata-info lands. */
+#include <stdio.h>

@@ -1,0 +1,148 @@
+/* SPDX-License-Identifier: MIT
+ * Shared helpers for the cmocka tests. */
+#include "test_support.h"
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static int case_skipped;
+static char tmpdir_path[256];
+static char joined[4096];
+
+const char *sta_test_shared_data(void)
+{
+    static char found[4096];
+    const char *env = getenv("STA_SHARED_DATA");
+    const char *candidates[] = { env, STA_DEFAULT_SHARED_DATA };
+    for (size_t i = 0; i < 2; i++) {
+        struct stat st;
+        if (candidates[i] && candidates[i][0] && stat(candidates[i], &st) == 0 &&
+            S_ISDIR(st.st_mode)) {
+            snprintf(found, sizeof(found), "%s", candidates[i]);
+            return found;
+        }
+    }
+    return NULL;
+}
+
+const char *sta_test_shared_path(const char *relative)
+{
+    const char *root = sta_test_shared_data();
+    if (!root) {
+        return NULL;
+    }
+    snprintf(joined, sizeof(joined), "%s/%s", root, relative);
+    return joined;
+}
+
+static void remove_tree(const char *path)
+{
+    DIR *dir = opendir(path);
+    if (!dir) {
+        return;
+    }
+    struct dirent *entry;
+    char child[4096];
+    while ((entry = readdir(dir)) != NULL) {
+        if (strcmp(entry->d_name, ".") == 0 || strcmp(entry->d_name, "..") == 0) {
+            continue;
+        }
+        snprintf(child, sizeof(child), "%s/%s", path, entry->d_name);
+        struct stat st;
+        if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode)) {
+            remove_tree(child);
+        } else {
+            unlink(child);
+        }
+    }
+    closedir(dir);
+    rmdir(path);
+}
+
+static void remove_tmpdir(void)
+{
+    if (tmpdir_path[0]) {
+        remove_tree(tmpdir_path);
+    }
+}
+
+const char *sta_test_tmpdir(void)
+{
+    if (!tmpdir_path[0]) {
+        const char *base = getenv("TMPDIR");
+        snprintf(tmpdir_path, sizeof(tmpdir_path), "%s/sta-test-XXXXXX",
+                 base && base[0] ? base : "/tmp");
+        if (!mkdtemp(tmpdir_path)) {
+            fail_msg("cannot create a temporary folder");
+        }
+        atexit(remove_tmpdir);
+    }
+    return tmpdir_path;
+}
+
+const char *sta_test_tmp_path(const char *name)
+{
+    snprintf(joined, sizeof(joined), "%s/%s", sta_test_tmpdir(), name);
+    return joined;
+}
+
+void sta_test_mark_skipped(const char *reason)
+{
+    case_skipped = 1;
+    fprintf(stderr, "SKIPPED: %s\n", reason);
+}
+
+uint8_t *sta_test_read_file(const char *path, size_t *out_size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        fail_msg("cannot open %s", path);
+    }
+    fseek(f, 0, SEEK_END);
+    long size = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    uint8_t *data = malloc(size > 0 ? (size_t)size : 1);
+    assert_non_null(data);
+    if (size > 0 && fread(data, 1, (size_t)size, f) != (size_t)size) {
+        fail_msg("cannot read %s", path);
+    }
+    fclose(f);
+    *out_size = (size_t)size;
+    return data;
+}
+
+void sta_test_write_file(const char *path, const void *data, size_t size)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f) {
+        fail_msg("cannot create %s", path);
+    }
+    if (size > 0 && fwrite(data, 1, size, f) != size) {
+        fail_msg("cannot write %s", path);
+    }
+    fclose(f);
+}
+
+int sta_test_run(const char *group, const struct CMUnitTest *tests, size_t count, int argc,
+                 char **argv)
+{
+    if (argc > 1) {
+        // One case by exact name, as ctest registers them.
+        for (size_t i = 0; i < count; i++) {
+            if (strcmp(tests[i].name, argv[1]) == 0) {
+                int failed = _cmocka_run_group_tests(group, &tests[i], 1, NULL, NULL);
+                if (failed == 0 && case_skipped) {
+                    return 77;
+                }
+                return failed;
+            }
+        }
+        fprintf(stderr, "no test case named %s in %s\n", argv[1], group);
+        return 2;
+    }
+    return _cmocka_run_group_tests(group, tests, count, NULL, NULL);
+}

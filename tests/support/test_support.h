@@ -1,0 +1,65 @@
+/* SPDX-License-Identifier: MIT
+ * Shared helpers for the cmocka tests: one ctest per case, honest skips, paths.
+ *
+ * Each test binary ends with STA_TEST_MAIN(tests). ctest runs it once per case with
+ * the case name as argv[1]; a case that calls STA_TEST_SKIP exits with 77, which
+ * ctest reports as skipped with the printed reason (SKIP_RETURN_CODE 77).
+ */
+#ifndef STA_TEST_SUPPORT_H
+#define STA_TEST_SUPPORT_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+/* The shared test data folder (../shared/data beside the checkout, or
+ * $STA_SHARED_DATA), or NULL when it is absent. */
+const char *sta_test_shared_data(void);
+
+/* Joins the shared data folder and `relative` into a static buffer; NULL when the
+ * folder is absent. Not reentrant. */
+const char *sta_test_shared_path(const char *relative);
+
+/* A fresh private temporary folder for this process (removed at exit). */
+const char *sta_test_tmpdir(void);
+
+/* Joins sta_test_tmpdir() and `name` into a static buffer. Not reentrant. */
+const char *sta_test_tmp_path(const char *name);
+
+/* Marks the running case skipped with a reason printed to stderr. */
+void sta_test_mark_skipped(const char *reason);
+
+/* Reads a whole file into a malloc'ed buffer (test failure if it cannot). */
+uint8_t *sta_test_read_file(const char *path, size_t *out_size);
+
+/* Writes bytes to a file (test failure if it cannot). */
+void sta_test_write_file(const char *path, const void *data, size_t size);
+
+/* Skip the current case with a reason; returns from the test function. */
+#define STA_TEST_SKIP(reason)                                                               \
+    do {                                                                                   \
+        sta_test_mark_skipped(reason);                                                     \
+        skip();                                                                            \
+    } while (0)
+
+/* Skip unless ../shared/data is present. */
+#define STA_TEST_REQUIRE_SHARED_DATA()                                                      \
+    do {                                                                                   \
+        if (!sta_test_shared_data()) {                                                     \
+            STA_TEST_SKIP("../shared/data is absent (set STA_SHARED_DATA to its path)");   \
+        }                                                                                  \
+    } while (0)
+
+int sta_test_run(const char *group, const struct CMUnitTest *tests, size_t count, int argc,
+                 char **argv);
+
+#define STA_TEST_MAIN(tests)                                                                \
+    int main(int argc, char **argv)                                                        \
+    {                                                                                      \
+        return sta_test_run(__FILE__, tests, sizeof(tests) / sizeof(tests[0]), argc, argv); \
+    }
+
+#endif

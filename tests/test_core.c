@@ -1,0 +1,111 @@
+/* SPDX-License-Identifier: MIT
+ * Tests for src/core: errors, allocation hook, byte helpers, file maps. */
+#include "test_support.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "core/bytes.h"
+#include "core/file_map.h"
+#include "core/status.h"
+
+static void fail_formats_message_and_returns_code(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    sta_status s = sta_fail(&err, STA_ERR_FORMAT, "%s: point count %d", "a.las", 42);
+    assert_int_equal(s, STA_ERR_FORMAT);
+    assert_int_equal(err.code, STA_ERR_FORMAT);
+    assert_string_equal(err.message, "a.las: point count 42");
+    assert_int_equal(sta_error_prefix(&err, "reading %s", "x"), STA_ERR_FORMAT);
+    assert_string_equal(err.message, "reading x: a.las: point count 42");
+    // A NULL error is allowed and still returns the code.
+    assert_int_equal(sta_fail(NULL, STA_ERR_IO, "x"), STA_ERR_IO);
+    assert_string_equal(sta_status_str(STA_ERR_UNSUPPORTED), "unsupported");
+}
+
+static void alloc_hook_fails_the_nth_allocation(void **state)
+{
+    (void)state;
+    sta_alloc_fail_after(2);
+    void *a = sta_malloc(8);
+    void *b = sta_malloc(8);
+    void *c = sta_malloc(8);
+    sta_alloc_fail_after(-1);
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_null(c);
+    sta_free(a);
+    sta_free(b);
+    void *d = sta_malloc(8);
+    assert_non_null(d);
+    sta_free(d);
+}
+
+static void alloc_array_rejects_overflow(void **state)
+{
+    (void)state;
+    assert_null(sta_alloc_array(SIZE_MAX / 2 + 2, 2));
+    assert_null(sta_calloc(SIZE_MAX / 4, 8));
+    void *p = sta_alloc_array(10, 4);
+    assert_non_null(p);
+    assert_null(sta_realloc_array(p, SIZE_MAX, 16));
+    sta_free(p); // still valid after the failed resize
+}
+
+static void bytes_round_trip_little_endian(void **state)
+{
+    (void)state;
+    uint8_t buf[8];
+    sta_store_u32le(buf, 0x11223344u);
+    assert_int_equal(buf[0], 0x44);
+    assert_int_equal(sta_load_u32le(buf), 0x11223344u);
+    sta_store_i32le(buf, -5);
+    assert_int_equal(sta_load_i32le(buf), -5);
+    sta_store_f64le(buf, -1.25e300);
+    assert_true(sta_load_f64le(buf) == -1.25e300);
+    sta_store_f32le(buf, NAN);
+    assert_true(isnan(sta_load_f32le(buf)));
+    const uint8_t be[4] = { 0x3f, 0x80, 0x00, 0x00 };
+    assert_int_equal(sta_load_u32be(be), 0x3f800000u);
+    sta_store_u64le(buf, 0x0102030405060708ull);
+    assert_int_equal(buf[7], 0x01);
+    assert_true(sta_load_u64le(buf) == 0x0102030405060708ull);
+}
+
+static void file_map_reads_file_and_names_missing_one(void **state)
+{
+    (void)state;
+    const char *path = sta_test_tmp_path("map.bin");
+    sta_test_write_file(path, "hello", 5);
+    sta_file_map map = { 0 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_file_map_open(path, &map, &err), STA_OK);
+    assert_int_equal(map.size, 5);
+    assert_memory_equal(map.data, "hello", 5);
+    sta_file_map_close(&map);
+    sta_file_map_close(&map); // closing twice is harmless
+
+    const char *empty = sta_test_tmp_path("empty.bin");
+    sta_test_write_file(empty, "", 0);
+    assert_int_equal(sta_file_map_open(empty, &map, &err), STA_OK);
+    assert_int_equal(map.size, 0);
+    assert_null(map.data);
+    sta_file_map_close(&map);
+
+    assert_int_equal(sta_file_map_open("/nonexistent/x.las", &map, &err), STA_ERR_IO);
+    assert_non_null(strstr(err.message, "/nonexistent/x.las"));
+    assert_int_equal(sta_file_map_open(sta_test_tmpdir(), &map, &err), STA_ERR_IO);
+    assert_non_null(strstr(err.message, "not a regular file"));
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(fail_formats_message_and_returns_code),
+    cmocka_unit_test(alloc_hook_fails_the_nth_allocation),
+    cmocka_unit_test(alloc_array_rejects_overflow),
+    cmocka_unit_test(bytes_round_trip_little_endian),
+    cmocka_unit_test(file_map_reads_file_and_names_missing_one),
+};
+
+STA_TEST_MAIN(tests)
