@@ -12,6 +12,22 @@
 
 #include "io/cloud_impl.h"
 
+/* A triangle mesh from a PLY file: vertex positions and faces (polygons are fanned
+ * into triangles). Zero-initialise; release with sta_mesh_release. */
+typedef struct sta_mesh {
+    double *positions;     /* 3 doubles per vertex (x, y, z as stored) */
+    size_t vertex_count;
+    uint32_t *triangles;   /* 3 vertex indices per triangle, each < vertex_count */
+    size_t triangle_count;
+} sta_mesh;
+
+/* Loads vertices and faces of `path` (ASCII or binary PLY) for mesh sampling.
+ * A file without faces gives triangle_count 0. Bad indices are an error. */
+sta_status sta_ply_load_mesh(const char *path, sta_mesh *out_mesh, sta_error *err);
+
+/* Frees a mesh; a zeroed one is a no-op. */
+void sta_mesh_release(sta_mesh *mesh);
+
 sta_status sta_ply_open_map(const sta_file_map *map, const sta_read_options *options,
                             void **out_impl, const sta_cloud_ops **out_ops, sta_error *err);
 
