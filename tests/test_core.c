@@ -3,11 +3,14 @@
 #include "test_support.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/alloc.h"
 #include "core/bytes.h"
 #include "core/file_map.h"
+#include "core/json_out.h"
 #include "core/status.h"
 
 static void fail_formats_message_and_returns_code(void **state)
@@ -100,7 +103,51 @@ static void file_map_reads_file_and_names_missing_one(void **state)
     assert_non_null(strstr(err.message, "not a regular file"));
 }
 
+static void format_double_is_shortest_exact(void **state)
+{
+    (void)state;
+    char buf[40];
+    assert_string_equal(sta_format_double(637012.24, buf, sizeof(buf)), "637012.24");
+    assert_string_equal(sta_format_double(5400000.0, buf, sizeof(buf)), "5400000");
+    assert_string_equal(sta_format_double(-0.001, buf, sizeof(buf)), "-0.001");
+    assert_string_equal(sta_format_double(1e-9, buf, sizeof(buf)), "1e-09");
+    assert_string_equal(sta_format_double(NAN, buf, sizeof(buf)), "nan");
+    // Every printed value reads back to the same double.
+    const double hard[] = { 0.1 + 0.2, 1.16451354e-06, 6378137.123456789, 1e300, -2.5e-320 };
+    for (size_t i = 0; i < sizeof(hard) / sizeof(hard[0]); i++) {
+        sta_format_double(hard[i], buf, sizeof(buf));
+        assert_true(strtod(buf, NULL) == hard[i]);
+    }
+}
+
+static void json_writer_nests_and_escapes(void **state)
+{
+    (void)state;
+    char text[256] = { 0 };
+    FILE *f = fmemopen(text, sizeof(text) - 1, "w");
+    assert_non_null(f);
+    sta_json_out json;
+    sta_json_init(&json, f, false);
+    sta_json_begin_object(&json);
+    sta_json_key(&json, "a");
+    sta_json_begin_array(&json);
+    sta_json_int(&json, -1);
+    sta_json_double(&json, 0.5);
+    sta_json_double(&json, INFINITY);
+    sta_json_end_array(&json);
+    sta_json_key(&json, "s\"");
+    sta_json_string_n(&json, "x\n\0y", 4);
+    sta_json_key(&json, "e");
+    sta_json_begin_object(&json);
+    sta_json_end_object(&json);
+    sta_json_end_object(&json);
+    fclose(f);
+    assert_string_equal(text, "{\"a\":[-1,0.5,null],\"s\\\"\":\"x\\n\\u0000y\",\"e\":{}}");
+}
+
 static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(format_double_is_shortest_exact),
+    cmocka_unit_test(json_writer_nests_and_escapes),
     cmocka_unit_test(fail_formats_message_and_returns_code),
     cmocka_unit_test(alloc_hook_fails_the_nth_allocation),
     cmocka_unit_test(alloc_array_rejects_overflow),

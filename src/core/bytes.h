@@ -15,8 +15,7 @@ static inline uint16_t sta_load_u16le(const uint8_t *p)
 
 static inline uint32_t sta_load_u32le(const uint8_t *p)
 {
-    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) |
-           ((uint32_t)p[3] << 24);
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
 }
 
 static inline uint64_t sta_load_u64le(const uint8_t *p)
@@ -62,8 +61,7 @@ static inline uint16_t sta_load_u16be(const uint8_t *p)
 
 static inline uint32_t sta_load_u32be(const uint8_t *p)
 {
-    return ((uint32_t)p[0] << 24) | ((uint32_t)p[1] << 16) | ((uint32_t)p[2] << 8) |
-           (uint32_t)p[3];
+    return ((uint32_t)p[0] << 24) | ((uint32_t)p[1] << 16) | ((uint32_t)p[2] << 8) | (uint32_t)p[3];
 }
 
 static inline uint64_t sta_load_u64be(const uint8_t *p)

@@ -25,7 +25,7 @@ typedef enum sta_status {
 
 /* An error filled in by the call that failed. Zero-initialise before use. */
 typedef struct sta_error {
-    sta_status code;                     /* STA_OK until a call fails */
+    sta_status code;                      /* STA_OK until a call fails */
     char message[STA_ERROR_MESSAGE_SIZE]; /* NUL-terminated, human readable */
 } sta_error;
 

@@ -66,8 +66,8 @@ sta_status sta_cloud_open(const char *path, const sta_read_options *options,
 }
 
 sta_status sta_cloud_open_memory(const uint8_t *data, size_t size, const char *name,
-                                 const sta_read_options *options,
-                                 sta_cloud_reader **out_reader, sta_error *err)
+                                 const sta_read_options *options, sta_cloud_reader **out_reader,
+                                 sta_error *err)
 {
     *out_reader = NULL;
     sta_cloud_reader *reader = sta_calloc(1, sizeof(*reader));
@@ -91,9 +91,8 @@ sta_status sta_cloud_read(sta_cloud_reader *reader, sta_point_batch *batch, sta_
 {
     const sta_cloud_info *info = sta_cloud_reader_info(reader);
     if (batch->capacity == 0 || batch->extra_size != info->extra_size) {
-        return sta_fail(err, STA_ERR_ARG,
-                        "%s: batch holds %zu extra bytes per point, file has %zu", info->path,
-                        batch->extra_size, info->extra_size);
+        return sta_fail(err, STA_ERR_ARG, "%s: batch holds %zu extra bytes per point, file has %zu",
+                        info->path, batch->extra_size, info->extra_size);
     }
     return reader->ops->read(reader->impl, batch, err);
 }
@@ -102,9 +101,8 @@ sta_status sta_cloud_seek(sta_cloud_reader *reader, uint64_t index, sta_error *e
 {
     const sta_cloud_info *info = sta_cloud_reader_info(reader);
     if (index > info->point_count) {
-        return sta_fail(err, STA_ERR_ARG, "%s: seek to point %llu past the %llu points",
-                        info->path, (unsigned long long)index,
-                        (unsigned long long)info->point_count);
+        return sta_fail(err, STA_ERR_ARG, "%s: seek to point %llu past the %llu points", info->path,
+                        (unsigned long long)index, (unsigned long long)info->point_count);
     }
     return reader->ops->seek(reader->impl, index, err);
 }
@@ -121,8 +119,8 @@ void sta_cloud_close(sta_cloud_reader *reader)
 
 const char *sta_extra_type_name(uint8_t data_type)
 {
-    static const char *const scalar_names[] = { "opaque", "uint8",  "int8",   "uint16",
-                                                "int16",  "uint32", "int32",  "uint64",
+    static const char *const scalar_names[] = { "opaque", "uint8",  "int8",  "uint16",
+                                                "int16",  "uint32", "int32", "uint64",
                                                 "int64",  "float",  "double" };
     if (data_type <= 10) {
         return scalar_names[data_type];

@@ -48,19 +48,19 @@ typedef struct sta_extra_dim {
 /* What a source file is and declares. Owned by its reader. */
 typedef struct sta_cloud_info {
     sta_cloud_kind kind;
-    const char *path;            /* as opened (for messages) */
-    int version_major;           /* LAS 1; PLY 1 */
-    int version_minor;           /* LAS 0..4; PLY 0 */
-    int point_format;            /* LAS 0..10; PLY -1 */
-    uint16_t header_size;        /* LAS header size as written; PLY 0 */
+    const char *path;              /* as opened (for messages) */
+    int version_major;             /* LAS 1; PLY 1 */
+    int version_minor;             /* LAS 0..4; PLY 0 */
+    int point_format;              /* LAS 0..10; PLY -1 */
+    uint16_t header_size;          /* LAS header size as written; PLY 0 */
     uint32_t offset_to_point_data; /* LAS; for PLY the body's offset */
-    uint16_t record_length;      /* LAS point record length; PLY bytes per vertex (binary) */
-    uint64_t point_count;        /* the count the reader will yield */
-    uint64_t header_point_count; /* as declared (64-bit field when present) */
-    uint32_t legacy_point_count; /* LAS legacy 32-bit field */
+    uint16_t record_length;        /* LAS point record length; PLY bytes per vertex (binary) */
+    uint64_t point_count;          /* the count the reader will yield */
+    uint64_t header_point_count;   /* as declared (64-bit field when present) */
+    uint32_t legacy_point_count;   /* LAS legacy 32-bit field */
     uint64_t points_by_return[15]; /* as declared (legacy or 64-bit fields) */
-    sta_grid grid;               /* PLY: chosen by the reader, see ply.h */
-    double header_min[3];        /* declared bounds (not trusted); PLY: from a scan */
+    sta_grid grid;                 /* PLY: chosen by the reader, see ply.h */
+    double header_min[3];          /* declared bounds (not trusted); PLY: from a scan */
     double header_max[3];
     uint16_t file_source_id;
     uint16_t global_encoding;
@@ -68,16 +68,16 @@ typedef struct sta_cloud_info {
     char generating_software[33];
     uint16_t creation_day;
     uint16_t creation_year;
-    uint32_t attributes;         /* sta_attr bits present in the points */
-    size_t extra_size;           /* extra bytes per point (see sta_point_batch) */
-    sta_vlr_info *vlrs;          /* VLRs then EVLRs in file order */
+    uint32_t attributes; /* sta_attr bits present in the points */
+    size_t extra_size;   /* extra bytes per point (see sta_point_batch) */
+    sta_vlr_info *vlrs;  /* VLRs then EVLRs in file order */
     size_t vlr_count;
-    sta_extra_dim *extra_dims;   /* decoded Extra Bytes VLR (+ undeclared tail) */
+    sta_extra_dim *extra_dims; /* decoded Extra Bytes VLR (+ undeclared tail) */
     size_t extra_dim_count;
-    const char *crs_wkt;         /* OGC WKT from a VLR/EVLR, NUL-terminated, or NULL */
-    bool has_geotiff_crs;        /* GeoKeyDirectory (LASF_Projection/34735) present */
-    bool has_waveform_packets;   /* formats 4, 5, 9, 10: wave packet fields read */
-    bool has_internal_waveform;  /* global encoding bit 1 */
+    const char *crs_wkt;          /* OGC WKT from a VLR/EVLR, NUL-terminated, or NULL */
+    bool has_geotiff_crs;         /* GeoKeyDirectory (LASF_Projection/34735) present */
+    bool has_waveform_packets;    /* formats 4, 5, 9, 10: wave packet fields read */
+    bool has_internal_waveform;   /* global encoding bit 1 */
     uint64_t waveform_data_start; /* LAS 1.3+ start of waveform data record, or 0 */
     uint64_t skipped_point_count; /* points missing from a salvaged truncated file */
 } sta_cloud_info;
@@ -100,8 +100,8 @@ sta_status sta_cloud_open(const char *path, const sta_read_options *options,
 /* As sta_cloud_open, over bytes the caller keeps alive until close (fuzzing, tests).
  * `name` is used in messages. */
 sta_status sta_cloud_open_memory(const uint8_t *data, size_t size, const char *name,
-                                 const sta_read_options *options,
-                                 sta_cloud_reader **out_reader, sta_error *err);
+                                 const sta_read_options *options, sta_cloud_reader **out_reader,
+                                 sta_error *err);
 
 /* The file's description; valid until close. */
 const sta_cloud_info *sta_cloud_reader_info(const sta_cloud_reader *reader);

@@ -22,8 +22,8 @@ sta_status sta_point_batch_init(sta_point_batch *batch, size_t capacity, size_t 
         if (!batch->extra) {
             sta_free(batch->points);
             batch->points = NULL;
-            return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu x %zu extra bytes",
-                            capacity, extra_size);
+            return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu x %zu extra bytes", capacity,
+                            extra_size);
         }
     }
     batch->capacity = capacity;
@@ -36,4 +36,37 @@ void sta_point_batch_release(sta_point_batch *batch)
     sta_free(batch->points);
     sta_free(batch->extra);
     memset(batch, 0, sizeof(*batch));
+}
+
+const char *sta_attr_name(uint32_t bit)
+{
+    switch (bit) {
+    case STA_ATTR_INTENSITY:
+        return "intensity";
+    case STA_ATTR_RETURNS:
+        return "returns";
+    case STA_ATTR_CLASSIFICATION:
+        return "classification";
+    case STA_ATTR_SCAN_ANGLE:
+        return "scan_angle";
+    case STA_ATTR_USER_DATA:
+        return "user_data";
+    case STA_ATTR_POINT_SOURCE_ID:
+        return "point_source_id";
+    case STA_ATTR_SCAN_FLAGS:
+        return "scan_flags";
+    case STA_ATTR_GPS_TIME:
+        return "gps_time";
+    case STA_ATTR_RGB:
+        return "rgb";
+    case STA_ATTR_NIR:
+        return "nir";
+    case STA_ATTR_WAVE_PACKET:
+        return "wave_packet";
+    case STA_ATTR_NORMAL:
+        return "normal";
+    case STA_ATTR_SCANNER_CHANNEL:
+        return "scanner_channel";
+    }
+    return NULL;
 }

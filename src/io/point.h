@@ -40,27 +40,27 @@ typedef struct sta_grid {
 
 /* One point. Field names follow the LAS 1.4 specification. */
 typedef struct sta_point {
-    int32_t X, Y, Z;             /* integer coordinates on the source grid */
-    uint16_t intensity;          /* as stored */
-    uint8_t return_number;       /* 0..15 as stored (0 is invalid but kept) */
-    uint8_t number_of_returns;   /* 0..15 as stored */
-    uint8_t classification;      /* 0..255 (formats 0-5: the 5-bit class only) */
-    uint8_t classification_flags; /* bit 0 synthetic, 1 key-point, 2 withheld, 3 overlap */
-    uint8_t scanner_channel;     /* 0..3 */
-    uint8_t scan_direction_flag; /* 0 or 1 */
-    uint8_t edge_of_flight_line; /* 0 or 1 */
-    uint8_t user_data;           /* as stored */
-    int16_t scan_angle;          /* LAS 1.4 units of 0.006 degree; formats 0-5 store
-                                    whole degrees, converted here (deg / 0.006) */
-    uint16_t point_source_id;    /* as stored */
-    uint16_t red, green, blue;   /* as stored (8-bit writers use 0..255) */
-    uint16_t nir;                /* as stored */
-    double gps_time;             /* as stored, may be NaN in broken files */
-    float normal[3];             /* unit normal from PLY nx/ny/nz, else 0 */
-    uint8_t wave_descriptor_index;  /* wave packet descriptor index */
-    uint64_t wave_byte_offset;      /* byte offset to waveform data */
-    uint32_t wave_packet_size;      /* bytes */
-    float wave_return_location;     /* picoseconds */
+    int32_t X, Y, Z;                 /* integer coordinates on the source grid */
+    uint16_t intensity;              /* as stored */
+    uint8_t return_number;           /* 0..15 as stored (0 is invalid but kept) */
+    uint8_t number_of_returns;       /* 0..15 as stored */
+    uint8_t classification;          /* 0..255 (formats 0-5: the 5-bit class only) */
+    uint8_t classification_flags;    /* bit 0 synthetic, 1 key-point, 2 withheld, 3 overlap */
+    uint8_t scanner_channel;         /* 0..3 */
+    uint8_t scan_direction_flag;     /* 0 or 1 */
+    uint8_t edge_of_flight_line;     /* 0 or 1 */
+    uint8_t user_data;               /* as stored */
+    int16_t scan_angle;              /* LAS 1.4 units of 0.006 degree; formats 0-5 store
+                                        whole degrees, converted here (deg / 0.006) */
+    uint16_t point_source_id;        /* as stored */
+    uint16_t red, green, blue;       /* as stored (8-bit writers use 0..255) */
+    uint16_t nir;                    /* as stored */
+    double gps_time;                 /* as stored, may be NaN in broken files */
+    float normal[3];                 /* unit normal from PLY nx/ny/nz, else 0 */
+    uint8_t wave_descriptor_index;   /* wave packet descriptor index */
+    uint64_t wave_byte_offset;       /* byte offset to waveform data */
+    uint32_t wave_packet_size;       /* bytes */
+    float wave_return_location;      /* picoseconds */
     float wave_xt, wave_yt, wave_zt; /* parametric line */
 } sta_point;
 
@@ -82,6 +82,9 @@ sta_status sta_point_batch_init(sta_point_batch *batch, size_t capacity, size_t 
 
 /* Frees the arrays; a zeroed batch is a no-op. */
 void sta_point_batch_release(sta_point_batch *batch);
+
+/* The lower-case name of one sta_attr bit ("intensity", "rgb", ...); NULL if unknown. */
+const char *sta_attr_name(uint32_t bit);
 
 /* Real-world coordinate of integer `value` on axis `axis` (0 x, 1 y, 2 z). */
 static inline double sta_grid_apply(const sta_grid *grid, int axis, int32_t value)

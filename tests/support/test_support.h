@@ -39,27 +39,27 @@ uint8_t *sta_test_read_file(const char *path, size_t *out_size);
 void sta_test_write_file(const char *path, const void *data, size_t size);
 
 /* Skip the current case with a reason; returns from the test function. */
-#define STA_TEST_SKIP(reason)                                                               \
-    do {                                                                                   \
-        sta_test_mark_skipped(reason);                                                     \
-        skip();                                                                            \
-    } while (0)
+#define STA_TEST_SKIP(reason)                                                                      \
+ do {                                                                                              \
+  sta_test_mark_skipped(reason);                                                                   \
+  skip();                                                                                          \
+ } while (0)
 
 /* Skip unless ../shared/data is present. */
-#define STA_TEST_REQUIRE_SHARED_DATA()                                                      \
-    do {                                                                                   \
-        if (!sta_test_shared_data()) {                                                     \
-            STA_TEST_SKIP("../shared/data is absent (set STA_SHARED_DATA to its path)");   \
-        }                                                                                  \
-    } while (0)
+#define STA_TEST_REQUIRE_SHARED_DATA()                                                             \
+ do {                                                                                              \
+  if (!sta_test_shared_data()) {                                                                   \
+   STA_TEST_SKIP("../shared/data is absent (set STA_SHARED_DATA to its path)");                    \
+  }                                                                                                \
+ } while (0)
 
 int sta_test_run(const char *group, const struct CMUnitTest *tests, size_t count, int argc,
                  char **argv);
 
-#define STA_TEST_MAIN(tests)                                                                \
-    int main(int argc, char **argv)                                                        \
-    {                                                                                      \
-        return sta_test_run(__FILE__, tests, sizeof(tests) / sizeof(tests[0]), argc, argv); \
-    }
+#define STA_TEST_MAIN(tests)                                                                       \
+ int main(int argc, char **argv)                                                                   \
+ {                                                                                                 \
+  return sta_test_run(__FILE__, tests, sizeof(tests) / sizeof(tests[0]), argc, argv);              \
+ }
 
 #endif

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Sets up and runs Strata's whole test suite, as CI does:
+#   1. installs missing Debian packages (scripts/install-deps.sh, apt-get),
+#   2. checks formatting with clang-format 14,
+#   3. builds the ci-release preset (warnings are errors) and runs every ctest label,
+#   4. builds the ci-debug preset (AddressSanitizer + UndefinedBehaviorSanitizer) and
+#      runs every ctest label again.
+# Tests that need ../shared/data report themselves skipped when it is absent.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bash scripts/install-deps.sh
+
+echo "== clang-format check"
+git ls-files '*.c' '*.h' | xargs -r clang-format-14 --dry-run -Werror
+
+jobs=$(nproc 2>/dev/null || echo 2)
+for preset in ci-release ci-debug; do
+    echo "== build $preset"
+    cmake --preset "$preset" >/dev/null
+    cmake --build --preset "$preset" -j "$jobs"
+    echo "== test $preset"
+    ctest --test-dir "build/$preset" --output-on-failure -j "$jobs"
+done
