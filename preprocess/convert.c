@@ -1,0 +1,686 @@
+/* SPDX-License-Identifier: MIT
+ * The conversion pipeline (see convert.h for the design).
+ *
+ * Threads: the main thread runs counting, distribution and the merge; during the
+ * index phase `threads` workers take chunks from an atomic counter (largest first)
+ * and emit nodes through the node writer. Chunk roots are kept back for the merge in
+ * a spill file (appended under spill_lock). Lock order: spill_lock, then the node
+ * writer's lock (never nested in practice).
+ */
+#define _GNU_SOURCE // pthread_setname_np: name every thread (STYLE.md)
+#include "convert.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/alloc.h"
+#include "core/log.h"
+#include "distribute.h"
+#include "format/strata_writer.h"
+#include "index.h"
+#include "inputs.h"
+#include "node_writer.h"
+#include "progress.h"
+#include "refine.h"
+
+enum {
+    DEFAULT_MEMORY_MIB = 2048,
+    DEFAULT_GRID_CELLS = 128,
+    DEFAULT_LEAF_CAPACITY = 32768,
+    FIXED_OVERHEAD_MIB = 96, /* counting pyramid, chunk map, reader batches, code */
+};
+
+/* A node kept back for the merge, its records in the spill file. */
+typedef struct spilled_node {
+    sta_node_key key;
+    uint64_t offset; /* byte offset in the spill file */
+    uint64_t count;
+    unsigned flags;
+    int has_children;
+} spilled_node;
+
+typedef struct convert_job {
+    const sta_convert_options *options;
+    sta_input_set inputs;
+    sta_chunk_plan plan;
+    sta_progress progress;
+    size_t leaf_capacity;
+    size_t chunk_capacity;
+    int threads;
+    char *chunk_path; /* temporary file of distributed records */
+    int chunk_fd;
+    char *spill_path; /* temporary file of nodes kept for the merge */
+    int spill_fd;
+    pthread_mutex_t spill_lock; /* guards spill_end, spilled, spilled_count/capacity */
+    uint64_t spill_end;
+    spilled_node *spilled;
+    size_t spilled_count;
+    size_t spilled_capacity;
+    sta_strata_writer *writer;
+    sta_node_writer node_writer;
+    _Atomic size_t next_chunk; /* atomic: next chunk to index */
+    size_t *chunk_order;       /* chunk indices, largest first */
+    atomic_bool failed;        /* atomic: a worker failed; others stop */
+    sta_error worker_error;    /* first worker error (guard: spill_lock) */
+} convert_job;
+
+static sta_status io_fail(sta_error *err, const char *what, const char *path)
+{
+    return sta_fail(err, STA_ERR_IO, "%s: cannot %s: %s", path, what, strerror(errno));
+}
+
+static sta_status pread_all(int fd, uint8_t *data, size_t size, uint64_t offset, const char *path,
+                            sta_error *err)
+{
+    while (size > 0) {
+        ssize_t n = pread(fd, data, size, (off_t)offset);
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n <= 0) {
+            return n < 0 ? io_fail(err, "read", path)
+                         : sta_fail(err, STA_ERR_IO, "%s: unexpected end of file", path);
+        }
+        data += n;
+        size -= (size_t)n;
+        offset += (uint64_t)n;
+    }
+    return STA_OK;
+}
+
+static sta_status pwrite_all(int fd, const uint8_t *data, size_t size, uint64_t offset,
+                             const char *path, sta_error *err)
+{
+    while (size > 0) {
+        ssize_t n = pwrite(fd, data, size, (off_t)offset);
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n <= 0) {
+            return n < 0 ? io_fail(err, "write", path)
+                         : sta_fail(err, STA_ERR_IO, "%s: disk full", path);
+        }
+        data += n;
+        size -= (size_t)n;
+        offset += (uint64_t)n;
+    }
+    return STA_OK;
+}
+
+// Creates a unique temporary file "<dir>/<base>.<tag>.XXXXXX" and unlinks nothing:
+// the caller removes it. The name is returned in *out_path (owned).
+static sta_status make_temp(const char *dir, const char *output, const char *tag, char **out_path,
+                            int *out_fd, sta_error *err)
+{
+    const char *base = strrchr(output, '/');
+    base = base ? base + 1 : output;
+    char *path = sta_malloc(PATH_MAX);
+    if (!path) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory");
+    }
+    int n = snprintf(path, PATH_MAX, "%s/.%s.%s.XXXXXX", dir, base, tag);
+    if (n < 0 || n >= PATH_MAX) {
+        sta_free(path);
+        return sta_fail(err, STA_ERR_ARG, "%s: temporary path too long", dir);
+    }
+    int fd = mkstemp(path);
+    if (fd < 0) {
+        sta_status status = sta_fail(err, STA_ERR_IO, "%s: cannot create a temporary file: %s", dir,
+                                     strerror(errno));
+        sta_free(path);
+        return status;
+    }
+    *out_path = path;
+    *out_fd = fd;
+    return STA_OK;
+}
+
+static void remove_temp(char **path, int *fd)
+{
+    if (*fd >= 0) {
+        close(*fd);
+        *fd = -1;
+    }
+    if (*path) {
+        unlink(*path);
+        sta_free(*path);
+        *path = NULL;
+    }
+}
+
+static char *output_folder(const char *output)
+{
+    const char *slash = strrchr(output, '/');
+    if (!slash) {
+        return sta_strdup(".");
+    }
+    size_t n = slash == output ? 1 : (size_t)(slash - output);
+    char *dir = sta_malloc(n + 1);
+    if (dir) {
+        memcpy(dir, output, n);
+        dir[n] = '\0';
+    }
+    return dir;
+}
+
+// Appends a node's records to the spill file and remembers it for the merge.
+static sta_status spill(convert_job *job, const sta_pending_node *node, sta_error *err)
+{
+    size_t bytes = node->count * job->inputs.layout.size;
+    pthread_mutex_lock(&job->spill_lock);
+    uint64_t offset = job->spill_end;
+    job->spill_end += bytes;
+    sta_status status = STA_OK;
+    if (job->spilled_count == job->spilled_capacity) {
+        size_t grown = job->spilled_capacity ? 2 * job->spilled_capacity : 256;
+        spilled_node *list = sta_realloc_array(job->spilled, grown, sizeof(*list));
+        if (!list) {
+            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the merge list");
+        } else {
+            job->spilled = list;
+            job->spilled_capacity = grown;
+        }
+    }
+    if (status == STA_OK) {
+        spilled_node *s = &job->spilled[job->spilled_count++];
+        s->key = node->key;
+        s->offset = offset;
+        s->count = node->count;
+        s->flags = node->flags;
+        s->has_children = node->has_children;
+    }
+    pthread_mutex_unlock(&job->spill_lock);
+    if (status == STA_OK && bytes > 0) {
+        status = pwrite_all(job->spill_fd, node->records, bytes, offset, job->spill_path, err);
+    }
+    return status;
+}
+
+typedef struct worker_args {
+    convert_job *job;
+    int index;
+} worker_args;
+
+static void *index_worker(void *argument)
+{
+    worker_args *args = argument;
+    convert_job *job = args->job;
+    const size_t rec = job->inputs.layout.size;
+    sta_error err = { 0 };
+    sta_status status = STA_OK;
+    sta_index_scratch scratch = { 0 };
+    uint8_t *records = NULL;
+    size_t records_capacity = 0;
+    sta_node_sink sink = sta_node_writer_sink(&job->node_writer);
+    while (status == STA_OK && !atomic_load(&job->failed)) {
+        size_t i = atomic_fetch_add(&job->next_chunk, 1);
+        if (i >= job->plan.chunk_count) {
+            break;
+        }
+        const sta_chunk *chunk = &job->plan.chunks[job->chunk_order[i]];
+        size_t count = (size_t)chunk->count;
+        if (count > records_capacity) {
+            sta_free(records);
+            records = sta_alloc_array(count, rec);
+            records_capacity = records ? count : 0;
+            if (!records) {
+                status =
+                    sta_fail(&err, STA_ERR_NOMEM, "out of memory for a chunk of %zu points", count);
+                break;
+            }
+        }
+        status = pread_all(job->chunk_fd, records, count * rec, chunk->first * rec, job->chunk_path,
+                           &err);
+        sta_pending_node root = { 0 };
+        if (status == STA_OK) {
+            status =
+                sta_index_chunk(&job->plan.space, &job->inputs.layout, &chunk->key, records, count,
+                                job->leaf_capacity, args->index, &sink, &scratch, &root, &err);
+        }
+        if (status == STA_OK) {
+            status = spill(job, &root, &err);
+        }
+        sta_free(root.records);
+        sta_progress_add(&job->progress, count);
+        if (job->options->cancel && atomic_load(job->options->cancel)) {
+            status = sta_fail(&err, STA_ERR_CANCELLED, "cancelled");
+        }
+    }
+    sta_free(records);
+    sta_index_scratch_release(&scratch);
+    if (status != STA_OK) {
+        pthread_mutex_lock(&job->spill_lock);
+        if (!atomic_load(&job->failed)) {
+            job->worker_error = err;
+            atomic_store(&job->failed, true);
+        }
+        pthread_mutex_unlock(&job->spill_lock);
+    }
+    return NULL;
+}
+
+// qsort has no context argument: the chunk array being sorted (main thread only).
+static const sta_chunk *sort_chunks;
+
+static int compare_chunk_size(const void *a, const void *b)
+{
+    uint64_t x = sort_chunks[*(const size_t *)a].count;
+    uint64_t y = sort_chunks[*(const size_t *)b].count;
+    return x < y ? 1 : x > y ? -1 : 0;
+}
+
+static sta_status run_index_phase(convert_job *job, sta_error *err)
+{
+    job->chunk_order = sta_alloc_array(job->plan.chunk_count, sizeof(size_t));
+    if (!job->chunk_order) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory");
+    }
+    for (size_t i = 0; i < job->plan.chunk_count; i++) {
+        job->chunk_order[i] = i;
+    }
+    sort_chunks = job->plan.chunks;
+    qsort(job->chunk_order, job->plan.chunk_count, sizeof(size_t), compare_chunk_size);
+
+    pthread_t threads[256];
+    worker_args args[256];
+    int started = 0;
+    for (int t = 0; t < job->threads; t++) {
+        args[t].job = job;
+        args[t].index = t;
+        if (pthread_create(&threads[t], NULL, index_worker, &args[t]) != 0) {
+            break;
+        }
+        char name[16];
+        snprintf(name, sizeof(name), "sta-index-%d", t % 100);
+        pthread_setname_np(threads[t], name);
+        started++;
+    }
+    if (started == 0) {
+        return sta_fail(err, STA_ERR_NOMEM, "cannot start worker threads");
+    }
+    // The main thread draws progress while the workers run.
+    bool running = true;
+    while (running) {
+        usleep(100000);
+        sta_progress_draw(&job->progress);
+        running = atomic_load(&job->next_chunk) < job->plan.chunk_count + (size_t)started &&
+                  !atomic_load(&job->failed);
+        if (job->options->cancel && atomic_load(job->options->cancel)) {
+            atomic_store(&job->failed, true);
+        }
+    }
+    for (int t = 0; t < started; t++) {
+        pthread_join(threads[t], NULL);
+    }
+    if (atomic_load(&job->failed)) {
+        if (job->worker_error.code == STA_OK) {
+            return sta_fail(err, STA_ERR_CANCELLED, "cancelled");
+        }
+        *err = job->worker_error;
+        return job->worker_error.code;
+    }
+    return STA_OK;
+}
+
+static int compare_spilled(const void *a, const void *b)
+{
+    const spilled_node *x = a, *y = b;
+    // Deepest level first; within a level by parent, then key (siblings adjacent).
+    if (x->key.level != y->key.level) {
+        return x->key.level > y->key.level ? -1 : 1;
+    }
+    return sta_node_key_compare(&x->key, &y->key);
+}
+
+static int same_parent(const sta_node_key *a, const sta_node_key *b)
+{
+    return a->level == b->level && (a->x >> 1) == (b->x >> 1) && (a->y >> 1) == (b->y >> 1) &&
+           (a->z >> 1) == (b->z >> 1);
+}
+
+// Hands a finished node to the writer: its points, or an empty entry that keeps the
+// tree connected when the merge took all its points but it has children.
+static sta_status finish_node(convert_job *job, const sta_pending_node *node, sta_error *err)
+{
+    if (node->count > 0) {
+        sta_node_sink sink = sta_node_writer_sink(&job->node_writer);
+        return sink.emit(sink.context, 0, &node->key, node->records, node->count, node->flags, err);
+    }
+    if (node->has_children || node->key.level == 0) {
+        return sta_node_writer_add_empty(&job->node_writer, &node->key, err);
+    }
+    return STA_OK;
+}
+
+// Builds the tree above the chunks, level by level from the deepest, reading kept
+// nodes back from the spill file one sibling group (at most 8 nodes) at a time.
+static sta_status run_merge_phase(convert_job *job, sta_error *err)
+{
+    const size_t rec = job->inputs.layout.size;
+    sta_index_scratch scratch = { 0 };
+    sta_status status = STA_OK;
+    while (status == STA_OK && job->spilled_count > 0) {
+        qsort(job->spilled, job->spilled_count, sizeof(*job->spilled), compare_spilled);
+        int level = job->spilled[0].key.level;
+        if (level == 0) {
+            // Only the root is left.
+            spilled_node *s = &job->spilled[0];
+            sta_pending_node root = { s->key, sta_malloc(s->count * rec + 1), s->count, s->flags,
+                                      s->has_children };
+            status = root.records ? STA_OK : sta_fail(err, STA_ERR_NOMEM, "out of memory");
+            if (status == STA_OK) {
+                status = pread_all(job->spill_fd, root.records, s->count * rec, s->offset,
+                                   job->spill_path, err);
+            }
+            if (status == STA_OK) {
+                status = finish_node(job, &root, err);
+            }
+            sta_free(root.records);
+            job->spilled_count = 0;
+            break;
+        }
+        // Merge every sibling group of this level; parents are appended as new entries.
+        size_t end = 0;
+        while (end < job->spilled_count && job->spilled[end].key.level == level) {
+            end++;
+        }
+        size_t level_end = end;
+        for (size_t begin = 0; begin < level_end && status == STA_OK;) {
+            size_t group_end = begin + 1;
+            while (group_end < level_end &&
+                   same_parent(&job->spilled[begin].key, &job->spilled[group_end].key)) {
+                group_end++;
+            }
+            sta_pending_node children[8];
+            size_t n = group_end - begin;
+            memset(children, 0, sizeof(children));
+            for (size_t i = 0; i < n && status == STA_OK; i++) {
+                spilled_node *s = &job->spilled[begin + i];
+                children[i] = (sta_pending_node){ s->key, sta_malloc(s->count * rec + 1), s->count,
+                                                  s->flags, s->has_children };
+                if (!children[i].records) {
+                    status = sta_fail(err, STA_ERR_NOMEM, "out of memory merging nodes");
+                } else {
+                    status = pread_all(job->spill_fd, children[i].records, s->count * rec,
+                                       s->offset, job->spill_path, err);
+                }
+            }
+            sta_pending_node parent = { 0 };
+            if (status == STA_OK) {
+                status = sta_index_merge_parent(&job->plan.space, &job->inputs.layout, children, n,
+                                                &scratch, &parent, err);
+            }
+            for (size_t i = 0; i < n && status == STA_OK; i++) {
+                status = finish_node(job, &children[i], err);
+            }
+            if (status == STA_OK) {
+                status = spill(job, &parent, err); // may grow job->spilled
+            }
+            for (size_t i = 0; i < n; i++) {
+                sta_free(children[i].records);
+            }
+            sta_free(parent.records);
+            begin = group_end;
+        }
+        // Drop the merged level: its entries are the first level_end ones.
+        memmove(job->spilled, job->spilled + level_end,
+                (job->spilled_count - level_end) * sizeof(*job->spilled));
+        job->spilled_count -= level_end;
+    }
+    sta_index_scratch_release(&scratch);
+    return status;
+}
+
+static sta_status convert_extra_dims(const sta_input_set *set, sta_strata_extra_dim **out_dims,
+                                     uint32_t *out_count, sta_error *err)
+{
+    *out_dims = NULL;
+    *out_count = 0;
+    if (set->extra_size == 0) {
+        return STA_OK;
+    }
+    const sta_cloud_info *info = set->extra_source;
+    sta_strata_extra_dim *dims = sta_calloc(info->extra_dim_count, sizeof(*dims));
+    if (!dims) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory");
+    }
+    for (size_t i = 0; i < info->extra_dim_count; i++) {
+        const sta_extra_dim *d = &info->extra_dims[i];
+        snprintf(dims[i].name, sizeof(dims[i].name), "%s", d->name);
+        snprintf(dims[i].description, sizeof(dims[i].description), "%s", d->description);
+        dims[i].data_type = d->data_type;
+        dims[i].size_bytes = (uint16_t)d->size_bytes;
+        memcpy(dims[i].scale, d->scale, sizeof(dims[i].scale));
+        memcpy(dims[i].offset, d->offset, sizeof(dims[i].offset));
+    }
+    *out_dims = dims;
+    *out_count = (uint32_t)info->extra_dim_count;
+    return STA_OK;
+}
+
+static int log2_exact(int v)
+{
+    int n = 0;
+    while ((1 << n) < v) {
+        n++;
+    }
+    return (1 << n) == v ? n : -1;
+}
+
+// Chunk size from the memory budget: what one worker may use for a chunk's records,
+// its index arrays and the node buffers (see docs/CONVERTER.md for the model).
+static size_t plan_chunk_capacity(size_t memory_mib, int threads, size_t record_size, int grid_log2,
+                                  size_t *out_buffer_bytes)
+{
+    size_t budget = memory_mib > FIXED_OVERHEAD_MIB ? (memory_mib - FIXED_OVERHEAD_MIB) << 20
+                                                    : (size_t)32 << 20;
+    // Distribution buffers get an eighth; workers share the rest.
+    *out_buffer_bytes = budget / 8;
+    size_t per_worker = (budget - budget / 8) / (size_t)threads;
+    size_t grid_cells = (size_t)1 << (3 * grid_log2);
+    size_t per_point = record_size + 9; // records + order/spare/labels
+    size_t per_node_point = record_size + sizeof(sta_point) + 2 * record_size; // node buffers
+    // Largest node: a full grid; per_worker = cap * per_point + min(cap, grid) * per_node_point.
+    size_t cap = per_worker / (per_point + per_node_point);
+    if (cap > grid_cells) {
+        size_t left = per_worker - grid_cells * per_node_point;
+        cap = left / per_point;
+    }
+    return cap < 4096 ? 4096 : cap;
+}
+
+sta_status sta_convert(const sta_convert_options *options, sta_convert_report *report,
+                       sta_error *err)
+{
+    sta_convert_report local_report;
+    if (!report) {
+        report = &local_report;
+    }
+    memset(report, 0, sizeof(*report));
+    double t_start = sta_progress_now_s();
+    convert_job job;
+    memset(&job, 0, sizeof(job));
+    job.options = options;
+    job.chunk_fd = job.spill_fd = -1;
+    pthread_mutex_init(&job.spill_lock, NULL);
+    char *tmp_dir = NULL;
+    sta_strata_extra_dim *extra_dims = NULL;
+    sta_status status = STA_OK;
+
+    int grid_cells = options->grid_cells ? options->grid_cells : DEFAULT_GRID_CELLS;
+    int grid_log2 = log2_exact(grid_cells);
+    if (grid_log2 < 4 || grid_log2 > 10) {
+        status = sta_fail(err, STA_ERR_ARG,
+                          "grid cells must be a power of two from 16 to 1024, "
+                          "got %d",
+                          grid_cells);
+        goto out;
+    }
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    job.threads = options->threads > 0 ? options->threads : (int)(cores > 0 ? cores : 1);
+    job.threads = job.threads > 256 ? 256 : job.threads;
+    job.leaf_capacity = options->leaf_capacity ? options->leaf_capacity : DEFAULT_LEAF_CAPACITY;
+    size_t memory_mib = options->memory_mib ? options->memory_mib : DEFAULT_MEMORY_MIB;
+    int level =
+        options->compress_level < 0 ? STA_STRATA_DEFAULT_ZSTD_LEVEL : options->compress_level;
+
+    struct stat st;
+    if (!options->force && stat(options->output, &st) == 0) {
+        status = sta_fail(err, STA_ERR_ARG, "%s: already exists (use --force to overwrite)",
+                          options->output);
+        goto out;
+    }
+    tmp_dir = options->tmp_dir ? sta_strdup(options->tmp_dir) : output_folder(options->output);
+    if (!tmp_dir) {
+        status = sta_fail(err, STA_ERR_NOMEM, "out of memory");
+        goto out;
+    }
+
+    // 1. scan
+    status = sta_inputs_open(options->inputs, options->input_count, options->salvage,
+                             options->keep_extra, &job.inputs, err);
+    if (status != STA_OK) {
+        goto out;
+    }
+    size_t buffer_bytes = 0;
+    job.chunk_capacity = plan_chunk_capacity(memory_mib, job.threads, job.inputs.layout.size,
+                                             grid_log2, &buffer_bytes);
+    if (options->chunk_points) {
+        job.chunk_capacity = options->chunk_points;
+    }
+
+    // 2. count and plan
+    job.progress.enabled = options->progress;
+    double t0 = sta_progress_now_s();
+    status = sta_distribute_plan(&job.inputs, grid_log2, job.chunk_capacity, &job.progress,
+                                 options->cancel, &job.plan, err);
+    if (status != STA_OK) {
+        goto out;
+    }
+    report->seconds_count = sta_progress_now_s() - t0;
+
+    // The output writer: geometry from the plan, layout from the inputs.
+    uint32_t extra_count = 0;
+    status = convert_extra_dims(&job.inputs, &extra_dims, &extra_count, err);
+    if (status != STA_OK) {
+        goto out;
+    }
+    sta_strata_writer_options wopt;
+    memset(&wopt, 0, sizeof(wopt));
+    wopt.geometry.grid = job.inputs.grid;
+    for (int a = 0; a < 3; a++) {
+        wopt.geometry.root_corner[a] = job.plan.space.root_min[a];
+        wopt.geometry.root_size_log2[a] = (uint8_t)job.plan.space.root_log2[a];
+    }
+    wopt.geometry.grid_cells = (uint32_t)grid_cells;
+    wopt.zstd_level = level;
+    wopt.generator = "strata-convert 0.1";
+    status = sta_strata_layout_init(&wopt.layout,
+                                    sta_strata_attributes_from_sta_attr(job.inputs.attributes),
+                                    extra_dims, extra_count, err);
+    if (status != STA_OK) {
+        goto out;
+    }
+    status = sta_strata_writer_create(options->output, &wopt, &job.writer, err);
+    if (status != STA_OK) {
+        goto out;
+    }
+    status =
+        sta_node_writer_init(&job.node_writer, job.writer, &job.inputs.layout, job.threads, err);
+    if (status != STA_OK) {
+        goto out;
+    }
+
+    // 3. distribute
+    status = make_temp(tmp_dir, options->output, "chunks", &job.chunk_path, &job.chunk_fd, err);
+    if (status == STA_OK) {
+        status = make_temp(tmp_dir, options->output, "merge", &job.spill_path, &job.spill_fd, err);
+    }
+    if (status != STA_OK) {
+        goto out;
+    }
+    t0 = sta_progress_now_s();
+    sta_progress_begin(&job.progress, "distributing", job.inputs.point_count, options->progress);
+    status = sta_distribute_write(&job.inputs, &job.plan, job.chunk_fd, job.chunk_path,
+                                  buffer_bytes, &job.progress, options->cancel, err);
+    sta_progress_end(&job.progress);
+    if (status != STA_OK) {
+        goto out;
+    }
+    uint64_t temp_records = job.inputs.point_count;
+    status = sta_refine_chunks(&job.plan, &job.inputs.layout, job.chunk_fd, job.chunk_path,
+                               job.chunk_capacity, buffer_bytes, &temp_records, err);
+    if (status != STA_OK) {
+        goto out;
+    }
+    report->seconds_distribute = sta_progress_now_s() - t0;
+    report->temp_bytes = temp_records * job.inputs.layout.size;
+
+    // 4. index chunks in parallel
+    t0 = sta_progress_now_s();
+    sta_progress_begin(&job.progress, "indexing", job.inputs.point_count, options->progress);
+    if (job.plan.chunk_count > 0) {
+        status = run_index_phase(&job, err);
+    }
+    sta_progress_end(&job.progress);
+    if (status != STA_OK) {
+        goto out;
+    }
+    report->seconds_index = sta_progress_now_s() - t0;
+    remove_temp(&job.chunk_path, &job.chunk_fd); // free the disk before the merge
+
+    // 5. merge the top of the tree, then write table and header
+    t0 = sta_progress_now_s();
+    if (job.spilled_count == 0) {
+        const sta_pending_node empty_root = { { 0, 0, 0, 0 }, NULL, 0, 0, 0 };
+        status = finish_node(&job, &empty_root, err);
+    } else {
+        status = run_merge_phase(&job, err);
+    }
+    if (status != STA_OK) {
+        goto out;
+    }
+    report->seconds_merge = sta_progress_now_s() - t0;
+    t0 = sta_progress_now_s();
+    status = sta_node_writer_finish(&job.node_writer, &report->node_count, &report->max_level, err);
+    if (status != STA_OK) {
+        goto out;
+    }
+    report->seconds_finish = sta_progress_now_s() - t0;
+    report->point_count = job.node_writer.point_count;
+    report->raw_bytes = job.node_writer.raw_bytes;
+    report->stored_bytes = job.node_writer.stored_bytes;
+    report->chunk_count = job.plan.chunk_count;
+    if (report->point_count != job.inputs.point_count) {
+        status = sta_fail(err, STA_ERR_FORMAT, "internal error: wrote %llu points of %llu read",
+                          (unsigned long long)report->point_count,
+                          (unsigned long long)job.inputs.point_count);
+    }
+out:
+    remove_temp(&job.chunk_path, &job.chunk_fd);
+    remove_temp(&job.spill_path, &job.spill_fd);
+    sta_node_writer_release(&job.node_writer);
+    sta_strata_writer_destroy(job.writer); // removes the temporary output unless finished
+    if (status != STA_OK && job.writer) {
+        // finish may have renamed before a later check failed: never leave a bad file.
+        if (report->point_count != job.inputs.point_count && report->node_count) {
+            unlink(options->output);
+        }
+    }
+    sta_chunk_plan_release(&job.plan);
+    sta_inputs_close(&job.inputs);
+    sta_free(job.spilled);
+    sta_free(job.chunk_order);
+    sta_free(extra_dims);
+    sta_free(tmp_dir);
+    pthread_mutex_destroy(&job.spill_lock);
+    report->seconds_total = sta_progress_now_s() - t_start;
+    return status;
+}

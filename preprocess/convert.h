@@ -1,0 +1,61 @@
+/* SPDX-License-Identifier: MIT
+ * strata-convert as a library call: inputs in, one .strata file out.
+ *
+ * Design: out of core in five phases (DESIGN.md §3): scan inputs, count and plan
+ * chunks, distribute points into one temporary file, index chunks in parallel
+ * (workers compress and append node payloads as they finish), merge the top of the
+ * tree above the chunks, then write the node table and header. Peak memory is set
+ * by `memory_mib`: it bounds the chunk size, the write buffers and the number of
+ * chunks indexed at once.
+ */
+#ifndef STA_PREPROCESS_CONVERT_H
+#define STA_PREPROCESS_CONVERT_H
+
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/status.h"
+
+typedef struct sta_convert_options {
+    const char *const *inputs; /* LAS / PLY paths */
+    size_t input_count;
+    const char *output;   /* .strata path; written under a temporary name first */
+    int threads;          /* 0: all cores */
+    size_t memory_mib;    /* 0: 2048; hard budget for the whole process */
+    const char *tmp_dir;  /* NULL: the output's folder */
+    int compress_level;   /* 0 none, 1..19 zstd; negative: default 3 */
+    int grid_cells;       /* 0: 128; a power of two, 16..1024 */
+    size_t leaf_capacity; /* 0: 32768 points before a leaf splits */
+    size_t chunk_points;  /* 0: from the memory budget; tests force small chunks */
+    bool force;           /* overwrite an existing output */
+    bool keep_extra;      /* keep LAS extra dimensions (--attributes extra) */
+    bool salvage;         /* read what is complete of truncated inputs */
+    bool progress;        /* draw a progress line (only on a terminal) */
+    atomic_bool *cancel;  /* set from a signal handler to stop; may be NULL */
+} sta_convert_options;
+
+/* What the conversion did, for the closing summary and benchmarks. */
+typedef struct sta_convert_report {
+    uint64_t point_count;
+    uint32_t node_count;
+    size_t chunk_count;
+    int max_level;
+    uint64_t raw_bytes;    /* node payloads before compression */
+    uint64_t stored_bytes; /* node payloads in the file */
+    uint64_t temp_bytes;   /* temporary file size */
+    double seconds_count;  /* per phase, wall clock */
+    double seconds_distribute;
+    double seconds_index;
+    double seconds_merge;
+    double seconds_finish;
+    double seconds_total;
+} sta_convert_report;
+
+/* Runs the whole conversion. On any failure no output and no temporary file is left
+ * behind. `report` may be NULL. */
+sta_status sta_convert(const sta_convert_options *options, sta_convert_report *report,
+                       sta_error *err);
+
+#endif

@@ -1,0 +1,50 @@
+/* SPDX-License-Identifier: MIT
+ * Phase 2 of the conversion: count points on a coarse grid, merge cells into chunks
+ * that fit in memory, and write every point into its chunk's region of one
+ * temporary file (sequential per chunk, one pass over the inputs).
+ */
+#ifndef STA_PREPROCESS_DISTRIBUTE_H
+#define STA_PREPROCESS_DISTRIBUTE_H
+
+#include <stdatomic.h>
+#include <stdint.h>
+
+#include "inputs.h"
+#include "octree.h"
+#include "progress.h"
+
+/* One chunk: a node of the octree whose whole subtree is built in memory. */
+typedef struct sta_chunk {
+    sta_node_key key;
+    uint64_t count; /* points */
+    uint64_t first; /* index of its first record in the temporary file */
+} sta_chunk;
+
+typedef struct sta_chunk_plan {
+    sta_octree_space space;
+    int count_level;   /* level of the counting grid */
+    sta_chunk *chunks; /* owned */
+    size_t chunk_count;
+    int32_t *chunk_of_cell; /* chunk index of each counting cell, -1 when empty; owned */
+    int64_t actual_min[3];  /* tight integer bounds of all points */
+    int64_t actual_max[3];
+    uint64_t point_count;
+} sta_chunk_plan;
+
+/* Reads every input once (twice when the declared bounds prove wrong), finds the
+ * tight bounds, chooses the root box and plans chunks of at most `chunk_capacity`
+ * points where the counting grid allows. `cancel` (may be NULL) stops the work. */
+sta_status sta_distribute_plan(sta_input_set *set, int grid_log2, uint64_t chunk_capacity,
+                               sta_progress *progress, atomic_bool *cancel,
+                               sta_chunk_plan *out_plan, sta_error *err);
+
+/* Reads every input again and writes each point's packed record into its chunk's
+ * region of `fd` (opened read-write, sized by this call). `buffer_bytes` bounds the
+ * write buffers. `tmp_path` is for messages. */
+sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, int fd,
+                                const char *tmp_path, size_t buffer_bytes, sta_progress *progress,
+                                atomic_bool *cancel, sta_error *err);
+
+void sta_chunk_plan_release(sta_chunk_plan *plan);
+
+#endif

@@ -1,0 +1,191 @@
+/* SPDX-License-Identifier: MIT
+ * Node payloads into the .strata writer, and the node table.
+ *
+ * Lock order: only nw->lock (the strata writer has its own, never held together).
+ */
+#include "node_writer.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "format/strata.h"
+
+static sta_strata_key to_strata_key(const sta_node_key *k)
+{
+    sta_strata_key s = { k->level, k->x, k->y, k->z };
+    return s;
+}
+
+static sta_status append_node(sta_node_writer *nw, const sta_strata_node *node, size_t raw,
+                              sta_error *err)
+{
+    sta_status status = STA_OK;
+    pthread_mutex_lock(&nw->lock);
+    if (nw->node_count == nw->node_capacity) {
+        size_t grown = nw->node_capacity ? 2 * nw->node_capacity : 1024;
+        sta_strata_node *nodes = sta_realloc_array(nw->nodes, grown, sizeof(*nodes));
+        if (!nodes) {
+            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the node table");
+        } else {
+            nw->nodes = nodes;
+            nw->node_capacity = grown;
+        }
+    }
+    if (status == STA_OK) {
+        nw->nodes[nw->node_count++] = *node;
+        nw->raw_bytes += raw;
+        nw->stored_bytes += node->payload.stored_size;
+        nw->point_count += node->point_count;
+    }
+    pthread_mutex_unlock(&nw->lock);
+    return status;
+}
+
+static sta_status emit(void *context, int worker_index, const sta_node_key *key,
+                       const uint8_t *records, size_t count, unsigned flags, sta_error *err)
+{
+    sta_node_writer *nw = context;
+    sta_node_worker *w = &nw->workers[worker_index];
+    const size_t extra_size = nw->layout->extra_size;
+    if (count > w->capacity) {
+        size_t grown = count > 2 * w->capacity ? count : 2 * w->capacity;
+        sta_point *points = sta_alloc_array(grown, sizeof(*points));
+        uint8_t *extra = extra_size ? sta_alloc_array(grown, extra_size) : NULL;
+        if (!points || (extra_size && !extra)) {
+            sta_free(points);
+            sta_free(extra);
+            return sta_fail(err, STA_ERR_NOMEM, "out of memory for a node of %zu points", count);
+        }
+        sta_free(w->points);
+        sta_free(w->extra);
+        w->points = points;
+        w->extra = extra;
+        w->capacity = grown;
+    }
+    for (size_t i = 0; i < count; i++) {
+        sta_record_unpack(nw->layout, records + i * nw->layout->size, &w->points[i],
+                          extra_size ? w->extra + i * extra_size : NULL);
+    }
+    sta_strata_node node;
+    memset(&node, 0, sizeof(node));
+    node.key = to_strata_key(key);
+    node.flags = (flags & STA_NODE_UNGRIDDED) ? STA_STRATA_NODE_OVERFLOW : 0;
+    node.point_count = count;
+    sta_status status =
+        sta_strata_writer_add_points(nw->writer, w->encoder, node.key, w->points,
+                                     extra_size ? w->extra : NULL, count, &node.payload, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    return append_node(nw, &node, (size_t)node.payload.raw_size, err);
+}
+
+sta_status sta_node_writer_add_empty(sta_node_writer *nw, const sta_node_key *key, sta_error *err)
+{
+    // An empty payload still gets its descriptor (checksum of no bytes) from the writer.
+    sta_strata_node node;
+    memset(&node, 0, sizeof(node));
+    node.key = to_strata_key(key);
+    sta_status status = sta_strata_writer_add_points(nw->writer, nw->workers[0].encoder, node.key,
+                                                     NULL, NULL, 0, &node.payload, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    return append_node(nw, &node, 0, err);
+}
+
+sta_node_sink sta_node_writer_sink(sta_node_writer *nw)
+{
+    sta_node_sink sink = { emit, nw };
+    return sink;
+}
+
+sta_status sta_node_writer_init(sta_node_writer *nw, sta_strata_writer *writer,
+                                const sta_record_layout *layout, int worker_count, sta_error *err)
+{
+    memset(nw, 0, sizeof(*nw));
+    nw->writer = writer;
+    nw->layout = layout;
+    nw->workers = sta_calloc((size_t)worker_count, sizeof(*nw->workers));
+    if (!nw->workers) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for %d workers", worker_count);
+    }
+    nw->worker_count = worker_count;
+    pthread_mutex_init(&nw->lock, NULL);
+    for (int i = 0; i < worker_count; i++) {
+        sta_status status = sta_strata_encoder_create(&nw->workers[i].encoder, err);
+        if (status != STA_OK) {
+            sta_node_writer_release(nw);
+            return status;
+        }
+    }
+    return STA_OK;
+}
+
+void sta_node_writer_release(sta_node_writer *nw)
+{
+    if (!nw->workers) {
+        return;
+    }
+    for (int i = 0; i < nw->worker_count; i++) {
+        sta_strata_encoder_destroy(nw->workers[i].encoder);
+        sta_free(nw->workers[i].points);
+        sta_free(nw->workers[i].extra);
+    }
+    sta_free(nw->workers);
+    sta_free(nw->nodes);
+    pthread_mutex_destroy(&nw->lock);
+    memset(nw, 0, sizeof(*nw));
+}
+
+static int compare_nodes(const void *a, const void *b)
+{
+    const sta_strata_key *x = &((const sta_strata_node *)a)->key;
+    const sta_strata_key *y = &((const sta_strata_node *)b)->key;
+    sta_node_key kx = { x->x, x->y, x->z, x->level };
+    sta_node_key ky = { y->x, y->y, y->z, y->level };
+    return sta_node_key_compare(&kx, &ky);
+}
+
+// Index of the node with `key` in the sorted table, or -1.
+static long find_node(const sta_strata_node *nodes, size_t count, const sta_strata_key *key)
+{
+    sta_strata_node probe;
+    memset(&probe, 0, sizeof(probe));
+    probe.key = *key;
+    const sta_strata_node *hit = bsearch(&probe, nodes, count, sizeof(*nodes), compare_nodes);
+    return hit ? (long)(hit - nodes) : -1;
+}
+
+sta_status sta_node_writer_finish(sta_node_writer *nw, uint32_t *out_node_count, int *out_max_level,
+                                  sta_error *err)
+{
+    sta_strata_node *nodes = nw->nodes;
+    size_t count = nw->node_count;
+    if (count == 0 || count > UINT32_MAX) {
+        return sta_fail(err, STA_ERR_ARG, "cannot write a tree of %zu nodes", count);
+    }
+    qsort(nodes, count, sizeof(*nodes), compare_nodes);
+    // Children of one parent are adjacent in this order and in slot order: link them.
+    int max_level = 0;
+    for (size_t i = 1; i < count; i++) {
+        const sta_strata_key *k = &nodes[i].key;
+        max_level = k->level > max_level ? k->level : max_level;
+        sta_strata_key parent_key = { (uint8_t)(k->level - 1), k->x >> 1, k->y >> 1, k->z >> 1 };
+        long parent = find_node(nodes, count, &parent_key);
+        if (parent < 0) {
+            char label[64];
+            return sta_fail(err, STA_ERR_ARG, "internal error: %s has no parent",
+                            sta_strata_node_label(label, sizeof(label), (uint32_t)i, *k));
+        }
+        int slot = (int)((k->x & 1) | ((k->y & 1) << 1) | ((k->z & 1) << 2));
+        if (nodes[parent].child_mask == 0) {
+            nodes[parent].first_child = (uint32_t)i;
+        }
+        nodes[parent].child_mask |= (uint8_t)(1u << slot);
+    }
+    *out_node_count = (uint32_t)count;
+    *out_max_level = max_level;
+    return sta_strata_writer_finish(nw->writer, nodes, count, err);
+}

@@ -1,0 +1,327 @@
+/* SPDX-License-Identifier: MIT
+ * End-to-end tests of strata-convert's pipeline (preprocess/convert.c): every input
+ * point comes back exactly once with identical integer coordinates and attributes,
+ * the nested-octree invariants hold, bad input leaves nothing behind. */
+#include "test_support.h"
+
+#include <dirent.h>
+#include <glob.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "convert.h"
+#include "format/strata_reader.h"
+#include "io/cloud.h"
+
+/* Order-independent digest of a multiset of points: count, sum and sum of squares of
+ * a 64-bit hash of every field that the converter must keep. */
+typedef struct digest {
+    uint64_t count, sum, sum_sq;
+} digest;
+
+static uint64_t mix(uint64_t h, uint64_t v)
+{
+    h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    h *= 0xff51afd7ed558ccdull;
+    return h ^ (h >> 33);
+}
+
+static void digest_add(digest *d, const sta_point *p, uint32_t attributes, int64_t dx, int64_t dy,
+                       int64_t dz)
+{
+    uint64_t h = 1469598103934665603ull;
+    h = mix(h, (uint64_t)((int64_t)p->X + dx));
+    h = mix(h, (uint64_t)((int64_t)p->Y + dy));
+    h = mix(h, (uint64_t)((int64_t)p->Z + dz));
+    if (attributes & STA_ATTR_INTENSITY) {
+        h = mix(h, p->intensity);
+    }
+    if (attributes & STA_ATTR_RETURNS) {
+        h = mix(h, (uint64_t)p->return_number << 8 | p->number_of_returns);
+    }
+    if (attributes & STA_ATTR_CLASSIFICATION) {
+        h = mix(h, (uint64_t)p->classification << 8 | p->classification_flags);
+    }
+    if (attributes & STA_ATTR_GPS_TIME) {
+        uint64_t bits;
+        memcpy(&bits, &p->gps_time, sizeof(bits));
+        h = mix(h, bits);
+    }
+    if (attributes & STA_ATTR_RGB) {
+        h = mix(h, (uint64_t)p->red << 32 | (uint64_t)p->green << 16 | p->blue);
+    }
+    if (attributes & STA_ATTR_POINT_SOURCE_ID) {
+        h = mix(h, p->point_source_id);
+    }
+    if (attributes & STA_ATTR_SCAN_ANGLE) {
+        h = mix(h, (uint16_t)p->scan_angle);
+    }
+    if (attributes & STA_ATTR_USER_DATA) {
+        h = mix(h, p->user_data);
+    }
+    if (attributes & STA_ATTR_NIR) {
+        h = mix(h, p->nir);
+    }
+    d->count++;
+    d->sum += h;
+    d->sum_sq += h * h;
+}
+
+// Digest of the inputs (on the first input's grid: all test inputs share it).
+static uint32_t digest_inputs(const char *const *paths, size_t count, digest *d)
+{
+    memset(d, 0, sizeof(*d));
+    uint32_t attributes = 0;
+    for (size_t f = 0; f < count; f++) {
+        sta_cloud_reader *r = NULL;
+        sta_error err = { 0 };
+        assert_int_equal(sta_cloud_open(paths[f], NULL, &r, &err), STA_OK);
+        const sta_cloud_info *info = sta_cloud_reader_info(r);
+        attributes |= info->attributes;
+        sta_point_batch batch;
+        assert_int_equal(sta_point_batch_init(&batch, 4096, info->extra_size, &err), STA_OK);
+        for (;;) {
+            assert_int_equal(sta_cloud_read(r, &batch, &err), STA_OK);
+            if (batch.count == 0) {
+                break;
+            }
+            for (size_t i = 0; i < batch.count; i++) {
+                digest_add(d, &batch.points[i], info->attributes, 0, 0, 0);
+            }
+        }
+        sta_point_batch_release(&batch);
+        sta_cloud_close(r);
+    }
+    return attributes;
+}
+
+static void digest_output(const char *path, uint32_t attributes, digest *d)
+{
+    memset(d, 0, sizeof(*d));
+    sta_strata_reader *r = NULL;
+    sta_strata_decoder *dec = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_strata_open(path, NULL, &r, &err), STA_OK);
+    assert_int_equal(sta_strata_decoder_create(&dec, &err), STA_OK);
+    const sta_strata_info *info = sta_strata_reader_info(r);
+    for (uint32_t n = 0; n < info->node_count; n++) {
+        sta_strata_points pts;
+        if (sta_strata_decode_node(r, n, dec, &pts, &err) != STA_OK) {
+            fail_msg("%s", err.message);
+        }
+        for (size_t i = 0; i < pts.count; i++) {
+            digest_add(d, &pts.points[i], attributes, 0, 0, 0);
+        }
+    }
+    if (sta_strata_verify(r, NULL, NULL, &err) != STA_OK) {
+        fail_msg("verify: %s", err.message);
+    }
+    sta_strata_decoder_destroy(dec);
+    sta_strata_close(r);
+}
+
+// Files in the temporary folder (to prove nothing is left behind).
+static int count_files(const char *dir)
+{
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0) {
+            n++;
+        }
+    }
+    closedir(d);
+    return n;
+}
+
+static void round_trip(const char *const *paths, size_t count, size_t chunk_points, int threads,
+                       int compress)
+{
+    char out[4096];
+    snprintf(out, sizeof(out), "%s/rt.strata", sta_test_tmpdir());
+    unlink(out);
+    sta_convert_options o = { .inputs = paths,
+                              .input_count = count,
+                              .output = out,
+                              .threads = threads,
+                              .compress_level = compress,
+                              .leaf_capacity = 256,
+                              .chunk_points = chunk_points };
+    sta_convert_report report;
+    sta_error err = { 0 };
+    if (sta_convert(&o, &report, &err) != STA_OK) {
+        fail_msg("convert: %s", err.message);
+    }
+    digest in, got;
+    uint32_t attributes = digest_inputs(paths, count, &in);
+    digest_output(out, attributes, &got);
+    assert_int_equal(got.count, in.count);
+    assert_int_equal(report.point_count, in.count);
+    assert_true(got.sum == in.sum);
+    assert_true(got.sum_sq == in.sum_sq);
+    assert_int_equal(count_files(sta_test_tmpdir()), 1); // only the output
+    unlink(out);
+}
+
+static void shared_las_files_round_trip(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    // Every readable LAS file of the corpus, one by one, small chunks to force merges.
+    const char *files[] = {
+        "las/simple.las",         "las/1815.las",
+        "las/test1_4.las",        "las/simple1_4.las",
+        "las/simple1_3.las",      "las/gib_las_col.las",
+        "las/autzen_trim.las",    "las/epsg_4326.las",
+        "las/Megaplot.las",       "las/MixedConifer.las",
+        "las/extra-bytes.las",    "las/sample_c.las",
+        "las/mvk-thin.las",       "las/liblas_1.0_0.las",
+        "las/no-points.las",      "las/gps-time-nan.las",
+        "las/vegetation_1_3.las", "las/test_data_0000_0000_LA93_IGN69_ground.las"
+    };
+    for (size_t i = 0; i < sizeof(files) / sizeof(files[0]); i++) {
+        char path[4096];
+        snprintf(path, sizeof(path), "%s", sta_test_shared_path(files[i]));
+        const char *one[] = { path };
+        round_trip(one, 1, 5000, 2, 3);
+    }
+}
+
+static void lion_tiles_merge_into_one_scene(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    glob_t g;
+    char pattern[4096];
+    snprintf(pattern, sizeof(pattern), "%s",
+             sta_test_shared_path("las/potree_lion_takanawa/*.las"));
+    assert_int_equal(glob(pattern, 0, NULL, &g), 0);
+    assert_int_equal(g.gl_pathc, 200);
+    round_trip((const char *const *)g.gl_pathv, g.gl_pathc, 20000, 2, 1);
+    globfree(&g);
+}
+
+static void uncompressed_single_thread_one_chunk(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char path[4096];
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    const char *one[] = { path };
+    round_trip(one, 1, 0, 1, 0);
+}
+
+static void dense_chunks_are_split_out_of_core(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    // Chunks of at most 300 points: most counting cells are denser and must be split
+    // again from the temporary file before indexing.
+    char path[4096];
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    const char *one[] = { path };
+    round_trip(one, 1, 300, 2, 1);
+}
+
+static void broken_inputs_leave_nothing(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    const char *broken[] = { "las/1.2-with-color-clipped.las", "las/garbage_nVariableLength.las",
+                             "laz/simple.laz" };
+    char out[4096];
+    snprintf(out, sizeof(out), "%s/bad.strata", sta_test_tmpdir());
+    for (size_t i = 0; i < sizeof(broken) / sizeof(broken[0]); i++) {
+        char path[4096];
+        snprintf(path, sizeof(path), "%s", sta_test_shared_path(broken[i]));
+        const char *one[] = { path };
+        sta_convert_options o = { .inputs = one, .input_count = 1, .output = out };
+        sta_error err = { 0 };
+        assert_int_not_equal(sta_convert(&o, NULL, &err), STA_OK);
+        assert_non_null(strstr(err.message, broken[i] + 4)); // names the file
+        assert_int_equal(count_files(sta_test_tmpdir()), 0);
+    }
+    // A missing file among good ones: nothing written either.
+    char good[4096];
+    snprintf(good, sizeof(good), "%s", sta_test_shared_path("las/simple.las"));
+    const char *mixed[] = { good, "/nonexistent/x.las" };
+    sta_convert_options o = { .inputs = mixed, .input_count = 2, .output = out };
+    sta_error err = { 0 };
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_ERR_IO);
+    assert_non_null(strstr(err.message, "/nonexistent/x.las"));
+    assert_int_equal(count_files(sta_test_tmpdir()), 0);
+}
+
+static void existing_output_needs_force_and_cancel_cleans_up(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char out[4096], path[4096];
+    snprintf(out, sizeof(out), "%s/exists.strata", sta_test_tmpdir());
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/simple.las"));
+    sta_test_write_file(out, "keep", 4);
+    const char *one[] = { path };
+    sta_convert_options o = { .inputs = one, .input_count = 1, .output = out };
+    sta_error err = { 0 };
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "--force"));
+    // A cancelled run leaves the old file and no temporaries.
+    atomic_bool cancel = true;
+    o.force = true;
+    o.cancel = &cancel;
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_ERR_CANCELLED);
+    assert_int_equal(count_files(sta_test_tmpdir()), 1);
+    size_t size;
+    uint8_t *kept = sta_test_read_file(out, &size);
+    assert_int_equal(size, 4);
+    free(kept);
+    unlink(out);
+}
+
+static void corrupted_output_is_refused(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char out[4096], path[4096];
+    snprintf(out, sizeof(out), "%s/corrupt.strata", sta_test_tmpdir());
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    const char *one[] = { path };
+    sta_convert_options o = {
+        .inputs = one, .input_count = 1, .output = out, .leaf_capacity = 1000
+    };
+    sta_error err = { 0 };
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_OK);
+    size_t size;
+    uint8_t *bytes = sta_test_read_file(out, &size);
+    // Flip a byte in the middle (a payload): open succeeds, verify names a node.
+    bytes[size / 2] ^= 0x40;
+    sta_strata_reader *r = NULL;
+    assert_int_equal(sta_strata_open_memory(bytes, size, "corrupt.strata", NULL, &r, &err), STA_OK);
+    assert_int_equal(sta_strata_verify(r, NULL, NULL, &err), STA_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "node"));
+    sta_strata_close(r);
+    bytes[size / 2] ^= 0x40;
+    // A cut file is refused at open.
+    assert_int_not_equal(sta_strata_open_memory(bytes, size - 100, "cut.strata", NULL, &r, &err),
+                         STA_OK);
+    assert_non_null(strstr(err.message, "cut.strata"));
+    free(bytes);
+    unlink(out);
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(shared_las_files_round_trip),
+    cmocka_unit_test(lion_tiles_merge_into_one_scene),
+    cmocka_unit_test(uncompressed_single_thread_one_chunk),
+    cmocka_unit_test(dense_chunks_are_split_out_of_core),
+    cmocka_unit_test(broken_inputs_leave_nothing),
+    cmocka_unit_test(existing_output_needs_force_and_cancel_cleans_up),
+    cmocka_unit_test(corrupted_output_is_refused),
+};
+
+STA_TEST_MAIN(tests)
