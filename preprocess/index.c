@@ -185,7 +185,13 @@ static sta_status build(build_context *c, const sta_node_key *key, size_t begin,
     }
     memcpy(order, spare, count * sizeof(uint32_t));
 
-    int has_children = bucket_count[0] < count;
+    // When only a few points would go down, children would be tiny nodes (costly to
+    // store, select and draw): keep everything here as a leaf bucket instead.
+    size_t pushed_down = count - bucket_count[0];
+    if (pushed_down > 0 && pushed_down <= c->leaf_capacity / 16) {
+        return hand_over(c, key, order, count, STA_NODE_UNGRIDDED, 0, err);
+    }
+    int has_children = pushed_down > 0;
     sta_status status = hand_over(c, key, order, bucket_count[0], 0, has_children, err);
     for (int b = 1; b < 9 && status == STA_OK; b++) {
         if (bucket_count[b] > 0) {

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "app/info_print.h"
+#include "app/info_strata.h"
 #include "core/log.h"
 
 static void print_usage(FILE *out)
@@ -18,6 +19,8 @@ static void print_usage(FILE *out)
           "Prints what a LAS (1.0-1.4, point formats 0-10) or PLY file holds: header,\n"
           "VLRs/EVLRs, extra dimensions, CRS, and facts from a full scan of the points\n"
           "(actual bounds, classes, returns, GPS time range, colour depth).\n"
+          "For a .strata file: tree statistics (nodes, points and spacing per level,\n"
+          "compression, bounds).\n"
           "\n"
           "options:\n"
           "  --json                 print one JSON object per file instead of text\n"
@@ -26,6 +29,9 @@ static void print_usage(FILE *out)
           "                         classification,gps_time,red,green,blue\n"
           "                         (real-world coordinates; empty where the format\n"
           "                         lacks a field)\n"
+          "  --verify               (.strata) check every checksum and the octree rules\n"
+          "                         (points inside their node, one per cell); exit 1 on\n"
+          "                         the first violation\n"
           "  --salvage              read the complete points of a truncated file and\n"
           "                         report how many were missing (default: refuse it)\n"
           "  -q, --quiet            no warnings\n"
@@ -41,6 +47,7 @@ typedef struct info_args {
     uint64_t points_start;
     uint64_t points_count;
     bool salvage;
+    bool verify;
 } info_args;
 
 static bool parse_range(const char *text, uint64_t *start, uint64_t *count)
@@ -70,6 +77,20 @@ static bool parse_range(const char *text, uint64_t *start, uint64_t *count)
 static int report_file(const char *path, const info_args *args)
 {
     sta_error err = { 0 };
+    if (sta_info_is_strata(path)) {
+        if (args->points) {
+            fprintf(stderr, "strata-info: %s: --points is for LAS and PLY files\n", path);
+            return 1;
+        }
+        sta_status s = sta_info_strata(stdout, path, args->json, args->verify,
+                                       sta_log_is_terminal(), &err);
+        if (s != STA_OK) {
+            fflush(stdout);
+            fprintf(stderr, "strata-info: %s\n", err.message);
+            return 1;
+        }
+        return 0;
+    }
     sta_cloud_reader *reader = NULL;
     sta_read_options options = { .salvage_truncated = args->salvage };
     sta_status status = sta_cloud_open(path, &options, &reader, &err);
@@ -116,6 +137,8 @@ int main(int argc, char **argv)
             return 0;
         } else if (strcmp(a, "--json") == 0) {
             args.json = true;
+        } else if (strcmp(a, "--verify") == 0) {
+            args.verify = true;
         } else if (strcmp(a, "--salvage") == 0) {
             args.salvage = true;
         } else if (strcmp(a, "-q") == 0 || strcmp(a, "--quiet") == 0) {
