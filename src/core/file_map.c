@@ -68,6 +68,28 @@ sta_status sta_file_map_wrap(const uint8_t *data, size_t size, const char *path,
     return STA_OK;
 }
 
+void sta_file_map_drop(const sta_file_map *map, size_t offset, size_t size)
+{
+    if (!map->is_mapped || offset >= map->size) {
+        return;
+    }
+    size_t end = size > map->size - offset ? map->size : offset + size;
+    size_t page = (size_t)sysconf(_SC_PAGESIZE);
+    size_t first = (offset + page - 1) / page * page;
+    size_t last = end / page * page;
+    if (last > first) {
+        // Clean file pages: dropping them only costs a re-read if touched again.
+        madvise((void *)(map->data + first), last - first, MADV_DONTNEED);
+    }
+}
+
+void sta_file_map_advise_sequential(const sta_file_map *map)
+{
+    if (map->is_mapped && map->size > 0) {
+        madvise((void *)map->data, map->size, MADV_SEQUENTIAL);
+    }
+}
+
 void sta_file_map_close(sta_file_map *map)
 {
     if (!map->path) {

@@ -27,6 +27,15 @@ sta_status sta_file_map_open(const char *path, sta_file_map *out_map, sta_error 
 sta_status sta_file_map_wrap(const uint8_t *data, size_t size, const char *path,
                              sta_file_map *out_map, sta_error *err);
 
+/* Tells the kernel the bytes [offset, offset + size) will not be read again soon, so
+ * their pages leave this process's resident set (streaming readers call it behind
+ * them to keep memory bounded). Only whole pages inside the range are dropped; a
+ * later read of them still works (it faults them in again). No-op for wrapped maps. */
+void sta_file_map_drop(const sta_file_map *map, size_t offset, size_t size);
+
+/* Asks the kernel to read ahead sequentially (no-op for wrapped maps). */
+void sta_file_map_advise_sequential(const sta_file_map *map);
+
 /* Unmaps and clears the struct. */
 void sta_file_map_close(sta_file_map *map);
 
