@@ -11,6 +11,7 @@ packages=(
     libegl-mesa0 libgl1-mesa-dri                               # Mesa llvmpipe (GL 4.5 without a GPU)
     libopenexr-dev libpng-dev                                  # image output
     libqhull-dev libcglm-dev liblapacke-dev                    # Katz HPR, maths, test references
+    libcjson-dev                                               # camera paths, truth sidecars
     clang-format-14 python3                                    # format check, test helpers
 )
 

@@ -82,8 +82,8 @@ static int report_file(const char *path, const info_args *args)
             fprintf(stderr, "strata-info: %s: --points is for LAS and PLY files\n", path);
             return 1;
         }
-        sta_status s = sta_info_strata(stdout, path, args->json, args->verify,
-                                       sta_log_is_terminal(), &err);
+        sta_status s =
+            sta_info_strata(stdout, path, args->json, args->verify, sta_log_is_terminal(), &err);
         if (s != STA_OK) {
             fflush(stdout);
             fprintf(stderr, "strata-info: %s\n", err.message);

@@ -51,7 +51,8 @@ static void print_text(FILE *out, const sta_strata_info *info, const level_stats
     fprintf(out, "points:         %" PRIu64 "\n", info->point_count);
     fprintf(out, "nodes:          %" PRIu32 " in %d levels, %u cells per node axis\n",
             info->node_count, level_count, info->geometry.grid_cells);
-    fprintf(out, "scale:          %s %s %s\n", sta_format_double(info->geometry.grid.scale[0], a, 40),
+    fprintf(out, "scale:          %s %s %s\n",
+            sta_format_double(info->geometry.grid.scale[0], a, 40),
             sta_format_double(info->geometry.grid.scale[1], b, 40),
             sta_format_double(info->geometry.grid.scale[2], c, 40));
     fprintf(out, "offset:         %s %s %s\n",

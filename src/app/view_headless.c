@@ -1,0 +1,131 @@
+/* SPDX-License-Identifier: MIT
+ * Headless rendering. */
+#include "app/view_headless.h"
+
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <time.h>
+
+#include "app/view_setup.h"
+#include "core/alloc.h"
+#include "render/gl.h"
+#include "render/image_io.h"
+#include "render/scene.h"
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static void print_stats(int frame, const sta_frame_stats *s, double ms)
+{
+    printf("frame %d: %.2f ms, %" PRIu64 " points drawn (%" PRIu64 " selected), %u/%u nodes "
+           "drawn/selected, %u resident, %.1f MiB GPU, backlog %zu%s\n",
+           frame, ms, s->points_drawn, s->points_selected, s->nodes_drawn, s->nodes_selected,
+           s->nodes_resident, (double)s->gpu_bytes / 1048576.0, s->loader_backlog,
+           s->complete ? ", complete" : "");
+}
+
+// Renders frames until the view is fully loaded (or --frames / the timeout).
+static sta_status render_until_loaded(const sta_view_args *args, sta_scene *scene,
+                                      const sta_camera *camera, sta_render_target *target,
+                                      sta_frame_stats *stats, sta_error *err)
+{
+    double start = now_s();
+    for (int frame = 1;; frame++) {
+        double t0 = now_s();
+        sta_status status = sta_scene_render(scene, camera, target, stats, err);
+        if (status != STA_OK) {
+            return status;
+        }
+        glFinish();
+        if (args->stats) {
+            print_stats(frame, stats, (now_s() - t0) * 1e3);
+        }
+        if (args->max_frames ? frame >= args->max_frames : stats->complete) {
+            return STA_OK;
+        }
+        if (now_s() - start > args->timeout_s) {
+            return sta_fail(err, STA_ERR_IO, "%s: the view did not finish loading in %.0f s",
+                            args->scene, args->timeout_s);
+        }
+        if (!stats->complete) {
+            struct timespec nap = { 0, 2000000 }; // let the loader work
+            nanosleep(&nap, NULL);
+        }
+    }
+}
+
+static sta_status write_outputs(const sta_view_args *args, const sta_camera *camera,
+                                const sta_render_target *target, sta_error *err)
+{
+    size_t pixels = (size_t)target->width_px * (size_t)target->height_px;
+    uint8_t *rgba = sta_alloc_array(pixels, 4);
+    float *depth = sta_alloc_array(pixels, sizeof(float));
+    float *planes = sta_alloc_array(pixels, 4 * sizeof(float));
+    sta_status status = STA_OK;
+    if (!rgba || !depth || !planes) {
+        status = sta_fail(err, STA_ERR_NOMEM, "out of memory for a %dx%d image", target->width_px,
+                          target->height_px);
+    }
+    if (status == STA_OK) {
+        sta_render_target_read_rgba(target, rgba);
+    }
+    if (status == STA_OK && args->out_png) {
+        status = sta_png_write_rgba(args->out_png, rgba, target->width_px, target->height_px, err);
+    }
+    if (status == STA_OK && args->out_exr) {
+        sta_render_target_read_depth(target, depth);
+        float *r = planes, *g = planes + pixels, *b = planes + 2 * pixels, *z = planes + 3 * pixels;
+        for (size_t i = 0; i < pixels; i++) {
+            r[i] = (float)rgba[4 * i] / 255.0f;
+            g[i] = (float)rgba[4 * i + 1] / 255.0f;
+            b[i] = (float)rgba[4 * i + 2] / 255.0f;
+            // Reverse-Z depth d = near / distance along the view axis; empty pixels inf.
+            z[i] = depth[i] > 0.0f ? (float)(camera->near_m / (double)depth[i]) : INFINITY;
+        }
+        const sta_exr_channel channels[4] = { { "R", r }, { "G", g }, { "B", b }, { "Z", z } };
+        status =
+            sta_exr_write(args->out_exr, channels, 4, target->width_px, target->height_px, err);
+    }
+    sta_free(rgba);
+    sta_free(depth);
+    sta_free(planes);
+    return status;
+}
+
+int sta_view_run_headless(const sta_view_args *args)
+{
+    sta_error err = { 0 };
+    sta_gl_headless gl = { 0 };
+    sta_scene *scene = NULL;
+    sta_render_target target = { 0 };
+    sta_status status = sta_gl_headless_create(&gl, &err);
+    if (status == STA_OK) {
+        sta_scene_options options = { .budget_points = args->budget_points,
+                                      .gpu_bytes_cap = args->gpu_mem_mib << 20 };
+        status = sta_scene_open(args->scene, &options, &scene, &err);
+    }
+    if (status == STA_OK) {
+        const sta_strata_info *info = sta_scene_info(scene);
+        sta_camera camera;
+        sta_view_initial_camera(args, info, &camera);
+        sta_scene_set_colour_mode(scene, sta_view_initial_colour(args, info));
+        sta_frame_stats stats;
+        status = render_until_loaded(args, scene, &camera, &target, &stats, &err);
+        if (status == STA_OK) {
+            status = write_outputs(args, &camera, &target, &err);
+        }
+    }
+    sta_render_target_release(&target);
+    sta_scene_close(scene);
+    sta_gl_headless_destroy(&gl);
+    if (status != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,199 @@
+/* SPDX-License-Identifier: MIT
+ * strata-view's command line. */
+#include "app/view_options.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/bindings.h"
+
+static void print_usage(FILE *out)
+{
+    fputs("usage: strata-view [options] SCENE.strata\n"
+          "\n"
+          "Opens a .strata scene in a window and streams it to the GPU within a point budget.\n"
+          "With --headless it renders through EGL (no display needed) to a PNG / EXR.\n"
+          "\n"
+          "options:\n"
+          "  --headless             render offscreen; needs --out and/or --exr\n"
+          "  --out FILE.png         write the colour image (headless)\n"
+          "  --exr FILE.exr         write colour and depth as float channels (headless)\n"
+          "  --size WxH             image or window size (default 1280x720)\n"
+          "  --camera X,Y,Z,YAW,PITCH[,FOV]\n"
+          "                         camera in world coordinates; angles in degrees, yaw 0\n"
+          "                         looks along +X, 90 along +Y; fov vertical (default 60)\n"
+          "  --look DX,DY,DZ,YAW,PITCH[,FOV]\n"
+          "                         the same, relative to the centre of the scene's bounds\n"
+          "                         (default: the whole scene, seen from the south-west)\n"
+          "  --frames N             stop after N frames (headless default: until every\n"
+          "                         wanted node is loaded)\n"
+          "  --budget POINTS        points drawn per frame at most (default 30000000)\n"
+          "  --gpu-mem MIB          GPU memory for resident nodes (default 1024)\n"
+          "  --colour MODE          rgb, intensity, elevation, class or returns (default:\n"
+          "                         rgb when the scene has colour, else elevation)\n"
+          "  --path FILE.json       play a recorded camera path (window or headless)\n"
+          "  --frames-out PATTERN   headless path playback: write frame i to\n"
+          "                         PATTERN with %d replaced (e.g. frames/%05d.png)\n"
+          "  --record FILE.json     window: record the camera path (key P adds a keyframe)\n"
+          "  --stats                print one line of frame statistics per frame\n"
+          "  -h, --help             this text\n"
+          "\n"
+          "window keys and mouse:\n"
+          "  left drag      orbit around the picked point      right drag / shift  pan\n"
+          "  wheel          zoom towards the cursor             double-click  focus a point\n"
+          "  W A S D Q E    fly (hold shift: faster)            F       toggle fly / orbit\n"
+          "  1..5           colour: rgb, intensity, elevation, class, returns\n"
+          "  R              reset to the whole scene            P       add path keyframe\n"
+          "  Esc            quit\n",
+          out);
+}
+
+int sta_view_colour_mode(const char *name)
+{
+    static const char *names[] = { "rgb", "intensity", "elevation", "class", "returns" };
+    for (int i = 0; i < STA_COLOUR_MODE_COUNT; i++) {
+        if (strcmp(name, names[i]) == 0) {
+            return i;
+        }
+    }
+    return -1;
+}
+
+static int parse_doubles(const char *text, double *out, int min_count, int max_count)
+{
+    int n = 0;
+    const char *p = text;
+    while (*p && n < max_count) {
+        char *end = NULL;
+        errno = 0;
+        double v = strtod(p, &end);
+        if (end == p || errno) {
+            return -1;
+        }
+        out[n++] = v;
+        p = end;
+        if (*p == ',') {
+            p++;
+        } else if (*p) {
+            return -1;
+        }
+    }
+    return n >= min_count && *p == '\0' ? n : -1;
+}
+
+static int parse_count(const char *option, const char *text, uint64_t lo, uint64_t hi,
+                       uint64_t *out)
+{
+    char *end = NULL;
+    errno = 0;
+    unsigned long long v = text && text[0] != '-' ? strtoull(text, &end, 10) : 0;
+    if (!text || errno || end == text || *end || v < lo || v > hi) {
+        fprintf(stderr, "strata-view: %s needs a whole number from %llu to %llu, got '%s'\n",
+                option, (unsigned long long)lo, (unsigned long long)hi, text ? text : "");
+        return 0;
+    }
+    *out = v;
+    return 1;
+}
+
+int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
+{
+    memset(a, 0, sizeof(*a));
+    a->width_px = 1280;
+    a->height_px = 720;
+    a->colour_mode = -1;
+    a->timeout_s = 300.0;
+    a->camera[5] = 60.0;
+    for (int i = 1; i < argc; i++) {
+        const char *o = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        uint64_t n = 0;
+        if (strcmp(o, "-h") == 0 || strcmp(o, "--help") == 0) {
+            print_usage(stdout);
+            return -1;
+        } else if (strcmp(o, "--headless") == 0) {
+            a->headless = true;
+        } else if (strcmp(o, "--stats") == 0) {
+            a->stats = true;
+        } else if (o[0] == '-' && o[1] == '-' && !v) {
+            fprintf(stderr, "strata-view: %s needs a value (or is unknown; see --help)\n", o);
+            return 2;
+        } else if (strcmp(o, "--out") == 0) {
+            a->out_png = argv[++i];
+        } else if (strcmp(o, "--exr") == 0) {
+            a->out_exr = argv[++i];
+        } else if (strcmp(o, "--path") == 0) {
+            a->path_file = argv[++i];
+        } else if (strcmp(o, "--record") == 0) {
+            a->record_file = argv[++i];
+        } else if (strcmp(o, "--frames-out") == 0) {
+            a->frame_pattern = argv[++i];
+        } else if (strcmp(o, "--size") == 0) {
+            int w = 0, h = 0;
+            char tail = 0;
+            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 ||
+                h > 16384) {
+                fprintf(stderr, "strata-view: --size needs WxH (e.g. 1920x1080), got '%s'\n", v);
+                return 2;
+            }
+            a->width_px = w;
+            a->height_px = h;
+            i++;
+        } else if (strcmp(o, "--camera") == 0 || strcmp(o, "--look") == 0) {
+            if (parse_doubles(v, a->camera, 5, 6) < 0) {
+                fprintf(stderr, "strata-view: %s needs X,Y,Z,YAW,PITCH[,FOV], got '%s'\n", o, v);
+                return 2;
+            }
+            a->has_camera = true;
+            a->camera_relative = strcmp(o, "--look") == 0;
+            i++;
+        } else if (strcmp(o, "--frames") == 0) {
+            if (!parse_count(o, v, 1, 1000000, &n)) {
+                return 2;
+            }
+            a->max_frames = (int)n;
+            i++;
+        } else if (strcmp(o, "--budget") == 0) {
+            if (!parse_count(o, v, 1000, 2000000000ull, &n)) {
+                return 2;
+            }
+            a->budget_points = n;
+            i++;
+        } else if (strcmp(o, "--gpu-mem") == 0) {
+            if (!parse_count(o, v, 16, 1 << 20, &n)) {
+                return 2;
+            }
+            a->gpu_mem_mib = n;
+            i++;
+        } else if (strcmp(o, "--colour") == 0 || strcmp(o, "--color") == 0) {
+            a->colour_mode = sta_view_colour_mode(v);
+            if (a->colour_mode < 0) {
+                fprintf(stderr,
+                        "strata-view: --colour takes rgb, intensity, elevation, class "
+                        "or returns, got '%s'\n",
+                        v);
+                return 2;
+            }
+            i++;
+        } else if (o[0] == '-' && o[1] != '\0') {
+            fprintf(stderr, "strata-view: unknown option %s (see --help)\n", o);
+            return 2;
+        } else if (!a->scene) {
+            a->scene = o;
+        } else {
+            fprintf(stderr, "strata-view: one scene at a time (got %s and %s)\n", a->scene, o);
+            return 2;
+        }
+    }
+    if (!a->scene) {
+        fprintf(stderr, "strata-view: no scene given (see --help)\n");
+        return 2;
+    }
+    if (a->headless && !a->out_png && !a->out_exr && !a->frame_pattern && !a->stats) {
+        fprintf(stderr, "strata-view: --headless needs --out, --exr, --frames-out or --stats\n");
+        return 2;
+    }
+    return 0;
+}

@@ -1,0 +1,39 @@
+/* SPDX-License-Identifier: MIT
+ * strata-view's command line.
+ */
+#ifndef STA_APP_VIEW_OPTIONS_H
+#define STA_APP_VIEW_OPTIONS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/camera.h"
+
+typedef struct sta_view_args {
+    const char *scene; /* .strata path */
+    bool headless;
+    int width_px, height_px;   /* --size */
+    const char *out_png;       /* --out */
+    const char *out_exr;       /* --exr */
+    int max_frames;            /* --frames (0: until fully loaded) */
+    double timeout_s;          /* headless: give up waiting after this */
+    uint64_t budget_points;    /* --budget */
+    uint64_t gpu_mem_mib;      /* --gpu-mem */
+    int colour_mode;           /* --colour */
+    bool has_camera;           /* --camera given (world coordinates) */
+    bool camera_relative;      /* --look given (relative to the scene centre) */
+    double camera[6];          /* x, y, z, yaw deg, pitch deg, fov deg */
+    const char *path_file;     /* --path: play a camera path */
+    const char *record_file;   /* --record: write a camera path (window) */
+    const char *frame_pattern; /* --frames-out: numbered PNGs when playing a path */
+    bool stats;                /* --stats: one line per frame */
+} sta_view_args;
+
+/* Parses argv; prints usage or an error itself. Returns 0 to continue, -1 when
+ * --help was printed (exit 0), 2 for bad usage. */
+int sta_view_parse_args(int argc, char **argv, sta_view_args *out);
+
+/* Parses "rgb|intensity|elevation|class|returns"; -1 when unknown. */
+int sta_view_colour_mode(const char *name);
+
+#endif

@@ -1,0 +1,212 @@
+/* SPDX-License-Identifier: MIT
+ * Camera paths. */
+#include "render/camera_path.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "core/file_map.h"
+#include "core/json_out.h"
+
+static const double pi = 3.14159265358979323846;
+
+sta_status sta_camera_path_add(sta_camera_path *p, const sta_camera *c, double time_s,
+                               sta_error *err)
+{
+    if (p->count > 0 && !(time_s > p->keys[p->count - 1].time_s)) {
+        return sta_fail(err, STA_ERR_ARG, "keyframe time %.3f s is not after %.3f s", time_s,
+                        p->keys[p->count - 1].time_s);
+    }
+    if (p->count == p->capacity) {
+        size_t grown = p->capacity ? 2 * p->capacity : 16;
+        sta_keyframe *keys = sta_realloc_array(p->keys, grown, sizeof(*keys));
+        if (!keys) {
+            return sta_fail(err, STA_ERR_NOMEM, "out of memory for keyframes");
+        }
+        p->keys = keys;
+        p->capacity = grown;
+    }
+    sta_keyframe *k = &p->keys[p->count++];
+    k->time_s = time_s;
+    memcpy(k->position, c->position, sizeof(k->position));
+    k->yaw = c->yaw;
+    k->pitch = c->pitch;
+    k->fov_y = c->fov_y;
+    return STA_OK;
+}
+
+static double number_of(const cJSON *object, const char *key, bool *ok)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (!cJSON_IsNumber(item) || !isfinite(item->valuedouble)) {
+        *ok = false;
+        return 0.0;
+    }
+    return item->valuedouble;
+}
+
+sta_status sta_camera_path_load(const char *path, sta_camera_path *out, sta_error *err)
+{
+    memset(out, 0, sizeof(*out));
+    sta_file_map map = { 0 };
+    sta_status status = sta_file_map_open(path, &map, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    cJSON *root = cJSON_ParseWithLength((const char *)map.data, map.size);
+    sta_file_map_close(&map);
+    if (!root) {
+        return sta_fail(err, STA_ERR_FORMAT, "%s: not valid JSON", path);
+    }
+    const cJSON *keys = cJSON_GetObjectItemCaseSensitive(root, "keyframes");
+    if (!cJSON_IsArray(keys) || cJSON_GetArraySize(keys) < 1) {
+        cJSON_Delete(root);
+        return sta_fail(err, STA_ERR_FORMAT, "%s: no \"keyframes\" array", path);
+    }
+    int index = 0;
+    const cJSON *key;
+    cJSON_ArrayForEach(key, keys)
+    {
+        bool ok = cJSON_IsObject(key);
+        sta_camera c;
+        memset(&c, 0, sizeof(c));
+        double time_s = number_of(key, "time", &ok);
+        const cJSON *position = cJSON_GetObjectItemCaseSensitive(key, "position");
+        if (!cJSON_IsArray(position) || cJSON_GetArraySize(position) != 3) {
+            ok = false;
+        } else {
+            for (int a = 0; a < 3; a++) {
+                const cJSON *v = cJSON_GetArrayItem(position, a);
+                ok = ok && cJSON_IsNumber(v) && isfinite(v->valuedouble);
+                c.position[a] = ok ? v->valuedouble : 0.0;
+            }
+        }
+        c.yaw = number_of(key, "yaw", &ok) * pi / 180.0;
+        c.pitch = number_of(key, "pitch", &ok) * pi / 180.0;
+        c.fov_y = number_of(key, "fov", &ok) * pi / 180.0;
+        if (!ok || !(c.fov_y > 0 && c.fov_y < pi) || fabs(c.pitch) > pi / 2) {
+            status = sta_fail(err, STA_ERR_FORMAT,
+                              "%s: keyframe %d needs numbers time, position [x,y,z], yaw, "
+                              "pitch (-90..90) and fov (0..180)",
+                              path, index);
+            break;
+        }
+        status = sta_camera_path_add(out, &c, time_s, err);
+        if (status != STA_OK) {
+            sta_error_prefix(err, "%s: keyframe %d", path, index);
+            break;
+        }
+        index++;
+    }
+    cJSON_Delete(root);
+    if (status != STA_OK) {
+        sta_camera_path_release(out);
+    }
+    return status;
+}
+
+sta_status sta_camera_path_save(const char *path, const sta_camera_path *p, sta_error *err)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        return sta_fail(err, STA_ERR_IO, "%s: cannot write the camera path", path);
+    }
+    sta_json_out j;
+    sta_json_init(&j, f, true);
+    sta_json_begin_object(&j);
+    sta_json_key(&j, "version");
+    sta_json_int(&j, 1);
+    sta_json_key(&j, "keyframes");
+    sta_json_begin_array(&j);
+    for (size_t i = 0; i < p->count; i++) {
+        const sta_keyframe *k = &p->keys[i];
+        sta_json_begin_object(&j);
+        sta_json_key(&j, "time");
+        sta_json_double(&j, k->time_s);
+        sta_json_key(&j, "position");
+        sta_json_begin_array(&j);
+        for (int a = 0; a < 3; a++) {
+            sta_json_double(&j, k->position[a]);
+        }
+        sta_json_end_array(&j);
+        sta_json_key(&j, "yaw");
+        sta_json_double(&j, k->yaw * 180.0 / pi);
+        sta_json_key(&j, "pitch");
+        sta_json_double(&j, k->pitch * 180.0 / pi);
+        sta_json_key(&j, "fov");
+        sta_json_double(&j, k->fov_y * 180.0 / pi);
+        sta_json_end_object(&j);
+    }
+    sta_json_end_array(&j);
+    sta_json_end_object(&j);
+    sta_json_finish(&j);
+    if (fclose(f) != 0) {
+        return sta_fail(err, STA_ERR_IO, "%s: cannot finish writing the camera path", path);
+    }
+    return STA_OK;
+}
+
+static double catmull_rom(double p0, double p1, double p2, double p3, double t)
+{
+    double t2 = t * t, t3 = t2 * t;
+    return 0.5 * (2.0 * p1 + (-p0 + p2) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2 +
+                  (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * t3);
+}
+
+static double angle_lerp(double a, double b, double t)
+{
+    double d = fmod(b - a + 3.0 * pi, 2.0 * pi) - pi; // shortest signed difference
+    return a + d * t;
+}
+
+void sta_camera_path_sample(const sta_camera_path *p, double time_s, sta_camera *c)
+{
+    if (p->count == 0) {
+        return;
+    }
+    const sta_keyframe *k = p->keys;
+    size_t i = 0;
+    if (time_s <= k[0].time_s || p->count == 1) {
+        i = 0;
+        time_s = k[0].time_s;
+    } else if (time_s >= k[p->count - 1].time_s) {
+        i = p->count - 2;
+        time_s = k[p->count - 1].time_s;
+    } else {
+        while (i + 1 < p->count && k[i + 1].time_s <= time_s) {
+            i++;
+        }
+    }
+    if (p->count == 1) {
+        memcpy(c->position, k[0].position, sizeof(c->position));
+        c->yaw = k[0].yaw;
+        c->pitch = k[0].pitch;
+        c->fov_y = k[0].fov_y;
+        return;
+    }
+    const sta_keyframe *a = &k[i], *b = &k[i + 1];
+    const sta_keyframe *before = i > 0 ? &k[i - 1] : a;
+    const sta_keyframe *after = i + 2 < p->count ? &k[i + 2] : b;
+    double t = (time_s - a->time_s) / (b->time_s - a->time_s);
+    for (int axis = 0; axis < 3; axis++) {
+        c->position[axis] = catmull_rom(before->position[axis], a->position[axis],
+                                        b->position[axis], after->position[axis], t);
+    }
+    c->yaw = angle_lerp(a->yaw, b->yaw, t);
+    c->pitch = a->pitch + (b->pitch - a->pitch) * t;
+    c->fov_y = a->fov_y + (b->fov_y - a->fov_y) * t;
+}
+
+double sta_camera_path_duration(const sta_camera_path *p)
+{
+    return p->count < 2 ? 0.0 : p->keys[p->count - 1].time_s - p->keys[0].time_s;
+}
+
+void sta_camera_path_release(sta_camera_path *p)
+{
+    sta_free(p->keys);
+    memset(p, 0, sizeof(*p));
+}

@@ -1,0 +1,175 @@
+/* SPDX-License-Identifier: MIT
+ * OpenGL plumbing. */
+#include "render/gl.h"
+
+#include <epoxy/egl.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "render/bindings.h"
+#include "render/shader_source.h"
+
+sta_status sta_gl_headless_create(sta_gl_headless *out, sta_error *err)
+{
+    memset(out, 0, sizeof(*out));
+    EGLDisplay display =
+        eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+    EGLint major = 0, minor = 0;
+    if (display == EGL_NO_DISPLAY || !eglInitialize(display, &major, &minor)) {
+        return sta_fail(err, STA_ERR_GL,
+                        "cannot open a surfaceless EGL display (EGL error 0x%x); is Mesa's "
+                        "libegl-mesa0 installed?",
+                        (unsigned)eglGetError());
+    }
+    if (!eglBindAPI(EGL_OPENGL_API)) {
+        eglTerminate(display);
+        return sta_fail(err, STA_ERR_GL, "EGL cannot bind the OpenGL API (0x%x)",
+                        (unsigned)eglGetError());
+    }
+    const EGLint config_attributes[] = { EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
+                                         EGL_OPENGL_BIT, EGL_NONE };
+    EGLConfig config = NULL;
+    EGLint config_count = 0;
+    eglChooseConfig(display, config_attributes, &config, 1, &config_count);
+    const EGLint context_attributes[] = { EGL_CONTEXT_MAJOR_VERSION,
+                                          4,
+                                          EGL_CONTEXT_MINOR_VERSION,
+                                          5,
+                                          EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                          EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                          EGL_NONE };
+    EGLContext context = eglCreateContext(display, config_count ? config : EGL_NO_CONFIG_KHR,
+                                          EGL_NO_CONTEXT, context_attributes);
+    if (context == EGL_NO_CONTEXT) {
+        EGLint e = eglGetError();
+        eglTerminate(display);
+        return sta_fail(err, STA_ERR_GL, "cannot create an OpenGL 4.5 core context (EGL 0x%x)",
+                        (unsigned)e);
+    }
+    if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
+        EGLint e = eglGetError();
+        eglDestroyContext(display, context);
+        eglTerminate(display);
+        return sta_fail(err, STA_ERR_GL, "cannot make the EGL context current (0x%x)", (unsigned)e);
+    }
+    out->display = display;
+    out->context = context;
+    return STA_OK;
+}
+
+void sta_gl_headless_destroy(sta_gl_headless *gl)
+{
+    if (!gl->display) {
+        return;
+    }
+    eglMakeCurrent(gl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(gl->display, gl->context);
+    // The display stays initialised: eglTerminate would unload Mesa's driver, whose
+    // allocations LeakSanitizer then reports without symbols to suppress them by, and
+    // the display is shared by every context of the process anyway.
+    memset(gl, 0, sizeof(*gl));
+}
+
+static const char *find_source(const char *name)
+{
+    for (const sta_shader_source *s = sta_shader_sources; s->name; s++) {
+        if (strcmp(s->name, name) == 0) {
+            return s->text;
+        }
+    }
+    return NULL;
+}
+
+static GLenum stage_of(const char *name)
+{
+    const char *dot = strrchr(name, '.');
+    if (dot && strcmp(dot, ".vert") == 0) {
+        return GL_VERTEX_SHADER;
+    }
+    if (dot && strcmp(dot, ".frag") == 0) {
+        return GL_FRAGMENT_SHADER;
+    }
+    if (dot && strcmp(dot, ".comp") == 0) {
+        return GL_COMPUTE_SHADER;
+    }
+    return 0;
+}
+
+// "#version 450 core" + one #define per binding + the caller's defines.
+static void build_preamble(char *out, size_t size, const char *extra)
+{
+    int used = snprintf(out, size, "#version 450 core\n");
+#define X(name) used += snprintf(out + used, size - (size_t)used, "#define " #name " %d\n", name);
+    STA_BINDING_DEFINES
+#undef X
+    if (extra) {
+        snprintf(out + used, size - (size_t)used, "%s\n", extra);
+    }
+}
+
+sta_status sta_gl_program_create(const char *const *names, size_t count, const char *extra_defines,
+                                 GLuint *out_program, sta_error *err)
+{
+    *out_program = 0;
+    char preamble[2048];
+    build_preamble(preamble, sizeof(preamble), extra_defines);
+    GLuint program = glCreateProgram();
+    sta_status status = STA_OK;
+    for (size_t i = 0; i < count && status == STA_OK; i++) {
+        const char *text = find_source(names[i]);
+        GLenum stage = stage_of(names[i]);
+        if (!text || !stage) {
+            status = sta_fail(err, STA_ERR_ARG, "no embedded shader named %s", names[i]);
+            break;
+        }
+        GLuint shader = glCreateShader(stage);
+        const char *parts[2] = { preamble, text };
+        glShaderSource(shader, 2, parts, NULL);
+        glCompileShader(shader);
+        GLint ok = 0;
+        glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+        if (!ok) {
+            char log[1024] = { 0 };
+            glGetShaderInfoLog(shader, sizeof(log), NULL, log);
+            status = sta_fail(err, STA_ERR_GL, "shader %s does not compile: %s", names[i], log);
+        } else {
+            glAttachShader(program, shader);
+        }
+        glDeleteShader(shader); // freed when the program goes
+    }
+    if (status == STA_OK) {
+        glLinkProgram(program);
+        GLint ok = 0;
+        glGetProgramiv(program, GL_LINK_STATUS, &ok);
+        if (!ok) {
+            char log[1024] = { 0 };
+            glGetProgramInfoLog(program, sizeof(log), NULL, log);
+            status = sta_fail(err, STA_ERR_GL, "program %s does not link: %s", names[0], log);
+        }
+    }
+    if (status != STA_OK) {
+        glDeleteProgram(program);
+        return status;
+    }
+    *out_program = program;
+    return STA_OK;
+}
+
+sta_status sta_gl_check(const char *what, sta_error *err)
+{
+    GLenum e = glGetError();
+    if (e == GL_NO_ERROR) {
+        return STA_OK;
+    }
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    return sta_fail(err, STA_ERR_GL, "%s: OpenGL error 0x%x", what, (unsigned)e);
+}
+
+const char *sta_gl_describe(char *buf, size_t size)
+{
+    snprintf(buf, size, "%s | %s", (const char *)glGetString(GL_RENDERER),
+             (const char *)glGetString(GL_VERSION));
+    return buf;
+}

@@ -1,0 +1,293 @@
+/* SPDX-License-Identifier: MIT
+ * Scene rendering: selection, streaming, geometry pass. */
+#include "render/scene.h"
+
+#include <math.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/alloc.h"
+#include "core/log.h"
+#include "render/bindings.h"
+#include "render/gl.h"
+#include "stream/cache.h"
+#include "stream/gpu_points.h"
+#include "stream/loader.h"
+#include "stream/select.h"
+
+struct sta_scene {
+    sta_strata_reader *reader;
+    sta_lod_tree tree;
+    sta_gpu_node_frame *frames; /* per node dequantisation */
+    sta_loader *loader;
+    sta_gpu_cache cache;
+    sta_selection selection;
+    sta_scene_options options;
+    uint8_t *bad; /* 1 for nodes refused by the loader */
+    uint32_t bad_count;
+    uint32_t *requests; /* scratch: selected, not resident */
+    GLuint program;
+    GLuint vao;
+    GLint u_node_origin, u_step, u_view_rotation, u_projection, u_colour_mode, u_elevation,
+        u_intensity_scale;
+    int colour_mode;
+    float intensity_scale;
+};
+
+// 16-bit colour files store 0..65535; 8-bit writers use 0..255. The root is a uniform
+// subsample of the scene, so its largest value tells which.
+static int detect_colour_shift(const sta_strata_reader *reader, float *out_intensity_scale)
+{
+    sta_strata_decoder *decoder = NULL;
+    sta_error err = { 0 };
+    int shift = 8;
+    *out_intensity_scale = 1.0f / 65535.0f;
+    if (sta_strata_decoder_create(&decoder, &err) != STA_OK) {
+        return shift;
+    }
+    sta_strata_points points;
+    if (sta_strata_decode_node(reader, 0, decoder, &points, &err) == STA_OK && points.count) {
+        uint16_t colour_max = 0, intensity_max = 0;
+        for (size_t i = 0; i < points.count; i++) {
+            const sta_point *p = &points.points[i];
+            uint16_t m = p->red > p->green ? p->red : p->green;
+            m = m > p->blue ? m : p->blue;
+            colour_max = m > colour_max ? m : colour_max;
+            intensity_max = p->intensity > intensity_max ? p->intensity : intensity_max;
+        }
+        shift = colour_max > 255 ? 8 : 0;
+        *out_intensity_scale = 1.0f / (float)(intensity_max > 0 ? intensity_max : 1);
+    }
+    sta_strata_decoder_destroy(decoder);
+    return shift;
+}
+
+static sta_status create_pipeline(sta_scene *s, sta_error *err)
+{
+    const char *names[] = { "geometry.vert", "geometry.frag" };
+    sta_status status = sta_gl_program_create(names, 2, NULL, &s->program, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    s->u_node_origin = glGetUniformLocation(s->program, "u_node_origin");
+    s->u_step = glGetUniformLocation(s->program, "u_step");
+    s->u_view_rotation = glGetUniformLocation(s->program, "u_view_rotation");
+    s->u_projection = glGetUniformLocation(s->program, "u_projection");
+    s->u_colour_mode = glGetUniformLocation(s->program, "u_colour_mode");
+    s->u_elevation = glGetUniformLocation(s->program, "u_elevation");
+    s->u_intensity_scale = glGetUniformLocation(s->program, "u_intensity_scale");
+    glCreateVertexArrays(1, &s->vao);
+    glVertexArrayAttribIFormat(s->vao, STA_ATTRIB_POSITION_INTENSITY, 4, GL_UNSIGNED_SHORT, 0);
+    glVertexArrayAttribIFormat(s->vao, STA_ATTRIB_COLOUR_CLASS, 4, GL_UNSIGNED_BYTE, 8);
+    glVertexArrayAttribIFormat(s->vao, STA_ATTRIB_RETURNS, 4, GL_UNSIGNED_BYTE, 12);
+    const GLuint attributes[3] = { STA_ATTRIB_POSITION_INTENSITY, STA_ATTRIB_COLOUR_CLASS,
+                                   STA_ATTRIB_RETURNS };
+    for (int i = 0; i < 3; i++) {
+        glVertexArrayAttribBinding(s->vao, attributes[i], 0);
+        glEnableVertexArrayAttrib(s->vao, attributes[i]);
+    }
+    return sta_gl_check("creating the geometry pass", err);
+}
+
+sta_status sta_scene_open(const char *path, const sta_scene_options *options, sta_scene **out_scene,
+                          sta_error *err)
+{
+    *out_scene = NULL;
+    sta_scene *s = sta_calloc(1, sizeof(*s));
+    if (!s) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory");
+    }
+    if (options) {
+        s->options = *options;
+    }
+    if (!s->options.gpu_bytes_cap) {
+        s->options.gpu_bytes_cap = (uint64_t)1 << 30;
+    }
+    if (!s->options.upload_bytes_per_frame) {
+        s->options.upload_bytes_per_frame = (uint64_t)64 << 20;
+    }
+    if (!s->options.loader_threads) {
+        long cores = sysconf(_SC_NPROCESSORS_ONLN);
+        s->options.loader_threads = cores > 1 ? (int)cores - 1 : 1;
+    }
+    sta_status status = sta_strata_open(path, NULL, &s->reader, err);
+    if (status == STA_OK) {
+        status = sta_lod_tree_init(&s->tree, s->reader, err);
+    }
+    const sta_strata_info *info = status == STA_OK ? sta_strata_reader_info(s->reader) : NULL;
+    if (status == STA_OK) {
+        s->frames = sta_alloc_array(info->node_count, sizeof(*s->frames));
+        s->bad = sta_calloc(info->node_count, 1);
+        s->requests = sta_alloc_array(info->node_count, sizeof(*s->requests));
+        if (!s->frames || !s->bad || !s->requests) {
+            status = sta_fail(err, STA_ERR_NOMEM, "%s: out of memory", path);
+        }
+    }
+    if (status == STA_OK) {
+        for (uint32_t i = 0; i < info->node_count; i++) {
+            sta_gpu_node_frame_init(&s->frames[i], &info->geometry,
+                                    sta_strata_reader_node(s->reader, i)->key);
+        }
+        status = sta_gpu_cache_init(&s->cache, info->node_count, s->options.gpu_bytes_cap, err);
+    }
+    if (status == STA_OK) {
+        sta_loader_options lo = { .threads = s->options.loader_threads };
+        lo.colour_shift = detect_colour_shift(s->reader, &s->intensity_scale);
+        status = sta_loader_create(s->reader, &lo, &s->loader, err);
+    }
+    if (status == STA_OK) {
+        status = create_pipeline(s, err);
+    }
+    if (status != STA_OK) {
+        sta_scene_close(s);
+        return status;
+    }
+    *out_scene = s;
+    return STA_OK;
+}
+
+void sta_scene_close(sta_scene *s)
+{
+    if (!s) {
+        return;
+    }
+    sta_loader_destroy(s->loader); // before the reader it reads from
+    if (s->program) {
+        glDeleteProgram(s->program);
+        glDeleteVertexArrays(1, &s->vao);
+    }
+    if (s->cache.entries) {
+        sta_gpu_cache_release(&s->cache);
+    }
+    sta_selection_release(&s->selection);
+    sta_lod_tree_release(&s->tree);
+    sta_strata_close(s->reader);
+    sta_free(s->frames);
+    sta_free(s->bad);
+    sta_free(s->requests);
+    sta_free(s);
+}
+
+const sta_strata_info *sta_scene_info(const sta_scene *s)
+{
+    return sta_strata_reader_info(s->reader);
+}
+
+void sta_scene_set_colour_mode(sta_scene *s, int mode)
+{
+    s->colour_mode = mode >= 0 && mode < STA_COLOUR_MODE_COUNT ? mode : STA_COLOUR_RGB;
+}
+
+// Takes finished nodes from the loader and uploads up to the per-frame byte budget.
+static uint32_t upload_finished(sta_scene *s)
+{
+    uint64_t uploaded = 0;
+    uint32_t uploads = 0;
+    sta_loaded_node done;
+    while (uploaded < s->options.upload_bytes_per_frame && sta_loader_take(s->loader, &done)) {
+        if (done.status != STA_OK) {
+            if (!s->bad[done.node]) {
+                s->bad[done.node] = 1;
+                s->bad_count++;
+                sta_log_warn("%s: skipping a node that cannot be shown: %s",
+                             sta_scene_info(s)->path, done.message);
+            }
+        } else if (sta_gpu_cache_upload(&s->cache, done.node, done.gpu, (uint32_t)done.count)) {
+            uploaded += done.count * STA_GPU_POINT_SIZE;
+            uploads++;
+        }
+        sta_loaded_node_release(&done);
+    }
+    return uploads;
+}
+
+sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_target *target,
+                            sta_frame_stats *stats, sta_error *err)
+{
+    memset(stats, 0, sizeof(*stats));
+    sta_status status = sta_render_target_resize(target, camera->width_px, camera->height_px, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    sta_gpu_cache_begin_frame(&s->cache);
+    // The budget can never ask for more than the GPU cache holds.
+    uint64_t budget = s->options.budget_points ? s->options.budget_points : 30000000;
+    uint64_t cache_points = s->options.gpu_bytes_cap / STA_GPU_POINT_SIZE;
+    sta_select_params params = { budget < cache_points ? budget : cache_points,
+                                 s->options.min_spacing_px };
+    status = sta_select(&s->tree, camera, &params, &s->selection, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    // Keep what this frame wants from being evicted by its own uploads.
+    for (size_t i = 0; i < s->selection.count; i++) {
+        uint32_t node = s->selection.nodes[i];
+        if (sta_gpu_cache_is_resident(&s->cache, node)) {
+            sta_gpu_cache_touch(&s->cache, node);
+        }
+    }
+    stats->uploads = upload_finished(s);
+    size_t wanted = 0;
+    bool complete = true;
+    for (size_t i = 0; i < s->selection.count; i++) {
+        uint32_t node = s->selection.nodes[i];
+        if (!sta_gpu_cache_is_resident(&s->cache, node) && !s->bad[node]) {
+            s->requests[wanted++] = node;
+            complete = false;
+        }
+    }
+    status = sta_loader_request(s->loader, s->requests, wanted, err);
+    if (status != STA_OK) {
+        return status;
+    }
+
+    static const float background[3] = { 0.0f, 0.0f, 0.0f };
+    sta_render_target_begin(target, background);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER); // reverse-Z: larger is nearer
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glUseProgram(s->program);
+    glBindVertexArray(s->vao);
+    float view[16], projection[16];
+    sta_camera_view_rotation(camera, view);
+    sta_camera_projection(camera, projection);
+    glUniformMatrix4fv(s->u_view_rotation, 1, GL_FALSE, view);
+    glUniformMatrix4fv(s->u_projection, 1, GL_FALSE, projection);
+    glUniform1i(s->u_colour_mode, s->colour_mode);
+    const sta_strata_info *info = sta_scene_info(s);
+    double z_range = info->bounds_max[2] - info->bounds_min[2];
+    glUniform2f(s->u_elevation, (float)(camera->position[2] - info->bounds_min[2]),
+                (float)(1.0 / (z_range > 0 ? z_range : 1.0)));
+    glUniform1f(s->u_intensity_scale, s->intensity_scale);
+    for (size_t i = 0; i < s->selection.count; i++) {
+        uint32_t node = s->selection.nodes[i];
+        if (!sta_gpu_cache_is_resident(&s->cache, node)) {
+            continue;
+        }
+        const sta_cache_entry *e = &s->cache.entries[node];
+        sta_gpu_cache_touch(&s->cache, node);
+        const sta_gpu_node_frame *f = &s->frames[node];
+        // Node corner relative to the camera in double, then float: exact enough
+        // wherever the scene sits on Earth.
+        glUniform3f(s->u_node_origin, (float)(f->corner[0] - camera->position[0]),
+                    (float)(f->corner[1] - camera->position[1]),
+                    (float)(f->corner[2] - camera->position[2]));
+        glUniform3f(s->u_step, (float)f->step[0], (float)f->step[1], (float)f->step[2]);
+        if (e->count > 0) {
+            glVertexArrayVertexBuffer(s->vao, 0, e->buffer, 0, STA_GPU_POINT_SIZE);
+            glDrawArrays(GL_POINTS, 0, (GLsizei)e->count);
+        }
+        stats->points_drawn += e->count;
+        stats->nodes_drawn++;
+    }
+    glBindVertexArray(0);
+    stats->points_selected = s->selection.point_count;
+    stats->nodes_selected = (uint32_t)s->selection.count;
+    stats->nodes_resident = s->cache.resident_count;
+    stats->gpu_bytes = s->cache.bytes_used;
+    stats->loader_backlog = sta_loader_backlog(s->loader);
+    stats->bad_nodes = s->bad_count;
+    stats->complete = complete && stats->loader_backlog == 0;
+    return sta_gl_check("drawing the scene", err);
+}

@@ -1,0 +1,57 @@
+/* SPDX-License-Identifier: MIT
+ * A .strata scene on screen: each frame selects the LOD cut within the point budget,
+ * feeds the loader, uploads a bounded amount of finished nodes into the GPU cache
+ * and draws what is resident with the geometry pass. The frame never waits for disk.
+ * Main thread (GL) only.
+ */
+#ifndef STA_RENDER_SCENE_H
+#define STA_RENDER_SCENE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/camera.h"
+#include "core/status.h"
+#include "format/strata_reader.h"
+#include "render/target.h"
+
+typedef struct sta_scene sta_scene;
+
+typedef struct sta_scene_options {
+    uint64_t budget_points;          /* 0: 30,000,000 points per frame */
+    uint64_t gpu_bytes_cap;          /* 0: 1 GiB for resident nodes */
+    uint64_t upload_bytes_per_frame; /* 0: 64 MiB */
+    int loader_threads;              /* 0: cores - 1 (at least 1) */
+    double min_spacing_px;           /* 0: 0.75 */
+} sta_scene_options;
+
+typedef struct sta_frame_stats {
+    uint64_t points_selected; /* <= budget */
+    uint64_t points_drawn;    /* <= points_selected */
+    uint32_t nodes_selected;
+    uint32_t nodes_drawn;
+    uint32_t nodes_resident;
+    uint32_t uploads;   /* nodes uploaded this frame */
+    uint64_t gpu_bytes; /* resident */
+    size_t loader_backlog;
+    uint32_t bad_nodes; /* nodes refused (corrupt) so far */
+    bool complete;      /* every selected node is resident (or refused) */
+} sta_frame_stats;
+
+/* Opens `path` (maps it, validates it, starts the loader). Needs a current GL 4.5
+ * context. */
+sta_status sta_scene_open(const char *path, const sta_scene_options *options, sta_scene **out_scene,
+                          sta_error *err);
+
+void sta_scene_close(sta_scene *scene);
+
+const sta_strata_info *sta_scene_info(const sta_scene *scene);
+
+/* Sets the colour mode (STA_COLOUR_* of render/bindings.h). */
+void sta_scene_set_colour_mode(sta_scene *scene, int mode);
+
+/* Renders one frame into `target` (resized to the camera's viewport). */
+sta_status sta_scene_render(sta_scene *scene, const sta_camera *camera, sta_render_target *target,
+                            sta_frame_stats *out_stats, sta_error *err);
+
+#endif

@@ -1,0 +1,88 @@
+/* SPDX-License-Identifier: MIT
+ * Offscreen framebuffer. */
+#include "render/target.h"
+
+#include <string.h>
+
+#include "core/alloc.h"
+
+sta_status sta_render_target_resize(sta_render_target *t, int width_px, int height_px,
+                                    sta_error *err)
+{
+    if (t->framebuffer && t->width_px == width_px && t->height_px == height_px) {
+        return STA_OK;
+    }
+    if (width_px <= 0 || height_px <= 0 || width_px > 16384 || height_px > 16384) {
+        return sta_fail(err, STA_ERR_ARG, "image size %dx%d is outside 1..16384", width_px,
+                        height_px);
+    }
+    sta_render_target_release(t);
+    glCreateTextures(GL_TEXTURE_2D, 1, &t->colour);
+    glTextureStorage2D(t->colour, 1, GL_RGBA8, width_px, height_px);
+    glCreateTextures(GL_TEXTURE_2D, 1, &t->depth);
+    glTextureStorage2D(t->depth, 1, GL_DEPTH_COMPONENT32F, width_px, height_px);
+    glCreateFramebuffers(1, &t->framebuffer);
+    glNamedFramebufferTexture(t->framebuffer, GL_COLOR_ATTACHMENT0, t->colour, 0);
+    glNamedFramebufferTexture(t->framebuffer, GL_DEPTH_ATTACHMENT, t->depth, 0);
+    GLenum state = glCheckNamedFramebufferStatus(t->framebuffer, GL_FRAMEBUFFER);
+    t->width_px = width_px;
+    t->height_px = height_px;
+    if (state != GL_FRAMEBUFFER_COMPLETE) {
+        sta_render_target_release(t);
+        return sta_fail(err, STA_ERR_GL, "framebuffer %dx%d incomplete (0x%x)", width_px, height_px,
+                        (unsigned)state);
+    }
+    return STA_OK;
+}
+
+void sta_render_target_release(sta_render_target *t)
+{
+    if (t->framebuffer) {
+        glDeleteFramebuffers(1, &t->framebuffer);
+        glDeleteTextures(1, &t->colour);
+        glDeleteTextures(1, &t->depth);
+    }
+    memset(t, 0, sizeof(*t));
+}
+
+void sta_render_target_begin(sta_render_target *t, const float background[3])
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, t->framebuffer);
+    glViewport(0, 0, t->width_px, t->height_px);
+    const float colour[4] = { background[0], background[1], background[2], 1.0f };
+    const float far_depth = 0.0f;
+    glClearNamedFramebufferfv(t->framebuffer, GL_COLOR, 0, colour);
+    glClearNamedFramebufferfv(t->framebuffer, GL_DEPTH, 0, &far_depth);
+}
+
+// glReadPixels returns the bottom row first: flip rows in place.
+static void flip_rows(uint8_t *data, int width_bytes, int height)
+{
+    uint8_t *row = sta_malloc((size_t)width_bytes);
+    if (!row) {
+        return;
+    }
+    for (int y = 0; y < height / 2; y++) {
+        uint8_t *a = data + (size_t)y * (size_t)width_bytes;
+        uint8_t *b = data + (size_t)(height - 1 - y) * (size_t)width_bytes;
+        memcpy(row, a, (size_t)width_bytes);
+        memcpy(a, b, (size_t)width_bytes);
+        memcpy(b, row, (size_t)width_bytes);
+    }
+    sta_free(row);
+}
+
+void sta_render_target_read_rgba(const sta_render_target *t, uint8_t *out)
+{
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(t->colour, 0, GL_RGBA, GL_UNSIGNED_BYTE, t->width_px * t->height_px * 4, out);
+    flip_rows(out, t->width_px * 4, t->height_px);
+}
+
+void sta_render_target_read_depth(const sta_render_target *t, float *out)
+{
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glGetTextureImage(t->depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                      t->width_px * t->height_px * (int)sizeof(float), out);
+    flip_rows((uint8_t *)out, t->width_px * (int)sizeof(float), t->height_px);
+}
