@@ -288,6 +288,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     stats->gpu_bytes = s->cache.bytes_used;
     stats->loader_backlog = sta_loader_backlog(s->loader);
     stats->bad_nodes = s->bad_count;
+    stats->evictions = s->cache.evictions;
     stats->complete = complete && stats->loader_backlog == 0;
     return sta_gl_check("drawing the scene", err);
 }

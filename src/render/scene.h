@@ -35,6 +35,7 @@ typedef struct sta_frame_stats {
     uint64_t gpu_bytes; /* resident */
     size_t loader_backlog;
     uint32_t bad_nodes; /* nodes refused (corrupt) so far */
+    uint64_t evictions; /* nodes evicted from the GPU cache so far */
     bool complete;      /* every selected node is resident (or refused) */
 } sta_frame_stats;
 

@@ -1,0 +1,412 @@
+/* SPDX-License-Identifier: MIT
+ * GL tests of the viewer's rendering on Mesa llvmpipe through headless EGL: the
+ * geometry pass against a CPU projection, precision far from the origin, budget and
+ * cache caps, corrupt nodes. Scenes are made here (PLY -> strata-convert). */
+#include "test_support.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "convert.h"
+#include "core/bytes.h"
+#include "core/camera.h"
+#include "format/strata_reader.h"
+#include "render/bindings.h"
+#include "render/gl.h"
+#include "render/scene.h"
+#include "stream/gpu_points.h"
+
+static sta_gl_headless gl;
+
+static int setup(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    if (sta_gl_headless_create(&gl, &err) != STA_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return -1;
+    }
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    sta_gl_headless_destroy(&gl);
+    return 0;
+}
+
+/* A test scene: a sphere in front of a wall, points on a 2^-10 m lattice so every
+ * coordinate is exact in double at any offset. Colour encodes the point's index. */
+static size_t make_scene_points(double (*xyz)[3], uint8_t (*rgb)[3], size_t count)
+{
+    uint64_t state = 12345;
+    for (size_t i = 0; i < count; i++) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        double u = (double)(state >> 11) / 9007199254740992.0;
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        double v = (double)(state >> 11) / 9007199254740992.0;
+        double p[3];
+        if (i % 3 == 0) { // wall at y = 20, x in [-15, 15], z in [-10, 10]
+            p[0] = -15.0 + 30.0 * u;
+            p[1] = 20.0;
+            p[2] = -10.0 + 20.0 * v;
+        } else { // sphere of radius 5 at (0, 10, 0)
+            double z = 2.0 * u - 1.0, phi = 6.283185307179586 * v, r = sqrt(1.0 - z * z);
+            p[0] = 5.0 * r * cos(phi);
+            p[1] = 10.0 + 5.0 * r * sin(phi);
+            p[2] = 5.0 * z;
+        }
+        for (int a = 0; a < 3; a++) {
+            xyz[i][a] = round(p[a] * 1024.0) / 1024.0;
+        }
+        uint32_t id = (uint32_t)i + 1;
+        rgb[i][0] = (uint8_t)id;
+        rgb[i][1] = (uint8_t)(id >> 8);
+        rgb[i][2] = (uint8_t)(id >> 16);
+    }
+    return count;
+}
+
+// Writes a binary little-endian PLY with double x, y, z and uchar colour.
+static void write_ply(const char *path, double (*xyz)[3], uint8_t (*rgb)[3], size_t count,
+                      const double offset[3])
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fprintf(f,
+            "ply\nformat binary_little_endian 1.0\nelement vertex %zu\nproperty double x\n"
+            "property double y\nproperty double z\nproperty uchar red\nproperty uchar green\n"
+            "property uchar blue\nend_header\n",
+            count);
+    for (size_t i = 0; i < count; i++) {
+        uint8_t record[27];
+        for (int a = 0; a < 3; a++) {
+            sta_store_f64le(record + 8 * a, xyz[i][a] + offset[a]);
+        }
+        memcpy(record + 24, rgb[i], 3);
+        assert_int_equal(fwrite(record, 1, sizeof(record), f), sizeof(record));
+    }
+    fclose(f);
+}
+
+enum {
+    POINTS = 30000,
+    W = 320,
+    H = 240
+};
+
+static void build_scene(const char *name, const double offset[3], char *out_path, size_t size)
+{
+    static double xyz[POINTS][3];
+    static uint8_t rgb[POINTS][3];
+    make_scene_points(xyz, rgb, POINTS);
+    char ply[4096];
+    snprintf(ply, sizeof(ply), "%s/%s.ply", sta_test_tmpdir(), name);
+    write_ply(ply, xyz, rgb, POINTS, offset);
+    snprintf(out_path, size, "%s/%s.strata", sta_test_tmpdir(), name);
+    const char *inputs[] = { ply };
+    sta_convert_options o = { .inputs = inputs,
+                              .input_count = 1,
+                              .output = out_path,
+                              .force = true,
+                              .leaf_capacity = 2000,
+                              .compress_level = 1 };
+    sta_error err = { 0 };
+    if (sta_convert(&o, NULL, &err) != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+}
+
+static sta_camera test_camera(const double offset[3])
+{
+    sta_camera c;
+    memset(&c, 0, sizeof(c));
+    c.position[0] = offset[0] + 3.0;
+    c.position[1] = offset[1] - 12.0;
+    c.position[2] = offset[2] + 2.0;
+    c.yaw = 1.5707963267948966 - 0.1;
+    c.pitch = -0.08;
+    c.fov_y = 1.0;
+    c.near_m = 0.01;
+    c.width_px = W;
+    c.height_px = H;
+    return c;
+}
+
+// Renders until every wanted node is resident; returns the last frame's stats.
+static sta_frame_stats render_complete(sta_scene *scene, const sta_camera *camera,
+                                       sta_render_target *target)
+{
+    sta_frame_stats stats;
+    sta_error err = { 0 };
+    for (int frame = 0; frame < 2000; frame++) {
+        if (sta_scene_render(scene, camera, target, &stats, &err) != STA_OK) {
+            fail_msg("%s", err.message);
+        }
+        if (stats.complete) {
+            return stats;
+        }
+        struct timespec nap = { 0, 2000000 };
+        nanosleep(&nap, NULL);
+    }
+    fail_msg("the view never finished loading");
+    return stats;
+}
+
+static uint8_t *render_image(const char *path, const sta_camera *camera, sta_frame_stats *stats)
+{
+    sta_scene *scene = NULL;
+    sta_error err = { 0 };
+    sta_scene_options options = { .loader_threads = 2 };
+    if (sta_scene_open(path, &options, &scene, &err) != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    sta_scene_set_colour_mode(scene, STA_COLOUR_RGB);
+    sta_render_target target = { 0 };
+    *stats = render_complete(scene, camera, &target);
+    uint8_t *rgba = malloc((size_t)W * H * 4);
+    assert_non_null(rgba);
+    sta_render_target_read_rgba(&target, rgba);
+    sta_render_target_release(&target);
+    sta_scene_close(scene);
+    return rgba;
+}
+
+static void geometry_pass_matches_cpu_projection(void **state)
+{
+    (void)state;
+    const double origin[3] = { 0, 0, 0 };
+    char path[4096];
+    build_scene("cpu", origin, path, sizeof(path));
+    sta_camera camera = test_camera(origin);
+    sta_frame_stats stats;
+    uint8_t *rgba = render_image(path, &camera, &stats);
+    assert_int_equal(stats.points_drawn, POINTS);
+
+    // CPU reference: every point as the GPU sees it (dequantised), projected in double;
+    // nearest per pixel. Ambiguous pixels (a point within 0.01 px of a pixel edge or
+    // two depths within 1e-5) are left out of the comparison: ties aside.
+    double *best = malloc(sizeof(double) * W * H), *second = malloc(sizeof(double) * W * H);
+    uint32_t *id = calloc((size_t)W * H, sizeof(uint32_t));
+    uint8_t *ambiguous = calloc((size_t)W * H, 1);
+    assert_true(best && second && id && ambiguous);
+    for (int i = 0; i < W * H; i++) {
+        best[i] = second[i] = INFINITY;
+    }
+    sta_strata_reader *reader = NULL;
+    sta_strata_decoder *decoder = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_strata_open(path, NULL, &reader, &err), STA_OK);
+    assert_int_equal(sta_strata_decoder_create(&decoder, &err), STA_OK);
+    const sta_strata_info *info = sta_strata_reader_info(reader);
+    size_t projected = 0;
+    for (uint32_t n = 0; n < info->node_count; n++) {
+        sta_strata_points pts;
+        assert_int_equal(sta_strata_decode_node(reader, n, decoder, &pts, &err), STA_OK);
+        sta_gpu_node_frame frame;
+        sta_gpu_node_frame_init(&frame, &info->geometry, sta_strata_reader_node(reader, n)->key);
+        for (size_t i = 0; i < pts.count; i++) {
+            uint8_t gpu[STA_GPU_POINT_SIZE];
+            sta_gpu_points_encode(&frame, &pts.points[i], 1, 0, gpu);
+            double world[3], x, y, z;
+            sta_gpu_point_position(&frame, gpu, world);
+            if (!sta_camera_project(&camera, world, &x, &y, &z) || x < 0 || y < 0 || x >= W ||
+                y >= H) {
+                continue;
+            }
+            projected++;
+            int px = (int)x, py = (int)y, pixel = py * W + px;
+            double fx = x - px, fy = y - py;
+            if (fx < 0.01 || fx > 0.99 || fy < 0.01 || fy > 0.99) {
+                ambiguous[pixel] = 1;
+                // The neighbour it might land in instead is ambiguous too.
+                int nx = fx < 0.5 ? px - 1 : px + 1, ny = fy < 0.5 ? py - 1 : py + 1;
+                if (nx >= 0 && nx < W) {
+                    ambiguous[py * W + nx] = 1;
+                }
+                if (ny >= 0 && ny < H) {
+                    ambiguous[ny * W + px] = 1;
+                }
+            }
+            uint32_t point_id = (uint32_t)gpu[8] | (uint32_t)gpu[9] << 8 | (uint32_t)gpu[10] << 16;
+            if (z < best[pixel]) {
+                second[pixel] = best[pixel];
+                best[pixel] = z;
+                id[pixel] = point_id;
+            } else if (z < second[pixel]) {
+                second[pixel] = z;
+            }
+        }
+    }
+    assert_true(projected > POINTS / 2); // the view really shows the scene
+    size_t compared = 0, mismatched = 0, lit = 0;
+    for (int i = 0; i < W * H; i++) {
+        if (ambiguous[i] || (isfinite(second[i]) && second[i] - best[i] < 1e-5 * best[i])) {
+            continue;
+        }
+        uint32_t got = (uint32_t)rgba[4 * i] | (uint32_t)rgba[4 * i + 1] << 8 |
+                       (uint32_t)rgba[4 * i + 2] << 16;
+        compared++;
+        lit += got != 0;
+        if (got != id[i]) {
+            mismatched++;
+        }
+    }
+    printf("compared %zu pixels (%zu lit), %zu mismatched\n", compared, lit, mismatched);
+    assert_true(compared > (size_t)W * H * 9 / 10);
+    assert_true(lit > 5000);
+    assert_int_equal(mismatched, 0);
+    sta_strata_decoder_destroy(decoder);
+    sta_strata_close(reader);
+    free(best);
+    free(second);
+    free(id);
+    free(ambiguous);
+    free(rgba);
+}
+
+static void same_image_at_origin_utm_and_ecef(void **state)
+{
+    (void)state;
+    const double offsets[3][3] = { { 0, 0, 0 },
+                                   { 650000, 5400000, 100 },
+                                   { 4200000, 170000, 4780000 } };
+    uint8_t *images[3];
+    for (int k = 0; k < 3; k++) {
+        char name[16], path[4096];
+        snprintf(name, sizeof(name), "offset%d", k);
+        build_scene(name, offsets[k], path, sizeof(path));
+        sta_camera camera = test_camera(offsets[k]);
+        sta_frame_stats stats;
+        images[k] = render_image(path, &camera, &stats);
+        assert_int_equal(stats.points_drawn, POINTS);
+    }
+    // Stated tolerance: identical, pixel for pixel (0 differing pixels).
+    for (int k = 1; k < 3; k++) {
+        size_t differing = 0;
+        for (int i = 0; i < W * H; i++) {
+            differing += memcmp(images[0] + 4 * i, images[k] + 4 * i, 4) != 0;
+        }
+        printf("offset %d: %zu pixels differ from the origin's image\n", k, differing);
+        assert_int_equal(differing, 0);
+    }
+    for (int k = 0; k < 3; k++) {
+        free(images[k]);
+    }
+}
+
+static void budget_and_gpu_cap_hold(void **state)
+{
+    (void)state;
+    const double origin[3] = { 0, 0, 0 };
+    char path[4096];
+    build_scene("budget", origin, path, sizeof(path));
+    sta_camera camera = test_camera(origin);
+    // A budget below the scene's size, and a GPU cap a little above it (22000 points),
+    // so looking two ways in turn must evict.
+    const uint64_t budget = 20000, cap = 22000 * STA_GPU_POINT_SIZE;
+    sta_scene *scene = NULL;
+    sta_error err = { 0 };
+    sta_scene_options options = { .budget_points = budget, .gpu_bytes_cap = cap };
+    assert_int_equal(sta_scene_open(path, &options, &scene, &err), STA_OK);
+    sta_render_target target = { 0 };
+    sta_frame_stats stats;
+    for (int frame = 0; frame < 400; frame++) {
+        assert_int_equal(sta_scene_render(scene, &camera, &target, &stats, &err), STA_OK);
+        assert_true(stats.points_selected <= budget);
+        assert_true(stats.points_drawn <= stats.points_selected);
+        assert_true(stats.gpu_bytes <= cap);
+        if (stats.complete) {
+            break;
+        }
+        struct timespec nap = { 0, 2000000 };
+        nanosleep(&nap, NULL);
+    }
+    assert_true(stats.complete);
+    assert_true(stats.points_drawn > 0);
+    assert_int_equal(stats.points_drawn, stats.points_selected); // all wanted are resident
+    sta_camera other = camera; // from behind the wall, near its left end
+    other.position[0] = -12.0;
+    other.position[1] = 26.0;
+    other.yaw = -1.5707963267948966 - 0.3;
+    for (int turn = 0; turn < 6; turn++) {
+        const sta_camera *c = turn % 2 ? &camera : &other;
+        for (int frame = 0; frame < 400; frame++) {
+            assert_int_equal(sta_scene_render(scene, c, &target, &stats, &err), STA_OK);
+            assert_true(stats.points_drawn <= budget);
+            assert_true(stats.gpu_bytes <= cap);
+            if (stats.complete) {
+                break;
+            }
+            struct timespec nap = { 0, 2000000 };
+            nanosleep(&nap, NULL);
+        }
+        assert_true(stats.complete);
+        printf("view %d: %llu points selected in %u nodes, %u resident, %.0f KiB\n", turn % 2,
+               (unsigned long long)stats.points_selected, stats.nodes_selected,
+               stats.nodes_resident, (double)stats.gpu_bytes / 1024.0);
+    }
+    assert_true(stats.evictions > 0); // the cap was reached and held
+    // Unlimited: every node becomes resident and every point is drawn.
+    sta_scene_close(scene);
+    sta_scene_options open = { 0 };
+    assert_int_equal(sta_scene_open(path, &open, &scene, &err), STA_OK);
+    stats = render_complete(scene, &camera, &target);
+    assert_int_equal(stats.points_drawn, POINTS);
+    assert_int_equal(stats.nodes_resident, sta_scene_info(scene)->node_count);
+    sta_render_target_release(&target);
+    sta_scene_close(scene);
+}
+
+static void corrupt_node_is_skipped_not_drawn(void **state)
+{
+    (void)state;
+    const double origin[3] = { 0, 0, 0 };
+    char path[4096];
+    build_scene("corrupt", origin, path, sizeof(path));
+    // Flip a byte inside the payload of the last node (a leaf).
+    sta_strata_reader *reader = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_strata_open(path, NULL, &reader, &err), STA_OK);
+    const sta_strata_info *info = sta_strata_reader_info(reader);
+    uint32_t victim = info->node_count - 1;
+    const sta_strata_node *node = sta_strata_reader_node(reader, victim);
+    uint64_t at = node->payload.offset + node->payload.stored_size / 2;
+    uint64_t victim_points = node->point_count;
+    assert_true(victim_points > 0);
+    sta_strata_close(reader);
+    size_t size;
+    uint8_t *bytes = sta_test_read_file(path, &size);
+    bytes[at] ^= 0x10;
+    sta_test_write_file(path, bytes, size);
+    free(bytes);
+
+    sta_scene *scene = NULL;
+    sta_scene_options options = { 0 };
+    assert_int_equal(sta_scene_open(path, &options, &scene, &err), STA_OK);
+    sta_camera camera = test_camera(origin);
+    sta_render_target target = { 0 };
+    sta_frame_stats stats = render_complete(scene, &camera, &target);
+    assert_int_equal(stats.bad_nodes, 1);
+    assert_int_equal(stats.points_drawn, POINTS - victim_points);
+    // It is not asked for again: more frames keep the count at one.
+    for (int i = 0; i < 5; i++) {
+        assert_int_equal(sta_scene_render(scene, &camera, &target, &stats, &err), STA_OK);
+    }
+    assert_int_equal(stats.bad_nodes, 1);
+    sta_render_target_release(&target);
+    sta_scene_close(scene);
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test_setup_teardown(geometry_pass_matches_cpu_projection, setup, teardown),
+    cmocka_unit_test_setup_teardown(same_image_at_origin_utm_and_ecef, setup, teardown),
+    cmocka_unit_test_setup_teardown(budget_and_gpu_cap_hold, setup, teardown),
+    cmocka_unit_test_setup_teardown(corrupt_node_is_skipped_not_drawn, setup, teardown),
+};
+
+STA_TEST_MAIN(tests)
