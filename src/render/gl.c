@@ -114,18 +114,37 @@ sta_status sta_gl_program_create(const char *const *names, size_t count, const c
     *out_program = 0;
     char preamble[2048];
     build_preamble(preamble, sizeof(preamble), extra_defines);
+    // ".glsl" names are shared function libraries, inserted before every stage.
+    enum {
+        MAX_PARTS = 16
+    };
+    const char *parts[MAX_PARTS];
+    int part_count = 0;
+    parts[part_count++] = preamble;
+    for (size_t i = 0; i < count; i++) {
+        if (stage_of(names[i]) == 0) {
+            const char *text = find_source(names[i]);
+            if (!text || part_count >= MAX_PARTS - 1) {
+                return sta_fail(err, STA_ERR_ARG, "no embedded shader library named %s", names[i]);
+            }
+            parts[part_count++] = text;
+        }
+    }
     GLuint program = glCreateProgram();
     sta_status status = STA_OK;
     for (size_t i = 0; i < count && status == STA_OK; i++) {
-        const char *text = find_source(names[i]);
         GLenum stage = stage_of(names[i]);
-        if (!text || !stage) {
+        if (stage == 0) {
+            continue;
+        }
+        const char *text = find_source(names[i]);
+        if (!text) {
             status = sta_fail(err, STA_ERR_ARG, "no embedded shader named %s", names[i]);
             break;
         }
         GLuint shader = glCreateShader(stage);
-        const char *parts[2] = { preamble, text };
-        glShaderSource(shader, 2, parts, NULL);
+        parts[part_count] = text;
+        glShaderSource(shader, part_count + 1, parts, NULL);
         glCompileShader(shader);
         GLint ok = 0;
         glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);

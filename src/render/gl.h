@@ -23,8 +23,10 @@ sta_status sta_gl_headless_create(sta_gl_headless *out, sta_error *err);
 void sta_gl_headless_destroy(sta_gl_headless *gl);
 
 /* Builds a program from embedded shaders named in `names` (stage from the
- * extension: .vert, .frag, .comp). `extra_defines` (may be NULL) is added to the
- * preamble after the bindings.h defines. Errors name the shader and give the log. */
+ * extension: .vert, .frag, .comp; names ending in .glsl are function libraries
+ * inserted, in order, before every stage's own source). `extra_defines` (may be
+ * NULL) is added to the preamble after the bindings.h defines. Errors name the
+ * shader and give the compiler's log. */
 sta_status sta_gl_program_create(const char *const *names, size_t count, const char *extra_defines,
                                  GLuint *out_program, sta_error *err);
 

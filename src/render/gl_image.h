@@ -1,0 +1,36 @@
+/* SPDX-License-Identifier: MIT
+ * Moving float images between the CPU (sta_image) and GL textures, and dispatching
+ * 2D compute work. Main thread (GL) only.
+ */
+#ifndef STA_RENDER_GL_IMAGE_H
+#define STA_RENDER_GL_IMAGE_H
+
+#include <epoxy/gl.h>
+
+#include "core/status.h"
+#include "render/ref/image.h"
+
+/* Creates a float texture (1 level) holding `image`: internal format GL_R32F,
+ * GL_RG32F, GL_RGB32F or GL_RGBA32F by channel count (RGB images become RGBA32F
+ * with alpha 1, since image load/store has no RGB formats). Row 0 goes to texture
+ * row 0. */
+sta_status sta_gl_texture_from_image(const sta_image *image, GLuint *out_texture, sta_error *err);
+
+/* Creates an empty float texture with `levels` mip levels (1 = no pyramid) of
+ * `channels` (1, 2 or 4) floats. */
+sta_status sta_gl_texture_create(int width, int height, int channels, int levels,
+                                 GLuint *out_texture, sta_error *err);
+
+/* Reads level `level` of a float texture into `out` (allocated here with `channels`
+ * per pixel; the level's own size). */
+sta_status sta_gl_texture_to_image(GLuint texture, int level, int channels, sta_image *out,
+                                   sta_error *err);
+
+/* glDispatchCompute over width x height pixels in STA_WORKGROUP_SIZE_X x _Y groups,
+ * followed by a barrier for image and texture reads. */
+void sta_gl_dispatch_2d(int width, int height);
+
+/* The GL internal format for 1, 2 or 4 float channels. */
+GLenum sta_gl_float_format(int channels);
+
+#endif

@@ -1,0 +1,44 @@
+/* SPDX-License-Identifier: MIT
+ * The unproject pass. */
+#include "render/pass_unproject.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "render/gl.h"
+#include "render/gl_image.h"
+
+sta_status sta_unproject_pass_init(sta_unproject_pass *pass, sta_error *err)
+{
+    memset(pass, 0, sizeof(*pass));
+    const char *names[] = { "unproject.comp" };
+    sta_status status = sta_gl_program_create(names, 1, NULL, &pass->program, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    pass->u_size = glGetUniformLocation(pass->program, "u_size");
+    pass->u_tan_half = glGetUniformLocation(pass->program, "u_tan_half");
+    pass->u_near = glGetUniformLocation(pass->program, "u_near");
+    return STA_OK;
+}
+
+void sta_unproject_pass_release(sta_unproject_pass *pass)
+{
+    if (pass->program) {
+        glDeleteProgram(pass->program);
+    }
+    memset(pass, 0, sizeof(*pass));
+}
+
+void sta_unproject_pass_run(const sta_unproject_pass *pass, const sta_view_params *view,
+                            GLuint depth_texture, GLuint position_texture)
+{
+    float tan_y = tanf(0.5f * view->fov_y);
+    glUseProgram(pass->program);
+    glUniform2f(pass->u_size, (float)view->width_px, (float)view->height_px);
+    glUniform2f(pass->u_tan_half, tan_y * (float)view->width_px / (float)view->height_px, tan_y);
+    glUniform1f(pass->u_near, view->near_m);
+    glBindTextureUnit(0, depth_texture);
+    glBindImageTexture(0, position_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    sta_gl_dispatch_2d(view->width_px, view->height_px);
+}

@@ -1,0 +1,46 @@
+/* SPDX-License-Identifier: MIT
+ * Conventions shared by every screen-space pass (GPU shader and CPU twin alike).
+ *
+ * Buffers (GL textures; CPU twins use sta_image with the same layout and row order):
+ * - position: RGBA32F, camera space (camera at the origin looking down -Z, +X right,
+ *   +Y up), xyz in metres, w = 1 where a point was drawn, w = 0 for background.
+ *   Made from the reverse-Z depth buffer by the unproject pass.
+ * - colour: RGBA32F (RGB in 0..1, A unused) or RGBA8 from the geometry pass.
+ * - label: R32F holding one of STA_LABEL_* per pixel (HPR output).
+ * - filled: RGBA32F, the pull-push result: xyz camera-space position (or depth in
+ *   z only, see pull-push), w = weight / coverage in 0..1.
+ * - normal: RGBA32F, xyz a unit camera-space normal facing the camera
+ *   (dot(n, -p) >= 0 for the pixel's position p), w = 1 where valid, 0 where none.
+ * "Depth" in these passes means the distance along the view axis, d = -z > 0.
+ *
+ * Every pass is a compute shader (workgroups STA_WORKGROUP_SIZE_X x _Y) with a C twin
+ * in src/render/ref/ computing the same maths in the same order in float, so tests
+ * compare them within stated tolerances.
+ */
+#ifndef STA_RENDER_SCREEN_SPACE_H
+#define STA_RENDER_SCREEN_SPACE_H
+
+#include <math.h>
+
+/* HPR labels. */
+#define STA_LABEL_BACKGROUND 0.0f /* no point, and nothing in front to fill: stays empty */
+#define STA_LABEL_VISIBLE    1.0f /* a point that is visible */
+#define STA_LABEL_HIDDEN     2.0f /* a point seen through a surface in front: removed */
+#define STA_LABEL_HOLE       3.0f /* no point, but inside a surface: pull-push fills it */
+
+/* What every pass needs to know about the view. */
+typedef struct sta_view_params {
+    int width_px, height_px;
+    float fov_y;  /* vertical field of view, radians */
+    float near_m; /* near plane of the reverse-Z projection (depth 1 there) */
+    float s0;     /* sampling scale: typical distance between neighbouring points,
+                     metres (Bouchiba's s0); from the hierarchy's spacing */
+} sta_view_params;
+
+/* Pixels per metre at depth d: height / (2 tan(fov/2) d). */
+static inline float sta_view_pixels_per_metre(const sta_view_params *v, float depth_m)
+{
+    return (float)v->height_px / (2.0f * tanf(0.5f * v->fov_y) * depth_m);
+}
+
+#endif
