@@ -1,0 +1,74 @@
+/* SPDX-License-Identifier: MIT
+ * Shading passes. */
+#include "render/pass_shade.h"
+
+#include <string.h>
+
+#include "render/gl.h"
+#include "render/gl_image.h"
+
+sta_status sta_shade_pass_init(sta_shade_pass *pass, sta_error *err)
+{
+    memset(pass, 0, sizeof(*pass));
+    const char *shade[] = { "shade.comp" };
+    const char *edl[] = { "edl.comp" };
+    sta_status status = sta_gl_program_create(shade, 1, NULL, &pass->shade_program, err);
+    if (status == STA_OK) {
+        status = sta_gl_program_create(edl, 1, NULL, &pass->edl_program, err);
+    }
+    if (status != STA_OK) {
+        sta_shade_pass_release(pass);
+        return status;
+    }
+    pass->shade_size = glGetUniformLocation(pass->shade_program, "u_size");
+    pass->shade_light = glGetUniformLocation(pass->shade_program, "u_light");
+    pass->shade_background = glGetUniformLocation(pass->shade_program, "u_background");
+    pass->edl_size = glGetUniformLocation(pass->edl_program, "u_size");
+    pass->edl_radius = glGetUniformLocation(pass->edl_program, "u_radius");
+    pass->edl_strength = glGetUniformLocation(pass->edl_program, "u_strength");
+    pass->edl_background = glGetUniformLocation(pass->edl_program, "u_background");
+    return STA_OK;
+}
+
+void sta_shade_pass_release(sta_shade_pass *pass)
+{
+    if (pass->shade_program) {
+        glDeleteProgram(pass->shade_program);
+    }
+    if (pass->edl_program) {
+        glDeleteProgram(pass->edl_program);
+    }
+    memset(pass, 0, sizeof(*pass));
+}
+
+void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *params, int width,
+                        int height, GLuint position, GLuint colour, GLuint normal, GLuint out)
+{
+    sta_shade_params p = *params;
+    sta_shade_params_defaults(&p);
+    glUseProgram(pass->shade_program);
+    glUniform2f(pass->shade_size, (float)width, (float)height);
+    glUniform4f(pass->shade_light, p.ambient, p.diffuse, p.specular, p.shininess);
+    glUniform3f(pass->shade_background, p.background[0], p.background[1], p.background[2]);
+    glBindImageTexture(0, position, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, normal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(3, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    sta_gl_dispatch_2d(width, height);
+}
+
+void sta_edl_pass_run(const sta_shade_pass *pass, const sta_edl_params *params, int width,
+                      int height, GLuint position, GLuint colour, GLuint out)
+{
+    sta_edl_params p = *params;
+    sta_edl_params_defaults(&p);
+    glUseProgram(pass->edl_program);
+    glUniform2f(pass->edl_size, (float)width, (float)height);
+    glUniform1f(pass->edl_radius, p.radius_px);
+    glUniform1f(pass->edl_strength, p.strength);
+    glUniform3f(pass->edl_background, p.background[0], p.background[1], p.background[2]);
+    glBindImageTexture(0, position, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(3, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    sta_gl_dispatch_2d(width, height);
+}
