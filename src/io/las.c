@@ -50,6 +50,9 @@ static sta_status las_read(void *impl, sta_point_batch *batch, sta_error *err)
         }
     }
     reader->next_index += count;
+    // Streaming: the decoded records leave the resident set, so reading a file larger
+    // than memory keeps RSS at one batch.
+    sta_file_map_drop(reader->map, (size_t)(src - reader->map->data), count * stride);
     return STA_OK;
 }
 
