@@ -15,7 +15,7 @@ void sta_log_set_level(sta_log_level level)
 }
 
 __attribute__((format(printf, 2, 0))) static void emit(const char *prefix, const char *fmt,
-                                                     va_list args)
+                                                       va_list args)
 {
     char line[1024];
     vsnprintf(line, sizeof(line), fmt, args);
