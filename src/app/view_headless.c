@@ -4,11 +4,14 @@
 
 #include <inttypes.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
+#include <string.h>
 #include <time.h>
 
 #include "app/view_setup.h"
 #include "core/alloc.h"
+#include "render/camera_path.h"
 #include "render/gl.h"
 #include "render/image_io.h"
 #include "render/scene.h"
@@ -97,6 +100,56 @@ static sta_status write_outputs(const sta_view_args *args, const sta_camera *cam
     return status;
 }
 
+// Expands the one "%d" / "%05d"-style field of `pattern` with `index` (checked by
+// the option parser), without handing a user string to printf.
+static void frame_name(const char *pattern, int index, char *out, size_t size)
+{
+    const char *pc = strchr(pattern, '%');
+    const char *end = pc + 1;
+    bool zero = *end == '0';
+    int width = 0;
+    while (*end >= '0' && *end <= '9') {
+        width = width * 10 + (*end - '0');
+        end++;
+    }
+    char number[32];
+    snprintf(number, sizeof(number), zero ? "%0*d" : "%*d", width > 20 ? 20 : width, index);
+    snprintf(out, size, "%.*s%s%s", (int)(pc - pattern), pattern, number, end + 1);
+}
+
+// Plays a camera path at 30 frames per second of path time, each frame fully loaded,
+// writing numbered PNGs when a pattern is given.
+static sta_status play_path(const sta_view_args *args, sta_scene *scene, sta_camera *camera,
+                            sta_render_target *target, sta_error *err)
+{
+    sta_camera_path path = { 0 };
+    sta_status status = sta_camera_path_load(args->path_file, &path, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    double duration = sta_camera_path_duration(&path);
+    int frames = (int)floor(duration * 30.0) + 1;
+    size_t pixels = (size_t)camera->width_px * (size_t)camera->height_px;
+    uint8_t *rgba = sta_alloc_array(pixels, 4);
+    if (!rgba) {
+        status = sta_fail(err, STA_ERR_NOMEM, "out of memory");
+    }
+    for (int i = 0; i < frames && status == STA_OK; i++) {
+        sta_camera_path_sample(&path, path.keys[0].time_s + i / 30.0, camera);
+        sta_frame_stats stats;
+        status = render_until_loaded(args, scene, camera, target, &stats, err);
+        if (status == STA_OK && args->frame_pattern) {
+            char name[4096];
+            frame_name(args->frame_pattern, i, name, sizeof(name));
+            sta_render_target_read_rgba(target, rgba);
+            status = sta_png_write_rgba(name, rgba, target->width_px, target->height_px, err);
+        }
+    }
+    sta_free(rgba);
+    sta_camera_path_release(&path);
+    return status;
+}
+
 int sta_view_run_headless(const sta_view_args *args)
 {
     sta_error err = { 0 };
@@ -115,8 +168,12 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_view_initial_camera(args, info, &camera);
         sta_scene_set_colour_mode(scene, sta_view_initial_colour(args, info));
         sta_frame_stats stats;
-        status = render_until_loaded(args, scene, &camera, &target, &stats, &err);
-        if (status == STA_OK) {
+        if (args->path_file) {
+            status = play_path(args, scene, &camera, &target, &err);
+        } else {
+            status = render_until_loaded(args, scene, &camera, &target, &stats, &err);
+        }
+        if (status == STA_OK && (args->out_png || args->out_exr)) {
             status = write_outputs(args, &camera, &target, &err);
         }
     }

@@ -129,6 +129,16 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
         } else if (strcmp(o, "--record") == 0) {
             a->record_file = argv[++i];
         } else if (strcmp(o, "--frames-out") == 0) {
+            // Exactly one %d-style conversion: the pattern reaches snprintf.
+            const char *pc = strchr(v, '%');
+            const char *d = pc ? pc + 1 : NULL;
+            while (d && *d >= '0' && *d <= '9') {
+                d++;
+            }
+            if (!pc || *d != 'd' || strchr(pc + 1, '%')) {
+                fprintf(stderr, "strata-view: --frames-out needs one %%d (e.g. f/%%05d.png)\n");
+                return 2;
+            }
             a->frame_pattern = argv[++i];
         } else if (strcmp(o, "--size") == 0) {
             int w = 0, h = 0;
