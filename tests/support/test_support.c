@@ -20,9 +20,9 @@ const char *sta_test_shared_data(void)
     const char *candidates[] = { env, STA_DEFAULT_SHARED_DATA };
     for (size_t i = 0; i < 2; i++) {
         struct stat st;
-        if (candidates[i] && candidates[i][0] && stat(candidates[i], &st) == 0 &&
-            S_ISDIR(st.st_mode)) {
-            snprintf(found, sizeof(found), "%s", candidates[i]);
+        if (candidates[i] && candidates[i][0] && strlen(candidates[i]) < sizeof(found) &&
+            stat(candidates[i], &st) == 0 && S_ISDIR(st.st_mode)) {
+            memcpy(found, candidates[i], strlen(candidates[i]) + 1);
             return found;
         }
     }
@@ -35,7 +35,10 @@ const char *sta_test_shared_path(const char *relative)
     if (!root) {
         return NULL;
     }
-    snprintf(joined, sizeof(joined), "%s/%s", root, relative);
+    int n = snprintf(joined, sizeof(joined), "%s/%s", root, relative);
+    if (n < 0 || (size_t)n >= sizeof(joined)) {
+        fail_msg("path too long: %s/%s", root, relative);
+    }
     return joined;
 }
 
@@ -51,7 +54,10 @@ static void remove_tree(const char *path)
         if (strcmp(entry->d_name, ".") == 0 || strcmp(entry->d_name, "..") == 0) {
             continue;
         }
-        snprintf(child, sizeof(child), "%s/%s", path, entry->d_name);
+        int n = snprintf(child, sizeof(child), "%s/%s", path, entry->d_name);
+        if (n < 0 || (size_t)n >= sizeof(child)) {
+            continue;
+        }
         struct stat st;
         if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode)) {
             remove_tree(child);
@@ -86,7 +92,10 @@ const char *sta_test_tmpdir(void)
 
 const char *sta_test_tmp_path(const char *name)
 {
-    snprintf(joined, sizeof(joined), "%s/%s", sta_test_tmpdir(), name);
+    int n = snprintf(joined, sizeof(joined), "%s/%s", sta_test_tmpdir(), name);
+    if (n < 0 || (size_t)n >= sizeof(joined)) {
+        fail_msg("path too long: %s", name);
+    }
     return joined;
 }
 
