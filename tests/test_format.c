@@ -667,7 +667,7 @@ static void compression_shrinks_and_mixes_codes(void **state)
     bool zstd = false;
     for (size_t k = 0; k < sc.tree_count; k++) {
         const sta_strata_payload *p = &sc.table[k].payload;
-        if (p->compression == STA_STRATA_COMPRESSION_ZSTD) {
+        if (p->compression == STA_STRATA_COMPRESSION_ZSTD_SHUFFLE) {
             zstd = true;
             assert_true(p->stored_size < p->raw_size);
         } else {

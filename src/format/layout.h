@@ -33,6 +33,9 @@
 /* Compression codes of a node payload. */
 #define STA_STRATA_COMPRESSION_NONE 0u
 #define STA_STRATA_COMPRESSION_ZSTD 1u
+/* zstd over byte-shuffled columns (1.1): in each column of n elements of e bytes, byte
+ * k of every element is stored contiguously (all byte 0s, then all byte 1s, ...). */
+#define STA_STRATA_COMPRESSION_ZSTD_SHUFFLE 2u
 
 /* Node flags. Bit 0: a leaf at the depth cap whose points may share grid cells. */
 #define STA_STRATA_NODE_OVERFLOW 1u

@@ -183,6 +183,18 @@ sta_status sta_strata_decode_points(const sta_strata_layout *layout, const uint8
                                     size_t count, const int64_t corner[3], sta_point *out_points,
                                     uint8_t *out_extra, sta_error *err);
 
+/* Byte-shuffles a raw payload of `count` points (compression code 2): each column of
+ * elements wider than one byte is transposed so byte k of every element is contiguous.
+ * Element sizes: 4 for X, Y, Z; each known attribute component's size; an extra
+ * dimension's scalar size for LAS types 1..10 (else 1); 1 for attribute bits unknown to
+ * this version. `out` holds count * record_size bytes and must not overlap `raw`. */
+void sta_strata_shuffle(const sta_strata_layout *layout, size_t count, const uint8_t *raw,
+                        uint8_t *out);
+
+/* Inverse of sta_strata_shuffle. */
+void sta_strata_unshuffle(const sta_strata_layout *layout, size_t count, const uint8_t *shuffled,
+                          uint8_t *out);
+
 /* Byte offset within a raw payload of `count` points of the first column of
  * attribute `bit` (one STA_STRATA_ATTR_* bit); X is at 0, Y at 4 * count, Z at
  * 8 * count. Returns SIZE_MAX when the layout lacks the bit. Components of a multi-

@@ -9,6 +9,7 @@
  */
 #include <inttypes.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -461,4 +462,96 @@ size_t sta_strata_column_offset(const sta_strata_layout *layout, uint32_t bit, s
         }
     }
     return offset;
+}
+
+// Calls visit(element size, column byte offset, element count) for every column of the
+// layout, in payload order (X, Y, Z, then attribute bits ascending, the extra dimensions
+// at the EXTRA bit).
+typedef void (*column_visitor)(size_t element_size, size_t offset, size_t count, const uint8_t *in,
+                               uint8_t *out);
+
+static void walk_columns(const sta_strata_layout *layout, size_t count, const uint8_t *in,
+                         uint8_t *out, column_visitor visit)
+{
+    size_t pos = 0;
+    for (int axis = 0; axis < 3; axis++) {
+        visit(4, pos, count, in, out);
+        pos += 4 * count;
+    }
+    for (int bit_index = 0; bit_index < STA_STRATA_ATTR_BITS; bit_index++) {
+        uint32_t bit = 1u << bit_index;
+        if (!(layout->attributes & bit)) {
+            continue;
+        }
+        if (bit == STA_STRATA_ATTR_EXTRA) {
+            for (uint32_t d = 0; d < layout->extra_dim_count; d++) {
+                const sta_strata_extra_dim *dim = &layout->extra_dims[d];
+                size_t element = dim->data_type >= 1 && dim->data_type <= 10
+                                     ? sta_strata_extra_type_size(dim->data_type)
+                                     : 1;
+                element = element > 0 && dim->size_bytes % element == 0 ? element : 1;
+                visit(element, pos, count * (dim->size_bytes / element), in, out);
+                pos += count * dim->size_bytes;
+            }
+            continue;
+        }
+        bool known = false;
+        for (size_t c = 0; c < COMPONENT_COUNT; c++) {
+            if (components[c].bit == bit) {
+                visit(components[c].size, pos, count, in, out);
+                pos += count * components[c].size;
+                known = true;
+            }
+        }
+        if (!known) { // a later version's attribute: plain bytes
+            visit(1, pos, count * layout->attr_size[bit_index], in, out);
+            pos += count * layout->attr_size[bit_index];
+        }
+    }
+}
+
+static void shuffle_column(size_t element, size_t offset, size_t count, const uint8_t *in,
+                           uint8_t *out)
+{
+    const uint8_t *src = in + offset;
+    uint8_t *dst = out + offset;
+    if (element == 1) {
+        memcpy(dst, src, count);
+        return;
+    }
+    for (size_t k = 0; k < element; k++) {
+        uint8_t *plane = dst + k * count;
+        for (size_t i = 0; i < count; i++) {
+            plane[i] = src[i * element + k];
+        }
+    }
+}
+
+static void unshuffle_column(size_t element, size_t offset, size_t count, const uint8_t *in,
+                             uint8_t *out)
+{
+    const uint8_t *src = in + offset;
+    uint8_t *dst = out + offset;
+    if (element == 1) {
+        memcpy(dst, src, count);
+        return;
+    }
+    for (size_t k = 0; k < element; k++) {
+        const uint8_t *plane = src + k * count;
+        for (size_t i = 0; i < count; i++) {
+            dst[i * element + k] = plane[i];
+        }
+    }
+}
+
+void sta_strata_shuffle(const sta_strata_layout *layout, size_t count, const uint8_t *raw,
+                        uint8_t *out)
+{
+    walk_columns(layout, count, raw, out, shuffle_column);
+}
+
+void sta_strata_unshuffle(const sta_strata_layout *layout, size_t count, const uint8_t *shuffled,
+                          uint8_t *out)
+{
+    walk_columns(layout, count, shuffled, out, unshuffle_column);
 }

@@ -31,6 +31,8 @@ struct sta_strata_decoder {
     ZSTD_DCtx *dctx;       // owned by the decoder's thread
     uint8_t *raw;          // decompressed payload
     size_t raw_capacity;   // bytes
+    uint8_t *shuffled;     // zstd output of a shuffled payload, before unshuffling
+    size_t shuffled_capacity; // bytes
     sta_point *points;     // decoded points
     size_t point_capacity; // elements
     uint8_t *extra;        // decoded extra bytes
@@ -175,6 +177,7 @@ void sta_strata_decoder_destroy(sta_strata_decoder *decoder)
     }
     ZSTD_freeDCtx(decoder->dctx);
     sta_free(decoder->raw);
+    sta_free(decoder->shuffled);
     sta_free(decoder->points);
     sta_free(decoder->extra);
     sta_free(decoder);
@@ -242,12 +245,21 @@ sta_status sta_strata_load_node(const sta_strata_reader *r, uint32_t index, sta_
         return sta_fail(err, STA_ERR_NOMEM, "%s: %s: out of memory for %zu bytes", name, label,
                         raw_size);
     }
-    size_t got = ZSTD_decompressDCtx(d->dctx, d->raw, raw_size, stored, stored_size);
+    bool shuffled = p->compression == STA_STRATA_COMPRESSION_ZSTD_SHUFFLE;
+    if (shuffled && !reserve((void **)&d->shuffled, &d->shuffled_capacity, raw_size, 1)) {
+        return sta_fail(err, STA_ERR_NOMEM, "%s: %s: out of memory for %zu bytes", name, label,
+                        raw_size);
+    }
+    uint8_t *target = shuffled ? d->shuffled : d->raw;
+    size_t got = ZSTD_decompressDCtx(d->dctx, target, raw_size, stored, stored_size);
     if (ZSTD_isError(got) || got != raw_size) {
         return sta_fail(
             err, STA_ERR_FORMAT,
             "%s: %s: zstd payload does not decompress to %zu bytes: %s (corrupted file)", name,
             label, raw_size, ZSTD_isError(got) ? ZSTD_getErrorName(got) : "wrong size");
+    }
+    if (shuffled) {
+        sta_strata_unshuffle(&r->info.layout, (size_t)n->point_count, d->shuffled, d->raw);
     }
     *out_raw = d->raw;
     return STA_OK;

@@ -88,7 +88,7 @@ static sta_status check_node(const sta_strata_info *info, const sta_strata_node 
         return sta_fail(err, STA_ERR_FORMAT, "%s: %s: the root must have level 0", name, label);
     }
     const sta_strata_payload *p = &n->payload;
-    if (p->compression > STA_STRATA_COMPRESSION_ZSTD) {
+    if (p->compression > STA_STRATA_COMPRESSION_ZSTD_SHUFFLE) {
         return sta_fail(err, STA_ERR_UNSUPPORTED, "%s: %s: compression code %u is unknown", name,
                         label, p->compression);
     }
