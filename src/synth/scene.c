@@ -1,0 +1,208 @@
+/* SPDX-License-Identifier: MIT
+ * Scenes: parameters, georeference, creation and the public ray cast.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "synth/synth_internal.h"
+#include "synth/synth_math.h"
+
+static const char *const kind_names[] = { "?", "street", "sphere", "planes", "nested", "mesh" };
+
+bool sta_synth_kind_from_name(const char *name, sta_synth_kind *out_kind)
+{
+    for (int k = STA_SYNTH_STREET; k <= STA_SYNTH_MESH; k++) {
+        if (strcmp(name, kind_names[k]) == 0) {
+            *out_kind = (sta_synth_kind)k;
+            return true;
+        }
+    }
+    return false;
+}
+
+const char *sta_synth_kind_name(sta_synth_kind kind)
+{
+    if (kind < STA_SYNTH_STREET || kind > STA_SYNTH_MESH) {
+        return kind_names[0];
+    }
+    return kind_names[kind];
+}
+
+static const char wkt_utm32n[] =
+    "PROJCS[\"WGS 84 / UTM zone 32N\",GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS "
+    "84\",6378137,298.257223563,AUTHORITY[\"EPSG\",\"7030\"]],AUTHORITY[\"EPSG\",\"6326\"]],"
+    "PRIMEM[\"Greenwich\",0,AUTHORITY[\"EPSG\",\"8901\"]],UNIT[\"degree\",0.0174532925199433,"
+    "AUTHORITY[\"EPSG\",\"9122\"]],AUTHORITY[\"EPSG\",\"4326\"]],PROJECTION[\"Transverse_"
+    "Mercator\"],PARAMETER[\"latitude_of_origin\",0],PARAMETER[\"central_meridian\",9],"
+    "PARAMETER[\"scale_factor\",0.9996],PARAMETER[\"false_easting\",500000],PARAMETER["
+    "\"false_northing\",0],UNIT[\"metre\",1,AUTHORITY[\"EPSG\",\"9001\"]],AXIS[\"Easting\","
+    "EAST],AXIS[\"Northing\",NORTH],AUTHORITY[\"EPSG\",\"32632\"]]";
+
+static const char wkt_ecef[] =
+    "GEOCCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563,"
+    "AUTHORITY[\"EPSG\",\"7030\"]],AUTHORITY[\"EPSG\",\"6326\"]],PRIMEM[\"Greenwich\",0,"
+    "AUTHORITY[\"EPSG\",\"8901\"]],UNIT[\"metre\",1,AUTHORITY[\"EPSG\",\"9001\"]],AXIS["
+    "\"Geocentric X\",OTHER],AXIS[\"Geocentric Y\",OTHER],AXIS[\"Geocentric Z\",NORTH],"
+    "AUTHORITY[\"EPSG\",\"4978\"]]";
+
+void sta_synth_georef_init(sta_synth_origin origin, sta_synth_georef *g)
+{
+    // Offsets are round numbers; origins sit a non-round (but exactly representable)
+    // number of millimetres from them, so a shift by the origin is visible in the data.
+    static const double offsets[3][3] = { { 650000.0, 5400000.0, 0.0 },
+                                          { 0.0, 0.0, 0.0 },
+                                          { 4200000.0, 170000.0, 4780000.0 } };
+    static const int64_t steps[3][3] = { { 241375, 1873625, 103250 },
+                                         { 0, 0, 0 },
+                                         { 1345125, 1234500, 123750 } };
+    int k = origin == STA_SYNTH_ORIGIN_ZERO ? 1 : (origin == STA_SYNTH_ORIGIN_ECEF ? 2 : 0);
+    memset(g, 0, sizeof(*g));
+    for (int a = 0; a < 3; a++) {
+        g->grid.scale[a] = 0.001;
+        g->grid.offset[a] = offsets[k][a];
+        g->origin_steps[a] = steps[k][a];
+        g->origin[a] = offsets[k][a] + (double)steps[k][a] * 0.001;
+    }
+    g->crs = k == 0 ? "EPSG:32632" : (k == 2 ? "EPSG:4978" : "local");
+    g->wkt = k == 0 ? wkt_utm32n : (k == 2 ? wkt_ecef : NULL);
+}
+
+int32_t sta_synth_georef_step(const sta_synth_georef *g, int axis, double local_m)
+{
+    // round half up: floor(x + 0.5)
+    int64_t steps = sta_floor_i64(local_m / g->grid.scale[axis] + 0.5);
+    return (int32_t)(steps + g->origin_steps[axis]);
+}
+
+static sta_status check_params(const sta_synth_params *p, sta_error *err)
+{
+    if (p->kind < STA_SYNTH_STREET || p->kind > STA_SYNTH_MESH) {
+        return sta_fail(err, STA_ERR_ARG, "unknown scene kind %d", (int)p->kind);
+    }
+    if (p->point_count == 0) {
+        return sta_fail(err, STA_ERR_ARG, "point count must be positive");
+    }
+    if (p->point_format != 0 && p->point_format != 3 && p->point_format != 7) {
+        return sta_fail(err, STA_ERR_ARG, "point format %d: use 3 (LAS 1.2) or 7 (LAS 1.4)",
+                        p->point_format);
+    }
+    if (p->point_format == 3 && p->point_count > UINT32_MAX) {
+        return sta_fail(err, STA_ERR_ARG,
+                        "%llu points do not fit LAS 1.2 (at most 4294967295): use format 7",
+                        (unsigned long long)p->point_count);
+    }
+    if (p->origin < STA_SYNTH_ORIGIN_UTM || p->origin > STA_SYNTH_ORIGIN_ECEF) {
+        return sta_fail(err, STA_ERR_ARG, "unknown origin %d", (int)p->origin);
+    }
+    if (p->kind == STA_SYNTH_MESH && (!p->mesh_path || !p->mesh_path[0])) {
+        return sta_fail(err, STA_ERR_ARG, "the mesh scene needs a PLY file (--mesh FILE)");
+    }
+    if (p->has_noise && !(p->noise_m >= 0.0 && p->noise_m <= 10.0)) {
+        return sta_fail(err, STA_ERR_ARG, "noise %g m out of range (0 .. 10)", p->noise_m);
+    }
+    if (!(p->street_length_m >= 0.0 && p->street_length_m <= 1e9)) {
+        return sta_fail(err, STA_ERR_ARG, "street length %g m out of range (0 .. 1e9)",
+                        p->street_length_m);
+    }
+    return STA_OK;
+}
+
+sta_status sta_synth_scene_create(const sta_synth_params *params, sta_synth_scene **out_scene,
+                                  sta_error *err)
+{
+    *out_scene = NULL;
+    sta_status status = check_params(params, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    sta_synth_scene *scene = sta_calloc(1, sizeof(*scene));
+    if (!scene) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for a scene");
+    }
+    scene->params = *params;
+    scene->params.mesh_path = NULL;
+    if (scene->params.point_format == 0) {
+        scene->params.point_format = 7;
+    }
+    if (params->kind == STA_SYNTH_MESH) {
+        scene->mesh_path_copy = sta_strdup(params->mesh_path);
+        if (!scene->mesh_path_copy) {
+            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for a scene");
+            goto out_destroy;
+        }
+        scene->params.mesh_path = scene->mesh_path_copy;
+    }
+    bool street = params->kind == STA_SYNTH_STREET;
+    scene->noise_m = params->has_noise ? params->noise_m : (street ? 0.015 : 0.0);
+    scene->params.has_noise = true;
+    scene->params.noise_m = scene->noise_m;
+    if (street) {
+        street_config cfg;
+        sta_street_config_init(&cfg, params->seed);
+        sta_street_scan_config_init(&scene->scan, &cfg, params->point_count);
+        double length = params->street_length_m > 0.0 ? params->street_length_m
+                                                      : 1.5 * scene->scan.nominal_length_m;
+        scene->params.street_length_m = length;
+        status =
+            sta_street_create(params->seed, scene->scan.start_s_m + length, &scene->street, err);
+    } else {
+        status = sta_synth_analytic_init(scene, err);
+    }
+    if (status != STA_OK) {
+        goto out_destroy;
+    }
+    *out_scene = scene;
+    return STA_OK;
+out_destroy:
+    sta_synth_scene_destroy(scene);
+    return status;
+}
+
+void sta_synth_scene_destroy(sta_synth_scene *scene)
+{
+    if (!scene) {
+        return;
+    }
+    sta_street_destroy(scene->street);
+    sta_synth_analytic_release(&scene->analytic);
+    sta_free(scene->mesh_path_copy);
+    sta_free(scene);
+}
+
+const sta_synth_params *sta_synth_scene_params(const sta_synth_scene *scene)
+{
+    return &scene->params;
+}
+
+bool sta_synth_scene_raycast_ex(sta_synth_scene *scene, const double origin[3], const double dir[3],
+                                double min_t, double max_t, unsigned flags, sta_synth_hit *out_hit)
+{
+    if (scene->street) {
+        sta_street *st = scene->street;
+        return sta_street_trace(st, st->first_block, st->last_block, origin, dir, min_t, max_t,
+                                flags, out_hit);
+    }
+    return sta_synth_analytic_raycast(&scene->analytic, origin, dir, min_t, max_t, out_hit);
+}
+
+bool sta_synth_scene_raycast(sta_synth_scene *scene, const double origin[3], const double dir[3],
+                             double max_t, sta_synth_hit *out_hit)
+{
+    return sta_synth_scene_raycast_ex(scene, origin, dir, 0.0, max_t, 0, out_hit);
+}
+
+sta_status sta_synth_scene_scanner_position(const sta_synth_scene *scene, double gps_time,
+                                            double out_position[3], sta_error *err)
+{
+    if (!scene->street) {
+        return sta_fail(err, STA_ERR_ARG, "%s scene has no scanner",
+                        sta_synth_kind_name(scene->params.kind));
+    }
+    const street_scan_config *scan = &scene->scan;
+    const street_config *cfg = &scene->street->cfg;
+    double s = scan->start_s_m + scan->speed_mps * (gps_time - scan->gps_time_start);
+    double w = -cfg->cross_slope * fabs(scan->lane_u_m) + scan->height_m;
+    sta_street_point(cfg, s, scan->lane_u_m, w, out_position);
+    return STA_OK;
+}
