@@ -485,7 +485,7 @@ static size_t plan_chunk_capacity(size_t memory_mib, int threads, size_t record_
     *out_buffer_bytes = budget / 8;
     size_t per_worker = (budget - budget / 8) / (size_t)threads;
     size_t grid_cells = (size_t)1 << (3 * grid_log2);
-    size_t per_point = record_size + 9; // records + order/spare/labels
+    size_t per_point = record_size + 2 * sizeof(sta_index_item) + 1; // records, items, labels
     size_t per_node_point = record_size + sizeof(sta_point) + 2 * record_size; // node buffers
     // Largest node: a full grid; per_worker = cap * per_point + min(cap, grid) * per_node_point.
     size_t cap = per_worker / (per_point + per_node_point);
@@ -552,6 +552,12 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     size_t buffer_bytes = 0;
     job.chunk_capacity = plan_chunk_capacity(memory_mib, job.threads, job.inputs.layout.size,
                                              grid_log2, &buffer_bytes);
+    // Several chunks per thread keep every worker busy to the end (largest go first).
+    uint64_t balanced = job.inputs.point_count / (uint64_t)(3 * job.threads) + 1;
+    balanced = balanced < 1000000 ? 1000000 : balanced;
+    if (balanced < job.chunk_capacity) {
+        job.chunk_capacity = (size_t)balanced;
+    }
     if (options->chunk_points) {
         job.chunk_capacity = options->chunk_points;
     }
@@ -559,7 +565,8 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     // 2. count and plan
     job.progress.enabled = options->progress;
     double t0 = sta_progress_now_s();
-    status = sta_distribute_plan(&job.inputs, grid_log2, job.chunk_capacity, &job.progress,
+    status = sta_distribute_plan(&job.inputs, job.threads, grid_log2, job.chunk_capacity,
+                                 &job.progress,
                                  options->cancel, &job.plan, err);
     if (status != STA_OK) {
         goto out;

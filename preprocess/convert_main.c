@@ -189,6 +189,12 @@ int main(int argc, char **argv)
                 (double)report.stored_bytes / 1048576.0, ratio, report.seconds_total,
                 report.seconds_total > 0 ? (double)report.point_count / report.seconds_total * 1e-6
                                          : 0.0);
+        fprintf(stderr,
+                "  phases: count %.2f s, distribute %.2f s, index %.2f s, merge %.2f s, "
+                "finish %.2f s; %zu chunks, %.0f MiB temporary\n",
+                report.seconds_count, report.seconds_distribute, report.seconds_index,
+                report.seconds_merge, report.seconds_finish, report.chunk_count,
+                (double)report.temp_bytes / 1048576.0);
     }
     return 0;
 usage_error:

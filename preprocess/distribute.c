@@ -1,24 +1,27 @@
 /* SPDX-License-Identifier: MIT
  * Counting, chunk planning and distribution into one temporary file.
  *
- * Design: the counting grid is the octree's level min(7, max_level); its cells are
- * summed into a pyramid and cut top-down into chunks (a node becomes a chunk when it
- * holds at most chunk_capacity points or is a counting cell). Chunk regions in the
- * temporary file are laid out by prefix sums, so each point is written exactly where
- * it belongs with buffered pwrite calls.
+ * Design: the inputs' points, numbered across files, are split into one contiguous
+ * range per thread; each thread reads its range through its own readers (thread 0
+ * uses the set's). Counting: each thread counts on its own copy of the counting grid
+ * (the octree's level min(7, max_level)) and tracks tight bounds; the grids are summed
+ * into a pyramid and cut top-down into chunks (a node becomes a chunk when it holds at
+ * most chunk_capacity points or is a counting cell). Chunk regions in the temporary
+ * file are laid out by prefix sums, and within a chunk each thread's points follow
+ * the previous thread's, so distribution writes every point straight to its place
+ * with buffered pwrite calls and no locking.
  */
 #include "distribute.h"
 
 #include <errno.h>
+#include <pthread.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "core/alloc.h"
 
-enum {
-    READ_BATCH_POINTS = 65536,
-    MAX_COUNT_LEVEL = 7
-};
+enum { READ_BATCH_POINTS = 65536, MAX_COUNT_LEVEL = 7, MAX_THREADS = 64 };
 
 static size_t cell_index(int level, uint32_t x, uint32_t y, uint32_t z)
 {
@@ -41,65 +44,213 @@ static bool counting_cell(const sta_octree_space *s, int level, const int32_t xy
     return true;
 }
 
-static sta_status read_error(const sta_input_set *set, size_t input, sta_point *p, sta_error *err)
+typedef struct chunk_buffer {
+    uint8_t *data;
+    size_t used;      /* bytes */
+    uint64_t written; /* records of this thread already written */
+} chunk_buffer;
+
+/* One thread's share of a pass. */
+typedef struct range_task {
+    sta_input_set *set;
+    int thread;
+    uint64_t begin, end;        /* global point indices */
+    sta_cloud_reader **own;     /* readers this task opened (threads > 0), per input */
+    sta_progress *progress;
+    atomic_bool *cancel;
+    sta_status status;
+    sta_error err;
+    sta_status (*per_batch)(struct range_task *t, size_t input, sta_point_batch *batch);
+    // counting
+    const sta_octree_space *space;
+    int level;
+    uint64_t *counts;           /* owned: 8^level cells */
+    int64_t min[3], max[3];
+    bool outside;
+    // distribution
+    const sta_chunk_plan *plan;
+    int fd;
+    const char *path;
+    size_t per_chunk;           /* buffer bytes per chunk */
+    chunk_buffer *buffers;      /* owned, one per chunk */
+    uint8_t *arena;             /* owned */
+} range_task;
+
+static sta_cloud_reader *task_reader(range_task *t, size_t input)
 {
-    const sta_cloud_info *info = sta_cloud_reader_info(set->readers[input]);
-    return sta_fail(err, STA_ERR_FORMAT,
-                    "%s: point at %d %d %d does not fit the output grid (scale %g)", info->path,
-                    p->X, p->Y, p->Z, set->grid.scale[0]);
+    if (t->thread == 0) {
+        return t->set->readers[input];
+    }
+    if (!t->own[input]) {
+        sta_read_options options = { .salvage_truncated = t->set->salvage };
+        sta_status s = sta_cloud_open(t->set->paths[input], &options, &t->own[input], &t->err);
+        if (s != STA_OK) {
+            t->status = s;
+            return NULL;
+        }
+    }
+    return t->own[input];
 }
 
-// One counting pass: counts per cell (when `counts` is given) and tight bounds.
-// Sets *outside when a point is not inside the root box.
-static sta_status count_pass(sta_input_set *set, const sta_octree_space *space, int level,
-                             uint64_t *counts, int64_t min[3], int64_t max[3], bool *outside,
-                             sta_progress *progress, atomic_bool *cancel, sta_error *err)
+// Reads the task's range batch by batch and hands each to t->per_batch.
+static void run_range(range_task *t)
 {
-    *outside = false;
-    for (int a = 0; a < 3; a++) {
-        min[a] = INT64_MAX;
-        max[a] = INT64_MIN;
-    }
-    sta_status status = STA_OK;
-    for (size_t in = 0; in < set->count && status == STA_OK; in++) {
-        const sta_cloud_info *info = sta_cloud_reader_info(set->readers[in]);
-        sta_point_batch batch;
-        status = sta_point_batch_init(&batch, READ_BATCH_POINTS, info->extra_size, err);
-        if (status == STA_OK) {
-            status = sta_cloud_seek(set->readers[in], 0, err);
-        }
-        while (status == STA_OK) {
-            status = sta_cloud_read(set->readers[in], &batch, err);
-            if (status != STA_OK || batch.count == 0) {
-                break;
+    uint64_t file_start = 0;
+    for (size_t in = 0; in < t->set->count && t->status == STA_OK; in++) {
+        const sta_cloud_info *info = sta_cloud_reader_info(t->set->readers[in]);
+        uint64_t file_end = file_start + info->point_count;
+        uint64_t lo = t->begin > file_start ? t->begin : file_start;
+        uint64_t hi = t->end < file_end ? t->end : file_end;
+        if (lo < hi) {
+            sta_cloud_reader *reader = task_reader(t, in);
+            sta_point_batch batch;
+            if (reader) {
+                t->status = sta_point_batch_init(&batch, READ_BATCH_POINTS, info->extra_size,
+                                                 &t->err);
             }
-            for (size_t i = 0; i < batch.count; i++) {
-                sta_point *p = &batch.points[i];
-                if (!sta_inputs_to_output(set, in, p)) {
-                    status = read_error(set, in, p, err);
-                    break;
+            if (reader && t->status == STA_OK) {
+                t->status = sta_cloud_seek(reader, lo - file_start, &t->err);
+                uint64_t left = hi - lo;
+                while (t->status == STA_OK && left > 0) {
+                    t->status = sta_cloud_read(reader, &batch, &t->err);
+                    if (t->status != STA_OK) {
+                        break;
+                    }
+                    if (batch.count == 0) {
+                        t->status = sta_fail(&t->err, STA_ERR_FORMAT, "%s: fewer points than "
+                                             "announced", info->path);
+                        break;
+                    }
+                    if (batch.count > left) {
+                        batch.count = (size_t)left;
+                    }
+                    left -= batch.count;
+                    t->status = t->per_batch(t, in, &batch);
+                    sta_progress_add(t->progress, batch.count);
+                    if (t->status == STA_OK && t->cancel && atomic_load(t->cancel)) {
+                        t->status = sta_fail(&t->err, STA_ERR_CANCELLED, "cancelled");
+                    }
                 }
-                const int32_t xyz[3] = { p->X, p->Y, p->Z };
-                for (int a = 0; a < 3; a++) {
-                    min[a] = xyz[a] < min[a] ? xyz[a] : min[a];
-                    max[a] = xyz[a] > max[a] ? xyz[a] : max[a];
-                }
-                size_t cell;
-                if (!counting_cell(space, level, xyz, &cell)) {
-                    *outside = true;
-                } else if (counts) {
-                    counts[cell]++;
-                }
-            }
-            sta_progress_add(progress, batch.count);
-            sta_progress_draw(progress);
-            if (cancel && atomic_load(cancel)) {
-                status = sta_fail(err, STA_ERR_CANCELLED, "cancelled");
+                sta_point_batch_release(&batch);
             }
         }
-        sta_point_batch_release(&batch);
+        file_start = file_end;
     }
-    return status;
+}
+
+static void *range_thread(void *argument)
+{
+    run_range(argument);
+    return NULL;
+}
+
+// Runs `tasks` (one per thread) to completion; the calling thread runs task 0 and
+// draws progress in between is left to the workers' counters.
+static sta_status run_tasks(range_task *tasks, int count, sta_progress *progress, sta_error *err)
+{
+    pthread_t threads[MAX_THREADS];
+    int started = 1;
+    for (int t = 1; t < count; t++) {
+        if (pthread_create(&threads[t], NULL, range_thread, &tasks[t]) != 0) {
+            tasks[t].status = sta_fail(&tasks[t].err, STA_ERR_NOMEM, "cannot start a thread");
+            break;
+        }
+        started++;
+    }
+    run_range(&tasks[0]);
+    sta_progress_draw(progress);
+    for (int t = 1; t < started; t++) {
+        pthread_join(threads[t], NULL);
+    }
+    for (int t = 0; t < count; t++) {
+        if (tasks[t].status != STA_OK) {
+            *err = tasks[t].err;
+            return tasks[t].status;
+        }
+    }
+    return STA_OK;
+}
+
+static sta_status split_ranges(sta_chunk_plan *plan, uint64_t point_count, int threads,
+                               sta_error *err)
+{
+    plan->threads = threads;
+    plan->range_begin = sta_alloc_array((size_t)threads + 1, sizeof(uint64_t));
+    if (!plan->range_begin) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory");
+    }
+    for (int t = 0; t <= threads; t++) {
+        plan->range_begin[t] = point_count / (uint64_t)threads * (uint64_t)t +
+                               (point_count % (uint64_t)threads) * (uint64_t)t / (uint64_t)threads;
+    }
+    return STA_OK;
+}
+
+static void release_tasks(range_task *tasks, int count, size_t inputs)
+{
+    for (int t = 0; t < count; t++) {
+        if (tasks[t].own) {
+            for (size_t i = 0; i < inputs; i++) {
+                sta_cloud_close(tasks[t].own[i]);
+            }
+        }
+        sta_free(tasks[t].own);
+        sta_free(tasks[t].counts);
+        sta_free(tasks[t].buffers);
+        sta_free(tasks[t].arena);
+    }
+    sta_free(tasks);
+}
+
+static range_task *create_tasks(sta_input_set *set, const sta_chunk_plan *plan,
+                                sta_progress *progress, atomic_bool *cancel, sta_error *err)
+{
+    range_task *tasks = sta_calloc((size_t)plan->threads, sizeof(*tasks));
+    if (!tasks) {
+        sta_fail(err, STA_ERR_NOMEM, "out of memory");
+        return NULL;
+    }
+    for (int t = 0; t < plan->threads; t++) {
+        range_task *k = &tasks[t];
+        k->set = set;
+        k->thread = t;
+        k->begin = plan->range_begin[t];
+        k->end = plan->range_begin[t + 1];
+        k->progress = progress;
+        k->cancel = cancel;
+        k->own = sta_calloc(set->count, sizeof(*k->own));
+        if (!k->own) {
+            release_tasks(tasks, plan->threads, set->count);
+            sta_fail(err, STA_ERR_NOMEM, "out of memory");
+            return NULL;
+        }
+    }
+    return tasks;
+}
+
+static sta_status count_batch(range_task *t, size_t input, sta_point_batch *batch)
+{
+    for (size_t i = 0; i < batch->count; i++) {
+        sta_point *p = &batch->points[i];
+        if (!sta_inputs_to_output(t->set, input, p)) {
+            const sta_cloud_info *info = sta_cloud_reader_info(t->set->readers[input]);
+            return sta_fail(&t->err, STA_ERR_FORMAT,
+                            "%s: point %llu does not fit the output grid (scale %g)", info->path,
+                            (unsigned long long)(batch->first_index + i), t->set->grid.scale[0]);
+        }
+        const int32_t xyz[3] = { p->X, p->Y, p->Z };
+        for (int a = 0; a < 3; a++) {
+            t->min[a] = xyz[a] < t->min[a] ? xyz[a] : t->min[a];
+            t->max[a] = xyz[a] > t->max[a] ? xyz[a] : t->max[a];
+        }
+        size_t cell;
+        if (!counting_cell(t->space, t->level, xyz, &cell)) {
+            t->outside = true;
+        } else {
+            t->counts[cell]++;
+        }
+    }
+    return STA_OK;
 }
 
 // Root box is acceptable when it holds every point and is not much larger than needed.
@@ -116,6 +267,49 @@ static bool box_fits(const sta_octree_space *guess, const sta_grid *grid, const 
         }
     }
     return true;
+}
+
+// One parallel counting pass over all inputs into tasks[t].counts.
+static sta_status count_pass(range_task *tasks, int threads,
+                             const sta_octree_space *space, int level, sta_chunk_plan *plan,
+                             bool *outside, sta_error *err)
+{
+    size_t cells = (size_t)1 << (3 * level);
+    for (int t = 0; t < threads; t++) {
+        range_task *k = &tasks[t];
+        sta_free(k->counts);
+        k->counts = sta_calloc(cells, sizeof(uint64_t));
+        if (!k->counts) {
+            return sta_fail(err, STA_ERR_NOMEM, "out of memory for the counting grid");
+        }
+        k->space = space;
+        k->level = level;
+        k->outside = false;
+        k->per_batch = count_batch;
+        for (int a = 0; a < 3; a++) {
+            k->min[a] = INT64_MAX;
+            k->max[a] = INT64_MIN;
+        }
+    }
+    sta_status status = run_tasks(tasks, threads, tasks[0].progress, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    *outside = false;
+    for (int a = 0; a < 3; a++) {
+        plan->actual_min[a] = INT64_MAX;
+        plan->actual_max[a] = INT64_MIN;
+    }
+    for (int t = 0; t < threads; t++) {
+        *outside = *outside || tasks[t].outside;
+        for (int a = 0; a < 3; a++) {
+            plan->actual_min[a] = tasks[t].min[a] < plan->actual_min[a] ? tasks[t].min[a]
+                                                                        : plan->actual_min[a];
+            plan->actual_max[a] = tasks[t].max[a] > plan->actual_max[a] ? tasks[t].max[a]
+                                                                        : plan->actual_max[a];
+        }
+    }
+    return STA_OK;
 }
 
 static sta_status add_chunk(sta_chunk_plan *plan, size_t *capacity, const sta_node_key *key,
@@ -183,9 +377,9 @@ static sta_status cut_chunks(sta_chunk_plan *plan, uint64_t **levels, uint64_t c
         for (uint32_t z = 0; z < span; z++) {
             for (uint32_t y = 0; y < span; y++) {
                 for (uint32_t x = 0; x < span; x++) {
-                    size_t cell =
-                        cell_index(top, (chunk->key.x << shift) + x, (chunk->key.y << shift) + y,
-                                   (chunk->key.z << shift) + z);
+                    size_t cell = cell_index(top, (chunk->key.x << shift) + x,
+                                             (chunk->key.y << shift) + y,
+                                             (chunk->key.z << shift) + z);
                     plan->chunk_of_cell[cell] = (int32_t)c;
                 }
             }
@@ -194,13 +388,58 @@ static sta_status cut_chunks(sta_chunk_plan *plan, uint64_t **levels, uint64_t c
     return STA_OK;
 }
 
-sta_status sta_distribute_plan(sta_input_set *set, int grid_log2, uint64_t chunk_capacity,
-                               sta_progress *progress, atomic_bool *cancel,
-                               sta_chunk_plan *out_plan, sta_error *err)
+// Where each thread's share of each chunk starts: thread t's points of chunk c follow
+// threads 0..t-1's.
+static sta_status place_threads(sta_chunk_plan *plan, range_task *tasks, sta_error *err)
+{
+    size_t n = plan->chunk_count;
+    plan->thread_first = sta_calloc((size_t)plan->threads * (n ? n : 1), sizeof(uint64_t));
+    if (!plan->thread_first) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory planning chunks");
+    }
+    size_t cells = (size_t)1 << (3 * plan->count_level);
+    uint64_t *next = sta_alloc_array(n ? n : 1, sizeof(uint64_t));
+    if (!next) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory planning chunks");
+    }
+    for (size_t c = 0; c < n; c++) {
+        next[c] = plan->chunks[c].first;
+    }
+    for (int t = 0; t < plan->threads; t++) {
+        uint64_t *first = plan->thread_first + (size_t)t * n;
+        for (size_t c = 0; c < n; c++) {
+            first[c] = next[c];
+        }
+        for (size_t cell = 0; cell < cells; cell++) {
+            if (tasks[t].counts[cell]) {
+                next[plan->chunk_of_cell[cell]] += tasks[t].counts[cell];
+            }
+        }
+    }
+    sta_free(next);
+    return STA_OK;
+}
+
+sta_status sta_distribute_plan(sta_input_set *set, int threads, int grid_log2,
+                               uint64_t chunk_capacity, sta_progress *progress,
+                               atomic_bool *cancel, sta_chunk_plan *out_plan, sta_error *err)
 {
     memset(out_plan, 0, sizeof(*out_plan));
     uint64_t *levels[MAX_COUNT_LEVEL + 1] = { 0 };
-    sta_status status = STA_OK;
+    threads = threads < 1 ? 1 : (threads > MAX_THREADS ? MAX_THREADS : threads);
+    // Tiny inputs are not worth a thread each.
+    if ((uint64_t)threads > set->point_count / 100000 + 1) {
+        threads = (int)(set->point_count / 100000 + 1);
+    }
+    range_task *tasks = NULL;
+    sta_status status = split_ranges(out_plan, set->point_count, threads, err);
+    if (status == STA_OK) {
+        tasks = create_tasks(set, out_plan, progress, cancel, err);
+        status = tasks ? STA_OK : err->code;
+    }
+    if (status != STA_OK) {
+        goto out;
+    }
 
     // First guess of the root box from the declared bounds (when they make sense).
     bool have_guess = set->header_min[0] <= set->header_max[0] &&
@@ -208,35 +447,32 @@ sta_status sta_distribute_plan(sta_input_set *set, int grid_log2, uint64_t chunk
                       set->header_min[2] <= set->header_max[2];
     sta_octree_space space;
     const int64_t zero[3] = { 0, 0, 0 };
-    if (!have_guess || sta_octree_space_init(&space, &set->grid, set->header_min, set->header_max,
-                                             grid_log2, NULL) != STA_OK) {
+    if (!have_guess || sta_octree_space_init(&space, &set->grid, set->header_min,
+                                             set->header_max, grid_log2, NULL) != STA_OK) {
         status = sta_octree_space_init(&space, &set->grid, zero, zero, grid_log2, err);
         if (status != STA_OK) {
             goto out;
         }
     }
+    int level = 0;
     for (int attempt = 0; attempt < 2; attempt++) {
-        int level = space.max_level < MAX_COUNT_LEVEL ? space.max_level : MAX_COUNT_LEVEL;
-        size_t cells = (size_t)1 << (3 * level);
-        sta_free(levels[level]);
-        levels[level] = sta_calloc(cells, sizeof(uint64_t));
-        if (!levels[level]) {
-            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the counting grid");
-            goto out;
-        }
+        level = space.max_level < MAX_COUNT_LEVEL ? space.max_level : MAX_COUNT_LEVEL;
         bool outside = false;
         sta_progress_begin(progress, attempt == 0 ? "counting" : "recounting", set->point_count,
                            progress->enabled);
-        status = count_pass(set, &space, level, levels[level], out_plan->actual_min,
-                            out_plan->actual_max, &outside, progress, cancel, err);
+        status = count_pass(tasks, threads, &space, level, out_plan, &outside, err);
         sta_progress_end(progress);
         if (status != STA_OK) {
             goto out;
         }
-        if (set->point_count == 0 || (!outside && box_fits(&space, &set->grid, out_plan->actual_min,
+        if (set->point_count == 0 || (!outside && box_fits(&space, &set->grid,
+                                                           out_plan->actual_min,
                                                            out_plan->actual_max))) {
-            out_plan->count_level = level;
             break;
+        }
+        if (attempt == 1) {
+            status = sta_fail(err, STA_ERR_FORMAT, "inputs changed while being read");
+            goto out;
         }
         // The declared bounds were wrong: use the tight ones and count again.
         status = sta_octree_space_init(&space, &set->grid, out_plan->actual_min,
@@ -244,19 +480,25 @@ sta_status sta_distribute_plan(sta_input_set *set, int grid_log2, uint64_t chunk
         if (status != STA_OK) {
             goto out;
         }
-        sta_free(levels[level]);
-        levels[level] = NULL;
-        if (attempt == 1) {
-            status = sta_fail(err, STA_ERR_FORMAT, "inputs changed while being read");
-            goto out;
-        }
     }
     out_plan->space = space;
+    out_plan->count_level = level;
     out_plan->point_count = set->point_count;
     if (set->point_count == 0) {
         goto out;
     }
-    for (int l = out_plan->count_level - 1; l >= 0; l--) {
+    size_t cells = (size_t)1 << (3 * level);
+    levels[level] = sta_calloc(cells, sizeof(uint64_t));
+    if (!levels[level]) {
+        status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the counting pyramid");
+        goto out;
+    }
+    for (int t = 0; t < threads; t++) {
+        for (size_t c = 0; c < cells; c++) {
+            levels[level][c] += tasks[t].counts[c];
+        }
+    }
+    for (int l = level - 1; l >= 0; l--) {
         levels[l] = sta_calloc((size_t)1 << (3 * l), sizeof(uint64_t));
         if (!levels[l]) {
             status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the counting pyramid");
@@ -273,7 +515,13 @@ sta_status sta_distribute_plan(sta_input_set *set, int grid_log2, uint64_t chunk
         }
     }
     status = cut_chunks(out_plan, levels, chunk_capacity, err);
+    if (status == STA_OK) {
+        status = place_threads(out_plan, tasks, err);
+    }
 out:
+    if (tasks) {
+        release_tasks(tasks, out_plan->threads, set->count);
+    }
     for (int l = 0; l <= MAX_COUNT_LEVEL; l++) {
         sta_free(levels[l]);
     }
@@ -287,15 +535,10 @@ void sta_chunk_plan_release(sta_chunk_plan *plan)
 {
     sta_free(plan->chunks);
     sta_free(plan->chunk_of_cell);
+    sta_free(plan->range_begin);
+    sta_free(plan->thread_first);
     memset(plan, 0, sizeof(*plan));
 }
-
-// Buffered writer of one chunk's region.
-typedef struct chunk_buffer {
-    uint8_t *data;
-    size_t used;      /* bytes */
-    uint64_t written; /* records already written to the file */
-} chunk_buffer;
 
 static sta_status write_all(int fd, const uint8_t *data, size_t size, uint64_t offset,
                             const char *path, sta_error *err)
@@ -316,22 +559,54 @@ static sta_status write_all(int fd, const uint8_t *data, size_t size, uint64_t o
     return STA_OK;
 }
 
-static sta_status flush_chunk(int fd, const char *path, const sta_chunk *chunk, chunk_buffer *b,
-                              size_t record_size, sta_error *err)
+static sta_status flush_chunk(range_task *t, size_t c)
 {
+    chunk_buffer *b = &t->buffers[c];
     if (b->used == 0) {
         return STA_OK;
     }
-    uint64_t offset = (chunk->first + b->written) * record_size;
-    sta_status status = write_all(fd, b->data, b->used, offset, path, err);
-    b->written += b->used / record_size;
+    const size_t rec = t->set->layout.size;
+    uint64_t first = t->plan->thread_first[(size_t)t->thread * t->plan->chunk_count + c];
+    sta_status status =
+        write_all(t->fd, b->data, b->used, (first + b->written) * rec, t->path, &t->err);
+    b->written += b->used / rec;
     b->used = 0;
     return status;
 }
 
+static sta_status distribute_batch(range_task *t, size_t input, sta_point_batch *batch)
+{
+    const size_t rec = t->set->layout.size;
+    const sta_chunk_plan *plan = t->plan;
+    for (size_t i = 0; i < batch->count; i++) {
+        sta_point *p = &batch->points[i];
+        bool fits = sta_inputs_to_output(t->set, input, p);
+        const int32_t xyz[3] = { p->X, p->Y, p->Z };
+        size_t cell;
+        if (!fits || !counting_cell(&plan->space, plan->count_level, xyz, &cell) ||
+            plan->chunk_of_cell[cell] < 0) {
+            const sta_cloud_info *info = sta_cloud_reader_info(t->set->readers[input]);
+            return sta_fail(&t->err, STA_ERR_FORMAT, "%s: point %llu changed since it was counted",
+                            info->path, (unsigned long long)(batch->first_index + i));
+        }
+        size_t c = (size_t)plan->chunk_of_cell[cell];
+        chunk_buffer *b = &t->buffers[c];
+        const uint8_t *extra = t->set->extra_size ? batch->extra + i * batch->extra_size : NULL;
+        sta_record_pack(&t->set->layout, p, extra, b->data + b->used);
+        b->used += rec;
+        if (b->used == t->per_chunk) {
+            sta_status status = flush_chunk(t, c);
+            if (status != STA_OK) {
+                return status;
+            }
+        }
+    }
+    return STA_OK;
+}
+
 sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, int fd,
-                                const char *tmp_path, size_t buffer_bytes, sta_progress *progress,
-                                atomic_bool *cancel, sta_error *err)
+                                const char *tmp_path, size_t buffer_bytes,
+                                sta_progress *progress, atomic_bool *cancel, sta_error *err)
 {
     const size_t rec = set->layout.size;
     if (plan->chunk_count == 0) {
@@ -341,73 +616,57 @@ sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, 
         return sta_fail(err, STA_ERR_IO, "%s: cannot size the temporary file to %llu bytes: %s",
                         tmp_path, (unsigned long long)(plan->point_count * rec), strerror(errno));
     }
-    size_t per_chunk = buffer_bytes / plan->chunk_count;
+    range_task *tasks = create_tasks(set, plan, progress, cancel, err);
+    if (!tasks) {
+        return err->code;
+    }
+    size_t per_chunk = buffer_bytes / (size_t)plan->threads / plan->chunk_count;
     per_chunk = per_chunk < rec * 16 ? rec * 16 : per_chunk;
     per_chunk -= per_chunk % rec;
-    chunk_buffer *buffers = sta_calloc(plan->chunk_count, sizeof(*buffers));
-    uint8_t *arena = sta_alloc_array(plan->chunk_count, per_chunk);
-    if (!buffers || !arena) {
-        sta_free(buffers);
-        sta_free(arena);
-        return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu chunk buffers",
-                        plan->chunk_count);
-    }
-    for (size_t c = 0; c < plan->chunk_count; c++) {
-        buffers[c].data = arena + c * per_chunk;
-    }
     sta_status status = STA_OK;
-    for (size_t in = 0; in < set->count && status == STA_OK; in++) {
-        const sta_cloud_info *info = sta_cloud_reader_info(set->readers[in]);
-        sta_point_batch batch;
-        status = sta_point_batch_init(&batch, READ_BATCH_POINTS, info->extra_size, err);
-        if (status == STA_OK) {
-            status = sta_cloud_seek(set->readers[in], 0, err);
+    for (int t = 0; t < plan->threads && status == STA_OK; t++) {
+        range_task *k = &tasks[t];
+        k->plan = plan;
+        k->fd = fd;
+        k->path = tmp_path;
+        k->per_chunk = per_chunk;
+        k->per_batch = distribute_batch;
+        k->buffers = sta_calloc(plan->chunk_count, sizeof(*k->buffers));
+        k->arena = sta_alloc_array(plan->chunk_count, per_chunk);
+        if (!k->buffers || !k->arena) {
+            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu chunk buffers",
+                              plan->chunk_count);
+            break;
         }
-        while (status == STA_OK) {
-            status = sta_cloud_read(set->readers[in], &batch, err);
-            if (status != STA_OK || batch.count == 0) {
-                break;
-            }
-            for (size_t i = 0; i < batch.count && status == STA_OK; i++) {
-                sta_point *p = &batch.points[i];
-                bool fits = sta_inputs_to_output(set, in, p);
-                const int32_t xyz[3] = { p->X, p->Y, p->Z };
-                size_t cell;
-                if (!fits || !counting_cell(&plan->space, plan->count_level, xyz, &cell) ||
-                    plan->chunk_of_cell[cell] < 0) {
-                    status =
-                        sta_fail(err, STA_ERR_FORMAT, "%s: point %llu changed since it was counted",
-                                 info->path, (unsigned long long)(batch.first_index + i));
-                    break;
-                }
-                size_t c = (size_t)plan->chunk_of_cell[cell];
-                chunk_buffer *b = &buffers[c];
-                const uint8_t *extra = set->extra_size ? batch.extra + i * batch.extra_size : NULL;
-                sta_record_pack(&set->layout, p, extra, b->data + b->used);
-                b->used += rec;
-                if (b->used == per_chunk) {
-                    status = flush_chunk(fd, tmp_path, &plan->chunks[c], b, rec, err);
-                }
-            }
-            sta_progress_add(progress, batch.count);
-            sta_progress_draw(progress);
-            if (status == STA_OK && cancel && atomic_load(cancel)) {
-                status = sta_fail(err, STA_ERR_CANCELLED, "cancelled");
+        for (size_t c = 0; c < plan->chunk_count; c++) {
+            k->buffers[c].data = k->arena + c * per_chunk;
+        }
+    }
+    if (status == STA_OK) {
+        status = run_tasks(tasks, plan->threads, progress, err);
+    }
+    // Flush what is left, and check every thread wrote exactly what it counted.
+    for (int t = 0; t < plan->threads && status == STA_OK; t++) {
+        for (size_t c = 0; c < plan->chunk_count && status == STA_OK; c++) {
+            status = flush_chunk(&tasks[t], c);
+            if (status != STA_OK) {
+                *err = tasks[t].err;
             }
         }
-        sta_point_batch_release(&batch);
     }
     for (size_t c = 0; c < plan->chunk_count && status == STA_OK; c++) {
-        status = flush_chunk(fd, tmp_path, &plan->chunks[c], &buffers[c], rec, err);
-        if (status == STA_OK && buffers[c].written != plan->chunks[c].count) {
+        uint64_t written = 0;
+        for (int t = 0; t < plan->threads; t++) {
+            written += tasks[t].buffers[c].written;
+        }
+        if (written != plan->chunks[c].count) {
             status = sta_fail(err, STA_ERR_FORMAT,
                               "chunk %zu received %llu points, %llu were counted (an input "
                               "changed while being read)",
-                              c, (unsigned long long)buffers[c].written,
+                              c, (unsigned long long)written,
                               (unsigned long long)plan->chunks[c].count);
         }
     }
-    sta_free(arena);
-    sta_free(buffers);
+    release_tasks(tasks, plan->threads, set->count);
     return status;
 }

@@ -1,14 +1,16 @@
 /* SPDX-License-Identifier: MIT
  * In-memory nested octree of one chunk.
  *
- * Design: points are never moved; an array of indices is partitioned instead, node by
- * node, depth first. A node's "stay" points (first in each empty cell) are gathered
+ * Design: records are never moved; an array of (position, record index) items is
+ * partitioned instead, node by node, depth first, so the hot loop reads positions
+ * sequentially. A node's "stay" points (first in each empty cell) are gathered
  * into a contiguous buffer and emitted; the others are split by octant into the
  * children's ranges. The cell bitmap is cleared by visiting the set cells again, so
  * a node costs O(its points), not O(cells).
  */
 #include "index.h"
 
+#include <stdbool.h>
 #include <string.h>
 
 #include "core/alloc.h"
@@ -16,7 +18,7 @@
 void sta_index_scratch_release(sta_index_scratch *scratch)
 {
     sta_free(scratch->cell_bits);
-    sta_free(scratch->order);
+    sta_free(scratch->items);
     sta_free(scratch->spare);
     sta_free(scratch->labels);
     sta_free(scratch->gather);
@@ -33,7 +35,7 @@ size_t sta_index_memory_bytes(const sta_octree_space *space, const sta_record_la
 {
     size_t grid_cells = (size_t)1 << (3 * space->grid_log2);
     size_t largest_node = count < grid_cells ? count : grid_cells;
-    return cell_words_for(space) * 8 + count * (2 * sizeof(uint32_t) + 1) +
+    return cell_words_for(space) * 8 + count * (2 * sizeof(sta_index_item) + 1) +
            largest_node * layout->size;
 }
 
@@ -49,13 +51,13 @@ static sta_status reserve(sta_index_scratch *s, const sta_octree_space *space, s
         }
     }
     if (count > s->order_capacity) {
-        sta_free(s->order);
+        sta_free(s->items);
         sta_free(s->spare);
         sta_free(s->labels);
-        s->order = sta_alloc_array(count, sizeof(uint32_t));
-        s->spare = sta_alloc_array(count, sizeof(uint32_t));
+        s->items = sta_alloc_array(count, sizeof(sta_index_item));
+        s->spare = sta_alloc_array(count, sizeof(sta_index_item));
         s->labels = sta_malloc(count);
-        s->order_capacity = s->order && s->spare && s->labels ? count : 0;
+        s->order_capacity = s->items && s->spare && s->labels ? count : 0;
         if (!s->order_capacity) {
             return sta_fail(err, STA_ERR_NOMEM, "out of memory indexing %zu points", count);
         }
@@ -64,7 +66,7 @@ static sta_status reserve(sta_index_scratch *s, const sta_octree_space *space, s
 }
 
 static sta_status gather(sta_index_scratch *s, const sta_record_layout *layout,
-                         const uint8_t *records, const uint32_t *indices, size_t count,
+                         const uint8_t *records, const sta_index_item *items, size_t count,
                          sta_error *err)
 {
     size_t bytes = count * layout->size;
@@ -77,7 +79,7 @@ static sta_status gather(sta_index_scratch *s, const sta_record_layout *layout,
         s->gather_capacity = bytes;
     }
     for (size_t i = 0; i < count; i++) {
-        memcpy(s->gather + i * layout->size, records + (size_t)indices[i] * layout->size,
+        memcpy(s->gather + i * layout->size, records + (size_t)items[i].index * layout->size,
                layout->size);
     }
     return STA_OK;
@@ -89,20 +91,6 @@ static int test_and_set(uint64_t *bits, uint32_t cell)
     int was_set = (bits[cell >> 6] & mask) != 0;
     bits[cell >> 6] |= mask;
     return was_set;
-}
-
-static int all_identical(const sta_record_layout *layout, const uint8_t *records,
-                         const uint32_t *indices, size_t count)
-{
-    int32_t first[3], p[3];
-    sta_record_position(records + (size_t)indices[0] * layout->size, first);
-    for (size_t i = 1; i < count; i++) {
-        sta_record_position(records + (size_t)indices[i] * layout->size, p);
-        if (p[0] != first[0] || p[1] != first[1] || p[2] != first[2]) {
-            return 0;
-        }
-    }
-    return 1;
 }
 
 typedef struct build_context {
@@ -117,10 +105,11 @@ typedef struct build_context {
     const sta_node_key *root_key;
 } build_context;
 
-static sta_status hand_over(build_context *c, const sta_node_key *key, const uint32_t *indices,
-                            size_t count, unsigned flags, int has_children, sta_error *err)
+static sta_status hand_over(build_context *c, const sta_node_key *key,
+                            const sta_index_item *items, size_t count, unsigned flags,
+                            int has_children, sta_error *err)
 {
-    sta_status status = gather(c->scratch, c->layout, c->records, indices, count, err);
+    sta_status status = gather(c->scratch, c->layout, c->records, items, count, err);
     if (status != STA_OK) {
         return status;
     }
@@ -142,29 +131,51 @@ static sta_status hand_over(build_context *c, const sta_node_key *key, const uin
     return c->sink->emit(c->sink->context, c->worker, key, c->scratch->gather, count, flags, err);
 }
 
-// Builds the subtree of `key` over order[begin, end); uses spare[begin, end).
+// Builds the subtree of `key` over items[begin, end); uses spare[begin, end).
 static sta_status build(build_context *c, const sta_node_key *key, size_t begin, size_t end,
                         sta_error *err)
 {
     sta_index_scratch *s = c->scratch;
     const size_t count = end - begin;
-    uint32_t *order = s->order + begin;
-    if (count <= c->leaf_capacity || key->level >= c->space->max_level ||
-        all_identical(c->layout, c->records, order, count)) {
-        return hand_over(c, key, order, count, STA_NODE_UNGRIDDED, 0, err);
+    sta_index_item *items = s->items + begin;
+    if (count <= c->leaf_capacity || key->level >= c->space->max_level) {
+        return hand_over(c, key, items, count, STA_NODE_UNGRIDDED, 0, err);
+    }
+    // Per-axis integer geometry of this node, hoisted out of the point loop.
+    const int g = c->space->grid_log2;
+    int64_t node_min[3];
+    int cell_shift[3], half_shift[3];
+    for (int a = 0; a < 3; a++) {
+        node_min[a] = sta_node_min(c->space, key, a);
+        int side = sta_node_side_log2(c->space, key->level, a);
+        cell_shift[a] = side - g;
+        half_shift[a] = side - 1;
     }
 
     // Bucket 0 keeps the first point of each empty cell; buckets 1..8 are the octants.
     size_t bucket_count[9] = { 0 };
     uint8_t *labels = s->labels + begin;
-    uint32_t *spare = s->spare + begin;
-    int32_t p[3];
+    sta_index_item *spare = s->spare + begin;
+    int32_t lo[3] = { INT32_MAX, INT32_MAX, INT32_MAX }, hi[3] = { INT32_MIN, INT32_MIN, INT32_MIN };
     for (size_t i = 0; i < count; i++) {
-        sta_record_position(c->records + (size_t)order[i] * c->layout->size, p);
-        uint32_t cell = sta_node_cell(c->space, key, p);
-        int bucket = test_and_set(s->cell_bits, cell) ? 1 + sta_node_octant(c->space, key, p) : 0;
+        uint32_t cell = 0;
+        int octant = 0;
+        for (int a = 0; a < 3; a++) {
+            int32_t v = items[i].xyz[a];
+            lo[a] = v < lo[a] ? v : lo[a];
+            hi[a] = v > hi[a] ? v : hi[a];
+            uint64_t rel = (uint64_t)((int64_t)v - node_min[a]);
+            uint32_t ca = cell_shift[a] >= 0 ? (uint32_t)(rel >> cell_shift[a])
+                                              : (uint32_t)(rel << -cell_shift[a]);
+            cell = (cell << g) | ca;
+            octant |= (int)((rel >> half_shift[a]) & 1) << a;
+        }
+        int bucket = test_and_set(s->cell_bits, cell) ? 1 + octant : 0;
         labels[i] = (uint8_t)bucket;
         bucket_count[bucket]++;
+        if (bucket == 0) {
+            items[i].cell = cell; // remembered to clear the mark below
+        }
     }
     size_t bucket_start[9];
     size_t running = 0;
@@ -177,22 +188,23 @@ static sta_status build(build_context *c, const sta_node_key *key, size_t begin,
     memcpy(fill, bucket_start, sizeof(fill));
     for (size_t i = 0; i < count; i++) {
         if (labels[i] == 0) {
-            sta_record_position(c->records + (size_t)order[i] * c->layout->size, p);
-            uint32_t cell = sta_node_cell(c->space, key, p);
+            uint32_t cell = items[i].cell;
             s->cell_bits[cell >> 6] &= ~((uint64_t)1 << (cell & 63));
         }
-        spare[fill[labels[i]]++] = order[i];
+        spare[fill[labels[i]]++] = items[i];
     }
-    memcpy(order, spare, count * sizeof(uint32_t));
+    memcpy(items, spare, count * sizeof(*items));
 
-    // When only a few points would go down, children would be tiny nodes (costly to
-    // store, select and draw): keep everything here as a leaf bucket instead.
+    // All points identical (exact duplicates): they stop splitting. And when only a few
+    // points would go down, children would be tiny nodes (costly to store, select and
+    // draw): keep everything here as a leaf bucket instead.
+    bool identical = lo[0] == hi[0] && lo[1] == hi[1] && lo[2] == hi[2];
     size_t pushed_down = count - bucket_count[0];
-    if (pushed_down > 0 && pushed_down <= c->leaf_capacity / 16) {
-        return hand_over(c, key, order, count, STA_NODE_UNGRIDDED, 0, err);
+    if (identical || (pushed_down > 0 && pushed_down <= c->leaf_capacity / 16)) {
+        return hand_over(c, key, items, count, STA_NODE_UNGRIDDED, 0, err);
     }
     int has_children = pushed_down > 0;
-    sta_status status = hand_over(c, key, order, bucket_count[0], 0, has_children, err);
+    sta_status status = hand_over(c, key, items, bucket_count[0], 0, has_children, err);
     for (int b = 1; b < 9 && status == STA_OK; b++) {
         if (bucket_count[b] > 0) {
             sta_node_key child = sta_node_child(key, b - 1);
@@ -221,7 +233,8 @@ sta_status sta_index_chunk(const sta_octree_space *space, const sta_record_layou
         return status;
     }
     for (size_t i = 0; i < count; i++) {
-        scratch->order[i] = (uint32_t)i;
+        scratch->items[i].index = (uint32_t)i;
+        sta_record_position(records + i * layout->size, scratch->items[i].xyz);
     }
     build_context c = { space, layout,  records,  leaf_capacity, worker,
                         sink,  scratch, out_root, chunk_key };

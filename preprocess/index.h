@@ -15,12 +15,20 @@
 #include "octree.h"
 #include "record.h"
 
+/* One point being indexed: its position (read once from its record) and where the
+ * record is. `cell` is scratch for the node being split. */
+typedef struct sta_index_item {
+    int32_t xyz[3];
+    uint32_t index; /* record index in the chunk */
+    uint32_t cell;
+} sta_index_item;
+
 /* Reusable per-worker memory; zero-initialise, free with sta_index_scratch_release. */
 typedef struct sta_index_scratch {
     uint64_t *cell_bits; /* one bit per cell of a node grid; all zero between nodes */
     size_t cell_words;
-    uint32_t *order; /* point indices being partitioned */
-    uint32_t *spare; /* partition target, same size */
+    sta_index_item *items; /* points being partitioned */
+    sta_index_item *spare; /* partition target, same size */
     uint8_t *labels; /* bucket of each point being partitioned, same size */
     size_t order_capacity;
     uint8_t *gather;        /* one node's records, contiguous */

@@ -53,6 +53,8 @@ sta_status sta_inputs_open(const char *const *paths, size_t count, bool salvage,
     if (!out_set->readers) {
         return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu inputs", count);
     }
+    out_set->paths = paths;
+    out_set->salvage = salvage;
     sta_read_options options = { .salvage_truncated = salvage };
     for (size_t i = 0; i < count; i++) {
         sta_status status = sta_cloud_open(paths[i], &options, &out_set->readers[i], err);

@@ -13,6 +13,8 @@
 
 typedef struct sta_input_set {
     sta_cloud_reader **readers; /* one per input, open */
+    const char *const *paths;   /* borrowed from the caller, one per input */
+    bool salvage;               /* inputs were opened with salvage_truncated */
     size_t count;
     uint64_t point_count;               /* sum over inputs */
     sta_grid grid;                      /* the output grid */
