@@ -165,7 +165,9 @@ int sta_view_run_headless(const sta_view_args *args)
     if (status == STA_OK) {
         const sta_strata_info *info = sta_scene_info(scene);
         sta_camera camera;
-        sta_view_initial_camera(args, info, &camera);
+        double frame_min[3], frame_max[3];
+        sta_scene_robust_bounds(scene, frame_min, frame_max);
+        sta_view_initial_camera(args, info, frame_min, frame_max, &camera);
         sta_scene_set_colour_mode(scene, sta_view_initial_colour(args, info));
         sta_frame_stats stats;
         if (args->path_file) {

@@ -8,7 +8,8 @@
 
 static const double degrees = 3.14159265358979323846 / 180.0;
 
-void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *info, sta_camera *c)
+void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *info,
+                             const double frame_min[3], const double frame_max[3], sta_camera *c)
 {
     c->width_px = args->width_px;
     c->height_px = args->height_px;
@@ -31,7 +32,7 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
     }
     c->yaw = 45.0 * degrees;
     c->pitch = -30.0 * degrees;
-    sta_camera_frame_box(c, info->bounds_min, info->bounds_max);
+    sta_camera_frame_box(c, frame_min, frame_max);
 }
 
 int sta_view_initial_colour(const sta_view_args *args, const sta_strata_info *info)

@@ -323,7 +323,9 @@ int sta_view_run_window(const sta_view_args *args)
         return 1;
     }
     s.info = sta_scene_info(s.scene);
-    sta_view_initial_camera(args, s.info, &s.camera);
+    double frame_min[3], frame_max[3];
+    sta_scene_robust_bounds(s.scene, frame_min, frame_max);
+    sta_view_initial_camera(args, s.info, frame_min, frame_max, &s.camera);
     s.home = s.camera;
     s.colour_mode = sta_view_initial_colour(args, s.info);
     sta_scene_set_colour_mode(s.scene, s.colour_mode);

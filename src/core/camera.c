@@ -126,23 +126,33 @@ double sta_camera_pixels_per_metre(const sta_camera *c, double distance_m)
 
 void sta_camera_frame_box(sta_camera *c, const double min[3], const double max[3])
 {
-    double centre[3], radius = 0.0;
+    // Distance along the view direction at which all eight corners are inside the
+    // frustum (a tight fit, unlike a bounding sphere).
+    double centre[3];
     for (int i = 0; i < 3; i++) {
         centre[i] = 0.5 * (min[i] + max[i]);
-        double h = 0.5 * (max[i] - min[i]);
-        radius += h * h;
     }
-    radius = sqrt(radius);
-    radius = radius > 1e-6 ? radius : 1e-6;
-    double aspect = (double)c->width_px / (double)(c->height_px > 0 ? c->height_px : 1);
-    double half = c->fov_y * 0.5;
-    double half_x = atan(tan(half) * aspect);
-    double fit = half < half_x ? half : half_x;
-    double distance = radius / sin(fit);
     double f[3], r[3], u[3];
     sta_camera_basis(c, f, r, u);
+    double aspect = (double)c->width_px / (double)(c->height_px > 0 ? c->height_px : 1);
+    double tan_y = tan(c->fov_y * 0.5), tan_x = tan_y * aspect;
+    double distance = 1e-3;
+    double extent = 0.0;
+    for (int corner = 0; corner < 8; corner++) {
+        double d[3];
+        for (int i = 0; i < 3; i++) {
+            d[i] = ((corner >> i) & 1 ? max[i] : min[i]) - centre[i];
+            extent = fmax(extent, fabs(d[i]));
+        }
+        double x = d[0] * r[0] + d[1] * r[1] + d[2] * r[2];
+        double y = d[0] * u[0] + d[1] * u[1] + d[2] * u[2];
+        double z = d[0] * f[0] + d[1] * f[1] + d[2] * f[2];
+        distance = fmax(distance, fabs(x) / tan_x - z);
+        distance = fmax(distance, fabs(y) / tan_y - z);
+    }
+    distance *= 1.05; // a small margin
     for (int i = 0; i < 3; i++) {
         c->position[i] = centre[i] - f[i] * distance;
     }
-    c->near_m = distance * 1e-4 > 1e-3 ? distance * 1e-4 : 1e-3;
+    c->near_m = fmax(1e-3, fmin(distance * 1e-3, extent * 1e-3));
 }

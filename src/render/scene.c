@@ -3,6 +3,7 @@
 #include "render/scene.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -171,6 +172,42 @@ void sta_scene_close(sta_scene *s)
 const sta_strata_info *sta_scene_info(const sta_scene *s)
 {
     return sta_strata_reader_info(s->reader);
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : (x > y ? 1 : 0);
+}
+
+void sta_scene_robust_bounds(const sta_scene *s, double out_min[3], double out_max[3])
+{
+    const sta_strata_info *info = sta_scene_info(s);
+    memcpy(out_min, info->bounds_min, 3 * sizeof(double));
+    memcpy(out_max, info->bounds_max, 3 * sizeof(double));
+    sta_strata_decoder *decoder = NULL;
+    sta_error err = { 0 };
+    if (sta_strata_decoder_create(&decoder, &err) != STA_OK) {
+        return;
+    }
+    sta_strata_points points;
+    double *values = NULL;
+    if (sta_strata_decode_node(s->reader, 0, decoder, &points, &err) == STA_OK &&
+        points.count >= 100 && (values = sta_alloc_array(points.count, sizeof(double)))) {
+        const sta_grid *grid = &info->geometry.grid;
+        for (int a = 0; a < 3; a++) {
+            for (size_t i = 0; i < points.count; i++) {
+                const int32_t xyz[3] = { points.points[i].X, points.points[i].Y,
+                                         points.points[i].Z };
+                values[i] = sta_grid_apply(grid, a, xyz[a]);
+            }
+            qsort(values, points.count, sizeof(double), compare_doubles);
+            out_min[a] = values[points.count / 100];
+            out_max[a] = values[points.count - 1 - points.count / 100];
+        }
+    }
+    sta_free(values);
+    sta_strata_decoder_destroy(decoder);
 }
 
 void sta_scene_set_colour_mode(sta_scene *s, int mode)

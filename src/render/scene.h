@@ -48,6 +48,11 @@ void sta_scene_close(sta_scene *scene);
 
 const sta_strata_info *sta_scene_info(const sta_scene *scene);
 
+/* Bounds of where most of the scene is: the 1st and 99th percentiles per axis of the
+ * root node's points (a uniform subsample), so a few far stray points do not make the
+ * default view tiny. Falls back to the header bounds. */
+void sta_scene_robust_bounds(const sta_scene *scene, double out_min[3], double out_max[3]);
+
 /* Sets the colour mode (STA_COLOUR_* of render/bindings.h). */
 void sta_scene_set_colour_mode(sta_scene *scene, int mode);
 
