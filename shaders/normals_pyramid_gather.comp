@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: MIT
+// Pyramidal normals (Bouchiba et al. 2018, 3.3), step 2: per filled pixel, a level
+// from its depth (lambda = log2 of the metric radius r_n in pixels), bilinear
+// interpolation inside the two nearest levels and linear interpolation between them.
+// Levels >= 1 come from the normal atlas; level 0 is computed here from the filled
+// points (u_points, the pull-push output), since bilinear interpolation at a pixel
+// centre of level 0 reads that one texel. Twin: src/render/ref/normals_pyramid_ref.c.
+layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
+layout(binding = 0, rgba32f) writeonly uniform image2D u_normal;
+layout(binding = 2, rgba32f) readonly uniform image2D u_atlas; // normals of levels >= 1
+uniform ivec2 u_size;
+uniform int u_level_count;
+uniform ivec2 u_level_offset[16]; // STA_PULLPUSH_MAX_LEVELS
+uniform ivec2 u_level_size[16];
+uniform float u_radius_px_m; // r_n * H / (2 tan(fov_y / 2)): r_px = u_radius_px_m / depth
+uniform float u_near;
+
+bool level_normal(int l, ivec2 q, out vec3 n)
+{
+    vec3 acc = vec3(0.0);
+    if (l == 0) {
+        vec3 m;
+        if (pn_point_normal(q, u_size, m)) {
+            acc += 1.0 * m; // the twin's bilinear weights at a level-0 centre: 1, 0, 0, 0
+        }
+    } else {
+        float s = float(1 << l);
+        vec2 u = (vec2(q) + 0.5) / s - 0.5;
+        vec2 u0 = floor(u);
+        vec2 f = u - u0;
+        ivec2 i0 = ivec2(u0);
+        for (int b = 0; b < 2; b++) {
+            for (int a = 0; a < 2; a++) {
+                ivec2 t = clamp(i0 + ivec2(a, b), ivec2(0), u_level_size[l] - 1);
+                vec4 m = imageLoad(u_atlas, u_level_offset[l] + t);
+                if (m.w > 0.0) {
+                    float bw = (a == 1 ? f.x : 1.0 - f.x) * (b == 1 ? f.y : 1.0 - f.y);
+                    acc += bw * m.xyz;
+                }
+            }
+        }
+    }
+    float a2 = dot(acc, acc);
+    n = vec3(0.0);
+    if (!(a2 > 1e-12)) {
+        return false;
+    }
+    n = acc / sqrt(a2);
+    return true;
+}
+
+void main()
+{
+    ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+    if (q.x >= u_size.x || q.y >= u_size.y) {
+        return;
+    }
+    vec4 p = imageLoad(u_points, q);
+    vec4 result = vec4(0.0);
+    if (p.w > 0.0) {
+        float depth = max(-p.z, u_near);
+        float r_px = u_radius_px_m / depth;
+        float lambda = min(log2(max(r_px, 1.0)), float(u_level_count - 1));
+        int la = int(lambda);
+        int lb = min(la + 1, u_level_count - 1);
+        float t = lambda - float(la);
+        vec3 na, nb, n = vec3(0.0);
+        bool va = level_normal(la, q, na);
+        bool vb = level_normal(lb, q, nb);
+        bool ok = true;
+        if (va && vb) {
+            n = (1.0 - t) * na + t * nb;
+        } else if (va) {
+            n = na;
+        } else if (vb) {
+            n = nb;
+        } else {
+            ok = false;
+        }
+        float n2 = dot(n, n);
+        if (ok && n2 > 1e-12) {
+            float len = sqrt(n2);
+            float s = dot(n, p.xyz) > 0.0 ? -1.0 : 1.0;
+            result = vec4(s * (n / len), 1.0);
+        }
+    }
+    imageStore(u_normal, q, result);
+}

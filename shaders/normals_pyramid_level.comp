@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: MIT
+// Pyramidal normals (Bouchiba et al. 2018, 3.3), step 1: the normal of every texel of
+// one pyramid level l >= 1 (pn_point_normal in pullpush_normals.glsl), written into the
+// level's block of the normal atlas (w = 1 valid, 0 none).
+layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
+layout(binding = 0, rgba32f) writeonly uniform image2D u_atlas;
+uniform ivec2 u_size;   // level size
+uniform ivec2 u_offset; // the level's origin in the atlas
+
+void main()
+{
+    ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+    if (q.x >= u_size.x || q.y >= u_size.y) {
+        return;
+    }
+    vec3 n;
+    bool valid = pn_point_normal(q, u_size, n);
+    imageStore(u_atlas, u_offset + q, valid ? vec4(n, 1.0) : vec4(0.0));
+}

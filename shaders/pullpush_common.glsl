@@ -1,0 +1,17 @@
+// SPDX-License-Identifier: MIT
+// Shared by the pull-push shaders. PP_LABEL_BACKGROUND and PP_LABEL_VISIBLE are
+// injected by the pass from STA_LABEL_* (screen_space.h).
+
+// Labels are small integers stored as floats.
+bool pp_is_label(float label, float value)
+{
+    return abs(label - value) < 0.5;
+}
+
+// The initial weight of a level-0 input texel: 1 for a drawn point (w > 0) that HPR
+// labelled VISIBLE (or any drawn point without labels), 0 otherwise.
+float pp_input_weight(vec4 point, float label, bool has_label)
+{
+    bool visible = !has_label || pp_is_label(label, PP_LABEL_VISIBLE);
+    return point.w > 0.0 && visible ? 1.0 : 0.0;
+}

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// The normal of one texel of a pyramid level (Bouchiba et al. 2018, 3.3), shared by
+// normals_pyramid_level.comp and normals_pyramid_gather.comp (which uses it for level
+// 0, where bilinear interpolation at pixel centres reads a single texel). Twin:
+// sta_normals_pyramid_level_ref in src/render/ref/normals_pyramid_ref.c.
+layout(binding = 1, rgba32f) readonly uniform image2D u_points; // xyz, w > 0 where a point is
+
+// The point at q, w = 0 outside the level.
+vec4 pn_point_at(ivec2 q, ivec2 size)
+{
+    bool inside = q.x >= 0 && q.y >= 0 && q.x < size.x && q.y < size.y;
+    return inside ? imageLoad(u_points, q) : vec4(0.0);
+}
+
+// The difference along one axis: central where both neighbours exist, one-sided
+// where one does, none otherwise.
+bool pn_difference(vec4 next, vec4 prev, vec3 p, out vec3 d)
+{
+    d = vec3(0.0);
+    if (next.w > 0.0 && prev.w > 0.0) {
+        d = next.xyz - prev.xyz;
+    } else if (next.w > 0.0) {
+        d = next.xyz - p;
+    } else if (prev.w > 0.0) {
+        d = p - prev.xyz;
+    } else {
+        return false;
+    }
+    return true;
+}
+
+// cross(dx, dy) normalised and turned towards the camera; false where the texel has
+// no point or the differences give no reliable normal.
+bool pn_point_normal(ivec2 q, ivec2 size, out vec3 n)
+{
+    n = vec3(0.0);
+    vec4 p = imageLoad(u_points, q);
+    vec3 dx, dy;
+    if (!(p.w > 0.0) ||
+        !pn_difference(pn_point_at(q + ivec2(1, 0), size), pn_point_at(q - ivec2(1, 0), size),
+                       p.xyz, dx) ||
+        !pn_difference(pn_point_at(q + ivec2(0, 1), size), pn_point_at(q - ivec2(0, 1), size),
+                       p.xyz, dy)) {
+        return false;
+    }
+    vec3 c = vec3(dx.y * dy.z - dy.y * dx.z, dx.z * dy.x - dy.z * dx.x, dx.x * dy.y - dy.x * dx.y);
+    float n2 = dot(c, c), dx2 = dot(dx, dx), dy2 = dot(dy, dy);
+    // No normal from differences that are float noise (below ~3e-6 of the point's
+    // distance: copies of one sample) or parallel (sin^2 below 1e-12).
+    float min_d2 = 1e-11 * dot(p.xyz, p.xyz);
+    if (!(dx2 > min_d2 && dy2 > min_d2 && n2 > 1e-12 * dx2 * dy2)) {
+        return false;
+    }
+    float len = sqrt(n2);
+    float s = dot(c, p.xyz) > 0.0 ? -1.0 : 1.0;
+    n = s * (c / len);
+    return true;
+}

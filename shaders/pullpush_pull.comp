@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+// Pull (Kraus 2009): coarse texel (i, j) of level l is the weight-normalised 4x4
+// filter (taps 1/4, 3/4, 3/4, 1/4 per axis over fine texels 2i-1 .. 2i+2) of level
+// l - 1; its weight is the filtered weight sum clamped to 1. Fine texels outside the
+// fine level have weight 0. Twin: src/render/ref/pullpush_ref.c (pull_level).
+// Built twice: with PP_FROM_INPUT the fine level is level 0 (the inputs, weights from
+// the HPR labels), without it a pyramid level.
+layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
+layout(binding = 0, rgba32f) writeonly uniform image2D u_coarse_position;
+layout(binding = 1, rgba32f) writeonly uniform image2D u_coarse_colour;
+layout(binding = 2, rgba32f) readonly uniform image2D u_fine_position;
+#ifdef PP_FROM_INPUT
+layout(binding = 1) uniform sampler2D u_input_colour; // RGBA32F or RGBA8
+layout(binding = 4, r32f) readonly uniform image2D u_label;
+uniform bool u_has_label;
+#else
+layout(binding = 3, rgba32f) readonly uniform image2D u_fine_colour;
+#endif
+uniform ivec2 u_fine_size;
+uniform ivec2 u_coarse_size;
+
+const float PULL_TAPS[4] = float[4](0.25, 0.75, 0.75, 0.25);
+
+void main()
+{
+    ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+    if (q.x >= u_coarse_size.x || q.y >= u_coarse_size.y) {
+        return;
+    }
+    float sw = 0.0;
+    vec3 sp = vec3(0.0), sc = vec3(0.0);
+    for (int b = 0; b < 4; b++) {
+        for (int a = 0; a < 4; a++) {
+            ivec2 f = 2 * q - 1 + ivec2(a, b);
+            bool inside = f.x >= 0 && f.y >= 0 && f.x < u_fine_size.x && f.y < u_fine_size.y;
+            vec4 t = imageLoad(u_fine_position, f);
+#ifdef PP_FROM_INPUT
+            float w = pp_input_weight(t, imageLoad(u_label, f).r, u_has_label);
+#else
+            float w = t.w;
+#endif
+            if (inside && w > 0.0) {
+                float kw = PULL_TAPS[a] * PULL_TAPS[b] * w;
+                sw += kw;
+                sp += kw * t.xyz;
+#ifdef PP_FROM_INPUT
+                sc += kw * texelFetch(u_input_colour, f, 0).rgb;
+#else
+                sc += kw * imageLoad(u_fine_colour, f).rgb;
+#endif
+            }
+        }
+    }
+    vec4 out_p = vec4(0.0), out_c = vec4(0.0);
+    if (sw > 0.0) {
+        float inv = 1.0 / sw;
+        float w = min(1.0, sw);
+        out_p = vec4(sp * inv, w);
+        out_c = vec4(sc * inv, w);
+    }
+    imageStore(u_coarse_position, q, out_p);
+    imageStore(u_coarse_colour, q, out_c);
+}

@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+// Push (Kraus 2009): fine texel q of level l takes the bilinear interpolation of the
+// pushed level l + 1 (taps 3/4 and 1/4 per axis, 9/16 3/16 3/16 1/16 in 2D, coordinates
+// clamped to the coarse level, empty coarse texels skipped) under its own value by
+// "over" compositing: w' = w + (1 - w) sw, value (w v + (1 - w) sv) / w'.
+// Twin: src/render/ref/pullpush_ref.c (push_texel). Built twice: with PP_LEVEL0 the
+// fine level is the input, the result goes to the output textures and the background
+// found by HPR is restored; without it a pyramid level is updated in place.
+layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
+#ifdef PP_LEVEL0
+layout(binding = 0, rgba32f) writeonly uniform image2D u_position; // output
+layout(binding = 1, rgba32f) writeonly uniform image2D u_colour;
+layout(binding = 2, rgba32f) readonly uniform image2D u_input_position;
+layout(binding = 1) uniform sampler2D u_input_colour; // RGBA32F or RGBA8
+layout(binding = 4, r32f) readonly uniform image2D u_label;
+uniform bool u_has_label;
+#else
+layout(binding = 0, rgba32f) uniform image2D u_position; // level l, in place
+layout(binding = 1, rgba32f) uniform image2D u_colour;
+#endif
+layout(binding = 5, rgba32f) readonly uniform image2D u_coarse_position; // pushed l + 1
+layout(binding = 6, rgba32f) readonly uniform image2D u_coarse_colour;
+uniform ivec2 u_size;
+uniform ivec2 u_coarse_size;
+uniform bool u_has_coarse; // false only for a 1 x 1 view
+
+void main()
+{
+    ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+    if (q.x >= u_size.x || q.y >= u_size.y) {
+        return;
+    }
+#ifdef PP_LEVEL0
+    vec4 t0 = imageLoad(u_input_position, q);
+    float label = imageLoad(u_label, q).r;
+    float fw = pp_input_weight(t0, label, u_has_label);
+    vec3 fc = texelFetch(u_input_colour, q, 0).rgb;
+#else
+    vec4 t0 = imageLoad(u_position, q);
+    float fw = t0.w;
+    vec3 fc = imageLoad(u_colour, q).rgb;
+#endif
+    vec3 fp = t0.xyz;
+    float sw = 0.0;
+    vec3 sp = vec3(0.0), sc = vec3(0.0);
+    if (u_has_coarse) {
+        ivec2 c0 = ((q + 1) >> 1) - 1;
+        vec2 wx, wy;
+        wx[0] = (q.x & 1) != 0 ? 0.75 : 0.25;
+        wx[1] = 1.0 - wx[0];
+        wy[0] = (q.y & 1) != 0 ? 0.75 : 0.25;
+        wy[1] = 1.0 - wy[0];
+        for (int b = 0; b < 2; b++) {
+            for (int a = 0; a < 2; a++) {
+                ivec2 cq = clamp(c0 + ivec2(a, b), ivec2(0), u_coarse_size - 1);
+                vec4 t = imageLoad(u_coarse_position, cq);
+                if (t.w > 0.0) {
+                    float kw = wx[a] * wy[b] * t.w;
+                    sw += kw;
+                    sp += kw * t.xyz;
+                    sc += kw * imageLoad(u_coarse_colour, cq).rgb;
+                }
+            }
+        }
+    }
+    float nw = min(1.0, fw + (1.0 - fw) * sw);
+    vec4 out_p = vec4(0.0), out_c = vec4(0.0);
+    if (nw > 0.0) {
+        float inv = 1.0 / nw;
+        vec3 np = (1.0 - fw) * sp, nc = (1.0 - fw) * sc;
+        if (fw > 0.0) {
+            np = fw * fp + np;
+            nc = fw * fc + nc;
+        }
+        out_p = vec4(np * inv, nw);
+        out_c = vec4(nc * inv, nw);
+    }
+#ifdef PP_LEVEL0
+    if (u_has_label && pp_is_label(label, PP_LABEL_BACKGROUND)) {
+        out_p = vec4(0.0);
+        out_c = vec4(0.0);
+    }
+#endif
+    imageStore(u_position, q, out_p);
+    imageStore(u_colour, q, out_c);
+}

@@ -1,0 +1,145 @@
+/* SPDX-License-Identifier: MIT
+ * The pyramidal normal estimator: one dispatch per level into the normal atlas, then
+ * one gather dispatch over the view. */
+#include "render/pass_normals_pyramid.h"
+
+#include <string.h>
+
+#include "render/gl.h"
+#include "render/gl_image.h"
+
+sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_error *err)
+{
+    memset(pass, 0, sizeof(*pass));
+    const char *level[] = { "pullpush_normals.glsl", "normals_pyramid_level.comp" };
+    const char *gather[] = { "pullpush_normals.glsl", "normals_pyramid_gather.comp" };
+    sta_status status = sta_gl_program_create(level, 2, NULL, &pass->level_program, err);
+    if (status == STA_OK) {
+        status = sta_gl_program_create(gather, 2, NULL, &pass->gather_program, err);
+    }
+    if (status != STA_OK) {
+        sta_normals_pyramid_pass_release(pass);
+        return status;
+    }
+    pass->level_size = glGetUniformLocation(pass->level_program, "u_size");
+    pass->level_offset = glGetUniformLocation(pass->level_program, "u_offset");
+    GLuint g = pass->gather_program;
+    pass->gather_size = glGetUniformLocation(g, "u_size");
+    pass->gather_level_count = glGetUniformLocation(g, "u_level_count");
+    pass->gather_level_offset = glGetUniformLocation(g, "u_level_offset");
+    pass->gather_level_size = glGetUniformLocation(g, "u_level_size");
+    pass->gather_radius_px_m = glGetUniformLocation(g, "u_radius_px_m");
+    pass->gather_near = glGetUniformLocation(g, "u_near");
+    return STA_OK;
+}
+
+void sta_normals_pyramid_pass_release(sta_normals_pyramid_pass *pass)
+{
+    if (pass->level_program) {
+        glDeleteProgram(pass->level_program);
+    }
+    if (pass->gather_program) {
+        glDeleteProgram(pass->gather_program);
+    }
+    if (pass->atlas) {
+        glDeleteTextures(1, &pass->atlas);
+    }
+    memset(pass, 0, sizeof(*pass));
+}
+
+// Atlas of the normals of levels >= 1 (level 0 is computed where it is used): level 1
+// at (0, 0), level l >= 2 at (width of level 1, sum of the heights of levels 2..l-1).
+// Size: (width of level 1 + width of level 2) x max(height of level 1, sum of the
+// heights of levels >= 2); 1 x 1 when there is no level 1.
+static sta_status ensure_atlas(sta_normals_pyramid_pass *pass, const sta_pullpush_pyramid *pyr,
+                               sta_error *err)
+{
+    int w = pyr->width_px[0], h = pyr->height_px[0];
+    if (pass->atlas && pass->view_width_px == w && pass->view_height_px == h) {
+        return STA_OK;
+    }
+    if (pass->atlas) {
+        glDeleteTextures(1, &pass->atlas);
+        pass->atlas = 0;
+    }
+    memset(pass->offset_x, 0, sizeof(pass->offset_x));
+    memset(pass->offset_y, 0, sizeof(pass->offset_y));
+    int column_height = 0;
+    for (int l = 2; l < pyr->level_count; l++) {
+        pass->offset_x[l] = pyr->width_px[1];
+        pass->offset_y[l] = column_height;
+        column_height += pyr->height_px[l];
+    }
+    pass->atlas_width_px = 1;
+    pass->atlas_height_px = 1;
+    if (pyr->level_count > 1) {
+        pass->atlas_width_px = pyr->width_px[1] + (pyr->level_count > 2 ? pyr->width_px[2] : 0);
+        pass->atlas_height_px =
+            pyr->height_px[1] > column_height ? pyr->height_px[1] : column_height;
+    }
+    sta_status status =
+        sta_gl_texture_create(pass->atlas_width_px, pass->atlas_height_px, 4, 1, &pass->atlas, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    pass->view_width_px = w;
+    pass->view_height_px = h;
+    return STA_OK;
+}
+
+sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const sta_view_params *view,
+                                        const sta_normals_pyramid_params *params,
+                                        const sta_pullpush_pyramid *pyramid,
+                                        GLuint filled_position_tex, GLuint out_normal_tex,
+                                        sta_error *err)
+{
+    int count = pyramid->level_count;
+    if (count == 0 || pyramid->width_px[0] != view->width_px ||
+        pyramid->height_px[0] != view->height_px) {
+        return sta_fail(err, STA_ERR_ARG,
+                        "pyramidal normals: the pull-push pyramid (%d levels, %dx%d) does not "
+                        "belong to the view %dx%d",
+                        count, pyramid->width_px[0], pyramid->height_px[0], view->width_px,
+                        view->height_px);
+    }
+    sta_status status = ensure_atlas(pass, pyramid, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    sta_normals_pyramid_params p = params ? *params : (sta_normals_pyramid_params){ 0 };
+    sta_normals_pyramid_params_defaults(&p);
+
+    GLint offsets[2 * STA_PULLPUSH_MAX_LEVELS], sizes[2 * STA_PULLPUSH_MAX_LEVELS];
+    for (int l = 0; l < count; l++) {
+        offsets[2 * l] = pass->offset_x[l];
+        offsets[2 * l + 1] = pass->offset_y[l];
+        sizes[2 * l] = pyramid->width_px[l];
+        sizes[2 * l + 1] = pyramid->height_px[l];
+    }
+    GLuint lp = pass->level_program;
+    glUseProgram(lp);
+    glBindImageTexture(0, pass->atlas, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    for (int l = 1; l < count; l++) {
+        glBindImageTexture(1, pyramid->position[l], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glProgramUniform2i(lp, pass->level_size, sizes[2 * l], sizes[2 * l + 1]);
+        glProgramUniform2i(lp, pass->level_offset, offsets[2 * l], offsets[2 * l + 1]);
+        sta_gl_dispatch_2d(sizes[2 * l], sizes[2 * l + 1]);
+    }
+
+    GLuint gp = pass->gather_program;
+    glUseProgram(gp);
+    glProgramUniform2i(gp, pass->gather_size, view->width_px, view->height_px);
+    glProgramUniform1i(gp, pass->gather_level_count, count);
+    glProgramUniform2iv(gp, pass->gather_level_offset, count, offsets);
+    glProgramUniform2iv(gp, pass->gather_level_size, count, sizes);
+    glProgramUniform1f(gp, pass->gather_radius_px_m, sta_normals_pyramid_radius_px_m(view, &p));
+    glProgramUniform1f(gp, pass->gather_near, view->near_m);
+    glBindImageTexture(0, out_normal_tex, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, filled_position_tex, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, pass->atlas, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    sta_gl_dispatch_2d(view->width_px, view->height_px);
+    for (GLuint unit = 0; unit < 3; unit++) {
+        glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    }
+    return sta_gl_check("pyramidal normal pass", err);
+}

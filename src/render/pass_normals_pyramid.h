@@ -1,0 +1,50 @@
+/* SPDX-License-Identifier: MIT
+ * The pyramidal normal estimator (Bouchiba et al. 2018, section 3.3) on the filled
+ * pull-push pyramid. Twin: render/ref/normals_pyramid_ref.h; docs/PULLPUSH.md.
+ *
+ * Design: the normals of levels >= 1 go into one RGBA32F atlas texture owned by the
+ * pass (level 1 at the origin, levels 2.. stacked in a column to its right, about 3/8
+ * of the view's texels), so that the gather shader can pick a level per pixel; it is
+ * (re)allocated when the view size changes. Level-0 normals are computed by the
+ * gather shader itself where a pixel uses level 0. Main thread (GL) only.
+ */
+#ifndef STA_RENDER_PASS_NORMALS_PYRAMID_H
+#define STA_RENDER_PASS_NORMALS_PYRAMID_H
+
+#include <epoxy/gl.h>
+
+#include "core/status.h"
+#include "render/pass_pullpush.h"
+#include "render/ref/normals_pyramid_ref.h"
+#include "render/screen_space.h"
+
+typedef struct sta_normals_pyramid_pass {
+    GLuint level_program, gather_program;
+    GLint level_size, level_offset;
+    GLint gather_size, gather_level_count, gather_level_offset, gather_level_size;
+    GLint gather_radius_px_m, gather_near;
+    GLuint atlas; /* owned, RGBA32F */
+    int atlas_width_px, atlas_height_px;
+    int view_width_px, view_height_px;     /* the size the atlas was made for */
+    int offset_x[STA_PULLPUSH_MAX_LEVELS]; /* level origins in the atlas */
+    int offset_y[STA_PULLPUSH_MAX_LEVELS];
+} sta_normals_pyramid_pass;
+
+/* Compiles the shaders. Errors: STA_ERR_GL with the compiler's log. */
+sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_error *err);
+
+/* Frees programs and atlas; a zeroed pass is a no-op. */
+void sta_normals_pyramid_pass_release(sta_normals_pyramid_pass *pass);
+
+/* params: NULL for the defaults. pyramid: the pull-push pyramid of the same view (from
+ * sta_pullpush_pass_pyramid after a run); filled_position_tex: that run's output
+ * position (level 0); out_normal_tex: RGBA32F of the view size, written per
+ * screen_space.h (xyz unit normal facing the camera, w = 1 valid / 0 none). Errors:
+ * STA_ERR_ARG when the pyramid does not belong to this view size, STA_ERR_GL. */
+sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const sta_view_params *view,
+                                        const sta_normals_pyramid_params *params,
+                                        const sta_pullpush_pyramid *pyramid,
+                                        GLuint filled_position_tex, GLuint out_normal_tex,
+                                        sta_error *err);
+
+#endif

@@ -1,0 +1,198 @@
+/* SPDX-License-Identifier: MIT
+ * CPU twin of the pyramidal normal estimator: the same neighbourhoods, thresholds and
+ * order of float operations as shaders/normals_pyramid_level.comp and
+ * shaders/normals_pyramid_gather.comp.
+ *
+ * Based on: H. Bouchiba et al., Eurographics 2018, section 3.3.
+ */
+#include "render/ref/normals_pyramid_ref.h"
+
+#include <stdbool.h>
+#include <string.h>
+
+void sta_normals_pyramid_params_defaults(sta_normals_pyramid_params *params)
+{
+    if (!(params->radius_s0 > 0.0f)) {
+        params->radius_s0 = 3.0f;
+    }
+}
+
+static bool has_point(const sta_image *points, int x, int y)
+{
+    return x >= 0 && y >= 0 && x < points->width && y < points->height &&
+           sta_image_at(points, x, y)[3] > 0.0f;
+}
+
+static float dot3(const float a[3], const float b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// d = a - b, the difference along one axis: central, one-sided or none.
+static bool difference(const sta_image *points, int x, int y, int dx, int dy, float d[3])
+{
+    bool next = has_point(points, x + dx, y + dy), prev = has_point(points, x - dx, y - dy);
+    const float *a, *b;
+    if (next && prev) {
+        a = sta_image_at(points, x + dx, y + dy);
+        b = sta_image_at(points, x - dx, y - dy);
+    } else if (next) {
+        a = sta_image_at(points, x + dx, y + dy);
+        b = sta_image_at(points, x, y);
+    } else if (prev) {
+        a = sta_image_at(points, x, y);
+        b = sta_image_at(points, x - dx, y - dy);
+    } else {
+        return false;
+    }
+    for (int k = 0; k < 3; k++) {
+        d[k] = a[k] - b[k];
+    }
+    return true;
+}
+
+void sta_normals_pyramid_level_ref(const sta_image *points, sta_image *out)
+{
+    for (int y = 0; y < points->height; y++) {
+        for (int x = 0; x < points->width; x++) {
+            const float *p = sta_image_at(points, x, y);
+            float *o = sta_image_at(out, x, y);
+            o[0] = o[1] = o[2] = o[3] = 0.0f;
+            float dx[3], dy[3];
+            if (!(p[3] > 0.0f) || !difference(points, x, y, 1, 0, dx) ||
+                !difference(points, x, y, 0, 1, dy)) {
+                continue;
+            }
+            // cross(dx, dy), in GLSL's order of terms.
+            float n[3] = { dx[1] * dy[2] - dy[1] * dx[2], dx[2] * dy[0] - dy[2] * dx[0],
+                           dx[0] * dy[1] - dy[0] * dx[1] };
+            float n2 = dot3(n, n), dx2 = dot3(dx, dx), dy2 = dot3(dy, dy);
+            // No normal from differences that are float noise (below ~3e-6 of the
+            // point's distance: copies of one sample) or parallel (sin^2 below 1e-12).
+            float min_d2 = 1e-11f * dot3(p, p);
+            if (!(dx2 > min_d2 && dy2 > min_d2 && n2 > 1e-12f * dx2 * dy2)) {
+                continue;
+            }
+            float len = sqrtf(n2);
+            float s = dot3(n, p) > 0.0f ? -1.0f : 1.0f; // face the camera at the origin
+            for (int k = 0; k < 3; k++) {
+                o[k] = s * (n[k] / len);
+            }
+            o[3] = 1.0f;
+        }
+    }
+}
+
+static int clamp_int(int v, int lo, int hi)
+{
+    return v < lo ? lo : (v > hi ? hi : v);
+}
+
+// Bilinear interpolation of level `normals` (scale 2^level) at level-0 pixel centre
+// (x + 0.5, y + 0.5), invalid texels skipped; false when nothing is left.
+static bool level_normal(const sta_image *normals, int level, int x, int y, float n[3])
+{
+    float s = (float)(1 << level);
+    float u = ((float)x + 0.5f) / s - 0.5f, v = ((float)y + 0.5f) / s - 0.5f;
+    float u0 = floorf(u), v0 = floorf(v);
+    float fu = u - u0, fv = v - v0;
+    int i0 = (int)u0, j0 = (int)v0;
+    float acc[3] = { 0.0f, 0.0f, 0.0f };
+    for (int b = 0; b < 2; b++) {
+        for (int a = 0; a < 2; a++) {
+            int i = clamp_int(i0 + a, 0, normals->width - 1);
+            int j = clamp_int(j0 + b, 0, normals->height - 1);
+            const float *m = sta_image_at(normals, i, j);
+            if (m[3] > 0.0f) {
+                float bw = (a == 1 ? fu : 1.0f - fu) * (b == 1 ? fv : 1.0f - fv);
+                for (int k = 0; k < 3; k++) {
+                    acc[k] += bw * m[k];
+                }
+            }
+        }
+    }
+    float a2 = dot3(acc, acc);
+    if (!(a2 > 1e-12f)) {
+        return false;
+    }
+    float len = sqrtf(a2);
+    for (int k = 0; k < 3; k++) {
+        n[k] = acc[k] / len;
+    }
+    return true;
+}
+
+sta_status sta_normals_pyramid_ref(const sta_view_params *view,
+                                   const sta_normals_pyramid_params *params,
+                                   const sta_pullpush_levels *levels,
+                                   const sta_image *filled_position, sta_image *out_normal,
+                                   sta_error *err)
+{
+    int w = view->width_px, h = view->height_px;
+    int count = sta_pullpush_level_count(w, h);
+    if (count == 0 || levels->count != count || filled_position->width != w ||
+        filled_position->height != h || filled_position->channels != 4 || out_normal->width != w ||
+        out_normal->height != h || out_normal->channels != 4) {
+        return sta_fail(err, STA_ERR_ARG,
+                        "pyramidal normals: view %dx%d, pyramid of %d levels (expected %d), "
+                        "filled %dx%d and normal %dx%d images do not match",
+                        w, h, levels->count, count, filled_position->width, filled_position->height,
+                        out_normal->width, out_normal->height);
+    }
+    sta_normals_pyramid_params p = params ? *params : (sta_normals_pyramid_params){ 0 };
+    sta_normals_pyramid_params_defaults(&p);
+    float radius_px_m = sta_normals_pyramid_radius_px_m(view, &p);
+
+    sta_image normals[STA_PULLPUSH_MAX_LEVELS];
+    memset(normals, 0, sizeof(normals));
+    sta_status status = STA_OK;
+    for (int l = 0; l < count && status == STA_OK; l++) {
+        const sta_image *points = l == 0 ? filled_position : &levels->position[l];
+        status = sta_image_init(&normals[l], points->width, points->height, 4, err);
+        if (status == STA_OK) {
+            sta_normals_pyramid_level_ref(points, &normals[l]);
+        }
+    }
+    for (int y = 0; y < h && status == STA_OK; y++) {
+        for (int x = 0; x < w; x++) {
+            const float *pt = sta_image_at(filled_position, x, y);
+            float *o = sta_image_at(out_normal, x, y);
+            o[0] = o[1] = o[2] = o[3] = 0.0f;
+            if (!(pt[3] > 0.0f)) {
+                continue;
+            }
+            float depth = fmaxf(-pt[2], view->near_m);
+            float r_px = radius_px_m / depth;
+            float lambda = fminf(log2f(fmaxf(r_px, 1.0f)), (float)(count - 1));
+            int la = (int)lambda;
+            int lb = la + 1 < count ? la + 1 : la;
+            float t = lambda - (float)la;
+            float na[3], nb[3], n[3];
+            bool va = level_normal(&normals[la], la, x, y, na);
+            bool vb = level_normal(&normals[lb], lb, x, y, nb);
+            if (va && vb) {
+                for (int k = 0; k < 3; k++) {
+                    n[k] = (1.0f - t) * na[k] + t * nb[k];
+                }
+            } else if (va || vb) {
+                memcpy(n, va ? na : nb, sizeof(n));
+            } else {
+                continue;
+            }
+            float n2 = dot3(n, n);
+            if (!(n2 > 1e-12f)) {
+                continue;
+            }
+            float len = sqrtf(n2);
+            float s = dot3(n, pt) > 0.0f ? -1.0f : 1.0f;
+            for (int k = 0; k < 3; k++) {
+                o[k] = s * (n[k] / len);
+            }
+            o[3] = 1.0f;
+        }
+    }
+    for (int l = 0; l < count; l++) {
+        sta_image_release(&normals[l]);
+    }
+    return status;
+}

@@ -1,0 +1,282 @@
+/* SPDX-License-Identifier: MIT
+ * CPU twin of the pull-push pass: the same loops, weights, clamps and order of float
+ * operations as shaders/pullpush_pull.comp and shaders/pullpush_push.comp.
+ *
+ * Based on: M. Kraus, "The pull-push algorithm revisited", GRAPP 2009; H. Bouchiba et
+ * al., Eurographics 2018, section 3.2.
+ */
+#include "render/ref/pullpush_ref.h"
+
+#include <stdbool.h>
+#include <string.h>
+
+/* 1D taps of the 4x4 pull (analysis) filter, fine texels 2i-1 .. 2i+2; their 2D
+ * products sum to 4, the weight of a fully covered 2x2 block. */
+static const float pull_taps[4] = { 0.25f, 0.75f, 0.75f, 0.25f };
+
+/* One texel of a level: point, colour, weight. */
+typedef struct texel {
+    float p[3];
+    float c[3];
+    float w;
+} texel;
+
+/* Where the texels of one level come from: level 0 reads the inputs (weight from the
+ * label), levels >= 1 read the pyramid images. */
+typedef struct level_source {
+    const sta_image *position, *colour, *label;     /* level 0 (label may be NULL) */
+    const sta_image *level_position, *level_colour; /* levels >= 1 */
+} level_source;
+
+static bool is_label(float label, float value)
+{
+    return fabsf(label - value) < 0.5f;
+}
+
+static texel fetch(const level_source *s, int x, int y)
+{
+    texel t;
+    const float *p, *c;
+    if (s->level_position) {
+        p = sta_image_at(s->level_position, x, y);
+        c = sta_image_at(s->level_colour, x, y);
+        t.w = p[3];
+    } else {
+        p = sta_image_at(s->position, x, y);
+        c = sta_image_at(s->colour, x, y);
+        bool visible = !s->label || is_label(*sta_image_at(s->label, x, y), STA_LABEL_VISIBLE);
+        t.w = p[3] > 0.0f && visible ? 1.0f : 0.0f;
+    }
+    for (int k = 0; k < 3; k++) {
+        t.p[k] = p[k];
+        t.c[k] = c[k];
+    }
+    return t;
+}
+
+static void store(const sta_image *position, const sta_image *colour, int x, int y,
+                  const float p[3], const float c[3], float w)
+{
+    float *op = sta_image_at(position, x, y);
+    float *oc = sta_image_at(colour, x, y);
+    for (int k = 0; k < 3; k++) {
+        op[k] = p[k];
+        oc[k] = c[k];
+    }
+    op[3] = w;
+    oc[3] = w;
+}
+
+static const float zero3[3] = { 0.0f, 0.0f, 0.0f };
+
+/* Pull: coarse texel (i, j) is the weight-normalised 4x4 filter of the fine level;
+ * its weight is the filtered weight sum clamped to 1. */
+static void pull_level(const level_source *fine, int fine_w, int fine_h, const sta_image *out_p,
+                       const sta_image *out_c)
+{
+    for (int j = 0; j < out_p->height; j++) {
+        for (int i = 0; i < out_p->width; i++) {
+            float sw = 0.0f, sp[3] = { 0.0f, 0.0f, 0.0f }, sc[3] = { 0.0f, 0.0f, 0.0f };
+            for (int b = 0; b < 4; b++) {
+                int fy = 2 * j - 1 + b;
+                if (fy < 0 || fy >= fine_h) {
+                    continue;
+                }
+                for (int a = 0; a < 4; a++) {
+                    int fx = 2 * i - 1 + a;
+                    if (fx < 0 || fx >= fine_w) {
+                        continue;
+                    }
+                    texel t = fetch(fine, fx, fy);
+                    if (t.w > 0.0f) {
+                        float kw = pull_taps[a] * pull_taps[b] * t.w;
+                        sw += kw;
+                        for (int k = 0; k < 3; k++) {
+                            sp[k] += kw * t.p[k];
+                            sc[k] += kw * t.c[k];
+                        }
+                    }
+                }
+            }
+            if (sw > 0.0f) {
+                float inv = 1.0f / sw;
+                float p[3], c[3];
+                for (int k = 0; k < 3; k++) {
+                    p[k] = sp[k] * inv;
+                    c[k] = sc[k] * inv;
+                }
+                store(out_p, out_c, i, j, p, c, fminf(1.0f, sw));
+            } else {
+                store(out_p, out_c, i, j, zero3, zero3, 0.0f);
+            }
+        }
+    }
+}
+
+static int clamp_int(int v, int lo, int hi)
+{
+    return v < lo ? lo : (v > hi ? hi : v);
+}
+
+/* Push of one fine texel: bilinear 2x2 interpolation of the (already pushed) coarse
+ * level, taps 3/4 and 1/4 per axis, clamped to the coarse level's edge; empty coarse
+ * texels do not contribute. Then "over" compositing: w' = w + (1 - w) sw, value
+ * (w v + (1 - w) sv) / w'. Returns w'. */
+static float push_texel(const texel *fine, const level_source *coarse, int coarse_w, int coarse_h,
+                        int i, int j, float out_p[3], float out_c[3])
+{
+    float sw = 0.0f, sp[3] = { 0.0f, 0.0f, 0.0f }, sc[3] = { 0.0f, 0.0f, 0.0f };
+    if (coarse) {
+        int cx0 = ((i + 1) >> 1) - 1, cy0 = ((j + 1) >> 1) - 1;
+        float wx[2], wy[2];
+        wx[0] = (i & 1) ? 0.75f : 0.25f;
+        wx[1] = 1.0f - wx[0];
+        wy[0] = (j & 1) ? 0.75f : 0.25f;
+        wy[1] = 1.0f - wy[0];
+        for (int b = 0; b < 2; b++) {
+            int cy = clamp_int(cy0 + b, 0, coarse_h - 1);
+            for (int a = 0; a < 2; a++) {
+                int cx = clamp_int(cx0 + a, 0, coarse_w - 1);
+                texel t = fetch(coarse, cx, cy);
+                if (t.w > 0.0f) {
+                    float kw = wx[a] * wy[b] * t.w;
+                    sw += kw;
+                    for (int k = 0; k < 3; k++) {
+                        sp[k] += kw * t.p[k];
+                        sc[k] += kw * t.c[k];
+                    }
+                }
+            }
+        }
+    }
+    float w = fine->w;
+    float nw = fminf(1.0f, w + (1.0f - w) * sw);
+    if (!(nw > 0.0f)) {
+        memcpy(out_p, zero3, sizeof(zero3));
+        memcpy(out_c, zero3, sizeof(zero3));
+        return 0.0f;
+    }
+    float inv = 1.0f / nw;
+    for (int k = 0; k < 3; k++) {
+        float np = (1.0f - w) * sp[k], nc = (1.0f - w) * sc[k];
+        if (w > 0.0f) {
+            np = w * fine->p[k] + np;
+            nc = w * fine->c[k] + nc;
+        }
+        out_p[k] = np * inv;
+        out_c[k] = nc * inv;
+    }
+    return nw;
+}
+
+int sta_pullpush_level_count(int width_px, int height_px)
+{
+    int size = width_px > height_px ? width_px : height_px;
+    if (size < 1 || size > (1 << (STA_PULLPUSH_MAX_LEVELS - 1))) {
+        return 0;
+    }
+    int count = 1;
+    while ((1 << (count - 1)) < size) {
+        count++;
+    }
+    return count;
+}
+
+void sta_pullpush_levels_release(sta_pullpush_levels *levels)
+{
+    for (int l = 0; l < STA_PULLPUSH_MAX_LEVELS; l++) {
+        sta_image_release(&levels->position[l]);
+        sta_image_release(&levels->colour[l]);
+    }
+    levels->count = 0;
+}
+
+static bool same_size(const sta_image *a, int w, int h, int min_channels)
+{
+    return a && a->width == w && a->height == h && a->channels >= min_channels;
+}
+
+sta_status sta_pullpush_ref(const sta_view_params *view, const sta_image *position,
+                            const sta_image *colour, const sta_image *label,
+                            sta_image *out_position, sta_image *out_colour,
+                            sta_pullpush_levels *out_levels, sta_error *err)
+{
+    int w = view->width_px, h = view->height_px;
+    int count = sta_pullpush_level_count(w, h);
+    if (count == 0) {
+        return sta_fail(err, STA_ERR_ARG, "pull-push: view %dx%d is out of range (1..32768)", w, h);
+    }
+    if (!same_size(position, w, h, 4) || !same_size(colour, w, h, 3) ||
+        (label && !same_size(label, w, h, 1)) || !same_size(out_position, w, h, 4) ||
+        !same_size(out_colour, w, h, 4)) {
+        return sta_fail(err, STA_ERR_ARG,
+                        "pull-push: an image does not match the view %dx%d (position and outputs "
+                        "need 4 channels, colour 3 or 4, label 1)",
+                        w, h);
+    }
+    sta_pullpush_levels local = { 0 };
+    sta_pullpush_levels *levels = out_levels ? out_levels : &local;
+    sta_pullpush_levels_release(levels);
+    sta_status status = STA_OK;
+    for (int l = 1; l < count && status == STA_OK; l++) {
+        int lw = sta_pullpush_level_size(w, l), lh = sta_pullpush_level_size(h, l);
+        status = sta_image_init(&levels->position[l], lw, lh, 4, err);
+        if (status == STA_OK) {
+            status = sta_image_init(&levels->colour[l], lw, lh, 4, err);
+        }
+    }
+    if (status != STA_OK) {
+        sta_pullpush_levels_release(levels);
+        return status;
+    }
+    levels->count = count;
+
+    level_source input = { position, colour, label, NULL, NULL };
+    // Pull: level l from level l - 1 (level 0 = the inputs).
+    for (int l = 1; l < count; l++) {
+        level_source fine = input;
+        if (l > 1) {
+            fine = (level_source){ NULL, NULL, NULL, &levels->position[l - 1],
+                                   &levels->colour[l - 1] };
+        }
+        pull_level(&fine, sta_pullpush_level_size(w, l - 1), sta_pullpush_level_size(h, l - 1),
+                   &levels->position[l], &levels->colour[l]);
+    }
+    // Push: level l from level l + 1, in place, down to level 1.
+    for (int l = count - 2; l >= 1; l--) {
+        const sta_image *lp = &levels->position[l], *lc = &levels->colour[l];
+        level_source self = { NULL, NULL, NULL, lp, lc };
+        level_source coarse = { NULL, NULL, NULL, &levels->position[l + 1],
+                                &levels->colour[l + 1] };
+        for (int j = 0; j < lp->height; j++) {
+            for (int i = 0; i < lp->width; i++) {
+                texel t = fetch(&self, i, j);
+                float p[3], c[3];
+                float nw = push_texel(&t, &coarse, levels->position[l + 1].width,
+                                      levels->position[l + 1].height, i, j, p, c);
+                store(lp, lc, i, j, p, c, nw);
+            }
+        }
+    }
+    // Level 0: the inputs over the pushed level 1, then the HPR background restored.
+    level_source coarse1 = { 0 };
+    if (count > 1) {
+        coarse1 = (level_source){ NULL, NULL, NULL, &levels->position[1], &levels->colour[1] };
+    }
+    for (int j = 0; j < h; j++) {
+        for (int i = 0; i < w; i++) {
+            texel t = fetch(&input, i, j);
+            float p[3], c[3];
+            float nw = push_texel(&t, count > 1 ? &coarse1 : NULL,
+                                  count > 1 ? levels->position[1].width : 0,
+                                  count > 1 ? levels->position[1].height : 0, i, j, p, c);
+            if (label && is_label(*sta_image_at(label, i, j), STA_LABEL_BACKGROUND)) {
+                store(out_position, out_colour, i, j, zero3, zero3, 0.0f);
+            } else {
+                store(out_position, out_colour, i, j, p, c, nw);
+            }
+        }
+    }
+    sta_pullpush_levels_release(&local);
+    return STA_OK;
+}

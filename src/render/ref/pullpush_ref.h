@@ -1,0 +1,64 @@
+/* SPDX-License-Identifier: MIT
+ * CPU twin of the pull-push reconstruction (shaders/pullpush_pull.comp and
+ * shaders/pullpush_push.comp), and the pyramid level sizes shared with the GL pass.
+ *
+ * Based on: M. Kraus, "The pull-push algorithm revisited", GRAPP 2009 (weighted pull
+ * with weights clamped to 1, bilinear 4x4 analysis and 2x2 synthesis filters), as used
+ * by H. Bouchiba et al., "Raw point cloud deferred shading through screen space
+ * pyramidal operators", Eurographics 2018, section 3.2. docs/PULLPUSH.md states every
+ * choice made here.
+ *
+ * The pyramid carries, per texel, a camera-space point (xyz), a colour (rgb) and a
+ * weight w in 0..1. Level l has size sta_pullpush_level_size(width, l) x
+ * sta_pullpush_level_size(height, l): max(1, ceil(size / 2^l)), and texel (i, j) of
+ * level l covers level-0 pixels [i 2^l, (i + 1) 2^l) x [j 2^l, (j + 1) 2^l) (the same
+ * convention as the HPR point pyramid). The last level is 1 x 1.
+ */
+#ifndef STA_RENDER_REF_PULLPUSH_REF_H
+#define STA_RENDER_REF_PULLPUSH_REF_H
+
+#include "core/status.h"
+#include "render/ref/image.h"
+#include "render/screen_space.h"
+
+/* Levels of the largest view accepted (32768 pixels on a side). */
+#define STA_PULLPUSH_MAX_LEVELS 16
+
+/* max(1, ceil(size_px / 2^level)) for size_px >= 1 and 0 <= level < 31. */
+static inline int sta_pullpush_level_size(int size_px, int level)
+{
+    return (int)(((unsigned)size_px + (1u << level) - 1u) >> level);
+}
+
+/* Number of levels down to 1 x 1: 1 + ceil(log2(max(width, height))); 1 for a 1 x 1
+ * view. Views wider or taller than 32768 pixels are out of range (returns 0). */
+int sta_pullpush_level_count(int width_px, int height_px);
+
+/* The pushed (filled) pyramid of one run. Index l holds level l for 1 <= l < count;
+ * index 0 stays empty (zeroed images): level 0 is the pass output itself. */
+typedef struct sta_pullpush_levels {
+    int count;                                   /* levels, 0 before a run */
+    sta_image position[STA_PULLPUSH_MAX_LEVELS]; /* 4 channels: xyz camera space, w weight */
+    sta_image colour[STA_PULLPUSH_MAX_LEVELS];   /* 4 channels: rgb, a = weight */
+} sta_pullpush_levels;
+
+/* Frees the images; a zeroed struct is a no-op. */
+void sta_pullpush_levels_release(sta_pullpush_levels *levels);
+
+/* Pull-push reconstruction on the CPU, the same maths in the same order as the shaders.
+ * view: size and camera; position: 4 channels, camera space, w = 1 point / 0 empty;
+ * colour: 3 or 4 channels, rgb in 0..1 (alpha ignored); label: 1 channel of
+ * STA_LABEL_* from HPR, or NULL for "every point visible, no background to restore".
+ * Initial weight: 1 where a point is drawn (w > 0) and labelled VISIBLE, else 0.
+ * out_position / out_colour: initialised 4-channel images of the view size, written:
+ * the filled point (xyz) and colour with w = a = coverage in 0..1; pixels labelled
+ * BACKGROUND and pixels without any support are zero. out_levels (may be NULL):
+ * zeroed or released struct, receives levels 1..count-1 after the push (owned by the
+ * caller, free with sta_pullpush_levels_release). Errors: STA_ERR_ARG for mismatched
+ * sizes, STA_ERR_NOMEM. */
+sta_status sta_pullpush_ref(const sta_view_params *view, const sta_image *position,
+                            const sta_image *colour, const sta_image *label,
+                            sta_image *out_position, sta_image *out_colour,
+                            sta_pullpush_levels *out_levels, sta_error *err);
+
+#endif

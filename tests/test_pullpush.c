@@ -1,0 +1,924 @@
+/* SPDX-License-Identifier: MIT
+ * The pull-push pass and the pyramidal normal estimator on llvmpipe against their CPU
+ * twins, against analytic scenes (plane, sphere) and on the hard cases of
+ * screen_space.h. */
+#include "test_support.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/gl.h"
+#include "render/gl_image.h"
+#include "render/pass_normals_pyramid.h"
+#include "render/pass_pullpush.h"
+#include "render/ref/normals_pyramid_ref.h"
+#include "render/ref/pullpush_ref.h"
+
+/* Tolerances between shader and twin (same maths, same order, float): positions
+ * relative to the point's depth, weights and colours absolute, normals by angle. */
+#define POSITION_TOLERANCE   1e-5f
+#define WEIGHT_TOLERANCE     1e-5f
+#define COLOUR_TOLERANCE     1e-5f
+#define NORMAL_TOLERANCE_DEG 0.05
+
+/* ---- a frame of inputs ---- */
+
+typedef struct frame {
+    sta_view_params view;
+    sta_image position, colour, label;
+    bool has_label;
+} frame;
+
+typedef struct result {
+    sta_image position, colour, normal;
+    sta_pullpush_levels levels; /* twin: its levels; GL: the pass's levels read back */
+} result;
+
+static void frame_init(frame *f, int w, int h)
+{
+    memset(f, 0, sizeof(*f));
+    f->view = (sta_view_params){ w, h, 0.9f, 0.05f, 0.07f };
+    assert_int_equal(sta_image_init(&f->position, w, h, 4, NULL), STA_OK);
+    assert_int_equal(sta_image_init(&f->colour, w, h, 4, NULL), STA_OK);
+    assert_int_equal(sta_image_init(&f->label, w, h, 1, NULL), STA_OK);
+    f->has_label = true;
+}
+
+static void frame_release(frame *f)
+{
+    sta_image_release(&f->position);
+    sta_image_release(&f->colour);
+    sta_image_release(&f->label);
+}
+
+static void result_release(result *r)
+{
+    sta_image_release(&r->position);
+    sta_image_release(&r->colour);
+    sta_image_release(&r->normal);
+    sta_pullpush_levels_release(&r->levels);
+}
+
+/* The camera ray through pixel (x, y), z = -1 (the unproject pass's maths). */
+static void pixel_ray(const sta_view_params *v, int x, int y, float r[3])
+{
+    float tan_y = tanf(0.5f * v->fov_y);
+    float tan_x = tan_y * (float)v->width_px / (float)v->height_px;
+    r[0] = (((float)x + 0.5f) / (float)v->width_px * 2.0f - 1.0f) * tan_x;
+    r[1] = (((float)y + 0.5f) / (float)v->height_px * 2.0f - 1.0f) * tan_y;
+    r[2] = -1.0f;
+}
+
+/* Puts a point at depth d on pixel (x, y)'s ray with a colour and a label. */
+static void set_point(frame *f, int x, int y, float d, float label)
+{
+    float r[3];
+    pixel_ray(&f->view, x, y, r);
+    float *p = sta_image_at(&f->position, x, y);
+    p[0] = r[0] * d;
+    p[1] = r[1] * d;
+    p[2] = -d;
+    p[3] = 1.0f;
+    float *c = sta_image_at(&f->colour, x, y);
+    c[0] = 0.5f + 0.5f * sinf(0.37f * (float)x);
+    c[1] = 0.5f + 0.5f * cosf(0.23f * (float)y);
+    c[2] = fmodf(d, 1.0f);
+    c[3] = 1.0f;
+    *sta_image_at(&f->label, x, y) = label;
+}
+
+static void set_empty(frame *f, int x, int y, float label)
+{
+    memset(sta_image_at(&f->position, x, y), 0, 4 * sizeof(float));
+    memset(sta_image_at(&f->colour, x, y), 0, 4 * sizeof(float));
+    *sta_image_at(&f->label, x, y) = label;
+}
+
+static uint32_t rng_state = 12345u;
+
+static float random01(void)
+{
+    rng_state = rng_state * 1664525u + 1013904223u;
+    return (float)(rng_state >> 8) / 16777216.0f;
+}
+
+/* ---- running both sides ---- */
+
+static void run_ref(const frame *f, const sta_normals_pyramid_params *params, result *r)
+{
+    int w = f->view.width_px, h = f->view.height_px;
+    memset(r, 0, sizeof(*r));
+    assert_int_equal(sta_image_init(&r->position, w, h, 4, NULL), STA_OK);
+    assert_int_equal(sta_image_init(&r->colour, w, h, 4, NULL), STA_OK);
+    assert_int_equal(sta_image_init(&r->normal, w, h, 4, NULL), STA_OK);
+    sta_error err = { 0 };
+    assert_int_equal(sta_pullpush_ref(&f->view, &f->position, &f->colour,
+                                      f->has_label ? &f->label : NULL, &r->position, &r->colour,
+                                      &r->levels, &err),
+                     STA_OK);
+    assert_int_equal(
+        sta_normals_pyramid_ref(&f->view, params, &r->levels, &r->position, &r->normal, &err),
+        STA_OK);
+}
+
+/* Runs both GL passes (already initialised) on the frame and reads everything back. */
+static void run_gl_with(sta_pullpush_pass *pp, sta_normals_pyramid_pass *np, const frame *f,
+                        const sta_normals_pyramid_params *params, result *r)
+{
+    int w = f->view.width_px, h = f->view.height_px;
+    memset(r, 0, sizeof(*r));
+    sta_error err = { 0 };
+    GLuint position, colour, label = 0, out_position, out_colour, out_normal;
+    assert_int_equal(sta_gl_texture_from_image(&f->position, &position, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&f->colour, &colour, &err), STA_OK);
+    if (f->has_label) {
+        assert_int_equal(sta_gl_texture_from_image(&f->label, &label, &err), STA_OK);
+    }
+    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_position, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_colour, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_normal, &err), STA_OK);
+    assert_int_equal(sta_pullpush_pass_run(pp, &f->view, position, colour, label, out_position,
+                                           out_colour, &err),
+                     STA_OK);
+    const sta_pullpush_pyramid *pyr = sta_pullpush_pass_pyramid(pp);
+    assert_int_equal(
+        sta_normals_pyramid_pass_run(np, &f->view, params, pyr, out_position, out_normal, &err),
+        STA_OK);
+    assert_int_equal(sta_gl_texture_to_image(out_position, 0, 4, &r->position, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_to_image(out_colour, 0, 4, &r->colour, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_to_image(out_normal, 0, 4, &r->normal, &err), STA_OK);
+    r->levels.count = pyr->level_count;
+    for (int l = 1; l < pyr->level_count; l++) {
+        // Level sizes follow max(1, ceil(size / 2^l)).
+        assert_int_equal(pyr->width_px[l], (w + (1 << l) - 1) >> l);
+        assert_int_equal(pyr->height_px[l], (h + (1 << l) - 1) >> l);
+        assert_int_equal(
+            sta_gl_texture_to_image(pyr->position[l], 0, 4, &r->levels.position[l], &err), STA_OK);
+        assert_int_equal(sta_gl_texture_to_image(pyr->colour[l], 0, 4, &r->levels.colour[l], &err),
+                         STA_OK);
+    }
+    assert_int_equal(pyr->width_px[pyr->level_count - 1], 1);
+    assert_int_equal(pyr->height_px[pyr->level_count - 1], 1);
+    GLuint textures[] = { position, colour, label, out_position, out_colour, out_normal };
+    for (size_t i = 0; i < sizeof(textures) / sizeof(textures[0]); i++) {
+        if (textures[i]) {
+            glDeleteTextures(1, &textures[i]);
+        }
+    }
+}
+
+static void init_passes(sta_pullpush_pass *pp, sta_normals_pyramid_pass *np)
+{
+    sta_error err = { 0 };
+    sta_status status = sta_pullpush_pass_init(pp, &err);
+    if (status == STA_OK) {
+        status = sta_normals_pyramid_pass_init(np, &err);
+    }
+    if (status != STA_OK) {
+        fprintf(stderr, "%s\n", err.message);
+    }
+    assert_int_equal(status, STA_OK);
+}
+
+static void run_gl(const frame *f, const sta_normals_pyramid_params *params, result *r)
+{
+    sta_pullpush_pass pp;
+    sta_normals_pyramid_pass np;
+    init_passes(&pp, &np);
+    run_gl_with(&pp, &np, f, params, r);
+    sta_normals_pyramid_pass_release(&np);
+    sta_pullpush_pass_release(&pp);
+}
+
+/* ---- comparisons ---- */
+
+static void assert_finite(const sta_image *image)
+{
+    size_t n = (size_t)image->width * (size_t)image->height * (size_t)image->channels;
+    for (size_t i = 0; i < n; i++) {
+        assert_true(isfinite(image->data[i]));
+    }
+}
+
+static void compare_points(const sta_image *a, const sta_image *b, float *max_rel)
+{
+    assert_int_equal(a->width, b->width);
+    assert_int_equal(a->height, b->height);
+    for (int y = 0; y < a->height; y++) {
+        for (int x = 0; x < a->width; x++) {
+            const float *p = sta_image_at(a, x, y), *q = sta_image_at(b, x, y);
+            assert_true(fabsf(p[3] - q[3]) <= WEIGHT_TOLERANCE);
+            assert_true((p[3] > 0.0f) == (q[3] > 0.0f));
+            float scale = fmaxf(fabsf(p[2]), 1e-3f);
+            for (int k = 0; k < 3; k++) {
+                float rel = fabsf(p[k] - q[k]) / scale;
+                *max_rel = fmaxf(*max_rel, rel);
+                if (!(rel <= POSITION_TOLERANCE)) {
+                    fprintf(stderr, "point (%d, %d)[%d]: %.9g vs %.9g\n", x, y, k, (double)p[k],
+                            (double)q[k]);
+                }
+                assert_true(rel <= POSITION_TOLERANCE);
+            }
+        }
+    }
+}
+
+static void compare_colours(const sta_image *a, const sta_image *b, float *max_abs)
+{
+    size_t n = (size_t)a->width * (size_t)a->height * 4;
+    for (size_t i = 0; i < n; i++) {
+        float d = fabsf(a->data[i] - b->data[i]);
+        *max_abs = fmaxf(*max_abs, d);
+        assert_true(d <= COLOUR_TOLERANCE);
+    }
+}
+
+static void to_double3(const float *f, double d[3])
+{
+    for (int k = 0; k < 3; k++) {
+        d[k] = (double)f[k];
+    }
+}
+
+static double dot_d3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static double angle_deg(const float *fa, const float *fb)
+{
+    double a[3], b[3];
+    to_double3(fa, a);
+    to_double3(fb, b);
+    double c = dot_d3(a, b) / sqrt(dot_d3(a, a) * dot_d3(b, b));
+    c = c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c);
+    return acos(c) * 180.0 / M_PI;
+}
+
+static void compare_normals(const sta_image *a, const sta_image *b, double *max_deg)
+{
+    for (int y = 0; y < a->height; y++) {
+        for (int x = 0; x < a->width; x++) {
+            const float *p = sta_image_at(a, x, y), *q = sta_image_at(b, x, y);
+            assert_true(p[3] == q[3]);
+            if (p[3] > 0.0f) {
+                double d = angle_deg(p, q);
+                *max_deg = fmax(*max_deg, d);
+                if (!(d <= NORMAL_TOLERANCE_DEG)) {
+                    fprintf(stderr, "normal (%d, %d): %.3g degrees apart\n", x, y, d);
+                }
+                assert_true(d <= NORMAL_TOLERANCE_DEG);
+            }
+        }
+    }
+}
+
+/* Normals are unit, face the camera and exist exactly where the filled output has a
+ * point (w > 0) unless no neighbour was available. */
+static void assert_normals_valid(const sta_image *normal, const sta_image *position)
+{
+    for (int y = 0; y < normal->height; y++) {
+        for (int x = 0; x < normal->width; x++) {
+            const float *n = sta_image_at(normal, x, y), *p = sta_image_at(position, x, y);
+            if (n[3] == 0.0f) {
+                assert_true(n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f);
+                continue;
+            }
+            assert_true(n[3] == 1.0f);
+            assert_true(p[3] > 0.0f);
+            float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            assert_true(fabsf(len - 1.0f) < 1e-5f);
+            assert_true(-(n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) >= 0.0f);
+        }
+    }
+}
+
+/* Shader and twin agree on outputs, every pyramid level and normals. */
+static void compare_results(const frame *f, const result *ref, const result *gl)
+{
+    assert_int_equal(ref->levels.count, gl->levels.count);
+    float max_rel = 0.0f, max_colour = 0.0f;
+    double max_deg = 0.0;
+    compare_points(&ref->position, &gl->position, &max_rel);
+    compare_colours(&ref->colour, &gl->colour, &max_colour);
+    for (int l = 1; l < ref->levels.count; l++) {
+        compare_points(&ref->levels.position[l], &gl->levels.position[l], &max_rel);
+        compare_colours(&ref->levels.colour[l], &gl->levels.colour[l], &max_colour);
+    }
+    compare_normals(&ref->normal, &gl->normal, &max_deg);
+    assert_finite(&gl->position);
+    assert_finite(&gl->colour);
+    assert_finite(&gl->normal);
+    assert_normals_valid(&gl->normal, &gl->position);
+    assert_normals_valid(&ref->normal, &ref->position);
+    printf("%dx%d: shader vs twin: point %.2g (relative to depth), colour %.2g, normal %.3g "
+           "degrees\n",
+           f->view.width_px, f->view.height_px, (double)max_rel, (double)max_colour, max_deg);
+}
+
+static void check_gl_matches_twin(const frame *f, const sta_normals_pyramid_params *params,
+                                  result *ref, result *gl)
+{
+    run_ref(f, params, ref);
+    run_gl(f, params, gl);
+    compare_results(f, ref, gl);
+}
+
+/* ---- shader against twin ---- */
+
+/* Random labels of every kind, random depths over two orders of magnitude. */
+static void fill_random(frame *f)
+{
+    for (int y = 0; y < f->view.height_px; y++) {
+        for (int x = 0; x < f->view.width_px; x++) {
+            float u = random01();
+            float d = 0.5f + 50.0f * random01() * random01();
+            if (u < 0.3f) {
+                set_point(f, x, y, d, STA_LABEL_VISIBLE);
+            } else if (u < 0.4f) {
+                set_point(f, x, y, d, STA_LABEL_HIDDEN);
+            } else if (u < 0.85f) {
+                set_empty(f, x, y, STA_LABEL_HOLE);
+            } else {
+                set_empty(f, x, y, STA_LABEL_BACKGROUND);
+            }
+        }
+    }
+}
+
+static void check_random_size(int w, int h, bool has_label)
+{
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    frame f;
+    frame_init(&f, w, h);
+    f.has_label = has_label;
+    fill_random(&f);
+    result ref, got;
+    check_gl_matches_twin(&f, NULL, &ref, &got);
+    // Background restoration and the identity on visible points, both sides.
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            float label = *sta_image_at(&f.label, x, y);
+            const float *p = sta_image_at(&got.position, x, y);
+            const float *in = sta_image_at(&f.position, x, y);
+            if (has_label && label == STA_LABEL_BACKGROUND) {
+                assert_true(p[3] == 0.0f && p[0] == 0.0f && p[2] == 0.0f);
+                assert_true(sta_image_at(&got.colour, x, y)[3] == 0.0f);
+            }
+            if (label == STA_LABEL_VISIBLE || !has_label) {
+                if (in[3] > 0.0f) {
+                    assert_memory_equal(p, in, 3 * sizeof(float));
+                    assert_true(p[3] == 1.0f);
+                }
+            }
+        }
+    }
+    result_release(&ref);
+    result_release(&got);
+    frame_release(&f);
+    sta_gl_headless_destroy(&gl);
+}
+
+static void shader_matches_twin_37x23(void **state)
+{
+    (void)state;
+    check_random_size(37, 23, true);
+}
+
+static void shader_matches_twin_without_labels(void **state)
+{
+    (void)state;
+    check_random_size(37, 23, false);
+}
+
+static void shader_matches_twin_odd_sizes(void **state)
+{
+    (void)state;
+    const int sizes[][2] = { { 1, 1 }, { 1, 17 }, { 17, 1 }, { 2, 2 }, { 64, 64 }, { 129, 65 } };
+    for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
+        check_random_size(sizes[i][0], sizes[i][1], true);
+    }
+}
+
+/* One pass object over changing view sizes (its pyramid and atlas are reallocated)
+ * and a non-default normal radius. */
+static void passes_follow_view_size_changes(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    sta_pullpush_pass pp;
+    sta_normals_pyramid_pass np;
+    init_passes(&pp, &np);
+    const int sizes[][2] = { { 37, 23 }, { 64, 17 }, { 64, 17 }, { 5, 40 } };
+    sta_normals_pyramid_params params = { 1.5f };
+    for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
+        frame f;
+        frame_init(&f, sizes[i][0], sizes[i][1]);
+        fill_random(&f);
+        result ref, got;
+        run_ref(&f, &params, &ref);
+        run_gl_with(&pp, &np, &f, &params, &got);
+        compare_results(&f, &ref, &got);
+        result_release(&ref);
+        result_release(&got);
+        frame_release(&f);
+    }
+    sta_normals_pyramid_pass_release(&np);
+    sta_pullpush_pass_release(&pp);
+    sta_gl_headless_destroy(&gl);
+}
+
+/* ---- known truth ---- */
+
+typedef struct scene {
+    int kind;        /* 0: plane, 1: sphere */
+    float normal[3]; /* plane: unit normal */
+    float point[3];  /* plane: a point; sphere: centre */
+    float radius;    /* sphere */
+} scene;
+
+/* Depth (distance along -z) of the ray's first hit, and the surface normal there. */
+static bool scene_hit(const scene *s, const float fr[3], double *depth, double n[3])
+{
+    double r[3], c[3];
+    to_double3(fr, r);
+    to_double3(s->point, c);
+    if (s->kind == 0) {
+        to_double3(s->normal, n);
+        double t = dot_d3(c, n) / dot_d3(r, n);
+        *depth = t; // the ray has z = -1, so t is the depth
+        return t > 0.0;
+    }
+    double radius = (double)s->radius;
+    double rr = dot_d3(r, r), b = dot_d3(r, c), cc = dot_d3(c, c) - radius * radius;
+    double disc = b * b - rr * cc;
+    if (disc < 0.0) {
+        return false;
+    }
+    double t = (b - sqrt(disc)) / rr;
+    for (int k = 0; k < 3; k++) {
+        n[k] = (t * r[k] - c[k]) / radius;
+    }
+    *depth = t;
+    return true;
+}
+
+/* Distance of a point from the surface, relative to its depth. */
+static double scene_distance(const scene *s, const float fp[3])
+{
+    double p[3], c[3], n[3], d[3];
+    to_double3(fp, p);
+    to_double3(s->point, c);
+    to_double3(s->normal, n);
+    for (int k = 0; k < 3; k++) {
+        d[k] = p[k] - c[k];
+    }
+    if (s->kind == 0) {
+        return fabs(dot_d3(d, n)) / -p[2];
+    }
+    return fabs(sqrt(dot_d3(d, d)) - (double)s->radius) / -p[2];
+}
+
+static int compare_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : (x > y);
+}
+
+typedef struct truth_stats {
+    double depth_mean, depth_max;     /* |filled depth - analytic depth| / depth at holes */
+    double surface_mean, surface_max; /* distance of the filled point from the surface */
+    double normal_mean, normal_median, normal_p95; /* degrees, all filled pixels */
+    int holes, normals;
+} truth_stats;
+
+/* Samples the scene: each hit pixel is a visible point with probability `fraction`,
+ * a hole otherwise; misses are background. Runs the GL passes and measures them
+ * against the analytic truth. */
+static truth_stats measure_scene(const scene *s, int w, int h, float fraction, float s0)
+{
+    frame f;
+    frame_init(&f, w, h);
+    f.view.s0 = s0;
+    double *truth = calloc((size_t)w * (size_t)h * 4, sizeof(double));
+    assert_non_null(truth);
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            float r[3];
+            pixel_ray(&f.view, x, y, r);
+            double *t = truth + 4 * ((size_t)y * (size_t)w + (size_t)x);
+            if (!scene_hit(s, r, &t[3], t)) {
+                set_empty(&f, x, y, STA_LABEL_BACKGROUND);
+                t[3] = 0.0;
+            } else if (random01() < fraction) {
+                set_point(&f, x, y, (float)t[3], STA_LABEL_VISIBLE);
+            } else {
+                set_empty(&f, x, y, STA_LABEL_HOLE);
+            }
+        }
+    }
+    result got;
+    run_gl(&f, NULL, &got);
+    assert_finite(&got.position);
+    assert_finite(&got.normal);
+    assert_normals_valid(&got.normal, &got.position);
+    truth_stats st = { 0 };
+    double *angles = calloc((size_t)w * (size_t)h, sizeof(double));
+    assert_non_null(angles);
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            const double *t = truth + 4 * ((size_t)y * (size_t)w + (size_t)x);
+            const float *p = sta_image_at(&got.position, x, y);
+            float label = *sta_image_at(&f.label, x, y);
+            if (label == STA_LABEL_BACKGROUND) {
+                assert_true(p[3] == 0.0f);
+                continue;
+            }
+            assert_true(p[3] > 0.0f); // every surface pixel is filled
+            if (label == STA_LABEL_HOLE) {
+                double e = fabs(-(double)p[2] - t[3]) / t[3];
+                st.depth_mean += e;
+                st.depth_max = fmax(st.depth_max, e);
+                double sd = scene_distance(s, p);
+                st.surface_mean += sd;
+                st.surface_max = fmax(st.surface_max, sd);
+                st.holes++;
+            }
+            const float *n = sta_image_at(&got.normal, x, y);
+            if (n[3] > 0.0f) {
+                float tn[3] = { (float)t[0], (float)t[1], (float)t[2] };
+                angles[st.normals++] = angle_deg(n, tn);
+            }
+        }
+    }
+    assert_true(st.holes > 0 && st.normals > 0);
+    st.depth_mean /= st.holes;
+    st.surface_mean /= st.holes;
+    for (int i = 0; i < st.normals; i++) {
+        st.normal_mean += angles[i];
+    }
+    st.normal_mean /= st.normals;
+    qsort(angles, (size_t)st.normals, sizeof(double), compare_double);
+    st.normal_median = angles[st.normals / 2];
+    st.normal_p95 = angles[(size_t)st.normals * 95 / 100];
+    printf("%s %dx%d, %.0f%% visible: hole depth error mean %.3g max %.3g (relative); filled "
+           "point off the surface mean %.3g max %.3g; normals over %d pixels: mean %.3f median "
+           "%.3f p95 %.3f degrees\n",
+           s->kind == 0 ? "plane" : "sphere", w, h, 100.0 * (double)fraction, st.depth_mean,
+           st.depth_max, st.surface_mean, st.surface_max, st.normals, st.normal_mean,
+           st.normal_median, st.normal_p95);
+    free(angles);
+    free(truth);
+    result_release(&got);
+    frame_release(&f);
+    return st;
+}
+
+static void plane_is_recovered(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    float n[3] = { 0.3f, 0.5f, 1.0f };
+    float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    scene s = { 0, { n[0] / len, n[1] / len, n[2] / len }, { 0.0f, 0.0f, -10.0f }, 0.0f };
+    // s0: spacing of the visible points, about one pixel at 10 m / sqrt(0.3).
+    truth_stats st = measure_scene(&s, 320, 240, 0.3f, 0.07f);
+    assert_true(st.normals == 320 * 240);
+    // Filled depth: a weighted average of the neighbours' depths, so a few 1e-4.
+    assert_true(st.depth_mean < 2e-3);
+    assert_true(st.depth_max < 3e-2);
+    // Filled points are convex combinations of points on the plane.
+    assert_true(st.surface_max < 1e-5);
+    assert_true(st.normal_mean < 1.0);
+    assert_true(st.normal_p95 < 2.0);
+    sta_gl_headless_destroy(&gl);
+}
+
+static void sphere_is_recovered(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    scene s = { 1, { 0.0f, 0.0f, 0.0f }, { 0.5f, -0.3f, -10.0f }, 3.0f };
+    truth_stats st = measure_scene(&s, 320, 240, 0.3f, 0.07f);
+    assert_true(st.depth_mean < 5e-3);
+    assert_true(st.depth_max < 0.1); // silhouette pixels mix with the far side of the hole
+    assert_true(st.surface_mean < 1e-3);
+    assert_true(st.normal_mean < 3.0);
+    assert_true(st.normal_median < 2.0);
+    assert_true(st.normal_p95 < 8.0);
+    sta_gl_headless_destroy(&gl);
+}
+
+/* ---- hard cases ---- */
+
+static void empty_frame_stays_empty(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    for (int variant = 0; variant < 3; variant++) {
+        frame f;
+        frame_init(&f, 37, 23);
+        for (int y = 0; y < 23; y++) {
+            for (int x = 0; x < 37; x++) {
+                // all background; all holes; hidden points only
+                if (variant == 2) {
+                    set_point(&f, x, y, 5.0f, STA_LABEL_HIDDEN);
+                } else {
+                    set_empty(&f, x, y, variant == 0 ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE);
+                }
+            }
+        }
+        result ref, got;
+        check_gl_matches_twin(&f, NULL, &ref, &got);
+        size_t n = 37 * 23 * 4;
+        for (size_t i = 0; i < n; i++) {
+            assert_true(got.position.data[i] == 0.0f);
+            assert_true(got.colour.data[i] == 0.0f);
+            assert_true(got.normal.data[i] == 0.0f);
+        }
+        for (int l = 1; l < got.levels.count; l++) {
+            const sta_image *lp = &got.levels.position[l];
+            for (int i = 0; i < lp->width * lp->height * 4; i++) {
+                assert_true(lp->data[i] == 0.0f);
+            }
+        }
+        result_release(&ref);
+        result_release(&got);
+        frame_release(&f);
+    }
+    sta_gl_headless_destroy(&gl);
+}
+
+/* A single visible point inside a disc of holes (radius 6 px), the rest background:
+ * the disc takes the point's position and colour, the background stays empty. Without
+ * labels the point fills the whole frame. */
+static void single_point_fills_its_neighbourhood(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    const int w = 37, h = 23, cx = 20, cy = 9;
+    for (int with_labels = 1; with_labels >= 0; with_labels--) {
+        frame f;
+        frame_init(&f, w, h);
+        f.has_label = with_labels;
+        for (int y = 0; y < h; y++) {
+            for (int x = 0; x < w; x++) {
+                bool inside = (x - cx) * (x - cx) + (y - cy) * (y - cy) <= 36;
+                set_empty(&f, x, y, inside ? STA_LABEL_HOLE : STA_LABEL_BACKGROUND);
+            }
+        }
+        set_point(&f, cx, cy, 7.5f, STA_LABEL_VISIBLE);
+        const float *point = sta_image_at(&f.position, cx, cy);
+        const float *colour = sta_image_at(&f.colour, cx, cy);
+        result ref, got;
+        check_gl_matches_twin(&f, NULL, &ref, &got);
+        int filled = 0;
+        for (int y = 0; y < h; y++) {
+            for (int x = 0; x < w; x++) {
+                const float *p = sta_image_at(&got.position, x, y);
+                const float *c = sta_image_at(&got.colour, x, y);
+                if (with_labels && *sta_image_at(&f.label, x, y) == STA_LABEL_BACKGROUND) {
+                    assert_true(p[3] == 0.0f && c[3] == 0.0f);
+                    continue;
+                }
+                assert_true(p[3] > 0.0f && p[3] <= 1.0f);
+                for (int k = 0; k < 3; k++) {
+                    assert_true(fabsf(p[k] - point[k]) <= 1e-5f * 7.5f);
+                    assert_true(fabsf(c[k] - colour[k]) <= 1e-6f);
+                }
+                filled++;
+            }
+        }
+        assert_int_equal(filled, with_labels ? 113 : w * h); // 113 pixels in the disc
+        // One point has no neighbours to make a normal from at level 0; the coarse levels
+        // hold copies of it, whose differences are zero: no normal anywhere.
+        for (int i = 0; i < w * h; i++) {
+            assert_true(got.normal.data[4 * i + 3] == 0.0f);
+        }
+        result_release(&ref);
+        result_release(&got);
+        frame_release(&f);
+    }
+    sta_gl_headless_destroy(&gl);
+}
+
+/* Every pixel a visible point: output = input, and the normals of a plane are exact. */
+static void all_points_pass_through(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    frame f;
+    frame_init(&f, 37, 23);
+    float pn[3] = { 0.0f, 0.6f, 0.8f }; // plane through (0, 0, -4)
+    for (int y = 0; y < 23; y++) {
+        for (int x = 0; x < 37; x++) {
+            float r[3];
+            pixel_ray(&f.view, x, y, r);
+            float d = (-4.0f * pn[2]) / (r[0] * pn[0] + r[1] * pn[1] + r[2] * pn[2]);
+            set_point(&f, x, y, d, STA_LABEL_VISIBLE);
+        }
+    }
+    result ref, got;
+    check_gl_matches_twin(&f, NULL, &ref, &got);
+    assert_memory_equal(got.position.data, f.position.data, 37 * 23 * 4 * sizeof(float));
+    assert_memory_equal(ref.position.data, f.position.data, 37 * 23 * 4 * sizeof(float));
+    for (int i = 0; i < 37 * 23; i++) {
+        assert_memory_equal(&got.colour.data[4 * i], &f.colour.data[4 * i], 3 * sizeof(float));
+        assert_true(got.normal.data[4 * i + 3] == 1.0f);
+        assert_true(angle_deg(&got.normal.data[4 * i], pn) < 0.05);
+    }
+    result_release(&ref);
+    result_release(&got);
+    frame_release(&f);
+    sta_gl_headless_destroy(&gl);
+}
+
+/* Hidden points (a far wall at 40 m seen through a sparse plane at 10 m) get weight 0:
+ * the result is bit for bit the result with those pixels empty holes. */
+static void hidden_points_do_not_leak(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    frame with_hidden, without;
+    frame_init(&with_hidden, 61, 45);
+    frame_init(&without, 61, 45);
+    for (int y = 0; y < 45; y++) {
+        for (int x = 0; x < 61; x++) {
+            float u = random01();
+            if (u < 0.3f) {
+                set_point(&with_hidden, x, y, 10.0f, STA_LABEL_VISIBLE);
+                set_point(&without, x, y, 10.0f, STA_LABEL_VISIBLE);
+            } else if (u < 0.6f) {
+                set_point(&with_hidden, x, y, 40.0f, STA_LABEL_HIDDEN);
+                set_empty(&without, x, y, STA_LABEL_HOLE);
+            } else {
+                set_empty(&with_hidden, x, y, STA_LABEL_HOLE);
+                set_empty(&without, x, y, STA_LABEL_HOLE);
+            }
+        }
+    }
+    result ref_a, got_a, ref_b, got_b;
+    check_gl_matches_twin(&with_hidden, NULL, &ref_a, &got_a);
+    check_gl_matches_twin(&without, NULL, &ref_b, &got_b);
+    size_t n = 61 * 45 * 4 * sizeof(float);
+    assert_memory_equal(got_a.position.data, got_b.position.data, n);
+    assert_memory_equal(got_a.normal.data, got_b.normal.data, n);
+    for (int i = 0; i < 61 * 45; i++) {
+        assert_true(fabsf(-got_a.position.data[4 * i + 2] - 10.0f) < 1e-4f);
+    }
+    result_release(&ref_a);
+    result_release(&got_a);
+    result_release(&ref_b);
+    result_release(&got_b);
+    frame_release(&with_hidden);
+    frame_release(&without);
+    sta_gl_headless_destroy(&gl);
+}
+
+/* A near square (2 m) in front of a far plane (20 m), both sampled sparsely: filled
+ * depths stay between the two, and far from the edge equal their surface. */
+static void depth_discontinuity_stays_bounded(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    const int w = 96, h = 64;
+    frame f;
+    frame_init(&f, w, h);
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            bool near = x >= 32 && x < 64 && y >= 16 && y < 48;
+            if (random01() < 0.3f) {
+                set_point(&f, x, y, near ? 2.0f : 20.0f, STA_LABEL_VISIBLE);
+            } else {
+                set_empty(&f, x, y, STA_LABEL_HOLE);
+            }
+        }
+    }
+    result ref, got;
+    check_gl_matches_twin(&f, NULL, &ref, &got);
+    int mixed = 0;
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            const float *p = sta_image_at(&got.position, x, y);
+            assert_true(p[3] > 0.0f);
+            float d = -p[2];
+            assert_true(d >= 2.0f * (1.0f - 1e-6f) && d <= 20.0f * (1.0f + 1e-6f));
+            bool inside = x >= 32 && x < 64 && y >= 16 && y < 48;
+            int edge; // Chebyshev distance in pixels to the other surface
+            if (inside) {
+                int ex = x - 32 < 63 - x ? x - 32 : 63 - x;
+                int ey = y - 16 < 47 - y ? y - 16 : 47 - y;
+                edge = 1 + (ex < ey ? ex : ey);
+            } else {
+                int ex = x < 32 ? 32 - x : (x > 63 ? x - 63 : 0);
+                int ey = y < 16 ? 16 - y : (y > 47 ? y - 47 : 0);
+                edge = ex > ey ? ex : ey;
+            }
+            if (edge > 8) {
+                assert_true(fabsf(d - (inside ? 2.0f : 20.0f)) < 1e-3f * d);
+            } else if (fabsf(d - 2.0f) > 0.01f && fabsf(d - 20.0f) > 0.1f) {
+                mixed++;
+            }
+        }
+    }
+    printf("depth discontinuity: %d pixels near the edge mix both depths\n", mixed);
+    result_release(&ref);
+    result_release(&got);
+    frame_release(&f);
+    sta_gl_headless_destroy(&gl);
+}
+
+/* Points at the near plane and at 100 km, sparse, in one frame. */
+static void near_plane_and_far_points(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    const int w = 45, h = 31;
+    frame f;
+    frame_init(&f, w, h);
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            float d = x < w / 2 ? f.view.near_m : 1e5f;
+            if (random01() < 0.3f) {
+                set_point(&f, x, y, d, STA_LABEL_VISIBLE);
+            } else {
+                set_empty(&f, x, y, STA_LABEL_HOLE);
+            }
+        }
+    }
+    result ref, got;
+    check_gl_matches_twin(&f, NULL, &ref, &got);
+    for (int i = 0; i < w * h; i++) {
+        const float *p = &got.position.data[4 * i];
+        assert_true(p[3] > 0.0f);
+        assert_true(-p[2] >= f.view.near_m * (1.0f - 1e-6f) && -p[2] <= 1e5f * (1.0f + 1e-6f));
+    }
+    result_release(&ref);
+    result_release(&got);
+    frame_release(&f);
+    sta_gl_headless_destroy(&gl);
+}
+
+/* The twin rejects images that do not match the view. */
+static void twin_rejects_mismatched_sizes(void **state)
+{
+    (void)state;
+    frame f;
+    frame_init(&f, 8, 8);
+    sta_image out_p, out_c, small;
+    assert_int_equal(sta_image_init(&out_p, 8, 8, 4, NULL), STA_OK);
+    assert_int_equal(sta_image_init(&out_c, 8, 8, 4, NULL), STA_OK);
+    assert_int_equal(sta_image_init(&small, 7, 8, 4, NULL), STA_OK);
+    sta_error err = { 0 };
+    assert_int_equal(
+        sta_pullpush_ref(&f.view, &small, &f.colour, &f.label, &out_p, &out_c, NULL, &err),
+        STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "8x8"));
+    sta_view_params huge = f.view;
+    huge.width_px = 40000;
+    assert_int_equal(
+        sta_pullpush_ref(&huge, &f.position, &f.colour, &f.label, &out_p, &out_c, NULL, &err),
+        STA_ERR_ARG);
+    assert_int_equal(sta_pullpush_level_count(1, 1), 1);
+    assert_int_equal(sta_pullpush_level_count(1920, 1080), 12);
+    assert_int_equal(sta_pullpush_level_count(37, 23), 7);
+    assert_int_equal(sta_pullpush_level_count(1, 17), 6);
+    assert_int_equal(sta_pullpush_level_size(37, 1), 19);
+    assert_int_equal(sta_pullpush_level_size(1, 5), 1);
+    sta_image_release(&out_p);
+    sta_image_release(&out_c);
+    sta_image_release(&small);
+    frame_release(&f);
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(shader_matches_twin_37x23),
+    cmocka_unit_test(shader_matches_twin_without_labels),
+    cmocka_unit_test(shader_matches_twin_odd_sizes),
+    cmocka_unit_test(passes_follow_view_size_changes),
+    cmocka_unit_test(plane_is_recovered),
+    cmocka_unit_test(sphere_is_recovered),
+    cmocka_unit_test(empty_frame_stays_empty),
+    cmocka_unit_test(single_point_fills_its_neighbourhood),
+    cmocka_unit_test(all_points_pass_through),
+    cmocka_unit_test(hidden_points_do_not_leak),
+    cmocka_unit_test(depth_discontinuity_stays_bounded),
+    cmocka_unit_test(near_plane_and_far_points),
+    cmocka_unit_test(twin_rejects_mismatched_sizes),
+};
+
+STA_TEST_MAIN(tests)
