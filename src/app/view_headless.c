@@ -30,6 +30,13 @@ static void print_stats(int frame, const sta_frame_stats *s, double ms)
            frame, ms, s->points_drawn, s->points_selected, s->nodes_drawn, s->nodes_selected,
            s->nodes_resident, (double)s->gpu_bytes / 1048576.0, s->loader_backlog,
            s->complete ? ", complete" : "");
+    printf("  gpu ms: geometry %.2f", s->geometry_ms);
+    for (int pass = 0; pass < STA_PASS_COUNT; pass++) {
+        if (s->timing.ms[pass] > 0) {
+            printf(", %s %.2f", sta_pass_name(pass), s->timing.ms[pass]);
+        }
+    }
+    printf("; s0 %.4g m\n", (double)s->s0_m);
 }
 
 // Renders frames until the view is fully loaded (or --frames / the timeout).
@@ -169,6 +176,10 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_scene_robust_bounds(scene, frame_min, frame_max);
         sta_view_initial_camera(args, info, frame_min, frame_max, &camera);
         sta_scene_set_colour_mode(scene, sta_view_initial_colour(args, info));
+        sta_pipeline_options pipeline;
+        sta_view_pipeline_options(args, &pipeline);
+        sta_scene_set_pipeline(scene, &pipeline);
+        sta_scene_set_timing(scene, args->stats);
         sta_frame_stats stats;
         if (args->path_file) {
             status = play_path(args, scene, &camera, &target, &err);

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "render/bindings.h"
+#include "render/pipeline.h"
 
 static void print_usage(FILE *out)
 {
@@ -37,7 +38,19 @@ static void print_usage(FILE *out)
           "  --frames-out PATTERN   headless path playback: write frame i to\n"
           "                         PATTERN with %d replaced (e.g. frames/%05d.png)\n"
           "  --record FILE.json     window: record the camera path (key P adds a keyframe)\n"
-          "  --stats                print one line of frame statistics per frame\n"
+          "  --stats                print one line of frame statistics per frame, with the\n"
+          "                         GPU time of every pass\n"
+          "\n"
+          "screen-space pipeline (after the one-pixel-per-point geometry pass):\n"
+          "  --pipeline MODE        raw (points only), hpr (hidden point removal labels),\n"
+          "                         fill (pull-push), normals, shaded (default) or edl\n"
+          "  --normals METHOD       pyramid (default), ld, pd, pc or ti\n"
+          "  --samples N            sampling scheme of pd/pc/ti: 5, 9 (default), 17 or 25\n"
+          "  --smooth               smooth the normals (one extra pass)\n"
+          "  --hpr pyramid|exhaustive  pyramidal HPR (default) or the fixed-radius baseline\n"
+          "  --hpr-radius PX        radius of the exhaustive operator (default 8)\n"
+          "  --hpr-threshold T      visibility threshold (default 0.1)\n"
+          "  --s0 METRES            sampling scale (default: from the hierarchy's spacing)\n"
           "  -h, --help             this text\n"
           "\n"
           "window keys and mouse:\n"
@@ -45,6 +58,8 @@ static void print_usage(FILE *out)
           "  wheel          zoom towards the cursor             double-click  focus a point\n"
           "  W A S D Q E    fly (hold shift: faster)            F       toggle fly / orbit\n"
           "  1..5           colour: rgb, intensity, elevation, class, returns\n"
+          "  M / N          next pipeline mode / next normal method\n"
+          "  H              pyramidal / exhaustive HPR     G    normal smoothing on/off\n"
           "  R              reset to the whole scene            P       add path keyframe\n"
           "  Esc            quit\n",
           out);
@@ -106,6 +121,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     a->colour_mode = -1;
     a->timeout_s = 300.0;
     a->camera[5] = 60.0;
+    a->pipeline = STA_PIPELINE_SHADED;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -117,6 +133,8 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
             a->headless = true;
         } else if (strcmp(o, "--stats") == 0) {
             a->stats = true;
+        } else if (strcmp(o, "--smooth") == 0) {
+            a->smooth = true;
         } else if (o[0] == '-' && o[1] == '-' && !v) {
             fprintf(stderr, "strata-view: %s needs a value (or is unknown; see --help)\n", o);
             return 2;
@@ -176,6 +194,59 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
                 return 2;
             }
             a->gpu_mem_mib = n;
+            i++;
+        } else if (strcmp(o, "--pipeline") == 0) {
+            a->pipeline = sta_pipeline_mode_from_name(v);
+            if (a->pipeline < 0) {
+                fprintf(stderr,
+                        "strata-view: --pipeline takes raw, hpr, fill, normals, shaded "
+                        "or edl, got '%s'\n",
+                        v);
+                return 2;
+            }
+            i++;
+        } else if (strcmp(o, "--normals") == 0) {
+            a->normals = sta_normal_method_from_name(v);
+            if (a->normals < 0) {
+                fprintf(stderr,
+                        "strata-view: --normals takes pyramid, ld, pd, pc or ti, got "
+                        "'%s'\n",
+                        v);
+                return 2;
+            }
+            i++;
+        } else if (strcmp(o, "--samples") == 0) {
+            if (!parse_count(o, v, 5, 25, &n) || (n != 5 && n != 9 && n != 17 && n != 25)) {
+                fprintf(stderr, "strata-view: --samples takes 5, 9, 17 or 25\n");
+                return 2;
+            }
+            a->samples = (int)n;
+            i++;
+        } else if (strcmp(o, "--hpr") == 0) {
+            if (strcmp(v, "pyramid") != 0 && strcmp(v, "exhaustive") != 0) {
+                fprintf(stderr, "strata-view: --hpr takes pyramid or exhaustive, got '%s'\n", v);
+                return 2;
+            }
+            a->hpr_exhaustive = strcmp(v, "exhaustive") == 0;
+            i++;
+        } else if (strcmp(o, "--hpr-radius") == 0) {
+            if (!parse_count(o, v, 1, 64, &n)) {
+                return 2;
+            }
+            a->hpr_radius_px = (int)n;
+            i++;
+        } else if (strcmp(o, "--hpr-threshold") == 0 || strcmp(o, "--s0") == 0) {
+            char *end = NULL;
+            double d = strtod(v, &end);
+            if (end == v || *end || !(d > 0) || d > 1e6) {
+                fprintf(stderr, "strata-view: %s needs a positive number, got '%s'\n", o, v);
+                return 2;
+            }
+            if (strcmp(o, "--s0") == 0) {
+                a->s0_m = d;
+            } else {
+                a->hpr_threshold = d;
+            }
             i++;
         } else if (strcmp(o, "--colour") == 0 || strcmp(o, "--color") == 0) {
             a->colour_mode = sta_view_colour_mode(v);

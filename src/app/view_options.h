@@ -27,6 +27,14 @@ typedef struct sta_view_args {
     const char *record_file;   /* --record: write a camera path (window) */
     const char *frame_pattern; /* --frames-out: numbered PNGs when playing a path */
     bool stats;                /* --stats: one line per frame */
+    int pipeline;              /* --pipeline (sta_pipeline_mode) */
+    int normals;               /* --normals (sta_normal_method) */
+    int samples;               /* --samples 5|9|17|25 */
+    bool smooth;               /* --smooth */
+    bool hpr_exhaustive;       /* --hpr exhaustive */
+    int hpr_radius_px;         /* --hpr-radius */
+    double hpr_threshold;      /* --hpr-threshold */
+    double s0_m;               /* --s0 */
 } sta_view_args;
 
 /* Parses argv; prints usage or an error itself. Returns 0 to continue, -1 when

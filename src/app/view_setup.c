@@ -3,6 +3,7 @@
 #include "app/view_setup.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "render/bindings.h"
 
@@ -41,4 +42,17 @@ int sta_view_initial_colour(const sta_view_args *args, const sta_strata_info *in
         return args->colour_mode;
     }
     return (info->layout.attributes & STA_STRATA_ATTR_RGB) ? STA_COLOUR_RGB : STA_COLOUR_ELEVATION;
+}
+
+void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *out)
+{
+    memset(out, 0, sizeof(*out));
+    out->mode = args->pipeline;
+    out->normals = args->normals;
+    out->samples = args->samples;
+    out->smooth = args->smooth;
+    out->hpr_exhaustive = args->hpr_exhaustive;
+    out->hpr_radius_px = args->hpr_radius_px;
+    out->hpr_threshold = (float)args->hpr_threshold;
+    out->s0_m = (float)args->s0_m;
 }

@@ -32,8 +32,9 @@ typedef struct view_state {
     bool dragging_left, dragging_right;
     double last_x, last_y; /* cursor, window pixels */
     double last_click_s;
-    double scene_size;        /* largest extent, metres */
-    sta_camera_path recorded; /* P adds keyframes */
+    double scene_size;             /* largest extent, metres */
+    sta_camera_path recorded;      /* P adds keyframes */
+    sta_pipeline_options pipeline; /* M, N, H, G change it */
     double record_start_s;
     int colour_mode;
 } view_state;
@@ -223,6 +224,21 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
         }
     } else if (key == GLFW_KEY_F) {
         s->fly = !s->fly;
+    } else if (key == GLFW_KEY_M || key == GLFW_KEY_N || key == GLFW_KEY_H || key == GLFW_KEY_G) {
+        sta_pipeline_options *o = &s->pipeline;
+        if (key == GLFW_KEY_M) {
+            o->mode = (o->mode + 1) % STA_PIPELINE_MODE_COUNT;
+        } else if (key == GLFW_KEY_N) {
+            o->normals = (o->normals + 1) % STA_NORMAL_METHOD_COUNT;
+        } else if (key == GLFW_KEY_H) {
+            o->hpr_exhaustive = !o->hpr_exhaustive;
+        } else {
+            o->smooth = !o->smooth;
+        }
+        sta_scene_set_pipeline(s->scene, o);
+        fprintf(stderr, "pipeline %s, normals %s%s, hpr %s\n", sta_pipeline_mode_name(o->mode),
+                sta_normal_method_name(o->normals), o->smooth ? " smoothed" : "",
+                o->hpr_exhaustive ? "exhaustive" : "pyramid");
     } else if (key == GLFW_KEY_P) {
         sta_error err = { 0 };
         double t = glfwGetTime() - s->record_start_s;
@@ -328,6 +344,8 @@ int sta_view_run_window(const sta_view_args *args)
     sta_view_initial_camera(args, s.info, frame_min, frame_max, &s.camera);
     s.home = s.camera;
     s.colour_mode = sta_view_initial_colour(args, s.info);
+    sta_view_pipeline_options(args, &s.pipeline);
+    sta_scene_set_pipeline(s.scene, &s.pipeline);
     sta_scene_set_colour_mode(s.scene, s.colour_mode);
     for (int a = 0; a < 3; a++) {
         s.pivot[a] = 0.5 * (s.info->bounds_min[a] + s.info->bounds_max[a]);

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "core/alloc.h"
@@ -33,6 +34,10 @@ struct sta_scene {
         u_intensity_scale;
     int colour_mode;
     float intensity_scale;
+    sta_pipeline pipeline; /* initialised on first use */
+    bool has_pipeline;
+    sta_pipeline_options pipeline_options;
+    bool timing; /* drain and time each pass */
 };
 
 // 16-bit colour files store 0..65535; 8-bit writers use 0..255. The root is a uniform
@@ -157,6 +162,9 @@ void sta_scene_close(sta_scene *s)
         glDeleteProgram(s->program);
         glDeleteVertexArrays(1, &s->vao);
     }
+    if (s->has_pipeline) {
+        sta_pipeline_release(&s->pipeline);
+    }
     if (s->cache.entries) {
         sta_gpu_cache_release(&s->cache);
     }
@@ -208,6 +216,36 @@ void sta_scene_robust_bounds(const sta_scene *s, double out_min[3], double out_m
     }
     sta_free(values);
     sta_strata_decoder_destroy(decoder);
+}
+
+void sta_scene_set_pipeline(sta_scene *s, const sta_pipeline_options *options)
+{
+    s->pipeline_options = *options;
+}
+
+void sta_scene_set_timing(sta_scene *s, bool on)
+{
+    s->timing = on;
+}
+
+// Bouchiba's s0, the typical distance between neighbouring points on screen: the
+// point-weighted median spacing of the selected nodes (the level most points are
+// drawn at). Leaf buckets are denser than their grid, so this errs large.
+static float estimate_s0(const sta_scene *s)
+{
+    uint64_t half = s->selection.point_count / 2, seen = 0;
+    double best = 0.0;
+    // Nodes are in priority order, roughly coarse to fine: walk by level instead.
+    for (int level = 0; level <= 32 && seen <= half; level++) {
+        for (size_t i = 0; i < s->selection.count; i++) {
+            const sta_lod_node *n = &s->tree.nodes[s->selection.nodes[i]];
+            if (n->level == level) {
+                seen += n->point_count;
+                best = n->spacing;
+            }
+        }
+    }
+    return (float)best;
 }
 
 void sta_scene_set_colour_mode(sta_scene *s, int mode)
@@ -279,6 +317,11 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     }
 
     static const float background[3] = { 0.0f, 0.0f, 0.0f };
+    struct timespec geometry_start;
+    if (s->timing) {
+        glFinish();
+        clock_gettime(CLOCK_MONOTONIC, &geometry_start);
+    }
     sta_render_target_begin(target, background);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_GREATER); // reverse-Z: larger is nearer
@@ -319,6 +362,30 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         stats->nodes_drawn++;
     }
     glBindVertexArray(0);
+    if (s->timing) {
+        glFinish();
+        struct timespec end;
+        clock_gettime(CLOCK_MONOTONIC, &end);
+        stats->geometry_ms = (double)(end.tv_sec - geometry_start.tv_sec) * 1e3 +
+                             (double)(end.tv_nsec - geometry_start.tv_nsec) * 1e-6;
+    }
+    stats->s0_m = s->pipeline_options.s0_m > 0 ? s->pipeline_options.s0_m : estimate_s0(s);
+    if (s->pipeline_options.mode != STA_PIPELINE_RAW) {
+        if (!s->has_pipeline) {
+            status = sta_pipeline_init(&s->pipeline, err);
+            if (status != STA_OK) {
+                return status;
+            }
+            s->has_pipeline = true;
+        }
+        sta_view_params screen = { camera->width_px, camera->height_px, (float)camera->fov_y,
+                                   (float)camera->near_m, stats->s0_m > 0 ? stats->s0_m : 0.01f };
+        status = sta_pipeline_run(&s->pipeline, &s->pipeline_options, &screen, target->depth,
+                                  target->colour, s->timing ? &stats->timing : NULL, err);
+        if (status != STA_OK) {
+            return status;
+        }
+    }
     stats->points_selected = s->selection.point_count;
     stats->nodes_selected = (uint32_t)s->selection.count;
     stats->nodes_resident = s->cache.resident_count;

@@ -13,6 +13,7 @@
 #include "core/camera.h"
 #include "core/status.h"
 #include "format/strata_reader.h"
+#include "render/pipeline.h"
 #include "render/target.h"
 
 typedef struct sta_scene sta_scene;
@@ -34,9 +35,12 @@ typedef struct sta_frame_stats {
     uint32_t uploads;   /* nodes uploaded this frame */
     uint64_t gpu_bytes; /* resident */
     size_t loader_backlog;
-    uint32_t bad_nodes; /* nodes refused (corrupt) so far */
-    uint64_t evictions; /* nodes evicted from the GPU cache so far */
-    bool complete;      /* every selected node is resident (or refused) */
+    uint32_t bad_nodes;         /* nodes refused (corrupt) so far */
+    uint64_t evictions;         /* nodes evicted from the GPU cache so far */
+    float s0_m;                 /* sampling scale used by the screen-space passes, metres */
+    double geometry_ms;         /* GPU time of the geometry pass (when timing is on) */
+    sta_pipeline_timing timing; /* screen-space passes (when timing is on) */
+    bool complete;              /* every selected node is resident (or refused) */
 } sta_frame_stats;
 
 /* Opens `path` (maps it, validates it, starts the loader). Needs a current GL 4.5
@@ -52,6 +56,12 @@ const sta_strata_info *sta_scene_info(const sta_scene *scene);
  * root node's points (a uniform subsample), so a few far stray points do not make the
  * default view tiny. Falls back to the header bounds. */
 void sta_scene_robust_bounds(const sta_scene *scene, double out_min[3], double out_max[3]);
+
+/* Sets the screen-space pipeline run after the geometry pass (mode raw by default). */
+void sta_scene_set_pipeline(sta_scene *scene, const sta_pipeline_options *options);
+
+/* Turns per-pass timing on (times in sta_frame_stats; drains the GPU around each pass). */
+void sta_scene_set_timing(sta_scene *scene, bool on);
 
 /* Sets the colour mode (STA_COLOUR_* of render/bindings.h). */
 void sta_scene_set_colour_mode(sta_scene *scene, int mode);

@@ -1,0 +1,323 @@
+/* SPDX-License-Identifier: MIT
+ * The screen-space pipeline. */
+#include "render/pipeline.h"
+
+#include <string.h>
+#include <time.h>
+
+#include "render/gl.h"
+#include "render/gl_image.h"
+
+static const char *const mode_names[STA_PIPELINE_MODE_COUNT] = { "raw",     "hpr",    "fill",
+                                                                 "normals", "shaded", "edl" };
+static const char *const normal_names[STA_NORMAL_METHOD_COUNT] = { "pyramid", "ld", "pd", "pc",
+                                                                   "ti" };
+static const char *const pass_names[STA_PASS_COUNT] = { "unproject", "hpr",    "pullpush",
+                                                        "normals",   "smooth", "shade" };
+
+int sta_pipeline_mode_from_name(const char *name)
+{
+    for (int i = 0; i < STA_PIPELINE_MODE_COUNT; i++) {
+        if (strcmp(name, mode_names[i]) == 0) {
+            return i;
+        }
+    }
+    return -1;
+}
+
+int sta_normal_method_from_name(const char *name)
+{
+    for (int i = 0; i < STA_NORMAL_METHOD_COUNT; i++) {
+        if (strcmp(name, normal_names[i]) == 0) {
+            return i;
+        }
+    }
+    return -1;
+}
+
+const char *sta_pipeline_mode_name(int mode)
+{
+    return mode >= 0 && mode < STA_PIPELINE_MODE_COUNT ? mode_names[mode] : "?";
+}
+
+const char *sta_normal_method_name(int method)
+{
+    return method >= 0 && method < STA_NORMAL_METHOD_COUNT ? normal_names[method] : "?";
+}
+
+const char *sta_pass_name(int pass)
+{
+    return pass >= 0 && pass < STA_PASS_COUNT ? pass_names[pass] : "?";
+}
+
+sta_status sta_pipeline_init(sta_pipeline *p, sta_error *err)
+{
+    memset(p, 0, sizeof(*p));
+    sta_status s = sta_unproject_pass_init(&p->unproject, err);
+    if (s == STA_OK) {
+        s = sta_hpr_pass_init(&p->hpr, err);
+    }
+    if (s == STA_OK) {
+        s = sta_pullpush_pass_init(&p->pullpush, err);
+    }
+    if (s == STA_OK) {
+        s = sta_normals_pyramid_pass_init(&p->normals_pyramid, err);
+    }
+    if (s == STA_OK) {
+        s = sta_normals_screen_pass_init(&p->normals_screen, err);
+    }
+    if (s == STA_OK) {
+        s = sta_shade_pass_init(&p->shade, err);
+    }
+    const char *display[] = { "display.comp" };
+    const char *colour[] = { "colour_to_float.comp" };
+    if (s == STA_OK) {
+        s = sta_gl_program_create(display, 1, NULL, &p->display_program, err);
+    }
+    if (s == STA_OK) {
+        s = sta_gl_program_create(colour, 1, NULL, &p->colour_program, err);
+    }
+    if (s != STA_OK) {
+        sta_pipeline_release(p);
+        return s;
+    }
+    p->display_size = glGetUniformLocation(p->display_program, "u_size");
+    p->display_mode = glGetUniformLocation(p->display_program, "u_mode");
+    p->colour_size = glGetUniformLocation(p->colour_program, "u_size");
+    return STA_OK;
+}
+
+static void release_textures(sta_pipeline *p)
+{
+    GLuint textures[] = { p->position,        p->colour,        p->label,  p->pyramid,
+                          p->filled_position, p->filled_colour, p->normal, p->normal2 };
+    for (size_t i = 0; i < sizeof(textures) / sizeof(textures[0]); i++) {
+        if (textures[i]) {
+            glDeleteTextures(1, &textures[i]);
+        }
+    }
+    p->position = p->colour = p->label = p->pyramid = 0;
+    p->filled_position = p->filled_colour = p->normal = p->normal2 = 0;
+    p->width_px = p->height_px = 0;
+}
+
+void sta_pipeline_release(sta_pipeline *p)
+{
+    release_textures(p);
+    sta_unproject_pass_release(&p->unproject);
+    sta_hpr_pass_release(&p->hpr);
+    sta_pullpush_pass_release(&p->pullpush);
+    sta_normals_pyramid_pass_release(&p->normals_pyramid);
+    sta_normals_screen_pass_release(&p->normals_screen);
+    sta_shade_pass_release(&p->shade);
+    if (p->display_program) {
+        glDeleteProgram(p->display_program);
+    }
+    if (p->colour_program) {
+        glDeleteProgram(p->colour_program);
+    }
+    memset(p, 0, sizeof(*p));
+}
+
+static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
+{
+    if (p->width_px == w && p->height_px == h) {
+        return STA_OK;
+    }
+    release_textures(p);
+    GLuint *four[] = { &p->position,      &p->colour, &p->filled_position,
+                       &p->filled_colour, &p->normal, &p->normal2 };
+    sta_status s = STA_OK;
+    for (size_t i = 0; i < sizeof(four) / sizeof(four[0]) && s == STA_OK; i++) {
+        s = sta_gl_texture_create(w, h, 4, 1, four[i], err);
+    }
+    if (s == STA_OK) {
+        s = sta_gl_texture_create(w, h, 1, 1, &p->label, err);
+    }
+    if (s == STA_OK) {
+        s = sta_hpr_pyramid_texture_create(w, h, &p->pyramid, err);
+    }
+    if (s != STA_OK) {
+        release_textures(p);
+        return s;
+    }
+    p->width_px = w;
+    p->height_px = h;
+    return STA_OK;
+}
+
+// Per-pass time: with timing on, the GPU is drained before and after each pass and the
+// wall clock read. GL timestamp queries would be cheaper on a real GPU but on llvmpipe
+// they record when commands are queued, not when they run; a drained pipeline gives
+// honest numbers on both (and timing is only on for --stats and benchmarks).
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+static void mark(sta_pipeline *p, sta_pipeline_timing *t, int pass, int end)
+{
+    if (t) {
+        glFinish();
+        p->marks[2 * pass + end] = now_ms();
+    }
+}
+
+static void display(sta_pipeline *p, int mode, int w, int h, GLuint out)
+{
+    glUseProgram(p->display_program);
+    glUniform2f(p->display_size, (float)w, (float)h);
+    glUniform1i(p->display_mode, mode);
+    glBindImageTexture(0, mode == 1 ? p->filled_position : p->position, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, mode == 1 ? p->filled_colour : p->colour, 0, GL_FALSE, 0, GL_READ_ONLY,
+                       GL_RGBA32F);
+    glBindImageTexture(2, p->label, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(3, p->normal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(4, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    sta_gl_dispatch_2d(w, h);
+}
+
+static sta_status run_normals(sta_pipeline *p, const sta_pipeline_options *o,
+                              const sta_view_params *view, sta_pipeline_timing *t, sta_error *err)
+{
+    mark(p, t, STA_PASS_NORMALS, 0);
+    sta_status s;
+    if (o->normals == STA_NORMAL_PYRAMID) {
+        sta_normals_pyramid_params params = { 0 };
+        sta_normals_pyramid_params_defaults(&params);
+        s = sta_normals_pyramid_pass_run(&p->normals_pyramid, view, &params,
+                                         sta_pullpush_pass_pyramid(&p->pullpush),
+                                         p->filled_position, p->normal, err);
+    } else {
+        static const int methods[STA_NORMAL_METHOD_COUNT] = { 0, STA_NORMALS_SCREEN_LD,
+                                                              STA_NORMALS_SCREEN_PD,
+                                                              STA_NORMALS_SCREEN_PC,
+                                                              STA_NORMALS_SCREEN_TI };
+        sta_normals_screen_params params = { methods[o->normals], o->samples,
+                                             o->normal_max_distance_m };
+        s = sta_normals_screen_pass_run(&p->normals_screen, view, &params, p->filled_position,
+                                        p->normal, err);
+    }
+    mark(p, t, STA_PASS_NORMALS, 1);
+    if (s == STA_OK && o->smooth) {
+        mark(p, t, STA_PASS_SMOOTH, 0);
+        sta_normals_screen_params params = { 0, o->samples, o->normal_max_distance_m };
+        s = sta_normals_smooth_pass_run(&p->normals_screen, view, &params, p->filled_position,
+                                        p->normal, p->normal2, err);
+        GLuint swap = p->normal;
+        p->normal = p->normal2;
+        p->normal2 = swap;
+        mark(p, t, STA_PASS_SMOOTH, 1);
+    }
+    return s;
+}
+
+static void read_timing(sta_pipeline *p, sta_pipeline_timing *t, const bool *ran)
+{
+    t->total_ms = 0.0;
+    for (int pass = 0; pass < STA_PASS_COUNT; pass++) {
+        t->ms[pass] = 0.0;
+        if (!ran[pass]) {
+            continue;
+        }
+        double begin = p->marks[2 * pass], end = p->marks[2 * pass + 1];
+        t->ms[pass] = end > begin ? end - begin : 0.0;
+        t->total_ms += t->ms[pass];
+    }
+}
+
+sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
+                            const sta_view_params *view, GLuint depth, GLuint colour_rgba8,
+                            sta_pipeline_timing *t, sta_error *err)
+{
+    bool ran[STA_PASS_COUNT] = { false };
+    if (t) {
+        memset(t, 0, sizeof(*t));
+    }
+    if (o->mode == STA_PIPELINE_RAW) {
+        return STA_OK;
+    }
+    const int w = view->width_px, h = view->height_px;
+    sta_status s = resize(p, w, h, err);
+    if (s != STA_OK) {
+        return s;
+    }
+    // Inputs: positions from depth, colour as float.
+    mark(p, t, STA_PASS_UNPROJECT, 0);
+    sta_unproject_pass_run(&p->unproject, view, depth, p->position);
+    glUseProgram(p->colour_program);
+    glUniform2f(p->colour_size, (float)w, (float)h);
+    glBindTextureUnit(0, colour_rgba8);
+    glBindImageTexture(0, p->colour, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    sta_gl_dispatch_2d(w, h);
+    mark(p, t, STA_PASS_UNPROJECT, 1);
+    ran[STA_PASS_UNPROJECT] = true;
+
+    if (o->mode == STA_PIPELINE_EDL) {
+        mark(p, t, STA_PASS_SHADE, 0);
+        sta_edl_params edl = { .background = { o->background[0], o->background[1],
+                                               o->background[2] } };
+        sta_edl_pass_run(&p->shade, &edl, w, h, p->position, p->colour, colour_rgba8);
+        mark(p, t, STA_PASS_SHADE, 1);
+        ran[STA_PASS_SHADE] = true;
+        goto done;
+    }
+
+    mark(p, t, STA_PASS_HPR, 0);
+    sta_hpr_params hpr = { .threshold = o->hpr_threshold };
+    if (o->hpr_exhaustive) {
+        s = sta_hpr_pass_run_exhaustive(&p->hpr, view, &hpr,
+                                        o->hpr_radius_px > 0 ? o->hpr_radius_px : 8, p->position,
+                                        p->label, err);
+    } else {
+        s = sta_hpr_pass_run_pyramid(&p->hpr, view, &hpr, p->position, p->pyramid, p->label, err);
+    }
+    mark(p, t, STA_PASS_HPR, 1);
+    ran[STA_PASS_HPR] = true;
+    if (s != STA_OK) {
+        return s;
+    }
+    if (o->mode == STA_PIPELINE_HPR) {
+        display(p, 0, w, h, colour_rgba8);
+        goto done;
+    }
+
+    mark(p, t, STA_PASS_PULLPUSH, 0);
+    s = sta_pullpush_pass_run(&p->pullpush, view, p->position, p->colour, p->label,
+                              p->filled_position, p->filled_colour, err);
+    mark(p, t, STA_PASS_PULLPUSH, 1);
+    ran[STA_PASS_PULLPUSH] = true;
+    if (s != STA_OK) {
+        return s;
+    }
+    if (o->mode == STA_PIPELINE_FILL) {
+        display(p, 1, w, h, colour_rgba8);
+        goto done;
+    }
+
+    s = run_normals(p, o, view, t, err);
+    ran[STA_PASS_NORMALS] = true;
+    ran[STA_PASS_SMOOTH] = o->smooth;
+    if (s != STA_OK) {
+        return s;
+    }
+    if (o->mode == STA_PIPELINE_NORMALS) {
+        display(p, 2, w, h, colour_rgba8);
+        goto done;
+    }
+    mark(p, t, STA_PASS_SHADE, 0);
+    sta_shade_params shade = { .background = { o->background[0], o->background[1],
+                                               o->background[2] } };
+    sta_shade_pass_run(&p->shade, &shade, w, h, p->filled_position, p->filled_colour, p->normal,
+                       colour_rgba8);
+    mark(p, t, STA_PASS_SHADE, 1);
+    ran[STA_PASS_SHADE] = true;
+done:
+    if (t) {
+        read_timing(p, t, ran);
+    }
+    return sta_gl_check("screen-space pipeline", err);
+}

@@ -1,0 +1,105 @@
+/* SPDX-License-Identifier: MIT
+ * The screen-space pipeline after the geometry pass (DESIGN.md §5):
+ * unproject -> HPR (pyramidal, or exhaustive as a baseline) -> pull-push -> normals
+ * (pyramidal, or the screen-space LD/PD/PC/TI variants, optional smoothing) ->
+ * deferred shading; or eye-dome lighting straight from the unprojected points. Every
+ * stage can be shown on its own (`mode`), and every pass can be timed.
+ * Main thread (GL) only.
+ */
+#ifndef STA_RENDER_PIPELINE_H
+#define STA_RENDER_PIPELINE_H
+
+#include <epoxy/gl.h>
+#include <stdbool.h>
+
+#include "core/status.h"
+#include "render/pass_hpr.h"
+#include "render/pass_normals_pyramid.h"
+#include "render/pass_normals_screen.h"
+#include "render/pass_pullpush.h"
+#include "render/pass_shade.h"
+#include "render/pass_unproject.h"
+#include "render/screen_space.h"
+
+typedef enum sta_pipeline_mode {
+    STA_PIPELINE_RAW = 0, /* the geometry pass as it is */
+    STA_PIPELINE_HPR,     /* HPR labels: visible points, hidden red, holes green */
+    STA_PIPELINE_FILL,    /* pull-push filled colour */
+    STA_PIPELINE_NORMALS, /* estimated normals as colours */
+    STA_PIPELINE_SHADED,  /* deferred Blinn-Phong on the filled surface */
+    STA_PIPELINE_EDL,     /* eye-dome lighting on the raw points */
+    STA_PIPELINE_MODE_COUNT
+} sta_pipeline_mode;
+
+typedef enum sta_normal_method {
+    STA_NORMAL_PYRAMID = 0, /* Bouchiba's pyramidal estimator on the pull-push levels */
+    STA_NORMAL_LD,          /* Schiffner: local derivatives */
+    STA_NORMAL_PD,          /* plane fit, diagonal samples */
+    STA_NORMAL_PC,          /* plane fit, counter-clockwise samples */
+    STA_NORMAL_TI,          /* covariance tensor */
+    STA_NORMAL_METHOD_COUNT
+} sta_normal_method;
+
+/* Passes timed in sta_pipeline_timing. */
+typedef enum sta_pass_id {
+    STA_PASS_UNPROJECT = 0,
+    STA_PASS_HPR,
+    STA_PASS_PULLPUSH,
+    STA_PASS_NORMALS,
+    STA_PASS_SMOOTH,
+    STA_PASS_SHADE,
+    STA_PASS_COUNT
+} sta_pass_id;
+
+typedef struct sta_pipeline_options {
+    int mode;                    /* sta_pipeline_mode */
+    int normals;                 /* sta_normal_method */
+    int samples;                 /* LD/PD/PC/TI scheme: 5, 9, 17, 25 (0: 9) */
+    bool smooth;                 /* run the normal smoothing pass */
+    bool hpr_exhaustive;         /* the fixed-radius baseline instead of the pyramid */
+    int hpr_radius_px;           /* exhaustive radius (0: 8) */
+    float hpr_threshold;         /* 0: 0.1 */
+    float s0_m;                  /* sampling scale; 0: the scene's estimate */
+    float normal_max_distance_m; /* screen-space normals; 0: 5 s0 */
+    float background[3];
+} sta_pipeline_options;
+
+typedef struct sta_pipeline_timing {
+    double ms[STA_PASS_COUNT]; /* GPU time per pass (0 when not run) */
+    double total_ms;
+} sta_pipeline_timing;
+
+typedef struct sta_pipeline {
+    sta_unproject_pass unproject;
+    sta_hpr_pass hpr;
+    sta_pullpush_pass pullpush;
+    sta_normals_pyramid_pass normals_pyramid;
+    sta_normals_screen_pass normals_screen;
+    sta_shade_pass shade;
+    GLuint display_program, colour_program;
+    GLint display_size, display_mode, colour_size;
+    int width_px, height_px; /* texture size */
+    GLuint position, colour, label, pyramid, filled_position, filled_colour, normal, normal2;
+    double marks[2 * STA_PASS_COUNT]; /* pass start/end, ms (timing on) */
+} sta_pipeline;
+
+sta_status sta_pipeline_init(sta_pipeline *pipeline, sta_error *err);
+void sta_pipeline_release(sta_pipeline *pipeline);
+
+/* Runs the passes `options->mode` needs on the geometry pass's depth (reverse-Z
+ * float) and colour (RGBA8) textures and writes the result into `colour_rgba8` (it is
+ * read first, then overwritten). With `timing` (may be NULL) every pass is timed by
+ * draining the GPU around it (wall clock), which slows the frame a little. */
+sta_status sta_pipeline_run(sta_pipeline *pipeline, const sta_pipeline_options *options,
+                            const sta_view_params *view, GLuint depth, GLuint colour_rgba8,
+                            sta_pipeline_timing *timing, sta_error *err);
+
+/* Names for command lines: "raw", "hpr", "fill", "normals", "shaded", "edl" and
+ * "pyramid", "ld", "pd", "pc", "ti"; -1 when unknown. */
+int sta_pipeline_mode_from_name(const char *name);
+int sta_normal_method_from_name(const char *name);
+const char *sta_pipeline_mode_name(int mode);
+const char *sta_normal_method_name(int method);
+const char *sta_pass_name(int pass);
+
+#endif
