@@ -17,6 +17,11 @@
 #include "stream/loader.h"
 #include "stream/select.h"
 
+typedef struct s0_sample {
+    double spacing;
+    uint64_t weight;
+} s0_sample;
+
 struct sta_scene {
     sta_strata_reader *reader;
     sta_lod_tree tree;
@@ -37,7 +42,9 @@ struct sta_scene {
     sta_pipeline pipeline; /* initialised on first use */
     bool has_pipeline;
     sta_pipeline_options pipeline_options;
-    bool timing; /* drain and time each pass */
+    bool timing;           /* drain and time each pass */
+    uint8_t *bad_scratch;  /* one byte per node, for estimate_s0 */
+    s0_sample *s0_samples; /* one per node, for estimate_s0 */
 };
 
 // 16-bit colour files store 0..65535; 8-bit writers use 0..255. The root is a uniform
@@ -125,7 +132,9 @@ sta_status sta_scene_open(const char *path, const sta_scene_options *options, st
         s->frames = sta_alloc_array(info->node_count, sizeof(*s->frames));
         s->bad = sta_calloc(info->node_count, 1);
         s->requests = sta_alloc_array(info->node_count, sizeof(*s->requests));
-        if (!s->frames || !s->bad || !s->requests) {
+        s->bad_scratch = sta_alloc_array(info->node_count, 1);
+        s->s0_samples = sta_alloc_array(info->node_count, sizeof(*s->s0_samples));
+        if (!s->frames || !s->bad || !s->requests || !s->bad_scratch || !s->s0_samples) {
             status = sta_fail(err, STA_ERR_NOMEM, "%s: out of memory", path);
         }
     }
@@ -174,6 +183,8 @@ void sta_scene_close(sta_scene *s)
     sta_free(s->frames);
     sta_free(s->bad);
     sta_free(s->requests);
+    sta_free(s->bad_scratch);
+    sta_free(s->s0_samples);
     sta_free(s);
 }
 
@@ -228,24 +239,64 @@ void sta_scene_set_timing(sta_scene *s, bool on)
     s->timing = on;
 }
 
-// Bouchiba's s0, the typical distance between neighbouring points on screen: the
-// point-weighted median spacing of the selected nodes (the level most points are
-// drawn at). Leaf buckets are denser than their grid, so this errs large.
-static float estimate_s0(const sta_scene *s)
+// Bouchiba's s0, the typical distance between neighbouring points: for each selected
+// node none of whose children is selected (where refinement stops), points are taken
+// to lie on a surface crossing the node, so their spacing is about edge / sqrt(n), n
+// counting the node's points plus the ancestors' share in its box (1/4 per level up:
+// n * 4/3). s0 is the point-weighted median of these estimates.
+
+static int compare_s0(const void *a, const void *b)
 {
-    uint64_t half = s->selection.point_count / 2, seen = 0;
-    double best = 0.0;
-    // Nodes are in priority order, roughly coarse to fine: walk by level instead.
-    for (int level = 0; level <= 32 && seen <= half; level++) {
-        for (size_t i = 0; i < s->selection.count; i++) {
-            const sta_lod_node *n = &s->tree.nodes[s->selection.nodes[i]];
-            if (n->level == level) {
-                seen += n->point_count;
-                best = n->spacing;
+    double x = ((const s0_sample *)a)->spacing, y = ((const s0_sample *)b)->spacing;
+    return x < y ? -1 : (x > y ? 1 : 0);
+}
+
+static float estimate_s0(sta_scene *s)
+{
+    const sta_selection *sel = &s->selection;
+    if (sel->count == 0) {
+        return 0.0f;
+    }
+    // Mark selected nodes (requests scratch is free here: it holds uint32 per node).
+    uint8_t *selected = s->bad_scratch;
+    memset(selected, 0, s->tree.count);
+    for (size_t i = 0; i < sel->count; i++) {
+        selected[sel->nodes[i]] = 1;
+    }
+    size_t n = 0;
+    uint64_t total = 0;
+    for (size_t i = 0; i < sel->count; i++) {
+        const sta_lod_node *node = &s->tree.nodes[sel->nodes[i]];
+        bool refined = false;
+        uint32_t child = node->first_child;
+        for (int slot = 0; slot < 8; slot++) {
+            if (node->child_mask & (1u << slot)) {
+                refined = refined || (child < s->tree.count && selected[child]);
+                child++;
             }
         }
+        if (refined || node->point_count == 0) {
+            continue;
+        }
+        double edge = fmax(node->max[0] - node->min[0],
+                           fmax(node->max[1] - node->min[1], node->max[2] - node->min[2]));
+        s->s0_samples[n].spacing = edge / sqrt((double)node->point_count * 4.0 / 3.0);
+        s->s0_samples[n].weight = node->point_count;
+        total += node->point_count;
+        n++;
     }
-    return (float)best;
+    if (n == 0) {
+        return 0.0f;
+    }
+    qsort(s->s0_samples, n, sizeof(s0_sample), compare_s0);
+    uint64_t seen = 0;
+    for (size_t i = 0; i < n; i++) {
+        seen += s->s0_samples[i].weight;
+        if (2 * seen >= total) {
+            return (float)s->s0_samples[i].spacing;
+        }
+    }
+    return (float)s->s0_samples[n - 1].spacing;
 }
 
 void sta_scene_set_colour_mode(sta_scene *s, int mode)

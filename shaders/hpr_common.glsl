@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+// HPR functions shared by hpr_occlusion.comp and hpr_exhaustive.comp. Twin:
+// src/render/ref/hpr_ref.c (same rules, same order; `precise` keeps the compiler from
+// fusing or reordering the float maths the twin does step by step).
+// Needs the defines STA_HPR_SECTOR_TAN_NUM/_DEN, STA_HPR_MIN_LENGTH2_M2 and
+// STA_LABEL_* (added by src/render/pass_hpr.c from the C headers).
+
+// Sector 0..7 (counter-clockwise from +x, 45 deg each, centred on multiples of 45 deg)
+// of a screen direction given in half pixels.
+int hpr_sector(ivec2 v2)
+{
+    ivec2 a = abs(v2);
+    if (STA_HPR_SECTOR_TAN_DEN * a.y <= STA_HPR_SECTOR_TAN_NUM * a.x) {
+        return v2.x >= 0 ? 0 : 4;
+    }
+    if (STA_HPR_SECTOR_TAN_DEN * a.x <= STA_HPR_SECTOR_TAN_NUM * a.y) {
+        return v2.y > 0 ? 2 : 6;
+    }
+    if (v2.x > 0) {
+        return v2.y > 0 ? 1 : 7;
+    }
+    return v2.y > 0 ? 3 : 5;
+}
+
+// The pixel's own point, or for background the point at depth far_m on its ray.
+vec3 hpr_centre_point(vec4 own, ivec2 p, ivec2 size, vec2 tan_half, float far_m)
+{
+    if (own.w > 0.5) {
+        return own.xyz;
+    }
+    precise float ndc_x = (float(p.x) + 0.5) / float(size.x) * 2.0 - 1.0;
+    precise float ndc_y = (float(p.y) + 0.5) / float(size.y) * 2.0 - 1.0;
+    precise float cx = ndc_x * tan_half.x * far_m;
+    precise float cy = ndc_y * tan_half.y * far_m;
+    return vec3(cx, cy, -far_m);
+}
+
+// Neighbour y's occlusion value seen from x: 1 - dot((y - x) / |y - x|, -y / |y|);
+// false when y coincides with x or with the eye (the neighbour is skipped).
+bool hpr_occlusion(vec3 x, vec3 y, out float value)
+{
+    precise float d0 = y.x - x.x;
+    precise float d1 = y.y - x.y;
+    precise float d2 = y.z - x.z;
+    precise float dd = d0 * d0 + d1 * d1 + d2 * d2;
+    precise float yy = y.x * y.x + y.y * y.y + y.z * y.z;
+    if (!(dd >= STA_HPR_MIN_LENGTH2_M2) || !(yy >= STA_HPR_MIN_LENGTH2_M2)) {
+        value = 1.0;
+        return false;
+    }
+    precise float c = d0 * -y.x + d1 * -y.y + d2 * -y.z;
+    precise float v = 1.0 - c * (1.0 / sqrt(dd)) * (1.0 / sqrt(yy));
+    value = v;
+    return true;
+}
+
+// The label from the point flag and the mean of the 8 sector minima.
+float hpr_label(bool is_point, float mean, float threshold)
+{
+    bool open = mean >= threshold;
+    if (is_point) {
+        return open ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN;
+    }
+    return open ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE;
+}
+
+// The 8 sector minima live in two vec4 (sectors 0-3, 4-7) and are lowered by selects
+// rather than by indexing an array with a per-pixel sector, which compilers (llvmpipe
+// among them) turn into slow scratch memory. `value < min` as in the twin.
+void hpr_lower_sector(int sector, float value, inout vec4 min_lo, inout vec4 min_hi)
+{
+    const ivec4 lo = ivec4(0, 1, 2, 3), hi = ivec4(4, 5, 6, 7);
+    bvec4 take_lo = bvec4(uvec4(equal(lo, ivec4(sector))) & uvec4(lessThan(vec4(value), min_lo)));
+    bvec4 take_hi = bvec4(uvec4(equal(hi, ivec4(sector))) & uvec4(lessThan(vec4(value), min_hi)));
+    min_lo = mix(min_lo, vec4(value), take_lo);
+    min_hi = mix(min_hi, vec4(value), take_hi);
+}
+
+float hpr_sector_mean(vec4 min_lo, vec4 min_hi)
+{
+    precise float sum = min_lo.x;
+    sum += min_lo.y;
+    sum += min_lo.z;
+    sum += min_lo.w;
+    sum += min_hi.x;
+    sum += min_hi.y;
+    sum += min_hi.z;
+    sum += min_hi.w;
+    return sum * 0.125;
+}

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: MIT
+// HPR, the pyramidal adaptive operator (Bouchiba et al. 2018, section 3.1.2, eq. 1,
+// Figure 3). Every pixel (point or background) gets a neighbourhood level from the
+// coarse depth of its ancestor, then takes the 8-texel ring around its ancestor at each
+// level 0..level, keeps the least occlusion value per sector and compares their mean
+// with the threshold. Twin: sta_hpr_ref_pyramid_labels.
+//
+// Neighbours are fetched from the textures, not staged in shared memory: on llvmpipe a
+// shared-memory version was 3x slower (per-lane gathers), and on GPUs the texture cache
+// serves the overlapping rings of a workgroup.
+layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
+layout(binding = 0) uniform sampler2D u_position; // level 0 (RGBA32F, screen_space.h)
+layout(binding = 1) uniform sampler2D u_pyramid;  // level l >= 1 at mip level l - 1
+layout(binding = 0, r32f) writeonly uniform image2D u_label;
+uniform ivec2 u_size;       // width, height in pixels
+uniform int u_level_count;  // pyramid levels, level 0 included (>= 2)
+uniform int u_coarse_level; // already clamped to [1, u_level_count - 1]
+uniform float u_level_depth[STA_HPR_MAX_LEVELS]; // sta_hpr_level_depths
+uniform vec2 u_tan_half;    // tan(fov_y / 2) * aspect, tan(fov_y / 2)
+uniform float u_far;        // depth of background pixels, metres
+uniform float u_threshold;
+
+const ivec2 RING[8] = ivec2[8](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-1, 0),
+                               ivec2(1, 0), ivec2(-1, 1), ivec2(0, 1), ivec2(1, 1));
+
+// Lowers the sector minima by neighbour y of pixel p, texel n of level k.
+void add_neighbour(vec4 y, ivec2 n, int k, ivec2 p, vec3 x, inout vec4 min_lo,
+                   inout vec4 min_hi)
+{
+    float value;
+    if (y.w > 0.5 && hpr_occlusion(x, y.xyz, value)) {
+        // Between the neighbour texel's centre and the pixel's, in half pixels of level 0.
+        ivec2 v2 = ((2 * n + 1) << k) - (2 * p + 1);
+        hpr_lower_sector(hpr_sector(v2), value, min_lo, min_hi);
+    }
+}
+
+void main()
+{
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x >= u_size.x || p.y >= u_size.y) {
+        return;
+    }
+    // Coarse depth: the ancestor at the coarse level, else the first one above with a
+    // point, else the far depth. Level: the largest l with z <= u_level_depth[l].
+    float z = u_far;
+    for (int k = u_coarse_level; k < u_level_count; k++) {
+        vec4 a = texelFetch(u_pyramid, p >> k, k - 1);
+        if (a.w > 0.5) {
+            z = -a.z;
+            break;
+        }
+    }
+    int level = 0;
+    for (int l = 1; l < u_level_count; l++) {
+        if (z <= u_level_depth[l]) {
+            level = l;
+        }
+    }
+
+    vec4 own = texelFetch(u_position, p, 0);
+    vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
+    vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
+    // Level 0: the 8 direct neighbours, from the position texture.
+    for (int i = 0; i < 8; i++) {
+        ivec2 n = p + RING[i];
+        if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
+            add_neighbour(texelFetch(u_position, n, 0), n, 0, p, x, min_lo, min_hi);
+        }
+    }
+    // Levels 1..level: the ring around the ancestor, from the pyramid.
+    for (int k = 1; k <= level; k++) {
+        ivec2 a = p >> k;
+        ivec2 size_k = (u_size + (1 << k) - 1) >> k;
+        for (int i = 0; i < 8; i++) {
+            ivec2 n = a + RING[i];
+            if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
+                add_neighbour(texelFetch(u_pyramid, n, k - 1), n, k, p, x, min_lo, min_hi);
+            }
+        }
+    }
+    float mean = hpr_sector_mean(min_lo, min_hi);
+    imageStore(u_label, p, vec4(hpr_label(own.w > 0.5, mean, u_threshold), 0.0, 0.0, 0.0));
+}

@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+// HPR point pyramid, one level: each texel keeps the point of least depth (d = -z)
+// among the points (w > 0.5) of its 2x2 block of the level below, first in the order
+// (0,0), (1,0), (0,1), (1,1) on a tie; texels outside the level below are ignored and
+// a block with no point gives zeros. Twin: sta_hpr_ref_build_pyramid.
+layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
+layout(binding = 0, rgba32f) readonly uniform image2D u_src;  // level l - 1
+layout(binding = 1, rgba32f) writeonly uniform image2D u_dst; // level l
+uniform ivec2 u_src_size; // logical size of level l - 1 (the texture may be larger)
+uniform ivec2 u_dst_size; // logical size of level l
+
+void main()
+{
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x >= u_dst_size.x || p.y >= u_dst_size.y) {
+        return;
+    }
+    vec4 best = vec4(0.0);
+    bool found = false;
+    for (int bj = 0; bj < 2; bj++) {
+        for (int bi = 0; bi < 2; bi++) {
+            ivec2 q = 2 * p + ivec2(bi, bj);
+            if (q.x >= u_src_size.x || q.y >= u_src_size.y) {
+                continue;
+            }
+            vec4 v = imageLoad(u_src, q);
+            if (v.w > 0.5 && (!found || -v.z < -best.z)) {
+                best = v;
+                found = true;
+            }
+        }
+    }
+    imageStore(u_dst, p, best);
+}

@@ -1,0 +1,70 @@
+/* SPDX-License-Identifier: MIT
+ * The HPR pass: labels each pixel of a position texture VISIBLE, HIDDEN, HOLE or
+ * BACKGROUND (screen_space.h) with the pyramidal adaptive operator (Bouchiba et al.
+ * 2018, section 3.1) or the exhaustive fixed-radius operator (Pintus et al. 2011). The rules
+ * and their CPU twin are in render/ref/hpr_ref.h; docs/HPR.md explains every choice.
+ * Main thread (GL) only.
+ *
+ * Pyramid texture layout: level 0 of the pyramid is the position texture itself; level
+ * l >= 1 lives at mip level l - 1 of one RGBA32F texture whose mip level 0 is large
+ * enough that every GL mip size (floor halving) holds the logical level size
+ * max(1, ceil(w / 2^l)) x max(1, ceil(h / 2^l)) in its lower-left corner. Texels beyond
+ * the logical size are never read or written.
+ */
+#ifndef STA_RENDER_PASS_HPR_H
+#define STA_RENDER_PASS_HPR_H
+
+#include <epoxy/gl.h>
+
+#include "core/status.h"
+#include "render/ref/hpr_ref.h"
+#include "render/screen_space.h"
+
+typedef struct sta_hpr_pass {
+    GLuint pyramid_program;    /* hpr_pyramid.comp: one level from the one below */
+    GLuint occlusion_program;  /* hpr_occlusion.comp: pyramidal operator */
+    GLuint exhaustive_program; /* hpr_exhaustive.comp: fixed-radius operator */
+    GLint pyr_src_size, pyr_dst_size;
+    GLint occ_size, occ_level_count, occ_coarse_level, occ_level_depth, occ_tan_half, occ_far,
+        occ_threshold;
+    GLint exh_size, exh_radius, exh_tan_half, exh_far, exh_threshold;
+} sta_hpr_pass;
+
+/* Compiles the three programs. Needs a current GL 4.5 context. */
+sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err);
+
+/* Deletes the programs; a zeroed pass is a no-op. */
+void sta_hpr_pass_release(sta_hpr_pass *pass);
+
+/* Mip level 0 size and mip level count of the pyramid texture for a width x height
+ * image (see the layout above); all three are 0 for sizes sta_hpr_pyramid_levels
+ * rejects. For 1920x1080: 1024x1024, 11 mip levels (22 MiB). */
+void sta_hpr_pyramid_texture_size(int width_px, int height_px, int *out_width, int *out_height,
+                                  int *out_mip_levels);
+
+/* Creates the caller-owned pyramid texture for a width x height image (RGBA32F, the
+ * size above). Reuse it for every frame of that size; delete with glDeleteTextures. */
+sta_status sta_hpr_pyramid_texture_create(int width_px, int height_px, GLuint *out_texture,
+                                          sta_error *err);
+
+/* Builds pyramid levels 1 .. sta_hpr_pyramid_levels - 1 of `position_texture` (RGBA32F,
+ * view's size) into `pyramid_texture` (made by sta_hpr_pyramid_texture_create for the
+ * same size). Errors: STA_ERR_ARG for mismatched sizes, STA_ERR_GL. */
+sta_status sta_hpr_pass_build_pyramid(const sta_hpr_pass *pass, const sta_view_params *view,
+                                      GLuint position_texture, GLuint pyramid_texture,
+                                      sta_error *err);
+
+/* The pyramidal operator: builds the pyramid, then writes STA_LABEL_* into
+ * `label_texture` (R32F, view's size). params may be NULL (all defaults). */
+sta_status sta_hpr_pass_run_pyramid(const sta_hpr_pass *pass, const sta_view_params *view,
+                                    const sta_hpr_params *params, GLuint position_texture,
+                                    GLuint pyramid_texture, GLuint label_texture, sta_error *err);
+
+/* The exhaustive operator over a (2 radius_px + 1)^2 square at level 0. Uses
+ * params->threshold and far_m (NULL: defaults). radius_px in [0, 1024]. */
+sta_status sta_hpr_pass_run_exhaustive(const sta_hpr_pass *pass, const sta_view_params *view,
+                                       const sta_hpr_params *params, int radius_px,
+                                       GLuint position_texture, GLuint label_texture,
+                                       sta_error *err);
+
+#endif

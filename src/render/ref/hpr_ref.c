@@ -1,0 +1,324 @@
+/* SPDX-License-Identifier: MIT
+ * CPU twin of the HPR shaders (hpr_common.glsl, hpr_pyramid.comp, hpr_occlusion.comp,
+ * hpr_exhaustive.comp): the same rules, in float, in the same order.
+ *
+ * Based on: Bouchiba, Deschaud, Goulette 2018, section 3.1 and eq. 1; Pintus, Gobbetti,
+ * Agus 2011 (exhaustive operator).
+ */
+#include "render/ref/hpr_ref.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <string.h>
+
+sta_hpr_params sta_hpr_params_defaults(const sta_view_params *view, const sta_hpr_params *params)
+{
+    sta_hpr_params p = { 0 };
+    if (params) {
+        p = *params;
+    }
+    if (p.threshold == 0.0f) {
+        p.threshold = STA_HPR_DEFAULT_THRESHOLD;
+    }
+    if (p.s_hpr == 0.0f) {
+        p.s_hpr = STA_HPR_DEFAULT_S_HPR_FACTOR * view->s0;
+    }
+    if (p.coarse_level <= 0) {
+        p.coarse_level = STA_HPR_DEFAULT_COARSE_LEVEL;
+    }
+    if (!(p.far_m > 0.0f) || !isfinite(p.far_m)) {
+        p.far_m = STA_HPR_DEFAULT_FAR_M;
+    }
+    return p;
+}
+
+int sta_hpr_pyramid_levels(int width_px, int height_px)
+{
+    if (width_px < 1 || height_px < 1) {
+        return 0;
+    }
+    int largest = width_px > height_px ? width_px : height_px;
+    int levels = 1;
+    while (levels <= STA_HPR_MAX_LEVELS && (1L << (levels - 1)) < (long)largest) {
+        levels++;
+    }
+    if (levels > STA_HPR_MAX_LEVELS) {
+        return 0;
+    }
+    return levels < 2 ? 2 : levels;
+}
+
+void sta_hpr_level_depths(const sta_view_params *view, const sta_hpr_params *resolved,
+                          int level_count, float out_depth_m[STA_HPR_MAX_LEVELS])
+{
+    // K = s_hpr h / (2 tan(theta)): the neighbourhood size in pixels times the depth.
+    float k = resolved->s_hpr * (float)view->height_px / (2.0f * tanf(0.5f * view->fov_y));
+    if (!(k > 0.0f) || !isfinite(k)) {
+        k = 0.0f; // no s0: level 0 everywhere
+    }
+    float k_sqrt2 = k * 1.41421356f;
+    for (int l = 0; l < STA_HPR_MAX_LEVELS; l++) {
+        // round(log2(K / z)) >= l  <=>  z <= K 2^(0.5 - l)
+        out_depth_m[l] = l == 0 ? INFINITY : (l < level_count ? ldexpf(k_sqrt2, -l) : -1.0f);
+    }
+}
+
+int sta_hpr_sector(int vx2, int vy2)
+{
+    int ax = vx2 < 0 ? -vx2 : vx2;
+    int ay = vy2 < 0 ? -vy2 : vy2;
+    if (STA_HPR_SECTOR_TAN_DEN * ay <= STA_HPR_SECTOR_TAN_NUM * ax) {
+        return vx2 >= 0 ? 0 : 4; // within 22.5 deg of the x axis
+    }
+    if (STA_HPR_SECTOR_TAN_DEN * ax <= STA_HPR_SECTOR_TAN_NUM * ay) {
+        return vy2 > 0 ? 2 : 6; // within 22.5 deg of the y axis
+    }
+    if (vx2 > 0) {
+        return vy2 > 0 ? 1 : 7;
+    }
+    return vy2 > 0 ? 3 : 5;
+}
+
+sta_status sta_hpr_ref_build_pyramid(const sta_image *position, sta_hpr_pyramid *out,
+                                     sta_error *err)
+{
+    memset(out, 0, sizeof(*out));
+    int level_count = sta_hpr_pyramid_levels(position->width, position->height);
+    if (level_count == 0 || position->channels != 4) {
+        return sta_fail(err, STA_ERR_ARG, "hpr: position image %dx%dx%d is not RGBA of 1..%d px",
+                        position->width, position->height, position->channels,
+                        1 << (STA_HPR_MAX_LEVELS - 1));
+    }
+    sta_status status = sta_image_init(&out->levels[0], position->width, position->height, 4, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    out->level_count = level_count;
+    memcpy(out->levels[0].data, position->data,
+           (size_t)position->width * (size_t)position->height * 4 * sizeof(float));
+    for (int l = 1; l < level_count; l++) {
+        const sta_image *src = &out->levels[l - 1];
+        sta_image *dst = &out->levels[l];
+        status = sta_image_init(dst, sta_hpr_level_size(src->width, 1),
+                                sta_hpr_level_size(src->height, 1), 4, err);
+        if (status != STA_OK) {
+            sta_hpr_ref_pyramid_release(out);
+            return status;
+        }
+        for (int j = 0; j < dst->height; j++) {
+            for (int i = 0; i < dst->width; i++) {
+                const float *best = NULL;
+                for (int bj = 0; bj < 2; bj++) {
+                    for (int bi = 0; bi < 2; bi++) {
+                        int qx = 2 * i + bi, qy = 2 * j + bj;
+                        if (qx >= src->width || qy >= src->height) {
+                            continue;
+                        }
+                        const float *v = sta_image_at(src, qx, qy);
+                        if (v[3] > 0.5f && (!best || -v[2] < -best[2])) {
+                            best = v;
+                        }
+                    }
+                }
+                if (best) {
+                    memcpy(sta_image_at(dst, i, j), best, 4 * sizeof(float));
+                }
+            }
+        }
+    }
+    return STA_OK;
+}
+
+void sta_hpr_ref_pyramid_release(sta_hpr_pyramid *pyramid)
+{
+    for (int l = 0; l < STA_HPR_MAX_LEVELS; l++) {
+        sta_image_release(&pyramid->levels[l]);
+    }
+    memset(pyramid, 0, sizeof(*pyramid));
+}
+
+// What the shaders' hpr_common.glsl computes, one function for one function.
+
+typedef struct occlusion_frame {
+    float tan_x, tan_y; // tan of the half field of view, horizontally and vertically
+    float far_m;
+    float threshold;
+    int width, height;
+} occlusion_frame;
+
+static occlusion_frame frame_of(const sta_view_params *view, const sta_hpr_params *resolved)
+{
+    occlusion_frame f;
+    f.tan_y = tanf(0.5f * view->fov_y);
+    f.tan_x = f.tan_y * (float)view->width_px / (float)view->height_px;
+    f.far_m = resolved->far_m;
+    f.threshold = resolved->threshold;
+    f.width = view->width_px;
+    f.height = view->height_px;
+    return f;
+}
+
+// The pixel's own point, or for background the point at depth far_m on its ray.
+static void centre_point(const occlusion_frame *f, const float *own, int px, int py, float out[3])
+{
+    if (own[3] > 0.5f) {
+        out[0] = own[0];
+        out[1] = own[1];
+        out[2] = own[2];
+        return;
+    }
+    float ndc_x = ((float)px + 0.5f) / (float)f->width * 2.0f - 1.0f;
+    float ndc_y = ((float)py + 0.5f) / (float)f->height * 2.0f - 1.0f;
+    out[0] = ndc_x * f->tan_x * f->far_m;
+    out[1] = ndc_y * f->tan_y * f->far_m;
+    out[2] = -f->far_m;
+}
+
+// Lowers `sector_min` by neighbour y's occlusion value seen from x; coincident points
+// (and a neighbour at the eye) are skipped.
+static void add_neighbour(const float x[3], const float *y, int sector, float sector_min[8])
+{
+    float d0 = y[0] - x[0], d1 = y[1] - x[1], d2 = y[2] - x[2];
+    float dd = d0 * d0 + d1 * d1 + d2 * d2;
+    float yy = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+    if (!(dd >= STA_HPR_MIN_LENGTH2_M2) || !(yy >= STA_HPR_MIN_LENGTH2_M2)) {
+        return;
+    }
+    float c = d0 * -y[0] + d1 * -y[1] + d2 * -y[2];
+    float value = 1.0f - c * (1.0f / sqrtf(dd)) * (1.0f / sqrtf(yy));
+    if (value < sector_min[sector]) {
+        sector_min[sector] = value;
+    }
+}
+
+static float sector_mean(const float sector_min[8])
+{
+    float sum = sector_min[0];
+    for (int s = 1; s < 8; s++) {
+        sum += sector_min[s];
+    }
+    return sum * 0.125f;
+}
+
+static float label_of(bool is_point, float mean, float threshold)
+{
+    bool open = mean >= threshold;
+    if (is_point) {
+        return open ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN;
+    }
+    return open ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE;
+}
+
+void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_params *params,
+                                const sta_hpr_pyramid *pyramid, sta_image *out_label,
+                                sta_image *out_mean, sta_image *out_level)
+{
+    sta_hpr_params p = sta_hpr_params_defaults(view, params);
+    occlusion_frame f = frame_of(view, &p);
+    int level_count = pyramid->level_count;
+    float level_depth[STA_HPR_MAX_LEVELS];
+    sta_hpr_level_depths(view, &p, level_count, level_depth);
+    // Level 1 at least (coarse_level >= 1 and level_count >= 2).
+    int coarse = p.coarse_level < level_count - 1 ? p.coarse_level : level_count - 1;
+    for (int py = 0; py < f.height; py++) {
+        for (int px = 0; px < f.width; px++) {
+            const float *own = sta_image_at(&pyramid->levels[0], px, py);
+            float x[3];
+            centre_point(&f, own, px, py, x);
+            // Coarse depth: the nearest point of the ancestor block at the coarse level,
+            // else of the first ancestor above holding one, else the far depth.
+            float z = f.far_m;
+            for (int k = coarse; k < level_count; k++) {
+                const float *a = sta_image_at(&pyramid->levels[k], px >> k, py >> k);
+                if (a[3] > 0.5f) {
+                    z = -a[2];
+                    break;
+                }
+            }
+            int level = 0;
+            for (int l = 1; l < level_count; l++) {
+                if (z <= level_depth[l]) {
+                    level = l;
+                }
+            }
+            float sector_min[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
+            for (int k = 0; k <= level; k++) {
+                const sta_image *lk = &pyramid->levels[k];
+                int ax = px >> k, ay = py >> k;
+                for (int dy = -1; dy <= 1; dy++) {
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int nx = ax + dx, ny = ay + dy;
+                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= lk->width ||
+                            ny >= lk->height) {
+                            continue;
+                        }
+                        const float *y = sta_image_at(lk, nx, ny);
+                        if (y[3] <= 0.5f) {
+                            continue;
+                        }
+                        // Between the neighbour texel's centre and the pixel's, in half
+                        // pixels of level 0.
+                        int vx2 = ((2 * nx + 1) << k) - (2 * px + 1);
+                        int vy2 = ((2 * ny + 1) << k) - (2 * py + 1);
+                        add_neighbour(x, y, sta_hpr_sector(vx2, vy2), sector_min);
+                    }
+                }
+            }
+            float mean = sector_mean(sector_min);
+            *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
+            if (out_mean) {
+                *sta_image_at(out_mean, px, py) = mean;
+            }
+            if (out_level) {
+                *sta_image_at(out_level, px, py) = (float)level;
+            }
+        }
+    }
+}
+
+sta_status sta_hpr_ref_pyramid(const sta_view_params *view, const sta_hpr_params *params,
+                               const sta_image *position, sta_image *out_label, sta_error *err)
+{
+    sta_hpr_pyramid pyramid;
+    sta_status status = sta_hpr_ref_build_pyramid(position, &pyramid, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    sta_hpr_ref_pyramid_labels(view, params, &pyramid, out_label, NULL, NULL);
+    sta_hpr_ref_pyramid_release(&pyramid);
+    return STA_OK;
+}
+
+void sta_hpr_ref_exhaustive(const sta_view_params *view, const sta_hpr_params *params,
+                            int radius_px, const sta_image *position, sta_image *out_label,
+                            sta_image *out_mean)
+{
+    sta_hpr_params p = sta_hpr_params_defaults(view, params);
+    occlusion_frame f = frame_of(view, &p);
+    for (int py = 0; py < f.height; py++) {
+        for (int px = 0; px < f.width; px++) {
+            const float *own = sta_image_at(position, px, py);
+            float x[3];
+            centre_point(&f, own, px, py, x);
+            float sector_min[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
+            for (int dy = -radius_px; dy <= radius_px; dy++) {
+                for (int dx = -radius_px; dx <= radius_px; dx++) {
+                    int nx = px + dx, ny = py + dy;
+                    if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= f.width ||
+                        ny >= f.height) {
+                        continue;
+                    }
+                    const float *y = sta_image_at(position, nx, ny);
+                    if (y[3] > 0.5f) {
+                        add_neighbour(x, y, sta_hpr_sector(2 * dx, 2 * dy), sector_min);
+                    }
+                }
+            }
+            float mean = sector_mean(sector_min);
+            *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
+            if (out_mean) {
+                *sta_image_at(out_mean, px, py) = mean;
+            }
+        }
+    }
+}

@@ -1,0 +1,113 @@
+/* SPDX-License-Identifier: MIT
+ * Hidden point removal (HPR) in screen space: the CPU twin of shaders/hpr_*.comp, and
+ * the definitions both sides share (pyramid sizes, parameters, level thresholds).
+ *
+ * Two operators label every pixel of a position buffer (screen_space.h) as VISIBLE or
+ * HIDDEN (points) and BACKGROUND or HOLE (empty pixels):
+ * - pyramidal and adaptive: a min-depth point pyramid, a neighbourhood level picked per
+ *   pixel from a coarse depth (eq. 1), the 8-texel ring around the pixel's ancestor at
+ *   every level 0..l (Figure 3);
+ * - exhaustive: every pixel within a fixed square radius at full resolution.
+ * Both take, in 8 sectors around the pixel, the minimum occlusion value
+ * 1 - dot((y - x) / |y - x|, -y / |y|) of the neighbours y (each sector starts at 1,
+ * fully open, so it counts at most 1), and call the pixel open when the mean of the 8
+ * minima reaches a threshold. docs/HPR.md gives every rule.
+ *
+ * Based on: H. Bouchiba, J.-E. Deschaud, F. Goulette, "Raw point cloud deferred
+ * shading through screen space pyramidal operators", Eurographics 2018 (short), section 3.1,
+ * eq. 1, Figure 3; R. Pintus, E. Gobbetti, M. Agus, "Real-time rendering of massive
+ * unstructured raw point clouds using screen-space operators", VAST 2011 (the
+ * exhaustive operator).
+ */
+#ifndef STA_RENDER_REF_HPR_REF_H
+#define STA_RENDER_REF_HPR_REF_H
+
+#include "core/status.h"
+#include "render/ref/image.h"
+#include "render/screen_space.h"
+
+#define STA_HPR_MAX_LEVELS           16       /* pyramid levels; images up to 32768 px a side */
+#define STA_HPR_DEFAULT_THRESHOLD    0.1f     /* mean sector occlusion of an open pixel */
+#define STA_HPR_DEFAULT_S_HPR_FACTOR 10.0f    /* s_hpr = 10 s0 (the paper's value) */
+#define STA_HPR_DEFAULT_COARSE_LEVEL 4        /* the paper's coarse depth level */
+#define STA_HPR_DEFAULT_FAR_M        1.0e6f   /* depth given to background pixels, metres */
+#define STA_HPR_MIN_LENGTH2_M2       1.0e-24f /* |y - x|^2 or |y|^2 below: neighbour skipped */
+/* Sector borders lie at 22.5 deg + k 45 deg; tan(22.5 deg) ~ 408 / 985 (error 3.6e-7),
+ * a ratio of integers so that the shader and the twin pick the same sector. */
+#define STA_HPR_SECTOR_TAN_NUM       408
+#define STA_HPR_SECTOR_TAN_DEN       985
+
+/* Parameters. Zero means default (resolved by sta_hpr_params_defaults). A negative
+ * threshold makes every pixel open (HPR off). */
+typedef struct sta_hpr_params {
+    float threshold;  /* a pixel is open when its mean sector occlusion >= this; 0: 0.1 */
+    float s_hpr;      /* metric size of the neighbourhood (eq. 1), metres; 0: 10 * s0 */
+    int coarse_level; /* pyramid level giving the coarse depth (eq. 1); <= 0: 4 */
+    float far_m;      /* depth of background pixels, metres; <= 0: 1e6 */
+} sta_hpr_params;
+
+/* `params` (may be NULL) with every zero field replaced by its default. */
+sta_hpr_params sta_hpr_params_defaults(const sta_view_params *view, const sta_hpr_params *params);
+
+/* Number of pyramid levels for a width x height image, level 0 (the image) included:
+ * max(2, 1 + ceil(log2(max(width, height)))), so the last level is 1 x 1 and level 1
+ * always exists. 0 when a size is < 1 or the count would exceed STA_HPR_MAX_LEVELS. */
+int sta_hpr_pyramid_levels(int width_px, int height_px);
+
+/* Size of `level` along one axis: max(1, ceil(size / 2^level)). */
+static inline int sta_hpr_level_size(int size_px, int level)
+{
+    return (size_px + (1 << level) - 1) >> level;
+}
+
+/* The depths at which the adaptive level changes: out[l] (l = 1 .. level_count - 1) is
+ * K 2^(0.5 - l) with K = s_hpr h / (2 tan(fov_y / 2)); a pixel of coarse depth z gets
+ * the largest l with z <= out[l] (0 when none), i.e. round(log2(K / z)) clamped to
+ * [0, level_count - 1], computed by comparisons so that shader and twin agree exactly.
+ * out[0] = +inf (unused). `resolved`: parameters after sta_hpr_params_defaults. */
+void sta_hpr_level_depths(const sta_view_params *view, const sta_hpr_params *resolved,
+                          int level_count, float out_depth_m[STA_HPR_MAX_LEVELS]);
+
+/* The sector (0..7, counter-clockwise from +x, each 45 deg wide and centred on a
+ * multiple of 45 deg) of the screen direction (vx2, vy2), given in half pixels (twice
+ * the direction between pixel centres, hence integers). (0, 0) gives 0. */
+int sta_hpr_sector(int vx2, int vy2);
+
+/* The point pyramid: levels[0] is a copy of the position image, levels[l] (RGBA, size
+ * sta_hpr_level_size of level l-1's size) keeps, for each pixel (i, j), the point of
+ * least depth among the points (w > 0.5) of level l-1's pixels {2i, 2i+1} x {2j, 2j+1}
+ * inside level l-1 (first in the order (2i,2j), (2i+1,2j), (2i,2j+1), (2i+1,2j+1) on a
+ * tie), or zeros when the block holds none. */
+typedef struct sta_hpr_pyramid {
+    int level_count;                      /* sta_hpr_pyramid_levels of level 0 */
+    sta_image levels[STA_HPR_MAX_LEVELS]; /* [0, level_count) allocated */
+} sta_hpr_pyramid;
+
+/* Builds the pyramid of `position` (4 channels). Errors: STA_ERR_ARG (image too large
+ * or not RGBA), STA_ERR_NOMEM. On failure *out is zeroed. */
+sta_status sta_hpr_ref_build_pyramid(const sta_image *position, sta_hpr_pyramid *out,
+                                     sta_error *err);
+
+/* Frees the levels; a zeroed pyramid is a no-op. */
+void sta_hpr_ref_pyramid_release(sta_hpr_pyramid *pyramid);
+
+/* The pyramidal adaptive operator on a built pyramid. out_label: initialised 1-channel
+ * image of level 0's size, receives STA_LABEL_*. out_mean, out_level (may be NULL;
+ * 1 channel, same size): each pixel's mean sector occlusion and neighbourhood level,
+ * for tests and inspection. view: width_px/height_px must be the image's size. */
+void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_params *params,
+                                const sta_hpr_pyramid *pyramid, sta_image *out_label,
+                                sta_image *out_mean, sta_image *out_level);
+
+/* Builds the pyramid and labels `position` with it (the whole pyramidal operator). */
+sta_status sta_hpr_ref_pyramid(const sta_view_params *view, const sta_hpr_params *params,
+                               const sta_image *position, sta_image *out_label, sta_error *err);
+
+/* The exhaustive operator: neighbours are all pixels (dx, dy) != (0, 0) with |dx|, |dy|
+ * <= radius_px inside the image. Uses params->threshold and far_m only. out_label and
+ * out_mean (may be NULL) as above. */
+void sta_hpr_ref_exhaustive(const sta_view_params *view, const sta_hpr_params *params,
+                            int radius_px, const sta_image *position, sta_image *out_label,
+                            sta_image *out_mean);
+
+#endif

@@ -1,0 +1,22 @@
+/* SPDX-License-Identifier: MIT
+ * A small test scene for GL tests: a sphere (radius 5 m at (0, 10, 0)) in front of a
+ * wall (y = 20, 30 m x 20 m), points on a 2^-10 m lattice so coordinates are exact in
+ * double at any offset, colour encoding each point's index; written as binary PLY and
+ * converted to .strata.
+ */
+#ifndef STA_TEST_SCENE_FIXTURE_H
+#define STA_TEST_SCENE_FIXTURE_H
+
+#include <stddef.h>
+
+#include "core/camera.h"
+
+/* Builds `<tmpdir>/<name>.strata` from `points` points placed at `offset`; the path
+ * goes to out_path. Fails the test on error. */
+void sta_fixture_build_scene(const char *name, size_t points, const double offset[3],
+                             char *out_path, size_t size);
+
+/* A camera 12 m in front of the sphere (plus `offset`), looking at it. */
+sta_camera sta_fixture_camera(const double offset[3], int width_px, int height_px);
+
+#endif

@@ -1,0 +1,870 @@
+/* SPDX-License-Identifier: MIT
+ * The HPR pass on llvmpipe against its CPU twin (labels and pyramid levels), against
+ * known truth (a near plane in front of a far plane, rendered one pixel per point with
+ * gaps), on hard cases (empty, one point, full planes, 1x1 and odd sizes, the near
+ * plane and 1e5 m, coincident points), and pyramidal against exhaustive. */
+#include "test_support.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "render/gl.h"
+#include "render/gl_image.h"
+#include "render/pass_hpr.h"
+#include "render/ref/hpr_ref.h"
+
+static sta_gl_headless gl;
+static sta_hpr_pass pass;
+
+static int setup(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    if (sta_gl_headless_create(&gl, &err) != STA_OK || sta_hpr_pass_init(&pass, &err) != STA_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return -1;
+    }
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    sta_hpr_pass_release(&pass);
+    sta_gl_headless_destroy(&gl);
+    return 0;
+}
+
+/* ---- buffers ---- */
+
+static uint64_t rng_state;
+
+static double rng_uniform(void)
+{
+    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+static sta_view_params make_view(int w, int h)
+{
+    sta_view_params view = { w, h, 0.8f, 0.05f, 0.025f };
+    return view;
+}
+
+// The camera-space point at `depth` on the ray through pixel (px, py)'s centre, as
+// the unproject pass makes it.
+static void set_point(const sta_view_params *view, sta_image *position, int px, int py, float depth)
+{
+    float tan_y = tanf(0.5f * view->fov_y);
+    float tan_x = tan_y * (float)view->width_px / (float)view->height_px;
+    float ndc_x = ((float)px + 0.5f) / (float)view->width_px * 2.0f - 1.0f;
+    float ndc_y = ((float)py + 0.5f) / (float)view->height_px * 2.0f - 1.0f;
+    float *p = sta_image_at(position, px, py);
+    p[0] = ndc_x * tan_x * depth;
+    p[1] = ndc_y * tan_y * depth;
+    p[2] = -depth;
+    p[3] = 1.0f;
+}
+
+static void new_image(sta_image *image, int w, int h, int channels)
+{
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(image, w, h, channels, &err), STA_OK);
+}
+
+// Points on a fraction `fill` of the pixels, log-uniform depths in [0.5, 200] m.
+static void make_random(const sta_view_params *view, uint64_t seed, double fill, sta_image *out)
+{
+    new_image(out, view->width_px, view->height_px, 4);
+    rng_state = seed;
+    for (int y = 0; y < view->height_px; y++) {
+        for (int x = 0; x < view->width_px; x++) {
+            double u = rng_uniform(), v = rng_uniform();
+            if (u < fill) {
+                set_point(view, out, x, y, (float)(0.5 * pow(400.0, v)));
+            }
+        }
+    }
+}
+
+// Every pixel a point of the plane through (0, 0, -depth) whose normal is tilted by
+// `tilt` radians from +z about the x axis.
+static void make_plane(const sta_view_params *view, float depth, float tilt, sta_image *out)
+{
+    new_image(out, view->width_px, view->height_px, 4);
+    float tan_y = tanf(0.5f * view->fov_y);
+    for (int y = 0; y < view->height_px; y++) {
+        for (int x = 0; x < view->width_px; x++) {
+            float ndc_y = ((float)y + 0.5f) / (float)view->height_px * 2.0f - 1.0f;
+            // ray (.., ndc_y tan_y, -1) t meets n.(p - p0) = 0, n = (0, sin, cos)
+            float s = sinf(tilt), c = cosf(tilt);
+            float t = depth * c / (c - s * ndc_y * tan_y);
+            set_point(view, out, x, y, t);
+        }
+    }
+}
+
+/* The known-truth scene: a near rectangle (z = -5, x in [-1.5, 1.5], y in [-1, 1])
+ * partly covering a far rectangle (z = -20, |x| <= 8, |y| <= 6), both sampled on
+ * jittered grids whose spacing projects to ~1.4 px (s0 = 0.025 m at 5 m, 0.1 m at
+ * 20 m), drawn one pixel per point with a depth test: pixels without a point remain
+ * between samples, and far points show through the gaps of the near plane. */
+enum truth {
+    T_NEAR,       // a near-plane point: visible
+    T_FAR_OPEN,   // a far-plane point outside the near rectangle: visible
+    T_FAR_HIDDEN, // a far-plane point behind the near rectangle: hidden
+    T_GAP_NEAR,   // no point, inside the near rectangle: hole
+    T_GAP_FAR,    // no point, inside the far rectangle only: hole
+    T_SKY,        // no point, outside both: background
+    T_COUNT
+};
+
+#define NEAR_Z 5.0f
+#define FAR_Z  20.0f
+
+static void splat(const sta_view_params *view, sta_image *position, float px_m, float py_m,
+                  float depth)
+{
+    float tan_y = tanf(0.5f * view->fov_y);
+    float tan_x = tan_y * (float)view->width_px / (float)view->height_px;
+    float ndc_x = px_m / (depth * tan_x), ndc_y = py_m / (depth * tan_y);
+    int x = (int)floorf((ndc_x + 1.0f) * 0.5f * (float)view->width_px);
+    int y = (int)floorf((ndc_y + 1.0f) * 0.5f * (float)view->height_px);
+    if (x < 0 || y < 0 || x >= view->width_px || y >= view->height_px) {
+        return;
+    }
+    float *p = sta_image_at(position, x, y);
+    if (p[3] == 0.0f || depth < -p[2]) {
+        set_point(view, position, x, y, depth);
+    }
+}
+
+static void sample_rect(const sta_view_params *view, sta_image *position, float half_w,
+                        float half_h, float depth, float spacing)
+{
+    int nx = (int)lroundf(2.0f * half_w / spacing), ny = (int)lroundf(2.0f * half_h / spacing);
+    for (int j = 0; j <= ny; j++) {
+        for (int i = 0; i <= nx; i++) {
+            float x = -half_w + spacing * ((float)i + 0.25f * (float)(2.0 * rng_uniform() - 1.0));
+            float y = -half_h + spacing * ((float)j + 0.25f * (float)(2.0 * rng_uniform() - 1.0));
+            x = fminf(fmaxf(x, -half_w), half_w);
+            y = fminf(fmaxf(y, -half_h), half_h);
+            splat(view, position, x, y, depth);
+        }
+    }
+}
+
+static void make_two_planes(const sta_view_params *view, sta_image *out, unsigned char *truth)
+{
+    new_image(out, view->width_px, view->height_px, 4);
+    rng_state = 777;
+    sample_rect(view, out, 1.5f, 1.0f, NEAR_Z, 0.025f);
+    sample_rect(view, out, 8.0f, 6.0f, FAR_Z, 0.1f);
+    float tan_y = tanf(0.5f * view->fov_y);
+    float tan_x = tan_y * (float)view->width_px / (float)view->height_px;
+    for (int y = 0; y < view->height_px; y++) {
+        for (int x = 0; x < view->width_px; x++) {
+            float ndc_x = ((float)x + 0.5f) / (float)view->width_px * 2.0f - 1.0f;
+            float ndc_y = ((float)y + 0.5f) / (float)view->height_px * 2.0f - 1.0f;
+            bool in_near =
+                fabsf(ndc_x * tan_x * NEAR_Z) <= 1.5f && fabsf(ndc_y * tan_y * NEAR_Z) <= 1.0f;
+            bool in_far =
+                fabsf(ndc_x * tan_x * FAR_Z) <= 8.0f && fabsf(ndc_y * tan_y * FAR_Z) <= 6.0f;
+            const float *p = sta_image_at(out, x, y);
+            enum truth t;
+            if (p[3] > 0.5f) {
+                t = -p[2] < 0.5f * (NEAR_Z + FAR_Z) ? T_NEAR
+                                                    : (in_near ? T_FAR_HIDDEN : T_FAR_OPEN);
+            } else {
+                t = in_near ? T_GAP_NEAR : (in_far ? T_GAP_FAR : T_SKY);
+            }
+            truth[(size_t)y * (size_t)view->width_px + (size_t)x] = (unsigned char)t;
+        }
+    }
+}
+
+/* ---- running both sides ---- */
+
+// Runs the GPU pyramidal operator; out_pyramid (may be NULL) receives levels 1.. read
+// back at their logical sizes (level 0 left empty).
+static void gpu_pyramid(const sta_view_params *view, const sta_hpr_params *params,
+                        const sta_image *position, sta_image *out_label,
+                        sta_hpr_pyramid *out_pyramid)
+{
+    sta_error err = { 0 };
+    GLuint position_tex, pyramid_tex, label_tex;
+    assert_int_equal(sta_gl_texture_from_image(position, &position_tex, &err), STA_OK);
+    assert_int_equal(
+        sta_hpr_pyramid_texture_create(view->width_px, view->height_px, &pyramid_tex, &err),
+        STA_OK);
+    assert_int_equal(sta_gl_texture_create(view->width_px, view->height_px, 1, 1, &label_tex, &err),
+                     STA_OK);
+    sta_status status =
+        sta_hpr_pass_run_pyramid(&pass, view, params, position_tex, pyramid_tex, label_tex, &err);
+    if (status != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    assert_int_equal(sta_gl_texture_to_image(label_tex, 0, 1, out_label, &err), STA_OK);
+    if (out_pyramid) {
+        memset(out_pyramid, 0, sizeof(*out_pyramid));
+        out_pyramid->level_count = sta_hpr_pyramid_levels(view->width_px, view->height_px);
+        for (int l = 1; l < out_pyramid->level_count; l++) {
+            sta_image mip;
+            assert_int_equal(sta_gl_texture_to_image(pyramid_tex, l - 1, 4, &mip, &err), STA_OK);
+            int w = sta_hpr_level_size(view->width_px, l),
+                h = sta_hpr_level_size(view->height_px, l);
+            assert_true(mip.width >= w && mip.height >= h);
+            new_image(&out_pyramid->levels[l], w, h, 4);
+            for (int y = 0; y < h; y++) {
+                memcpy(sta_image_at(&out_pyramid->levels[l], 0, y), sta_image_at(&mip, 0, y),
+                       (size_t)w * 4 * sizeof(float));
+            }
+            sta_image_release(&mip);
+        }
+    }
+    glDeleteTextures(1, &position_tex);
+    glDeleteTextures(1, &pyramid_tex);
+    glDeleteTextures(1, &label_tex);
+}
+
+static void gpu_exhaustive(const sta_view_params *view, const sta_hpr_params *params, int radius,
+                           const sta_image *position, sta_image *out_label)
+{
+    sta_error err = { 0 };
+    GLuint position_tex, label_tex;
+    assert_int_equal(sta_gl_texture_from_image(position, &position_tex, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_create(view->width_px, view->height_px, 1, 1, &label_tex, &err),
+                     STA_OK);
+    sta_status status =
+        sta_hpr_pass_run_exhaustive(&pass, view, params, radius, position_tex, label_tex, &err);
+    if (status != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    assert_int_equal(sta_gl_texture_to_image(label_tex, 0, 1, out_label, &err), STA_OK);
+    glDeleteTextures(1, &position_tex);
+    glDeleteTextures(1, &label_tex);
+}
+
+static bool is_label(float v)
+{
+    return v == STA_LABEL_BACKGROUND || v == STA_LABEL_VISIBLE || v == STA_LABEL_HIDDEN ||
+           v == STA_LABEL_HOLE;
+}
+
+// Counts labels that differ; each must be a pixel whose twin mean lies within 1e-5 of
+// the threshold (float rounding of the occlusion values may then tip it).
+static int count_differences(const sta_image *twin, const sta_image *gpu, const sta_image *mean,
+                             float threshold)
+{
+    assert_int_equal(twin->width, gpu->width);
+    assert_int_equal(twin->height, gpu->height);
+    int differing = 0;
+    for (int i = 0; i < twin->width * twin->height; i++) {
+        assert_true(is_label(twin->data[i]));
+        assert_true(is_label(gpu->data[i]));
+        assert_true(isfinite(mean->data[i]));
+        if (twin->data[i] != gpu->data[i]) {
+            assert_true(fabsf(mean->data[i] - threshold) <= 1e-5f);
+            differing++;
+        }
+    }
+    return differing;
+}
+
+typedef struct both_result {
+    sta_image pyramid_label; // twin labels, pyramidal operator
+    sta_image pyramid_mean;
+    sta_image pyramid_level;
+    sta_image exhaustive_label; // twin labels, exhaustive operator (if radius >= 0)
+} both_result;
+
+static void both_release(both_result *r)
+{
+    sta_image_release(&r->pyramid_label);
+    sta_image_release(&r->pyramid_mean);
+    sta_image_release(&r->pyramid_level);
+    sta_image_release(&r->exhaustive_label);
+}
+
+/* Runs twin and shader of the pyramidal operator (and of the exhaustive one when
+ * radius >= 0) on `position`; asserts equal pyramids (bit for bit) and equal labels
+ * (but for near-threshold pixels, counted and printed). */
+static void run_both(const char *name, const sta_view_params *view, const sta_hpr_params *params,
+                     const sta_image *position, int radius, both_result *out)
+{
+    memset(out, 0, sizeof(*out));
+    sta_error err = { 0 };
+    int w = view->width_px, h = view->height_px;
+    sta_hpr_params resolved = sta_hpr_params_defaults(view, params);
+    sta_hpr_pyramid twin_pyramid, gpu_pyramid_levels;
+    assert_int_equal(sta_hpr_ref_build_pyramid(position, &twin_pyramid, &err), STA_OK);
+    new_image(&out->pyramid_label, w, h, 1);
+    new_image(&out->pyramid_mean, w, h, 1);
+    new_image(&out->pyramid_level, w, h, 1);
+    sta_hpr_ref_pyramid_labels(view, params, &twin_pyramid, &out->pyramid_label, &out->pyramid_mean,
+                               &out->pyramid_level);
+    sta_image gpu_label;
+    gpu_pyramid(view, params, position, &gpu_label, &gpu_pyramid_levels);
+    assert_int_equal(gpu_pyramid_levels.level_count, twin_pyramid.level_count);
+    for (int l = 1; l < twin_pyramid.level_count; l++) {
+        const sta_image *a = &twin_pyramid.levels[l], *b = &gpu_pyramid_levels.levels[l];
+        assert_int_equal(a->width, b->width);
+        assert_int_equal(a->height, b->height);
+        assert_memory_equal(a->data, b->data, (size_t)a->width * (size_t)a->height * 16);
+    }
+    int differing =
+        count_differences(&out->pyramid_label, &gpu_label, &out->pyramid_mean, resolved.threshold);
+    int close = 0; // pixels whose mean is within 1e-3 of the threshold: the hard ones
+    for (int i = 0; i < w * h; i++) {
+        close += fabsf(out->pyramid_mean.data[i] - resolved.threshold) < 1e-3f;
+    }
+    printf("hpr %-14s %4dx%-4d pyramidal: %d of %d labels differ from the twin (%d levels, "
+           "%d means within 1e-3 of the threshold)",
+           name, w, h, differing, w * h, twin_pyramid.level_count, close);
+    sta_image_release(&gpu_label);
+    sta_hpr_ref_pyramid_release(&twin_pyramid);
+    sta_hpr_ref_pyramid_release(&gpu_pyramid_levels);
+    if (radius >= 0) {
+        sta_image mean;
+        new_image(&out->exhaustive_label, w, h, 1);
+        new_image(&mean, w, h, 1);
+        sta_hpr_ref_exhaustive(view, params, radius, position, &out->exhaustive_label, &mean);
+        gpu_exhaustive(view, params, radius, position, &gpu_label);
+        differing =
+            count_differences(&out->exhaustive_label, &gpu_label, &mean, resolved.threshold);
+        printf("; exhaustive r=%d: %d differ", radius, differing);
+        sta_image_release(&gpu_label);
+        sta_image_release(&mean);
+    }
+    printf("\n");
+}
+
+static int count_label(const sta_image *label, float value)
+{
+    int n = 0;
+    for (int i = 0; i < label->width * label->height; i++) {
+        n += label->data[i] == value;
+    }
+    return n;
+}
+
+/* ---- tests ---- */
+
+static void pyramid_sizes_and_levels(void **state)
+{
+    (void)state;
+    assert_int_equal(sta_hpr_pyramid_levels(1, 1), 2);
+    assert_int_equal(sta_hpr_pyramid_levels(2, 1), 2);
+    assert_int_equal(sta_hpr_pyramid_levels(3, 1), 3);
+    assert_int_equal(sta_hpr_pyramid_levels(1, 17), 6);
+    assert_int_equal(sta_hpr_pyramid_levels(1920, 1080), 12);
+    assert_int_equal(sta_hpr_pyramid_levels(32768, 5), 16);
+    assert_int_equal(sta_hpr_pyramid_levels(32769, 5), 0);
+    assert_int_equal(sta_hpr_pyramid_levels(0, 5), 0);
+    assert_int_equal(sta_hpr_level_size(37, 1), 19);
+    assert_int_equal(sta_hpr_level_size(37, 5), 2);
+    assert_int_equal(sta_hpr_level_size(37, 6), 1);
+    int tw, th, mips;
+    sta_hpr_pyramid_texture_size(1920, 1080, &tw, &th, &mips);
+    assert_int_equal(tw, 1024);
+    assert_int_equal(th, 1024);
+    assert_int_equal(mips, 11);
+    // Every GL mip (floor halving, at least 1) holds its logical level, and the mip
+    // count fits the texture, for all sizes up to 130.
+    for (int w = 1; w <= 130; w++) {
+        for (int h = 1; h <= 130; h += (w % 7) + 1) {
+            sta_hpr_pyramid_texture_size(w, h, &tw, &th, &mips);
+            int levels = sta_hpr_pyramid_levels(w, h);
+            assert_int_equal(mips, levels - 1);
+            assert_true(sta_hpr_level_size(w, levels - 1) == 1);
+            assert_true(sta_hpr_level_size(h, levels - 1) == 1);
+            int largest = tw > th ? tw : th, max_mips = 1;
+            while ((1 << max_mips) <= largest) {
+                max_mips++;
+            }
+            assert_true(mips <= max_mips);
+            for (int g = 0; g < mips; g++) {
+                int mw = tw >> g, mh = th >> g;
+                assert_true((mw > 1 ? mw : 1) >= sta_hpr_level_size(w, g + 1));
+                assert_true((mh > 1 ? mh : 1) >= sta_hpr_level_size(h, g + 1));
+            }
+        }
+    }
+}
+
+static void sectors_follow_the_angle(void **state)
+{
+    (void)state;
+    // The 8 direct neighbours fall in 8 different sectors, counter-clockwise from +x.
+    const int ring[8][2] = { { 1, 0 },  { 1, 1 },   { 0, 1 },  { -1, 1 },
+                             { -1, 0 }, { -1, -1 }, { 0, -1 }, { 1, -1 } };
+    for (int s = 0; s < 8; s++) {
+        assert_int_equal(sta_hpr_sector(2 * ring[s][0], 2 * ring[s][1]), s);
+    }
+    // Any direction: the sector whose centre is nearest in angle (atan2), away from
+    // the borders by more than 1e-3 rad.
+    rng_state = 99;
+    int checked = 0;
+    for (int i = 0; i < 20000; i++) {
+        int vx = (int)(rng_uniform() * 8001.0) - 4000, vy = (int)(rng_uniform() * 8001.0) - 4000;
+        if (vx == 0 && vy == 0) {
+            continue;
+        }
+        double a = atan2((double)vy, (double)vx) / (M_PI / 4.0); // in sector widths
+        double frac = a - floor(a);
+        if (fabs(frac - 0.5) < 1e-3 * 4.0 / M_PI) {
+            continue;
+        }
+        int expected = ((int)floor(a + 0.5) + 8) % 8;
+        assert_int_equal(sta_hpr_sector(vx, vy), expected);
+        checked++;
+    }
+    assert_true(checked > 19000);
+}
+
+static void adaptive_level_is_rounded_eq1(void **state)
+{
+    (void)state;
+    sta_view_params view = make_view(1248, 768);
+    sta_hpr_params p = sta_hpr_params_defaults(&view, NULL);
+    assert_true(p.threshold == 0.1f && p.coarse_level == 4 && p.far_m == 1.0e6f);
+    assert_true(fabsf(p.s_hpr - 0.25f) < 1e-7f);
+    int levels = sta_hpr_pyramid_levels(view.width_px, view.height_px);
+    float depth[STA_HPR_MAX_LEVELS];
+    sta_hpr_level_depths(&view, &p, levels, depth);
+    // Eq. 1 in double: l = log2(s_hpr h / (2 tan(theta)) / z), rounded and clamped.
+    double k = 0.25 * 768.0 / (2.0 * tan(0.4));
+    int seen[STA_HPR_MAX_LEVELS] = { 0 };
+    for (double z = 0.01; z < 1e6; z *= 1.0137) {
+        double l = log2(k / z);
+        if (fabs(l - floor(l) - 0.5) < 1e-4) {
+            continue; // at a rounding border
+        }
+        long expected = lround(l);
+        expected = expected < 0 ? 0 : (expected > levels - 1 ? levels - 1 : expected);
+        int level = 0;
+        for (int i = 1; i < levels; i++) {
+            if ((float)z <= depth[i]) {
+                level = i;
+            }
+        }
+        assert_int_equal(level, expected);
+        seen[level] = 1;
+    }
+    for (int l = 0; l < levels; l++) {
+        assert_true(seen[l]);
+    }
+    // No s0 (0 everywhere): level 0, no NaN.
+    sta_view_params flat = view;
+    flat.s0 = 0.0f;
+    sta_hpr_params q = sta_hpr_params_defaults(&flat, NULL);
+    sta_hpr_level_depths(&flat, &q, levels, depth);
+    for (int l = 1; l < levels; l++) {
+        assert_true(depth[l] == 0.0f);
+    }
+}
+
+static void shader_matches_twin_on_random_buffers(void **state)
+{
+    (void)state;
+    const int sizes[][2] = { { 37, 23 }, { 1, 17 }, { 17, 1 }, { 97, 61 }, { 64, 64 }, { 130, 9 } };
+    const double fills[] = { 0.5, 0.9, 0.1 };
+    for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
+        for (size_t f = 0; f < 3; f++) {
+            sta_view_params view = make_view(sizes[i][0], sizes[i][1]);
+            sta_image position;
+            make_random(&view, 1000 + i * 10 + f, fills[f], &position);
+            both_result r;
+            char name[32];
+            snprintf(name, sizeof(name), "random %.1f", fills[f]);
+            // Defaults; other threshold, s_hpr and far depth; coarse level 2 (the
+            // adaptive level then varies within a workgroup).
+            sta_hpr_params params = { 0 };
+            if (f == 1) {
+                params = (sta_hpr_params){ .threshold = 0.3f, .s_hpr = 1.0f, .far_m = 500.0f };
+            } else if (f == 2) {
+                params.coarse_level = 2;
+            }
+            run_both(name, &view, &params, &position, 3, &r);
+            both_release(&r);
+            sta_image_release(&position);
+        }
+    }
+}
+
+// Precision and recall of `label` against the two-plane truth, for one predicted
+// label and the truth classes that should get it.
+static void precision_recall(const sta_image *label, const unsigned char *truth, float predicted,
+                             unsigned truth_mask, double *precision, double *recall)
+{
+    long tp = 0, fp = 0, fn = 0;
+    for (int i = 0; i < label->width * label->height; i++) {
+        bool want = (truth_mask >> truth[i]) & 1u;
+        bool got = label->data[i] == predicted;
+        tp += want && got;
+        fp += !want && got;
+        fn += want && !got;
+    }
+    *precision = tp + fp ? (double)tp / (double)(tp + fp) : 1.0;
+    *recall = tp + fn ? (double)tp / (double)(tp + fn) : 1.0;
+}
+
+typedef struct scores {
+    double hidden_p, hidden_r, visible_p, visible_r, hole_p, hole_r, sky_p, sky_r;
+} scores;
+
+static scores score(const char *name, const sta_image *label, const unsigned char *truth)
+{
+    scores s;
+    precision_recall(label, truth, STA_LABEL_HIDDEN, 1u << T_FAR_HIDDEN, &s.hidden_p, &s.hidden_r);
+    precision_recall(label, truth, STA_LABEL_VISIBLE, (1u << T_NEAR) | (1u << T_FAR_OPEN),
+                     &s.visible_p, &s.visible_r);
+    precision_recall(label, truth, STA_LABEL_HOLE, (1u << T_GAP_NEAR) | (1u << T_GAP_FAR),
+                     &s.hole_p, &s.hole_r);
+    precision_recall(label, truth, STA_LABEL_BACKGROUND, 1u << T_SKY, &s.sky_p, &s.sky_r);
+    printf("hpr truth %-18s HIDDEN p=%.4f r=%.4f  VISIBLE p=%.4f r=%.4f  HOLE p=%.4f r=%.4f  "
+           "BACKGROUND p=%.4f r=%.4f\n",
+           name, s.hidden_p, s.hidden_r, s.visible_p, s.visible_r, s.hole_p, s.hole_r, s.sky_p,
+           s.sky_r);
+    return s;
+}
+
+static void near_plane_over_far_plane_known_truth(void **state)
+{
+    (void)state;
+    sta_view_params view = make_view(320, 240);
+    sta_image position;
+    static unsigned char truth[320 * 240];
+    make_two_planes(&view, &position, truth);
+    int counts[T_COUNT] = { 0 };
+    for (int i = 0; i < 320 * 240; i++) {
+        counts[truth[i]]++;
+    }
+    printf("hpr truth: near %d, far open %d, far hidden %d, gaps near %d, gaps far %d, sky %d\n",
+           counts[T_NEAR], counts[T_FAR_OPEN], counts[T_FAR_HIDDEN], counts[T_GAP_NEAR],
+           counts[T_GAP_FAR], counts[T_SKY]);
+    // The scene is what it claims: gaps everywhere, far points seen through them.
+    assert_true(counts[T_FAR_HIDDEN] > 2000 && counts[T_GAP_NEAR] > 2000);
+    assert_true(counts[T_SKY] > 10000 && counts[T_FAR_OPEN] > 5000);
+    both_result r;
+    run_both("two planes", &view, NULL, &position, 8, &r);
+    // Adaptive level (eq. 1 with s_hpr = 0.25 m, K = 71 px m): 4 behind the near plane
+    // (z = 5), 2 on the far plane.
+    for (int i = 0; i < 320 * 240; i++) {
+        float level = r.pyramid_level.data[i];
+        if (truth[i] == T_NEAR) {
+            assert_true(level >= 3.0f && level <= 4.0f);
+        } else if (truth[i] == T_FAR_OPEN) {
+            assert_true(level >= 2.0f && level <= 4.0f);
+        }
+    }
+    scores s = score("pyramidal", &r.pyramid_label, truth);
+    assert_true(s.hidden_r > 0.95 && s.hidden_p > 0.95);
+    assert_true(s.visible_r > 0.97 && s.visible_p > 0.97);
+    assert_true(s.hole_r > 0.95 && s.hole_p > 0.95);
+    assert_true(s.sky_r > 0.95 && s.sky_p > 0.95);
+    scores e = score("exhaustive r=8", &r.exhaustive_label, truth);
+    assert_true(e.hidden_r > 0.9 && e.visible_r > 0.9 && e.hole_r > 0.9 && e.sky_r > 0.9);
+    // Agreement of the two operators.
+    int agree = 0;
+    for (int i = 0; i < 320 * 240; i++) {
+        agree += r.pyramid_label.data[i] == r.exhaustive_label.data[i];
+    }
+    printf("hpr pyramidal vs exhaustive r=8: %.4f of labels agree\n", agree / (320.0 * 240.0));
+    assert_true(agree > 0.9 * 320 * 240);
+    both_release(&r);
+    sta_image_release(&position);
+}
+
+static int compare_floats(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* The hard test of shader = twin: thresholds set to the twin's own means, so that many
+ * pixels sit exactly on the threshold and any rounding difference in the occlusion
+ * values would flip them. */
+static void labels_match_with_thresholds_on_the_means(void **state)
+{
+    (void)state;
+    sta_view_params view = make_view(320, 240);
+    sta_image position;
+    static unsigned char truth[320 * 240];
+    make_two_planes(&view, &position, truth);
+    both_result r;
+    run_both("two planes", &view, NULL, &position, -1, &r);
+    const int n = 320 * 240;
+    float *sorted = test_malloc((size_t)n * sizeof(float));
+    memcpy(sorted, r.pyramid_mean.data, (size_t)n * sizeof(float));
+    qsort(sorted, (size_t)n, sizeof(float), compare_floats);
+    int unique = 0; // distinct means, spread evenly over their range below
+    for (int i = 0; i < n; i++) {
+        if (unique == 0 || sorted[i] != sorted[unique - 1]) {
+            sorted[unique++] = sorted[i];
+        }
+    }
+    int differing = 0, on_threshold = 0, runs = 0;
+    for (int q = 0; q < 24; q++) {
+        float threshold = sorted[(size_t)((q + 0.5) / 24.0 * unique)];
+        if (!(threshold > 0.0f)) {
+            continue; // 0 would mean "default"
+        }
+        sta_hpr_params params = { .threshold = threshold };
+        sta_image gpu;
+        gpu_pyramid(&view, &params, &position, &gpu, NULL);
+        for (int i = 0; i < n; i++) {
+            float mean = r.pyramid_mean.data[i];
+            bool point = position.data[4 * i + 3] > 0.5f;
+            bool open = mean >= threshold;
+            float want = point ? (open ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN)
+                               : (open ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE);
+            on_threshold += mean == threshold;
+            if (gpu.data[i] != want) {
+                assert_true(fabsf(mean - threshold) <= 1e-5f);
+                differing++;
+            }
+        }
+        sta_image_release(&gpu);
+        runs++;
+    }
+    printf("hpr thresholds on the means: %d runs (of %d distinct means), %d pixel means exactly "
+           "on the threshold, %d labels differ from the twin\n",
+           runs, unique, on_threshold, differing);
+    assert_true(runs >= 12 && on_threshold >= runs);
+    test_free(sorted);
+    both_release(&r);
+    sta_image_release(&position);
+}
+
+static void empty_frame_is_background(void **state)
+{
+    (void)state;
+    sta_view_params view = make_view(37, 23);
+    sta_image position;
+    new_image(&position, 37, 23, 4);
+    both_result r;
+    run_both("empty", &view, NULL, &position, 4, &r);
+    assert_int_equal(count_label(&r.pyramid_label, STA_LABEL_BACKGROUND), 37 * 23);
+    assert_int_equal(count_label(&r.exhaustive_label, STA_LABEL_BACKGROUND), 37 * 23);
+    for (int i = 0; i < 37 * 23; i++) {
+        assert_true(r.pyramid_mean.data[i] == 1.0f);
+    }
+    both_release(&r);
+    sta_image_release(&position);
+}
+
+static void single_point_is_visible(void **state)
+{
+    (void)state;
+    const int sizes[][2] = { { 37, 23 }, { 1, 1 } };
+    for (int i = 0; i < 2; i++) {
+        int w = sizes[i][0], h = sizes[i][1];
+        sta_view_params view = make_view(w, h);
+        sta_image position;
+        new_image(&position, w, h, 4);
+        set_point(&view, &position, w / 2, h / 2, 3.0f);
+        both_result r;
+        run_both("single point", &view, NULL, &position, 4, &r);
+        assert_true(*sta_image_at(&r.pyramid_label, w / 2, h / 2) == STA_LABEL_VISIBLE);
+        assert_true(*sta_image_at(&r.exhaustive_label, w / 2, h / 2) == STA_LABEL_VISIBLE);
+        assert_int_equal(count_label(&r.pyramid_label, STA_LABEL_BACKGROUND), w * h - 1);
+        assert_int_equal(count_label(&r.exhaustive_label, STA_LABEL_BACKGROUND), w * h - 1);
+        both_release(&r);
+        sta_image_release(&position);
+    }
+    // A 1x1 background pixel.
+    sta_view_params view = make_view(1, 1);
+    sta_image position;
+    new_image(&position, 1, 1, 4);
+    both_result r;
+    run_both("1x1 empty", &view, NULL, &position, 2, &r);
+    assert_true(r.pyramid_label.data[0] == STA_LABEL_BACKGROUND);
+    both_release(&r);
+    sta_image_release(&position);
+}
+
+static void full_planes_are_visible(void **state)
+{
+    (void)state;
+    // Fronto-parallel and tilted by 60 deg, at ordinary depth, at the near plane and at
+    // 1e5 m; odd and tiny sizes.
+    const struct {
+        int w, h;
+        float depth, tilt;
+    } cases[] = { { 64, 48, 10.0f, 0.0f },  { 64, 48, 10.0f, 1.047f },   { 37, 23, 0.05f, 0.0f },
+                  { 37, 23, 1.0e5f, 0.0f }, { 37, 23, 1.0e5f, -1.047f }, { 1, 17, 2.0f, 0.5f },
+                  { 1, 1, 1.0f, 0.0f } };
+    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+        sta_view_params view = make_view(cases[i].w, cases[i].h);
+        sta_image position;
+        make_plane(&view, cases[i].depth, cases[i].tilt, &position);
+        both_result r;
+        run_both("full plane", &view, NULL, &position, 5, &r);
+        assert_int_equal(count_label(&r.pyramid_label, STA_LABEL_VISIBLE), cases[i].w * cases[i].h);
+        assert_int_equal(count_label(&r.exhaustive_label, STA_LABEL_VISIBLE),
+                         cases[i].w * cases[i].h);
+        both_release(&r);
+        sta_image_release(&position);
+    }
+}
+
+static void near_plane_and_huge_depth(void **state)
+{
+    (void)state;
+    // Left half at the near plane (0.05 m), right half at 1e5 m, a few gaps; then a
+    // sparse far wall at 1e5 m behind a dense screen at 0.05 m.
+    sta_view_params view = make_view(61, 41);
+    sta_image position;
+    new_image(&position, 61, 41, 4);
+    for (int y = 0; y < 41; y++) {
+        for (int x = 0; x < 61; x++) {
+            if ((x * 7 + y * 3) % 11 != 0) {
+                set_point(&view, &position, x, y, x < 30 ? view.near_m : 1.0e5f);
+            }
+        }
+    }
+    both_result r;
+    run_both("near and 1e5", &view, NULL, &position, 6, &r);
+    for (int y = 0; y < 41; y++) {
+        for (int x = 0; x < 61; x++) {
+            float l = *sta_image_at(&r.pyramid_label, x, y);
+            float m = *sta_image_at(&r.pyramid_mean, x, y);
+            assert_true(isfinite(m) && m >= 0.0f && m <= 1.0f);
+            if (sta_image_at(&position, x, y)[3] > 0.5f) {
+                assert_true(l == STA_LABEL_VISIBLE); // side by side, nothing in front
+            } else if (x > 1 && x < 59 && y > 1 && y < 39) {
+                assert_true(l == STA_LABEL_HOLE);
+            }
+        }
+    }
+    both_release(&r);
+    sta_image_release(&position);
+    // Every other pixel of a checkerboard at 1e5 m, the rest at the near plane: the far
+    // points are seen through a screen and hidden.
+    new_image(&position, 61, 41, 4);
+    for (int y = 0; y < 41; y++) {
+        for (int x = 0; x < 61; x++) {
+            set_point(&view, &position, x, y, (x + y) % 2 ? 1.0e5f : view.near_m);
+        }
+    }
+    run_both("screen over 1e5", &view, NULL, &position, 6, &r);
+    // (Along the border a far point has open sectors outside the image.)
+    for (int y = 2; y < 39; y++) {
+        for (int x = 2; x < 59; x++) {
+            float want = (x + y) % 2 ? STA_LABEL_HIDDEN : STA_LABEL_VISIBLE;
+            assert_true(*sta_image_at(&r.pyramid_label, x, y) == want);
+            assert_true(*sta_image_at(&r.exhaustive_label, x, y) == want);
+        }
+    }
+    both_release(&r);
+    sta_image_release(&position);
+}
+
+static void coincident_points_are_skipped(void **state)
+{
+    (void)state;
+    // Every pixel holds the same point: all neighbours coincide, so every sector stays
+    // open (mean 1) and nothing is NaN.
+    sta_view_params view = make_view(37, 23);
+    sta_image position;
+    new_image(&position, 37, 23, 4);
+    for (int i = 0; i < 37 * 23; i++) {
+        float *p = position.data + 4 * i;
+        p[0] = 0.1f;
+        p[1] = -0.2f;
+        p[2] = -5.0f;
+        p[3] = 1.0f;
+    }
+    // And one point at the eye (|y| = 0), one of the points' neighbours.
+    float *eye = sta_image_at(&position, 3, 3);
+    eye[0] = eye[1] = eye[2] = 0.0f;
+    both_result r;
+    run_both("coincident", &view, NULL, &position, 4, &r);
+    for (int i = 0; i < 37 * 23; i++) {
+        assert_true(r.pyramid_label.data[i] == STA_LABEL_VISIBLE);
+        assert_true(r.exhaustive_label.data[i] == STA_LABEL_VISIBLE);
+        assert_true(isfinite(r.pyramid_mean.data[i]));
+    }
+    both_release(&r);
+    sta_image_release(&position);
+}
+
+static void allocation_failures_are_clean(void **state)
+{
+    (void)state;
+    // Every allocation of the twin failing in turn: STA_ERR_NOMEM, nothing leaked
+    // (LeakSanitizer), the pyramid zeroed.
+    sta_view_params view = make_view(37, 23);
+    sta_image position, label;
+    make_random(&view, 5, 0.5, &position);
+    new_image(&label, 37, 23, 1);
+    int failures = 0;
+    for (long n = 0;; n++) {
+        sta_error err = { 0 };
+        sta_alloc_fail_after(n);
+        sta_status status = sta_hpr_ref_pyramid(&view, NULL, &position, &label, &err);
+        sta_alloc_fail_after(-1);
+        if (status == STA_OK) {
+            break;
+        }
+        assert_int_equal(status, STA_ERR_NOMEM);
+        failures++;
+    }
+    assert_int_equal(failures, sta_hpr_pyramid_levels(37, 23)); // one image per level
+    sta_image_release(&label);
+    sta_image_release(&position);
+}
+
+static void bad_arguments_are_refused(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    GLuint texture = 0;
+    assert_int_equal(sta_hpr_pyramid_texture_create(0, 10, &texture, &err), STA_ERR_ARG);
+    assert_int_equal(texture, 0);
+    sta_view_params view = make_view(40, 30);
+    GLuint position_tex, small_pyramid, label_tex;
+    assert_int_equal(sta_gl_texture_create(40, 30, 4, 1, &position_tex, &err), STA_OK);
+    assert_int_equal(sta_hpr_pyramid_texture_create(20, 30, &small_pyramid, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_create(40, 30, 1, 1, &label_tex, &err), STA_OK);
+    assert_int_equal(
+        sta_hpr_pass_run_pyramid(&pass, &view, NULL, position_tex, small_pyramid, label_tex, &err),
+        STA_ERR_ARG);
+    printf("hpr refused: %s\n", err.message);
+    assert_int_equal(
+        sta_hpr_pass_run_exhaustive(&pass, &view, NULL, -1, position_tex, label_tex, &err),
+        STA_ERR_ARG);
+    glDeleteTextures(1, &position_tex);
+    glDeleteTextures(1, &small_pyramid);
+    glDeleteTextures(1, &label_tex);
+    sta_image wrong;
+    new_image(&wrong, 4, 4, 1);
+    sta_hpr_pyramid pyramid;
+    assert_int_equal(sta_hpr_ref_build_pyramid(&wrong, &pyramid, &err), STA_ERR_ARG);
+    sta_hpr_ref_pyramid_release(&pyramid);
+    sta_image_release(&wrong);
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(pyramid_sizes_and_levels),
+    cmocka_unit_test(sectors_follow_the_angle),
+    cmocka_unit_test(adaptive_level_is_rounded_eq1),
+    cmocka_unit_test_setup_teardown(shader_matches_twin_on_random_buffers, setup, teardown),
+    cmocka_unit_test_setup_teardown(near_plane_over_far_plane_known_truth, setup, teardown),
+    cmocka_unit_test_setup_teardown(labels_match_with_thresholds_on_the_means, setup, teardown),
+    cmocka_unit_test_setup_teardown(empty_frame_is_background, setup, teardown),
+    cmocka_unit_test_setup_teardown(single_point_is_visible, setup, teardown),
+    cmocka_unit_test_setup_teardown(full_planes_are_visible, setup, teardown),
+    cmocka_unit_test_setup_teardown(near_plane_and_huge_depth, setup, teardown),
+    cmocka_unit_test_setup_teardown(coincident_points_are_skipped, setup, teardown),
+    cmocka_unit_test(allocation_failures_are_clean),
+    cmocka_unit_test_setup_teardown(bad_arguments_are_refused, setup, teardown),
+};
+
+STA_TEST_MAIN(tests)
