@@ -57,11 +57,11 @@ bool hpr_occlusion(vec3 x, vec3 y, out float value)
 // The label from the point flag and the mean of the 8 sector minima.
 float hpr_label(bool is_point, float mean, float threshold)
 {
-    bool open = mean >= threshold;
     if (is_point) {
-        return open ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN;
+        return mean >= threshold ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN;
     }
-    return open ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE;
+    float background = float(STA_HPR_BACKGROUND_OPEN_SECTORS) * 0.125;
+    return mean >= max(threshold, background) ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE;
 }
 
 // The 8 sector minima live in two vec4 (sectors 0-3, 4-7) and are lowered by selects

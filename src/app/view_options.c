@@ -125,10 +125,24 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        // "--name=value" is "--name value" (handy for negative numbers).
+        char name[64];
+        const char *eq = strchr(o, '=');
+        bool joined = o[0] == '-' && o[1] == '-' && eq && (size_t)(eq - o) < sizeof(name);
+        if (joined) {
+            memcpy(name, o, (size_t)(eq - o));
+            name[eq - o] = '\0';
+            o = name;
+            v = eq + 1;
+        }
         uint64_t n = 0;
         if (strcmp(o, "-h") == 0 || strcmp(o, "--help") == 0) {
             print_usage(stdout);
             return -1;
+        } else if (joined && (strcmp(o, "--headless") == 0 || strcmp(o, "--stats") == 0 ||
+                              strcmp(o, "--smooth") == 0)) {
+            fprintf(stderr, "strata-view: %s takes no value\n", o);
+            return 2;
         } else if (strcmp(o, "--headless") == 0) {
             a->headless = true;
         } else if (strcmp(o, "--stats") == 0) {
@@ -139,13 +153,17 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
             fprintf(stderr, "strata-view: %s needs a value (or is unknown; see --help)\n", o);
             return 2;
         } else if (strcmp(o, "--out") == 0) {
-            a->out_png = argv[++i];
+            a->out_png = v;
+            i += !joined;
         } else if (strcmp(o, "--exr") == 0) {
-            a->out_exr = argv[++i];
+            a->out_exr = v;
+            i += !joined;
         } else if (strcmp(o, "--path") == 0) {
-            a->path_file = argv[++i];
+            a->path_file = v;
+            i += !joined;
         } else if (strcmp(o, "--record") == 0) {
-            a->record_file = argv[++i];
+            a->record_file = v;
+            i += !joined;
         } else if (strcmp(o, "--frames-out") == 0) {
             // Exactly one %d-style conversion: the pattern reaches snprintf.
             const char *pc = strchr(v, '%');
@@ -157,7 +175,8 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
                 fprintf(stderr, "strata-view: --frames-out needs one %%d (e.g. f/%%05d.png)\n");
                 return 2;
             }
-            a->frame_pattern = argv[++i];
+            a->frame_pattern = v;
+            i += !joined;
         } else if (strcmp(o, "--size") == 0) {
             int w = 0, h = 0;
             char tail = 0;
@@ -168,7 +187,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
             }
             a->width_px = w;
             a->height_px = h;
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--camera") == 0 || strcmp(o, "--look") == 0) {
             if (parse_doubles(v, a->camera, 5, 6) < 0) {
                 fprintf(stderr, "strata-view: %s needs X,Y,Z,YAW,PITCH[,FOV], got '%s'\n", o, v);
@@ -176,25 +195,25 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
             }
             a->has_camera = true;
             a->camera_relative = strcmp(o, "--look") == 0;
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--frames") == 0) {
             if (!parse_count(o, v, 1, 1000000, &n)) {
                 return 2;
             }
             a->max_frames = (int)n;
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--budget") == 0) {
             if (!parse_count(o, v, 1000, 2000000000ull, &n)) {
                 return 2;
             }
             a->budget_points = n;
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--gpu-mem") == 0) {
             if (!parse_count(o, v, 16, 1 << 20, &n)) {
                 return 2;
             }
             a->gpu_mem_mib = n;
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--pipeline") == 0) {
             a->pipeline = sta_pipeline_mode_from_name(v);
             if (a->pipeline < 0) {
@@ -204,7 +223,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
                         v);
                 return 2;
             }
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--normals") == 0) {
             a->normals = sta_normal_method_from_name(v);
             if (a->normals < 0) {
@@ -214,27 +233,27 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
                         v);
                 return 2;
             }
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--samples") == 0) {
             if (!parse_count(o, v, 5, 25, &n) || (n != 5 && n != 9 && n != 17 && n != 25)) {
                 fprintf(stderr, "strata-view: --samples takes 5, 9, 17 or 25\n");
                 return 2;
             }
             a->samples = (int)n;
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--hpr") == 0) {
             if (strcmp(v, "pyramid") != 0 && strcmp(v, "exhaustive") != 0) {
                 fprintf(stderr, "strata-view: --hpr takes pyramid or exhaustive, got '%s'\n", v);
                 return 2;
             }
             a->hpr_exhaustive = strcmp(v, "exhaustive") == 0;
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--hpr-radius") == 0) {
             if (!parse_count(o, v, 1, 64, &n)) {
                 return 2;
             }
             a->hpr_radius_px = (int)n;
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--hpr-threshold") == 0 || strcmp(o, "--s0") == 0) {
             char *end = NULL;
             double d = strtod(v, &end);
@@ -247,7 +266,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
             } else {
                 a->hpr_threshold = d;
             }
-            i++;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--colour") == 0 || strcmp(o, "--color") == 0) {
             a->colour_mode = sta_view_colour_mode(v);
             if (a->colour_mode < 0) {
@@ -257,7 +276,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
                         v);
                 return 2;
             }
-            i++;
+            i += !joined; // the value was the next argument
         } else if (o[0] == '-' && o[1] != '\0') {
             fprintf(stderr, "strata-view: unknown option %s (see --help)\n", o);
             return 2;

@@ -31,8 +31,8 @@
 #define STA_STRATA_POSITION_SIZE   12u /* X, Y, Z as uint32 relative to the corner */
 
 /* Compression codes of a node payload. */
-#define STA_STRATA_COMPRESSION_NONE 0u
-#define STA_STRATA_COMPRESSION_ZSTD 1u
+#define STA_STRATA_COMPRESSION_NONE         0u
+#define STA_STRATA_COMPRESSION_ZSTD         1u
 /* zstd over byte-shuffled columns (1.1): in each column of n elements of e bytes, byte
  * k of every element is stored contiguously (all byte 0s, then all byte 1s, ...). */
 #define STA_STRATA_COMPRESSION_ZSTD_SHUFFLE 2u

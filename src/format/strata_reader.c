@@ -28,15 +28,15 @@ struct sta_strata_reader {
 };
 
 struct sta_strata_decoder {
-    ZSTD_DCtx *dctx;       // owned by the decoder's thread
-    uint8_t *raw;          // decompressed payload
-    size_t raw_capacity;   // bytes
-    uint8_t *shuffled;     // zstd output of a shuffled payload, before unshuffling
+    ZSTD_DCtx *dctx;          // owned by the decoder's thread
+    uint8_t *raw;             // decompressed payload
+    size_t raw_capacity;      // bytes
+    uint8_t *shuffled;        // zstd output of a shuffled payload, before unshuffling
     size_t shuffled_capacity; // bytes
-    sta_point *points;     // decoded points
-    size_t point_capacity; // elements
-    uint8_t *extra;        // decoded extra bytes
-    size_t extra_capacity; // bytes
+    sta_point *points;        // decoded points
+    size_t point_capacity;    // elements
+    uint8_t *extra;           // decoded extra bytes
+    size_t extra_capacity;    // bytes
 };
 
 static sta_status open_map(sta_strata_reader *r, const sta_strata_open_options *options,

@@ -26,12 +26,12 @@
 #include "format/strata_internal.h"
 
 struct sta_strata_encoder {
-    ZSTD_CCtx *cctx;        // owned by this encoder's thread
-    uint8_t *raw;           // encoded columns (add_points)
-    size_t raw_capacity;    // bytes
-    uint8_t *packed;        // zstd output
-    size_t packed_capacity; // bytes
-    uint8_t *shuffled;      // byte-shuffled columns, zstd input
+    ZSTD_CCtx *cctx;          // owned by this encoder's thread
+    uint8_t *raw;             // encoded columns (add_points)
+    size_t raw_capacity;      // bytes
+    uint8_t *packed;          // zstd output
+    size_t packed_capacity;   // bytes
+    uint8_t *shuffled;        // byte-shuffled columns, zstd input
     size_t shuffled_capacity; // bytes
 };
 

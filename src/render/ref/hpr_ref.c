@@ -7,6 +7,8 @@
  */
 #include "render/ref/hpr_ref.h"
 
+#include "render/bindings.h"
+
 #include <math.h>
 #include <stdbool.h>
 #include <string.h>
@@ -202,11 +204,11 @@ static float sector_mean(const float sector_min[8])
 
 static float label_of(bool is_point, float mean, float threshold)
 {
-    bool open = mean >= threshold;
     if (is_point) {
-        return open ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN;
+        return mean >= threshold ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN;
     }
-    return open ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE;
+    float background = (float)STA_HPR_BACKGROUND_OPEN_SECTORS * 0.125f;
+    return mean >= fmaxf(threshold, background) ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE;
 }
 
 void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_params *params,

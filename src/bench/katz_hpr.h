@@ -1,0 +1,85 @@
+/* SPDX-License-Identifier: MIT
+ * Offline visibility reference: the hidden point removal (HPR) operator of Katz et al.
+ * (spherical flipping, then the convex hull of the flipped points and the viewpoint,
+ * computed with Qhull's reentrant library), optionally with the random perturbation of
+ * Braga et al. Used by the benchmark to score the screen-space HPR pass; not real time.
+ *
+ * Based on: S. Katz, A. Tal, R. Basri, "Direct Visibility of Point Sets", ACM TOG 26(3),
+ * 2007 (spherical flipping, eq. 1; visible iff the flipped point is on the hull);
+ * R. Braga et al. (PUC-Rio), "Evaluating the visibility algorithm of point-based graphics
+ * for real-time applications", section 4 (perturbation of 0.01 of the sphere radius).
+ * Decisions on degenerate input and the Qhull options are in docs/KATZ.md.
+ */
+#ifndef STA_BENCH_KATZ_HPR_H
+#define STA_BENCH_KATZ_HPR_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/status.h"
+
+/* Default R / max ||p_i - C|| (Katz's 10^gamma with gamma = 2), see docs/KATZ.md. */
+#define STA_KATZ_DEFAULT_RADIUS_FACTOR 100.0
+
+/* Braga et al.'s perturbation: each coordinate moves by up to 0.01 of the model's radius. */
+#define STA_KATZ_BRAGA_PERTURBATION 0.01
+
+/* Parameters. Zero radius_factor and zero seed mean their defaults; perturbation 0 means
+ * no perturbation (exact Katz). sta_katz_params_defaults() gives the exact operator. */
+typedef struct sta_katz_params {
+    double radius_factor; /* R = radius_factor * max ||p_i - C|| (Katz: 10^gamma); > 1, or
+                             0 for STA_KATZ_DEFAULT_RADIUS_FACTOR */
+    double perturbation;  /* 0: none; else each coordinate moves by a uniform random amount
+                             in [-a, a], a = perturbation * the model's radius (half the
+                             diagonal of its bounding box); in [0, 1]; Braga et al.: 0.01 */
+    uint64_t seed;        /* seed of the perturbation (splitmix64); 0 means 1 */
+} sta_katz_params;
+
+/* Degenerate-input handling that a call used (bits of sta_katz_stats.degenerate). */
+enum {
+    STA_KATZ_AT_VIEWPOINT = 1u << 0, /* points exactly at the viewpoint: visible, not hulled */
+    STA_KATZ_DUPLICATES = 1u << 1,   /* repeated points: hulled once, flag copied */
+    STA_KATZ_FEW_POINTS = 1u << 2,   /* fewer than 4 distinct points: all visible, no hull */
+    STA_KATZ_PLANE = 1u << 3,        /* flipped points and viewpoint in one plane: 2-d hull */
+    STA_KATZ_LINE = 1u << 4,         /* all on one line through the viewpoint: 1-d hull */
+    STA_KATZ_JOGGLE = 1u << 5,       /* Qhull reported a precision error; rerun with "QJ" */
+};
+
+/* What a call did and what it cost. */
+typedef struct sta_katz_stats {
+    double hull_ms;            /* wall time inside Qhull (all attempts), milliseconds */
+    double hull_cpu_ms;        /* CPU time of this thread inside Qhull, milliseconds */
+    double total_ms;           /* wall time of the whole call, milliseconds */
+    double radius;             /* R used, in input units */
+    double perturbation_abs;   /* a: half-width of the perturbation, input units (0: none) */
+    size_t hull_input_count;   /* distinct points given to the hull, viewpoint not counted */
+    size_t hull_vertex_count;  /* of those, hull vertices (visible), viewpoint not counted */
+    size_t duplicate_count;    /* points equal to an earlier one; they take its flag */
+    size_t at_viewpoint_count; /* points exactly at the viewpoint (visible, not hulled) */
+    size_t visible_count;      /* flags set in out_visible */
+    int hull_dim;              /* 3, 2 (STA_KATZ_PLANE), 1 (STA_KATZ_LINE) or 0 (no hull) */
+    unsigned degenerate;       /* STA_KATZ_* bits */
+    char qhull_options[32];    /* the Qhull command of the hull that was used ("" if none) */
+} sta_katz_stats;
+
+/* The exact operator: default radius factor, no perturbation, seed 1. */
+sta_katz_params sta_katz_params_defaults(void);
+
+/* Marks which of `count` points are visible from `viewpoint` by HPR: out_visible[i] is 1
+ * when the spherically flipped point i is a vertex of the convex hull of all flipped
+ * points and the viewpoint, else 0. Points exactly at the viewpoint are visible; equal
+ * points get the same flag; fewer than 4 distinct points are all visible; flat and
+ * collinear configurations use a hull of lower dimension (docs/KATZ.md).
+ * points: borrowed, count xyz triples (NULL when count is 0); viewpoint: xyz;
+ * params: NULL for sta_katz_params_defaults(); out_visible: count bytes, written only
+ * on success; out_stats: may be NULL. Deterministic for given inputs and seed.
+ * Returns STA_ERR_ARG for NaN or infinite coordinates (naming the point and value),
+ * bad parameters or more than INT_MAX - 1 points; STA_ERR_NOMEM; STA_ERR_UNSUPPORTED
+ * when Qhull fails even with joggle (with Qhull's message). Qhull prints nothing and
+ * never exits the process. Thread-safe: each call owns its Qhull context. */
+sta_status sta_katz_visible(const double (*points)[3], size_t count, const double viewpoint[3],
+                            const sta_katz_params *params, uint8_t *out_visible,
+                            sta_katz_stats *out_stats, sta_error *err);
+
+#endif
