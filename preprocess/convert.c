@@ -566,8 +566,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     job.progress.enabled = options->progress;
     double t0 = sta_progress_now_s();
     status = sta_distribute_plan(&job.inputs, job.threads, grid_log2, job.chunk_capacity,
-                                 &job.progress,
-                                 options->cancel, &job.plan, err);
+                                 &job.progress, options->cancel, &job.plan, err);
     if (status != STA_OK) {
         goto out;
     }

@@ -21,7 +21,11 @@
 
 #include "core/alloc.h"
 
-enum { READ_BATCH_POINTS = 65536, MAX_COUNT_LEVEL = 7, MAX_THREADS = 64 };
+enum {
+    READ_BATCH_POINTS = 65536,
+    MAX_COUNT_LEVEL = 7,
+    MAX_THREADS = 64
+};
 
 static size_t cell_index(int level, uint32_t x, uint32_t y, uint32_t z)
 {
@@ -54,8 +58,8 @@ typedef struct chunk_buffer {
 typedef struct range_task {
     sta_input_set *set;
     int thread;
-    uint64_t begin, end;        /* global point indices */
-    sta_cloud_reader **own;     /* readers this task opened (threads > 0), per input */
+    uint64_t begin, end;    /* global point indices */
+    sta_cloud_reader **own; /* readers this task opened (threads > 0), per input */
     sta_progress *progress;
     atomic_bool *cancel;
     sta_status status;
@@ -64,16 +68,16 @@ typedef struct range_task {
     // counting
     const sta_octree_space *space;
     int level;
-    uint64_t *counts;           /* owned: 8^level cells */
+    uint64_t *counts; /* owned: 8^level cells */
     int64_t min[3], max[3];
     bool outside;
     // distribution
     const sta_chunk_plan *plan;
     int fd;
     const char *path;
-    size_t per_chunk;           /* buffer bytes per chunk */
-    chunk_buffer *buffers;      /* owned, one per chunk */
-    uint8_t *arena;             /* owned */
+    size_t per_chunk;      /* buffer bytes per chunk */
+    chunk_buffer *buffers; /* owned, one per chunk */
+    uint8_t *arena;        /* owned */
 } range_task;
 
 static sta_cloud_reader *task_reader(range_task *t, size_t input)
@@ -105,8 +109,8 @@ static void run_range(range_task *t)
             sta_cloud_reader *reader = task_reader(t, in);
             sta_point_batch batch;
             if (reader) {
-                t->status = sta_point_batch_init(&batch, READ_BATCH_POINTS, info->extra_size,
-                                                 &t->err);
+                t->status =
+                    sta_point_batch_init(&batch, READ_BATCH_POINTS, info->extra_size, &t->err);
             }
             if (reader && t->status == STA_OK) {
                 t->status = sta_cloud_seek(reader, lo - file_start, &t->err);
@@ -117,8 +121,10 @@ static void run_range(range_task *t)
                         break;
                     }
                     if (batch.count == 0) {
-                        t->status = sta_fail(&t->err, STA_ERR_FORMAT, "%s: fewer points than "
-                                             "announced", info->path);
+                        t->status = sta_fail(&t->err, STA_ERR_FORMAT,
+                                             "%s: fewer points than "
+                                             "announced",
+                                             info->path);
                         break;
                     }
                     if (batch.count > left) {
@@ -270,9 +276,8 @@ static bool box_fits(const sta_octree_space *guess, const sta_grid *grid, const 
 }
 
 // One parallel counting pass over all inputs into tasks[t].counts.
-static sta_status count_pass(range_task *tasks, int threads,
-                             const sta_octree_space *space, int level, sta_chunk_plan *plan,
-                             bool *outside, sta_error *err)
+static sta_status count_pass(range_task *tasks, int threads, const sta_octree_space *space,
+                             int level, sta_chunk_plan *plan, bool *outside, sta_error *err)
 {
     size_t cells = (size_t)1 << (3 * level);
     for (int t = 0; t < threads; t++) {
@@ -303,10 +308,10 @@ static sta_status count_pass(range_task *tasks, int threads,
     for (int t = 0; t < threads; t++) {
         *outside = *outside || tasks[t].outside;
         for (int a = 0; a < 3; a++) {
-            plan->actual_min[a] = tasks[t].min[a] < plan->actual_min[a] ? tasks[t].min[a]
-                                                                        : plan->actual_min[a];
-            plan->actual_max[a] = tasks[t].max[a] > plan->actual_max[a] ? tasks[t].max[a]
-                                                                        : plan->actual_max[a];
+            plan->actual_min[a] =
+                tasks[t].min[a] < plan->actual_min[a] ? tasks[t].min[a] : plan->actual_min[a];
+            plan->actual_max[a] =
+                tasks[t].max[a] > plan->actual_max[a] ? tasks[t].max[a] : plan->actual_max[a];
         }
     }
     return STA_OK;
@@ -377,9 +382,9 @@ static sta_status cut_chunks(sta_chunk_plan *plan, uint64_t **levels, uint64_t c
         for (uint32_t z = 0; z < span; z++) {
             for (uint32_t y = 0; y < span; y++) {
                 for (uint32_t x = 0; x < span; x++) {
-                    size_t cell = cell_index(top, (chunk->key.x << shift) + x,
-                                             (chunk->key.y << shift) + y,
-                                             (chunk->key.z << shift) + z);
+                    size_t cell =
+                        cell_index(top, (chunk->key.x << shift) + x, (chunk->key.y << shift) + y,
+                                   (chunk->key.z << shift) + z);
                     plan->chunk_of_cell[cell] = (int32_t)c;
                 }
             }
@@ -421,8 +426,8 @@ static sta_status place_threads(sta_chunk_plan *plan, range_task *tasks, sta_err
 }
 
 sta_status sta_distribute_plan(sta_input_set *set, int threads, int grid_log2,
-                               uint64_t chunk_capacity, sta_progress *progress,
-                               atomic_bool *cancel, sta_chunk_plan *out_plan, sta_error *err)
+                               uint64_t chunk_capacity, sta_progress *progress, atomic_bool *cancel,
+                               sta_chunk_plan *out_plan, sta_error *err)
 {
     memset(out_plan, 0, sizeof(*out_plan));
     uint64_t *levels[MAX_COUNT_LEVEL + 1] = { 0 };
@@ -447,8 +452,8 @@ sta_status sta_distribute_plan(sta_input_set *set, int threads, int grid_log2,
                       set->header_min[2] <= set->header_max[2];
     sta_octree_space space;
     const int64_t zero[3] = { 0, 0, 0 };
-    if (!have_guess || sta_octree_space_init(&space, &set->grid, set->header_min,
-                                             set->header_max, grid_log2, NULL) != STA_OK) {
+    if (!have_guess || sta_octree_space_init(&space, &set->grid, set->header_min, set->header_max,
+                                             grid_log2, NULL) != STA_OK) {
         status = sta_octree_space_init(&space, &set->grid, zero, zero, grid_log2, err);
         if (status != STA_OK) {
             goto out;
@@ -465,8 +470,7 @@ sta_status sta_distribute_plan(sta_input_set *set, int threads, int grid_log2,
         if (status != STA_OK) {
             goto out;
         }
-        if (set->point_count == 0 || (!outside && box_fits(&space, &set->grid,
-                                                           out_plan->actual_min,
+        if (set->point_count == 0 || (!outside && box_fits(&space, &set->grid, out_plan->actual_min,
                                                            out_plan->actual_max))) {
             break;
         }
@@ -605,8 +609,8 @@ static sta_status distribute_batch(range_task *t, size_t input, sta_point_batch 
 }
 
 sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, int fd,
-                                const char *tmp_path, size_t buffer_bytes,
-                                sta_progress *progress, atomic_bool *cancel, sta_error *err)
+                                const char *tmp_path, size_t buffer_bytes, sta_progress *progress,
+                                atomic_bool *cancel, sta_error *err)
 {
     const size_t rec = set->layout.size;
     if (plan->chunk_count == 0) {
@@ -660,11 +664,11 @@ sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, 
             written += tasks[t].buffers[c].written;
         }
         if (written != plan->chunks[c].count) {
-            status = sta_fail(err, STA_ERR_FORMAT,
-                              "chunk %zu received %llu points, %llu were counted (an input "
-                              "changed while being read)",
-                              c, (unsigned long long)written,
-                              (unsigned long long)plan->chunks[c].count);
+            status =
+                sta_fail(err, STA_ERR_FORMAT,
+                         "chunk %zu received %llu points, %llu were counted (an input "
+                         "changed while being read)",
+                         c, (unsigned long long)written, (unsigned long long)plan->chunks[c].count);
         }
     }
     release_tasks(tasks, plan->threads, set->count);

@@ -23,8 +23,8 @@ typedef struct sta_chunk {
 
 typedef struct sta_chunk_plan {
     sta_octree_space space;
-    int count_level;        /* level of the counting grid */
-    sta_chunk *chunks;      /* owned */
+    int count_level;   /* level of the counting grid */
+    sta_chunk *chunks; /* owned */
     size_t chunk_count;
     int32_t *chunk_of_cell; /* chunk index of each counting cell, -1 when empty; owned */
     int64_t actual_min[3];  /* tight integer bounds of all points */
@@ -40,15 +40,15 @@ typedef struct sta_chunk_plan {
  * tight bounds, chooses the root box and plans chunks of at most `chunk_capacity`
  * points where the counting grid allows. `cancel` (may be NULL) stops the work. */
 sta_status sta_distribute_plan(sta_input_set *set, int threads, int grid_log2,
-                               uint64_t chunk_capacity, sta_progress *progress,
-                               atomic_bool *cancel, sta_chunk_plan *out_plan, sta_error *err);
+                               uint64_t chunk_capacity, sta_progress *progress, atomic_bool *cancel,
+                               sta_chunk_plan *out_plan, sta_error *err);
 
 /* Reads every input again and writes each point's packed record into its chunk's
  * region of `fd` (opened read-write, sized by this call), on the plan's threads.
  * `buffer_bytes` bounds the write buffers. `tmp_path` is for messages. */
 sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, int fd,
-                                const char *tmp_path, size_t buffer_bytes,
-                                sta_progress *progress, atomic_bool *cancel, sta_error *err);
+                                const char *tmp_path, size_t buffer_bytes, sta_progress *progress,
+                                atomic_bool *cancel, sta_error *err);
 
 void sta_chunk_plan_release(sta_chunk_plan *plan);
 

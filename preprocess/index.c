@@ -105,9 +105,8 @@ typedef struct build_context {
     const sta_node_key *root_key;
 } build_context;
 
-static sta_status hand_over(build_context *c, const sta_node_key *key,
-                            const sta_index_item *items, size_t count, unsigned flags,
-                            int has_children, sta_error *err)
+static sta_status hand_over(build_context *c, const sta_node_key *key, const sta_index_item *items,
+                            size_t count, unsigned flags, int has_children, sta_error *err)
 {
     sta_status status = gather(c->scratch, c->layout, c->records, items, count, err);
     if (status != STA_OK) {
@@ -156,7 +155,8 @@ static sta_status build(build_context *c, const sta_node_key *key, size_t begin,
     size_t bucket_count[9] = { 0 };
     uint8_t *labels = s->labels + begin;
     sta_index_item *spare = s->spare + begin;
-    int32_t lo[3] = { INT32_MAX, INT32_MAX, INT32_MAX }, hi[3] = { INT32_MIN, INT32_MIN, INT32_MIN };
+    int32_t lo[3] = { INT32_MAX, INT32_MAX, INT32_MAX },
+            hi[3] = { INT32_MIN, INT32_MIN, INT32_MIN };
     for (size_t i = 0; i < count; i++) {
         uint32_t cell = 0;
         int octant = 0;
@@ -166,7 +166,7 @@ static sta_status build(build_context *c, const sta_node_key *key, size_t begin,
             hi[a] = v > hi[a] ? v : hi[a];
             uint64_t rel = (uint64_t)((int64_t)v - node_min[a]);
             uint32_t ca = cell_shift[a] >= 0 ? (uint32_t)(rel >> cell_shift[a])
-                                              : (uint32_t)(rel << -cell_shift[a]);
+                                             : (uint32_t)(rel << -cell_shift[a]);
             cell = (cell << g) | ca;
             octant |= (int)((rel >> half_shift[a]) & 1) << a;
         }

@@ -29,7 +29,7 @@ typedef struct sta_index_scratch {
     size_t cell_words;
     sta_index_item *items; /* points being partitioned */
     sta_index_item *spare; /* partition target, same size */
-    uint8_t *labels; /* bucket of each point being partitioned, same size */
+    uint8_t *labels;       /* bucket of each point being partitioned, same size */
     size_t order_capacity;
     uint8_t *gather;        /* one node's records, contiguous */
     size_t gather_capacity; /* bytes */
