@@ -23,15 +23,13 @@ uniform float u_threshold;
 const ivec2 RING[8] = ivec2[8](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-1, 0),
                                ivec2(1, 0), ivec2(-1, 1), ivec2(0, 1), ivec2(1, 1));
 
-// Lowers the sector minima by neighbour y of pixel p, texel n of level k.
-void add_neighbour(vec4 y, ivec2 n, int k, ivec2 p, vec3 x, inout vec4 min_lo,
-                   inout vec4 min_hi)
+// Lowers the sector minima by neighbour y at ring offset `ring` (its sector: each ring
+// position is one sector, as in the paper's Figure 3).
+void add_neighbour(vec4 y, ivec2 ring, vec3 x, inout vec4 min_lo, inout vec4 min_hi)
 {
     float value;
     if (y.w > 0.5 && hpr_occlusion(x, y.xyz, value)) {
-        // Between the neighbour texel's centre and the pixel's, in half pixels of level 0.
-        ivec2 v2 = ((2 * n + 1) << k) - (2 * p + 1);
-        hpr_lower_sector(hpr_sector(v2), value, min_lo, min_hi);
+        hpr_lower_sector(hpr_sector(2 * ring), value, min_lo, min_hi);
     }
 }
 
@@ -65,7 +63,7 @@ void main()
     for (int i = 0; i < 8; i++) {
         ivec2 n = p + RING[i];
         if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
-            add_neighbour(texelFetch(u_position, n, 0), n, 0, p, x, min_lo, min_hi);
+            add_neighbour(texelFetch(u_position, n, 0), RING[i], x, min_lo, min_hi);
         }
     }
     // Levels 1..level: the ring around the ancestor, from the pyramid.
@@ -75,7 +73,7 @@ void main()
         for (int i = 0; i < 8; i++) {
             ivec2 n = a + RING[i];
             if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
-                add_neighbour(texelFetch(u_pyramid, n, k - 1), n, k, p, x, min_lo, min_hi);
+                add_neighbour(texelFetch(u_pyramid, n, k - 1), RING[i], x, min_lo, min_hi);
             }
         }
     }

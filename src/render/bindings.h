@@ -22,11 +22,9 @@
 #define STA_COLOUR_MODE_COUNT     5
 
 /* HPR: an empty pixel is background (left empty) only when its sector minima average
- * at least this many fully open sectors out of 8 (and at least the threshold). One
- * open sector is not enough: the pyramid's rings leave single sectors empty along block
- * edges inside sparse surfaces, which would punch a lattice of holes into the fill;
- * real background beside a silhouette has about half its sectors open. */
-#define STA_HPR_BACKGROUND_OPEN_SECTORS 2
+ * at least this many fully open sectors out of 8 (and at least the threshold); see
+ * docs/HPR.md for why 1 and not more. */
+#define STA_HPR_BACKGROUND_OPEN_SECTORS 1
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \

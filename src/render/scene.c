@@ -299,6 +299,11 @@ static float estimate_s0(sta_scene *s)
     return (float)s->s0_samples[n - 1].spacing;
 }
 
+const sta_pipeline *sta_scene_pipeline(const sta_scene *s)
+{
+    return s->has_pipeline ? &s->pipeline : NULL;
+}
+
 void sta_scene_set_colour_mode(sta_scene *s, int mode)
 {
     s->colour_mode = mode >= 0 && mode < STA_COLOUR_MODE_COUNT ? mode : STA_COLOUR_RGB;

@@ -66,6 +66,12 @@ void sta_scene_set_timing(sta_scene *scene, bool on);
 /* Sets the colour mode (STA_COLOUR_* of render/bindings.h). */
 void sta_scene_set_colour_mode(sta_scene *scene, int mode);
 
+/* The screen-space pipeline of the last frame, for reading its intermediate buffers
+ * (position, label, filled_position, normal textures) in benchmarks and tests. NULL
+ * until a frame has run a mode other than raw. Owned by the scene; valid until the
+ * next render or close. */
+const sta_pipeline *sta_scene_pipeline(const sta_scene *scene);
+
 /* Renders one frame into `target` (resized to the camera's viewport). */
 sta_status sta_scene_render(sta_scene *scene, const sta_camera *camera, sta_render_target *target,
                             sta_frame_stats *out_stats, sta_error *err);

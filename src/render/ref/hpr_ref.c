@@ -258,11 +258,11 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                         if (y[3] <= 0.5f) {
                             continue;
                         }
-                        // Between the neighbour texel's centre and the pixel's, in half
-                        // pixels of level 0.
-                        int vx2 = ((2 * nx + 1) << k) - (2 * px + 1);
-                        int vy2 = ((2 * ny + 1) << k) - (2 * py + 1);
-                        add_neighbour(x, y, sta_hpr_sector(vx2, vy2), sector_min);
+                        // Each ring position is its own sector (Figure 3's colours). The
+                        // direction from the pixel to a coarse texel's centre would be
+                        // skewed by up to half a texel for pixels off their ancestor's
+                        // centre, leaving sectors empty along block edges.
+                        add_neighbour(x, y, sta_hpr_sector(2 * dx, 2 * dy), sector_min);
                     }
                 }
             }
