@@ -972,7 +972,7 @@ static void inconsistent_tables_are_named(void **state)
     expect_open_error(&sc, data, size, overflow_with_children, STA_ERR_FORMAT,
                       "overflow node must be a leaf");
     expect_open_error(&sc, data, size, future_major_version, STA_ERR_UNSUPPORTED,
-                      "format version 2.0 is not supported");
+                      "format version 2.1 is not supported");
     expect_open_error(&sc, data, size, unknown_feature_flag, STA_ERR_UNSUPPORTED, "features");
     expect_open_error(&sc, data, size, root_outside_int32, STA_ERR_FORMAT, "int32");
     expect_open_error(&sc, data, size, bad_extra_dimension, STA_ERR_FORMAT,

@@ -32,6 +32,8 @@ static void print_usage(FILE *out)
           "  --verify               (.strata) check every checksum and the octree rules\n"
           "                         (points inside their node, one per cell); exit 1 on\n"
           "                         the first violation\n"
+          "  --decode-speed         (.strata) time decompression alone and the viewer's\n"
+          "                         whole per-node load (decode + GPU layout), one thread\n"
           "  --salvage              read the complete points of a truncated file and\n"
           "                         report how many were missing (default: refuse it)\n"
           "  -q, --quiet            no warnings\n"
@@ -48,6 +50,7 @@ typedef struct info_args {
     uint64_t points_count;
     bool salvage;
     bool verify;
+    bool decode_speed;
 } info_args;
 
 static bool parse_range(const char *text, uint64_t *start, uint64_t *count)
@@ -82,8 +85,9 @@ static int report_file(const char *path, const info_args *args)
             fprintf(stderr, "strata-info: %s: --points is for LAS and PLY files\n", path);
             return 1;
         }
-        sta_status s =
-            sta_info_strata(stdout, path, args->json, args->verify, sta_log_is_terminal(), &err);
+        sta_status s = args->decode_speed ? sta_info_strata_decode_speed(stdout, path, &err)
+                                          : sta_info_strata(stdout, path, args->json, args->verify,
+                                                            sta_log_is_terminal(), &err);
         if (s != STA_OK) {
             fflush(stdout);
             fprintf(stderr, "strata-info: %s\n", err.message);
@@ -139,6 +143,8 @@ int main(int argc, char **argv)
             args.json = true;
         } else if (strcmp(a, "--verify") == 0) {
             args.verify = true;
+        } else if (strcmp(a, "--decode-speed") == 0) {
+            args.decode_speed = true;
         } else if (strcmp(a, "--salvage") == 0) {
             args.salvage = true;
         } else if (strcmp(a, "-q") == 0 || strcmp(a, "--quiet") == 0) {

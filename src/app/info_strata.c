@@ -7,6 +7,10 @@
 
 #include "core/json_out.h"
 #include "format/strata_reader.h"
+#include "stream/gpu_points.h"
+
+#include "core/alloc.h"
+#include <time.h>
 
 bool sta_info_is_strata(const char *path)
 {
@@ -196,4 +200,67 @@ sta_status sta_info_strata(FILE *out, const char *path, bool json, bool verify, 
     }
     sta_strata_close(reader);
     return STA_OK;
+}
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+sta_status sta_info_strata_decode_speed(FILE *out, const char *path, sta_error *err)
+{
+    sta_strata_reader *reader = NULL;
+    sta_strata_decoder *decoder = NULL;
+    uint8_t *gpu = NULL;
+    size_t gpu_capacity = 0;
+    sta_status status = sta_strata_open(path, NULL, &reader, err);
+    if (status == STA_OK) {
+        status = sta_strata_decoder_create(&decoder, err);
+    }
+    const sta_strata_info *info = status == STA_OK ? sta_strata_reader_info(reader) : NULL;
+    uint64_t raw_bytes = 0, stored_bytes = 0;
+    double load_s = 0.0, convert_s = 0.0;
+    for (int pass = 0; pass < 2 && status == STA_OK; pass++) {
+        double t0 = seconds_now();
+        for (uint32_t i = 0; i < info->node_count && status == STA_OK; i++) {
+            const sta_strata_node *n = sta_strata_reader_node(reader, i);
+            if (pass == 0) {
+                const uint8_t *raw;
+                status = sta_strata_load_node(reader, i, decoder, &raw, err);
+                raw_bytes += n->payload.raw_size;
+                stored_bytes += n->payload.stored_size;
+                continue;
+            }
+            sta_strata_points points;
+            status = sta_strata_decode_node(reader, i, decoder, &points, err);
+            if (status == STA_OK && points.count > gpu_capacity) {
+                sta_free(gpu);
+                gpu = sta_alloc_array(points.count, STA_GPU_POINT_SIZE);
+                gpu_capacity = gpu ? points.count : 0;
+                status = gpu ? STA_OK : sta_fail(err, STA_ERR_NOMEM, "out of memory");
+            }
+            if (status == STA_OK && points.count > 0) {
+                sta_gpu_node_frame frame;
+                sta_gpu_node_frame_init(&frame, &info->geometry, n->key);
+                sta_gpu_points_encode(&frame, points.points, points.count, 8, gpu);
+            }
+        }
+        *(pass == 0 ? &load_s : &convert_s) = seconds_now() - t0;
+    }
+    if (status == STA_OK) {
+        double points = (double)info->point_count;
+        fprintf(out, "%s: %llu points, %u nodes, %.1f MiB stored, %.1f MiB raw\n", path,
+                (unsigned long long)info->point_count, info->node_count,
+                (double)stored_bytes / 1048576.0, (double)raw_bytes / 1048576.0);
+        fprintf(out, "  checksum + zstd only:           %7.2f M points/s, %7.1f MB/s raw out\n",
+                points / load_s * 1e-6, (double)raw_bytes / load_s * 1e-6);
+        fprintf(out, "  + decode + GPU layout (loader): %7.2f M points/s (one thread)\n",
+                points / convert_s * 1e-6);
+    }
+    sta_free(gpu);
+    sta_strata_decoder_destroy(decoder);
+    sta_strata_close(reader);
+    return status;
 }

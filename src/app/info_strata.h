@@ -18,4 +18,9 @@ bool sta_info_is_strata(const char *path);
 sta_status sta_info_strata(FILE *out, const char *path, bool json, bool verify, bool progress,
                            sta_error *err);
 
+/* Measures, on one thread, how fast the nodes of a .strata file are (a) checked and
+ * decompressed (zstd alone) and (b) decoded and converted to the viewer's GPU layout
+ * (what a loader thread does), and prints points/s and MB/s for each. */
+sta_status sta_info_strata_decode_speed(FILE *out, const char *path, sta_error *err);
+
 #endif
