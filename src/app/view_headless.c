@@ -4,6 +4,7 @@
 
 #include <inttypes.h>
 #include <math.h>
+#include <stdlib.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
@@ -56,6 +57,10 @@ static sta_status render_until_loaded(const sta_view_args *args, sta_scene *scen
             print_stats(frame, stats, (now_s() - t0) * 1e3);
         }
         if (args->max_frames ? frame >= args->max_frames : stats->complete) {
+            if (args->stats) {
+                printf("view loaded: %d frames, %.3f s from the first frame\n", frame,
+                       now_s() - start);
+            }
             return STA_OK;
         }
         if (now_s() - start > args->timeout_s) {
@@ -67,6 +72,51 @@ static sta_status render_until_loaded(const sta_view_args *args, sta_scene *scen
             nanosleep(&nap, NULL);
         }
     }
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : (x > y ? 1 : 0);
+}
+
+// Renders the loaded view `args->repeat` more times and prints the median time of the
+// whole frame and of each pass (timing on: the GPU is drained around each pass).
+static sta_status time_repeats(const sta_view_args *args, sta_scene *scene,
+                               const sta_camera *camera, sta_render_target *target,
+                               sta_error *err)
+{
+    enum { MAX_REPEAT = 256 };
+    int n = args->repeat < MAX_REPEAT ? args->repeat : MAX_REPEAT;
+    static double frame_ms[MAX_REPEAT], geometry_ms[MAX_REPEAT];
+    static double pass_ms[STA_PASS_COUNT][MAX_REPEAT];
+    sta_scene_set_timing(scene, true);
+    sta_frame_stats stats;
+    for (int i = 0; i < n; i++) {
+        double t0 = now_s();
+        sta_status status = sta_scene_render(scene, camera, target, &stats, err);
+        if (status != STA_OK) {
+            return status;
+        }
+        glFinish();
+        frame_ms[i] = (now_s() - t0) * 1e3;
+        geometry_ms[i] = stats.geometry_ms;
+        for (int p = 0; p < STA_PASS_COUNT; p++) {
+            pass_ms[p][i] = stats.timing.ms[p];
+        }
+    }
+    qsort(frame_ms, (size_t)n, sizeof(double), compare_doubles);
+    qsort(geometry_ms, (size_t)n, sizeof(double), compare_doubles);
+    printf("median of %d frames: frame %.2f ms, geometry %.2f ms", n, frame_ms[n / 2],
+           geometry_ms[n / 2]);
+    for (int p = 0; p < STA_PASS_COUNT; p++) {
+        qsort(pass_ms[p], (size_t)n, sizeof(double), compare_doubles);
+        if (pass_ms[p][n / 2] > 0) {
+            printf(", %s %.2f ms", sta_pass_name(p), pass_ms[p][n / 2]);
+        }
+    }
+    printf("; %" PRIu64 " points drawn, %u nodes\n", stats.points_drawn, stats.nodes_drawn);
+    return STA_OK;
 }
 
 static sta_status write_outputs(const sta_view_args *args, const sta_camera *camera,
@@ -185,6 +235,9 @@ int sta_view_run_headless(const sta_view_args *args)
             status = play_path(args, scene, &camera, &target, &err);
         } else {
             status = render_until_loaded(args, scene, &camera, &target, &stats, &err);
+            if (status == STA_OK && args->repeat > 0) {
+                status = time_repeats(args, scene, &camera, &target, &err);
+            }
         }
         if (status == STA_OK && (args->out_png || args->out_exr)) {
             status = write_outputs(args, &camera, &target, &err);

@@ -202,6 +202,12 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
             }
             a->max_frames = (int)n;
             i += !joined; // the value was the next argument
+        } else if (strcmp(o, "--repeat") == 0) {
+            if (!parse_count(o, v, 1, 256, &n)) {
+                return 2;
+            }
+            a->repeat = (int)n;
+            i += !joined; // the value was the next argument
         } else if (strcmp(o, "--budget") == 0) {
             if (!parse_count(o, v, 1000, 2000000000ull, &n)) {
                 return 2;

@@ -35,6 +35,7 @@ typedef struct sta_view_args {
     int hpr_radius_px;         /* --hpr-radius */
     double hpr_threshold;      /* --hpr-threshold */
     double s0_m;               /* --s0 */
+    int repeat;                /* --repeat: time N more frames once loaded */
 } sta_view_args;
 
 /* Parses argv; prints usage or an error itself. Returns 0 to continue, -1 when
