@@ -39,7 +39,7 @@ echo "== camera jump on $(basename "$large"): overview, then 1/30 s later the st
 cat > "$work/jump.json" <<JSON
 { "version": 1, "keyframes": [
   { "time": 0, "position": [650100, 5401700, 400], "yaw": 45, "pitch": -35, "fov": 70 },
-  { "time": 0.0333, "position": [650235, 5401873.6, 105.5], "yaw": 180, "pitch": -8, "fov": 70 } ] }
+  { "time": 0.03333334, "position": [650235, 5401873.6, 105.5], "yaw": 180, "pitch": -8, "fov": 70 } ] }
 JSON
 $bin/src/strata-view --headless "$large" --path "$work/jump.json" --size $size --budget $budget \
     --pipeline raw --stats | grep "view loaded" | sed 's/^/  /'
