@@ -10,6 +10,7 @@
 #include <epoxy/gl.h> // before GLFW, which must not include GL headers itself
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
+#include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -346,6 +347,7 @@ int sta_view_run_window(const sta_view_args *args)
     s.colour_mode = sta_view_initial_colour(args, s.info);
     sta_view_pipeline_options(args, &s.pipeline);
     sta_scene_set_pipeline(s.scene, &s.pipeline);
+    sta_scene_set_timing(s.scene, args->stats);
     sta_scene_set_colour_mode(s.scene, s.colour_mode);
     for (int a = 0; a < 3; a++) {
         s.pivot[a] = 0.5 * (s.info->bounds_min[a] + s.info->bounds_max[a]);
@@ -386,6 +388,18 @@ int sta_view_run_window(const sta_view_args *args)
         if (now - title_time > 0.5) {
             update_title(window, &stats, frames_since_title / (now - title_time),
                          args->budget_points ? args->budget_points : 30000000);
+            if (args->stats) {
+                printf("%.1f fps, %" PRIu64 " points; ms: geometry %.2f",
+                       frames_since_title / (now - title_time), stats.points_drawn,
+                       stats.geometry_ms);
+                for (int pass = 0; pass < STA_PASS_COUNT; pass++) {
+                    if (stats.timing.ms[pass] > 0) {
+                        printf(", %s %.2f", sta_pass_name(pass), stats.timing.ms[pass]);
+                    }
+                }
+                printf("\n");
+                fflush(stdout);
+            }
             title_time = now;
             frames_since_title = 0;
         }
