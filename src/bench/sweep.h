@@ -1,0 +1,135 @@
+/* SPDX-License-Identifier: MIT
+ * The benchmark's core: for each scene, camera, point budget and pipeline setting,
+ * render the view headless once it is fully loaded, time every pass (median of
+ * `repeat` frames) and, where truth exists, measure the errors (HPR against true
+ * visibility, normals, filled depth, image against an unbudgeted reference; Katz's HPR
+ * as an offline reference). One sta_bench_row per scene x camera x budget x setting.
+ *
+ * Design: each scene is opened once per budget (the budget is fixed when a scene is
+ * opened) plus once without budget for the reference images; all stay open while the
+ * cameras are visited, so nothing is loaded twice for the same view. Before timing,
+ * each view is rendered until every selected node is resident (raw mode, timing off).
+ * Needs a current GL 4.5 context (sta_gl_headless_create). Main thread only.
+ */
+#ifndef STA_BENCH_SWEEP_H
+#define STA_BENCH_SWEEP_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/status.h"
+#include "render/pipeline.h"
+
+typedef enum sta_bench_camera_kind {
+    STA_BENCH_ORBIT = 0, /* sta_bench_orbit */
+    STA_BENCH_STREET,    /* sta_bench_street */
+    STA_BENCH_PATH,      /* keyframes of path_file */
+} sta_bench_camera_kind;
+
+enum {
+    STA_BENCH_MAX_LIST = 16 /* entries per sweep list */
+};
+
+/* Configuration. Zero means default for each field (sta_bench_options_defaults). */
+typedef struct sta_bench_options {
+    const char *const *scenes; /* .strata paths (borrowed) */
+    size_t scene_count;
+    const char *const *truths; /* truth sidecars: none (look beside each scene for
+                                  <stem>.truth.json), one per scene, or NULL entries */
+    size_t truth_count;
+    sta_bench_camera_kind cameras;
+    int camera_count;                     /* orbit / street views; 0: 8 */
+    const char *path_file;                /* STA_BENCH_PATH */
+    int width_px, height_px;              /* 0: 1920 x 1080 */
+    double fov_deg;                       /* 0: 60 */
+    uint64_t budgets[STA_BENCH_MAX_LIST]; /* points per frame; 0 = all points */
+    int budget_count;                     /* 0: one budget of 30,000,000 */
+    int modes[STA_BENCH_MAX_LIST];        /* sta_pipeline_mode */
+    int mode_count;                       /* 0: shaded */
+    int normals[STA_BENCH_MAX_LIST];      /* sta_normal_method */
+    int normal_count;                     /* 0: pyramid */
+    int samples[STA_BENCH_MAX_LIST];      /* LD/PD/PC/TI schemes */
+    int sample_count;                     /* 0: 9 */
+    bool hpr_variants[2];                 /* HPR variants: [0] pyramid, [1] exhaustive;
+                                             neither set: pyramid only */
+    bool smooth;                          /* normal smoothing pass */
+    int hpr_radius_px;                    /* exhaustive radius; 0: the pipeline's 8 */
+    float hpr_threshold;                  /* 0: the pipeline's 0.1 */
+    double s0_m;                          /* 0: the scene's estimate */
+    int repeat;                           /* timed frames per setting; 0: 5 */
+    double tolerance_s0;                  /* truth tolerance in s0; 0: 3 */
+    double timeout_s;                     /* per view loading; 0: 300 */
+    bool katz;                            /* run the Katz reference */
+    bool no_image_error;                  /* skip the unbudgeted reference renders */
+    bool progress;                        /* progress line on stderr (a terminal only) */
+} sta_bench_options;
+
+/* One pipeline setting of a sweep. */
+typedef struct sta_bench_setting {
+    int mode, normals, samples; /* normals/samples only where the mode estimates normals */
+    bool hpr_exhaustive;        /* only where the mode runs HPR */
+} sta_bench_setting;
+
+/* One result. Times in milliseconds (medians over `repeat` frames), errors NaN where
+ * not measured. docs/BENCH.md defines every field. */
+typedef struct sta_bench_row {
+    char scene[256];       /* file name of the .strata */
+    uint64_t scene_points; /* points in the file */
+    int camera;            /* view index */
+    char camera_kind[8];   /* "orbit", "street", "path" */
+    double eye[3];         /* camera position, world metres */
+    double yaw_deg, pitch_deg;
+    int width_px, height_px;
+    uint64_t budget;   /* requested (all points when 0 was given) */
+    char setting[64];  /* e.g. "shaded/pyramid/hpr-pyr" */
+    char pipeline[16]; /* mode name */
+    char normals[16];  /* normal method name or "" */
+    int samples;       /* LD/PD/PC/TI samples or 0 */
+    char hpr[16];      /* "pyramid", "exhaustive" or "" */
+    double s0_m;       /* used by the screen-space passes */
+    int repeat;
+    uint64_t points_drawn, points_selected;
+    uint32_t nodes_resident, nodes_drawn;
+    uint64_t loader_backlog;
+    double load_s; /* wall time until the view was fully loaded */
+    double geometry_ms, pass_ms[STA_PASS_COUNT], screen_ms, gpu_ms, frame_ms, cpu_ms;
+    uint64_t truth_points; /* drawn pixels classified against the truth */
+    uint64_t truly_hidden;
+    uint64_t hpr_tp, hpr_fp, hpr_fn, hpr_tn;
+    double hpr_precision, hpr_recall, hpr_f1;
+    uint64_t normal_count;
+    double normal_mean_deg, normal_median_deg, normal_p95_deg;
+    uint64_t depth_count;
+    double depth_rel_mean, depth_rel_median, depth_rel_p95;
+    double psnr_db; /* +inf for identical images */
+    double ssim;
+    double katz_ms;
+    uint64_t katz_points, katz_visible;
+    double katz_precision, katz_recall, katz_f1;
+} sta_bench_row;
+
+typedef struct sta_bench_results {
+    sta_bench_row *rows; /* owned */
+    size_t count, capacity;
+} sta_bench_results;
+
+/* Resolves zero fields to their defaults. */
+void sta_bench_options_defaults(sta_bench_options *options);
+
+/* Expands the sweep lists into settings (modes x HPR variants x normal methods x
+ * samples, each only where the mode uses it). *out is owned by the caller (sta_free). */
+sta_status sta_bench_settings(const sta_bench_options *options, sta_bench_setting **out,
+                              size_t *out_count, sta_error *err);
+
+/* A short label of a setting ("raw", "hpr/exh", "shaded/pd9/pyr"). */
+void sta_bench_setting_label(const sta_bench_setting *setting, char *out, size_t size);
+
+/* Runs the whole sweep, appending rows to `results` (zero-initialise it). Needs a
+ * current GL context. Errors name the scene and view. */
+sta_status sta_bench_run(const sta_bench_options *options, sta_bench_results *results,
+                         sta_error *err);
+
+void sta_bench_results_release(sta_bench_results *results);
+
+#endif

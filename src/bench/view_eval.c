@@ -1,0 +1,194 @@
+/* SPDX-License-Identifier: MIT
+ * Scoring one view against the truth. */
+#include "bench/view_eval.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "render/screen_space.h"
+
+sta_status sta_view_truth_compute(sta_bench_truth *truth, const sta_camera *camera,
+                                  sta_view_truth *out, sta_error *err)
+{
+    memset(out, 0, sizeof(*out));
+    const int w = camera->width_px, h = camera->height_px;
+    const size_t n = (size_t)w * (size_t)h;
+    out->depth_m = sta_alloc_array(n, sizeof(float));
+    out->normal = sta_alloc_array(n, 3 * sizeof(float));
+    if (!out->depth_m || !out->normal) {
+        sta_view_truth_release(out);
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for the truth of a %dx%d view", w, h);
+    }
+    out->width = w;
+    out->height = h;
+    double f[3], r[3], u[3];
+    sta_camera_basis(camera, f, r, u);
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            double dir[3], cosine;
+            sta_bench_pixel_ray(camera, x, y, dir, &cosine);
+            sta_synth_hit hit;
+            float *n3 = out->normal + 3 * i;
+            if (!sta_bench_truth_ray(truth, camera->position, dir, (double)INFINITY, &hit)) {
+                out->depth_m[i] = NAN;
+                n3[0] = n3[1] = n3[2] = 0.0f;
+                continue;
+            }
+            out->hit_count++;
+            out->depth_m[i] = (float)(hit.t * cosine);
+            const double *nw = hit.normal;
+            double side = nw[0] * dir[0] + nw[1] * dir[1] + nw[2] * dir[2] > 0.0 ? -1.0 : 1.0;
+            n3[0] = (float)(side * (nw[0] * r[0] + nw[1] * r[1] + nw[2] * r[2]));
+            n3[1] = (float)(side * (nw[0] * u[0] + nw[1] * u[1] + nw[2] * u[2]));
+            n3[2] = (float)(-side * (nw[0] * f[0] + nw[1] * f[1] + nw[2] * f[2]));
+        }
+    }
+    return STA_OK;
+}
+
+void sta_view_truth_release(sta_view_truth *v)
+{
+    sta_free(v->depth_m);
+    sta_free(v->normal);
+    memset(v, 0, sizeof(*v));
+}
+
+sta_status sta_view_points_from_depth(const sta_camera *camera, const float *depth,
+                                      sta_view_points *out, sta_error *err)
+{
+    memset(out, 0, sizeof(*out));
+    const int w = camera->width_px, h = camera->height_px;
+    const size_t n = (size_t)w * (size_t)h;
+    size_t count = 0;
+    for (size_t i = 0; i < n; i++) {
+        count += depth[i] > 0.0f;
+    }
+    size_t alloc = count ? count : 1;
+    out->pixel = sta_alloc_array(alloc, sizeof(*out->pixel));
+    out->world = sta_alloc_array(alloc, sizeof(*out->world));
+    out->visible = sta_calloc(alloc, 1);
+    if (!out->pixel || !out->world || !out->visible) {
+        sta_view_points_release(out);
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu view points", count);
+    }
+    const double tan_y = tan(0.5 * camera->fov_y);
+    const double tan_x = tan_y * (double)w / (double)h;
+    for (int row = 0; row < h; row++) {
+        const int y = h - 1 - row; // read-back rows run top first
+        for (int x = 0; x < w; x++) {
+            float d = depth[(size_t)row * (size_t)w + (size_t)x];
+            if (!(d > 0.0f)) {
+                continue;
+            }
+            double distance = camera->near_m / (double)d;
+            double cam[3] = { (((double)x + 0.5) / w * 2.0 - 1.0) * tan_x * distance,
+                              (((double)y + 0.5) / h * 2.0 - 1.0) * tan_y * distance, -distance };
+            double offset[3];
+            sta_bench_camera_to_world(camera, cam, offset);
+            size_t k = out->count++;
+            out->pixel[k] = (uint32_t)((size_t)y * (size_t)w + (size_t)x);
+            for (int a = 0; a < 3; a++) {
+                out->world[k][a] = camera->position[a] + offset[a];
+            }
+        }
+    }
+    return STA_OK;
+}
+
+void sta_view_points_classify(sta_bench_truth *truth, const sta_camera *camera, double tolerance_m,
+                              sta_view_points *points)
+{
+    for (size_t i = 0; i < points->count; i++) {
+        points->visible[i] =
+            sta_bench_truth_point_visible(truth, camera->position, points->world[i], tolerance_m);
+    }
+}
+
+void sta_view_points_release(sta_view_points *p)
+{
+    sta_free(p->pixel);
+    sta_free(p->world);
+    sta_free(p->visible);
+    memset(p, 0, sizeof(*p));
+}
+
+void sta_eval_hpr(const sta_view_points *points, const sta_image *label, sta_confusion *out)
+{
+    memset(out, 0, sizeof(*out));
+    for (size_t i = 0; i < points->count; i++) {
+        float l = label->data[(size_t)points->pixel[i] * (size_t)label->channels];
+        sta_confusion_add(out, l == STA_LABEL_VISIBLE, points->visible[i]);
+    }
+}
+
+static sta_status check_size(const sta_view_truth *v, const sta_image *image, const char *what,
+                             sta_error *err)
+{
+    if (image->width != v->width || image->height != v->height || image->channels < 4) {
+        return sta_fail(err, STA_ERR_ARG, "%s buffer is %dx%d with %d channels, the view %dx%d",
+                        what, image->width, image->height, image->channels, v->width, v->height);
+    }
+    return STA_OK;
+}
+
+sta_status sta_eval_normals(const sta_view_truth *v, const sta_image *normal,
+                            sta_error_summary *out, sta_error *err)
+{
+    sta_status s = check_size(v, normal, "normal", err);
+    if (s != STA_OK) {
+        return s;
+    }
+    const size_t n = (size_t)v->width * (size_t)v->height;
+    double *values = sta_alloc_array(n ? n : 1, sizeof(double));
+    if (!values) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu normal errors", n);
+    }
+    size_t count = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float *e = normal->data + 4 * i;
+        if (!(e[3] > 0.5f) || isnan(v->depth_m[i])) {
+            continue;
+        }
+        const double estimated[3] = { (double)e[0], (double)e[1], (double)e[2] };
+        const double truth[3] = { (double)v->normal[3 * i], (double)v->normal[3 * i + 1],
+                                  (double)v->normal[3 * i + 2] };
+        double angle = sta_angle_deg(estimated, truth);
+        if (!isnan(angle)) {
+            values[count++] = angle;
+        }
+    }
+    sta_error_summarise(values, count, out);
+    sta_free(values);
+    return STA_OK;
+}
+
+sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, sta_error_summary *out,
+                          sta_error *err)
+{
+    sta_status s = check_size(v, filled, "filled", err);
+    if (s != STA_OK) {
+        return s;
+    }
+    const size_t n = (size_t)v->width * (size_t)v->height;
+    double *values = sta_alloc_array(n ? n : 1, sizeof(double));
+    if (!values) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu depth errors", n);
+    }
+    size_t count = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float *p = filled->data + 4 * i;
+        double truth = (double)v->depth_m[i];
+        if (!(p[3] > 0.0f) || isnan(truth) || !(truth > 0.0)) {
+            continue;
+        }
+        double d = -(double)p[2];
+        if (isfinite(d)) {
+            values[count++] = fabs(d - truth) / truth;
+        }
+    }
+    sta_error_summarise(values, count, out);
+    sta_free(values);
+    return STA_OK;
+}

@@ -1,0 +1,66 @@
+/* SPDX-License-Identifier: MIT
+ * Scoring one rendered view against the truth: what each pixel's ray truly hits (depth
+ * and normal, once per camera), which drawn points are truly visible (from the depth
+ * buffer, once per camera and budget), and the errors of the pipeline's buffers (HPR
+ * labels, normals, filled depth) read back as sta_image. CPU only, no GL.
+ * Images are in GL texture order (row 0 at the bottom), as sta_image.
+ */
+#ifndef STA_BENCH_VIEW_EVAL_H
+#define STA_BENCH_VIEW_EVAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "bench/metrics.h"
+#include "bench/truth.h"
+#include "core/camera.h"
+#include "core/status.h"
+#include "render/ref/image.h"
+
+/* Per pixel truth of one view. */
+typedef struct sta_view_truth {
+    int width, height;
+    float *depth_m; /* per pixel: true depth along the view axis; NAN where the ray misses */
+    float *normal;  /* 3 per pixel: unit camera-space normal facing the camera (0 on miss) */
+    uint64_t hit_count;
+} sta_view_truth;
+
+/* Casts one ray through each pixel centre. */
+sta_status sta_view_truth_compute(sta_bench_truth *truth, const sta_camera *camera,
+                                  sta_view_truth *out, sta_error *err);
+void sta_view_truth_release(sta_view_truth *view_truth);
+
+/* The points of a view: one per pixel the geometry pass drew, at the pixel centre and
+ * the depth buffer's depth (unprojected in double). */
+typedef struct sta_view_points {
+    size_t count;
+    uint32_t *pixel;    /* texture-order index y * width + x */
+    double (*world)[3]; /* world coordinates, metres */
+    uint8_t *visible;   /* truth (sta_view_points_classify), 1 visible / 0 hidden */
+} sta_view_points;
+
+/* Unprojects `depth` (reverse-Z as sta_render_target_read_depth gives it: top row
+ * first, 0 = nothing drawn) of `camera`'s viewport. */
+sta_status sta_view_points_from_depth(const sta_camera *camera, const float *depth,
+                                      sta_view_points *out, sta_error *err);
+
+/* Fills out->visible with sta_bench_truth_point_visible from the camera's eye. */
+void sta_view_points_classify(sta_bench_truth *truth, const sta_camera *camera, double tolerance_m,
+                              sta_view_points *points);
+void sta_view_points_release(sta_view_points *points);
+
+/* HPR labels (R32F, STA_LABEL_*) against the points' truth: a point pixel labelled
+ * STA_LABEL_VISIBLE counts as labelled visible, any other label as hidden. */
+void sta_eval_hpr(const sta_view_points *points, const sta_image *label, sta_confusion *out);
+
+/* Angle (degrees) between the normal buffer (RGBA32F, w > 0.5 valid) and the true
+ * normal, over pixels with a valid normal whose ray hits the scene. */
+sta_status sta_eval_normals(const sta_view_truth *view_truth, const sta_image *normal,
+                            sta_error_summary *out, sta_error *err);
+
+/* Relative depth error |d - d_true| / d_true of the filled buffer (RGBA32F, camera
+ * space xyz, w > 0 covered; d = -z), over covered pixels whose ray hits the scene. */
+sta_status sta_eval_depth(const sta_view_truth *view_truth, const sta_image *filled,
+                          sta_error_summary *out, sta_error *err);
+
+#endif

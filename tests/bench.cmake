@@ -1,0 +1,6 @@
+# SPDX-License-Identifier: MIT
+# strata-bench's truth and metrics (unit) and one end-to-end sweep on a synthetic sphere,
+# rendered headless through EGL on Mesa llvmpipe (gl).
+sta_add_test(bench SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_bench.c
+             LIBS sta_bench sta_preprocess ${M_LIBRARY} LABELS unit)
+set_tests_properties(bench.core_end_to_end_sphere PROPERTIES LABELS gl)

@@ -1,0 +1,431 @@
+/* SPDX-License-Identifier: MIT
+ * The benchmark's truth, metrics and core: truth on a sphere whose answers are known in
+ * closed form, metrics on hand-made buffers, and one end-to-end run of the sweep on a
+ * small synthetic sphere (gl).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench/metrics.h"
+#include "bench/report.h"
+#include "bench/sweep.h"
+#include "bench/truth.h"
+#include "bench/view_eval.h"
+#include "convert.h"
+#include "render/gl.h"
+#include "render/screen_space.h"
+#include "test_support.h"
+
+// |a - b| <= eps in double (cmocka's assert_float_equal works in float).
+static void near_at(double a, double b, double eps, const char *file, int line)
+{
+    if (!(fabs(a - b) <= eps)) {
+        fail_msg("%s:%d: %.17g differs from %.17g by more than %g", file, line, a, b, eps);
+    }
+}
+#define assert_near(a, b, eps) near_at((double)(a), (double)(b), (eps), __FILE__, __LINE__)
+
+static const double origin[3] = { 650241.375, 5401873.625, 103.25 }; // the utm origin
+
+// The synth sphere: centre (0, 0, 0) local, radius 10 m.
+static void sphere_truth(sta_bench_truth *t)
+{
+    sta_synth_params p = { .kind = STA_SYNTH_SPHERE, .seed = 1, .point_count = 1000 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_bench_truth_init(&p, origin, t, &err), STA_OK);
+}
+
+static void world(const double local[3], double out[3])
+{
+    for (int a = 0; a < 3; a++) {
+        out[a] = origin[a] + local[a];
+    }
+}
+
+static void truth_sphere_near_visible_far_hidden(void **state)
+{
+    (void)state;
+    sta_bench_truth t;
+    sphere_truth(&t);
+    double eye[3], near[3], far[3], side[3], beyond[3];
+    world((double[3]){ 0, 0, 30 }, eye);
+    world((double[3]){ 0, 0, 10 }, near);   // facing the eye
+    world((double[3]){ 0, 0, -10 }, far);   // behind the sphere's body
+    world((double[3]){ 6, 0, 8 }, side);    // on the near cap (z > 10 * 10 / 30)
+    world((double[3]){ 8, 0, -6 }, beyond); // below the horizon seen from the eye
+    const double tol = 0.05;
+    assert_true(sta_bench_truth_point_visible(&t, eye, near, tol));
+    assert_false(sta_bench_truth_point_visible(&t, eye, far, tol));
+    assert_true(sta_bench_truth_point_visible(&t, eye, side, tol));
+    assert_false(sta_bench_truth_point_visible(&t, eye, beyond, tol));
+    // A point off the surface in front of it is visible; one just inside is hidden
+    // only beyond the tolerance.
+    double inside[3];
+    world((double[3]){ 0, 0, 9.9 }, inside);
+    assert_true(sta_bench_truth_point_visible(&t, eye, inside, 0.2));
+    assert_false(sta_bench_truth_point_visible(&t, eye, inside, 0.05));
+    sta_bench_truth_release(&t);
+}
+
+static void truth_sphere_ray_depth_and_normal(void **state)
+{
+    (void)state;
+    sta_bench_truth t;
+    sphere_truth(&t);
+    // Camera 30 m along -x looking at the centre along +x; 5x5 pixels, fov 60.
+    sta_camera c = { .yaw = 0.0,
+                     .pitch = 0.0,
+                     .fov_y = 60.0 * M_PI / 180.0,
+                     .near_m = 0.1,
+                     .width_px = 5,
+                     .height_px = 5 };
+    world((double[3]){ -30, 0, 0 }, c.position);
+    sta_view_truth v;
+    sta_error err = { 0 };
+    assert_int_equal(sta_view_truth_compute(&t, &c, &v, &err), STA_OK);
+    // Centre pixel: the ray is the view axis, hits (-10, 0, 0) at depth 20, normal -x
+    // world = towards the camera = +z in camera space.
+    size_t centre = 2 * 5 + 2;
+    assert_near(v.depth_m[centre], 20.0, 1e-4);
+    assert_near(v.normal[3 * centre + 0], 0.0, 1e-6);
+    assert_near(v.normal[3 * centre + 1], 0.0, 1e-6);
+    assert_near(v.normal[3 * centre + 2], 1.0, 1e-6);
+    // Pixel (3, 2): the ray leans right by atan(tan 30 * 5/5 * 0.4); its hit and
+    // normal follow from the ray-sphere equation.
+    double dir[3], cosine;
+    sta_bench_pixel_ray(&c, 3, 2, dir, &cosine);
+    const double o[3] = { -30, 0, 0 };
+    double b = o[0] * dir[0] + o[1] * dir[1] + o[2] * dir[2];
+    double tt = -b - sqrt(b * b - (900.0 - 100.0));
+    double hit[3] = { o[0] + tt * dir[0], o[1] + tt * dir[1], o[2] + tt * dir[2] };
+    size_t i = 2 * 5 + 3;
+    assert_near(v.depth_m[i], tt * cosine, 1e-4);
+    // Camera space: x right (= -y world for yaw 0), y up (= z), z towards the viewer
+    // (= -x world).
+    assert_near(v.normal[3 * i + 0], -hit[1] / 10.0, 1e-5);
+    assert_near(v.normal[3 * i + 1], hit[2] / 10.0, 1e-5);
+    assert_near(v.normal[3 * i + 2], -hit[0] / 10.0, 1e-5);
+    // A ray hits iff it leans less than asin(10/30) off the axis: tan^2 < 1/8 in
+    // total; pixel offsets are tan 30 * (-0.8, -0.4, 0, 0.4, 0.8) per axis.
+    uint64_t expected = 0;
+    for (int py = 0; py < 5; py++) {
+        for (int px = 0; px < 5; px++) {
+            double tx = tan(M_PI / 6) * (px - 2) * 0.4, ty = tan(M_PI / 6) * (py - 2) * 0.4;
+            bool hits = tx * tx + ty * ty < 1.0 / 8.0;
+            expected += hits;
+            assert_true(hits == !isnan(v.depth_m[py * 5 + px]));
+        }
+    }
+    assert_int_equal(v.hit_count, expected);
+    assert_true(isnan(v.depth_m[0]));
+    sta_view_truth_release(&v);
+    sta_bench_truth_release(&t);
+}
+
+static void truth_sidecar_rebuilds_scene(void **state)
+{
+    (void)state;
+    const char *las = sta_test_tmp_path("bench_truth_sphere.las");
+    sta_synth_params p = { .kind = STA_SYNTH_SPHERE, .seed = 7, .point_count = 500 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    sta_bench_truth t;
+    assert_int_equal(
+        sta_bench_truth_load(sta_test_tmp_path("bench_truth_sphere.truth.json"), &t, &err), STA_OK);
+    // The utm origin of docs/SYNTH.md.
+    for (int a = 0; a < 3; a++) {
+        assert_true(t.origin[a] == origin[a]);
+    }
+    assert_int_equal(sta_synth_scene_params(t.scene)->kind, STA_SYNTH_SPHERE);
+    assert_true(sta_synth_scene_params(t.scene)->seed == 7);
+    sta_bench_truth_release(&t);
+    // Not a sidecar: a format error naming the file.
+    const char *bad = sta_test_tmp_path("bench_not_truth.json");
+    sta_test_write_file(bad, "{\"format\": \"x\"}", 15);
+    assert_int_equal(sta_bench_truth_load(bad, &t, &err), STA_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "bench_not_truth.json"));
+}
+
+static void metrics_confusion_counts(void **state)
+{
+    (void)state;
+    sta_confusion c = { 0 };
+    const int labelled[10] = { 1, 1, 1, 1, 0, 0, 0, 0, 0, 0 };
+    const int truth[10] = { 1, 1, 1, 0, 1, 1, 0, 0, 0, 0 };
+    for (int i = 0; i < 10; i++) {
+        sta_confusion_add(&c, labelled[i], truth[i]);
+    }
+    assert_int_equal(c.tp, 3);
+    assert_int_equal(c.fp, 1);
+    assert_int_equal(c.fn, 2);
+    assert_int_equal(c.tn, 4);
+    assert_near(sta_confusion_precision(&c), 0.75, 1e-12);
+    assert_near(sta_confusion_recall(&c), 0.6, 1e-12);
+    assert_near(sta_confusion_f1(&c), 2.0 * 0.75 * 0.6 / (0.75 + 0.6), 1e-12);
+    sta_confusion none = { 0 };
+    assert_true(isnan(sta_confusion_precision(&none)));
+    assert_true(isnan(sta_confusion_f1(&none)));
+}
+
+static void metrics_error_summary_and_angles(void **state)
+{
+    (void)state;
+    double v[20];
+    for (int i = 0; i < 20; i++) {
+        v[i] = 20.0 - i; // 20 .. 1, unsorted on purpose
+    }
+    sta_error_summary s;
+    sta_error_summarise(v, 20, &s);
+    assert_int_equal(s.count, 20);
+    assert_near(s.mean, 10.5, 1e-12);
+    assert_near(s.median, 10.5, 1e-12);
+    assert_near(s.p95, 19.0, 1e-12); // nearest rank ceil(19) = 19th smallest
+    assert_near(s.max, 20.0, 1e-12);
+    double odd[3] = { 3, 1, 2 };
+    sta_error_summarise(odd, 3, &s);
+    assert_near(s.median, 2.0, 1e-12);
+    assert_near(s.p95, 3.0, 1e-12);
+    sta_error_summarise(v, 0, &s);
+    assert_true(isnan(s.mean) && isnan(s.p95));
+
+    const double x[3] = { 1, 0, 0 }, y[3] = { 0, 2, 0 }, mx[3] = { -3, 0, 0 }, zero[3] = { 0 };
+    const double d45[3] = { 1, 1, 0 };
+    assert_near(sta_angle_deg(x, y), 90.0, 1e-12);
+    assert_near(sta_angle_deg(x, x), 0.0, 1e-12);
+    assert_near(sta_angle_deg(x, mx), 180.0, 1e-12);
+    assert_near(sta_angle_deg(x, d45), 45.0, 1e-12);
+    assert_true(isnan(sta_angle_deg(x, zero)));
+}
+
+static void metrics_psnr(void **state)
+{
+    (void)state;
+    uint8_t a[8] = { 10, 20, 30, 255, 40, 50, 60, 255 };
+    uint8_t b[8];
+    memcpy(b, a, sizeof(b));
+    assert_true(isinf(sta_psnr_rgba8(a, b, 2)) && sta_psnr_rgba8(a, b, 2) > 0);
+    b[3] = 0; // alpha is ignored
+    assert_true(isinf(sta_psnr_rgba8(a, b, 2)));
+    b[4] = 50; // one channel off by 10: MSE = 100 / 6
+    assert_near(sta_psnr_rgba8(a, b, 2), 10.0 * log10(255.0 * 255.0 * 6.0 / 100.0), 1e-9);
+    assert_true(isnan(sta_psnr_rgba8(a, b, 0)));
+}
+
+static void metrics_ssim(void **state)
+{
+    (void)state;
+    enum {
+        W = 37,
+        H = 23
+    };
+    uint8_t *a = malloc(W * H * 4), *b = malloc(W * H * 4);
+    assert_non_null(a);
+    assert_non_null(b);
+    uint32_t x = 12345;
+    for (int i = 0; i < W * H; i++) { // textured noise
+        x = x * 1664525u + 1013904223u;
+        uint8_t g = (uint8_t)(x >> 24);
+        a[4 * i] = a[4 * i + 1] = a[4 * i + 2] = g;
+        a[4 * i + 3] = 255;
+    }
+    sta_error err = { 0 };
+    double ssim = 0.0;
+    assert_int_equal(sta_ssim_rgba8(a, a, W, H, &ssim, &err), STA_OK);
+    assert_near(ssim, 1.0, 1e-12);
+    // Shifted one pixel right: structure no longer matches.
+    for (int y = 0; y < H; y++) {
+        for (int i = 0; i < W; i++) {
+            int from = y * W + (i > 0 ? i - 1 : 0);
+            memcpy(b + 4 * (y * W + i), a + 4 * from, 4);
+        }
+    }
+    assert_int_equal(sta_ssim_rgba8(a, b, W, H, &ssim, &err), STA_OK);
+    assert_true(ssim < 0.9);
+    assert_true(ssim > -1.0);
+    assert_int_equal(sta_ssim_rgba8(a, b, 0, H, &ssim, &err), STA_ERR_ARG);
+    free(a);
+    free(b);
+}
+
+static void eval_buffers_hand_made(void **state)
+{
+    (void)state;
+    // A 2x1 view: pixel 0 truly at depth 2 facing the camera, pixel 1 a miss.
+    float depth[2] = { 2.0f, NAN };
+    float normal[6] = { 0, 0, 1, 0, 0, 0 };
+    sta_view_truth v = { .width = 2, .height = 1, .depth_m = depth, .normal = normal };
+    sta_image img = { 0 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(&img, 2, 1, 4, &err), STA_OK);
+    // Normal tilted 60 degrees; the miss pixel's normal is ignored.
+    float *p = sta_image_at(&img, 0, 0);
+    p[0] = (float)sin(M_PI / 3);
+    p[2] = (float)cos(M_PI / 3);
+    p[3] = 1.0f;
+    p = sta_image_at(&img, 1, 0);
+    p[2] = p[3] = 1.0f;
+    sta_error_summary s;
+    assert_int_equal(sta_eval_normals(&v, &img, &s, &err), STA_OK);
+    assert_int_equal(s.count, 1);
+    assert_near(s.mean, 60.0, 1e-4);
+    // Filled depth 2.2 at pixel 0: relative error 0.1.
+    p = sta_image_at(&img, 0, 0);
+    p[0] = p[1] = 0.0f;
+    p[2] = -2.2f;
+    assert_int_equal(sta_eval_depth(&v, &img, &s, &err), STA_OK);
+    assert_int_equal(s.count, 1);
+    assert_near(s.mean, 0.1, 1e-6);
+    sta_image_release(&img);
+    // HPR labels against point truth.
+    assert_int_equal(sta_image_init(&img, 2, 1, 1, &err), STA_OK);
+    img.data[0] = STA_LABEL_VISIBLE;
+    img.data[1] = STA_LABEL_HIDDEN;
+    uint32_t pixel[2] = { 0, 1 };
+    uint8_t visible[2] = { 1, 1 };
+    sta_view_points pts = { .count = 2, .pixel = pixel, .visible = visible };
+    sta_confusion c;
+    sta_eval_hpr(&pts, &img, &c);
+    assert_int_equal(c.tp, 1);
+    assert_int_equal(c.fn, 1);
+    assert_int_equal(c.fp + c.tn, 0);
+    sta_image_release(&img);
+}
+
+static void settings_expand(void **state)
+{
+    (void)state;
+    sta_bench_options o = { .mode_count = 3,
+                            .modes = { STA_PIPELINE_RAW, STA_PIPELINE_HPR, STA_PIPELINE_SHADED },
+                            .normal_count = 2,
+                            .normals = { STA_NORMAL_PYRAMID, STA_NORMAL_PD },
+                            .sample_count = 2,
+                            .samples = { 9, 25 },
+                            .hpr_variants = { true, true } };
+    sta_bench_options_defaults(&o);
+    sta_bench_setting *s = NULL;
+    size_t n = 0;
+    sta_error err = { 0 };
+    assert_int_equal(sta_bench_settings(&o, &s, &n, &err), STA_OK);
+    // raw once; hpr x 2 variants; shaded x 2 variants x (pyramid + pd x 2 samples).
+    assert_int_equal(n, 1 + 2 + 2 * 3);
+    char label[64];
+    sta_bench_setting_label(&s[n - 1], label, sizeof(label));
+    assert_string_equal(label, "shaded/pd25/hpr-exh");
+    free(s);
+}
+
+// The sweep on a real converted synth sphere at 192x144: HPR against truth, pyramid
+// normals, filled depth, image error of a budgeted render, Katz, CSV and JSON out.
+static void core_end_to_end_sphere(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    sta_gl_headless gl = { 0 };
+    if (sta_gl_headless_create(&gl, &err) != STA_OK) {
+        fail_msg("no GL context: %s", err.message);
+    }
+    enum {
+        POINTS = 20000
+    };
+    char las[4096], strata[4096], out_dir[4096];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("bench_sphere.las"));
+    snprintf(strata, sizeof(strata), "%s", sta_test_tmp_path("bench_sphere.strata"));
+    snprintf(out_dir, sizeof(out_dir), "%s", sta_test_tmp_path("bench_out"));
+    sta_synth_params p = { .kind = STA_SYNTH_SPHERE, .seed = 3, .point_count = POINTS };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    const char *inputs[] = { las };
+    sta_convert_options co = { .inputs = inputs,
+                               .input_count = 1,
+                               .output = strata,
+                               .force = true,
+                               .leaf_capacity = 1500,
+                               .compress_level = 1 };
+    assert_int_equal(sta_convert(&co, NULL, &err), STA_OK);
+
+    // The right s0: the mean spacing of N uniform points on the sphere's 400 pi m^2.
+    const double s0 = sqrt(4.0 * M_PI * 100.0 / POINTS);
+    const char *scenes[] = { strata };
+    sta_bench_options o = { .scenes = scenes,
+                            .scene_count = 1,
+                            .camera_count = 2,
+                            .width_px = 192,
+                            .height_px = 144,
+                            .budgets = { 0, 14000 },
+                            .budget_count = 2,
+                            .modes = { STA_PIPELINE_SHADED },
+                            .mode_count = 1,
+                            .s0_m = s0,
+                            .repeat = 1,
+                            .katz = true };
+    sta_bench_results r = { 0 };
+    sta_status s = sta_bench_run(&o, &r, &err);
+    if (s != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    assert_int_equal(r.count, 4); // 2 cameras x 2 budgets x 1 setting
+    for (size_t i = 0; i < r.count; i++) {
+        const sta_bench_row *row = &r.rows[i];
+        print_message("camera %d budget %llu: drawn %llu, truth %llu (hidden %llu), F1 %.4f "
+                      "(P %.4f R %.4f), normal mean %.2f p95 %.2f deg, depth rel %.4g, "
+                      "PSNR %.2f, SSIM %.4f, Katz P %.3f R %.3f %.1f ms, frame %.1f ms\n",
+                      row->camera, (unsigned long long)row->budget,
+                      (unsigned long long)row->points_drawn, (unsigned long long)row->truth_points,
+                      (unsigned long long)row->truly_hidden, row->hpr_f1, row->hpr_precision,
+                      row->hpr_recall, row->normal_mean_deg, row->normal_p95_deg,
+                      row->depth_rel_mean, row->psnr_db, row->ssim, row->katz_precision,
+                      row->katz_recall, row->katz_ms, row->frame_ms);
+        assert_string_equal(row->scene, "bench_sphere.strata");
+        assert_string_equal(row->setting, "shaded/pyramid/hpr-pyr");
+        assert_true(row->scene_points == POINTS);
+        assert_true(row->points_drawn > 0 && row->points_drawn <= row->budget);
+        assert_true(row->truth_points > 500);
+        assert_true(row->hpr_f1 > 0.8);
+        assert_true(row->normal_mean_deg < 15.0);
+        assert_true(row->depth_rel_mean < 0.05);
+        assert_true(row->frame_ms > 0.0 && row->geometry_ms > 0.0);
+        assert_true(row->pass_ms[STA_PASS_HPR] > 0.0 && row->pass_ms[STA_PASS_SHADE] > 0.0);
+        assert_true(row->katz_points == row->truth_points && row->katz_recall > 0.8);
+        assert_true(fabs(row->s0_m - s0) < 1e-6);
+        if (row->budget == POINTS) {
+            // All points: the same image as the unbudgeted reference.
+            assert_true(isinf(row->psnr_db));
+            assert_near(row->ssim, 1.0, 1e-12);
+        } else {
+            assert_true(row->budget == 14000);
+            assert_true(isfinite(row->psnr_db) && row->psnr_db > 5.0);
+            assert_true(row->ssim < 1.0);
+        }
+    }
+    assert_int_equal(sta_bench_write_reports(out_dir, "test", &r, &err), STA_OK);
+    char csv[4200];
+    snprintf(csv, sizeof(csv), "%s/results.csv", out_dir);
+    size_t size = 0;
+    char *text = (char *)sta_test_read_file(csv, &size);
+    assert_non_null(text);
+    size_t lines = 0;
+    for (size_t i = 0; i < size; i++) {
+        lines += text[i] == '\n';
+    }
+    assert_int_equal(lines, 5); // header + 4 rows
+    assert_true(strncmp(text, "scene,scene_points,camera,", 26) == 0);
+    free(text);
+    sta_bench_results_release(&r);
+    sta_gl_headless_destroy(&gl);
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(truth_sphere_near_visible_far_hidden),
+    cmocka_unit_test(truth_sphere_ray_depth_and_normal),
+    cmocka_unit_test(truth_sidecar_rebuilds_scene),
+    cmocka_unit_test(metrics_confusion_counts),
+    cmocka_unit_test(metrics_error_summary_and_angles),
+    cmocka_unit_test(metrics_psnr),
+    cmocka_unit_test(metrics_ssim),
+    cmocka_unit_test(eval_buffers_hand_made),
+    cmocka_unit_test(settings_expand),
+    cmocka_unit_test(core_end_to_end_sphere),
+};
+
+STA_TEST_MAIN(tests)
