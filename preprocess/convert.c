@@ -598,8 +598,8 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    status =
-        sta_node_writer_init(&job.node_writer, job.writer, &job.inputs.layout, job.threads, err);
+    status = sta_node_writer_init(&job.node_writer, job.writer, &job.inputs.layout, &wopt.layout,
+                                  &wopt.geometry, job.threads, err);
     if (status != STA_OK) {
         goto out;
     }

@@ -47,34 +47,32 @@ static sta_status emit(void *context, int worker_index, const sta_node_key *key,
 {
     sta_node_writer *nw = context;
     sta_node_worker *w = &nw->workers[worker_index];
-    const size_t extra_size = nw->layout->extra_size;
-    if (count > w->capacity) {
-        size_t grown = count > 2 * w->capacity ? count : 2 * w->capacity;
-        sta_point *points = sta_alloc_array(grown, sizeof(*points));
-        uint8_t *extra = extra_size ? sta_alloc_array(grown, extra_size) : NULL;
-        if (!points || (extra_size && !extra)) {
-            sta_free(points);
-            sta_free(extra);
+    size_t bytes = count * nw->column_record_size;
+    if (bytes > w->capacity) {
+        size_t grown = bytes > 2 * w->capacity ? bytes : 2 * w->capacity;
+        uint8_t *columns = sta_malloc(grown);
+        if (!columns) {
             return sta_fail(err, STA_ERR_NOMEM, "out of memory for a node of %zu points", count);
         }
-        sta_free(w->points);
-        sta_free(w->extra);
-        w->points = points;
-        w->extra = extra;
+        sta_free(w->columns);
+        w->columns = columns;
         w->capacity = grown;
-    }
-    for (size_t i = 0; i < count; i++) {
-        sta_record_unpack(nw->layout, records + i * nw->layout->size, &w->points[i],
-                          extra_size ? w->extra + i * extra_size : NULL);
     }
     sta_strata_node node;
     memset(&node, 0, sizeof(node));
     node.key = to_strata_key(key);
     node.flags = (flags & STA_NODE_UNGRIDDED) ? STA_STRATA_NODE_OVERFLOW : 0;
     node.point_count = count;
-    sta_status status =
-        sta_strata_writer_add_points(nw->writer, w->encoder, node.key, w->points,
-                                     extra_size ? w->extra : NULL, count, &node.payload, err);
+    // Columns straight from the packed records: no unpacking into sta_point.
+    int64_t corner[3], size[3];
+    sta_strata_node_grid_bounds(nw->geometry, node.key, corner, size);
+    if (!sta_record_encode_columns(nw->layout, records, count, corner, nw->extra_dim_sizes,
+                                   nw->extra_dim_count, w->columns)) {
+        return sta_fail(err, STA_ERR_ARG, "internal error: a point of %s lies outside it",
+                        "a node");
+    }
+    sta_status status = sta_strata_writer_add_node(nw->writer, w->encoder, node.key, w->columns,
+                                                   count, &node.payload, err);
     if (status != STA_OK) {
         return status;
     }
@@ -102,11 +100,20 @@ sta_node_sink sta_node_writer_sink(sta_node_writer *nw)
 }
 
 sta_status sta_node_writer_init(sta_node_writer *nw, sta_strata_writer *writer,
-                                const sta_record_layout *layout, int worker_count, sta_error *err)
+                                const sta_record_layout *layout,
+                                const sta_strata_layout *strata_layout,
+                                const sta_strata_geometry *geometry, int worker_count,
+                                sta_error *err)
 {
     memset(nw, 0, sizeof(*nw));
     nw->writer = writer;
     nw->layout = layout;
+    nw->geometry = geometry;
+    nw->column_record_size = strata_layout->record_size;
+    nw->extra_dim_count = strata_layout->extra_dim_count;
+    for (uint32_t d = 0; d < strata_layout->extra_dim_count; d++) {
+        nw->extra_dim_sizes[d] = strata_layout->extra_dims[d].size_bytes;
+    }
     nw->workers = sta_calloc((size_t)worker_count, sizeof(*nw->workers));
     if (!nw->workers) {
         return sta_fail(err, STA_ERR_NOMEM, "out of memory for %d workers", worker_count);
@@ -130,8 +137,7 @@ void sta_node_writer_release(sta_node_writer *nw)
     }
     for (int i = 0; i < nw->worker_count; i++) {
         sta_strata_encoder_destroy(nw->workers[i].encoder);
-        sta_free(nw->workers[i].points);
-        sta_free(nw->workers[i].extra);
+        sta_free(nw->workers[i].columns);
     }
     sta_free(nw->workers);
     sta_free(nw->nodes);

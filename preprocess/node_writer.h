@@ -14,15 +14,18 @@
 /* Per-worker buffers for unpacking records. */
 typedef struct sta_node_worker {
     sta_strata_encoder *encoder;
-    sta_point *points; /* capacity points */
-    uint8_t *extra;    /* capacity * extra_size bytes */
-    size_t capacity;
+    uint8_t *columns; /* one node's payload in the .strata column layout */
+    size_t capacity;  /* bytes */
 } sta_node_worker;
 
 typedef struct sta_node_writer {
-    sta_strata_writer *writer;       /* borrowed */
-    const sta_record_layout *layout; /* borrowed */
-    sta_node_worker *workers;        /* one per worker, owned */
+    sta_strata_writer *writer;           /* borrowed */
+    const sta_record_layout *layout;     /* borrowed */
+    const sta_strata_geometry *geometry; /* borrowed: node corners */
+    size_t column_record_size;           /* bytes per point of the .strata payload */
+    uint16_t extra_dim_sizes[STA_STRATA_MAX_EXTRA_DIMS]; /* per extra dimension */
+    uint32_t extra_dim_count;
+    sta_node_worker *workers; /* one per worker, owned */
     int worker_count;
     pthread_mutex_t lock;   /* guards nodes, node_count, node_capacity, totals */
     sta_strata_node *nodes; /* emitted nodes, any order (guard: lock) */
@@ -33,8 +36,13 @@ typedef struct sta_node_writer {
     uint64_t point_count;  /* guard: lock */
 } sta_node_writer;
 
+/* `strata_layout` and `geometry` are the writer's (payload columns are encoded straight
+ * from the packed records; node corners come from the geometry); both borrowed. */
 sta_status sta_node_writer_init(sta_node_writer *nw, sta_strata_writer *writer,
-                                const sta_record_layout *layout, int worker_count, sta_error *err);
+                                const sta_record_layout *layout,
+                                const sta_strata_layout *strata_layout,
+                                const sta_strata_geometry *geometry, int worker_count,
+                                sta_error *err);
 
 void sta_node_writer_release(sta_node_writer *nw);
 

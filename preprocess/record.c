@@ -25,6 +25,27 @@ static const struct {
     { STA_ATTR_SCANNER_CHANNEL, 1 },
 };
 
+// The values of each attribute in pack order, as .strata columns (same order: both
+// follow the attribute bits; scan flags are one packed byte here, two columns there).
+static const struct {
+    uint32_t bit;
+    uint8_t sizes[8]; /* column sizes, 0-terminated */
+} attribute_columns[] = {
+    { STA_ATTR_INTENSITY, { 2 } },
+    { STA_ATTR_RETURNS, { 1, 1 } },
+    { STA_ATTR_CLASSIFICATION, { 1, 1 } },
+    { STA_ATTR_SCAN_ANGLE, { 2 } },
+    { STA_ATTR_USER_DATA, { 1 } },
+    { STA_ATTR_POINT_SOURCE_ID, { 2 } },
+    { STA_ATTR_SCAN_FLAGS, { 1 } }, /* split below */
+    { STA_ATTR_GPS_TIME, { 8 } },
+    { STA_ATTR_RGB, { 2, 2, 2 } },
+    { STA_ATTR_NIR, { 2 } },
+    { STA_ATTR_WAVE_PACKET, { 1, 8, 4, 4, 4, 4, 4 } },
+    { STA_ATTR_NORMAL, { 4, 4, 4 } },
+    { STA_ATTR_SCANNER_CHANNEL, { 1 } },
+};
+
 void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size_t extra_size)
 {
     layout->attributes = 0;
@@ -36,6 +57,78 @@ void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size
             layout->size += attribute_sizes[i].size;
         }
     }
+    size_t offset = 12;
+    layout->column_count = 0;
+    for (size_t i = 0; i < sizeof(attribute_columns) / sizeof(attribute_columns[0]); i++) {
+        if (!(layout->attributes & attribute_columns[i].bit)) {
+            continue;
+        }
+        for (int c = 0; attribute_columns[i].sizes[c] != 0; c++) {
+            size_t size = attribute_columns[i].sizes[c];
+            if (attribute_columns[i].bit == STA_ATTR_SCAN_FLAGS) {
+                // Direction and edge flags: bits 0 and 1 of one byte, two u8 columns.
+                layout->columns[layout->column_count++] = (sta_record_column){ offset, 1, 0 };
+                layout->columns[layout->column_count++] = (sta_record_column){ offset, 1, 1 };
+            } else {
+                layout->columns[layout->column_count++] = (sta_record_column){ offset, size, -1 };
+            }
+            offset += size;
+        }
+    }
+}
+
+bool sta_record_encode_columns(const sta_record_layout *layout, const uint8_t *records,
+                               size_t count, const int64_t corner[3],
+                               const uint16_t *extra_dim_sizes, uint32_t extra_dim_count,
+                               uint8_t *out)
+{
+    const size_t rec = layout->size;
+    uint8_t *pos = out;
+    for (int a = 0; a < 3; a++) {
+        for (size_t i = 0; i < count; i++) {
+            int32_t v;
+            memcpy(&v, records + i * rec + 4 * (size_t)a, sizeof(v));
+            int64_t relative = (int64_t)v - corner[a];
+            if (relative < 0 || relative > (int64_t)UINT32_MAX) {
+                return false;
+            }
+            uint32_t u = (uint32_t)relative;
+            memcpy(pos + 4 * i, &u, sizeof(u));
+        }
+        pos += 4 * count;
+    }
+    for (int c = 0; c < layout->column_count; c++) {
+        const sta_record_column *col = &layout->columns[c];
+        const uint8_t *src = records + col->offset;
+        if (col->bit >= 0) {
+            for (size_t i = 0; i < count; i++) {
+                pos[i] = (uint8_t)((src[i * rec] >> col->bit) & 1u);
+            }
+        } else if (col->size == 1) {
+            for (size_t i = 0; i < count; i++) {
+                pos[i] = src[i * rec];
+            }
+        } else if (col->size == 2) {
+            for (size_t i = 0; i < count; i++) {
+                memcpy(pos + 2 * i, src + i * rec, 2);
+            }
+        } else {
+            for (size_t i = 0; i < count; i++) {
+                memcpy(pos + col->size * i, src + i * rec, col->size);
+            }
+        }
+        pos += col->size * count;
+    }
+    size_t at = rec - layout->extra_size;
+    for (uint32_t d = 0; d < extra_dim_count; d++) {
+        size_t size = extra_dim_sizes[d];
+        for (size_t i = 0; i < count; i++) {
+            memcpy(pos + i * size, records + i * rec + at, size);
+        }
+        pos += count * size;
+        at += size;
+    }
+    return true;
 }
 
 #define PUT(field)                                                                                 \

@@ -92,8 +92,9 @@ typedef struct sta_cloud_reader sta_cloud_reader;
 
 /* Opens `path`, detects its format and validates its header against the file.
  * Errors name the file, the field and the values (STA_ERR_FORMAT for broken or lying
- * files, STA_ERR_UNSUPPORTED for LAZ and unknown formats, STA_ERR_IO). On success
- * *out_reader is owned by the caller (sta_cloud_close). `options` may be NULL. */
+ * files, STA_ERR_UNSUPPORTED for LAZ items not decoded yet (point14, wave packets) and unknown
+ * formats, STA_ERR_IO). On success *out_reader is owned by the caller (sta_cloud_close). `options`
+ * may be NULL. */
 sta_status sta_cloud_open(const char *path, const sta_read_options *options,
                           sta_cloud_reader **out_reader, sta_error *err);
 

@@ -25,11 +25,15 @@
 #include "core/alloc.h"
 #include "core/log.h"
 #include "io/las_internal.h"
+#include "io/laz_internal.h"
 
 static sta_status las_read(void *impl, sta_point_batch *batch, sta_error *err)
 {
     (void)err;
     sta_las_reader *reader = impl;
+    if (reader->laz) { // LAZ hook
+        return sta_las_read_laz(reader, batch, err);
+    }
     uint64_t left = reader->info.point_count - reader->next_index;
     size_t count = left < batch->capacity ? (size_t)left : batch->capacity;
     batch->first_index = reader->next_index;
@@ -64,6 +68,12 @@ static sta_status las_seek(void *impl, uint64_t index, sta_error *err)
                         reader->info.path, (unsigned long long)index,
                         (unsigned long long)reader->info.point_count);
     }
+    if (reader->laz) { // LAZ hook
+        sta_status status = sta_laz_seek(reader->laz, index, err);
+        if (status != STA_OK) {
+            return status;
+        }
+    }
     reader->next_index = index;
     return STA_OK;
 }
@@ -83,6 +93,7 @@ static void las_close(void *impl)
     sta_free(reader->info.vlrs);
     sta_free(reader->info.extra_dims);
     sta_free(reader->wkt);
+    sta_las_close_laz(reader); // LAZ hook
     sta_free(reader);
 }
 
@@ -157,7 +168,11 @@ sta_status sta_las_open_map(const sta_file_map *map, const sta_read_options *opt
     if (status != STA_OK) {
         goto out_close;
     }
-    status = check_point_data(reader, options, err);
+    if (header.is_compressed) { // LAZ hook: the decoder checks the compressed data
+        status = sta_las_open_laz(reader, &header, options, err);
+    } else {
+        status = check_point_data(reader, options, err);
+    }
     if (status != STA_OK) {
         goto out_close;
     }
@@ -167,6 +182,9 @@ sta_status sta_las_open_map(const sta_file_map *map, const sta_read_options *opt
     // point_count records fit the map, so this end fits size_t.
     uint64_t point_data_end = reader->info.offset_to_point_data +
                               reader->info.point_count * (uint64_t)reader->record_length;
+    if (reader->laz) { // LAZ hook: compressed points end before the EVLRs, size unknown
+        point_data_end = reader->info.offset_to_point_data;
+    }
     status = sta_las_read_evlrs(reader, &header, point_data_end, options, err);
     if (status != STA_OK) {
         goto out_close;

@@ -99,14 +99,9 @@ static sta_status check_layout(sta_las_reader *reader, sta_las_header *header, s
     }
 
     header->point_format_byte = d[AT_POINT_FORMAT];
-    if (header->point_format_byte & 0xc0) {
-        return sta_fail(err, STA_ERR_UNSUPPORTED,
-                        "%s: LAZ (LASzip-compressed) point data is not supported yet (point "
-                        "data format byte 0x%02x has a compression bit set); decompress it "
-                        "with a LAZ tool first (e.g. laszip or pdal translate)",
-                        map->path, header->point_format_byte);
-    }
-    info->point_format = header->point_format_byte;
+    // LAZ hook: a compression bit marks LASzip point data (decoded by laz_*.c).
+    header->is_compressed = (header->point_format_byte & 0xc0) != 0;
+    info->point_format = header->point_format_byte & 0x3f;
     if (info->point_format > STA_LAS_MAX_POINT_FORMAT) {
         return sta_fail(err, STA_ERR_FORMAT,
                         "%s: point data format %d is unknown (LAS 1.4 defines 0 to 10)", map->path,

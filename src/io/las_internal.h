@@ -39,6 +39,7 @@ typedef struct sta_las_header {
     uint64_t start_of_first_evlr;    /* LAS 1.4, else 0 */
     uint32_t number_of_evlrs;        /* LAS 1.4, else 0 */
     uint64_t start_of_waveform_data; /* LAS 1.3+, else 0 */
+    bool is_compressed;              /* LAZ hook: format byte bit 7 or 6 set */
 } sta_las_header;
 
 /* The reader behind sta_cloud_ops. */
@@ -51,6 +52,8 @@ typedef struct sta_las_reader {
     uint64_t next_index;       /* next point to read, <= info.point_count */
     sta_las_decode_fn decode;  /* decoder of info.point_format */
     char *wkt;                 /* owned copy behind info.crs_wkt, or NULL */
+    struct sta_laz *laz;       /* LAZ hook: decoder of compressed points, or NULL */
+    uint8_t *laz_records;      /* LAZ hook: raw records of one decoding step, owned */
 } sta_las_reader;
 
 /* Parses and checks the public header block (version, sizes, format, scale, offset,
@@ -84,5 +87,18 @@ uint32_t sta_las_format_attributes(int point_format);
 /* Copies at most `size` bytes of a fixed-width, possibly unterminated text field
  * into `out` (capacity size + 1), without trailing spaces, and NUL-terminates it. */
 void sta_las_copy_text(char *out, const uint8_t *field, size_t size);
+
+/* ---- LAZ hook (laz_reader.c) ---- */
+
+/* For a compressed file (header->is_compressed): parses the LASzip VLR among
+ * info.vlrs, sets point_count and opens the decoder (reader->laz). */
+sta_status sta_las_open_laz(sta_las_reader *reader, const sta_las_header *header,
+                            const sta_read_options *options, sta_error *err);
+
+/* las_read for LAZ: decodes the next records and converts them with reader->decode. */
+sta_status sta_las_read_laz(sta_las_reader *reader, sta_point_batch *batch, sta_error *err);
+
+/* Frees reader->laz and its buffer (no-op when not LAZ). */
+void sta_las_close_laz(sta_las_reader *reader);
 
 #endif

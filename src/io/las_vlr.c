@@ -111,12 +111,13 @@ sta_status sta_las_read_vlrs(sta_las_reader *reader, const sta_las_header *heade
                             (unsigned long long)vlr.length, (unsigned long long)vlr.data_offset,
                             info->offset_to_point_data);
         }
-        if (has_user_id(&vlr, "laszip encoded", 22204)) {
+        // LAZ hook: the LASzip VLR belongs with a compression bit in the format byte.
+        if (has_user_id(&vlr, "laszip encoded", 22204) && !header->is_compressed) {
             return sta_fail(err, STA_ERR_UNSUPPORTED,
-                            "%s: LAZ (LASzip-compressed) point data is not supported yet (the "
-                            "file has a \"laszip encoded\"/22204 VLR); decompress it with a LAZ "
-                            "tool first (e.g. laszip or pdal translate)",
-                            map->path);
+                            "%s: the file has a \"laszip encoded\"/22204 VLR (LAZ) but point "
+                            "data format byte 0x%02x has no compression bit; cannot tell how "
+                            "its points are stored",
+                            map->path, header->point_format_byte);
         }
         pos = vlr.data_offset + vlr.length;
     }

@@ -1,0 +1,1 @@
+sta_add_test(laz SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_laz.c LIBS sta_io sta_preprocess LABELS slow)
