@@ -20,7 +20,7 @@ if [ ! -f "$small" ]; then
     $bin/src/strata-synth street --points "$small_points" --seed "$seed" -o "$work/small.las" --quiet
     $bin/preprocess/strata-convert "$work/small.las" -o "$small" --force -q
 fi
-camera=650235,5401873.6,105.5,180,-8,70   # on the road near the start, looking down it
+camera=${CAMERA:-650245,5401873.6,105.5,0,-8,70}   # on the road near the start (seed 7 runs +x)
 size=${SIZE:-1920x1080}
 budget=${BUDGET:-1000000}
 for scene in "$small" "$large"; do
@@ -39,7 +39,7 @@ echo "== camera jump on $(basename "$large"): overview, then 1/30 s later the st
 cat > "$work/jump.json" <<JSON
 { "version": 1, "keyframes": [
   { "time": 0, "position": [650100, 5401700, 400], "yaw": 45, "pitch": -35, "fov": 70 },
-  { "time": 0.03333334, "position": [650235, 5401873.6, 105.5], "yaw": 180, "pitch": -8, "fov": 70 } ] }
+  { "time": 0.03333334, "position": [650245, 5401873.6, 105.5], "yaw": 0, "pitch": -8, "fov": 70 } ] }
 JSON
 $bin/src/strata-view --headless "$large" --path "$work/jump.json" --size $size --budget $budget \
     --pipeline raw --stats | grep "view loaded" | sed 's/^/  /'
