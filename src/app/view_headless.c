@@ -4,9 +4,9 @@
 
 #include <inttypes.h>
 #include <math.h>
-#include <stdlib.h>
 #include <stdbool.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -83,10 +83,11 @@ static int compare_doubles(const void *a, const void *b)
 // Renders the loaded view `args->repeat` more times and prints the median time of the
 // whole frame and of each pass (timing on: the GPU is drained around each pass).
 static sta_status time_repeats(const sta_view_args *args, sta_scene *scene,
-                               const sta_camera *camera, sta_render_target *target,
-                               sta_error *err)
+                               const sta_camera *camera, sta_render_target *target, sta_error *err)
 {
-    enum { MAX_REPEAT = 256 };
+    enum {
+        MAX_REPEAT = 256
+    };
     int n = args->repeat < MAX_REPEAT ? args->repeat : MAX_REPEAT;
     static double frame_ms[MAX_REPEAT], geometry_ms[MAX_REPEAT];
     static double pass_ms[STA_PASS_COUNT][MAX_REPEAT];
