@@ -14,6 +14,7 @@
 #include "core/alloc.h"
 #include "render/camera_path.h"
 #include "render/gl.h"
+#include "render/gl_image.h"
 #include "render/image_io.h"
 #include "render/scene.h"
 
@@ -120,13 +121,43 @@ static sta_status time_repeats(const sta_view_args *args, sta_scene *scene,
     return STA_OK;
 }
 
-static sta_status write_outputs(const sta_view_args *args, const sta_camera *camera,
-                                const sta_render_target *target, sta_error *err)
+// The pipeline's normals (camera space) as three planes, top row first; false when the
+// pipeline did not compute them this frame.
+static bool read_normals(const sta_scene *scene, const sta_render_target *target, float *out_planes,
+                         sta_error *err)
+{
+    const sta_pipeline *pipeline = sta_scene_pipeline(scene);
+    int mode = pipeline ? sta_scene_pipeline_mode(scene) : STA_PIPELINE_RAW;
+    if (!pipeline || (mode != STA_PIPELINE_NORMALS && mode != STA_PIPELINE_SHADED)) {
+        return false;
+    }
+    sta_image normals;
+    if (sta_gl_texture_to_image(pipeline->normal, 0, 4, &normals, err) != STA_OK) {
+        return false;
+    }
+    size_t pixels = (size_t)target->width_px * (size_t)target->height_px;
+    for (int y = 0; y < target->height_px; y++) {
+        for (int x = 0; x < target->width_px; x++) {
+            const float *n =
+                sta_image_at(&normals, x, target->height_px - 1 - y); // bottom row first
+            size_t i = (size_t)y * (size_t)target->width_px + (size_t)x;
+            for (int c = 0; c < 3; c++) {
+                out_planes[(size_t)c * pixels + i] = n[3] > 0.0f ? n[c] : 0.0f;
+            }
+        }
+    }
+    sta_image_release(&normals);
+    return true;
+}
+
+static sta_status write_outputs(const sta_view_args *args, const sta_scene *scene,
+                                const sta_camera *camera, const sta_render_target *target,
+                                sta_error *err)
 {
     size_t pixels = (size_t)target->width_px * (size_t)target->height_px;
     uint8_t *rgba = sta_alloc_array(pixels, 4);
     float *depth = sta_alloc_array(pixels, sizeof(float));
-    float *planes = sta_alloc_array(pixels, 4 * sizeof(float));
+    float *planes = sta_alloc_array(pixels, 7 * sizeof(float));
     sta_status status = STA_OK;
     if (!rgba || !depth || !planes) {
         status = sta_fail(err, STA_ERR_NOMEM, "out of memory for a %dx%d image", target->width_px,
@@ -148,9 +179,17 @@ static sta_status write_outputs(const sta_view_args *args, const sta_camera *cam
             // Reverse-Z depth d = near / distance along the view axis; empty pixels inf.
             z[i] = depth[i] > 0.0f ? (float)(camera->near_m / (double)depth[i]) : INFINITY;
         }
-        const sta_exr_channel channels[4] = { { "R", r }, { "G", g }, { "B", b }, { "Z", z } };
-        status =
-            sta_exr_write(args->out_exr, channels, 4, target->width_px, target->height_px, err);
+        float *n = planes + 4 * pixels;
+        bool has_normals = read_normals(scene, target, n, err);
+        const sta_exr_channel channels[7] = { { "R", r },
+                                              { "G", g },
+                                              { "B", b },
+                                              { "Z", z },
+                                              { "N.X", n },
+                                              { "N.Y", n + pixels },
+                                              { "N.Z", n + 2 * pixels } };
+        status = sta_exr_write(args->out_exr, channels, has_normals ? 7 : 4, target->width_px,
+                               target->height_px, err);
     }
     sta_free(rgba);
     sta_free(depth);
@@ -241,7 +280,7 @@ int sta_view_run_headless(const sta_view_args *args)
             }
         }
         if (status == STA_OK && (args->out_png || args->out_exr)) {
-            status = write_outputs(args, &camera, &target, &err);
+            status = write_outputs(args, scene, &camera, &target, &err);
         }
     }
     sta_render_target_release(&target);

@@ -299,6 +299,11 @@ static float estimate_s0(sta_scene *s)
     return (float)s->s0_samples[n - 1].spacing;
 }
 
+int sta_scene_pipeline_mode(const sta_scene *s)
+{
+    return s->pipeline_options.mode;
+}
+
 const sta_pipeline *sta_scene_pipeline(const sta_scene *s)
 {
     return s->has_pipeline ? &s->pipeline : NULL;

@@ -72,6 +72,9 @@ void sta_scene_set_colour_mode(sta_scene *scene, int mode);
  * next render or close. */
 const sta_pipeline *sta_scene_pipeline(const sta_scene *scene);
 
+/* The pipeline mode last set (sta_pipeline_mode). */
+int sta_scene_pipeline_mode(const sta_scene *scene);
+
 /* Renders one frame into `target` (resized to the camera's viewport). */
 sta_status sta_scene_render(sta_scene *scene, const sta_camera *camera, sta_render_target *target,
                             sta_frame_stats *out_stats, sta_error *err);
