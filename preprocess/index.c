@@ -130,13 +130,15 @@ static sta_status hand_over(build_context *c, const sta_node_key *key, const sta
     return c->sink->emit(c->sink->context, c->worker, key, c->scratch->gather, count, flags, err);
 }
 
-// Builds the subtree of `key` over items[begin, end); uses spare[begin, end).
+// Builds the subtree of `key` over [begin, end) of one of the two item buffers
+// (`in_spare` says which); the partition goes into the other one, so the buffers swap
+// roles level by level instead of copying back.
 static sta_status build(build_context *c, const sta_node_key *key, size_t begin, size_t end,
-                        sta_error *err)
+                        bool in_spare, sta_error *err)
 {
     sta_index_scratch *s = c->scratch;
     const size_t count = end - begin;
-    sta_index_item *items = s->items + begin;
+    sta_index_item *items = (in_spare ? s->spare : s->items) + begin;
     if (count <= c->leaf_capacity || key->level >= c->space->max_level) {
         return hand_over(c, key, items, count, STA_NODE_UNGRIDDED, 0, err);
     }
@@ -154,7 +156,7 @@ static sta_status build(build_context *c, const sta_node_key *key, size_t begin,
     // Bucket 0 keeps the first point of each empty cell; buckets 1..8 are the octants.
     size_t bucket_count[9] = { 0 };
     uint8_t *labels = s->labels + begin;
-    sta_index_item *spare = s->spare + begin;
+    sta_index_item *spare = (in_spare ? s->items : s->spare) + begin;
     int32_t lo[3] = { INT32_MAX, INT32_MAX, INT32_MAX },
             hi[3] = { INT32_MIN, INT32_MIN, INT32_MIN };
     for (size_t i = 0; i < count; i++) {
@@ -193,7 +195,7 @@ static sta_status build(build_context *c, const sta_node_key *key, size_t begin,
         }
         spare[fill[labels[i]]++] = items[i];
     }
-    memcpy(items, spare, count * sizeof(*items));
+    items = spare; // the partitioned order; children continue from this buffer
 
     // All points identical (exact duplicates): they stop splitting. And when only a few
     // points would go down, children would be tiny nodes (costly to store, select and
@@ -209,7 +211,7 @@ static sta_status build(build_context *c, const sta_node_key *key, size_t begin,
         if (bucket_count[b] > 0) {
             sta_node_key child = sta_node_child(key, b - 1);
             status = build(c, &child, begin + bucket_start[b],
-                           begin + bucket_start[b] + bucket_count[b], err);
+                           begin + bucket_start[b] + bucket_count[b], !in_spare, err);
         }
     }
     return status;
@@ -238,7 +240,7 @@ sta_status sta_index_chunk(const sta_octree_space *space, const sta_record_layou
     }
     build_context c = { space, layout,  records,  leaf_capacity, worker,
                         sink,  scratch, out_root, chunk_key };
-    status = build(&c, chunk_key, 0, count, err);
+    status = build(&c, chunk_key, 0, count, false, err);
     if (status != STA_OK) {
         sta_free(out_root->records);
         out_root->records = NULL;
