@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "core/alloc.h"
+#include "core/file_io.h"
 #include "core/log.h"
 #include "distribute.h"
 #include "format/strata_writer.h"
@@ -70,49 +71,6 @@ typedef struct convert_job {
     atomic_bool failed;        /* atomic: a worker failed; others stop */
     sta_error worker_error;    /* first worker error (guard: spill_lock) */
 } convert_job;
-
-static sta_status io_fail(sta_error *err, const char *what, const char *path)
-{
-    return sta_fail(err, STA_ERR_IO, "%s: cannot %s: %s", path, what, strerror(errno));
-}
-
-static sta_status pread_all(int fd, uint8_t *data, size_t size, uint64_t offset, const char *path,
-                            sta_error *err)
-{
-    while (size > 0) {
-        ssize_t n = pread(fd, data, size, (off_t)offset);
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n <= 0) {
-            return n < 0 ? io_fail(err, "read", path)
-                         : sta_fail(err, STA_ERR_IO, "%s: unexpected end of file", path);
-        }
-        data += n;
-        size -= (size_t)n;
-        offset += (uint64_t)n;
-    }
-    return STA_OK;
-}
-
-static sta_status pwrite_all(int fd, const uint8_t *data, size_t size, uint64_t offset,
-                             const char *path, sta_error *err)
-{
-    while (size > 0) {
-        ssize_t n = pwrite(fd, data, size, (off_t)offset);
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n <= 0) {
-            return n < 0 ? io_fail(err, "write", path)
-                         : sta_fail(err, STA_ERR_IO, "%s: disk full", path);
-        }
-        data += n;
-        size -= (size_t)n;
-        offset += (uint64_t)n;
-    }
-    return STA_OK;
-}
 
 // Creates a unique temporary file "<dir>/<base>.<tag>.XXXXXX" and unlinks nothing:
 // the caller removes it. The name is returned in *out_path (owned).
@@ -198,7 +156,7 @@ static sta_status spill(convert_job *job, const sta_pending_node *node, sta_erro
     }
     pthread_mutex_unlock(&job->spill_lock);
     if (status == STA_OK && bytes > 0) {
-        status = pwrite_all(job->spill_fd, node->records, bytes, offset, job->spill_path, err);
+        status = sta_pwrite_all(job->spill_fd, node->records, bytes, offset, job->spill_path, err);
     }
     return status;
 }
@@ -236,8 +194,8 @@ static void *index_worker(void *argument)
                 break;
             }
         }
-        status = pread_all(job->chunk_fd, records, count * rec, chunk->first * rec, job->chunk_path,
-                           &err);
+        status = sta_pread_all(job->chunk_fd, records, count * rec, chunk->first * rec,
+                               job->chunk_path, &err);
         sta_pending_node root = { 0 };
         if (status == STA_OK) {
             status =
@@ -376,8 +334,8 @@ static sta_status run_merge_phase(convert_job *job, sta_error *err)
                                       s->has_children };
             status = root.records ? STA_OK : sta_fail(err, STA_ERR_NOMEM, "out of memory");
             if (status == STA_OK) {
-                status = pread_all(job->spill_fd, root.records, s->count * rec, s->offset,
-                                   job->spill_path, err);
+                status = sta_pread_all(job->spill_fd, root.records, s->count * rec, s->offset,
+                                       job->spill_path, err);
             }
             if (status == STA_OK) {
                 status = finish_node(job, &root, err);
@@ -408,8 +366,8 @@ static sta_status run_merge_phase(convert_job *job, sta_error *err)
                 if (!children[i].records) {
                     status = sta_fail(err, STA_ERR_NOMEM, "out of memory merging nodes");
                 } else {
-                    status = pread_all(job->spill_fd, children[i].records, s->count * rec,
-                                       s->offset, job->spill_path, err);
+                    status = sta_pread_all(job->spill_fd, children[i].records, s->count * rec,
+                                           s->offset, job->spill_path, err);
                 }
             }
             sta_pending_node parent = { 0 };

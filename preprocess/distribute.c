@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include "core/alloc.h"
+#include "core/file_io.h"
 
 enum {
     READ_BATCH_POINTS = 65536,
@@ -544,25 +545,6 @@ void sta_chunk_plan_release(sta_chunk_plan *plan)
     memset(plan, 0, sizeof(*plan));
 }
 
-static sta_status write_all(int fd, const uint8_t *data, size_t size, uint64_t offset,
-                            const char *path, sta_error *err)
-{
-    while (size > 0) {
-        ssize_t n = pwrite(fd, data, size, (off_t)offset);
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n <= 0) {
-            return sta_fail(err, STA_ERR_IO, "%s: cannot write %zu bytes at %llu: %s", path, size,
-                            (unsigned long long)offset, n < 0 ? strerror(errno) : "no space");
-        }
-        data += n;
-        size -= (size_t)n;
-        offset += (uint64_t)n;
-    }
-    return STA_OK;
-}
-
 static sta_status flush_chunk(range_task *t, size_t c)
 {
     chunk_buffer *b = &t->buffers[c];
@@ -572,7 +554,7 @@ static sta_status flush_chunk(range_task *t, size_t c)
     const size_t rec = t->set->layout.size;
     uint64_t first = t->plan->thread_first[(size_t)t->thread * t->plan->chunk_count + c];
     sta_status status =
-        write_all(t->fd, b->data, b->used, (first + b->written) * rec, t->path, &t->err);
+        sta_pwrite_all(t->fd, b->data, b->used, (first + b->written) * rec, t->path, &t->err);
     b->written += b->used / rec;
     b->used = 0;
     return status;

@@ -15,32 +15,12 @@
 #include <unistd.h>
 
 #include "core/alloc.h"
+#include "core/file_io.h"
 
 enum {
     SUB_LEVELS = 3,
     SUB_CELLS = 1 << (3 * SUB_LEVELS)
 };
-
-static sta_status io_at(int fd, uint8_t *data, size_t size, uint64_t offset, int is_write,
-                        const char *path, sta_error *err)
-{
-    while (size > 0) {
-        ssize_t n =
-            is_write ? pwrite(fd, data, size, (off_t)offset) : pread(fd, data, size, (off_t)offset);
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n <= 0) {
-            return sta_fail(err, STA_ERR_IO, "%s: cannot %s %zu bytes at %llu: %s", path,
-                            is_write ? "write" : "read", size, (unsigned long long)offset,
-                            n < 0 ? strerror(errno) : "end of file or disk full");
-        }
-        data += n;
-        size -= (size_t)n;
-        offset += (uint64_t)n;
-    }
-    return STA_OK;
-}
 
 // Sub-cell (0..SUB_CELLS-1) of a position inside chunk `key` at `depth` levels below.
 static uint32_t sub_cell(const sta_octree_space *s, const sta_node_key *key, int depth,
@@ -134,7 +114,7 @@ static sta_status split_one(const sta_chunk_plan *plan, const sta_chunk *chunk,
             size_t n =
                 chunk->count - done < batch_records ? (size_t)(chunk->count - done) : batch_records;
             sta_status status =
-                io_at(fd, batch, n * rec, (chunk->first + done) * rec, 0, path, err);
+                sta_pread_all(fd, batch, n * rec, (chunk->first + done) * rec, path, err);
             if (status != STA_OK) {
                 return status;
             }
@@ -150,8 +130,8 @@ static sta_status split_one(const sta_chunk_plan *plan, const sta_chunk *chunk,
                 memcpy(buffer + s->used, batch + i * rec, rec);
                 s->used += rec;
                 if (s->used == per_sub) {
-                    status =
-                        io_at(fd, buffer, s->used, (s->first + s->written) * rec, 1, path, err);
+                    status = sta_pwrite_all(fd, buffer, s->used, (s->first + s->written) * rec,
+                                            path, err);
                     if (status != STA_OK) {
                         return status;
                     }
@@ -171,8 +151,8 @@ static sta_status split_one(const sta_chunk_plan *plan, const sta_chunk *chunk,
     }
     for (size_t s = 0; s < *out_sub_count; s++) {
         uint8_t *buffer = arena + s * per_sub;
-        sta_status status =
-            io_at(fd, buffer, subs[s].used, (subs[s].first + subs[s].written) * rec, 1, path, err);
+        sta_status status = sta_pwrite_all(fd, buffer, subs[s].used,
+                                           (subs[s].first + subs[s].written) * rec, path, err);
         if (status != STA_OK) {
             return status;
         }

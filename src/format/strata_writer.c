@@ -23,6 +23,7 @@
 
 #include "core/alloc.h"
 #include "core/bytes.h"
+#include "core/file_io.h"
 #include "format/strata_internal.h"
 
 struct sta_strata_encoder {
@@ -100,26 +101,6 @@ static bool reserve(uint8_t **buf, size_t *capacity, size_t need)
     *buf = grown;
     *capacity = need;
     return true;
-}
-
-static sta_status write_all(int fd, const uint8_t *data, uint64_t size, uint64_t offset,
-                            const char *path, sta_error *err)
-{
-    while (size > 0) {
-        size_t chunk = size > ((size_t)1 << 30) ? ((size_t)1 << 30) : (size_t)size;
-        ssize_t n = pwrite(fd, data, chunk, (off_t)offset);
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n <= 0) {
-            return sta_fail(err, STA_ERR_IO, "%s: cannot write %zu bytes at offset %" PRIu64 ": %s",
-                            path, chunk, offset, n < 0 ? strerror(errno) : "no progress");
-        }
-        data += n;
-        size -= (uint64_t)n;
-        offset += (uint64_t)n;
-    }
-    return STA_OK;
 }
 
 static sta_status check_options(const sta_strata_writer_options *o, const char *path,
@@ -374,7 +355,7 @@ sta_status sta_strata_writer_add_node(sta_strata_writer *w, sta_strata_encoder *
         return sta_fail(err, STA_ERR_IO, "%s: an earlier write failed", w->path);
     }
 
-    s = write_all(w->fd, stored, stored_size, offset, w->temp_path, err);
+    s = sta_pwrite_all(w->fd, stored, stored_size, offset, w->temp_path, err);
     if (s != STA_OK) {
         pthread_mutex_lock(&w->lock);
         w->failed = true;
@@ -528,9 +509,9 @@ sta_status sta_strata_writer_finish(sta_strata_writer *w, const sta_strata_node 
     info.extra_dims_checksum = sta_strata_checksum(head + STA_STRATA_HEADER_SIZE, dims_size);
     sta_strata_header_store(&info, head);
 
-    s = write_all(w->fd, table, table_size, info.table_offset, w->temp_path, err);
+    s = sta_pwrite_all(w->fd, table, table_size, info.table_offset, w->temp_path, err);
     if (s == STA_OK) {
-        s = write_all(w->fd, head, STA_STRATA_HEADER_SIZE + dims_size, 0, w->temp_path, err);
+        s = sta_pwrite_all(w->fd, head, STA_STRATA_HEADER_SIZE + dims_size, 0, w->temp_path, err);
     }
     if (s == STA_OK && fsync(w->fd) != 0) {
         s = sta_fail(err, STA_ERR_IO, "%s: cannot sync: %s", w->temp_path, strerror(errno));
