@@ -150,6 +150,7 @@ unset logscale x
 set terminal pngcairo size 1400,600 font ",10" noenhanced
 set output "error_vs_budget.png"
 set multiplot layout 1,2 title "Error against point budget ($size; PSNR 99 = identical to the unbudgeted render)"
+unset title
 set logscale x
 set xlabel "budget (points per frame)"
 set ylabel "normal angle error, mean (degrees)"
