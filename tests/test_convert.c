@@ -15,6 +15,7 @@
 #include "convert.h"
 #include "format/strata_reader.h"
 #include "io/cloud.h"
+#include "io/las_write.h"
 
 /* Order-independent digest of a multiset of points: count, sum and sum of squares of
  * a 64-bit hash of every field that the converter must keep. */
@@ -145,6 +146,7 @@ static void round_trip(const char *const *paths, size_t count, size_t chunk_poin
     char out[4096];
     snprintf(out, sizeof(out), "%s/rt.strata", sta_test_tmpdir());
     unlink(out);
+    int files_before = count_files(sta_test_tmpdir());
     sta_convert_options o = { .inputs = paths,
                               .input_count = count,
                               .output = out,
@@ -164,7 +166,7 @@ static void round_trip(const char *const *paths, size_t count, size_t chunk_poin
     assert_int_equal(report.point_count, in.count);
     assert_true(got.sum == in.sum);
     assert_true(got.sum_sq == in.sum_sq);
-    assert_int_equal(count_files(sta_test_tmpdir()), 1); // only the output
+    assert_int_equal(count_files(sta_test_tmpdir()), files_before + 1); // only the output
     unlink(out);
 }
 
@@ -226,6 +228,46 @@ static void dense_chunks_are_split_out_of_core(void **state)
     snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
     const char *one[] = { path };
     round_trip(one, 1, 300, 2, 1);
+}
+
+// Hard numerical cases: a 1e-9 scale and integer coordinates at the ends of the int32
+// range survive the conversion bit for bit, and the octree holds them.
+static void extreme_grids_round_trip(void **state)
+{
+    (void)state;
+    const sta_grid grids[2] = { { { 1e-9, 1e-9, 1e-9 }, { 0.5, -0.25, 100 } },
+                                { { 0.001, 0.001, 0.01 }, { 650000, 5400000, -2000 } } };
+    for (int g = 0; g < 2; g++) {
+        char path[4096];
+        snprintf(path, sizeof(path), "%s/extreme%d.las", sta_test_tmpdir(), g);
+        sta_las_write_options wo = { .version_minor = 4, .point_format = 6, .grid = grids[g] };
+        sta_las_writer *w = NULL;
+        sta_error err = { 0 };
+        assert_int_equal(sta_las_writer_open(path, &wo, &w, &err), STA_OK);
+        enum {
+            N = 5000
+        };
+        sta_point *points = calloc(N, sizeof(*points));
+        assert_non_null(points);
+        uint64_t seed = 99;
+        for (int i = 0; i < N; i++) {
+            seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+            // Corners of the int32 cube plus points spread between them.
+            int32_t extreme = (i & 1) ? INT32_MAX - (int32_t)(i % 7) : INT32_MIN + (int32_t)(i % 5);
+            points[i].X = i < 16 ? extreme : (int32_t)(seed >> 32);
+            points[i].Y = i < 16 ? ((i & 2) ? INT32_MAX : INT32_MIN) : (int32_t)(seed >> 16);
+            points[i].Z = i < 16 ? ((i & 4) ? INT32_MAX : INT32_MIN) : (int32_t)seed;
+            points[i].intensity = (uint16_t)i;
+            points[i].return_number = 1;
+            points[i].number_of_returns = 1;
+        }
+        assert_int_equal(sta_las_writer_write(w, points, N, &err), STA_OK);
+        assert_int_equal(sta_las_writer_close(w, &err), STA_OK);
+        free(points);
+        const char *one[] = { path };
+        round_trip(one, 1, 1000, 2, 3);
+        unlink(path);
+    }
 }
 
 static void broken_inputs_leave_nothing(void **state)
@@ -319,6 +361,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(lion_tiles_merge_into_one_scene),
     cmocka_unit_test(uncompressed_single_thread_one_chunk),
     cmocka_unit_test(dense_chunks_are_split_out_of_core),
+    cmocka_unit_test(extreme_grids_round_trip),
     cmocka_unit_test(broken_inputs_leave_nothing),
     cmocka_unit_test(existing_output_needs_force_and_cancel_cleans_up),
     cmocka_unit_test(corrupted_output_is_refused),

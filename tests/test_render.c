@@ -321,7 +321,88 @@ static void corrupt_node_is_skipped_not_drawn(void **state)
     sta_scene_close(scene);
 }
 
+// Reverse-Z with a float depth buffer: two planes 1 cm apart seen from 1 km with the near
+// plane at 1 cm never z-fight, and a point 50 km away is still drawn.
+static void no_z_fighting_at_one_kilometre(void **state)
+{
+    (void)state;
+    char ply[4096], strata[4096];
+    snprintf(ply, sizeof(ply), "%s/planes.ply", sta_test_tmpdir());
+    snprintf(strata, sizeof(strata), "%s/planes.strata", sta_test_tmpdir());
+    enum {
+        GRID = 201
+    };
+    FILE *f = fopen(ply, "wb");
+    assert_non_null(f);
+    fprintf(f,
+            "ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty double x\n"
+            "property double y\nproperty double z\nproperty uchar red\nproperty uchar green\n"
+            "property uchar blue\nend_header\n",
+            2 * GRID * GRID + 1);
+    for (int layer = 0; layer < 2; layer++) { // front (red) at z = 0, back (blue) 1 cm below
+        for (int j = 0; j < GRID; j++) {
+            for (int i = 0; i < GRID; i++) {
+                uint8_t record[27];
+                sta_store_f64le(record, -20.0 + 0.2 * i);
+                sta_store_f64le(record + 8, -20.0 + 0.2 * j);
+                sta_store_f64le(record + 16, layer ? -0.01 : 0.0);
+                record[24] = layer ? 0 : 255;
+                record[25] = 0;
+                record[26] = layer ? 255 : 0;
+                assert_int_equal(fwrite(record, 1, sizeof(record), f), sizeof(record));
+            }
+        }
+    }
+    uint8_t far_point[27] = { 0 };
+    sta_store_f64le(far_point, 50000.0);
+    sta_store_f64le(far_point + 16, 1000.0);
+    far_point[25] = 255; // green
+    assert_int_equal(fwrite(far_point, 1, sizeof(far_point), f), sizeof(far_point));
+    fclose(f);
+    const char *inputs[] = { ply };
+    sta_convert_options o = { .inputs = inputs, .input_count = 1, .output = strata, .force = true };
+    sta_error err = { 0 };
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_OK);
+
+    sta_camera down = { { 0.0, 0.0, 1000.0 },
+                        1.5707963267948966,
+                        -1.5707963267948966,
+                        2.0 * 3.14159265358979 / 180.0,
+                        0.01,
+                        160,
+                        160 };
+    sta_scene *scene = NULL;
+    sta_scene_options options = { 0 };
+    assert_int_equal(sta_scene_open(strata, &options, &scene, &err), STA_OK);
+    sta_scene_set_colour_mode(scene, STA_COLOUR_RGB);
+    sta_render_target target = { 0 };
+    sta_frame_stats stats = render_complete(scene, &down, &target);
+    assert_true(stats.points_drawn >= 2 * GRID * GRID);
+    uint8_t *rgba = malloc(160 * 160 * 4);
+    assert_non_null(rgba);
+    sta_render_target_read_rgba(&target, rgba);
+    size_t red = 0, blue = 0;
+    for (int i = 0; i < 160 * 160; i++) {
+        red += rgba[4 * i] > 200 && rgba[4 * i + 2] < 50;
+        blue += rgba[4 * i + 2] > 200 && rgba[4 * i] < 50;
+    }
+    printf("looking down from 1 km: %zu red (front) pixels, %zu blue (back)\n", red, blue);
+    assert_true(red > 160 * 160 * 9 / 10);
+    assert_int_equal(blue, 0);
+
+    // The point 50 km away along +x at the camera's height is drawn at the centre.
+    sta_camera ahead = { { 0.0, 0.0, 1000.0 }, 0.0, 0.0, 0.5, 0.01, 65, 65 };
+    stats = render_complete(scene, &ahead, &target);
+    sta_render_target_read_rgba(&target, rgba);
+    const uint8_t *centre = rgba + 4 * (32 * 65 + 32);
+    assert_true(centre[1] > 200);
+    free(rgba);
+    sta_render_target_release(&target);
+    sta_scene_close(scene);
+}
+
 static const struct CMUnitTest tests[] = {
+    cmocka_unit_test_setup_teardown(no_z_fighting_at_one_kilometre, setup, teardown),
     cmocka_unit_test_setup_teardown(geometry_pass_matches_cpu_projection, setup, teardown),
     cmocka_unit_test_setup_teardown(same_image_at_origin_utm_and_ecef, setup, teardown),
     cmocka_unit_test_setup_teardown(budget_and_gpu_cap_hold, setup, teardown),
