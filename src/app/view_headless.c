@@ -53,7 +53,7 @@ static sta_status render_until_loaded(const sta_view_args *args, sta_scene *scen
         if (status != STA_OK) {
             return status;
         }
-        glFinish();
+        sta_gl_finish();
         if (args->stats) {
             print_stats(frame, stats, (now_s() - t0) * 1e3);
         }
@@ -100,7 +100,7 @@ static sta_status time_repeats(const sta_view_args *args, sta_scene *scene,
         if (status != STA_OK) {
             return status;
         }
-        glFinish();
+        sta_gl_finish();
         frame_ms[i] = (now_s() - t0) * 1e3;
         geometry_ms[i] = stats.geometry_ms;
         for (int p = 0; p < STA_PASS_COUNT; p++) {

@@ -16,6 +16,7 @@
 #include "bench/view_eval.h"
 #include "core/alloc.h"
 #include "render/gl_image.h"
+#include "render/gl.h"
 #include "render/scene.h"
 
 static const double degrees = 3.14159265358979323846 / 180.0;
@@ -226,7 +227,7 @@ static sta_status load_view(scene_run *run, sta_scene *scene, const sta_camera *
         if (s != STA_OK) {
             return s;
         }
-        glFinish();
+        sta_gl_finish();
         if (stats.complete) {
             break;
         }
@@ -292,10 +293,10 @@ static sta_status timed_frames(scene_run *run, sta_scene *scene, const sta_camer
     sta_scene_set_timing(scene, true);
     sta_frame_stats stats = { 0 };
     for (int r = 0; r < repeat && s == STA_OK; r++) {
-        glFinish();
+        sta_gl_finish();
         double wall0 = now_ms(CLOCK_MONOTONIC), cpu0 = now_ms(CLOCK_THREAD_CPUTIME_ID);
         s = sta_scene_render(scene, camera, &run->target, &stats, err);
-        glFinish();
+        sta_gl_finish();
         double *t = samples + (size_t)r * T_COUNT;
         t[T_FRAME] = now_ms(CLOCK_MONOTONIC) - wall0;
         t[T_CPU] = now_ms(CLOCK_THREAD_CPUTIME_ID) - cpu0;

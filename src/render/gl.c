@@ -192,3 +192,8 @@ const char *sta_gl_describe(char *buf, size_t size)
              (const char *)glGetString(GL_VERSION));
     return buf;
 }
+
+void sta_gl_finish(void)
+{
+    glFinish();
+}

@@ -33,6 +33,10 @@ sta_status sta_gl_program_create(const char *const *names, size_t count, const c
 /* STA_ERR_GL naming `what` and the GL error if glGetError reports one. */
 sta_status sta_gl_check(const char *what, sta_error *err);
 
+/* Waits until every GL command issued so far has run (for honest wall-clock timings
+ * outside render/, which makes no GL calls itself). */
+void sta_gl_finish(void);
+
 /* "renderer | version" of the current context into buf. */
 const char *sta_gl_describe(char *buf, size_t size);
 
