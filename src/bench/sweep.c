@@ -15,8 +15,8 @@
 #include "bench/truth.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
-#include "render/gl_image.h"
 #include "render/gl.h"
+#include "render/gl_image.h"
 #include "render/scene.h"
 
 static const double degrees = 3.14159265358979323846 / 180.0;
