@@ -1911,22 +1911,33 @@ static void malformed_extra_bytes_descriptor_is_ignored(void **state)
     sta_cloud_close(reader);
 }
 
-// Point10 LAZ reads (tests/test_laz.c); the layered point14 compressor (formats 6-10)
-// is not decoded yet and must be refused with a clear message.
-static void laz_point14_is_refused(void **state)
+/* The point14 (PDRF 6) LAZ file read through the ordinary reader gives the same points as
+ * its LAS twin: count, extent, GPS range and classes. */
+static void laz_point14_reads_like_its_twin(void **state)
 {
     (void)state;
     STA_TEST_REQUIRE_SHARED_DATA();
-    static const char *const files[] = { "laz/1_4_w_evlr.laz" };
-    for (size_t i = 0; i < sizeof(files) / sizeof(files[0]); i++) {
+    const char *files[2] = { "laz/1_4_w_evlr.laz", "las/1_4_w_evlr.las" };
+    scan_result scans[2];
+    for (size_t i = 0; i < 2; i++) {
         sta_cloud_reader *reader = NULL;
         sta_error err = { 0 };
-        sta_status status = sta_cloud_open(sta_test_shared_path(files[i]), NULL, &reader, &err);
-        assert_int_equal(status, STA_ERR_UNSUPPORTED);
-        assert_null(reader);
-        assert_true(contains(err.message, strrchr(files[i], '/') + 1));
-        assert_true(contains(err.message, "POINT14"));
+        if (sta_cloud_open(sta_test_shared_path(files[i]), NULL, &reader, &err) != STA_OK) {
+            fail_msg("%s: %s", files[i], err.message);
+        }
+        assert_int_equal(sta_cloud_reader_info(reader)->point_format, 6);
+        scan_points(reader, 77, &scans[i]);
+        sta_cloud_close(reader);
     }
+    assert_int_equal(scans[0].count, 1000);
+    assert_int_equal(scans[0].count, scans[1].count);
+    for (int axis = 0; axis < 3; axis++) {
+        assert_true(scans[0].min[axis] == scans[1].min[axis]);
+        assert_true(scans[0].max[axis] == scans[1].max[axis]);
+    }
+    assert_true(scans[0].gps_min == scans[1].gps_min && scans[0].gps_max == scans[1].gps_max);
+    assert_memory_equal(scans[0].class_counts, scans[1].class_counts,
+                        sizeof(scans[0].class_counts));
 }
 
 // Every *.las file in las/ has README facts or a case of its own.
@@ -2890,7 +2901,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(clipped_file_salvages_1064_points),
     cmocka_unit_test(garbage_vlr_count_is_an_error),
     cmocka_unit_test(malformed_extra_bytes_descriptor_is_ignored),
-    cmocka_unit_test(laz_point14_is_refused),
+    cmocka_unit_test(laz_point14_reads_like_its_twin),
     cmocka_unit_test(corpus_table_covers_every_file),
     cmocka_unit_test(lion_200_files_sum_to_341989),
     cmocka_unit_test(point_fields_match_independent_decoder),
