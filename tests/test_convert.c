@@ -194,6 +194,22 @@ static void shared_las_files_round_trip(void **state)
     }
 }
 
+/* LAZ through the converter with two threads: each thread seeks into the middle of a
+ * chunk (autzen_trim: 110 000 points in chunks of 50 000; the point14 file: one chunk of
+ * 1000) and decodes its own chunks; every point arrives exactly once. */
+static void laz_files_convert_on_parallel_threads(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    const char *files[] = { "laz/autzen_trim.laz", "laz/1_4_w_evlr.laz", "laz/point10.laz" };
+    for (size_t i = 0; i < sizeof(files) / sizeof(files[0]); i++) {
+        char path[4096];
+        snprintf(path, sizeof(path), "%s", sta_test_shared_path(files[i]));
+        const char *one[] = { path };
+        round_trip(one, 1, 20000, 2, 3);
+    }
+}
+
 static void lion_tiles_merge_into_one_scene(void **state)
 {
     (void)state;
@@ -357,6 +373,7 @@ static void corrupted_output_is_refused(void **state)
 
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shared_las_files_round_trip),
+    cmocka_unit_test(laz_files_convert_on_parallel_threads),
     cmocka_unit_test(lion_tiles_merge_into_one_scene),
     cmocka_unit_test(uncompressed_single_thread_one_chunk),
     cmocka_unit_test(dense_chunks_are_split_out_of_core),
