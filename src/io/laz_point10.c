@@ -22,6 +22,7 @@
 #include "core/alloc.h"
 #include "core/bytes.h"
 #include "io/laz_internal.h"
+#include "io/laz_predict.h"
 
 enum {
     GPS_MULTI = 500,
@@ -39,12 +40,6 @@ static const uint8_t return_map[8][8] = {
     { 11, 6, 7, 8, 9, 13, 13, 12 },    { 10, 10, 11, 12, 13, 14, 14, 13 },
     { 9, 10, 11, 12, 13, 14, 15, 14 }, { 8, 9, 10, 11, 12, 13, 14, 15 },
 };
-
-// Streaming median of the last five values (initially five zeros).
-typedef struct median5 {
-    int32_t v[5];
-    bool high; // whether the next value replaces from the top
-} median5;
 
 typedef struct point10_state {
     uint8_t last[20];
@@ -100,64 +95,6 @@ struct sta_laz_p10 {
     size_t bytes_at;
 };
 
-static void median_init(median5 *m)
-{
-    memset(m->v, 0, sizeof(m->v));
-    m->high = true;
-}
-
-static void median_add(median5 *m, int32_t x)
-{
-    int32_t *v = m->v;
-    if (m->high) {
-        if (x < v[2]) {
-            v[4] = v[3];
-            v[3] = v[2];
-            if (x < v[0]) {
-                v[2] = v[1];
-                v[1] = v[0];
-                v[0] = x;
-            } else if (x < v[1]) {
-                v[2] = v[1];
-                v[1] = x;
-            } else {
-                v[2] = x;
-            }
-        } else {
-            if (x < v[3]) {
-                v[4] = v[3];
-                v[3] = x;
-            } else {
-                v[4] = x;
-            }
-            m->high = false;
-        }
-    } else {
-        if (v[2] < x) {
-            v[0] = v[1];
-            v[1] = v[2];
-            if (v[4] < x) {
-                v[2] = v[3];
-                v[3] = v[4];
-                v[4] = x;
-            } else if (v[3] < x) {
-                v[2] = v[3];
-                v[3] = x;
-            } else {
-                v[2] = x;
-            }
-        } else {
-            if (v[1] < x) {
-                v[0] = v[1];
-                v[1] = x;
-            } else {
-                v[0] = x;
-            }
-            m->high = true;
-        }
-    }
-}
-
 // The model for context `ctx` of a lazily allocated family, reset once per chunk.
 static sta_laz_model *context_model(sta_laz_model **models, uint8_t *used, uint8_t ctx)
 {
@@ -171,16 +108,6 @@ static sta_laz_model *context_model(sta_laz_model **models, uint8_t *used, uint8
     }
     used[ctx >> 3] |= (uint8_t)(1u << (ctx & 7));
     return models[ctx];
-}
-
-static uint8_t fold_u8(int32_t value)
-{
-    return (uint8_t)(value & 0xff);
-}
-
-static int32_t clamp_u8(int32_t value)
-{
-    return value < 0 ? 0 : (value > 255 ? 255 : value);
 }
 
 // ---- POINT10 ----
@@ -216,8 +143,8 @@ static void point10_release(point10_state *s)
 static void point10_begin(point10_state *s, const uint8_t *first)
 {
     for (int i = 0; i < 16; i++) {
-        median_init(&s->dx[i]);
-        median_init(&s->dy[i]);
+        sta_laz_median_init(&s->dx[i]);
+        sta_laz_median_init(&s->dy[i]);
         s->last_intensity[i] = 0;
     }
     memset(s->last_height, 0, sizeof(s->last_height));
@@ -272,7 +199,7 @@ static bool point10_decode(point10_state *s, sta_laz_dec *dec, uint8_t *out)
         if (changed & 4) {
             uint32_t direction = (last[14] >> 6) & 1;
             uint32_t delta = sta_laz_decode_symbol(dec, s->m_scan_angle[direction]);
-            last[16] = fold_u8((int32_t)(delta + last[16]));
+            last[16] = sta_laz_fold_u8((int32_t)(delta + last[16]));
         }
         if (changed & 2) {
             sta_laz_model *model = context_model(s->m_user_data, s->used_user_data, last[17]);
@@ -295,13 +222,13 @@ static bool point10_decode(point10_state *s, sta_laz_dec *dec, uint8_t *out)
 
     int32_t diff = sta_laz_ic_decode(&s->ic_dx, dec, s->dx[m].v[2], n == 1);
     sta_store_u32le(last + 0, sta_load_u32le(last + 0) + (uint32_t)diff);
-    median_add(&s->dx[m], diff);
+    sta_laz_median_add(&s->dx[m], diff);
 
     uint32_t k_bits = s->ic_dx.k;
     diff = sta_laz_ic_decode(&s->ic_dy, dec, s->dy[m].v[2],
                              (n == 1) + (k_bits < 20 ? (k_bits & ~1u) : 20));
     sta_store_u32le(last + 4, sta_load_u32le(last + 4) + (uint32_t)diff);
-    median_add(&s->dy[m], diff);
+    sta_laz_median_add(&s->dy[m], diff);
 
     k_bits = (s->ic_dx.k + s->ic_dy.k) / 2;
     int32_t z = sta_laz_ic_decode(&s->ic_z, dec, s->last_height[l],
@@ -460,7 +387,7 @@ static void rgb_begin(rgb_state *s, const uint8_t *first)
 static uint32_t rgb_byte(rgb_state *s, sta_laz_dec *dec, uint32_t model, int32_t predicted)
 {
     uint32_t corr = sta_laz_decode_symbol(dec, s->m_diff[model]);
-    return fold_u8((int32_t)corr + predicted);
+    return sta_laz_fold_u8((int32_t)corr + predicted);
 }
 
 static void rgb_decode(rgb_state *s, sta_laz_dec *dec, uint8_t *out)
@@ -473,20 +400,20 @@ static void rgb_decode(rgb_state *s, sta_laz_dec *dec, uint8_t *out)
     c[0] = (uint16_t)(lo | (hi << 8));
     if (used & 64) {
         int32_t diff = (int32_t)(c[0] & 0xff) - (int32_t)(last[0] & 0xff);
-        uint32_t g_lo =
-            (used & 4) ? rgb_byte(s, dec, 2, clamp_u8(diff + (last[1] & 0xff))) : (last[1] & 0xffu);
+        uint32_t g_lo = (used & 4) ? rgb_byte(s, dec, 2, sta_laz_clamp_u8(diff + (last[1] & 0xff)))
+                                   : (last[1] & 0xffu);
         uint32_t b_lo = last[2] & 0xffu;
         if (used & 16) {
             int32_t d = (diff + ((int32_t)g_lo - (int32_t)(last[1] & 0xff))) / 2;
-            b_lo = rgb_byte(s, dec, 4, clamp_u8(d + (last[2] & 0xff)));
+            b_lo = rgb_byte(s, dec, 4, sta_laz_clamp_u8(d + (last[2] & 0xff)));
         }
         diff = (int32_t)(c[0] >> 8) - (int32_t)(last[0] >> 8);
-        uint32_t g_hi =
-            (used & 8) ? rgb_byte(s, dec, 3, clamp_u8(diff + (last[1] >> 8))) : (last[1] >> 8);
+        uint32_t g_hi = (used & 8) ? rgb_byte(s, dec, 3, sta_laz_clamp_u8(diff + (last[1] >> 8)))
+                                   : (last[1] >> 8);
         uint32_t b_hi = last[2] >> 8;
         if (used & 32) {
             int32_t d = (diff + ((int32_t)g_hi - (int32_t)(last[1] >> 8))) / 2;
-            b_hi = rgb_byte(s, dec, 5, clamp_u8(d + (last[2] >> 8)));
+            b_hi = rgb_byte(s, dec, 5, sta_laz_clamp_u8(d + (last[2] >> 8)));
         }
         c[1] = (uint16_t)(g_lo | (g_hi << 8));
         c[2] = (uint16_t)(b_lo | (b_hi << 8));
@@ -542,7 +469,7 @@ static void bytes_decode(byte_state *s, sta_laz_dec *dec, uint8_t *out)
 {
     for (size_t i = 0; i < s->count; i++) {
         uint32_t delta = sta_laz_decode_symbol(dec, s->m[i]);
-        s->last[i] = fold_u8((int32_t)(delta + s->last[i]));
+        s->last[i] = sta_laz_fold_u8((int32_t)(delta + s->last[i]));
     }
     memcpy(out, s->last, s->count);
 }

@@ -25,6 +25,7 @@
 #include "core/alloc.h"
 #include "core/bytes.h"
 #include "io/laz_internal.h"
+#include "io/laz_predict.h"
 
 enum {
     P14_LAYERS = 9,
@@ -64,12 +65,6 @@ static const uint8_t return_map[16][16] = {
     { 5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5 },
     { 5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5 },
 };
-
-// Streaming median of the last five values (initially five zeros).
-typedef struct median5 {
-    int32_t v[5];
-    bool high;
-} median5;
 
 typedef struct layer {
     const uint8_t *p;
@@ -145,74 +140,6 @@ struct sta_laz_p14 {
     size_t extra_count;
     extra_item extras[STA_LAZ_MAX_ITEMS];
 };
-
-static void median_init(median5 *m)
-{
-    memset(m->v, 0, sizeof(m->v));
-    m->high = true;
-}
-
-static void median_add(median5 *m, int32_t x)
-{
-    int32_t *v = m->v;
-    if (m->high) {
-        if (x < v[2]) {
-            v[4] = v[3];
-            v[3] = v[2];
-            if (x < v[0]) {
-                v[2] = v[1];
-                v[1] = v[0];
-                v[0] = x;
-            } else if (x < v[1]) {
-                v[2] = v[1];
-                v[1] = x;
-            } else {
-                v[2] = x;
-            }
-        } else {
-            if (x < v[3]) {
-                v[4] = v[3];
-                v[3] = x;
-            } else {
-                v[4] = x;
-            }
-            m->high = false;
-        }
-    } else {
-        if (v[2] < x) {
-            v[0] = v[1];
-            v[1] = v[2];
-            if (v[4] < x) {
-                v[2] = v[3];
-                v[3] = v[4];
-                v[4] = x;
-            } else if (v[3] < x) {
-                v[2] = v[3];
-                v[3] = x;
-            } else {
-                v[2] = x;
-            }
-        } else {
-            if (v[1] < x) {
-                v[0] = v[1];
-                v[1] = x;
-            } else {
-                v[0] = x;
-            }
-            m->high = true;
-        }
-    }
-}
-
-static uint8_t fold_u8(int32_t value)
-{
-    return (uint8_t)(value & 0xff);
-}
-
-static int32_t clamp_u8(int32_t value)
-{
-    return value < 0 ? 0 : (value > 255 ? 255 : value);
-}
 
 // A lazily created model: created on first use, reset when its context is initialised.
 static sta_laz_model *lazy_model(sta_laz_model **slot, uint32_t symbols)
@@ -337,8 +264,8 @@ static bool context_init(p14_context *c, const p14_item *from)
     sta_laz_ic_reset(&c->ic_source);
     sta_laz_ic_reset(&c->ic_gps);
     for (int i = 0; i < 12; i++) {
-        median_init(&c->dx[i]);
-        median_init(&c->dy[i]);
+        sta_laz_median_init(&c->dx[i]);
+        sta_laz_median_init(&c->dy[i]);
     }
     for (int i = 0; i < 8; i++) {
         c->last_z[i] = from->z;
@@ -514,11 +441,11 @@ static bool point14_decode(sta_laz_p14 *s, uint8_t *out)
     uint32_t idx = (m << 1) | (gps_change ? 1u : 0u);
     int32_t diff = sta_laz_ic_decode(&c->ic_dx, dxy, c->dx[idx].v[2], single);
     last->x = (int32_t)((uint32_t)last->x + (uint32_t)diff);
-    median_add(&c->dx[idx], diff);
+    sta_laz_median_add(&c->dx[idx], diff);
     uint32_t k = c->ic_dx.k;
     diff = sta_laz_ic_decode(&c->ic_dy, dxy, c->dy[idx].v[2], single + (k < 20 ? (k & ~1u) : 20));
     last->y = (int32_t)((uint32_t)last->y + (uint32_t)diff);
-    median_add(&c->dy[idx], diff);
+    sta_laz_median_add(&c->dy[idx], diff);
 
     if (L[L_Z].size) {
         k = (c->ic_dx.k + c->ic_dy.k) / 2;
@@ -672,7 +599,7 @@ static void extra_init(extra_item *e, uint32_t ctx, const uint8_t *from)
 // One byte: the last value plus a coded difference, or the last value.
 static uint32_t rgb_byte(sta_laz_dec *dec, sta_laz_model *m, int32_t pred)
 {
-    return fold_u8((int32_t)sta_laz_decode_symbol(dec, m) + pred);
+    return sta_laz_fold_u8((int32_t)sta_laz_decode_symbol(dec, m) + pred);
 }
 
 static void rgb_decode(extra_context *x, sta_laz_dec *dec, uint8_t *last)
@@ -685,23 +612,23 @@ static void rgb_decode(extra_context *x, sta_laz_dec *dec, uint8_t *last)
     uint32_t b;
     if (sym & (1u << 6)) {
         int32_t diff = (int32_t)(r & 255) - (int32_t)(l[0] & 255);
-        g = (sym & 4) ? rgb_byte(dec, x->m_diff[2], clamp_u8(diff + (int32_t)(l[1] & 255)))
+        g = (sym & 4) ? rgb_byte(dec, x->m_diff[2], sta_laz_clamp_u8(diff + (int32_t)(l[1] & 255)))
                       : (l[1] & 255);
         if (sym & 16) {
             diff = (diff + ((int32_t)(g & 255) - (int32_t)(l[1] & 255))) / 2;
-            b = rgb_byte(dec, x->m_diff[4], clamp_u8(diff + (int32_t)(l[2] & 255)));
+            b = rgb_byte(dec, x->m_diff[4], sta_laz_clamp_u8(diff + (int32_t)(l[2] & 255)));
         } else {
             b = l[2] & 255;
         }
         diff = (int32_t)(r >> 8) - (int32_t)(l[0] >> 8);
         if (sym & 8) {
-            g |= rgb_byte(dec, x->m_diff[3], clamp_u8(diff + (int32_t)(l[1] >> 8))) << 8;
+            g |= rgb_byte(dec, x->m_diff[3], sta_laz_clamp_u8(diff + (int32_t)(l[1] >> 8))) << 8;
         } else {
             g |= l[1] & 0xff00;
         }
         if (sym & 32) {
             diff = (diff + ((int32_t)(g >> 8) - (int32_t)(l[1] >> 8))) / 2;
-            b |= rgb_byte(dec, x->m_diff[5], clamp_u8(diff + (int32_t)(l[2] >> 8))) << 8;
+            b |= rgb_byte(dec, x->m_diff[5], sta_laz_clamp_u8(diff + (int32_t)(l[2] >> 8))) << 8;
         } else {
             b |= l[2] & 0xff00;
         }
@@ -740,8 +667,8 @@ static void extra_decode(sta_laz_p14 *s, extra_item *e, uint8_t *out)
     if (e->type == STA_LAZ_ITEM_BYTE14) {
         for (size_t i = 0; i < e->size; i++) {
             if (L[i].size) {
-                last[i] = fold_u8((int32_t)last[i] +
-                                  (int32_t)sta_laz_decode_symbol(&L[i].dec, x->m_bytes[i]));
+                last[i] = sta_laz_fold_u8((int32_t)last[i] +
+                                          (int32_t)sta_laz_decode_symbol(&L[i].dec, x->m_bytes[i]));
             }
         }
     } else {
