@@ -54,7 +54,7 @@ void sta_laz_bit_model_init(sta_laz_bit_model *model)
     model->bits_until_update = 4;
 }
 
-static void bit_model_update(sta_laz_bit_model *m)
+void sta_laz_bit_model_update(sta_laz_bit_model *m)
 {
     m->bit_count += m->update_cycle;
     if (m->bit_count > STA_LAZ_BIT_MAX_COUNT) {
@@ -88,12 +88,12 @@ uint32_t sta_laz_decode_bit(sta_laz_dec *dec, sta_laz_bit_model *model)
         renormalise(dec);
     }
     if (--model->bits_until_update == 0) {
-        bit_model_update(model);
+        sta_laz_bit_model_update(model);
     }
     return bit;
 }
 
-static void model_update(sta_laz_model *m)
+void sta_laz_model_update(sta_laz_model *m)
 {
     m->total_count += m->update_cycle;
     if (m->total_count > STA_LAZ_SYM_MAX_COUNT) {
@@ -140,7 +140,7 @@ void sta_laz_model_reset(sta_laz_model *m)
     for (uint32_t k = 0; k < m->symbols; k++) {
         m->symbol_count[k] = 1;
     }
-    model_update(m);
+    sta_laz_model_update(m);
     m->update_cycle = (m->symbols + 6) >> 1;
     m->symbols_until_update = m->update_cycle;
 }
@@ -231,7 +231,7 @@ uint32_t sta_laz_decode_symbol(sta_laz_dec *dec, sta_laz_model *m)
     }
     m->symbol_count[sym]++;
     if (--m->symbols_until_update == 0) {
-        model_update(m);
+        sta_laz_model_update(m);
     }
     return sym;
 }

@@ -91,6 +91,11 @@ sta_laz_model *sta_laz_model_create(uint32_t symbols);
 void sta_laz_model_reset(sta_laz_model *model);
 void sta_laz_model_destroy(sta_laz_model *model);
 
+/* The models' periodic adaptation (called by the decoder; exported for the test suite's
+ * LAZ encoder, which must adapt exactly as the decoder does). */
+void sta_laz_bit_model_update(sta_laz_bit_model *model);
+void sta_laz_model_update(sta_laz_model *model);
+
 uint32_t sta_laz_decode_bit(sta_laz_dec *dec, sta_laz_bit_model *model);
 uint32_t sta_laz_decode_symbol(sta_laz_dec *dec, sta_laz_model *model);
 /* `bits` (1..32) raw bits, least significant part first for more than 19. */
