@@ -90,7 +90,7 @@ void sta_laz_p10_begin(sta_laz_p10 *state, const uint8_t *first);
 /* Decodes the next record of the chunk into `record`. False when out of memory. */
 bool sta_laz_p10_decode(sta_laz_p10 *state, sta_laz_dec *dec, uint8_t *record);
 
-/* ---- point14 family (formats 6-10, layered, version 3) ---- */
+/* ---- point14 family (formats 6-10, layered, versions 3 and 4) ---- */
 
 typedef struct sta_laz_p14 sta_laz_p14;
 

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT
- * LAZ point14 family item decoders, version 3 (layered chunks): POINT14 (the 30 bytes
- * every format 6-10 record starts with), RGB14, RGBNIR14 and BYTE14 (extra bytes).
+ * LAZ point14 family item decoders, versions 3 and 4 (layered chunks): POINT14 (the 30
+ * bytes every format 6-10 record starts with), RGB14, RGBNIR14, WAVEPACKET14 (formats
+ * 9 and 10) and BYTE14 (extra bytes).
  *
  * Design: a layered chunk holds the first record raw, the chunk's point count, the
  * byte count of every layer, then the layers: each an arithmetic-coded stream of one
@@ -15,10 +16,15 @@
  * four interleaved sequences predicted by multiples of their last difference.
  * The symbol models whose context is a previous value are allocated on first use and
  * kept (reset when their context is initialised in a later chunk).
+ * Versions 3 and 4 differ only in the items after POINT14: on a switch to a context
+ * already used in the chunk, version 3 keeps predicting from (and updating) the last
+ * record of the context left (the LASzip 3.x writer's behaviour, which its reader
+ * mirrors), version 4 predicts from the new context's own last record (LASzip's
+ * "context switch" fix of December 2017). One flag per item selects this.
  *
  * Based on: M. Isenburg, "LASzip: lossless compression of LiDAR data", PE&RS 79(2),
  * 2013; the LAZ specification's description of the LAS 1.4 "layered chunked"
- * compressor and its version 3 items (layers, contexts, context tables).
+ * compressor and its version 3 and 4 items (layers, contexts, context tables).
  */
 #include <string.h>
 
@@ -110,16 +116,22 @@ typedef struct p14_context {
     sta_laz_ic ic_dx, ic_dy, ic_z, ic_intensity, ic_scan_angle, ic_source, ic_gps;
 } p14_context;
 
-// RGB14 / RGBNIR14 / BYTE14: `size` bytes predicted per context.
+// RGB14 / RGBNIR14 / WAVEPACKET14 / BYTE14: `size` bytes predicted per context.
 typedef struct extra_context {
     bool unused;
     uint8_t last[8]; // RGB: 3 u16 (+ NIR); BYTE14: up to 8 here, more in `wide`
-    uint8_t *wide;   // BYTE14 with more than 8 bytes
+    uint8_t *wide;   // items of more than 8 bytes (wave packets, wide BYTE14)
     sta_laz_model *m_used;
     sta_laz_model *m_diff[6];
     sta_laz_model *m_nir_used;
     sta_laz_model *m_nir_diff[2];
     sta_laz_model **m_bytes; // BYTE14: one per byte
+    // WAVEPACKET14: descriptor index, offset kind (by the last kind), correctors
+    sta_laz_model *m_wp_index;
+    sta_laz_model *m_wp_offset[4];
+    sta_laz_ic ic_wp_offset, ic_wp_size, ic_wp_return, ic_wp_xyz;
+    int32_t wp_last_diff;  // last offset difference coded by the corrector
+    uint32_t wp_last_kind; // 0 same offset, 1 + last size, 2 coded difference, 3 raw
 } extra_context;
 
 typedef struct extra_item {
@@ -128,6 +140,7 @@ typedef struct extra_item {
     size_t size; // bytes
     size_t first_layer;
     uint32_t current;
+    bool own_last; // version 4: a switch predicts from the new context's last record
     extra_context ctx[CONTEXTS];
 } extra_item;
 
@@ -517,10 +530,27 @@ static bool extra_create(extra_item *e)
 {
     for (int c = 0; c < CONTEXTS; c++) {
         extra_context *x = &e->ctx[c];
-        if (e->type == STA_LAZ_ITEM_BYTE14) {
-            if (e->size > sizeof(x->last) && !(x->wide = sta_malloc(e->size))) {
+        if (e->size > sizeof(x->last) && !(x->wide = sta_malloc(e->size))) {
+            return false;
+        }
+        if (e->type == STA_LAZ_ITEM_WAVEPACKET14) {
+            if (!(x->m_wp_index = sta_laz_model_create(256))) {
                 return false;
             }
+            for (int i = 0; i < 4; i++) {
+                if (!(x->m_wp_offset[i] = sta_laz_model_create(4))) {
+                    return false;
+                }
+            }
+            if (!sta_laz_ic_init(&x->ic_wp_offset, 32, 1) ||
+                !sta_laz_ic_init(&x->ic_wp_size, 32, 1) ||
+                !sta_laz_ic_init(&x->ic_wp_return, 32, 1) ||
+                !sta_laz_ic_init(&x->ic_wp_xyz, 32, 3)) {
+                return false;
+            }
+            continue;
+        }
+        if (e->type == STA_LAZ_ITEM_BYTE14) {
             x->m_bytes = sta_calloc(e->size, sizeof(*x->m_bytes));
             if (!x->m_bytes) {
                 return false;
@@ -570,6 +600,14 @@ static void extra_release(extra_item *e)
         sta_laz_model_destroy(x->m_nir_used);
         sta_laz_model_destroy(x->m_nir_diff[0]);
         sta_laz_model_destroy(x->m_nir_diff[1]);
+        sta_laz_model_destroy(x->m_wp_index);
+        for (int i = 0; i < 4; i++) {
+            sta_laz_model_destroy(x->m_wp_offset[i]);
+        }
+        sta_laz_ic_release(&x->ic_wp_offset);
+        sta_laz_ic_release(&x->ic_wp_size);
+        sta_laz_ic_release(&x->ic_wp_return);
+        sta_laz_ic_release(&x->ic_wp_xyz);
     }
 }
 
@@ -591,6 +629,18 @@ static void extra_init(extra_item *e, uint32_t ctx, const uint8_t *from)
         sta_laz_model_reset(x->m_nir_used);
         sta_laz_model_reset(x->m_nir_diff[0]);
         sta_laz_model_reset(x->m_nir_diff[1]);
+    }
+    if (x->m_wp_index) {
+        sta_laz_model_reset(x->m_wp_index);
+        for (int i = 0; i < 4; i++) {
+            sta_laz_model_reset(x->m_wp_offset[i]);
+        }
+        sta_laz_ic_reset(&x->ic_wp_offset);
+        sta_laz_ic_reset(&x->ic_wp_size);
+        sta_laz_ic_reset(&x->ic_wp_return);
+        sta_laz_ic_reset(&x->ic_wp_xyz);
+        x->wp_last_diff = 0;
+        x->wp_last_kind = 0;
     }
     memmove(extra_last(e, ctx), from, e->size);
     x->unused = false;
@@ -650,15 +700,47 @@ static void nir_decode(extra_context *x, sta_laz_dec *dec, uint8_t *last)
     sta_store_u16le(last + 6, (uint16_t)v);
 }
 
+// Wave packet (29 bytes): u8 descriptor index, u64 offset of the waveform data, u32
+// packet size, f32 return point location, f32 x(t), y(t), z(t) (corrected as bits).
+static void wavepacket_decode(extra_context *x, sta_laz_dec *dec, uint8_t *last)
+{
+    last[0] = (uint8_t)sta_laz_decode_symbol(dec, x->m_wp_index);
+    uint32_t kind = sta_laz_decode_symbol(dec, x->m_wp_offset[x->wp_last_kind]);
+    x->wp_last_kind = kind;
+    uint64_t offset = sta_load_u64le(last + 1);
+    uint32_t size = sta_load_u32le(last + 9);
+    if (kind == 1) {
+        offset += size;
+    } else if (kind == 2) {
+        x->wp_last_diff = sta_laz_ic_decode(&x->ic_wp_offset, dec, x->wp_last_diff, 0);
+        offset += (uint64_t)(int64_t)x->wp_last_diff;
+    } else if (kind == 3) {
+        uint64_t low = sta_laz_read_u32(dec);
+        offset = low | (uint64_t)sta_laz_read_u32(dec) << 32;
+    }
+    sta_store_u64le(last + 1, offset);
+    sta_store_u32le(last + 9, (uint32_t)sta_laz_ic_decode(&x->ic_wp_size, dec, (int32_t)size, 0));
+    sta_store_u32le(last + 13, (uint32_t)sta_laz_ic_decode(&x->ic_wp_return, dec,
+                                                           (int32_t)sta_load_u32le(last + 13), 0));
+    for (uint32_t i = 0; i < 3; i++) {
+        uint8_t *v = last + 17 + 4 * i;
+        sta_store_u32le(
+            v, (uint32_t)sta_laz_ic_decode(&x->ic_wp_xyz, dec, (int32_t)sta_load_u32le(v), i));
+    }
+}
+
 static void extra_decode(sta_laz_p14 *s, extra_item *e, uint8_t *out)
 {
-    // As the LAZ writer does: a switch to an already used context still predicts this
-    // record from the previous context's last record (and updates that one).
+    // Version 3 (as the LASzip writer does): a switch to an already used context still
+    // predicts this record from the previous context's last record (and updates that
+    // one). Version 4 uses the new context's own last record.
     uint8_t *last = extra_last(e, e->current);
     if (e->current != s->current) {
         e->current = s->current;
         if (e->ctx[e->current].unused) {
             extra_init(e, e->current, last);
+            last = extra_last(e, e->current);
+        } else if (e->own_last) {
             last = extra_last(e, e->current);
         }
     }
@@ -670,6 +752,10 @@ static void extra_decode(sta_laz_p14 *s, extra_item *e, uint8_t *out)
                 last[i] = sta_laz_fold_u8((int32_t)last[i] +
                                           (int32_t)sta_laz_decode_symbol(&L[i].dec, x->m_bytes[i]));
             }
+        }
+    } else if (e->type == STA_LAZ_ITEM_WAVEPACKET14) {
+        if (L[0].size) {
+            wavepacket_decode(x, &L[0].dec, last);
         }
     } else {
         if (L[0].size) {
@@ -703,6 +789,7 @@ sta_laz_p14 *sta_laz_p14_create(const sta_laz_vlr *vlr)
             e->at = at;
             e->size = item->size;
             e->first_layer = layers;
+            e->own_last = item->version >= 4;
             layers += item->type == STA_LAZ_ITEM_BYTE14     ? item->size
                       : item->type == STA_LAZ_ITEM_RGBNIR14 ? 2
                                                             : 1;

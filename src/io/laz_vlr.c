@@ -13,9 +13,10 @@
  *   the header's record length: a mismatch is STA_ERR_FORMAT, because decoding would
  *   otherwise mix up fields.
  * - Supported: point10 family version 2 (POINT10, GPSTIME11, RGB12, BYTE) with the
- *   pointwise (1) or pointwise-chunked (2) compressor; point14 family version 3
- *   (POINT14, RGB14, RGBNIR14, BYTE14) with the layered compressor (3). Anything
- *   else is STA_ERR_UNSUPPORTED naming the item and its version.
+ *   pointwise (1) or pointwise-chunked (2) compressor; point14 family versions 3
+ *   and 4 (POINT14, RGB14, RGBNIR14, WAVEPACKET14, BYTE14) with the layered
+ *   compressor (3). Anything else is STA_ERR_UNSUPPORTED naming the item and its
+ *   version.
  */
 #include <stdio.h>
 
@@ -93,8 +94,9 @@ static bool is_decoded(const sta_laz_item *item)
     case STA_LAZ_ITEM_POINT14:
     case STA_LAZ_ITEM_RGB14:
     case STA_LAZ_ITEM_RGBNIR14:
+    case STA_LAZ_ITEM_WAVEPACKET14:
     case STA_LAZ_ITEM_BYTE14:
-        return item->version == 3 && STA_LAZ_DECODES_POINT14;
+        return (item->version == 3 || item->version == 4) && STA_LAZ_DECODES_POINT14;
     default:
         return false;
     }
@@ -181,7 +183,8 @@ sta_status sta_laz_parse_vlr(const char *path, const uint8_t *payload, uint64_t 
                             "%s: LAZ item %s version %u is not supported yet (decoded: POINT10, "
                             "GPSTIME11, RGB12, BYTE version 2%s)",
                             path, sta_laz_item_name(item->type), item->version,
-                            STA_LAZ_DECODES_POINT14 ? "; POINT14, RGB14, RGBNIR14, BYTE14 version 3"
+                            STA_LAZ_DECODES_POINT14 ? "; POINT14, RGB14, RGBNIR14, "
+                                                      "WAVEPACKET14, BYTE14 version 3 and 4"
                                                     : "");
         }
     }

@@ -1,0 +1,612 @@
+/* SPDX-License-Identifier: MIT
+ * Tests of the point14 family LAZ decoder (layered chunks, item versions 3 and 4,
+ * formats 6-10) against the test-only LAZ encoder (tests/support/lazenc).
+ *
+ * Design: the encoder is first anchored to LASzip itself: it re-encodes the records of
+ * ../shared/data/las/1_4_w_evlr.las into exactly the chunk bytes LASzip wrote in
+ * ../shared/data/laz/1_4_w_evlr.laz. Then synthetic records exercise what no real file
+ * here has (four scanner channels switching back and forth, returns, classes above 31,
+ * flags, user data, point source, scan angle, GPS time jumps, RGB, NIR, wave packets,
+ * extra bytes): encoded as version 3 and as version 4 into a LAZ file built here
+ * (header, LASzip VLR, chunks, chunk table), read back through the LAS reader's LAZ
+ * decoder and compared byte for byte with the records.
+ */
+#include "test_support.h"
+
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/file_map.h"
+#include "core/log.h"
+#include "io/cloud.h"
+#include "io/las.h"
+#include "io/las_internal.h"
+#include "io/laz_internal.h"
+#include "lazenc.h"
+
+enum {
+    HEADER_SIZE = 375, // LAS 1.4
+    VLR_HEADER = 54,
+    SYNTH_POINTS = 4500,
+    SYNTH_CHUNK = 1000, // 5 chunks, the last one partial
+};
+
+static uint32_t get_u32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+static uint64_t get_u64(const uint8_t *p)
+{
+    return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32;
+}
+
+static void put_u16(uint8_t *p, uint16_t v)
+{
+    p[0] = (uint8_t)v;
+    p[1] = (uint8_t)(v >> 8);
+}
+
+static void put_u32(uint8_t *p, uint32_t v)
+{
+    put_u16(p, (uint16_t)v);
+    put_u16(p + 2, (uint16_t)(v >> 16));
+}
+
+static void put_u64(uint8_t *p, uint64_t v)
+{
+    put_u32(p, (uint32_t)v);
+    put_u32(p + 4, (uint32_t)(v >> 32));
+}
+
+static void put_f64(uint8_t *p, double v)
+{
+    uint64_t bits;
+    memcpy(&bits, &v, sizeof(bits));
+    put_u64(p, bits);
+}
+
+static size_t base_size(int pdrf)
+{
+    static const size_t sizes[] = { 30, 36, 38, 59, 67 };
+    return sizes[pdrf - 6];
+}
+
+// The items LASzip writes for `pdrf` with `extra` extra bytes, all of `version`.
+static sta_laz_vlr make_vlr(int pdrf, size_t extra, uint16_t version, uint32_t chunk_size)
+{
+    sta_laz_vlr vlr = { .compressor = STA_LAZ_COMPRESSOR_LAYERED_CHUNKED,
+                        .version_major = 3,
+                        .version_minor = 4,
+                        .version_revision = 3,
+                        .chunk_size = chunk_size };
+    uint16_t n = 0;
+    vlr.items[n++] = (sta_laz_item){ STA_LAZ_ITEM_POINT14, 30, version };
+    if (pdrf == 7) {
+        vlr.items[n++] = (sta_laz_item){ STA_LAZ_ITEM_RGB14, 6, version };
+    }
+    if (pdrf == 8 || pdrf == 10) {
+        vlr.items[n++] = (sta_laz_item){ STA_LAZ_ITEM_RGBNIR14, 8, version };
+    }
+    if (pdrf == 9 || pdrf == 10) {
+        vlr.items[n++] = (sta_laz_item){ STA_LAZ_ITEM_WAVEPACKET14, 29, version };
+    }
+    if (extra) {
+        vlr.items[n++] = (sta_laz_item){ STA_LAZ_ITEM_BYTE14, (uint16_t)extra, version };
+    }
+    vlr.item_count = n;
+    return vlr;
+}
+
+// A whole LAS 1.4 LAZ file: header, the LASzip VLR, chunk table offset, chunks, table.
+static void build_laz(int pdrf, const sta_laz_vlr *vlr, const uint8_t *records, size_t count,
+                      size_t length, lazenc_buf *out)
+{
+    size_t payload = 34 + 6 * (size_t)vlr->item_count;
+    uint32_t point_data = (uint32_t)(HEADER_SIZE + VLR_HEADER + payload);
+    uint8_t header[HEADER_SIZE] = { 0 };
+    memcpy(header, "LASF", 4);
+    header[24] = 1;
+    header[25] = 4;
+    memcpy(header + 26, "strata test", 11);
+    memcpy(header + 58, "lazenc", 6);
+    put_u16(header + 94, HEADER_SIZE);
+    put_u32(header + 96, point_data);
+    put_u32(header + 100, 1);
+    header[104] = (uint8_t)(pdrf | 0x80);
+    put_u16(header + 105, (uint16_t)length);
+    for (int axis = 0; axis < 3; axis++) {
+        put_f64(header + 131 + 8 * axis, 0.01);
+        put_f64(header + 179 + 16 * axis, 1e7);      // max
+        put_f64(header + 179 + 16 * axis + 8, -1e7); // min
+    }
+    put_u64(header + 247, count);
+    lazenc_buf_put(out, header, sizeof(header));
+
+    uint8_t vh[VLR_HEADER] = { 0 };
+    memcpy(vh + 2, "laszip encoded", 14);
+    put_u16(vh + 18, 22204);
+    put_u16(vh + 20, (uint16_t)payload);
+    lazenc_buf_put(out, vh, sizeof(vh));
+    lazenc_buf_put_u16(out, vlr->compressor);
+    lazenc_buf_put_u16(out, vlr->coder);
+    uint8_t version[2] = { vlr->version_major, vlr->version_minor };
+    lazenc_buf_put(out, version, 2);
+    lazenc_buf_put_u16(out, vlr->version_revision);
+    lazenc_buf_put_u32(out, vlr->options);
+    lazenc_buf_put_u32(out, vlr->chunk_size);
+    lazenc_buf_put_u64(out, UINT64_MAX);
+    lazenc_buf_put_u64(out, UINT64_MAX);
+    lazenc_buf_put_u16(out, vlr->item_count);
+    for (uint16_t i = 0; i < vlr->item_count; i++) {
+        lazenc_buf_put_u16(out, vlr->items[i].type);
+        lazenc_buf_put_u16(out, vlr->items[i].size);
+        lazenc_buf_put_u16(out, vlr->items[i].version);
+    }
+    assert_int_equal(out->size, point_data);
+
+    lazenc_buf_put_u64(out, 0); // chunk table offset, patched below
+    size_t chunks = (count + vlr->chunk_size - 1) / vlr->chunk_size;
+    uint32_t *sizes = calloc(chunks, sizeof(*sizes));
+    assert_non_null(sizes);
+    for (size_t c = 0; c < chunks; c++) {
+        size_t first = c * vlr->chunk_size;
+        size_t n = count - first < vlr->chunk_size ? count - first : vlr->chunk_size;
+        size_t before = out->size;
+        assert_true(lazenc_point14_chunk(vlr, records + first * length, n, length, out));
+        sizes[c] = (uint32_t)(out->size - before);
+    }
+    put_u64(out->data + point_data, out->size);
+    lazenc_buf_put_u32(out, 0);
+    lazenc_buf_put_u32(out, (uint32_t)chunks);
+    sta_laz_ic ic = { 0 };
+    assert_true(sta_laz_ic_init(&ic, 32, 2));
+    sta_laz_ic_reset(&ic);
+    lazenc_arith table;
+    lazenc_arith_init(&table, out);
+    for (size_t c = 0; c < chunks; c++) {
+        lazenc_ic_encode(&ic, &table, c ? (int32_t)sizes[c - 1] : 0, (int32_t)sizes[c], 1);
+    }
+    lazenc_arith_done(&table);
+    sta_laz_ic_release(&ic);
+    free(sizes);
+}
+
+// ---- synthetic records ----
+
+static uint64_t rng_state;
+
+static uint32_t rnd(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (uint32_t)(rng_state >> 16);
+}
+
+static uint32_t below(uint32_t n)
+{
+    return rnd() % n;
+}
+
+// `count` records of `pdrf` with `extra` extra bytes: four scanner channels whose runs
+// come back to channels used before, each channel with its own colour, time and
+// position trends, so that predicting from the wrong context costs bits.
+static uint8_t *synth_records(int pdrf, size_t extra, size_t count, uint64_t seed,
+                              size_t *out_length)
+{
+    size_t length = base_size(pdrf) + extra;
+    uint8_t *recs = calloc(count, length);
+    assert_non_null(recs);
+    rng_state = seed;
+    int32_t x[4] = { 1000, 50000, -3000, 7 };
+    int32_t y[4] = { 0, 100, 200, 300 };
+    int32_t z[4] = { 500, 600, 700, 800 };
+    double t[4] = { 1000.0, 2000.5, 3.25e8, 77.0 };
+    uint16_t rgb[4][4] = {
+        { 100, 100, 100, 9 }, { 65000, 200, 3, 1000 }, { 4000, 4100, 4200, 0 }, { 7, 7, 7, 7 }
+    };
+    uint64_t wp_offset[4] = { 0, 1u << 20, 5000000000ull, 12 };
+    uint32_t channel = 1;
+    uint32_t n = 1;
+    uint32_t r = 1;
+    uint16_t source = 17;
+    uint8_t user = 3;
+    int16_t angle = -300;
+    for (size_t i = 0; i < count; i++) {
+        uint8_t *p = recs + i * length;
+        if (r >= n) { // a new pulse: maybe another channel, always a new time
+            if (below(4) == 0) {
+                channel = below(4);
+            }
+            n = 1 + below(5);
+            r = 1;
+            uint32_t jump = below(50);
+            t[channel] += jump == 0   ? 1e6 + below(1000)              // a big jump
+                          : jump == 1 ? -(double)below(100) * 1e-3     // backwards
+                                      : 1e-5 * (double)(1 + below(3)); // regular
+        } else {
+            r++;
+        }
+        uint32_t pn = n;
+        uint32_t pr = r;
+        if (below(200) == 0) { // odd return numbering
+            pr = below(16);
+            pn = below(16);
+        }
+        x[channel] += (int32_t)below(2001) - 1000;
+        y[channel] += (int32_t)below(101) - 50;
+        z[channel] += (int32_t)below(21) - 10;
+        if (below(300) == 0) {
+            x[channel] += 1 << 28; // a far point
+        }
+        put_u32(p, (uint32_t)x[channel]);
+        put_u32(p + 4, (uint32_t)y[channel]);
+        put_u32(p + 8, (uint32_t)z[channel]);
+        put_u16(p + 12, (uint16_t)(below(4) ? 1000 + below(50) * pr : below(65536)));
+        p[14] = (uint8_t)(pr | pn << 4);
+        uint32_t class_flags = below(10) == 0 ? below(16) : 0;
+        uint32_t scan_dir = (uint32_t)(i / 37) & 1;
+        uint32_t edge = below(100) == 0;
+        p[15] = (uint8_t)(class_flags | channel << 4 | scan_dir << 6 | edge << 7);
+        static const uint8_t classes[] = { 1, 2, 2, 2, 5, 6, 40, 64, 200, 255 };
+        p[16] = below(3) ? classes[(channel + pr) % 4] : classes[below(10)];
+        if (below(20) == 0) {
+            user = (uint8_t)below(256);
+        }
+        p[17] = user;
+        if (below(25) == 0) {
+            angle = (int16_t)((int32_t)below(60001) - 30000);
+        }
+        put_u16(p + 18, (uint16_t)angle);
+        if (below(500) == 0) {
+            source = (uint16_t)below(65536);
+        }
+        put_u16(p + 20, source);
+        put_f64(p + 22, t[channel]);
+        size_t at = 30;
+        if (pdrf == 7 || pdrf == 8 || pdrf == 10) {
+            uint16_t *c = rgb[channel];
+            if (below(3) == 0) {
+                c[0] = (uint16_t)(c[0] + below(600) - 300);
+                c[1] = below(5) == 0 ? c[0] : (uint16_t)(c[1] + below(9) - 4);
+                c[2] = below(5) == 0 ? c[0] : (uint16_t)(c[2] + below(300));
+            }
+            if (below(4) == 0) {
+                c[3] = (uint16_t)(c[3] + below(2000) - 1000);
+            }
+            for (int k = 0; k < 3; k++) {
+                put_u16(p + at + 2 * k, c[k]);
+            }
+            at += 6;
+            if (pdrf != 7) {
+                put_u16(p + at, c[3]);
+                at += 2;
+            }
+        }
+        if (pdrf == 9 || pdrf == 10) {
+            uint32_t size = 64 + 16 * (channel + 1);
+            uint32_t kind = below(10);
+            uint64_t *o = &wp_offset[channel];
+            *o = kind < 6   ? *o + size                           // back to back
+                 : kind < 7 ? *o                                  // same packet
+                 : kind < 9 ? *o + below(100000)                  // a gap
+                            : *o + ((uint64_t)below(1000) << 33); // a huge jump
+            p[at] = (uint8_t)(1 + channel + (below(50) == 0));
+            put_u64(p + at + 1, *o);
+            put_u32(p + at + 9, below(30) ? size : below(100000));
+            put_u32(p + at + 13, rnd());          // return point (f32 bits)
+            put_u32(p + at + 17, 0x3f800000u);    // x(t) = 1.0f
+            put_u32(p + at + 21, rnd() & 0xffff); // y(t)
+            put_u32(p + at + 25, below(2) ? 0 : rnd());
+            at += 29;
+        }
+        for (size_t e = 0; e < extra; e++) {
+            // byte 0 constant (empty layer), byte 1 the channel, others vary
+            p[at + e] = e == 0 ? 42 : e == 1 ? (uint8_t)channel : (uint8_t)(below(4) ? e : rnd());
+        }
+    }
+    *out_length = length;
+    return recs;
+}
+
+// Reads `data` through the LAS reader's LAZ decoder; compares raw records with
+// `expected`. Returns false (message checked) when the reader reports an error.
+static bool read_back(const uint8_t *data, size_t size, const uint8_t *expected, size_t count,
+                      size_t length, bool *out_identical)
+{
+    *out_identical = false;
+    sta_file_map map;
+    sta_error err = { 0 };
+    assert_int_equal(sta_file_map_wrap(data, size, "synth.laz", &map, &err), STA_OK);
+    void *impl = NULL;
+    const sta_cloud_ops *ops = NULL;
+    if (sta_las_open_map(&map, NULL, &impl, &ops, &err) != STA_OK) {
+        assert_non_null(strstr(err.message, "synth.laz"));
+        sta_file_map_close(&map);
+        return false;
+    }
+    sta_las_reader *reader = impl;
+    assert_non_null(reader->laz);
+    assert_int_equal(reader->info.record_length, length);
+    uint8_t *buffer = malloc(500 * length);
+    assert_non_null(buffer);
+    bool ok = true;
+    bool identical = true;
+    for (size_t done = 0; done < count; done += 500) {
+        size_t step = count - done < 500 ? count - done : 500;
+        if (sta_laz_decode(reader->laz, buffer, step, &err) != STA_OK) {
+            assert_non_null(strstr(err.message, "synth.laz"));
+            ok = false;
+            break;
+        }
+        for (size_t i = 0; i < step && identical; i++) {
+            if (memcmp(buffer + i * length, expected + (done + i) * length, length) != 0) {
+                identical = false;
+                if (out_identical != NULL && size > 0 && getenv("STA_LAZ_P14_VERBOSE")) {
+                    printf("record %zu differs\n", done + i);
+                }
+            }
+        }
+    }
+    free(buffer);
+    ops->close(impl);
+    sta_file_map_close(&map);
+    *out_identical = ok && identical;
+    return ok;
+}
+
+// Encodes synthetic `pdrf` records as version 3 and 4 and reads them back exactly.
+static void round_trip(int pdrf, size_t extra)
+{
+    size_t length = 0;
+    uint8_t *recs =
+        synth_records(pdrf, extra, SYNTH_POINTS, 0x9e3779b97f4a7c15ull + (uint64_t)pdrf, &length);
+    for (uint16_t version = 3; version <= 4; version++) {
+        sta_laz_vlr vlr = make_vlr(pdrf, extra, version, SYNTH_CHUNK);
+        lazenc_buf file = { 0 };
+        build_laz(pdrf, &vlr, recs, SYNTH_POINTS, length, &file);
+        bool identical = false;
+        assert_true(read_back(file.data, file.size, recs, SYNTH_POINTS, length, &identical));
+        if (!identical) {
+            fail_msg("PDRF %d (+%zu extra bytes) version %u: decoded records differ", pdrf, extra,
+                     version);
+        }
+        printf("PDRF %d + %zu extra bytes, v%u: %d points in %zu bytes (%zu raw) round-trip\n",
+               pdrf, extra, version, SYNTH_POINTS, file.size, (size_t)SYNTH_POINTS * length);
+        lazenc_buf_free(&file);
+    }
+    free(recs);
+}
+
+// ---- cases ----
+
+// The encoder re-creates LASzip's chunk bytes of 1_4_w_evlr.laz from its LAS twin.
+static void encoder_reproduces_laszip_chunks(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    size_t laz_size = 0;
+    size_t las_size = 0;
+    uint8_t *laz = sta_test_read_file(sta_test_shared_path("laz/1_4_w_evlr.laz"), &laz_size);
+    uint8_t *las = sta_test_read_file(sta_test_shared_path("las/1_4_w_evlr.las"), &las_size);
+    // The LASzip VLR's items and chunk size, as in the file.
+    sta_laz_vlr vlr = { 0 };
+    uint32_t vlrs = get_u32(laz + 100);
+    size_t at = (size_t)(laz[94] | laz[95] << 8);
+    bool found = false;
+    for (uint32_t v = 0; v < vlrs && at + VLR_HEADER <= laz_size && !found; v++) {
+        uint16_t vlen = (uint16_t)(laz[at + 20] | laz[at + 21] << 8);
+        if (memcmp(laz + at + 2, "laszip encoded", 14) == 0) {
+            const uint8_t *p = laz + at + VLR_HEADER;
+            vlr.compressor = (uint16_t)(p[0] | p[1] << 8);
+            vlr.chunk_size = get_u32(p + 12);
+            vlr.item_count = (uint16_t)(p[32] | p[33] << 8);
+            assert_true(vlr.item_count <= STA_LAZ_MAX_ITEMS);
+            for (uint16_t i = 0; i < vlr.item_count; i++) {
+                const uint8_t *it = p + 34 + 6 * i;
+                vlr.items[i] =
+                    (sta_laz_item){ (uint16_t)(it[0] | it[1] << 8), (uint16_t)(it[2] | it[3] << 8),
+                                    (uint16_t)(it[4] | it[5] << 8) };
+            }
+            found = true;
+        }
+        at += VLR_HEADER + vlen;
+    }
+    assert_true(found);
+    assert_int_equal(vlr.compressor, STA_LAZ_COMPRESSOR_LAYERED_CHUNKED);
+    uint32_t las_data = get_u32(las + 96);
+    size_t length = (size_t)(las[105] | las[106] << 8);
+    uint64_t count = get_u64(las + 247);
+    assert_true(las_data + count * length <= las_size);
+
+    // Walk the chunks from offset_to_point_data + 8 to the chunk table.
+    uint32_t laz_data = get_u32(laz + 96);
+    uint64_t table = get_u64(laz + laz_data);
+    size_t pos = laz_data + 8;
+    size_t matched = 0;
+    size_t chunks = 0;
+    for (uint64_t first = 0; first < count; first += vlr.chunk_size) {
+        size_t n = count - first < vlr.chunk_size ? (size_t)(count - first) : vlr.chunk_size;
+        lazenc_buf chunk = { 0 };
+        assert_true(lazenc_point14_chunk(&vlr, las + las_data + first * length, n, length, &chunk));
+        assert_true(pos + chunk.size <= table);
+        for (size_t i = 0; i < chunk.size; i++) {
+            if (chunk.data[i] != laz[pos + i]) {
+                fail_msg(
+                    "chunk %zu byte %zu (file offset %zu): encoder wrote 0x%02x, LASzip 0x%02x "
+                    "(chunk of %zu bytes)",
+                    chunks, i, pos + i, chunk.data[i], laz[pos + i], chunk.size);
+            }
+        }
+        matched += chunk.size;
+        pos += chunk.size;
+        chunks++;
+        lazenc_buf_free(&chunk);
+    }
+    assert_int_equal(pos, table); // the chunks end exactly where the table starts
+    printf("1_4_w_evlr.laz: %zu chunk(s), %zu bytes re-encoded identically from %llu records\n",
+           chunks, matched, (unsigned long long)count);
+    free(las);
+    free(laz);
+}
+
+static void pdrf6_round_trips(void **state)
+{
+    (void)state;
+    round_trip(6, 0);
+}
+
+static void pdrf6_extra_bytes_round_trip(void **state)
+{
+    (void)state;
+    round_trip(6, 11); // more than 8 bytes: the decoder's wide per-context buffer
+}
+
+static void pdrf7_rgb_round_trips(void **state)
+{
+    (void)state;
+    round_trip(7, 3);
+}
+
+static void pdrf8_rgbnir_round_trips(void **state)
+{
+    (void)state;
+    round_trip(8, 0);
+}
+
+static void pdrf9_wave_packets_round_trip(void **state)
+{
+    (void)state;
+    round_trip(9, 2);
+}
+
+static void pdrf10_rgbnir_wave_packets_round_trip(void **state)
+{
+    (void)state;
+    round_trip(10, 5);
+}
+
+// The context-switch rule of version 4 is exercised: the two encodings of multi-channel
+// RGB differ (in the RGB layers only), and decoding one as the other fails or differs.
+static void v3_and_v4_differ_on_channel_switches(void **state)
+{
+    (void)state;
+    size_t length = 0;
+    uint8_t *recs = synth_records(7, 0, SYNTH_POINTS, 12345, &length);
+    lazenc_buf f3 = { 0 };
+    lazenc_buf f4 = { 0 };
+    sta_laz_vlr v3 = make_vlr(7, 0, 3, SYNTH_CHUNK);
+    sta_laz_vlr v4 = make_vlr(7, 0, 4, SYNTH_CHUNK);
+    build_laz(7, &v3, recs, SYNTH_POINTS, length, &f3);
+    build_laz(7, &v4, recs, SYNTH_POINTS, length, &f4);
+    bool same = f3.size == f4.size && memcmp(f3.data, f4.data, f3.size) == 0;
+    assert_false(same);
+    // Single-channel data encodes identically in both versions (bar the VLR's versions).
+    uint8_t *one = malloc(SYNTH_POINTS * length);
+    assert_non_null(one);
+    memcpy(one, recs, SYNTH_POINTS * length);
+    for (size_t i = 0; i < SYNTH_POINTS; i++) {
+        one[i * length + 15] &= 0xcf; // channel 0 everywhere
+    }
+    lazenc_buf s3 = { 0 };
+    lazenc_buf s4 = { 0 };
+    build_laz(7, &v3, one, SYNTH_POINTS, length, &s3);
+    build_laz(7, &v4, one, SYNTH_POINTS, length, &s4);
+    uint32_t data3 = get_u32(s3.data + 96);
+    assert_int_equal(s3.size, s4.size);
+    assert_memory_equal(s3.data + data3, s4.data + data3, s3.size - data3);
+    // The v4 file's VLR relabelled as version 3: the decoder must not reproduce the points.
+    uint8_t *relabelled = malloc(f4.size);
+    assert_non_null(relabelled);
+    memcpy(relabelled, f4.data, f4.size);
+    size_t items = HEADER_SIZE + VLR_HEADER + 34;
+    for (uint16_t i = 0; i < v4.item_count; i++) {
+        put_u16(relabelled + items + 6 * i + 4, 3);
+    }
+    sta_log_set_level(STA_LOG_QUIET);
+    bool identical = true;
+    (void)read_back(relabelled, f4.size, recs, SYNTH_POINTS, length, &identical);
+    sta_log_set_level(STA_LOG_WARN);
+    assert_false(identical);
+    printf("PDRF 7, 4 channels: v3 %zu bytes, v4 %zu bytes; one channel: identical point data\n",
+           f3.size, f4.size);
+    free(relabelled);
+    free(one);
+    lazenc_buf_free(&s3);
+    lazenc_buf_free(&s4);
+    lazenc_buf_free(&f3);
+    lazenc_buf_free(&f4);
+    free(recs);
+}
+
+// Every 97th truncation and two flips of every 61st byte of the point data of a PDRF 10
+// file (both versions): a named error or decoded records (the right ones after a cut that
+// left all chunks), never a crash or a hang.
+static void damaged_files_fail_cleanly(void **state)
+{
+    (void)state;
+    enum {
+        POINTS = 1200,
+        CHUNK = 500
+    };
+    size_t length = 0;
+    uint8_t *recs = synth_records(10, 4, POINTS, 777, &length);
+    sta_log_set_level(STA_LOG_QUIET);
+    for (uint16_t version = 3; version <= 4; version++) {
+        sta_laz_vlr vlr = make_vlr(10, 4, version, CHUNK);
+        lazenc_buf file = { 0 };
+        build_laz(10, &vlr, recs, POINTS, length, &file);
+        uint32_t point_data = get_u32(file.data + 96);
+        size_t cuts = 0;
+        size_t cut_ok = 0;
+        bool identical = false;
+        for (size_t cut = point_data; cut < file.size; cut += 97) {
+            uint8_t *copy = malloc(cut);
+            assert_non_null(copy);
+            memcpy(copy, file.data, cut);
+            if (read_back(copy, cut, recs, POINTS, length, &identical)) {
+                if (!identical) {
+                    fail_msg("v%u cut to %zu bytes: decoded wrong records", version, cut);
+                }
+                cut_ok++;
+            }
+            cuts++;
+            free(copy);
+        }
+        size_t flips = 0;
+        size_t errors = 0;
+        uint8_t *copy = malloc(file.size);
+        assert_non_null(copy);
+        for (size_t at = point_data; at < file.size; at += 61) {
+            for (int pattern = 0; pattern < 2; pattern++) {
+                memcpy(copy, file.data, file.size);
+                copy[at] ^= pattern ? 0xff : 0x10;
+                errors += read_back(copy, file.size, recs, POINTS, length, &identical) ? 0 : 1;
+                flips++;
+            }
+        }
+        free(copy);
+        printf("PDRF 10 v%u: %zu truncations (%zu decode fully), %zu flips (%zu errors)\n", version,
+               cuts, cut_ok, flips, errors);
+        lazenc_buf_free(&file);
+    }
+    sta_log_set_level(STA_LOG_WARN);
+    free(recs);
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(encoder_reproduces_laszip_chunks),
+    cmocka_unit_test(pdrf6_round_trips),
+    cmocka_unit_test(pdrf6_extra_bytes_round_trip),
+    cmocka_unit_test(pdrf7_rgb_round_trips),
+    cmocka_unit_test(pdrf8_rgbnir_round_trips),
+    cmocka_unit_test(pdrf9_wave_packets_round_trip),
+    cmocka_unit_test(pdrf10_rgbnir_wave_packets_round_trip),
+    cmocka_unit_test(v3_and_v4_differ_on_channel_switches),
+    cmocka_unit_test(damaged_files_fail_cleanly),
+};
+
+STA_TEST_MAIN(tests)
