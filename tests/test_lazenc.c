@@ -175,11 +175,139 @@ static void missing_chunk_table_reads_sequentially(void **state)
     round_trip("las/autzen_trim.las", &options);
 }
 
+// ---- a COPC-like file ----
+
+static void put(uint8_t *p, uint64_t v, int bytes)
+{
+    for (int i = 0; i < bytes; i++) {
+        p[i] = (uint8_t)(v >> (8 * i));
+    }
+}
+
+static void put_f64(uint8_t *p, double v)
+{
+    uint64_t bits;
+    memcpy(&bits, &v, 8);
+    put(p, bits, 8);
+}
+
+enum { COPC_POINTS = 9000, COPC_RECORD = 36, COPC_INFO = 160, COPC_PAGE = 32 };
+
+/* A LAS 1.4 PDRF 7 file laid out as COPC writes it: the "copc" info VLR first, the
+ * points of each octree node together (one variable chunk per node once compressed),
+ * the hierarchy as an EVLR after the points. The copc VLR contents are placeholders
+ * (the reader must not need them). */
+static uint8_t *copc_like_las(size_t *out_size)
+{
+    size_t vlr = 54 + COPC_INFO;
+    size_t point_data = 375 + vlr;
+    size_t evlr_at = point_data + (size_t)COPC_POINTS * COPC_RECORD;
+    size_t size = evlr_at + 60 + COPC_PAGE;
+    uint8_t *d = calloc(1, size);
+    assert_non_null(d);
+    memcpy(d, "LASF", 4);
+    d[24] = 1;
+    d[25] = 4;
+    memcpy(d + 26, "strata tests", 12);
+    memcpy(d + 58, "copc-like layout", 16);
+    put(d + 94, 375, 2);
+    put(d + 96, point_data, 4);
+    put(d + 100, 1, 4);
+    d[104] = 7;
+    put(d + 105, COPC_RECORD, 2);
+    for (int a = 0; a < 3; a++) {
+        put_f64(d + 131 + 8 * a, 0.001);
+        put_f64(d + 155 + 8 * a, a == 2 ? 100.0 : 500000.0 + 4e6 * a);
+    }
+    // The "copc" info VLR (record 1).
+    uint8_t *v = d + 375;
+    memcpy(v + 2, "copc", 4);
+    put(v + 18, 1, 2);
+    put(v + 20, COPC_INFO, 2);
+    put_f64(v + 54, 500000.0); // centre x (placeholder values)
+    double lo[3] = { 1e30, 1e30, 1e30 };
+    double hi[3] = { -1e30, -1e30, -1e30 };
+    for (unsigned i = 0; i < COPC_POINTS; i++) {
+        uint8_t *r = d + point_data + (size_t)i * COPC_RECORD;
+        unsigned node = i / 700; // points of a node stay together
+        int32_t xyz[3] = { (int32_t)(node * 100000 + (i * 7919u) % 90000),
+                           (int32_t)(node * 50000 + (i * 104729u) % 45000),
+                           (int32_t)((i * 31u) % 20000) - 5000 };
+        for (int a = 0; a < 3; a++) {
+            put(r + 4 * a, (uint32_t)xyz[a], 4);
+            double c = xyz[a] * 0.001 + (a == 2 ? 100.0 : 500000.0 + 4e6 * a);
+            lo[a] = c < lo[a] ? c : lo[a];
+            hi[a] = c > hi[a] ? c : hi[a];
+        }
+        unsigned n = 1 + i % 5;
+        unsigned ret = 1 + (i / 5) % n;
+        put(r + 12, (i * 2311u) % 65536u, 2);
+        r[14] = (uint8_t)(ret | n << 4);
+        r[15] = (uint8_t)((i / 97) % 4 << 4 | (i % 3 == 0) << 6); // channel, scan dir
+        r[16] = (uint8_t)(i % 40 < 30 ? 2 : 6 + i % 60);
+        r[17] = (uint8_t)(i / 1000);
+        put(r + 18, (uint16_t)(int16_t)((int)(i % 3000) - 1500), 2);
+        put(r + 20, 7 + i / 4000, 2);
+        put_f64(r + 22, 3.2e8 + (i / 5) * 1e-5 + node * 10.0);
+        put(r + 30, (i * 257u) % 65536u, 2);
+        put(r + 32, (i * 263u) % 65536u, 2);
+        put(r + 34, 65535u - (i * 3u) % 65536u, 2);
+    }
+    for (int a = 0; a < 3; a++) {
+        put_f64(d + 179 + 16 * a, hi[a]);
+        put_f64(d + 187 + 16 * a, lo[a]);
+    }
+    put(d + 235, evlr_at, 8);
+    put(d + 243, 1, 4);
+    put(d + 247, COPC_POINTS, 8);
+    uint8_t *e = d + evlr_at; // the hierarchy EVLR (record 1000), one placeholder page
+    memcpy(e + 2, "copc", 4);
+    put(e + 18, 1000, 2);
+    put(e + 20, COPC_PAGE, 8);
+    *out_size = size;
+    return d;
+}
+
+// A COPC-like file (LAZ 1.4, layered point14 items, one variable chunk per node, copc
+// VLR and hierarchy EVLR) reads as ordinary LAZ, with its EVLR found after the chunks.
+static void copc_layout_reads_as_ordinary_laz(void **state)
+{
+    (void)state;
+    size_t las_size = 0;
+    uint8_t *las = copc_like_las(&las_size);
+    lazcheck_records records;
+    assert_true(lazcheck_las_records(las, las_size, &records));
+    uint32_t nodes[COPC_POINTS / 700 + 1];
+    for (size_t i = 0; i < sizeof(nodes) / sizeof(nodes[0]); i++) {
+        nodes[i] = 700;
+    }
+    for (uint16_t version = 3; version <= 4; version++) {
+        lazenc_options options = { .compressor = STA_LAZ_COMPRESSOR_LAYERED_CHUNKED,
+                                   .version = version,
+                                   .chunk_size = UINT32_MAX,
+                                   .chunk_points = nodes,
+                                   .chunk_count = sizeof(nodes) / sizeof(nodes[0]) };
+        lazenc_buf laz = { 0 };
+        char why[128];
+        if (!lazenc_from_las(las, las_size, &options, &laz, why, sizeof(why))) {
+            fail_msg("copc-like: %s", why);
+        }
+        lazcheck_expect_records(laz.data, laz.size, "copc-like.copc.laz", &records);
+        // The hierarchy EVLR moved behind the chunk table and is still found.
+        uint64_t evlr = sta_load_u64le(laz.data + 235);
+        assert_true(evlr > sta_load_u32le(laz.data + 96) && evlr + 60 <= laz.size);
+        assert_memory_equal(laz.data + evlr + 2, "copc", 4);
+        lazenc_buf_free(&laz);
+    }
+    free(las);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(twins_reencode_to_the_laszip_bytes),
     cmocka_unit_test(files_from_las_read_back),
     cmocka_unit_test(variable_chunks_read_back),
     cmocka_unit_test(missing_chunk_table_reads_sequentially),
+    cmocka_unit_test(copc_layout_reads_as_ordinary_laz),
 };
 
 STA_TEST_MAIN(tests)
