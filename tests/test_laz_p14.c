@@ -7,9 +7,9 @@
  * ../shared/data/laz/1_4_w_evlr.laz. Then synthetic records exercise what no real file
  * here has (four scanner channels switching back and forth, returns, classes above 31,
  * flags, user data, point source, scan angle, GPS time jumps, RGB, NIR, wave packets,
- * extra bytes): encoded as version 3 and as version 4 into a LAZ file built here
- * (header, LASzip VLR, chunks, chunk table), read back through the LAS reader's LAZ
- * decoder and compared byte for byte with the records.
+ * extra bytes): written as a LAS file, turned into LAZ by lazenc_from_las with items of
+ * version 3 and of version 4, read back through the LAS reader's LAZ decoder and
+ * compared byte for byte with the records.
  */
 #include "test_support.h"
 
@@ -25,6 +25,7 @@
 #include "io/las_internal.h"
 #include "io/laz_internal.h"
 #include "lazenc.h"
+#include "lazenc_check.h"
 
 enum {
     HEADER_SIZE = 375, // LAS 1.4
@@ -74,48 +75,19 @@ static size_t base_size(int pdrf)
     return sizes[pdrf - 6];
 }
 
-// The items LASzip writes for `pdrf` with `extra` extra bytes, all of `version`.
-static sta_laz_vlr make_vlr(int pdrf, size_t extra, uint16_t version, uint32_t chunk_size)
+// An uncompressed LAS 1.4 file of `count` records (no VLRs).
+static void build_las(int pdrf, const uint8_t *records, size_t count, size_t length,
+                      lazenc_buf *out)
 {
-    sta_laz_vlr vlr = { .compressor = STA_LAZ_COMPRESSOR_LAYERED_CHUNKED,
-                        .version_major = 3,
-                        .version_minor = 4,
-                        .version_revision = 3,
-                        .chunk_size = chunk_size };
-    uint16_t n = 0;
-    vlr.items[n++] = (sta_laz_item){ STA_LAZ_ITEM_POINT14, 30, version };
-    if (pdrf == 7) {
-        vlr.items[n++] = (sta_laz_item){ STA_LAZ_ITEM_RGB14, 6, version };
-    }
-    if (pdrf == 8 || pdrf == 10) {
-        vlr.items[n++] = (sta_laz_item){ STA_LAZ_ITEM_RGBNIR14, 8, version };
-    }
-    if (pdrf == 9 || pdrf == 10) {
-        vlr.items[n++] = (sta_laz_item){ STA_LAZ_ITEM_WAVEPACKET14, 29, version };
-    }
-    if (extra) {
-        vlr.items[n++] = (sta_laz_item){ STA_LAZ_ITEM_BYTE14, (uint16_t)extra, version };
-    }
-    vlr.item_count = n;
-    return vlr;
-}
-
-// A whole LAS 1.4 LAZ file: header, the LASzip VLR, chunk table offset, chunks, table.
-static void build_laz(int pdrf, const sta_laz_vlr *vlr, const uint8_t *records, size_t count,
-                      size_t length, lazenc_buf *out)
-{
-    size_t payload = 34 + 6 * (size_t)vlr->item_count;
-    uint32_t point_data = (uint32_t)(HEADER_SIZE + VLR_HEADER + payload);
     uint8_t header[HEADER_SIZE] = { 0 };
     memcpy(header, "LASF", 4);
     header[24] = 1;
     header[25] = 4;
     memcpy(header + 26, "strata test", 11);
-    memcpy(header + 58, "lazenc", 6);
+    memcpy(header + 58, "test_laz_p14", 12);
     put_u16(header + 94, HEADER_SIZE);
-    put_u32(header + 96, point_data);
-    put_u32(header + 100, 1);
-    header[104] = (uint8_t)(pdrf | 0x80);
+    put_u32(header + 96, HEADER_SIZE);
+    header[104] = (uint8_t)pdrf;
     put_u16(header + 105, (uint16_t)length);
     for (int axis = 0; axis < 3; axis++) {
         put_f64(header + 131 + 8 * axis, 0.01);
@@ -124,54 +96,23 @@ static void build_laz(int pdrf, const sta_laz_vlr *vlr, const uint8_t *records, 
     }
     put_u64(header + 247, count);
     lazenc_buf_put(out, header, sizeof(header));
+    lazenc_buf_put(out, records, count * length);
+}
 
-    uint8_t vh[VLR_HEADER] = { 0 };
-    memcpy(vh + 2, "laszip encoded", 14);
-    put_u16(vh + 18, 22204);
-    put_u16(vh + 20, (uint16_t)payload);
-    lazenc_buf_put(out, vh, sizeof(vh));
-    lazenc_buf_put_u16(out, vlr->compressor);
-    lazenc_buf_put_u16(out, vlr->coder);
-    uint8_t version[2] = { vlr->version_major, vlr->version_minor };
-    lazenc_buf_put(out, version, 2);
-    lazenc_buf_put_u16(out, vlr->version_revision);
-    lazenc_buf_put_u32(out, vlr->options);
-    lazenc_buf_put_u32(out, vlr->chunk_size);
-    lazenc_buf_put_u64(out, UINT64_MAX);
-    lazenc_buf_put_u64(out, UINT64_MAX);
-    lazenc_buf_put_u16(out, vlr->item_count);
-    for (uint16_t i = 0; i < vlr->item_count; i++) {
-        lazenc_buf_put_u16(out, vlr->items[i].type);
-        lazenc_buf_put_u16(out, vlr->items[i].size);
-        lazenc_buf_put_u16(out, vlr->items[i].version);
+// The LAZ file (lazenc_from_las) of the records, items of `version`, fixed chunks.
+static void build_laz(int pdrf, uint16_t version, uint32_t chunk_size, const uint8_t *records,
+                      size_t count, size_t length, lazenc_buf *out)
+{
+    lazenc_buf las = { 0 };
+    build_las(pdrf, records, count, length, &las);
+    lazenc_options options = { .compressor = STA_LAZ_COMPRESSOR_LAYERED_CHUNKED,
+                               .version = version,
+                               .chunk_size = chunk_size };
+    char why[160];
+    if (!lazenc_from_las(las.data, las.size, &options, out, why, sizeof(why))) {
+        fail_msg("PDRF %d v%u: %s", pdrf, version, why);
     }
-    assert_int_equal(out->size, point_data);
-
-    lazenc_buf_put_u64(out, 0); // chunk table offset, patched below
-    size_t chunks = (count + vlr->chunk_size - 1) / vlr->chunk_size;
-    uint32_t *sizes = calloc(chunks, sizeof(*sizes));
-    assert_non_null(sizes);
-    for (size_t c = 0; c < chunks; c++) {
-        size_t first = c * vlr->chunk_size;
-        size_t n = count - first < vlr->chunk_size ? count - first : vlr->chunk_size;
-        size_t before = out->size;
-        assert_true(lazenc_point14_chunk(vlr, records + first * length, n, length, out));
-        sizes[c] = (uint32_t)(out->size - before);
-    }
-    put_u64(out->data + point_data, out->size);
-    lazenc_buf_put_u32(out, 0);
-    lazenc_buf_put_u32(out, (uint32_t)chunks);
-    sta_laz_ic ic = { 0 };
-    assert_true(sta_laz_ic_init(&ic, 32, 2));
-    sta_laz_ic_reset(&ic);
-    lazenc_arith table;
-    lazenc_arith_init(&table, out);
-    for (size_t c = 0; c < chunks; c++) {
-        lazenc_ic_encode(&ic, &table, c ? (int32_t)sizes[c - 1] : 0, (int32_t)sizes[c], 1);
-    }
-    lazenc_arith_done(&table);
-    sta_laz_ic_release(&ic);
-    free(sizes);
+    lazenc_buf_free(&las);
 }
 
 // ---- synthetic records ----
@@ -365,9 +306,8 @@ static void round_trip(int pdrf, size_t extra)
     uint8_t *recs =
         synth_records(pdrf, extra, SYNTH_POINTS, 0x9e3779b97f4a7c15ull + (uint64_t)pdrf, &length);
     for (uint16_t version = 3; version <= 4; version++) {
-        sta_laz_vlr vlr = make_vlr(pdrf, extra, version, SYNTH_CHUNK);
         lazenc_buf file = { 0 };
-        build_laz(pdrf, &vlr, recs, SYNTH_POINTS, length, &file);
+        build_laz(pdrf, version, SYNTH_CHUNK, recs, SYNTH_POINTS, length, &file);
         bool identical = false;
         assert_true(read_back(file.data, file.size, recs, SYNTH_POINTS, length, &identical));
         if (!identical) {
@@ -498,10 +438,8 @@ static void v3_and_v4_differ_on_channel_switches(void **state)
     uint8_t *recs = synth_records(7, 0, SYNTH_POINTS, 12345, &length);
     lazenc_buf f3 = { 0 };
     lazenc_buf f4 = { 0 };
-    sta_laz_vlr v3 = make_vlr(7, 0, 3, SYNTH_CHUNK);
-    sta_laz_vlr v4 = make_vlr(7, 0, 4, SYNTH_CHUNK);
-    build_laz(7, &v3, recs, SYNTH_POINTS, length, &f3);
-    build_laz(7, &v4, recs, SYNTH_POINTS, length, &f4);
+    build_laz(7, 3, SYNTH_CHUNK, recs, SYNTH_POINTS, length, &f3);
+    build_laz(7, 4, SYNTH_CHUNK, recs, SYNTH_POINTS, length, &f4);
     bool same = f3.size == f4.size && memcmp(f3.data, f4.data, f3.size) == 0;
     assert_false(same);
     // Single-channel data encodes identically in both versions (bar the VLR's versions).
@@ -513,8 +451,8 @@ static void v3_and_v4_differ_on_channel_switches(void **state)
     }
     lazenc_buf s3 = { 0 };
     lazenc_buf s4 = { 0 };
-    build_laz(7, &v3, one, SYNTH_POINTS, length, &s3);
-    build_laz(7, &v4, one, SYNTH_POINTS, length, &s4);
+    build_laz(7, 3, SYNTH_CHUNK, one, SYNTH_POINTS, length, &s3);
+    build_laz(7, 4, SYNTH_CHUNK, one, SYNTH_POINTS, length, &s4);
     uint32_t data3 = get_u32(s3.data + 96);
     assert_int_equal(s3.size, s4.size);
     assert_memory_equal(s3.data + data3, s4.data + data3, s3.size - data3);
@@ -522,7 +460,11 @@ static void v3_and_v4_differ_on_channel_switches(void **state)
     uint8_t *relabelled = malloc(f4.size);
     assert_non_null(relabelled);
     memcpy(relabelled, f4.data, f4.size);
-    size_t items = HEADER_SIZE + VLR_HEADER + 34;
+    sta_laz_vlr v4;
+    assert_true(lazcheck_find_vlr(f4.data, f4.size, &v4));
+    size_t vlr_at = HEADER_SIZE; // the LASzip VLR is the file's only VLR
+    assert_memory_equal(relabelled + vlr_at + 2, "laszip encoded", 14);
+    size_t items = vlr_at + VLR_HEADER + 34;
     for (uint16_t i = 0; i < v4.item_count; i++) {
         put_u16(relabelled + items + 6 * i + 4, 3);
     }
@@ -556,9 +498,8 @@ static void damaged_files_fail_cleanly(void **state)
     uint8_t *recs = synth_records(10, 4, POINTS, 777, &length);
     sta_log_set_level(STA_LOG_QUIET);
     for (uint16_t version = 3; version <= 4; version++) {
-        sta_laz_vlr vlr = make_vlr(10, 4, version, CHUNK);
         lazenc_buf file = { 0 };
-        build_laz(10, &vlr, recs, POINTS, length, &file);
+        build_laz(10, version, CHUNK, recs, POINTS, length, &file);
         uint32_t point_data = get_u32(file.data + 96);
         size_t cuts = 0;
         size_t cut_ok = 0;
