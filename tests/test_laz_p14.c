@@ -142,9 +142,9 @@ static uint8_t *synth_records(int pdrf, size_t extra, size_t count, uint64_t see
     uint8_t *recs = calloc(count, length);
     assert_non_null(recs);
     rng_state = seed;
-    int32_t x[4] = { 1000, 50000, -3000, 7 };
-    int32_t y[4] = { 0, 100, 200, 300 };
-    int32_t z[4] = { 500, 600, 700, 800 };
+    uint32_t x[4] = { 1000, 50000, (uint32_t)-3000, 7 }; // coordinates wrap (unsigned)
+    uint32_t y[4] = { 0, 100, 200, 300 };
+    uint32_t z[4] = { 500, 600, 700, 800 };
     double t[4] = { 1000.0, 2000.5, 3.25e8, 77.0 };
     uint16_t rgb[4][4] = {
         { 100, 100, 100, 9 }, { 65000, 200, 3, 1000 }, { 4000, 4100, 4200, 0 }, { 7, 7, 7, 7 }
@@ -177,15 +177,15 @@ static uint8_t *synth_records(int pdrf, size_t extra, size_t count, uint64_t see
             pr = below(16);
             pn = below(16);
         }
-        x[channel] += (int32_t)below(2001) - 1000;
-        y[channel] += (int32_t)below(101) - 50;
-        z[channel] += (int32_t)below(21) - 10;
+        x[channel] += below(2001) - 1000u;
+        y[channel] += below(101) - 50u;
+        z[channel] += below(21) - 10u;
         if (below(300) == 0) {
-            x[channel] += 1 << 28; // a far point
+            x[channel] += 1u << 28; // a far point
         }
-        put_u32(p, (uint32_t)x[channel]);
-        put_u32(p + 4, (uint32_t)y[channel]);
-        put_u32(p + 8, (uint32_t)z[channel]);
+        put_u32(p, x[channel]);
+        put_u32(p + 4, y[channel]);
+        put_u32(p + 8, z[channel]);
         put_u16(p + 12, (uint16_t)(below(4) ? 1000 + below(50) * pr : below(65536)));
         p[14] = (uint8_t)(pr | pn << 4);
         uint32_t class_flags = below(10) == 0 ? below(16) : 0;
