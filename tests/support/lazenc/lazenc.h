@@ -80,9 +80,9 @@ bool lazenc_point14_chunk(const sta_laz_vlr *vlr, const uint8_t *records, size_t
 
 /* How to lay the point data out. */
 typedef struct lazenc_options {
-    uint16_t compressor;      /* STA_LAZ_COMPRESSOR_* (1 pointwise, 2, 3 layered) */
-    uint16_t version;         /* item version: 1 or 2 (point10), 3 or 4 (point14) */
-    uint32_t chunk_size;      /* points per chunk; UINT32_MAX: variable (chunk_points) */
+    uint16_t compressor;          /* STA_LAZ_COMPRESSOR_* (1 pointwise, 2, 3 layered) */
+    uint16_t version;             /* item version: 1 or 2 (point10), 3 or 4 (point14) */
+    uint32_t chunk_size;          /* points per chunk; UINT32_MAX: variable (chunk_points) */
     const uint32_t *chunk_points; /* variable chunks: points of each chunk */
     size_t chunk_count;
     bool no_chunk_table; /* write -1 as the table offset and no table */

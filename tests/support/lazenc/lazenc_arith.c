@@ -154,8 +154,10 @@ void lazenc_write_u32(lazenc_arith *enc, uint32_t value)
 
 void lazenc_arith_done(lazenc_arith *enc)
 {
-    // Pick a value inside the final interval that needs the fewest bytes.
-    if (enc->length > 2 * STA_LAZ_MIN_LENGTH) {
+    // Pick a value inside the final interval that needs the fewest bytes: one more
+    // byte when the interval is wide, two otherwise.
+    bool one_byte = enc->length > 2 * STA_LAZ_MIN_LENGTH;
+    if (one_byte) {
         advance(enc, STA_LAZ_MIN_LENGTH);
         enc->length = STA_LAZ_MIN_LENGTH >> 1;
     } else {
@@ -163,9 +165,11 @@ void lazenc_arith_done(lazenc_arith *enc)
         enc->length = STA_LAZ_MIN_LENGTH >> 9;
     }
     renormalise(enc);
-    // LASzip pads every stream with zero bytes so its decoder never reads past it.
+    // Zero padding as LASzip 2.x writes it (the twins in ../shared/data match): 3 bytes
+    // after one final byte, 2 after two, so a stream always ends 4 bytes after the
+    // last byte its decoder needed and chunks can be walked without a chunk table.
     static const uint8_t zeros[3] = { 0, 0, 0 };
-    lazenc_buf_put(enc->out, zeros, sizeof(zeros));
+    lazenc_buf_put(enc->out, zeros, one_byte ? 3 : 2);
 }
 
 // The correction `c`: its magnitude class k, then its place in the class.
