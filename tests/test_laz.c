@@ -559,10 +559,10 @@ static void unsupported_and_malformed_vlrs_are_named(void **state)
         sta_status code;
         const char *needle;
     } cases[] = {
-        { 34 + 6 + 4, 1, STA_ERR_UNSUPPORTED, "GPSTIME11 version 1" }, // item 1 version
-        { 34 + 4, 1, STA_ERR_UNSUPPORTED, "POINT10 version 1" },
-        { 34 + 6, 8, STA_ERR_FORMAT, "RGB12" },            // wrong item type
-        { 34 + 6 + 2, 9, STA_ERR_FORMAT, "add up to 29" }, // sizes
+        { 34 + 6 + 4, 3, STA_ERR_UNSUPPORTED, "GPSTIME11 version 3" }, // item 1 version
+        { 34 + 4, 0, STA_ERR_UNSUPPORTED, "POINT10 version 0" },       // 0 = uncompressed
+        { 34 + 6, 8, STA_ERR_FORMAT, "RGB12" },                        // wrong item type
+        { 34 + 6 + 2, 9, STA_ERR_FORMAT, "add up to 29" },             // sizes
         { 2, 1, STA_ERR_UNSUPPORTED, "coder 1" },
         { 0, 9, STA_ERR_UNSUPPORTED, "compressor 9" },
         { 0, 3, STA_ERR_FORMAT, "compressor 3" },

@@ -78,17 +78,38 @@ sta_status sta_laz_parse_vlr(const char *path, const uint8_t *payload, uint64_t 
                              int point_format, size_t record_length, sta_laz_vlr *out_vlr,
                              sta_error *err);
 
-/* ---- point10 family (formats 0-5: POINT10, GPSTIME11, RGB12, BYTE; version 2) ---- */
+/* ---- point10 family (formats 0-5: POINT10, GPSTIME11, RGB12, WAVEPACKET13, BYTE) ---- */
 
 typedef struct sta_laz_p10 sta_laz_p10;
 
-/* Item decoders for `vlr`'s items (checked by sta_laz_parse_vlr); NULL on no memory. */
+/* Item decoders for `vlr`'s items (checked by sta_laz_parse_vlr), version 2 ones here and
+ * version 1 ones through sta_laz_v1_item, in record order; NULL on no memory. */
 sta_laz_p10 *sta_laz_p10_create(const sta_laz_vlr *vlr);
 void sta_laz_p10_destroy(sta_laz_p10 *state);
 /* Starts a chunk whose first record (raw) is `first`; resets every model. */
 void sta_laz_p10_begin(sta_laz_p10 *state, const uint8_t *first);
 /* Decodes the next record of the chunk into `record`. False when out of memory. */
 bool sta_laz_p10_decode(sta_laz_p10 *state, sta_laz_dec *dec, uint8_t *record);
+
+/* The model for context `ctx` of a lazily allocated family of 256 models of 256
+ * symbols (one per previous byte value), created on first use and reset once per
+ * chunk: `used` (32 bytes) marks the models already reset in this chunk, the caller
+ * clears it at chunk start. NULL when out of memory. */
+sta_laz_model *sta_laz_context_model(sta_laz_model **models, uint8_t *used, uint8_t ctx);
+
+/* ---- point10 family, version 1 items (laz_point10_v1.c; LASzip 1.x files) ---- */
+
+/* One version 1 item: POINT10, GPSTIME11, RGB12, WAVEPACKET13 (the only version the
+ * wave packet item has, so it also serves files of version 2 items) or BYTE. */
+typedef struct sta_laz_v1_item sta_laz_v1_item;
+
+/* Decoder for `item` (a point10 family type); NULL when out of memory. */
+sta_laz_v1_item *sta_laz_v1_item_create(const sta_laz_item *item);
+void sta_laz_v1_item_destroy(sta_laz_v1_item *item);
+/* Starts a chunk: `first` is this item's bytes of the chunk's raw first record. */
+void sta_laz_v1_item_begin(sta_laz_v1_item *item, const uint8_t *first);
+/* Decodes this item's bytes of the next record into `out`. False when out of memory. */
+bool sta_laz_v1_item_decode(sta_laz_v1_item *item, sta_laz_dec *dec, uint8_t *out);
 
 /* ---- point14 family (formats 6-10, layered, versions 3 and 4) ---- */
 

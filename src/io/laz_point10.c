@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT
  * LAZ point10 family item decoders, version 2: POINT10 (the 20 bytes every format
- * 0-5 record starts with), GPSTIME11, RGB12 and BYTE (extra bytes).
+ * 0-5 record starts with), GPSTIME11, RGB12 and BYTE (extra bytes); and the family's
+ * record decoder, which runs the items in record order (version 1 items and
+ * WAVEPACKET13 live in laz_point10_v1.c).
  *
  * Design: each item keeps the last decoded record of its chunk and predicts the next
  * from it. POINT10: a 6-bit mask says which of the flag byte, intensity,
@@ -85,18 +87,23 @@ typedef struct byte_state {
     sta_laz_model **m;
 } byte_state;
 
+// One item of the record, in record order.
+typedef struct item_slot {
+    uint16_t type;
+    size_t at;           // byte offset in the record
+    sta_laz_v1_item *v1; // version 1 item (laz_point10_v1.c), else NULL
+} item_slot;
+
 struct sta_laz_p10 {
-    point10_state point;
-    gpstime_state *gps; // NULL when absent
+    point10_state point; // models allocated only when POINT10 is version 2
+    gpstime_state *gps;  // version 2 items; NULL when absent
     rgb_state *rgb;
     byte_state *bytes;
-    size_t gps_at; // byte offsets of the items in the record
-    size_t rgb_at;
-    size_t bytes_at;
+    size_t item_count;
+    item_slot items[STA_LAZ_MAX_ITEMS];
 };
 
-// The model for context `ctx` of a lazily allocated family, reset once per chunk.
-static sta_laz_model *context_model(sta_laz_model **models, uint8_t *used, uint8_t ctx)
+sta_laz_model *sta_laz_context_model(sta_laz_model **models, uint8_t *used, uint8_t ctx)
 {
     if (!models[ctx]) {
         models[ctx] = sta_laz_model_create(256);
@@ -174,7 +181,7 @@ static bool point10_decode(point10_state *s, sta_laz_dec *dec, uint8_t *out)
     uint32_t n;
     if (changed) {
         if (changed & 32) {
-            sta_laz_model *m = context_model(s->m_flags, s->used_flags, last[14]);
+            sta_laz_model *m = sta_laz_context_model(s->m_flags, s->used_flags, last[14]);
             if (!m) {
                 return false;
             }
@@ -190,7 +197,7 @@ static bool point10_decode(point10_state *s, sta_laz_dec *dec, uint8_t *out)
         }
         sta_store_u16le(last + 12, s->last_intensity[m]);
         if (changed & 8) {
-            sta_laz_model *model = context_model(s->m_class, s->used_class, last[15]);
+            sta_laz_model *model = sta_laz_context_model(s->m_class, s->used_class, last[15]);
             if (!model) {
                 return false;
             }
@@ -202,7 +209,8 @@ static bool point10_decode(point10_state *s, sta_laz_dec *dec, uint8_t *out)
             last[16] = sta_laz_fold_u8((int32_t)(delta + last[16]));
         }
         if (changed & 2) {
-            sta_laz_model *model = context_model(s->m_user_data, s->used_user_data, last[17]);
+            sta_laz_model *model =
+                sta_laz_context_model(s->m_user_data, s->used_user_data, last[17]);
             if (!model) {
                 return false;
             }
@@ -482,30 +490,37 @@ sta_laz_p10 *sta_laz_p10_create(const sta_laz_vlr *vlr)
     if (!state) {
         return NULL;
     }
-    bool ok = point10_create(&state->point);
+    bool ok = true;
     size_t at = 0;
     for (size_t i = 0; i < vlr->item_count && ok; i++) {
         const sta_laz_item *item = &vlr->items[i];
+        item_slot *slot = &state->items[i];
+        slot->type = item->type;
+        slot->at = at;
+        state->item_count = i + 1;
+        at += item->size;
+        if (item->version == 1) { // checked by sta_laz_parse_vlr, as the types are
+            slot->v1 = sta_laz_v1_item_create(item);
+            ok = slot->v1 != NULL;
+            continue;
+        }
         switch (item->type) {
+        case STA_LAZ_ITEM_POINT10:
+            ok = point10_create(&state->point);
+            break;
         case STA_LAZ_ITEM_GPSTIME11:
             state->gps = sta_calloc(1, sizeof(*state->gps));
-            state->gps_at = at;
             ok = state->gps && gpstime_create(state->gps);
             break;
         case STA_LAZ_ITEM_RGB12:
             state->rgb = sta_calloc(1, sizeof(*state->rgb));
-            state->rgb_at = at;
             ok = state->rgb && rgb_create(state->rgb);
             break;
-        case STA_LAZ_ITEM_BYTE:
+        default: // BYTE
             state->bytes = sta_calloc(1, sizeof(*state->bytes));
-            state->bytes_at = at;
             ok = state->bytes && bytes_create(state->bytes, item->size);
             break;
-        default: // POINT10 (first; checked by sta_laz_parse_vlr)
-            break;
         }
-        at += item->size;
     }
     if (!ok) {
         sta_laz_p10_destroy(state);
@@ -520,6 +535,9 @@ void sta_laz_p10_destroy(sta_laz_p10 *state)
         return;
     }
     point10_release(&state->point);
+    for (size_t i = 0; i < state->item_count; i++) {
+        sta_laz_v1_item_destroy(state->items[i].v1);
+    }
     if (state->gps) {
         gpstime_release(state->gps);
         sta_free(state->gps);
@@ -537,31 +555,58 @@ void sta_laz_p10_destroy(sta_laz_p10 *state)
 
 void sta_laz_p10_begin(sta_laz_p10 *state, const uint8_t *first)
 {
-    point10_begin(&state->point, first);
-    if (state->gps) {
-        gpstime_begin(state->gps, first + state->gps_at);
-    }
-    if (state->rgb) {
-        rgb_begin(state->rgb, first + state->rgb_at);
-    }
-    if (state->bytes) {
-        bytes_begin(state->bytes, first + state->bytes_at);
+    for (size_t i = 0; i < state->item_count; i++) {
+        const item_slot *slot = &state->items[i];
+        const uint8_t *p = first + slot->at;
+        if (slot->v1) {
+            sta_laz_v1_item_begin(slot->v1, p);
+            continue;
+        }
+        switch (slot->type) {
+        case STA_LAZ_ITEM_POINT10:
+            point10_begin(&state->point, p);
+            break;
+        case STA_LAZ_ITEM_GPSTIME11:
+            gpstime_begin(state->gps, p);
+            break;
+        case STA_LAZ_ITEM_RGB12:
+            rgb_begin(state->rgb, p);
+            break;
+        default:
+            bytes_begin(state->bytes, p);
+            break;
+        }
     }
 }
 
 bool sta_laz_p10_decode(sta_laz_p10 *state, sta_laz_dec *dec, uint8_t *record)
 {
-    if (!point10_decode(&state->point, dec, record)) {
-        return false;
-    }
-    if (state->gps) {
-        gpstime_decode(state->gps, dec, record + state->gps_at);
-    }
-    if (state->rgb) {
-        rgb_decode(state->rgb, dec, record + state->rgb_at);
-    }
-    if (state->bytes) {
-        bytes_decode(state->bytes, dec, record + state->bytes_at);
+    // Every item reads the same stream, in record order.
+    for (size_t i = 0; i < state->item_count; i++) {
+        const item_slot *slot = &state->items[i];
+        uint8_t *p = record + slot->at;
+        if (slot->v1) {
+            if (!sta_laz_v1_item_decode(slot->v1, dec, p)) {
+                return false;
+            }
+            continue;
+        }
+        switch (slot->type) {
+        case STA_LAZ_ITEM_POINT10:
+            if (!point10_decode(&state->point, dec, p)) {
+                return false;
+            }
+            break;
+        case STA_LAZ_ITEM_GPSTIME11:
+            gpstime_decode(state->gps, dec, p);
+            break;
+        case STA_LAZ_ITEM_RGB12:
+            rgb_decode(state->rgb, dec, p);
+            break;
+        default:
+            bytes_decode(state->bytes, dec, p);
+            break;
+        }
     }
     return true;
 }

@@ -12,8 +12,9 @@
  *   extra bytes as one trailing BYTE / BYTE14 item, and their sizes must add up to
  *   the header's record length: a mismatch is STA_ERR_FORMAT, because decoding would
  *   otherwise mix up fields.
- * - Supported: point10 family version 2 (POINT10, GPSTIME11, RGB12, BYTE) with the
- *   pointwise (1) or pointwise-chunked (2) compressor; point14 family versions 3
+ * - Supported: point10 family versions 1 and 2 (POINT10, GPSTIME11, RGB12, BYTE; any
+ *   mix, as LASzip reads each item by its own version) and WAVEPACKET13 version 1 with
+ *   the pointwise (1) or pointwise-chunked (2) compressor; point14 family versions 3
  *   and 4 (POINT14, RGB14, RGBNIR14, WAVEPACKET14, BYTE14) with the layered
  *   compressor (3). Anything else is STA_ERR_UNSUPPORTED naming the item and its
  *   version.
@@ -90,7 +91,9 @@ static bool is_decoded(const sta_laz_item *item)
     case STA_LAZ_ITEM_GPSTIME11:
     case STA_LAZ_ITEM_RGB12:
     case STA_LAZ_ITEM_BYTE:
-        return item->version == 2;
+        return item->version == 1 || item->version == 2;
+    case STA_LAZ_ITEM_WAVEPACKET13: // has only version 1, next to version 1 or 2 items
+        return item->version == 1;
     case STA_LAZ_ITEM_POINT14:
     case STA_LAZ_ITEM_RGB14:
     case STA_LAZ_ITEM_RGBNIR14:
@@ -181,7 +184,7 @@ sta_status sta_laz_parse_vlr(const char *path, const uint8_t *payload, uint64_t 
         if (!is_decoded(item)) {
             return sta_fail(err, STA_ERR_UNSUPPORTED,
                             "%s: LAZ item %s version %u is not supported yet (decoded: POINT10, "
-                            "GPSTIME11, RGB12, BYTE version 2%s)",
+                            "GPSTIME11, RGB12, BYTE version 1 or 2, WAVEPACKET13 version 1%s)",
                             path, sta_laz_item_name(item->type), item->version,
                             STA_LAZ_DECODES_POINT14 ? "; POINT14, RGB14, RGBNIR14, "
                                                       "WAVEPACKET14, BYTE14 version 3 and 4"

@@ -210,6 +210,7 @@ enum {
     AT_FORMAT = 104,
     AT_RECORD_LENGTH = 105,
     AT_LEGACY_COUNT = 107,
+    AT_WAVEFORM_DATA = 227,
     AT_FIRST_EVLR = 235,
     AT_EVLR_COUNT = 243,
     AT_COUNT_14 = 247,
@@ -291,9 +292,17 @@ bool lazenc_from_las(const uint8_t *las, size_t las_size, const lazenc_options *
                            out)) {
         return refuse(why, why_size, "an item could not be encoded");
     }
+    // Whatever followed the records (EVLRs, LAS 1.3 waveform data) follows the chunk
+    // table; offsets into it move by the same amount.
+    uint64_t tail = v14 && evlrs > 0 ? first_evlr : points_end;
+    uint64_t moved_to = out->size - start;
+    lazenc_buf_put(out, las + tail, las_size - tail);
     if (v14 && evlrs > 0) {
-        sta_store_u64le(out->data + start + AT_FIRST_EVLR, out->size - start);
-        lazenc_buf_put(out, las + first_evlr, las_size - first_evlr);
+        sta_store_u64le(out->data + start + AT_FIRST_EVLR, moved_to);
+    }
+    uint64_t waveform = header_size >= 235 ? sta_load_u64le(las + AT_WAVEFORM_DATA) : 0;
+    if (waveform >= tail && waveform < las_size) {
+        sta_store_u64le(out->data + start + AT_WAVEFORM_DATA, waveform - tail + moved_to);
     }
     return true;
 }
