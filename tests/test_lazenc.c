@@ -191,7 +191,12 @@ static void put_f64(uint8_t *p, double v)
     put(p, bits, 8);
 }
 
-enum { COPC_POINTS = 9000, COPC_RECORD = 36, COPC_INFO = 160, COPC_PAGE = 32 };
+enum {
+    COPC_POINTS = 9000,
+    COPC_RECORD = 36,
+    COPC_INFO = 160,
+    COPC_PAGE = 32
+};
 
 /* A LAS 1.4 PDRF 7 file laid out as COPC writes it: the "copc" info VLR first, the
  * points of each octree node together (one variable chunk per node once compressed),
