@@ -59,67 +59,6 @@ static void make_laz(const uint8_t *las, size_t size, const lazenc_options *opti
     }
 }
 
-static bool same_point(const sta_point *a, const sta_point *b)
-{
-    return a->X == b->X && a->Y == b->Y && a->Z == b->Z && a->intensity == b->intensity &&
-           a->return_number == b->return_number && a->number_of_returns == b->number_of_returns &&
-           a->classification == b->classification &&
-           a->classification_flags == b->classification_flags &&
-           a->scan_direction_flag == b->scan_direction_flag &&
-           a->edge_of_flight_line == b->edge_of_flight_line && a->user_data == b->user_data &&
-           a->scan_angle == b->scan_angle && a->point_source_id == b->point_source_id &&
-           a->red == b->red && a->green == b->green && a->blue == b->blue &&
-           memcmp(&a->gps_time, &b->gps_time, sizeof(double)) == 0 &&
-           a->wave_packet_size == b->wave_packet_size;
-}
-
-// Both files through the generic reader: same info, same points, same extra bytes.
-static void expect_same_points(const char *laz_path, const char *las_path)
-{
-    sta_cloud_reader *a = NULL;
-    sta_cloud_reader *b = NULL;
-    sta_error err = { 0 };
-    if (sta_cloud_open(laz_path, NULL, &a, &err) != STA_OK) {
-        fail_msg("%s", err.message);
-    }
-    assert_int_equal(sta_cloud_open(las_path, NULL, &b, &err), STA_OK);
-    const sta_cloud_info *ia = sta_cloud_reader_info(a);
-    const sta_cloud_info *ib = sta_cloud_reader_info(b);
-    assert_int_equal(ia->point_count, ib->point_count);
-    assert_int_equal(ia->point_format, ib->point_format);
-    assert_int_equal(ia->extra_size, ib->extra_size);
-    sta_point_batch ba = { 0 };
-    sta_point_batch bb = { 0 };
-    assert_int_equal(sta_point_batch_init(&ba, 1000, ia->extra_size, &err), STA_OK);
-    assert_int_equal(sta_point_batch_init(&bb, 1000, ib->extra_size, &err), STA_OK);
-    uint64_t total = 0;
-    for (;;) {
-        if (sta_cloud_read(a, &ba, &err) != STA_OK) {
-            fail_msg("%s", err.message);
-        }
-        assert_int_equal(sta_cloud_read(b, &bb, &err), STA_OK);
-        assert_int_equal(ba.count, bb.count);
-        if (ba.count == 0) {
-            break;
-        }
-        for (size_t i = 0; i < ba.count; i++) {
-            if (!same_point(&ba.points[i], &bb.points[i])) {
-                fail_msg("%s: point %llu differs from %s", laz_path,
-                         (unsigned long long)(total + i), las_path);
-            }
-        }
-        if (ia->extra_size > 0) {
-            assert_memory_equal(ba.extra, bb.extra, ba.count * ia->extra_size);
-        }
-        total += ba.count;
-    }
-    assert_int_equal(total, ia->point_count);
-    sta_point_batch_release(&ba);
-    sta_point_batch_release(&bb);
-    sta_cloud_close(a);
-    sta_cloud_close(b);
-}
-
 // Compresses `las` with `options`, writes it as `name` in the temp folder, reads it back
 // (raw records byte for byte, then points against `las_path`). Returns the point count.
 static uint64_t round_trip(const uint8_t *las, size_t size, const char *las_path,
@@ -144,7 +83,7 @@ static uint64_t round_trip(const uint8_t *las, size_t size, const char *las_path
     assert_int_equal(vlr.compressor, options->compressor);
     lazcheck_expect_records(map.data, map.size, path, &expected);
     sta_file_map_close(&map);
-    expect_same_points(path, las_path);
+    lazcheck_expect_same_points(path, las_path);
     return expected.count;
 }
 

@@ -36,6 +36,12 @@ void lazenc_buf_put_u32(lazenc_buf *buf, uint32_t v);
 void lazenc_buf_put_u64(lazenc_buf *buf, uint64_t v);
 void lazenc_buf_free(lazenc_buf *buf);
 
+/* Allocation helpers of the item encoders: zeroed memory, a model, a corrector;
+ * each aborts when out of memory (test code). */
+void *lazenc_zalloc(size_t size);
+sta_laz_model *lazenc_model(uint32_t symbols);
+void lazenc_ic_init(sta_laz_ic *ic, uint32_t bits, uint32_t contexts);
+
 /* The range encoder, appending to a buffer (the mirror of sta_laz_dec). */
 typedef struct lazenc_arith {
     lazenc_buf *out;

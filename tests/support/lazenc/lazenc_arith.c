@@ -52,6 +52,32 @@ void lazenc_buf_free(lazenc_buf *buf)
     *buf = (lazenc_buf){ 0 };
 }
 
+void *lazenc_zalloc(size_t size)
+{
+    void *p = calloc(1, size ? size : 1);
+    if (!p) {
+        fprintf(stderr, "lazenc: out of memory (%zu bytes)\n", size);
+        abort();
+    }
+    return p;
+}
+
+sta_laz_model *lazenc_model(uint32_t symbols)
+{
+    sta_laz_model *m = sta_laz_model_create(symbols);
+    if (!m) {
+        abort();
+    }
+    return m;
+}
+
+void lazenc_ic_init(sta_laz_ic *ic, uint32_t bits, uint32_t contexts)
+{
+    if (!sta_laz_ic_init(ic, bits, contexts)) {
+        abort();
+    }
+}
+
 void lazenc_arith_init(lazenc_arith *enc, lazenc_buf *out)
 {
     enc->out = out;

@@ -12,6 +12,7 @@
 #include "io/cloud.h"
 #include "io/las.h"
 #include "io/las_internal.h"
+#include "io/point.h"
 #include "lazenc_check.h"
 
 bool lazcheck_las_records(const uint8_t *las, size_t size, lazcheck_records *out)
@@ -120,4 +121,64 @@ void lazcheck_expect_records(const uint8_t *laz, size_t size, const char *name,
     if (!identical) {
         fail_msg("%s: decoded records differ from the records encoded", name);
     }
+}
+
+bool lazcheck_same_point(const sta_point *a, const sta_point *b)
+{
+    bool same_time = memcmp(&a->gps_time, &b->gps_time, sizeof(double)) == 0;
+    return a->X == b->X && a->Y == b->Y && a->Z == b->Z && a->intensity == b->intensity &&
+           a->return_number == b->return_number && a->number_of_returns == b->number_of_returns &&
+           a->classification == b->classification &&
+           a->classification_flags == b->classification_flags &&
+           a->scanner_channel == b->scanner_channel &&
+           a->scan_direction_flag == b->scan_direction_flag &&
+           a->edge_of_flight_line == b->edge_of_flight_line && a->user_data == b->user_data &&
+           a->scan_angle == b->scan_angle && a->point_source_id == b->point_source_id &&
+           a->red == b->red && a->green == b->green && a->blue == b->blue && a->nir == b->nir &&
+           same_time && a->wave_packet_size == b->wave_packet_size;
+}
+
+void lazcheck_expect_same_points(const char *laz_path, const char *las_path)
+{
+    sta_cloud_reader *a = NULL;
+    sta_cloud_reader *b = NULL;
+    sta_error err = { 0 };
+    if (sta_cloud_open(laz_path, NULL, &a, &err) != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    assert_int_equal(sta_cloud_open(las_path, NULL, &b, &err), STA_OK);
+    const sta_cloud_info *ia = sta_cloud_reader_info(a);
+    const sta_cloud_info *ib = sta_cloud_reader_info(b);
+    assert_int_equal(ia->point_count, ib->point_count);
+    assert_int_equal(ia->point_format, ib->point_format);
+    assert_int_equal(ia->extra_size, ib->extra_size);
+    assert_int_equal(ia->attributes, ib->attributes);
+    assert_int_equal(ia->extra_dim_count, ib->extra_dim_count);
+    sta_point_batch ba = { 0 };
+    sta_point_batch bb = { 0 };
+    assert_int_equal(sta_point_batch_init(&ba, 777, ia->extra_size, &err), STA_OK);
+    assert_int_equal(sta_point_batch_init(&bb, 777, ib->extra_size, &err), STA_OK);
+    uint64_t total = 0;
+    for (;;) {
+        assert_int_equal(sta_cloud_read(a, &ba, &err), STA_OK);
+        assert_int_equal(sta_cloud_read(b, &bb, &err), STA_OK);
+        assert_int_equal(ba.count, bb.count);
+        assert_int_equal(ba.first_index, bb.first_index);
+        if (ba.count == 0) {
+            break;
+        }
+        for (size_t i = 0; i < ba.count; i++) {
+            if (!lazcheck_same_point(&ba.points[i], &bb.points[i])) {
+                fail_msg("%s: point %llu differs from %s", laz_path,
+                         (unsigned long long)(total + i), las_path);
+            }
+        }
+        assert_memory_equal(ba.extra, bb.extra, ba.count * ia->extra_size);
+        total += ba.count;
+    }
+    assert_int_equal(total, ia->point_count);
+    sta_point_batch_release(&ba);
+    sta_point_batch_release(&bb);
+    sta_cloud_close(a);
+    sta_cloud_close(b);
 }

@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "io/laz_internal.h"
+#include "io/point.h"
 
 /* The raw point records of a LAS file's bytes (the 64-bit count for LAS 1.4). */
 typedef struct lazcheck_records {
@@ -35,5 +36,12 @@ void lazcheck_expect_records(const uint8_t *laz, size_t size, const char *name,
 bool lazcheck_try_decode(const uint8_t *laz, size_t size, const char *name,
                          const lazcheck_records *expected, bool *identical, char *message,
                          size_t message_size);
+
+/* Every field of two points equal (GPS time bit for bit). */
+bool lazcheck_same_point(const sta_point *a, const sta_point *b);
+
+/* Reads both files (full paths) through the generic reader: same count, format,
+ * attributes and extra dimensions, every point field and extra byte equal. */
+void lazcheck_expect_same_points(const char *laz_path, const char *las_path);
 
 #endif

@@ -18,26 +18,6 @@ enum {
     GPS_CODE_FULL = 512, // symbol: a new sequence, time sent in full
 };
 
-static void *must(void *p)
-{
-    if (!p) {
-        abort();
-    }
-    return p;
-}
-
-static sta_laz_model *model(uint32_t symbols)
-{
-    return must(sta_laz_model_create(symbols));
-}
-
-static void ic(sta_laz_ic *c, uint32_t bits, uint32_t contexts)
-{
-    if (!sta_laz_ic_init(c, bits, contexts)) {
-        abort();
-    }
-}
-
 // ---- POINT10 ----
 
 // Return class of (number of returns, return number); level is |n - r|.
@@ -70,7 +50,7 @@ typedef struct p10 {
 static sta_laz_model *by_previous(sta_laz_model **family, uint8_t previous)
 {
     if (!family[previous]) {
-        family[previous] = model(256);
+        family[previous] = lazenc_model(256);
     }
     return family[previous];
 }
@@ -172,15 +152,15 @@ static void p10_destroy(void *state)
 
 static void *p10_create(void)
 {
-    p10 *s = must(calloc(1, sizeof(*s)));
-    s->m_changed = model(64);
-    s->m_angle[0] = model(256);
-    s->m_angle[1] = model(256);
-    ic(&s->ic_intensity, 16, 4);
-    ic(&s->ic_source, 16, 1);
-    ic(&s->ic_dx, 32, 2);
-    ic(&s->ic_dy, 32, 22);
-    ic(&s->ic_z, 32, 20);
+    p10 *s = lazenc_zalloc(sizeof(*s));
+    s->m_changed = lazenc_model(64);
+    s->m_angle[0] = lazenc_model(256);
+    s->m_angle[1] = lazenc_model(256);
+    lazenc_ic_init(&s->ic_intensity, 16, 4);
+    lazenc_ic_init(&s->ic_source, 16, 1);
+    lazenc_ic_init(&s->ic_dx, 32, 2);
+    lazenc_ic_init(&s->ic_dy, 32, 22);
+    lazenc_ic_init(&s->ic_z, 32, 20);
     return s;
 }
 
@@ -324,10 +304,10 @@ static void gps_destroy(void *state)
 
 static void *gps_create(void)
 {
-    gps *s = must(calloc(1, sizeof(*s)));
-    s->m_multi = model(GPS_MULTI - GPS_MULTI_MINUS + 6);
-    s->m_zero = model(6);
-    ic(&s->ic, 32, 9);
+    gps *s = lazenc_zalloc(sizeof(*s));
+    s->m_multi = lazenc_model(GPS_MULTI - GPS_MULTI_MINUS + 6);
+    s->m_zero = lazenc_model(6);
+    lazenc_ic_init(&s->ic, 32, 9);
     return s;
 }
 
@@ -420,10 +400,10 @@ static void rgb_destroy(void *state)
 
 static void *rgb_create(void)
 {
-    rgb *s = must(calloc(1, sizeof(*s)));
-    s->m_used = model(128);
+    rgb *s = lazenc_zalloc(sizeof(*s));
+    s->m_used = lazenc_model(128);
     for (int i = 0; i < 6; i++) {
-        s->m_diff[i] = model(256);
+        s->m_diff[i] = lazenc_model(256);
     }
     return s;
 }
@@ -467,12 +447,12 @@ static void bytes_destroy(void *state)
 
 static void *bytes_create(size_t count)
 {
-    bytes *s = must(calloc(1, sizeof(*s)));
+    bytes *s = lazenc_zalloc(sizeof(*s));
     s->count = count;
-    s->last = must(calloc(count, 1));
-    s->m = must(calloc(count, sizeof(*s->m)));
+    s->last = lazenc_zalloc(count);
+    s->m = lazenc_zalloc(count * sizeof(*s->m));
     for (size_t i = 0; i < count; i++) {
-        s->m[i] = model(256);
+        s->m[i] = lazenc_model(256);
     }
     return s;
 }

@@ -43,31 +43,6 @@ static uint64_t get64(const uint8_t *p)
     return (uint64_t)get32(p) | (uint64_t)get32(p + 4) << 32;
 }
 
-static void *zalloc(size_t size)
-{
-    void *p = calloc(1, size);
-    if (!p) {
-        abort();
-    }
-    return p;
-}
-
-static sta_laz_model *model(uint32_t symbols)
-{
-    sta_laz_model *m = sta_laz_model_create(symbols);
-    if (!m) {
-        abort();
-    }
-    return m;
-}
-
-static void corrector(sta_laz_ic *ic, uint32_t bits, uint32_t contexts)
-{
-    if (!sta_laz_ic_init(ic, bits, contexts)) {
-        abort();
-    }
-}
-
 static void write_u64(lazenc_arith *enc, uint64_t v)
 {
     lazenc_write_u32(enc, (uint32_t)v);
@@ -126,7 +101,7 @@ static void point_begin(void *state, const uint8_t *first)
 static void send_by_prev(enc_point *s, lazenc_arith *enc, int field, uint8_t prev, uint8_t now)
 {
     if (!s->by_prev[field][prev]) {
-        s->by_prev[field][prev] = model(256);
+        s->by_prev[field][prev] = lazenc_model(256);
     }
     lazenc_encode_symbol(enc, s->by_prev[field][prev], now);
 }
@@ -193,14 +168,14 @@ static void point_destroy(void *state)
 
 static void *point_create(void)
 {
-    enc_point *s = zalloc(sizeof(*s));
-    s->changed = model(64);
-    corrector(&s->dx, 32, 1);
-    corrector(&s->dy, 32, 20);
-    corrector(&s->z, 32, 20);
-    corrector(&s->intensity, 16, 1);
-    corrector(&s->angle, 8, 2);
-    corrector(&s->source, 16, 1);
+    enc_point *s = lazenc_zalloc(sizeof(*s));
+    s->changed = lazenc_model(64);
+    lazenc_ic_init(&s->dx, 32, 1);
+    lazenc_ic_init(&s->dy, 32, 20);
+    lazenc_ic_init(&s->z, 32, 20);
+    lazenc_ic_init(&s->intensity, 16, 1);
+    lazenc_ic_init(&s->angle, 8, 2);
+    lazenc_ic_init(&s->source, 16, 1);
     return s;
 }
 
@@ -312,10 +287,10 @@ static void gps_destroy(void *state)
 
 static void *gps_create(void)
 {
-    enc_gps *s = zalloc(sizeof(*s));
-    s->multi = model(MULTI_SYMBOLS);
-    s->after_zero = model(3);
-    corrector(&s->ic, 32, 6);
+    enc_gps *s = lazenc_zalloc(sizeof(*s));
+    s->multi = lazenc_model(MULTI_SYMBOLS);
+    s->after_zero = lazenc_model(3);
+    lazenc_ic_init(&s->ic, 32, 6);
     return s;
 }
 
@@ -361,9 +336,9 @@ static void rgb_destroy(void *state)
 
 static void *rgb_create(void)
 {
-    enc_rgb *s = zalloc(sizeof(*s));
-    s->mask = model(64);
-    corrector(&s->ic, 8, 6);
+    enc_rgb *s = lazenc_zalloc(sizeof(*s));
+    s->mask = lazenc_model(64);
+    lazenc_ic_init(&s->ic, 8, 6);
     return s;
 }
 
@@ -445,15 +420,15 @@ static void wave_destroy(void *state)
 
 static void *wave_create(void)
 {
-    enc_wave *s = zalloc(sizeof(*s));
-    s->index = model(256);
+    enc_wave *s = lazenc_zalloc(sizeof(*s));
+    s->index = lazenc_model(256);
     for (int i = 0; i < 4; i++) {
-        s->offset_choice[i] = model(4);
+        s->offset_choice[i] = lazenc_model(4);
     }
-    corrector(&s->offset, 32, 1);
-    corrector(&s->size, 32, 1);
-    corrector(&s->return_point, 32, 1);
-    corrector(&s->xyz, 32, 3);
+    lazenc_ic_init(&s->offset, 32, 1);
+    lazenc_ic_init(&s->size, 32, 1);
+    lazenc_ic_init(&s->return_point, 32, 1);
+    lazenc_ic_init(&s->xyz, 32, 3);
     return s;
 }
 
@@ -491,10 +466,10 @@ static void bytes_destroy(void *state)
 
 static void *bytes_create(size_t count)
 {
-    enc_bytes *s = zalloc(sizeof(*s));
+    enc_bytes *s = lazenc_zalloc(sizeof(*s));
     s->count = count;
-    s->last = zalloc(count);
-    corrector(&s->ic, 8, (uint32_t)count);
+    s->last = lazenc_zalloc(count);
+    lazenc_ic_init(&s->ic, 8, (uint32_t)count);
     return s;
 }
 

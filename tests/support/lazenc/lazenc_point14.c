@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/laz_predict.h"
 #include "lazenc.h"
 
 enum {
@@ -87,92 +88,12 @@ static int32_t clamp8(int32_t v)
     return v < 0 ? 0 : v > 255 ? 255 : v;
 }
 
-static sta_laz_model *new_model(uint32_t symbols)
-{
-    sta_laz_model *m = sta_laz_model_create(symbols);
-    if (!m) {
-        abort();
-    }
-    return m;
-}
-
-static void new_ic(sta_laz_ic *ic, uint32_t bits, uint32_t contexts)
-{
-    if (!sta_laz_ic_init(ic, bits, contexts)) {
-        abort();
-    }
-}
-
 // One output layer.
 typedef struct out_layer {
     lazenc_buf buf;
     lazenc_arith ac;
     bool changed; // some value differed from its prediction source in this chunk
 } out_layer;
-
-// LASzip's running "median of five" (an approximation kept by insertion).
-typedef struct med5 {
-    int32_t v[5];
-    bool high;
-} med5;
-
-static void med5_reset(med5 *m)
-{
-    memset(m->v, 0, sizeof(m->v));
-    m->high = true;
-}
-
-static void med5_add(med5 *m, int32_t x)
-{
-    int32_t *v = m->v;
-    if (m->high) {
-        if (x < v[2]) {
-            v[4] = v[3];
-            v[3] = v[2];
-            if (x < v[0]) {
-                v[2] = v[1];
-                v[1] = v[0];
-                v[0] = x;
-            } else if (x < v[1]) {
-                v[2] = v[1];
-                v[1] = x;
-            } else {
-                v[2] = x;
-            }
-        } else {
-            if (x < v[3]) {
-                v[4] = v[3];
-                v[3] = x;
-            } else {
-                v[4] = x;
-            }
-            m->high = false;
-        }
-    } else {
-        if (v[2] < x) {
-            v[0] = v[1];
-            v[1] = v[2];
-            if (v[4] < x) {
-                v[2] = v[3];
-                v[3] = v[4];
-                v[4] = x;
-            } else if (v[3] < x) {
-                v[2] = v[3];
-                v[3] = x;
-            } else {
-                v[2] = x;
-            }
-        } else {
-            if (v[1] < x) {
-                v[0] = v[1];
-                v[1] = x;
-            } else {
-                v[0] = x;
-            }
-            m->high = true;
-        }
-    }
-}
 
 // ---- POINT14 ----
 
@@ -182,7 +103,7 @@ typedef struct pt_ctx {
     bool last_gps_change;
     uint16_t last_intensity[8];
     int32_t last_z[8];
-    med5 dx[12], dy[12];
+    median5 dx[12], dy[12];
     uint32_t gt_last, gt_next;
     uint64_t gt[4];
     int32_t gt_diff[4];
@@ -201,28 +122,28 @@ typedef struct pt_enc {
 static void pt_create(pt_ctx *c)
 {
     for (int i = 0; i < 8; i++) {
-        c->changed[i] = new_model(128);
+        c->changed[i] = lazenc_model(128);
     }
-    c->channel = new_model(3);
+    c->channel = lazenc_model(3);
     for (int i = 0; i < 16; i++) {
-        c->n_model[i] = new_model(16);
-        c->r_model[i] = new_model(16);
+        c->n_model[i] = lazenc_model(16);
+        c->r_model[i] = lazenc_model(16);
     }
-    c->r_same = new_model(13);
+    c->r_same = lazenc_model(13);
     for (int i = 0; i < 64; i++) {
-        c->cls[i] = new_model(256);
-        c->flags[i] = new_model(64);
-        c->user[i] = new_model(256);
+        c->cls[i] = lazenc_model(256);
+        c->flags[i] = lazenc_model(64);
+        c->user[i] = lazenc_model(256);
     }
-    c->gt_multi = new_model(GT_TOTAL);
-    c->gt_0diff = new_model(5);
-    new_ic(&c->ic_dx, 32, 2);
-    new_ic(&c->ic_dy, 32, 22);
-    new_ic(&c->ic_z, 32, 20);
-    new_ic(&c->ic_int, 16, 4);
-    new_ic(&c->ic_angle, 16, 2);
-    new_ic(&c->ic_source, 16, 1);
-    new_ic(&c->ic_gt, 32, 9);
+    c->gt_multi = lazenc_model(GT_TOTAL);
+    c->gt_0diff = lazenc_model(5);
+    lazenc_ic_init(&c->ic_dx, 32, 2);
+    lazenc_ic_init(&c->ic_dy, 32, 22);
+    lazenc_ic_init(&c->ic_z, 32, 20);
+    lazenc_ic_init(&c->ic_int, 16, 4);
+    lazenc_ic_init(&c->ic_angle, 16, 2);
+    lazenc_ic_init(&c->ic_source, 16, 1);
+    lazenc_ic_init(&c->ic_gt, 32, 9);
 }
 
 static void pt_destroy(pt_ctx *c)
@@ -277,8 +198,8 @@ static void pt_start(pt_ctx *c, const uint8_t *rec)
     sta_laz_ic_reset(&c->ic_source);
     sta_laz_ic_reset(&c->ic_gt);
     for (int i = 0; i < 12; i++) {
-        med5_reset(&c->dx[i]);
-        med5_reset(&c->dy[i]);
+        sta_laz_median_init(&c->dx[i]);
+        sta_laz_median_init(&c->dy[i]);
     }
     for (int i = 0; i < 8; i++) {
         c->last_z[i] = (int32_t)ld32(rec + 8);
@@ -440,11 +361,11 @@ static void pt_encode(pt_enc *e, const uint8_t *rec)
 
     int32_t dx = (int32_t)(ld32(rec) - ld32(last));
     lazenc_ic_encode(&c->ic_dx, xy, c->dx[at].v[2], dx, single);
-    med5_add(&c->dx[at], dx);
+    sta_laz_median_add(&c->dx[at], dx);
     uint32_t k = c->ic_dx.k;
     int32_t dy = (int32_t)(ld32(rec + 4) - ld32(last + 4));
     lazenc_ic_encode(&c->ic_dy, xy, c->dy[at].v[2], dy, single + (k < 20 ? (k & ~1u) : 20));
-    med5_add(&c->dy[at], dy);
+    sta_laz_median_add(&c->dy[at], dy);
 
     k = (c->ic_dx.k + c->ic_dy.k) / 2;
     int32_t z = (int32_t)ld32(rec + 8);
@@ -530,26 +451,26 @@ static void ex_create(ex_enc *e)
                 abort();
             }
             for (size_t b = 0; b < e->size; b++) {
-                x->bytes[b] = new_model(256);
+                x->bytes[b] = lazenc_model(256);
             }
         } else if (e->type == STA_LAZ_ITEM_WAVEPACKET14) {
-            x->wp_index = new_model(256);
+            x->wp_index = lazenc_model(256);
             for (int j = 0; j < 4; j++) {
-                x->wp_offset[j] = new_model(4);
+                x->wp_offset[j] = lazenc_model(4);
             }
-            new_ic(&x->ic_offset, 32, 1);
-            new_ic(&x->ic_size, 32, 1);
-            new_ic(&x->ic_return, 32, 1);
-            new_ic(&x->ic_xyz, 32, 3);
+            lazenc_ic_init(&x->ic_offset, 32, 1);
+            lazenc_ic_init(&x->ic_size, 32, 1);
+            lazenc_ic_init(&x->ic_return, 32, 1);
+            lazenc_ic_init(&x->ic_xyz, 32, 3);
         } else {
-            x->used = new_model(128);
+            x->used = lazenc_model(128);
             for (int j = 0; j < 6; j++) {
-                x->diff[j] = new_model(256);
+                x->diff[j] = lazenc_model(256);
             }
             if (e->type == STA_LAZ_ITEM_RGBNIR14) {
-                x->nir_used = new_model(4);
-                x->nir_diff[0] = new_model(256);
-                x->nir_diff[1] = new_model(256);
+                x->nir_used = lazenc_model(4);
+                x->nir_diff[0] = lazenc_model(256);
+                x->nir_diff[1] = lazenc_model(256);
             }
         }
     }
