@@ -272,6 +272,9 @@ bool sta_laz_ic_init(sta_laz_ic *ic, uint32_t bits, uint32_t contexts)
         ic->range = 0;
         ic->corr_min = INT32_MIN;
     }
+    if (bits < 1 || bits > 32 || contexts < 1 || contexts > 32) {
+        return false;
+    }
     ic->m_bits = sta_calloc(contexts, sizeof(*ic->m_bits));
     if (!ic->m_bits) {
         return false;
@@ -295,13 +298,10 @@ bool sta_laz_ic_init(sta_laz_ic *ic, uint32_t bits, uint32_t contexts)
 
 void sta_laz_ic_reset(sta_laz_ic *ic)
 {
-    for (uint32_t i = 0; i < ic->contexts; i++) {
-        sta_laz_model_reset(ic->m_bits[i]);
-    }
+    // Lazy: the models reset on first use (sta_laz_ic_class_model / _context_model).
+    ic->stale_contexts = ic->contexts == 32 ? UINT32_MAX : (1u << ic->contexts) - 1;
+    ic->stale_classes = ((1ull << (ic->bits + 1)) - 1) & ~1ull;
     sta_laz_bit_model_init(&ic->corrector0);
-    for (uint32_t i = 1; i <= ic->bits; i++) {
-        sta_laz_model_reset(ic->corrector[i]);
-    }
     ic->k = 0;
 }
 
@@ -332,10 +332,10 @@ static int32_t read_corrector(sta_laz_ic *ic, sta_laz_dec *dec, sta_laz_model *m
     }
     uint32_t c;
     if (k <= ic->bits_high) {
-        c = sta_laz_decode_symbol(dec, ic->corrector[k]);
+        c = sta_laz_decode_symbol(dec, sta_laz_ic_class_model(ic, k));
     } else {
         uint32_t low_bits = k - ic->bits_high;
-        c = sta_laz_decode_symbol(dec, ic->corrector[k]);
+        c = sta_laz_decode_symbol(dec, sta_laz_ic_class_model(ic, k));
         uint32_t low = sta_laz_read_bits(dec, low_bits);
         c = (c << low_bits) | low;
     }
@@ -353,7 +353,8 @@ int32_t sta_laz_ic_decode(sta_laz_ic *ic, sta_laz_dec *dec, int32_t pred, uint32
     if (context >= ic->contexts) { // callers pass valid contexts; stay in bounds anyway
         context = ic->contexts - 1;
     }
-    uint32_t real = (uint32_t)pred + (uint32_t)read_corrector(ic, dec, ic->m_bits[context]);
+    uint32_t real =
+        (uint32_t)pred + (uint32_t)read_corrector(ic, dec, sta_laz_ic_context_model(ic, context));
     if (ic->range != 0) {
         if ((int32_t)real < 0) {
             real += ic->range;

@@ -78,6 +78,8 @@ typedef struct sta_laz_ic {
     sta_laz_model **m_bits;       /* contexts models of bits + 1 symbols */
     sta_laz_bit_model corrector0; /* class 0: correction 0 or 1 */
     sta_laz_model *corrector[33]; /* class 1..bits */
+    uint64_t stale_classes;       /* bit k: corrector[k] still awaits its reset */
+    uint32_t stale_contexts;      /* bit c: m_bits[c] still awaits its reset */
 } sta_laz_ic;
 
 /* Starts decoding at `p` (reads the first four bytes). */
@@ -102,12 +104,35 @@ uint32_t sta_laz_decode_symbol(sta_laz_dec *dec, sta_laz_model *model);
 uint32_t sta_laz_read_bits(sta_laz_dec *dec, uint32_t bits);
 uint32_t sta_laz_read_u32(sta_laz_dec *dec);
 
-/* Allocates the corrector's models; false when out of memory (then release it). */
+/* Allocates the corrector's models (1..32 bits, 1..32 contexts); false when out of
+ * memory or out of range (then release it). */
 bool sta_laz_ic_init(sta_laz_ic *ic, uint32_t bits, uint32_t contexts);
 /* Resets every model to its initial state (start of a chunk). */
 void sta_laz_ic_reset(sta_laz_ic *ic);
 /* Frees the models; a zeroed struct is a no-op. */
 void sta_laz_ic_release(sta_laz_ic *ic);
+/* The models of magnitude class k (1..bits) and of context c, reset on first use
+ * after sta_laz_ic_reset: a chunk start resets every model, and most of the classes
+ * and contexts a chunk never touches (resetting them all cost more than decoding a
+ * chunk of a thousand points). The encoder must take its models from here too. */
+static inline sta_laz_model *sta_laz_ic_class_model(sta_laz_ic *ic, uint32_t k)
+{
+    if (ic->stale_classes & (1ull << k)) {
+        ic->stale_classes &= ~(1ull << k);
+        sta_laz_model_reset(ic->corrector[k]);
+    }
+    return ic->corrector[k];
+}
+
+static inline sta_laz_model *sta_laz_ic_context_model(sta_laz_ic *ic, uint32_t context)
+{
+    if (ic->stale_contexts & (1u << context)) {
+        ic->stale_contexts &= ~(1u << context);
+        sta_laz_model_reset(ic->m_bits[context]);
+    }
+    return ic->m_bits[context];
+}
+
 /* pred + decoded correction, wrapped into the corrector's range. */
 int32_t sta_laz_ic_decode(sta_laz_ic *ic, sta_laz_dec *dec, int32_t pred, uint32_t context);
 

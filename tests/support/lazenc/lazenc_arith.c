@@ -219,10 +219,10 @@ static void write_corrector(sta_laz_ic *ic, lazenc_arith *enc, int32_t c, sta_la
     // Class k holds [-(2^k - 1), -2^(k-1)] and [2^(k-1) + 1, 2^k]: map to [0, 2^k).
     uint32_t v = c < 0 ? (uint32_t)c + ((1u << k) - 1) : (uint32_t)c - 1;
     if (k <= ic->bits_high) {
-        lazenc_encode_symbol(enc, ic->corrector[k], v);
+        lazenc_encode_symbol(enc, sta_laz_ic_class_model(ic, k), v);
     } else {
         uint32_t low_bits = k - ic->bits_high;
-        lazenc_encode_symbol(enc, ic->corrector[k], v >> low_bits);
+        lazenc_encode_symbol(enc, sta_laz_ic_class_model(ic, k), v >> low_bits);
         lazenc_write_bits(enc, low_bits, v & ((1u << low_bits) - 1));
     }
 }
@@ -239,5 +239,5 @@ void lazenc_ic_encode(sta_laz_ic *ic, lazenc_arith *enc, int32_t pred, int32_t r
             corr -= (int32_t)ic->range;
         }
     }
-    write_corrector(ic, enc, corr, ic->m_bits[context]);
+    write_corrector(ic, enc, corr, sta_laz_ic_context_model(ic, context));
 }
