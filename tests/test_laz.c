@@ -167,14 +167,6 @@ static void twins_decode_to_their_las_records(void **state)
         laz_file file;
         sta_error err = { 0 };
         sta_status status = open_laz_bytes(data, size, twins[t].laz, &file, &err);
-        if (status == STA_ERR_UNSUPPORTED && !STA_LAZ_DECODES_POINT14) {
-            // Only the point14 family may be missing; the message must name the item.
-            assert_non_null(strstr(err.message, "POINT14"));
-            printf("NOT DECODED (unsupported item, refused as it should be): %s: %s\n",
-                   twins[t].laz, err.message);
-            free(data);
-            continue;
-        }
         if (status != STA_OK) {
             fail_msg("%s: %s", twins[t].laz, err.message);
         }
@@ -213,20 +205,18 @@ static void seeking_decodes_from_the_chunk_start(void **state)
     close_laz(&file);
 
     // The layered (point14) file: one chunk; forwards, backwards, the last points.
-    if (STA_LAZ_DECODES_POINT14) {
-        size_t size14 = 0;
-        uint8_t *data14 = sta_test_read_file(sta_test_shared_path("laz/1_4_w_evlr.laz"), &size14);
-        las_records las14;
-        open_las_records("las/1_4_w_evlr.las", &las14);
-        assert_int_equal(open_laz_bytes(data14, size14, "1_4_w_evlr.laz", &file, &err), STA_OK);
-        static const uint64_t at14[] = { 500, 3, 990, 0, 777 };
-        for (size_t i = 0; i < sizeof(at14) / sizeof(at14[0]); i++) {
-            expect_records(&file, &las14, at14[i], 10);
-        }
-        close_laz(&file);
-        sta_file_map_close(&las14.map);
-        free(data14);
+    size_t size14 = 0;
+    uint8_t *data14 = sta_test_read_file(sta_test_shared_path("laz/1_4_w_evlr.laz"), &size14);
+    las_records las14;
+    open_las_records("las/1_4_w_evlr.las", &las14);
+    assert_int_equal(open_laz_bytes(data14, size14, "1_4_w_evlr.laz", &file, &err), STA_OK);
+    static const uint64_t at14[] = { 500, 3, 990, 0, 777 };
+    for (size_t i = 0; i < sizeof(at14) / sizeof(at14[0]); i++) {
+        expect_records(&file, &las14, at14[i], 10);
     }
+    close_laz(&file);
+    sta_file_map_close(&las14.map);
+    free(data14);
 
     // Through the generic reader: seek then read gives the same points as the LAS file.
     sta_cloud_reader *a = NULL;
@@ -543,38 +533,7 @@ static double now_s(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-// ---- the point14 decoder driven directly (independent of STA_LAZ_DECODES_POINT14) ----
-
-// The LASzip VLR of a LAZ file, read without sta_laz_parse_vlr (which refuses the
-// point14 family while it is switched off). False when there is none.
-static bool find_laszip_vlr(const uint8_t *d, size_t size, sta_laz_vlr *out)
-{
-    uint16_t header_size = (uint16_t)(d[94] | d[95] << 8);
-    uint32_t vlrs = get_u32(d + 100);
-    size_t at = header_size;
-    for (uint32_t v = 0; v < vlrs && at + 54 <= size; v++) {
-        uint16_t id = (uint16_t)(d[at + 18] | d[at + 19] << 8);
-        uint16_t length = (uint16_t)(d[at + 20] | d[at + 21] << 8);
-        const uint8_t *payload = d + at + 54;
-        if (memcmp(d + at + 2, "laszip encoded", 14) == 0 && id == 22204 && length >= 34) {
-            *out = (sta_laz_vlr){ 0 };
-            out->compressor = (uint16_t)(payload[0] | payload[1] << 8);
-            out->chunk_size = get_u32(payload + 12);
-            out->item_count = (uint16_t)(payload[32] | payload[33] << 8);
-            assert_true(out->item_count <= STA_LAZ_MAX_ITEMS &&
-                        34u + 6u * out->item_count <= length);
-            for (uint16_t i = 0; i < out->item_count; i++) {
-                const uint8_t *it = payload + 34 + 6 * i;
-                out->items[i] =
-                    (sta_laz_item){ (uint16_t)(it[0] | it[1] << 8), (uint16_t)(it[2] | it[3] << 8),
-                                    (uint16_t)(it[4] | it[5] << 8) };
-            }
-            return true;
-        }
-        at += 54u + length;
-    }
-    return false;
-}
+// ---- the point14 decoder driven directly ----
 
 // Decodes all points of `data` (a LAZ file's bytes, possibly damaged) with the decoder
 // itself. Returns false on an error (the message must name the file and the chunk);
@@ -627,7 +586,7 @@ static void point14_decoder_matches_its_twin(void **state)
     assert_int_equal(las.count, 1000); // README: 1000 points, PDRF 6, 30-byte records
     assert_int_equal(las.length, 30);
     sta_laz_vlr vlr;
-    assert_true(find_laszip_vlr(data, size, &vlr));
+    assert_true(lazcheck_find_vlr(data, size, &vlr));
     assert_int_equal(vlr.compressor, STA_LAZ_COMPRESSOR_LAYERED_CHUNKED);
     assert_int_equal(vlr.items[0].type, STA_LAZ_ITEM_POINT14);
     assert_int_equal(vlr.items[0].version, 3);
@@ -722,7 +681,7 @@ static void decoding_speed(void **state)
     las_records las;
     open_las_records("las/1_4_w_evlr.las", &las);
     sta_laz_vlr vlr;
-    assert_true(find_laszip_vlr(data, size, &vlr));
+    assert_true(lazcheck_find_vlr(data, size, &vlr));
     sta_laz *laz = NULL;
     sta_error err = { 0 };
     assert_int_equal(sta_laz_open("1_4_w_evlr.laz", data, size, get_u32(data + 96), &vlr, las.count,

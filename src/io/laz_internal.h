@@ -46,7 +46,6 @@ enum {
     STA_LAZ_COMPRESSOR_LAYERED_CHUNKED = 3,   /* point14 family */
     STA_LAZ_MAX_ITEMS = 8,                    /* more items than any point format has */
     STA_LAZ_BATCH_RECORDS = 1024,             /* raw records decoded per step */
-    STA_LAZ_DECODES_POINT14 = 1,              /* whether the point14 family is decoded */
 };
 
 typedef struct sta_laz_item {

@@ -99,7 +99,7 @@ static bool is_decoded(const sta_laz_item *item)
     case STA_LAZ_ITEM_RGBNIR14:
     case STA_LAZ_ITEM_WAVEPACKET14:
     case STA_LAZ_ITEM_BYTE14:
-        return (item->version == 3 || item->version == 4) && STA_LAZ_DECODES_POINT14;
+        return item->version == 3 || item->version == 4;
     default:
         return false;
     }
@@ -182,13 +182,12 @@ sta_status sta_laz_parse_vlr(const char *path, const uint8_t *payload, uint64_t 
     for (uint16_t i = 0; i < item_count; i++) {
         const sta_laz_item *item = &vlr->items[i];
         if (!is_decoded(item)) {
-            return sta_fail(err, STA_ERR_UNSUPPORTED,
-                            "%s: LAZ item %s version %u is not supported yet (decoded: POINT10, "
-                            "GPSTIME11, RGB12, BYTE version 1 or 2, WAVEPACKET13 version 1%s)",
-                            path, sta_laz_item_name(item->type), item->version,
-                            STA_LAZ_DECODES_POINT14 ? "; POINT14, RGB14, RGBNIR14, "
-                                                      "WAVEPACKET14, BYTE14 version 3 and 4"
-                                                    : "");
+            return sta_fail(
+                err, STA_ERR_UNSUPPORTED,
+                "%s: LAZ item %s version %u is not one LASzip writes (decoded: POINT10, "
+                "GPSTIME11, RGB12, BYTE version 1 or 2, WAVEPACKET13 version 1; POINT14, "
+                "RGB14, RGBNIR14, WAVEPACKET14, BYTE14 version 3 or 4)",
+                path, sta_laz_item_name(item->type), item->version);
         }
     }
     bool layered = point_format > 5;
