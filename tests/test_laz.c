@@ -22,6 +22,7 @@
 
 #include "convert.h"
 #include "core/alloc.h"
+#include "core/bytes.h"
 #include "core/file_map.h"
 #include "core/log.h"
 #include "io/cloud.h"
@@ -29,44 +30,6 @@
 #include "io/las_internal.h"
 #include "io/laz_internal.h"
 #include "lazenc_check.h"
-
-typedef struct twin {
-    const char *laz;
-    const char *las;
-} twin;
-
-// From ../shared/data/README.md, "LAS / LAZ twins".
-static const twin twins[] = {
-    { "laz/simple.laz", "las/simple.las" },
-    { "laz/laszip-generated_with2bytespadding.laz", "las/simple.las" },
-    { "laz/liblas-generated.laz", "las/simple.las" },
-    { "laz/autzen_trim.laz", "las/autzen_trim.las" },
-    { "laz/autzen.laz", "las/autzen-point-format-3.las" },
-    { "laz/point10.laz", "las/point10.las" },
-    { "laz/point-time.laz", "las/point-time.las" },
-    { "laz/point-color.laz", "las/point-color.las" },
-    { "laz/point-time-color.laz", "las/point-time-color.las" },
-    { "laz/extra-bytes.laz", "las/extra-bytes.las" },
-    { "laz/point-time-1.4.las.laz", "las/point-time.las" },
-    { "laz/1815.laz", "las/1815.las" },
-    { "laz/point10-1.0.laz", "las/point10-1.0.las" },
-    { "laz/no-points-1.3.laz", "las/no-points-1.3.las" },
-    { "laz/Megaplot.laz", "las/Megaplot.las" },
-    { "laz/MixedConifer.laz", "las/MixedConifer.las" },
-    { "laz/Example.laz", "las/Example.las" },
-    { "laz/extra_byte.laz", "las/extra_byte.las" },
-    { "laz/1_4_w_evlr.laz", "las/1_4_w_evlr.las" },
-};
-
-static uint32_t get_u32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
-static uint64_t get_u64(const uint8_t *p)
-{
-    return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32;
-}
 
 // The point records of an uncompressed LAS file (inside `map`).
 typedef struct las_records {
@@ -87,7 +50,7 @@ static void open_las_records(const char *relative, las_records *out)
     // The header's point count (the 64-bit one of LAS 1.4): EVLRs may follow the points.
     out->count = (size_t)d[107] | (size_t)d[108] << 8 | (size_t)d[109] << 16 | (size_t)d[110] << 24;
     if (d[25] >= 4) {
-        out->count = get_u64(d + 247);
+        out->count = sta_load_u64le(d + 247);
     }
     out->records = d + offset;
 }
@@ -161,26 +124,26 @@ static void twins_decode_to_their_las_records(void **state)
 {
     (void)state;
     STA_TEST_REQUIRE_SHARED_DATA();
-    for (size_t t = 0; t < sizeof(twins) / sizeof(twins[0]); t++) {
+    for (size_t t = 0; t < lazcheck_twin_count; t++) {
         size_t size = 0;
-        uint8_t *data = sta_test_read_file(sta_test_shared_path(twins[t].laz), &size);
+        uint8_t *data = sta_test_read_file(sta_test_shared_path(lazcheck_twins[t].laz), &size);
         laz_file file;
         sta_error err = { 0 };
-        sta_status status = open_laz_bytes(data, size, twins[t].laz, &file, &err);
+        sta_status status = open_laz_bytes(data, size, lazcheck_twins[t].laz, &file, &err);
         if (status != STA_OK) {
-            fail_msg("%s: %s", twins[t].laz, err.message);
+            fail_msg("%s: %s", lazcheck_twins[t].laz, err.message);
         }
         las_records las;
-        open_las_records(twins[t].las, &las);
+        open_las_records(lazcheck_twins[t].las, &las);
         assert_int_equal(file.reader->info.point_count, las.count);
         expect_records(&file, &las, 0, las.count);
         close_laz(&file);
         sta_file_map_close(&las.map);
         free(data);
         char laz_path[4096];
-        snprintf(laz_path, sizeof(laz_path), "%s", sta_test_shared_path(twins[t].laz));
-        lazcheck_expect_same_points(laz_path, sta_test_shared_path(twins[t].las));
-        printf("ok: %s == %s (%llu points)\n", twins[t].laz, twins[t].las,
+        snprintf(laz_path, sizeof(laz_path), "%s", sta_test_shared_path(lazcheck_twins[t].laz));
+        lazcheck_expect_same_points(laz_path, sta_test_shared_path(lazcheck_twins[t].las));
+        printf("ok: %s == %s (%llu points)\n", lazcheck_twins[t].laz, lazcheck_twins[t].las,
                (unsigned long long)las.count);
     }
 }
@@ -252,13 +215,6 @@ static void seeking_decodes_from_the_chunk_start(void **state)
     free(data);
 }
 
-static void put_u64(uint8_t *p, uint64_t v)
-{
-    for (int i = 0; i < 8; i++) {
-        p[i] = (uint8_t)(v >> (8 * i));
-    }
-}
-
 static void damaged_chunk_table_falls_back_to_sequential(void **state)
 {
     (void)state;
@@ -267,15 +223,15 @@ static void damaged_chunk_table_falls_back_to_sequential(void **state)
     uint8_t *data = sta_test_read_file(sta_test_shared_path("laz/autzen_trim.laz"), &size);
     las_records las;
     open_las_records("las/autzen_trim.las", &las);
-    uint32_t point_data = get_u32(data + 96);
-    uint64_t table_at = get_u64(data + point_data);
+    uint32_t point_data = sta_load_u32le(data + 96);
+    uint64_t table_at = sta_load_u64le(data + point_data);
     static const uint64_t bad_offsets[] = { 0, 12345678901ull, UINT64_MAX - 5 };
     sta_log_set_level(STA_LOG_QUIET); // the fallback warns
     for (int variant = 0; variant < 4; variant++) {
         uint8_t *copy = malloc(size);
         memcpy(copy, data, size);
         if (variant < 3) {
-            put_u64(copy + point_data, bad_offsets[variant]);
+            sta_store_u64le(copy + point_data, bad_offsets[variant]);
         } else {
             copy[table_at] = 7; // unknown table version
         }
@@ -388,7 +344,7 @@ static void every_truncation_fails_cleanly(void **state)
 {
     (void)state;
     STA_TEST_REQUIRE_SHARED_DATA();
-    static const twin small[] = {
+    static const lazcheck_twin small[] = {
         { "laz/point10-1.0.laz", "las/point10-1.0.las" },
         { "laz/Example.laz", "las/Example.las" },
         { "laz/autzen.laz", "las/autzen-point-format-3.las" },
@@ -428,7 +384,7 @@ static void byte_flips_fail_cleanly(void **state)
 {
     (void)state;
     STA_TEST_REQUIRE_SHARED_DATA();
-    static const twin files[] = {
+    static const lazcheck_twin files[] = {
         { "laz/autzen.laz", "las/autzen-point-format-3.las" },
         { "laz/extra_byte.laz", "las/extra_byte.las" },
         { "laz/point-time-color.laz", "las/point-time-color.las" },
@@ -440,11 +396,11 @@ static void byte_flips_fail_cleanly(void **state)
         uint8_t *data = sta_test_read_file(sta_test_shared_path(files[t].laz), &size);
         las_records las;
         open_las_records(files[t].las, &las);
-        uint32_t point_data = get_u32(data + 96);
+        uint32_t point_data = sta_load_u32le(data + 96);
         size_t errors = 0;
         size_t flips = 0;
         // Every byte of the chunk table pointer and the table; then the stream.
-        uint64_t table_at = get_u64(data + point_data);
+        uint64_t table_at = sta_load_u64le(data + point_data);
         for (size_t at = point_data; at < size; at++) {
             bool in_table = at < point_data + 8u || at >= table_at;
             if (!in_table && (at % 61) != 0) {
@@ -479,7 +435,7 @@ static void unsupported_and_malformed_vlrs_are_named(void **state)
     // Find the LASzip VLR payload.
     size_t pos = (size_t)data[94] | (size_t)data[95] << 8;
     size_t payload = 0;
-    for (uint32_t i = 0; i < get_u32(data + 100); i++) {
+    for (uint32_t i = 0; i < sta_load_u32le(data + 100); i++) {
         size_t length = (size_t)data[pos + 20] | (size_t)data[pos + 21] << 8;
         if (memcmp(data + pos + 2, "laszip encoded", 14) == 0) {
             payload = pos + 54;
@@ -541,7 +497,7 @@ static double now_s(void)
 static bool decode_direct(const uint8_t *data, size_t size, const sta_laz_vlr *vlr,
                           const las_records *expected, bool *out_identical)
 {
-    uint32_t point_data = get_u32(data + 96);
+    uint32_t point_data = sta_load_u32le(data + 96);
     sta_laz *laz = NULL;
     sta_error err = { 0 };
     *out_identical = false;
@@ -595,12 +551,12 @@ static void point14_decoder_matches_its_twin(void **state)
     assert_true(identical);
 
     sta_log_set_level(STA_LOG_QUIET);
-    uint32_t point_data = get_u32(data + 96);
+    uint32_t point_data = sta_load_u32le(data + 96);
     size_t complete = 0;
     // Every 8th cut, and every byte of the chunk header (first record, point count, layer
     // sizes) and the chunk table plus every 13th byte of the layers: 2 flips each.
     size_t layers_at = point_data + 8 + 30 + 4 * 10;
-    uint64_t table_at = get_u64(data + point_data);
+    uint64_t table_at = sta_load_u64le(data + point_data);
     size_t cuts = 0;
     for (size_t cut = point_data + 8; cut < size; cut += 8) {
         cuts++;
@@ -684,8 +640,8 @@ static void decoding_speed(void **state)
     assert_true(lazcheck_find_vlr(data, size, &vlr));
     sta_laz *laz = NULL;
     sta_error err = { 0 };
-    assert_int_equal(sta_laz_open("1_4_w_evlr.laz", data, size, get_u32(data + 96), &vlr, las.count,
-                                  las.length, &laz, &err),
+    assert_int_equal(sta_laz_open("1_4_w_evlr.laz", data, size, sta_load_u32le(data + 96), &vlr,
+                                  las.count, las.length, &laz, &err),
                      STA_OK);
     uint8_t *buffer = malloc(las.count * las.length);
     assert_non_null(buffer);

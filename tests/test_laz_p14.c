@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/bytes.h"
 #include "core/file_map.h"
 #include "core/log.h"
 #include "io/cloud.h"
@@ -33,41 +34,6 @@ enum {
     SYNTH_POINTS = 4500,
     SYNTH_CHUNK = 1000, // 5 chunks, the last one partial
 };
-
-static uint32_t get_u32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
-static uint64_t get_u64(const uint8_t *p)
-{
-    return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32;
-}
-
-static void put_u16(uint8_t *p, uint16_t v)
-{
-    p[0] = (uint8_t)v;
-    p[1] = (uint8_t)(v >> 8);
-}
-
-static void put_u32(uint8_t *p, uint32_t v)
-{
-    put_u16(p, (uint16_t)v);
-    put_u16(p + 2, (uint16_t)(v >> 16));
-}
-
-static void put_u64(uint8_t *p, uint64_t v)
-{
-    put_u32(p, (uint32_t)v);
-    put_u32(p + 4, (uint32_t)(v >> 32));
-}
-
-static void put_f64(uint8_t *p, double v)
-{
-    uint64_t bits;
-    memcpy(&bits, &v, sizeof(bits));
-    put_u64(p, bits);
-}
 
 static size_t base_size(int pdrf)
 {
@@ -85,16 +51,16 @@ static void build_las(int pdrf, const uint8_t *records, size_t count, size_t len
     header[25] = 4;
     memcpy(header + 26, "strata test", 11);
     memcpy(header + 58, "test_laz_p14", 12);
-    put_u16(header + 94, HEADER_SIZE);
-    put_u32(header + 96, HEADER_SIZE);
+    sta_store_u16le(header + 94, HEADER_SIZE);
+    sta_store_u32le(header + 96, HEADER_SIZE);
     header[104] = (uint8_t)pdrf;
-    put_u16(header + 105, (uint16_t)length);
+    sta_store_u16le(header + 105, (uint16_t)length);
     for (int axis = 0; axis < 3; axis++) {
-        put_f64(header + 131 + 8 * axis, 0.01);
-        put_f64(header + 179 + 16 * axis, 1e7);      // max
-        put_f64(header + 179 + 16 * axis + 8, -1e7); // min
+        sta_store_f64le(header + 131 + 8 * axis, 0.01);
+        sta_store_f64le(header + 179 + 16 * axis, 1e7);      // max
+        sta_store_f64le(header + 179 + 16 * axis + 8, -1e7); // min
     }
-    put_u64(header + 247, count);
+    sta_store_u64le(header + 247, count);
     lazenc_buf_put(out, header, sizeof(header));
     lazenc_buf_put(out, records, count * length);
 }
@@ -183,10 +149,10 @@ static uint8_t *synth_records(int pdrf, size_t extra, size_t count, uint64_t see
         if (below(300) == 0) {
             x[channel] += 1u << 28; // a far point
         }
-        put_u32(p, x[channel]);
-        put_u32(p + 4, y[channel]);
-        put_u32(p + 8, z[channel]);
-        put_u16(p + 12, (uint16_t)(below(4) ? 1000 + below(50) * pr : below(65536)));
+        sta_store_u32le(p, x[channel]);
+        sta_store_u32le(p + 4, y[channel]);
+        sta_store_u32le(p + 8, z[channel]);
+        sta_store_u16le(p + 12, (uint16_t)(below(4) ? 1000 + below(50) * pr : below(65536)));
         p[14] = (uint8_t)(pr | pn << 4);
         uint32_t class_flags = below(10) == 0 ? below(16) : 0;
         uint32_t scan_dir = (uint32_t)(i / 37) & 1;
@@ -201,12 +167,12 @@ static uint8_t *synth_records(int pdrf, size_t extra, size_t count, uint64_t see
         if (below(25) == 0) {
             angle = (int16_t)((int32_t)below(60001) - 30000);
         }
-        put_u16(p + 18, (uint16_t)angle);
+        sta_store_u16le(p + 18, (uint16_t)angle);
         if (below(500) == 0) {
             source = (uint16_t)below(65536);
         }
-        put_u16(p + 20, source);
-        put_f64(p + 22, t[channel]);
+        sta_store_u16le(p + 20, source);
+        sta_store_f64le(p + 22, t[channel]);
         size_t at = 30;
         if (pdrf == 7 || pdrf == 8 || pdrf == 10) {
             uint16_t *c = rgb[channel];
@@ -219,11 +185,11 @@ static uint8_t *synth_records(int pdrf, size_t extra, size_t count, uint64_t see
                 c[3] = (uint16_t)(c[3] + below(2000) - 1000);
             }
             for (int k = 0; k < 3; k++) {
-                put_u16(p + at + 2 * k, c[k]);
+                sta_store_u16le(p + at + 2 * k, c[k]);
             }
             at += 6;
             if (pdrf != 7) {
-                put_u16(p + at, c[3]);
+                sta_store_u16le(p + at, c[3]);
                 at += 2;
             }
         }
@@ -236,12 +202,12 @@ static uint8_t *synth_records(int pdrf, size_t extra, size_t count, uint64_t see
                  : kind < 9 ? *o + below(100000)                  // a gap
                             : *o + ((uint64_t)below(1000) << 33); // a huge jump
             p[at] = (uint8_t)(1 + channel + (below(50) == 0));
-            put_u64(p + at + 1, *o);
-            put_u32(p + at + 9, below(30) ? size : below(100000));
-            put_u32(p + at + 13, rnd());          // return point (f32 bits)
-            put_u32(p + at + 17, 0x3f800000u);    // x(t) = 1.0f
-            put_u32(p + at + 21, rnd() & 0xffff); // y(t)
-            put_u32(p + at + 25, below(2) ? 0 : rnd());
+            sta_store_u64le(p + at + 1, *o);
+            sta_store_u32le(p + at + 9, below(30) ? size : below(100000));
+            sta_store_u32le(p + at + 13, rnd());          // return point (f32 bits)
+            sta_store_u32le(p + at + 17, 0x3f800000u);    // x(t) = 1.0f
+            sta_store_u32le(p + at + 21, rnd() & 0xffff); // y(t)
+            sta_store_u32le(p + at + 25, below(2) ? 0 : rnd());
             at += 29;
         }
         for (size_t e = 0; e < extra; e++) {
@@ -303,44 +269,24 @@ static void encoder_reproduces_laszip_chunks(void **state)
     uint8_t *las = sta_test_read_file(sta_test_shared_path("las/1_4_w_evlr.las"), &las_size);
     // The LASzip VLR's items and chunk size, as in the file.
     sta_laz_vlr vlr = { 0 };
-    uint32_t vlrs = get_u32(laz + 100);
-    size_t at = (size_t)(laz[94] | laz[95] << 8);
-    bool found = false;
-    for (uint32_t v = 0; v < vlrs && at + VLR_HEADER <= laz_size && !found; v++) {
-        uint16_t vlen = (uint16_t)(laz[at + 20] | laz[at + 21] << 8);
-        if (memcmp(laz + at + 2, "laszip encoded", 14) == 0) {
-            const uint8_t *p = laz + at + VLR_HEADER;
-            vlr.compressor = (uint16_t)(p[0] | p[1] << 8);
-            vlr.chunk_size = get_u32(p + 12);
-            vlr.item_count = (uint16_t)(p[32] | p[33] << 8);
-            assert_true(vlr.item_count <= STA_LAZ_MAX_ITEMS);
-            for (uint16_t i = 0; i < vlr.item_count; i++) {
-                const uint8_t *it = p + 34 + 6 * i;
-                vlr.items[i] =
-                    (sta_laz_item){ (uint16_t)(it[0] | it[1] << 8), (uint16_t)(it[2] | it[3] << 8),
-                                    (uint16_t)(it[4] | it[5] << 8) };
-            }
-            found = true;
-        }
-        at += VLR_HEADER + vlen;
-    }
-    assert_true(found);
+    assert_true(lazcheck_find_vlr(laz, laz_size, &vlr));
     assert_int_equal(vlr.compressor, STA_LAZ_COMPRESSOR_LAYERED_CHUNKED);
-    uint32_t las_data = get_u32(las + 96);
-    size_t length = (size_t)(las[105] | las[106] << 8);
-    uint64_t count = get_u64(las + 247);
-    assert_true(las_data + count * length <= las_size);
+    lazcheck_records records;
+    assert_true(lazcheck_las_records(las, las_size, &records));
+    size_t length = records.length;
+    uint64_t count = records.count;
 
     // Walk the chunks from offset_to_point_data + 8 to the chunk table.
-    uint32_t laz_data = get_u32(laz + 96);
-    uint64_t table = get_u64(laz + laz_data);
+    uint32_t laz_data = sta_load_u32le(laz + 96);
+    uint64_t table = sta_load_u64le(laz + laz_data);
     size_t pos = laz_data + 8;
     size_t matched = 0;
     size_t chunks = 0;
     for (uint64_t first = 0; first < count; first += vlr.chunk_size) {
         size_t n = count - first < vlr.chunk_size ? (size_t)(count - first) : vlr.chunk_size;
         lazenc_buf chunk = { 0 };
-        assert_true(lazenc_point14_chunk(&vlr, las + las_data + first * length, n, length, &chunk));
+        assert_true(
+            lazenc_point14_chunk(&vlr, records.records + first * length, n, length, &chunk));
         assert_true(pos + chunk.size <= table);
         for (size_t i = 0; i < chunk.size; i++) {
             if (chunk.data[i] != laz[pos + i]) {
@@ -412,8 +358,8 @@ static void v3_and_v4_differ_on_channel_switches(void **state)
     build_laz(7, 4, SYNTH_CHUNK, recs, SYNTH_POINTS, length, &f4);
     // Chunk by chunk: the first record, the count and the nine POINT14 layers are the
     // same in both versions; the RGB14 layer differs in some chunk.
-    size_t at3 = get_u32(f3.data + 96) + 8;
-    size_t at4 = get_u32(f4.data + 96) + 8;
+    size_t at3 = sta_load_u32le(f3.data + 96) + 8;
+    size_t at4 = sta_load_u32le(f4.data + 96) + 8;
     size_t rgb_differs = 0;
     for (size_t c = 0; c < (SYNTH_POINTS + SYNTH_CHUNK - 1) / SYNTH_CHUNK; c++) {
         enum {
@@ -425,12 +371,12 @@ static void v3_and_v4_differ_on_channel_switches(void **state)
         assert_memory_equal(c3, c4, SIZES + 4 * (LAYERS - 1));
         size_t point14 = 0;
         for (int l = 0; l < LAYERS - 1; l++) {
-            point14 += get_u32(c3 + SIZES + 4 * l);
+            point14 += sta_load_u32le(c3 + SIZES + 4 * l);
         }
         size_t head = SIZES + 4 * LAYERS;
         assert_memory_equal(c3 + head, c4 + head, point14);
-        uint32_t rgb3 = get_u32(c3 + SIZES + 4 * (LAYERS - 1));
-        uint32_t rgb4 = get_u32(c4 + SIZES + 4 * (LAYERS - 1));
+        uint32_t rgb3 = sta_load_u32le(c3 + SIZES + 4 * (LAYERS - 1));
+        uint32_t rgb4 = sta_load_u32le(c4 + SIZES + 4 * (LAYERS - 1));
         rgb_differs += rgb3 != rgb4 || memcmp(c3 + head + point14, c4 + head + point14, rgb3) != 0;
         at3 += head + point14 + rgb3;
         at4 += head + point14 + rgb4;
@@ -448,7 +394,7 @@ static void v3_and_v4_differ_on_channel_switches(void **state)
     lazenc_buf s4 = { 0 };
     build_laz(7, 3, SYNTH_CHUNK, one, SYNTH_POINTS, length, &s3);
     build_laz(7, 4, SYNTH_CHUNK, one, SYNTH_POINTS, length, &s4);
-    uint32_t data3 = get_u32(s3.data + 96);
+    uint32_t data3 = sta_load_u32le(s3.data + 96);
     assert_int_equal(s3.size, s4.size);
     assert_memory_equal(s3.data + data3, s4.data + data3, s3.size - data3);
     // The v4 file's VLR relabelled as version 3: the decoder must not reproduce the points.
@@ -461,7 +407,7 @@ static void v3_and_v4_differ_on_channel_switches(void **state)
     assert_memory_equal(relabelled + vlr_at + 2, "laszip encoded", 14);
     size_t items = vlr_at + VLR_HEADER + 34;
     for (uint16_t i = 0; i < v4.item_count; i++) {
-        put_u16(relabelled + items + 6 * i + 4, 3);
+        sta_store_u16le(relabelled + items + 6 * i + 4, 3);
     }
     sta_log_set_level(STA_LOG_QUIET);
     bool identical = true;
@@ -496,7 +442,7 @@ static void damaged_files_fail_cleanly(void **state)
     for (uint16_t version = 3; version <= 4; version++) {
         lazenc_buf file = { 0 };
         build_laz(10, version, CHUNK, recs, POINTS, length, &file);
-        uint32_t point_data = get_u32(file.data + 96);
+        uint32_t point_data = sta_load_u32le(file.data + 96);
         size_t cuts = 0;
         size_t cut_ok = 0;
         bool identical = false;

@@ -175,13 +175,6 @@ static bool one_in(rng *r, uint32_t n)
     return next_u32(r) % n == 0;
 }
 
-static void put_f32(uint8_t *p, float v)
-{
-    uint32_t bits;
-    memcpy(&bits, &v, 4);
-    sta_store_u32le(p, bits);
-}
-
 static const size_t base_record[6] = { 20, 28, 26, 34, 57, 63 };
 
 // A LAS 1.3 file of `count` synthetic records of `format` (0-5) with `extra` extra
@@ -307,7 +300,7 @@ static uint8_t *synthetic_las(int format, size_t extra, size_t count, uint64_t s
                 if (one_in(&r, 3)) {
                     wave_xyz[c] = (float)((int32_t)(next_u32(&r) % 20001) - 10000) / 64.0f;
                 }
-                put_f32(p + at + 13 + 4 * c, wave_xyz[c]);
+                sta_store_f32le(p + at + 13 + 4 * c, wave_xyz[c]);
             }
             at += 29;
         }

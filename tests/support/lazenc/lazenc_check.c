@@ -15,6 +15,31 @@
 #include "io/point.h"
 #include "lazenc_check.h"
 
+// From ../shared/data/README.md, "LAS / LAZ twins".
+const lazcheck_twin lazcheck_twins[] = {
+    { "laz/simple.laz", "las/simple.las" },
+    { "laz/laszip-generated_with2bytespadding.laz", "las/simple.las" },
+    { "laz/liblas-generated.laz", "las/simple.las" },
+    { "laz/autzen_trim.laz", "las/autzen_trim.las" },
+    { "laz/autzen.laz", "las/autzen-point-format-3.las" },
+    { "laz/point10.laz", "las/point10.las" },
+    { "laz/point-time.laz", "las/point-time.las" },
+    { "laz/point-color.laz", "las/point-color.las" },
+    { "laz/point-time-color.laz", "las/point-time-color.las" },
+    { "laz/extra-bytes.laz", "las/extra-bytes.las" },
+    { "laz/point-time-1.4.las.laz", "las/point-time.las" },
+    { "laz/1815.laz", "las/1815.las" },
+    { "laz/point10-1.0.laz", "las/point10-1.0.las" },
+    { "laz/no-points-1.3.laz", "las/no-points-1.3.las" },
+    { "laz/Megaplot.laz", "las/Megaplot.las" },
+    { "laz/MixedConifer.laz", "las/MixedConifer.las" },
+    { "laz/Example.laz", "las/Example.las" },
+    { "laz/extra_byte.laz", "las/extra_byte.las" },
+    { "laz/1_4_w_evlr.laz", "las/1_4_w_evlr.las" },
+};
+
+const size_t lazcheck_twin_count = sizeof(lazcheck_twins) / sizeof(lazcheck_twins[0]);
+
 bool lazcheck_las_records(const uint8_t *las, size_t size, lazcheck_records *out)
 {
     if (size < 227 || memcmp(las, "LASF", 4) != 0) {

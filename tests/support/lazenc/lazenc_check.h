@@ -12,6 +12,16 @@
 #include "io/laz_internal.h"
 #include "io/point.h"
 
+/* The LAZ files of ../shared/data/laz and their uncompressed LAS twins (paths relative
+ * to the shared data folder; the list of its README). */
+typedef struct lazcheck_twin {
+    const char *laz;
+    const char *las;
+} lazcheck_twin;
+
+extern const lazcheck_twin lazcheck_twins[];
+extern const size_t lazcheck_twin_count;
+
 /* The raw point records of a LAS file's bytes (the 64-bit count for LAS 1.4). */
 typedef struct lazcheck_records {
     const uint8_t *records;
