@@ -13,7 +13,7 @@
 #include <stdint.h>
 
 #include "core/status.h"
-#include "io/point.h"
+#include "core/point.h"
 
 enum {
     STA_OCTREE_MAX_LEVEL = 30

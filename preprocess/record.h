@@ -14,7 +14,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "io/point.h"
+#include "core/point.h"
 
 /* Where one .strata payload column comes from in a packed record (see
  * sta_record_encode_columns). */

@@ -11,11 +11,11 @@
 #include "bench/metrics.h"
 #include "bench/report.h"
 #include "bench/sweep.h"
-#include "bench/truth.h"
+#include "bench/bench_truth.h"
 #include "bench/view_eval.h"
 #include "convert.h"
 #include "render/gl.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 #include "test_support.h"
 
 // |a - b| <= eps in double (cmocka's assert_float_equal works in float).

@@ -7,7 +7,7 @@
 
 #include <stddef.h>
 
-#include "bench/truth.h"
+#include "bench/bench_truth.h"
 #include "core/camera.h"
 #include "core/status.h"
 

@@ -12,7 +12,7 @@
 #include "bench/bench_cameras.h"
 #include "bench/katz_hpr.h"
 #include "bench/metrics.h"
-#include "bench/truth.h"
+#include "bench/bench_truth.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
 #include "render/gl.h"

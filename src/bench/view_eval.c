@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 sta_status sta_view_truth_compute(sta_bench_truth *truth, const sta_camera *camera,
                                   sta_view_truth *out, sta_error *err)

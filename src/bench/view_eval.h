@@ -12,7 +12,7 @@
 #include <stdint.h>
 
 #include "bench/metrics.h"
-#include "bench/truth.h"
+#include "bench/bench_truth.h"
 #include "core/camera.h"
 #include "core/status.h"
 #include "render/ref/image.h"

@@ -19,7 +19,7 @@
 
 #include "core/status.h"
 #include "format/layout.h"
-#include "io/point.h"
+#include "core/point.h"
 
 /* One extra dimension: a run of bytes per point with its LAS description. */
 typedef struct sta_strata_extra_dim {

@@ -13,7 +13,7 @@
 #include <stdint.h>
 
 #include "core/status.h"
-#include "io/point.h"
+#include "core/point.h"
 
 typedef enum sta_cloud_kind {
     STA_CLOUD_LAS = 1,

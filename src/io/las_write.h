@@ -27,7 +27,7 @@
 #include <stdint.h>
 
 #include "core/status.h"
-#include "io/point.h"
+#include "core/point.h"
 
 /* How to write. Zero means default (see each field). */
 typedef struct sta_las_write_options {

@@ -6,6 +6,8 @@
 #ifndef STA_RENDER_BINDINGS_H
 #define STA_RENDER_BINDINGS_H
 
+#include "render/ref/screen_space.h" /* STA_HPR_BACKGROUND_OPEN_SECTORS */
+
 #define STA_ATTRIB_POSITION_INTENSITY 0 /* uvec4: qx, qy, qz, intensity */
 #define STA_ATTRIB_COLOUR_CLASS       1 /* uvec4: r, g, b, classification */
 #define STA_ATTRIB_RETURNS            2 /* uvec4: return number, number of returns, 0, 0 */
@@ -21,10 +23,6 @@
 #define STA_COLOUR_RETURN_NUMBER  4
 #define STA_COLOUR_MODE_COUNT     5
 
-/* HPR: an empty pixel is background (left empty) only when its sector minima average
- * at least this many fully open sectors out of 8 (and at least the threshold); see
- * docs/HPR.md for why 1 and not more. */
-#define STA_HPR_BACKGROUND_OPEN_SECTORS 1
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \

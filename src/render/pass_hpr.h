@@ -18,7 +18,7 @@
 
 #include "core/status.h"
 #include "render/ref/hpr_ref.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 typedef struct sta_hpr_pass {
     GLuint pyramid_program;    /* hpr_pyramid.comp: one level from the one below */

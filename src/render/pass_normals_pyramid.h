@@ -16,7 +16,7 @@
 #include "core/status.h"
 #include "render/pass_pullpush.h"
 #include "render/ref/normals_pyramid_ref.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 typedef struct sta_normals_pyramid_pass {
     GLuint level_program, gather_program;

@@ -10,7 +10,7 @@
 
 #include "core/status.h"
 #include "render/ref/normals_screen_ref.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 typedef struct sta_normals_screen_pass {
     GLuint programs[STA_NORMALS_SCREEN_METHOD_COUNT]; /* by method; [0] unused */

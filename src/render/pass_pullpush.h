@@ -17,7 +17,7 @@
 
 #include "core/status.h"
 #include "render/ref/pullpush_ref.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 /* The filled pyramid of the last run. Index 0 is unused (0): level 0 is the output
  * position/colour texture of that run. */

@@ -7,7 +7,7 @@
 #include <epoxy/gl.h>
 
 #include "core/status.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 typedef struct sta_unproject_pass {
     GLuint program;

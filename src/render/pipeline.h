@@ -19,7 +19,7 @@
 #include "render/pass_pullpush.h"
 #include "render/pass_shade.h"
 #include "render/pass_unproject.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 typedef enum sta_pipeline_mode {
     STA_PIPELINE_RAW = 0, /* the geometry pass as it is */

@@ -12,7 +12,7 @@
 #include "core/log.h"
 #include "render/bindings.h"
 #include "render/gl.h"
-#include "stream/cache.h"
+#include "render/gpu_cache.h"
 #include "stream/gpu_points.h"
 #include "stream/loader.h"
 #include "stream/select.h"

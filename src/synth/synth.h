@@ -24,7 +24,7 @@
 #include <stdint.h>
 
 #include "core/status.h"
-#include "io/point.h"
+#include "core/point.h"
 
 #define STA_SYNTH_STREET_VERSION 1 /* bump when the street generator's output changes */
 

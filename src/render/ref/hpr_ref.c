@@ -7,7 +7,6 @@
  */
 #include "render/ref/hpr_ref.h"
 
-#include "render/bindings.h"
 
 #include <math.h>
 #include <stdbool.h>

@@ -24,7 +24,7 @@
 
 #include "core/status.h"
 #include "render/ref/image.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 #define STA_HPR_MAX_LEVELS           16       /* pyramid levels; images up to 32768 px a side */
 #define STA_HPR_DEFAULT_THRESHOLD    0.1f     /* mean sector occlusion of an open pixel */

@@ -23,7 +23,7 @@
 #include "core/status.h"
 #include "render/ref/image.h"
 #include "render/ref/pullpush_ref.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 typedef struct sta_normals_pyramid_params {
     float radius_s0; /* metric radius r_n in units of the view's s0; <= 0: 3 */

@@ -19,7 +19,7 @@
 
 #include "core/status.h"
 #include "render/ref/image.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 /* Estimators (Schiffner et al.'s names). */
 typedef enum sta_normals_screen_method {

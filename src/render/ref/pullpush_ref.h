@@ -19,7 +19,7 @@
 
 #include "core/status.h"
 #include "render/ref/image.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 /* Levels of the largest view accepted (32768 pixels on a side). */
 #define STA_PULLPUSH_MAX_LEVELS 16

@@ -5,7 +5,7 @@
 #define STA_RENDER_REF_UNPROJECT_REF_H
 
 #include "render/ref/image.h"
-#include "render/screen_space.h"
+#include "render/ref/screen_space.h"
 
 /* depth: 1 channel of reverse-Z depth (0 = empty). out: initialised 4-channel image
  * of the same size, filled with camera-space positions (w = 1) or zeros. */

@@ -12,7 +12,7 @@
 #include "io/cloud.h"
 #include "io/las.h"
 #include "io/las_internal.h"
-#include "io/point.h"
+#include "core/point.h"
 #include "lazenc_check.h"
 
 // From ../shared/data/README.md, "LAS / LAZ twins".

@@ -10,7 +10,7 @@
 #include <stdint.h>
 
 #include "io/laz_internal.h"
-#include "io/point.h"
+#include "core/point.h"
 
 /* The LAZ files of ../shared/data/laz and their uncompressed LAS twins (paths relative
  * to the shared data folder; the list of its README). */

@@ -6,8 +6,8 @@
  * buffer holds count points in the GPU layout) or not. Nodes touched in the current
  * frame are never evicted, so what a frame draws stays valid while it draws.
  */
-#ifndef STA_STREAM_CACHE_H
-#define STA_STREAM_CACHE_H
+#ifndef STA_RENDER_GPU_CACHE_H
+#define STA_RENDER_GPU_CACHE_H
 
 #include <epoxy/gl.h>
 #include <stdbool.h>

@@ -17,8 +17,8 @@
  * in src/render/ref/ computing the same maths in the same order in float, so tests
  * compare them within stated tolerances.
  */
-#ifndef STA_RENDER_SCREEN_SPACE_H
-#define STA_RENDER_SCREEN_SPACE_H
+#ifndef STA_RENDER_REF_SCREEN_SPACE_H
+#define STA_RENDER_REF_SCREEN_SPACE_H
 
 #include <math.h>
 
@@ -27,6 +27,11 @@
 #define STA_LABEL_VISIBLE    1.0f /* a point that is visible */
 #define STA_LABEL_HIDDEN     2.0f /* a point seen through a surface in front: removed */
 #define STA_LABEL_HOLE       3.0f /* no point, but inside a surface: pull-push fills it */
+
+/* HPR: an empty pixel is background (left empty) only when its sector minima average
+ * at least this many fully open sectors out of 8 (and at least the threshold); see
+ * docs/HPR.md for why 1 and not more. Reaches the shaders through render/bindings.h. */
+#define STA_HPR_BACKGROUND_OPEN_SECTORS 1
 
 /* What every pass needs to know about the view. */
 typedef struct sta_view_params {

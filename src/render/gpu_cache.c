@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT
  * GPU node cache. */
-#include "stream/cache.h"
+#include "render/gpu_cache.h"
 
 #include <string.h>
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT
  * Ground truth from a strata-synth sidecar. */
-#include "bench/truth.h"
+#include "bench/bench_truth.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>

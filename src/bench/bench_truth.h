@@ -5,8 +5,8 @@
  * is a point truly visible from an eye, what surface does a pixel's ray hit first.
  * Not thread-safe (the street scene caches blocks): one truth per thread.
  */
-#ifndef STA_BENCH_TRUTH_H
-#define STA_BENCH_TRUTH_H
+#ifndef STA_BENCH_BENCH_TRUTH_H
+#define STA_BENCH_BENCH_TRUTH_H
 
 #include <stdbool.h>
 

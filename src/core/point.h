@@ -7,8 +7,8 @@
  * Which fields carry meaning is told by the info's attribute mask (sta_attr);
  * absent fields are zero.
  */
-#ifndef STA_IO_POINT_H
-#define STA_IO_POINT_H
+#ifndef STA_CORE_POINT_H
+#define STA_CORE_POINT_H
 
 #include <stddef.h>
 #include <stdint.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT
  * Point batches. */
-#include "io/point.h"
+#include "core/point.h"
 
 #include <string.h>
 
