@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT
- * GPU node cache. */
+ * GPU node buffers. */
 #include "render/gpu_cache.h"
 
 #include <string.h>
@@ -7,80 +7,48 @@
 #include "core/alloc.h"
 #include "stream/gpu_points.h"
 
-sta_status sta_gpu_cache_init(sta_gpu_cache *cache, uint32_t node_count, uint64_t bytes_cap,
-                              sta_error *err)
+sta_status sta_gpu_cache_init(sta_gpu_cache *cache, uint32_t node_count, sta_error *err)
 {
     memset(cache, 0, sizeof(*cache));
-    cache->entries = sta_calloc(node_count, sizeof(*cache->entries));
-    cache->resident = sta_calloc(node_count, sizeof(*cache->resident));
-    if (!cache->entries || !cache->resident) {
-        sta_free(cache->entries);
-        sta_free(cache->resident);
-        memset(cache, 0, sizeof(*cache));
+    cache->entries = sta_calloc(node_count ? node_count : 1, sizeof(*cache->entries));
+    if (!cache->entries) {
         return sta_fail(err, STA_ERR_NOMEM, "out of memory for the node cache");
     }
     cache->node_count = node_count;
-    cache->bytes_cap = bytes_cap;
-    cache->frame = 1;
     return STA_OK;
+}
+
+static void free_buffer(sta_gpu_cache_entry *e)
+{
+    if (e->buffer) {
+        glDeleteBuffers(1, &e->buffer);
+    }
+    e->buffer = 0;
+    e->count = 0;
 }
 
 void sta_gpu_cache_release(sta_gpu_cache *cache)
 {
-    for (uint32_t i = 0; i < cache->resident_count; i++) {
-        glDeleteBuffers(1, &cache->entries[cache->resident[i]].buffer);
+    for (uint32_t i = 0; cache->entries && i < cache->node_count; i++) {
+        free_buffer(&cache->entries[i]);
     }
     sta_free(cache->entries);
-    sta_free(cache->resident);
     memset(cache, 0, sizeof(*cache));
 }
 
-void sta_gpu_cache_begin_frame(sta_gpu_cache *cache)
+void sta_gpu_cache_apply(sta_gpu_cache *cache, const sta_stream_frame *frame)
 {
-    cache->frame++;
-}
-
-static void evict_at(sta_gpu_cache *cache, uint32_t slot)
-{
-    uint32_t node = cache->resident[slot];
-    sta_cache_entry *e = &cache->entries[node];
-    glDeleteBuffers(1, &e->buffer);
-    cache->bytes_used -= (uint64_t)e->count * STA_GPU_POINT_SIZE;
-    e->buffer = 0;
-    e->count = 0;
-    cache->resident[slot] = cache->resident[--cache->resident_count];
-    cache->evictions++;
-}
-
-bool sta_gpu_cache_upload(sta_gpu_cache *cache, uint32_t node, const uint8_t *gpu, uint32_t count)
-{
-    uint64_t bytes = (uint64_t)count * STA_GPU_POINT_SIZE;
-    if (bytes > cache->bytes_cap || sta_gpu_cache_is_resident(cache, node)) {
-        return false;
+    for (size_t i = 0; i < frame->evict_count; i++) {
+        free_buffer(&cache->entries[frame->evict[i]]);
     }
-    while (cache->bytes_used + bytes > cache->bytes_cap) {
-        // Least recently used among those not touched this frame.
-        uint32_t victim = UINT32_MAX;
-        uint64_t oldest = cache->frame;
-        for (uint32_t i = 0; i < cache->resident_count; i++) {
-            uint64_t f = cache->entries[cache->resident[i]].last_frame;
-            if (f < oldest) {
-                oldest = f;
-                victim = i;
-            }
-        }
-        if (victim == UINT32_MAX) {
-            return false;
-        }
-        evict_at(cache, victim);
+    for (size_t i = 0; i < frame->upload_count; i++) {
+        const sta_stream_upload *u = &frame->upload[i];
+        sta_gpu_cache_entry *e = &cache->entries[u->node];
+        free_buffer(e);
+        uint64_t bytes = (uint64_t)u->count * STA_GPU_POINT_SIZE;
+        glCreateBuffers(1, &e->buffer);
+        // An empty node still gets a (tiny) buffer so it is drawn as resident.
+        glNamedBufferStorage(e->buffer, bytes ? (GLsizeiptr)bytes : 16, bytes ? u->gpu : NULL, 0);
+        e->count = u->count;
     }
-    sta_cache_entry *e = &cache->entries[node];
-    glCreateBuffers(1, &e->buffer);
-    // An empty node still gets a (tiny) buffer so it counts as resident.
-    glNamedBufferStorage(e->buffer, bytes ? (GLsizeiptr)bytes : 16, bytes ? gpu : NULL, 0);
-    e->count = count;
-    e->last_frame = cache->frame;
-    cache->bytes_used += bytes;
-    cache->resident[cache->resident_count++] = node;
-    return true;
 }

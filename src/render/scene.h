@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT
- * A .strata scene on screen: each frame selects the LOD cut within the point budget,
- * feeds the loader, uploads a bounded amount of finished nodes into the GPU cache
- * and draws what is resident with the geometry pass. The frame never waits for disk.
- * Main thread (GL) only.
+ * A .strata scene on screen: each frame the streamer (stream/streamer.h) decides what
+ * to evict, upload and draw within the point budget and GPU cap; the GPU cache carries
+ * out the evictions and uploads, the geometry pass draws, and the screen-space pipeline
+ * runs after it. The frame never waits for disk. Main thread (GL) only.
  */
 #ifndef STA_RENDER_SCENE_H
 #define STA_RENDER_SCENE_H
@@ -15,16 +15,12 @@
 #include "format/strata_reader.h"
 #include "render/pipeline.h"
 #include "render/target.h"
+#include "stream/streamer.h"
 
 typedef struct sta_scene sta_scene;
 
-typedef struct sta_scene_options {
-    uint64_t budget_points;          /* 0: 30,000,000 points per frame */
-    uint64_t gpu_bytes_cap;          /* 0: 1 GiB for resident nodes */
-    uint64_t upload_bytes_per_frame; /* 0: 64 MiB */
-    int loader_threads;              /* 0: cores - 1 (at least 1) */
-    double min_spacing_px;           /* 0: 0.75 */
-} sta_scene_options;
+/* Budget, GPU cap, uploads per frame, loader threads: the streamer's options. */
+typedef sta_streamer_options sta_scene_options;
 
 typedef struct sta_frame_stats {
     uint64_t points_selected; /* <= budget */
@@ -52,9 +48,7 @@ void sta_scene_close(sta_scene *scene);
 
 const sta_strata_info *sta_scene_info(const sta_scene *scene);
 
-/* Bounds of where most of the scene is: the 1st and 99th percentiles per axis of the
- * root node's points (a uniform subsample), so a few far stray points do not make the
- * default view tiny. Falls back to the header bounds. */
+/* Bounds of where most of the scene is (sta_streamer_robust_bounds). */
 void sta_scene_robust_bounds(const sta_scene *scene, double out_min[3], double out_max[3]);
 
 /* Sets the screen-space pipeline run after the geometry pass (mode raw by default). */

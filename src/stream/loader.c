@@ -27,7 +27,7 @@ typedef struct result_item {
 } result_item;
 
 struct sta_loader {
-    const sta_strata_reader *reader; /* borrowed; read-only, thread-safe */
+    const sta_node_source *source; /* borrowed; safe to load from several workers */
     sta_loader_options options;
     pthread_t threads[MAX_THREADS];
     int thread_count;
@@ -65,29 +65,16 @@ static uint32_t next_wanted(sta_loader *l)
     return UINT32_MAX;
 }
 
-static void load_node(sta_loader *l, sta_strata_decoder *decoder, uint32_t index,
-                      sta_loaded_node *out)
+static void load_node(sta_loader *l, void *worker, uint32_t index, sta_loaded_node *out)
 {
     memset(out, 0, sizeof(*out));
     out->node = index;
     sta_error err = { 0 };
-    sta_strata_points points;
-    out->status = sta_strata_decode_node(l->reader, index, decoder, &points, &err);
-    if (out->status == STA_OK && points.count > 0) {
-        out->gpu = sta_alloc_array(points.count, STA_GPU_POINT_SIZE);
-        if (!out->gpu) {
-            out->status = sta_fail(&err, STA_ERR_NOMEM, "out of memory loading node %u", index);
-        } else {
-            const sta_strata_info *info = sta_strata_reader_info(l->reader);
-            sta_gpu_node_frame frame;
-            sta_gpu_node_frame_init(&frame, &info->geometry,
-                                    sta_strata_reader_node(l->reader, index)->key);
-            sta_gpu_points_encode(&frame, points.points, points.count, l->options.colour_shift,
-                                  out->gpu);
-            out->count = points.count;
-        }
-    }
+    out->status = l->source->load(l->source->context, worker, index, &out->gpu, &out->count, &err);
     if (out->status != STA_OK) {
+        sta_free(out->gpu);
+        out->gpu = NULL;
+        out->count = 0;
         snprintf(out->message, sizeof(out->message), "%s", err.message);
     }
 }
@@ -95,12 +82,13 @@ static void load_node(sta_loader *l, sta_strata_decoder *decoder, uint32_t index
 static void *worker_main(void *argument)
 {
     sta_loader *l = argument;
-    sta_strata_decoder *decoder = NULL;
+    void *worker = NULL;
     sta_error err = { 0 };
-    bool have_decoder = sta_strata_decoder_create(&decoder, &err) == STA_OK;
+    bool have_worker = !l->source->worker_begin ||
+                       l->source->worker_begin(l->source->context, &worker, &err) == STA_OK;
     pthread_mutex_lock(&l->lock);
     while (!l->stopping) {
-        uint32_t index = have_decoder && l->ready_bytes < l->options.ready_bytes_cap
+        uint32_t index = have_worker && l->ready_bytes < l->options.ready_bytes_cap
                              ? next_wanted(l)
                              : UINT32_MAX;
         if (index == UINT32_MAX) {
@@ -116,7 +104,7 @@ static void *worker_main(void *argument)
         double t0 = now_s();
         result_item *item = sta_malloc(sizeof(*item));
         if (item) {
-            load_node(l, decoder, index, &item->node);
+            load_node(l, worker, index, &item->node);
             item->next = NULL;
         }
         double busy = now_s() - t0;
@@ -139,11 +127,22 @@ static void *worker_main(void *argument)
         l->ready_tail = item;
     }
     pthread_mutex_unlock(&l->lock);
-    sta_strata_decoder_destroy(decoder);
+    if (have_worker && l->source->worker_end) {
+        l->source->worker_end(l->source->context, worker);
+    }
     return NULL;
 }
 
-sta_status sta_loader_create(const sta_strata_reader *reader, const sta_loader_options *options,
+void sta_loader_options_defaults(sta_loader_options *o)
+{
+    o->threads = o->threads > 0 ? o->threads : 1;
+    o->threads = o->threads > MAX_THREADS ? MAX_THREADS : o->threads;
+    if (!o->ready_bytes_cap) {
+        o->ready_bytes_cap = (size_t)256 << 20;
+    }
+}
+
+sta_status sta_loader_create(const sta_node_source *source, const sta_loader_options *options,
                              sta_loader **out_loader, sta_error *err)
 {
     *out_loader = NULL;
@@ -151,17 +150,12 @@ sta_status sta_loader_create(const sta_strata_reader *reader, const sta_loader_o
     if (!l) {
         return sta_fail(err, STA_ERR_NOMEM, "out of memory for the loader");
     }
-    l->reader = reader;
+    l->source = source;
     if (options) {
         l->options = *options;
     }
-    l->options.threads = l->options.threads > 0 ? l->options.threads : 1;
-    l->options.threads = l->options.threads > MAX_THREADS ? MAX_THREADS : l->options.threads;
-    if (!l->options.ready_bytes_cap) {
-        l->options.ready_bytes_cap = (size_t)256 << 20;
-    }
-    uint32_t node_count = sta_strata_reader_info(reader)->node_count;
-    l->state = sta_calloc(node_count, 1);
+    sta_loader_options_defaults(&l->options);
+    l->state = sta_calloc(source->node_count ? source->node_count : 1, 1);
     if (!l->state) {
         sta_free(l);
         return sta_fail(err, STA_ERR_NOMEM, "out of memory for the loader");
@@ -198,7 +192,7 @@ sta_status sta_loader_request(sta_loader *l, const uint32_t *nodes, size_t count
             return sta_fail(err, STA_ERR_NOMEM, "out of memory for the load queue");
         }
     }
-    uint32_t node_count = sta_strata_reader_info(l->reader)->node_count;
+    uint32_t node_count = l->source->node_count;
     uint32_t *old = NULL;
     pthread_mutex_lock(&l->lock);
     if (fresh) {

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT
- * The loader: worker threads that read wanted nodes from the mapped .strata file,
- * check and decompress them, and convert them to the GPU layout.
+ * The loader: worker threads that load wanted nodes from a node source (the mapped
+ * .strata file: check, decompress, convert to the GPU layout; or a test's fake).
  *
  * Design: the main thread hands over the wanted nodes in priority order each frame
  * (sta_loader_request, replacing the previous list, so nodes no longer wanted are
@@ -20,15 +20,17 @@
 #include <stdint.h>
 
 #include "core/status.h"
-#include "format/strata_reader.h"
+#include "stream/node_source.h"
 
 typedef struct sta_loader sta_loader;
 
 typedef struct sta_loader_options {
     int threads;            /* 0: 1 */
     size_t ready_bytes_cap; /* 0: 256 MiB of finished nodes waiting for upload */
-    int colour_shift;       /* 8 for 16-bit colour, 0 for 8-bit */
 } sta_loader_options;
+
+/* Fills the zero fields of `options` with their defaults. */
+void sta_loader_options_defaults(sta_loader_options *options);
 
 /* A finished node. `gpu` (count * STA_GPU_POINT_SIZE bytes) is owned by the taker
  * and freed with sta_loaded_node_release. */
@@ -40,8 +42,8 @@ typedef struct sta_loaded_node {
     char message[STA_ERROR_MESSAGE_SIZE];
 } sta_loaded_node;
 
-/* Starts the workers over `reader` (borrowed: it must outlive the loader). */
-sta_status sta_loader_create(const sta_strata_reader *reader, const sta_loader_options *options,
+/* Starts the workers over `source` (borrowed: it must outlive the loader). */
+sta_status sta_loader_create(const sta_node_source *source, const sta_loader_options *options,
                              sta_loader **out_loader, sta_error *err);
 
 /* Replaces the wanted list (highest priority first). Main thread. */

@@ -7,10 +7,6 @@
 
 #include "core/alloc.h"
 
-enum {
-    DEFAULT_BUDGET = 30000000
-};
-
 // Box outside a plane when its most positive corner is below it.
 static int box_outside(const double plane[4], const double min[3], const double max[3])
 {
@@ -110,12 +106,22 @@ static void heap_pop(sta_selection *s, uint32_t *node, double *key)
     }
 }
 
+void sta_select_params_defaults(sta_select_params *p)
+{
+    p->budget_points = p->budget_points ? p->budget_points : STA_DEFAULT_BUDGET_POINTS;
+    p->min_spacing_px = p->min_spacing_px > 0 ? p->min_spacing_px : 0.75;
+}
+
 sta_status sta_select(const sta_lod_tree *tree, const sta_camera *camera,
                       const sta_select_params *params, sta_selection *s, sta_error *err)
 {
-    const uint64_t budget =
-        params && params->budget_points ? params->budget_points : DEFAULT_BUDGET;
-    const double min_px = params && params->min_spacing_px > 0 ? params->min_spacing_px : 0.75;
+    sta_select_params resolved = { 0 };
+    if (params) {
+        resolved = *params;
+    }
+    sta_select_params_defaults(&resolved);
+    const uint64_t budget = resolved.budget_points;
+    const double min_px = resolved.min_spacing_px;
     s->count = 0;
     s->point_count = 0;
     s->heap_count = 0;

@@ -19,10 +19,16 @@
 #include "core/camera.h"
 #include "stream/lod_tree.h"
 
+/* The point budget per frame when none is given (DESIGN.md: 30 M points per frame). */
+#define STA_DEFAULT_BUDGET_POINTS UINT64_C(30000000)
+
 typedef struct sta_select_params {
-    uint64_t budget_points; /* 0: 30,000,000 */
+    uint64_t budget_points; /* 0: STA_DEFAULT_BUDGET_POINTS */
     double min_spacing_px;  /* 0: 0.75; stop refining below this on-screen spacing */
 } sta_select_params;
+
+/* Fills the zero fields of `params` with their defaults. */
+void sta_select_params_defaults(sta_select_params *params);
 
 /* The cut, in priority order (highest first). Reused frame to frame; zero-initialise,
  * release with sta_selection_release. */

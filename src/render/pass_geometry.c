@@ -1,0 +1,85 @@
+/* SPDX-License-Identifier: MIT
+ * Geometry pass (GL_POINTS, one pixel per point). */
+#include "render/pass_geometry.h"
+
+#include <string.h>
+
+#include "render/bindings.h"
+#include "render/gl.h"
+
+sta_status sta_pass_geometry_init(sta_pass_geometry *p, sta_error *err)
+{
+    memset(p, 0, sizeof(*p));
+    const char *names[] = { "geometry.vert", "geometry.frag" };
+    sta_status status = sta_gl_program_create(names, 2, NULL, &p->program, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    p->u_node_origin = glGetUniformLocation(p->program, "u_node_origin");
+    p->u_step = glGetUniformLocation(p->program, "u_step");
+    p->u_view_rotation = glGetUniformLocation(p->program, "u_view_rotation");
+    p->u_projection = glGetUniformLocation(p->program, "u_projection");
+    p->u_colour_mode = glGetUniformLocation(p->program, "u_colour_mode");
+    p->u_elevation = glGetUniformLocation(p->program, "u_elevation");
+    p->u_intensity_scale = glGetUniformLocation(p->program, "u_intensity_scale");
+    glCreateVertexArrays(1, &p->vao);
+    glVertexArrayAttribIFormat(p->vao, STA_ATTRIB_POSITION_INTENSITY, 4, GL_UNSIGNED_SHORT, 0);
+    glVertexArrayAttribIFormat(p->vao, STA_ATTRIB_COLOUR_CLASS, 4, GL_UNSIGNED_BYTE, 8);
+    glVertexArrayAttribIFormat(p->vao, STA_ATTRIB_RETURNS, 4, GL_UNSIGNED_BYTE, 12);
+    const GLuint attributes[3] = { STA_ATTRIB_POSITION_INTENSITY, STA_ATTRIB_COLOUR_CLASS,
+                                   STA_ATTRIB_RETURNS };
+    for (int i = 0; i < 3; i++) {
+        glVertexArrayAttribBinding(p->vao, attributes[i], 0);
+        glEnableVertexArrayAttrib(p->vao, attributes[i]);
+    }
+    return sta_gl_check("creating the geometry pass", err);
+}
+
+void sta_pass_geometry_release(sta_pass_geometry *p)
+{
+    if (p->program) {
+        glDeleteProgram(p->program);
+        glDeleteVertexArrays(1, &p->vao);
+    }
+    memset(p, 0, sizeof(*p));
+}
+
+void sta_pass_geometry_draw(const sta_pass_geometry *p, const sta_camera *camera,
+                            const sta_geometry_colours *colours, const sta_gpu_cache *cache,
+                            const sta_gpu_node_frame *frames, const uint32_t *draw, size_t count,
+                            sta_render_target *target)
+{
+    static const float background[3] = { 0.0f, 0.0f, 0.0f };
+    sta_render_target_begin(target, background);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER); // reverse-Z: larger is nearer
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glUseProgram(p->program);
+    glBindVertexArray(p->vao);
+    float view[16], projection[16];
+    sta_camera_view_rotation(camera, view);
+    sta_camera_projection(camera, projection);
+    glUniformMatrix4fv(p->u_view_rotation, 1, GL_FALSE, view);
+    glUniformMatrix4fv(p->u_projection, 1, GL_FALSE, projection);
+    glUniform1i(p->u_colour_mode, colours->mode);
+    double span = colours->elevation_span;
+    glUniform2f(p->u_elevation, (float)(camera->position[2] - colours->elevation_min),
+                (float)(1.0 / (span > 0 ? span : 1.0)));
+    glUniform1f(p->u_intensity_scale, colours->intensity_scale);
+    for (size_t i = 0; i < count; i++) {
+        const sta_gpu_cache_entry *e = &cache->entries[draw[i]];
+        const sta_gpu_node_frame *f = &frames[draw[i]];
+        // Node corner relative to the camera in double, then float: exact enough
+        // wherever the scene sits on Earth.
+        glUniform3f(p->u_node_origin, (float)(f->corner[0] - camera->position[0]),
+                    (float)(f->corner[1] - camera->position[1]),
+                    (float)(f->corner[2] - camera->position[2]));
+        glUniform3f(p->u_step, (float)f->step[0], (float)f->step[1], (float)f->step[2]);
+        if (e->count > 0) {
+            glVertexArrayVertexBuffer(p->vao, 0, e->buffer, 0, STA_GPU_POINT_SIZE);
+            glDrawArrays(GL_POINTS, 0, (GLsizei)e->count);
+        }
+    }
+    glBindVertexArray(0);
+}

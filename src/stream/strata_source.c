@@ -1,0 +1,57 @@
+/* SPDX-License-Identifier: MIT
+ * Node source over a .strata reader. */
+#include "stream/strata_source.h"
+
+#include "core/alloc.h"
+#include "stream/gpu_points.h"
+
+static sta_status worker_begin(void *context, void **out_worker, sta_error *err)
+{
+    (void)context;
+    sta_strata_decoder *decoder = NULL;
+    sta_status status = sta_strata_decoder_create(&decoder, err);
+    *out_worker = decoder;
+    return status;
+}
+
+static void worker_end(void *context, void *worker)
+{
+    (void)context;
+    sta_strata_decoder_destroy(worker);
+}
+
+static sta_status load(void *context, void *worker, uint32_t node, uint8_t **out_gpu,
+                       size_t *out_count, sta_error *err)
+{
+    const sta_strata_source *s = context;
+    *out_gpu = NULL;
+    *out_count = 0;
+    sta_strata_points points;
+    sta_status status = sta_strata_decode_node(s->reader, node, worker, &points, err);
+    if (status != STA_OK || points.count == 0) {
+        return status;
+    }
+    uint8_t *gpu = sta_alloc_array(points.count, STA_GPU_POINT_SIZE);
+    if (!gpu) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory loading node %u", node);
+    }
+    const sta_strata_info *info = sta_strata_reader_info(s->reader);
+    sta_gpu_node_frame frame;
+    sta_gpu_node_frame_init(&frame, &info->geometry, sta_strata_reader_node(s->reader, node)->key);
+    sta_gpu_points_encode(&frame, points.points, points.count, s->colour_shift, gpu);
+    *out_gpu = gpu;
+    *out_count = points.count;
+    return STA_OK;
+}
+
+void sta_strata_source_init(sta_strata_source *source, const sta_strata_reader *reader,
+                            int colour_shift)
+{
+    source->reader = reader;
+    source->colour_shift = colour_shift;
+    source->source = (sta_node_source){ .context = source,
+                                        .node_count = sta_strata_reader_info(reader)->node_count,
+                                        .worker_begin = worker_begin,
+                                        .worker_end = worker_end,
+                                        .load = load };
+}
