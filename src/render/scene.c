@@ -147,9 +147,8 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         glFinish();
         stats->geometry_ms = now_ms() - geometry_start;
     }
-    stats->s0_m = s->pipeline_options.s0_m > 0
-                      ? s->pipeline_options.s0_m
-                      : (float)sta_streamer_surface_spacing(s->streamer);
+    stats->s0_m = s->pipeline_options.s0_m > 0 ? s->pipeline_options.s0_m
+                                               : (float)sta_streamer_surface_spacing(s->streamer);
     if (s->pipeline_options.mode != STA_PIPELINE_RAW) {
         if (!s->has_pipeline) {
             status = sta_pipeline_init(&s->pipeline, err);

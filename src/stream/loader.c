@@ -88,9 +88,8 @@ static void *worker_main(void *argument)
                        l->source->worker_begin(l->source->context, &worker, &err) == STA_OK;
     pthread_mutex_lock(&l->lock);
     while (!l->stopping) {
-        uint32_t index = have_worker && l->ready_bytes < l->options.ready_bytes_cap
-                             ? next_wanted(l)
-                             : UINT32_MAX;
+        uint32_t index = have_worker && l->ready_bytes < l->options.ready_bytes_cap ? next_wanted(l)
+                                                                                    : UINT32_MAX;
         if (index == UINT32_MAX) {
             pthread_cond_wait(l->ready_bytes >= l->options.ready_bytes_cap ? &l->space_ready
                                                                            : &l->work_ready,

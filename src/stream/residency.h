@@ -58,7 +58,7 @@ static inline void sta_residency_touch(sta_residency *residency, uint32_t node)
  * appended to `evicted` (room for node_count entries) and counted in *evicted_count.
  * Returns false (and admits nothing) when the node is resident already or cannot fit
  * without evicting nodes of this frame; nodes evicted on the way stay evicted. */
-bool sta_residency_admit(sta_residency *residency, uint32_t node, uint32_t count,
-                         uint32_t *evicted, size_t *evicted_count);
+bool sta_residency_admit(sta_residency *residency, uint32_t node, uint32_t count, uint32_t *evicted,
+                         size_t *evicted_count);
 
 #endif

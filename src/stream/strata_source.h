@@ -9,9 +9,9 @@
 #include "stream/node_source.h"
 
 typedef struct sta_strata_source {
-    sta_node_source source;           /* what the loader uses */
-    const sta_strata_reader *reader;  /* borrowed: must outlive the source */
-    int colour_shift;                 /* 8 for 16-bit colour, 0 for 8-bit */
+    sta_node_source source;          /* what the loader uses */
+    const sta_strata_reader *reader; /* borrowed: must outlive the source */
+    int colour_shift;                /* 8 for 16-bit colour, 0 for 8-bit */
 } sta_strata_source;
 
 /* Fills `source` (caller-owned, must stay in place while used) for `reader`. */

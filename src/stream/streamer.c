@@ -47,8 +47,8 @@ void sta_streamer_options_defaults(sta_streamer_options *o)
 {
     o->budget_points = o->budget_points ? o->budget_points : STA_DEFAULT_BUDGET_POINTS;
     o->gpu_bytes_cap = o->gpu_bytes_cap ? o->gpu_bytes_cap : (uint64_t)1 << 30;
-    o->upload_bytes_per_frame = o->upload_bytes_per_frame ? o->upload_bytes_per_frame
-                                                          : (uint64_t)64 << 20;
+    o->upload_bytes_per_frame =
+        o->upload_bytes_per_frame ? o->upload_bytes_per_frame : (uint64_t)64 << 20;
     if (o->loader_threads <= 0) {
         long cores = sysconf(_SC_NPROCESSORS_ONLN);
         o->loader_threads = cores > 1 ? (int)cores - 1 : 1;
@@ -105,11 +105,11 @@ static sta_status start(sta_streamer *s, const sta_streamer_options *options, st
     s->s0_samples = sta_alloc_array(n, sizeof(*s->s0_samples));
     if (!s->bad || !s->requests || !s->evict || !s->loaded || !s->upload || !s->draw ||
         !s->new_bad || !s->selected || !s->s0_samples) {
-        return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for %u nodes",
-                        sta_streamer_name(s), s->tree.count);
+        return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for %u nodes", sta_streamer_name(s),
+                        s->tree.count);
     }
-    sta_status status = sta_residency_init(&s->residency, s->tree.count,
-                                           s->options.gpu_bytes_cap, err);
+    sta_status status =
+        sta_residency_init(&s->residency, s->tree.count, s->options.gpu_bytes_cap, err);
     if (status != STA_OK) {
         return status;
     }
@@ -220,15 +220,15 @@ static void take_finished(sta_streamer *s, sta_stream_frame *f)
                 s->bad[done.node] = 1;
                 s->bad_count++;
                 s->new_bad[f->new_bad_count++] = done.node;
-                sta_log_warn("%s: skipping a node that cannot be shown: %s",
-                             sta_streamer_name(s), done.message);
+                sta_log_warn("%s: skipping a node that cannot be shown: %s", sta_streamer_name(s),
+                             done.message);
             }
             sta_loaded_node_release(&done);
         } else if (sta_residency_admit(&s->residency, done.node, (uint32_t)done.count, s->evict,
                                        &f->evict_count)) {
             uploaded += done.count * STA_GPU_POINT_SIZE;
-            s->upload[f->upload_count] = (sta_stream_upload){ done.node, (uint32_t)done.count,
-                                                              done.gpu };
+            s->upload[f->upload_count] =
+                (sta_stream_upload){ done.node, (uint32_t)done.count, done.gpu };
             f->upload_count++;
             s->loaded[s->loaded_count++] = done; // keeps the bytes until the next frame
         } else {

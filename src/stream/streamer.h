@@ -108,8 +108,7 @@ float sta_streamer_intensity_scale(const sta_streamer *streamer);
 /* Bounds of where most of the scene is: the 1st and 99th percentiles per axis of the
  * root node's points, so a few far stray points do not make the default view tiny.
  * Falls back to the header bounds (or the root's box without a reader). */
-void sta_streamer_robust_bounds(const sta_streamer *streamer, double out_min[3],
-                                double out_max[3]);
+void sta_streamer_robust_bounds(const sta_streamer *streamer, double out_min[3], double out_max[3]);
 
 /* Bouchiba's s0 for the last cut, metres: the typical distance between neighbouring
  * points where refinement stops (see docs/DECISIONS.md); 0 for an empty cut. */
