@@ -58,8 +58,7 @@ static bool pick(view_state *s, double cursor_x, double cursor_y, double out[3])
     if (x0 < 0 || y0 < 0 || x0 + 2 * R >= c->width_px || y0 + 2 * R >= c->height_px) {
         return false;
     }
-    glGetTextureSubImage(s->target.depth, 0, x0, y0, 0, 2 * R + 1, 2 * R + 1, 1, GL_DEPTH_COMPONENT,
-                         GL_FLOAT, sizeof(depth), depth);
+    sta_render_target_read_depth_block(&s->target, x0, y0, 2 * R + 1, 2 * R + 1, depth);
     float best = 0.0f;
     int best_i = -1;
     for (int i = 0; i < (2 * R + 1) * (2 * R + 1); i++) {
@@ -379,15 +378,13 @@ int sta_view_run_window(const sta_view_args *args)
             continue; // minimised
         }
         status = sta_scene_render(s.scene, &s.camera, &s.target, &stats, &err);
-        glBlitNamedFramebuffer(s.target.framebuffer, 0, 0, 0, s.camera.width_px, s.camera.height_px,
-                               0, 0, s.camera.width_px, s.camera.height_px, GL_COLOR_BUFFER_BIT,
-                               GL_NEAREST);
+        sta_render_target_present(&s.target);
         glfwSwapBuffers(window);
         frame++;
         frames_since_title++;
         if (now - title_time > 0.5) {
             update_title(window, &stats, frames_since_title / (now - title_time),
-                         args->budget_points ? args->budget_points : 30000000);
+                         args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS);
             if (args->stats) {
                 printf("%.1f fps, %" PRIu64 " points; ms: geometry %.2f",
                        frames_since_title / (now - title_time), stats.points_drawn,

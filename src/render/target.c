@@ -86,3 +86,17 @@ void sta_render_target_read_depth(const sta_render_target *t, float *out)
                       t->width_px * t->height_px * (int)sizeof(float), out);
     flip_rows((uint8_t *)out, t->width_px * (int)sizeof(float), t->height_px);
 }
+
+void sta_render_target_read_depth_block(const sta_render_target *t, int x, int y, int width_px,
+                                        int height_px, float *out)
+{
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glGetTextureSubImage(t->depth, 0, x, y, 0, width_px, height_px, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
+                         width_px * height_px * (int)sizeof(float), out);
+}
+
+void sta_render_target_present(const sta_render_target *t)
+{
+    glBlitNamedFramebuffer(t->framebuffer, 0, 0, 0, t->width_px, t->height_px, 0, 0, t->width_px,
+                           t->height_px, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}

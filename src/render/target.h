@@ -31,4 +31,12 @@ void sta_render_target_read_rgba(const sta_render_target *target, uint8_t *out);
 /* Reads depth (reverse-Z: 1 at the near plane, 0 = nothing drawn), top row first. */
 void sta_render_target_read_depth(const sta_render_target *target, float *out);
 
+/* Reads the depth of the width x height block whose lower-left texel is (x, y), GL
+ * order (rows from the bottom, bottom row first); the block must lie inside. */
+void sta_render_target_read_depth_block(const sta_render_target *target, int x, int y, int width_px,
+                                        int height_px, float *out);
+
+/* Copies the colour to the default framebuffer (the window), same size, no scaling. */
+void sta_render_target_present(const sta_render_target *target);
+
 #endif
