@@ -454,6 +454,18 @@ static size_t plan_chunk_capacity(size_t memory_mib, int threads, size_t record_
     return cap < 4096 ? 4096 : cap;
 }
 
+void sta_convert_options_defaults(sta_convert_options *o)
+{
+    if (o->threads <= 0) {
+        long cores = sysconf(_SC_NPROCESSORS_ONLN);
+        o->threads = (int)(cores > 0 ? cores : 1);
+    }
+    o->memory_mib = o->memory_mib ? o->memory_mib : DEFAULT_MEMORY_MIB;
+    o->grid_cells = o->grid_cells ? o->grid_cells : DEFAULT_GRID_CELLS;
+    o->leaf_capacity = o->leaf_capacity ? o->leaf_capacity : DEFAULT_LEAF_CAPACITY;
+    o->compress_level = o->compress_level ? o->compress_level : STA_STRATA_DEFAULT_ZSTD_LEVEL;
+}
+
 sta_status sta_convert(const sta_convert_options *options, sta_convert_report *report,
                        sta_error *err)
 {
@@ -463,6 +475,9 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     }
     memset(report, 0, sizeof(*report));
     double t_start = sta_progress_now_s();
+    sta_convert_options resolved = *options;
+    sta_convert_options_defaults(&resolved);
+    options = &resolved;
     convert_job job;
     memset(&job, 0, sizeof(job));
     job.options = options;
@@ -472,7 +487,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     sta_strata_extra_dim *extra_dims = NULL;
     sta_status status = STA_OK;
 
-    int grid_cells = options->grid_cells ? options->grid_cells : DEFAULT_GRID_CELLS;
+    int grid_cells = options->grid_cells;
     int grid_log2 = log2_exact(grid_cells);
     if (grid_log2 < 4 || grid_log2 > 10) {
         status = sta_fail(err, STA_ERR_ARG,
@@ -481,13 +496,10 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
                           grid_cells);
         goto out;
     }
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    job.threads = options->threads > 0 ? options->threads : (int)(cores > 0 ? cores : 1);
-    job.threads = job.threads > 256 ? 256 : job.threads;
-    job.leaf_capacity = options->leaf_capacity ? options->leaf_capacity : DEFAULT_LEAF_CAPACITY;
-    size_t memory_mib = options->memory_mib ? options->memory_mib : DEFAULT_MEMORY_MIB;
-    int level =
-        options->compress_level < 0 ? STA_STRATA_DEFAULT_ZSTD_LEVEL : options->compress_level;
+    job.threads = options->threads > 256 ? 256 : options->threads;
+    job.leaf_capacity = options->leaf_capacity;
+    size_t memory_mib = options->memory_mib;
+    int level = options->compress_level == STA_CONVERT_STORE ? 0 : options->compress_level;
 
     struct stat st;
     if (!options->force && stat(options->output, &st) == 0) {

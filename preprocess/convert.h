@@ -18,6 +18,10 @@
 
 #include "core/status.h"
 
+/* compress_level value that stores node payloads uncompressed (`--compress 0`). */
+#define STA_CONVERT_STORE (-1)
+
+/* Config: zero means default (sta_convert_options_defaults). */
 typedef struct sta_convert_options {
     const char *const *inputs; /* LAS / PLY paths */
     size_t input_count;
@@ -25,7 +29,7 @@ typedef struct sta_convert_options {
     int threads;          /* 0: all cores */
     size_t memory_mib;    /* 0: 2048; hard budget for the whole process */
     const char *tmp_dir;  /* NULL: the output's folder */
-    int compress_level;   /* 0 none, 1..19 zstd; negative: default 3 */
+    int compress_level;   /* 0: STA_STRATA_DEFAULT_ZSTD_LEVEL; 1..19 zstd; STA_CONVERT_STORE */
     int grid_cells;       /* 0: 128; a power of two, 16..1024 */
     size_t leaf_capacity; /* 0: 32768 points before a leaf splits */
     size_t chunk_points;  /* 0: from the memory budget; tests force small chunks */
@@ -35,6 +39,10 @@ typedef struct sta_convert_options {
     bool progress;        /* draw a progress line (only on a terminal) */
     atomic_bool *cancel;  /* set from a signal handler to stop; may be NULL */
 } sta_convert_options;
+
+/* Fills the zero fields of `options` with their defaults (threads: the cores; memory
+ * 2048 MiB; grid 128 cells; leaf 32768 points; zstd level 3). */
+void sta_convert_options_defaults(sta_convert_options *options);
 
 /* What the conversion did, for the closing summary and benchmarks. */
 typedef struct sta_convert_report {

@@ -231,7 +231,7 @@ static void uncompressed_single_thread_one_chunk(void **state)
     char path[4096];
     snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
     const char *one[] = { path };
-    round_trip(one, 1, 0, 1, 0);
+    round_trip(one, 1, 0, 1, STA_CONVERT_STORE);
 }
 
 static void dense_chunks_are_split_out_of_core(void **state)
