@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "core/alloc.h"
+#include "core/clock.h"
 #include "core/file_io.h"
 #include "core/log.h"
 #include "distribute.h"
@@ -462,7 +463,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         report = &local_report;
     }
     memset(report, 0, sizeof(*report));
-    double t_start = sta_progress_now_s();
+    double t_start = sta_clock_s();
     convert_job job;
     memset(&job, 0, sizeof(job));
     job.options = options;
@@ -522,13 +523,13 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
 
     // 2. count and plan
     job.progress.enabled = options->progress;
-    double t0 = sta_progress_now_s();
+    double t0 = sta_clock_s();
     status = sta_distribute_plan(&job.inputs, job.threads, grid_log2, job.chunk_capacity,
                                  &job.progress, options->cancel, &job.plan, err);
     if (status != STA_OK) {
         goto out;
     }
-    report->seconds_count = sta_progress_now_s() - t0;
+    report->seconds_count = sta_clock_s() - t0;
 
     // The output writer: geometry from the plan, layout from the inputs.
     uint32_t extra_count = 0;
@@ -570,7 +571,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    t0 = sta_progress_now_s();
+    t0 = sta_clock_s();
     sta_progress_begin(&job.progress, "distributing", job.inputs.point_count, options->progress);
     status = sta_distribute_write(&job.inputs, &job.plan, job.chunk_fd, job.chunk_path,
                                   buffer_bytes, &job.progress, options->cancel, err);
@@ -584,11 +585,11 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    report->seconds_distribute = sta_progress_now_s() - t0;
+    report->seconds_distribute = sta_clock_s() - t0;
     report->temp_bytes = temp_records * job.inputs.layout.size;
 
     // 4. index chunks in parallel
-    t0 = sta_progress_now_s();
+    t0 = sta_clock_s();
     sta_progress_begin(&job.progress, "indexing", job.inputs.point_count, options->progress);
     if (job.plan.chunk_count > 0) {
         status = run_index_phase(&job, err);
@@ -597,11 +598,11 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    report->seconds_index = sta_progress_now_s() - t0;
+    report->seconds_index = sta_clock_s() - t0;
     remove_temp(&job.chunk_path, &job.chunk_fd); // free the disk before the merge
 
     // 5. merge the top of the tree, then write table and header
-    t0 = sta_progress_now_s();
+    t0 = sta_clock_s();
     if (job.spilled_count == 0) {
         const sta_pending_node empty_root = { { 0, 0, 0, 0 }, NULL, 0, 0, 0 };
         status = finish_node(&job, &empty_root, err);
@@ -611,13 +612,13 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    report->seconds_merge = sta_progress_now_s() - t0;
-    t0 = sta_progress_now_s();
+    report->seconds_merge = sta_clock_s() - t0;
+    t0 = sta_clock_s();
     status = sta_node_writer_finish(&job.node_writer, &report->node_count, &report->max_level, err);
     if (status != STA_OK) {
         goto out;
     }
-    report->seconds_finish = sta_progress_now_s() - t0;
+    report->seconds_finish = sta_clock_s() - t0;
     report->point_count = job.node_writer.point_count;
     report->raw_bytes = job.node_writer.raw_bytes;
     report->stored_bytes = job.node_writer.stored_bytes;
@@ -645,6 +646,6 @@ out:
     sta_free(extra_dims);
     sta_free(tmp_dir);
     pthread_mutex_destroy(&job.spill_lock);
-    report->seconds_total = sta_progress_now_s() - t_start;
+    report->seconds_total = sta_clock_s() - t_start;
     return status;
 }

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT
- * Tests for src/core: errors, allocation hook, byte helpers, file maps. */
+ * Tests for src/core: errors, allocation hook, clocks, byte helpers, file maps. */
 #include "test_support.h"
 
 #include <math.h>
@@ -9,6 +9,7 @@
 
 #include "core/alloc.h"
 #include "core/bytes.h"
+#include "core/clock.h"
 #include "core/file_map.h"
 #include "core/json_out.h"
 #include "core/status.h"
@@ -55,6 +56,39 @@ static void alloc_array_rejects_overflow(void **state)
     assert_non_null(p);
     assert_null(sta_realloc_array(p, SIZE_MAX, 16));
     sta_free(p); // still valid after the failed resize
+}
+
+static void clock_is_monotonic_and_non_negative(void **state)
+{
+    (void)state;
+    double s0 = sta_clock_s();
+    double ms0 = sta_clock_ms();
+    double cpu0 = sta_clock_thread_cpu_ms();
+    assert_true(s0 >= 0.0);
+    assert_true(ms0 >= 0.0);
+    assert_true(cpu0 >= 0.0);
+    // Burn a little CPU so the thread clock has something to count.
+    volatile double sink = 0.0;
+    double s = s0, ms = ms0;
+    for (int i = 0; i < 200000; i++) {
+        sink = sink + (double)i * 0.5;
+        if (i % 1000 == 0) {
+            double s1 = sta_clock_s(), ms1 = sta_clock_ms();
+            assert_true(s1 >= s);
+            assert_true(ms1 >= ms);
+            s = s1;
+            ms = ms1;
+        }
+    }
+    (void)sink;
+    double s_end = sta_clock_s();
+    double ms_end = sta_clock_ms();
+    double cpu_end = sta_clock_thread_cpu_ms();
+    assert_true(s_end >= s);
+    assert_true(cpu_end >= cpu0);
+    // Seconds and milliseconds read the same clock.
+    assert_true(ms_end >= s0 * 1e3);
+    assert_true(ms_end <= sta_clock_s() * 1e3 + 1e-3);
 }
 
 static void bytes_round_trip_little_endian(void **state)
@@ -151,6 +185,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(fail_formats_message_and_returns_code),
     cmocka_unit_test(alloc_hook_fails_the_nth_allocation),
     cmocka_unit_test(alloc_array_rejects_overflow),
+    cmocka_unit_test(clock_is_monotonic_and_non_negative),
     cmocka_unit_test(bytes_round_trip_little_endian),
     cmocka_unit_test(file_map_reads_file_and_names_missing_one),
 };
