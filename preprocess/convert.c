@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
 #include "core/clock.h"
 #include "core/file_io.h"
 #include "core/log.h"
@@ -137,15 +138,9 @@ static sta_status spill(convert_job *job, const sta_pending_node *node, sta_erro
     uint64_t offset = job->spill_end;
     job->spill_end += bytes;
     sta_status status = STA_OK;
-    if (job->spilled_count == job->spilled_capacity) {
-        size_t grown = job->spilled_capacity ? 2 * job->spilled_capacity : 256;
-        spilled_node *list = sta_realloc_array(job->spilled, grown, sizeof(*list));
-        if (!list) {
-            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the merge list");
-        } else {
-            job->spilled = list;
-            job->spilled_capacity = grown;
-        }
+    if (sta_array_reserve((void **)&job->spilled, &job->spilled_capacity, job->spilled_count + 1,
+                          sizeof(*job->spilled), 256, NULL) != STA_OK) {
+        status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the merge list");
     }
     if (status == STA_OK) {
         spilled_node *s = &job->spilled[job->spilled_count++];

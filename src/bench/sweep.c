@@ -15,6 +15,7 @@
 #include "bench/bench_truth.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
+#include "core/array.h"
 #include "core/clock.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
@@ -133,18 +134,9 @@ void sta_bench_results_release(sta_bench_results *r)
 
 static sta_status push_row(sta_bench_results *r, const sta_bench_row *row, sta_error *err)
 {
-    if (r->count == r->capacity) {
-        size_t capacity = r->capacity ? 2 * r->capacity : 16;
-        sta_bench_row *rows = sta_alloc_array(capacity, sizeof(*rows));
-        if (!rows) {
-            return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu result rows", capacity);
-        }
-        if (r->count) {
-            memcpy(rows, r->rows, r->count * sizeof(*rows));
-        }
-        sta_free(r->rows);
-        r->rows = rows;
-        r->capacity = capacity;
+    if (sta_array_reserve((void **)&r->rows, &r->capacity, r->count + 1, sizeof(*r->rows), 16,
+                          NULL) != STA_OK) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu result rows", r->count + 1);
     }
     r->rows[r->count++] = *row;
     return STA_OK;
