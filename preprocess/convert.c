@@ -21,6 +21,8 @@
 #include <unistd.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
+#include "core/clock.h"
 #include "core/file_io.h"
 #include "core/log.h"
 #include "distribute.h"
@@ -136,15 +138,9 @@ static sta_status spill(convert_job *job, const sta_pending_node *node, sta_erro
     uint64_t offset = job->spill_end;
     job->spill_end += bytes;
     sta_status status = STA_OK;
-    if (job->spilled_count == job->spilled_capacity) {
-        size_t grown = job->spilled_capacity ? 2 * job->spilled_capacity : 256;
-        spilled_node *list = sta_realloc_array(job->spilled, grown, sizeof(*list));
-        if (!list) {
-            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the merge list");
-        } else {
-            job->spilled = list;
-            job->spilled_capacity = grown;
-        }
+    if (sta_array_reserve((void **)&job->spilled, &job->spilled_capacity, job->spilled_count + 1,
+                          sizeof(*job->spilled), 256, NULL) != STA_OK) {
+        status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the merge list");
     }
     if (status == STA_OK) {
         spilled_node *s = &job->spilled[job->spilled_count++];
@@ -474,7 +470,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         report = &local_report;
     }
     memset(report, 0, sizeof(*report));
-    double t_start = sta_progress_now_s();
+    double t_start = sta_clock_s();
     sta_convert_options resolved = *options;
     sta_convert_options_defaults(&resolved);
     options = &resolved;
@@ -534,13 +530,13 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
 
     // 2. count and plan
     job.progress.enabled = options->progress;
-    double t0 = sta_progress_now_s();
+    double t0 = sta_clock_s();
     status = sta_distribute_plan(&job.inputs, job.threads, grid_log2, job.chunk_capacity,
                                  &job.progress, options->cancel, &job.plan, err);
     if (status != STA_OK) {
         goto out;
     }
-    report->seconds_count = sta_progress_now_s() - t0;
+    report->seconds_count = sta_clock_s() - t0;
 
     // The output writer: geometry from the plan, layout from the inputs.
     uint32_t extra_count = 0;
@@ -582,7 +578,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    t0 = sta_progress_now_s();
+    t0 = sta_clock_s();
     sta_progress_begin(&job.progress, "distributing", job.inputs.point_count, options->progress);
     status = sta_distribute_write(&job.inputs, &job.plan, job.chunk_fd, job.chunk_path,
                                   buffer_bytes, &job.progress, options->cancel, err);
@@ -596,11 +592,11 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    report->seconds_distribute = sta_progress_now_s() - t0;
+    report->seconds_distribute = sta_clock_s() - t0;
     report->temp_bytes = temp_records * job.inputs.layout.size;
 
     // 4. index chunks in parallel
-    t0 = sta_progress_now_s();
+    t0 = sta_clock_s();
     sta_progress_begin(&job.progress, "indexing", job.inputs.point_count, options->progress);
     if (job.plan.chunk_count > 0) {
         status = run_index_phase(&job, err);
@@ -609,11 +605,11 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    report->seconds_index = sta_progress_now_s() - t0;
+    report->seconds_index = sta_clock_s() - t0;
     remove_temp(&job.chunk_path, &job.chunk_fd); // free the disk before the merge
 
     // 5. merge the top of the tree, then write table and header
-    t0 = sta_progress_now_s();
+    t0 = sta_clock_s();
     if (job.spilled_count == 0) {
         const sta_pending_node empty_root = { { 0, 0, 0, 0 }, NULL, 0, 0, 0 };
         status = finish_node(&job, &empty_root, err);
@@ -623,13 +619,13 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    report->seconds_merge = sta_progress_now_s() - t0;
-    t0 = sta_progress_now_s();
+    report->seconds_merge = sta_clock_s() - t0;
+    t0 = sta_clock_s();
     status = sta_node_writer_finish(&job.node_writer, &report->node_count, &report->max_level, err);
     if (status != STA_OK) {
         goto out;
     }
-    report->seconds_finish = sta_progress_now_s() - t0;
+    report->seconds_finish = sta_clock_s() - t0;
     report->point_count = job.node_writer.point_count;
     report->raw_bytes = job.node_writer.raw_bytes;
     report->stored_bytes = job.node_writer.stored_bytes;
@@ -657,6 +653,6 @@ out:
     sta_free(extra_dims);
     sta_free(tmp_dir);
     pthread_mutex_destroy(&job.spill_lock);
-    report->seconds_total = sta_progress_now_s() - t_start;
+    report->seconds_total = sta_clock_s() - t_start;
     return status;
 }

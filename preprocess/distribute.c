@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
 #include "core/file_io.h"
 
 enum {
@@ -321,14 +322,9 @@ static sta_status count_pass(range_task *tasks, int threads, const sta_octree_sp
 static sta_status add_chunk(sta_chunk_plan *plan, size_t *capacity, const sta_node_key *key,
                             uint64_t count, sta_error *err)
 {
-    if (plan->chunk_count == *capacity) {
-        size_t grown = *capacity ? 2 * *capacity : 64;
-        sta_chunk *chunks = sta_realloc_array(plan->chunks, grown, sizeof(*chunks));
-        if (!chunks) {
-            return sta_fail(err, STA_ERR_NOMEM, "out of memory planning chunks");
-        }
-        plan->chunks = chunks;
-        *capacity = grown;
+    if (sta_array_reserve((void **)&plan->chunks, capacity, plan->chunk_count + 1,
+                          sizeof(*plan->chunks), 64, NULL) != STA_OK) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory planning chunks");
     }
     sta_chunk *c = &plan->chunks[plan->chunk_count++];
     c->key = *key;

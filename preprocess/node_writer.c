@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
 #include "format/strata.h"
 
 static sta_strata_key to_strata_key(const sta_node_key *k)
@@ -22,15 +23,9 @@ static sta_status append_node(sta_node_writer *nw, const sta_strata_node *node, 
 {
     sta_status status = STA_OK;
     pthread_mutex_lock(&nw->lock);
-    if (nw->node_count == nw->node_capacity) {
-        size_t grown = nw->node_capacity ? 2 * nw->node_capacity : 1024;
-        sta_strata_node *nodes = sta_realloc_array(nw->nodes, grown, sizeof(*nodes));
-        if (!nodes) {
-            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the node table");
-        } else {
-            nw->nodes = nodes;
-            nw->node_capacity = grown;
-        }
+    if (sta_array_reserve((void **)&nw->nodes, &nw->node_capacity, nw->node_count + 1,
+                          sizeof(*nw->nodes), 1024, NULL) != STA_OK) {
+        status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the node table");
     }
     if (status == STA_OK) {
         nw->nodes[nw->node_count++] = *node;
@@ -48,15 +43,8 @@ static sta_status emit(void *context, int worker_index, const sta_node_key *key,
     sta_node_writer *nw = context;
     sta_node_worker *w = &nw->workers[worker_index];
     size_t bytes = count * nw->column_record_size;
-    if (bytes > w->capacity) {
-        size_t grown = bytes > 2 * w->capacity ? bytes : 2 * w->capacity;
-        uint8_t *columns = sta_malloc(grown);
-        if (!columns) {
-            return sta_fail(err, STA_ERR_NOMEM, "out of memory for a node of %zu points", count);
-        }
-        sta_free(w->columns);
-        w->columns = columns;
-        w->capacity = grown;
+    if (sta_array_reserve((void **)&w->columns, &w->capacity, bytes, 1, 0, NULL) != STA_OK) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for a node of %zu points", count);
     }
     sta_strata_node node;
     memset(&node, 0, sizeof(node));

@@ -3,21 +3,15 @@
 #include "progress.h"
 
 #include <stdio.h>
-#include <time.h>
 
-double sta_progress_now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
+#include "core/clock.h"
 
 void sta_progress_begin(sta_progress *progress, const char *phase, uint64_t total, bool enabled)
 {
     progress->phase = phase;
     progress->total = total;
     atomic_store(&progress->done, 0);
-    progress->start_s = sta_progress_now_s();
+    progress->start_s = sta_clock_s();
     progress->last_print_s = progress->start_s;
     progress->enabled = enabled;
 }
@@ -32,7 +26,7 @@ void sta_progress_draw(sta_progress *progress)
     if (!progress->enabled) {
         return;
     }
-    double now = sta_progress_now_s();
+    double now = sta_clock_s();
     if (now - progress->last_print_s < 0.25) {
         return;
     }
@@ -53,5 +47,5 @@ double sta_progress_end(sta_progress *progress)
         fprintf(stderr, "\r%60s\r", "");
         fflush(stderr);
     }
-    return sta_progress_now_s() - progress->start_s;
+    return sta_clock_s() - progress->start_s;
 }

@@ -18,9 +18,6 @@ typedef struct sta_progress {
     bool enabled;          /* draw at all */
 } sta_progress;
 
-/* Monotonic clock in seconds. */
-double sta_progress_now_s(void);
-
 /* Starts a phase (prints nothing yet). */
 void sta_progress_begin(sta_progress *progress, const char *phase, uint64_t total, bool enabled);
 

@@ -1,14 +1,18 @@
 /* SPDX-License-Identifier: MIT
- * Tests for src/core: errors, allocation hook, byte helpers, file maps. */
+ * Tests for src/core: errors, allocation hook, growable arrays, clocks, byte helpers, file
+ * maps. */
 #include "test_support.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
 #include "core/bytes.h"
+#include "core/clock.h"
 #include "core/file_map.h"
 #include "core/json_out.h"
 #include "core/status.h"
@@ -55,6 +59,184 @@ static void alloc_array_rejects_overflow(void **state)
     assert_non_null(p);
     assert_null(sta_realloc_array(p, SIZE_MAX, 16));
     sta_free(p); // still valid after the failed resize
+}
+
+static void array_reserve_grows_from_empty(void **state)
+{
+    (void)state;
+    int *items = NULL;
+    size_t capacity = 0;
+    // Nothing needed: nothing allocated.
+    assert_int_equal(sta_array_reserve((void **)&items, &capacity, 0, sizeof(*items), 16, NULL),
+                     STA_OK);
+    assert_null(items);
+    assert_int_equal(capacity, 0);
+    // The first growth takes first_count, or `needed` when that is larger.
+    assert_int_equal(sta_array_reserve((void **)&items, &capacity, 1, sizeof(*items), 16, NULL),
+                     STA_OK);
+    assert_non_null(items);
+    assert_int_equal(capacity, 16);
+    for (int i = 0; i < 16; i++) {
+        items[i] = i;
+    }
+    sta_free(items);
+    items = NULL;
+    capacity = 0;
+    assert_int_equal(sta_array_reserve((void **)&items, &capacity, 40, sizeof(*items), 16, NULL),
+                     STA_OK);
+    assert_int_equal(capacity, 40);
+    sta_free(items);
+    items = NULL;
+    capacity = 0;
+    assert_int_equal(sta_array_reserve((void **)&items, &capacity, 3, sizeof(*items), 0, NULL),
+                     STA_OK);
+    assert_int_equal(capacity, 3);
+    sta_free(items);
+}
+
+static void array_reserve_exact_fit_allocates_nothing(void **state)
+{
+    (void)state;
+    size_t capacity = 16;
+    int *items = sta_alloc_array(capacity, sizeof(*items));
+    assert_non_null(items);
+    int *before = items;
+    sta_alloc_fail_after(0); // any allocation would now fail
+    sta_status s = sta_array_reserve((void **)&items, &capacity, 16, sizeof(*items), 4, NULL);
+    sta_alloc_fail_after(-1);
+    assert_int_equal(s, STA_OK);
+    assert_ptr_equal(items, before);
+    assert_int_equal(capacity, 16);
+    sta_free(items);
+}
+
+static void array_reserve_doubles_and_keeps_elements(void **state)
+{
+    (void)state;
+    int *items = NULL;
+    size_t capacity = 0, count = 0;
+    size_t growths = 0;
+    for (int i = 0; i < 1000; i++) {
+        size_t old = capacity;
+        assert_int_equal(
+            sta_array_reserve((void **)&items, &capacity, count + 1, sizeof(*items), 4, NULL),
+            STA_OK);
+        if (capacity != old) {
+            assert_int_equal(capacity, old ? 2 * old : 4);
+            growths++;
+        }
+        items[count++] = i;
+    }
+    assert_int_equal(capacity, 1024);
+    assert_int_equal(growths, 9); // 4, 8, ..., 1024
+    for (int i = 0; i < 1000; i++) {
+        assert_int_equal(items[i], i);
+    }
+    // A jump past twice the capacity grows to exactly what is needed.
+    assert_int_equal(sta_array_reserve((void **)&items, &capacity, 5000, sizeof(*items), 4, NULL),
+                     STA_OK);
+    assert_int_equal(capacity, 5000);
+    assert_int_equal(items[999], 999);
+    sta_free(items);
+}
+
+static void array_reserve_refuses_overflow(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    size_t capacity = 4;
+    uint64_t *items = sta_alloc_array(capacity, sizeof(*items));
+    assert_non_null(items);
+    uint64_t *before = items;
+    // needed * item_size overflows size_t: refused before any allocation.
+    sta_status s = sta_array_reserve((void **)&items, &capacity, SIZE_MAX / sizeof(*items) + 1,
+                                     sizeof(*items), 4, &err);
+    assert_int_equal(s, STA_ERR_NOMEM);
+    assert_int_equal(err.code, STA_ERR_NOMEM);
+    assert_non_null(strstr(err.message, "out of memory"));
+    assert_ptr_equal(items, before);
+    assert_int_equal(capacity, 4);
+    assert_int_equal(sta_array_reserve((void **)&items, &capacity, SIZE_MAX, SIZE_MAX, 4, NULL),
+                     STA_ERR_NOMEM);
+    assert_ptr_equal(items, before);
+    // When doubling would overflow, the growth falls back to `needed` (the failed attempt's
+    // message names the count it asked for; the hook fails it without a huge allocation).
+    size_t huge = SIZE_MAX / 8 / 2 + 1; // twice this, in 8-byte elements, overflows
+    size_t fake_capacity = huge;
+    char expected[64];
+    snprintf(expected, sizeof(expected), "for %zu elements of 8 bytes", huge + 1);
+    sta_alloc_fail_after(0);
+    s = sta_array_reserve((void **)&items, &fake_capacity, huge + 1, 8, 4, &err);
+    sta_alloc_fail_after(-1);
+    assert_int_equal(s, STA_ERR_NOMEM);
+    assert_non_null(strstr(err.message, expected));
+    assert_int_equal(fake_capacity, huge);
+    assert_ptr_equal(items, before);
+    sta_free(items);
+}
+
+static void array_reserve_failure_keeps_old_array(void **state)
+{
+    (void)state;
+    size_t capacity = 0;
+    int *items = NULL;
+    assert_int_equal(sta_array_reserve((void **)&items, &capacity, 16, sizeof(*items), 16, NULL),
+                     STA_OK);
+    for (int i = 0; i < 16; i++) {
+        items[i] = 100 + i;
+    }
+    int *before = items;
+    sta_error err = { 0 };
+    sta_alloc_fail_after(0);
+    sta_status s = sta_array_reserve((void **)&items, &capacity, 17, sizeof(*items), 16, &err);
+    sta_alloc_fail_after(-1);
+    assert_int_equal(s, STA_ERR_NOMEM);
+    assert_int_equal(err.code, STA_ERR_NOMEM);
+    assert_non_null(strstr(err.message, "32 elements"));
+    assert_ptr_equal(items, before);
+    assert_int_equal(capacity, 16);
+    for (int i = 0; i < 16; i++) {
+        assert_int_equal(items[i], 100 + i);
+    }
+    // With memory back, the same call succeeds and keeps the elements.
+    assert_int_equal(sta_array_reserve((void **)&items, &capacity, 17, sizeof(*items), 16, NULL),
+                     STA_OK);
+    assert_int_equal(capacity, 32);
+    assert_int_equal(items[15], 115);
+    sta_free(items);
+}
+
+static void clock_is_monotonic_and_non_negative(void **state)
+{
+    (void)state;
+    double s0 = sta_clock_s();
+    double ms0 = sta_clock_ms();
+    double cpu0 = sta_clock_thread_cpu_ms();
+    assert_true(s0 >= 0.0);
+    assert_true(ms0 >= 0.0);
+    assert_true(cpu0 >= 0.0);
+    // Burn a little CPU so the thread clock has something to count.
+    volatile double sink = 0.0;
+    double s = s0, ms = ms0;
+    for (int i = 0; i < 200000; i++) {
+        sink = sink + (double)i * 0.5;
+        if (i % 1000 == 0) {
+            double s1 = sta_clock_s(), ms1 = sta_clock_ms();
+            assert_true(s1 >= s);
+            assert_true(ms1 >= ms);
+            s = s1;
+            ms = ms1;
+        }
+    }
+    (void)sink;
+    double s_end = sta_clock_s();
+    double ms_end = sta_clock_ms();
+    double cpu_end = sta_clock_thread_cpu_ms();
+    assert_true(s_end >= s);
+    assert_true(cpu_end >= cpu0);
+    // Seconds and milliseconds read the same clock.
+    assert_true(ms_end >= s0 * 1e3);
+    assert_true(ms_end <= sta_clock_s() * 1e3 + 1e-3);
 }
 
 static void bytes_round_trip_little_endian(void **state)
@@ -151,6 +333,12 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(fail_formats_message_and_returns_code),
     cmocka_unit_test(alloc_hook_fails_the_nth_allocation),
     cmocka_unit_test(alloc_array_rejects_overflow),
+    cmocka_unit_test(array_reserve_grows_from_empty),
+    cmocka_unit_test(array_reserve_exact_fit_allocates_nothing),
+    cmocka_unit_test(array_reserve_doubles_and_keeps_elements),
+    cmocka_unit_test(array_reserve_refuses_overflow),
+    cmocka_unit_test(array_reserve_failure_keeps_old_array),
+    cmocka_unit_test(clock_is_monotonic_and_non_negative),
     cmocka_unit_test(bytes_round_trip_little_endian),
     cmocka_unit_test(file_map_reads_file_and_names_missing_one),
 };

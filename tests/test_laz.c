@@ -18,11 +18,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "convert.h"
 #include "core/alloc.h"
 #include "core/bytes.h"
+#include "core/clock.h"
 #include "core/file_map.h"
 #include "core/log.h"
 #include "io/cloud.h"
@@ -482,13 +482,6 @@ static void unsupported_and_malformed_vlrs_are_named(void **state)
     free(data);
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 // ---- the point14 decoder driven directly ----
 
 // Decodes all points of `data` (a LAZ file's bytes, possibly damaged) with the decoder
@@ -611,7 +604,7 @@ static void decoding_speed(void **state)
         // Small files (the point14 one has 1000 points) are decoded many times per run.
         int repeat = count < 100000 ? 200 : 1;
         for (int run = 0; run < 3; run++) {
-            double t0 = now_s();
+            double t0 = sta_clock_s();
             for (int r = 0; r < repeat; r++) {
                 assert_int_equal(sta_laz_seek(file.reader->laz, 0, &err), STA_OK);
                 for (uint64_t done = 0; done < count;) {
@@ -620,7 +613,7 @@ static void decoding_speed(void **state)
                     done += step;
                 }
             }
-            double dt = (now_s() - t0) / repeat;
+            double dt = (sta_clock_s() - t0) / repeat;
             best = dt < best ? dt : best;
         }
         printf("LAZ decode speed: %s: %llu points in %.3f s = %.2f M points/s on one core "
@@ -647,12 +640,12 @@ static void decoding_speed(void **state)
     assert_non_null(buffer);
     double best = 1e30;
     for (int run = 0; run < 3; run++) {
-        double t0 = now_s();
+        double t0 = sta_clock_s();
         for (int r = 0; r < 200; r++) {
             assert_int_equal(sta_laz_seek(laz, 0, &err), STA_OK);
             assert_int_equal(sta_laz_decode(laz, buffer, (size_t)las.count, &err), STA_OK);
         }
-        double dt = (now_s() - t0) / 200;
+        double dt = (sta_clock_s() - t0) / 200;
         best = dt < best ? dt : best;
     }
     assert_memory_equal(buffer, las.records, las.count * las.length);

@@ -10,7 +10,7 @@
 #include "stream/gpu_points.h"
 
 #include "core/alloc.h"
-#include <time.h>
+#include "core/clock.h"
 
 bool sta_info_is_strata(const char *path)
 {
@@ -202,13 +202,6 @@ sta_status sta_info_strata(FILE *out, const char *path, bool json, bool verify, 
     return STA_OK;
 }
 
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 sta_status sta_info_strata_decode_speed(FILE *out, const char *path, sta_error *err)
 {
     sta_strata_reader *reader = NULL;
@@ -223,7 +216,7 @@ sta_status sta_info_strata_decode_speed(FILE *out, const char *path, sta_error *
     uint64_t raw_bytes = 0, stored_bytes = 0;
     double load_s = 0.0, convert_s = 0.0;
     for (int pass = 0; pass < 2 && status == STA_OK; pass++) {
-        double t0 = seconds_now();
+        double t0 = sta_clock_s();
         for (uint32_t i = 0; i < info->node_count && status == STA_OK; i++) {
             const sta_strata_node *n = sta_strata_reader_node(reader, i);
             if (pass == 0) {
@@ -247,7 +240,7 @@ sta_status sta_info_strata_decode_speed(FILE *out, const char *path, sta_error *
                 sta_gpu_points_encode(&frame, points.points, points.count, 8, gpu);
             }
         }
-        *(pass == 0 ? &load_s : &convert_s) = seconds_now() - t0;
+        *(pass == 0 ? &load_s : &convert_s) = sta_clock_s() - t0;
     }
     if (status == STA_OK) {
         double points = (double)info->point_count;

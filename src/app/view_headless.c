@@ -12,18 +12,12 @@
 
 #include "app/view_setup.h"
 #include "core/alloc.h"
+#include "core/clock.h"
 #include "render/camera_path.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 #include "render/image_io.h"
 #include "render/scene.h"
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 static void print_stats(int frame, const sta_frame_stats *s, double ms)
 {
@@ -46,25 +40,25 @@ static sta_status render_until_loaded(const sta_view_args *args, sta_scene *scen
                                       const sta_camera *camera, sta_render_target *target,
                                       sta_frame_stats *stats, sta_error *err)
 {
-    double start = now_s();
+    double start = sta_clock_s();
     for (int frame = 1;; frame++) {
-        double t0 = now_s();
+        double t0 = sta_clock_s();
         sta_status status = sta_scene_render(scene, camera, target, stats, err);
         if (status != STA_OK) {
             return status;
         }
         sta_gl_finish();
         if (args->stats) {
-            print_stats(frame, stats, (now_s() - t0) * 1e3);
+            print_stats(frame, stats, (sta_clock_s() - t0) * 1e3);
         }
         if (args->max_frames ? frame >= args->max_frames : stats->complete) {
             if (args->stats) {
                 printf("view loaded: %d frames, %.3f s from the first frame\n", frame,
-                       now_s() - start);
+                       sta_clock_s() - start);
             }
             return STA_OK;
         }
-        if (now_s() - start > args->timeout_s) {
+        if (sta_clock_s() - start > args->timeout_s) {
             return sta_fail(err, STA_ERR_IO, "%s: the view did not finish loading in %.0f s",
                             args->scene, args->timeout_s);
         }
@@ -95,13 +89,13 @@ static sta_status time_repeats(const sta_view_args *args, sta_scene *scene,
     sta_scene_set_timing(scene, true);
     sta_frame_stats stats;
     for (int i = 0; i < n; i++) {
-        double t0 = now_s();
+        double t0 = sta_clock_s();
         sta_status status = sta_scene_render(scene, camera, target, &stats, err);
         if (status != STA_OK) {
             return status;
         }
         sta_gl_finish();
-        frame_ms[i] = (now_s() - t0) * 1e3;
+        frame_ms[i] = (sta_clock_s() - t0) * 1e3;
         geometry_ms[i] = stats.geometry_ms;
         for (int p = 0; p < STA_PASS_COUNT; p++) {
             pass_ms[p][i] = stats.timing.ms[p];

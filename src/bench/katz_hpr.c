@@ -18,11 +18,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <libqhull_r/libqhull_r.h>
 
 #include "core/alloc.h"
+#include "core/clock.h"
 
 // Flipped points whose spread out of a plane (or off a line) through the viewpoint is
 // below this fraction of their size are treated as flat; see docs/KATZ.md.
@@ -48,13 +48,6 @@ typedef struct qhull_log {
     char *text; // owned by libc (open_memstream), freed with free()
     size_t size;
 } qhull_log;
-
-static double clock_ms(clockid_t clock)
-{
-    struct timespec ts;
-    clock_gettime(clock, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
 
 static int compare_points(const void *a, const void *b)
 {
@@ -122,8 +115,8 @@ static int run_qhull(int dim, int n, coordT *coords, const char *options, qhull_
     }
     char command[32];
     snprintf(command, sizeof(command), "%s", options);
-    double start = clock_ms(CLOCK_MONOTONIC);
-    double start_cpu = clock_ms(CLOCK_THREAD_CPUTIME_ID);
+    double start = sta_clock_ms();
+    double start_cpu = sta_clock_thread_cpu_ms();
     qh_zero(qh, log->file);
     int exit_code = qh_new_qhull(qh, dim, n, coords, False, command, NULL, log->file);
     if (exit_code == qh_ERRnone) {
@@ -139,8 +132,8 @@ static int run_qhull(int dim, int n, coordT *coords, const char *options, qhull_
     int cur_long = 0;
     int total_long = 0;
     qh_memfreeshort(qh, &cur_long, &total_long);
-    stats->hull_ms += clock_ms(CLOCK_MONOTONIC) - start;
-    stats->hull_cpu_ms += clock_ms(CLOCK_THREAD_CPUTIME_ID) - start_cpu;
+    stats->hull_ms += sta_clock_ms() - start;
+    stats->hull_cpu_ms += sta_clock_thread_cpu_ms() - start_cpu;
     sta_free(qh);
     return exit_code;
 }
@@ -538,7 +531,7 @@ sta_status sta_katz_visible(const double (*points)[3], size_t count, const doubl
                             const sta_katz_params *params, uint8_t *out_visible,
                             sta_katz_stats *out_stats, sta_error *err)
 {
-    double start = clock_ms(CLOCK_MONOTONIC);
+    double start = sta_clock_ms();
     sta_katz_stats stats = { 0 };
     sta_katz_params resolved;
     if (!viewpoint || (count > 0 && (!points || !out_visible))) {
@@ -556,7 +549,7 @@ sta_status sta_katz_visible(const double (*points)[3], size_t count, const doubl
     if (count > 0) {
         status = compute(points, count, viewpoint, &resolved, out_visible, &stats, err);
     }
-    stats.total_ms = clock_ms(CLOCK_MONOTONIC) - start;
+    stats.total_ms = sta_clock_ms() - start;
     if (status == STA_OK && out_stats) {
         *out_stats = stats;
     }

@@ -15,6 +15,8 @@
 #include "bench/bench_truth.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
+#include "core/array.h"
+#include "core/clock.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 #include "render/scene.h"
@@ -132,28 +134,12 @@ void sta_bench_results_release(sta_bench_results *r)
 
 static sta_status push_row(sta_bench_results *r, const sta_bench_row *row, sta_error *err)
 {
-    if (r->count == r->capacity) {
-        size_t capacity = r->capacity ? 2 * r->capacity : 16;
-        sta_bench_row *rows = sta_alloc_array(capacity, sizeof(*rows));
-        if (!rows) {
-            return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu result rows", capacity);
-        }
-        if (r->count) {
-            memcpy(rows, r->rows, r->count * sizeof(*rows));
-        }
-        sta_free(r->rows);
-        r->rows = rows;
-        r->capacity = capacity;
+    if (sta_array_reserve((void **)&r->rows, &r->capacity, r->count + 1, sizeof(*r->rows), 16,
+                          NULL) != STA_OK) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu result rows", r->count + 1);
     }
     r->rows[r->count++] = *row;
     return STA_OK;
-}
-
-static double now_ms(clockid_t clock)
-{
-    struct timespec ts;
-    clock_gettime(clock, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
 static const char *base_name(const char *path)
@@ -220,7 +206,7 @@ static sta_status load_view(scene_run *run, sta_scene *scene, const sta_camera *
     sta_pipeline_options raw = { .mode = STA_PIPELINE_RAW };
     sta_scene_set_pipeline(scene, &raw);
     sta_scene_set_timing(scene, false);
-    double start = now_ms(CLOCK_MONOTONIC);
+    double start = sta_clock_ms();
     for (;;) {
         sta_frame_stats stats;
         sta_status s = sta_scene_render(scene, camera, &run->target, &stats, err);
@@ -231,14 +217,14 @@ static sta_status load_view(scene_run *run, sta_scene *scene, const sta_camera *
         if (stats.complete) {
             break;
         }
-        if (now_ms(CLOCK_MONOTONIC) - start > run->o->timeout_s * 1e3) {
+        if (sta_clock_ms() - start > run->o->timeout_s * 1e3) {
             return sta_fail(err, STA_ERR_IO, "%s: a view did not finish loading in %.0f s",
                             run->path, run->o->timeout_s);
         }
         struct timespec nap = { 0, 2000000 }; // let the loader work
         nanosleep(&nap, NULL);
     }
-    *out_load_s = (now_ms(CLOCK_MONOTONIC) - start) * 1e-3;
+    *out_load_s = (sta_clock_ms() - start) * 1e-3;
     return STA_OK;
 }
 
@@ -294,12 +280,12 @@ static sta_status timed_frames(scene_run *run, sta_scene *scene, const sta_camer
     sta_frame_stats stats = { 0 };
     for (int r = 0; r < repeat && s == STA_OK; r++) {
         sta_gl_finish();
-        double wall0 = now_ms(CLOCK_MONOTONIC), cpu0 = now_ms(CLOCK_THREAD_CPUTIME_ID);
+        double wall0 = sta_clock_ms(), cpu0 = sta_clock_thread_cpu_ms();
         s = sta_scene_render(scene, camera, &run->target, &stats, err);
         sta_gl_finish();
         double *t = samples + (size_t)r * T_COUNT;
-        t[T_FRAME] = now_ms(CLOCK_MONOTONIC) - wall0;
-        t[T_CPU] = now_ms(CLOCK_THREAD_CPUTIME_ID) - cpu0;
+        t[T_FRAME] = sta_clock_ms() - wall0;
+        t[T_CPU] = sta_clock_thread_cpu_ms() - cpu0;
         t[T_GEOMETRY] = stats.geometry_ms;
         for (int p = 0; p < STA_PASS_COUNT; p++) {
             t[T_PASS0 + p] = stats.timing.ms[p];

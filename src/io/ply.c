@@ -29,6 +29,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
 #include "io/ply_internal.h"
 
 #define MARK_STRIDE 1024 // vertices between two recorded positions (variable records)
@@ -320,14 +321,9 @@ static sta_status skip_leading_elements(ply_reader *r, const char *path, size_t 
 static sta_status push_mark(ply_reader *r, const sta_ply_cursor *c, const char *path,
                             sta_error *err)
 {
-    if (r->mark_count == r->mark_capacity) {
-        size_t capacity = r->mark_capacity ? r->mark_capacity * 2 : 16;
-        ply_mark *grown = sta_realloc_array(r->marks, capacity, sizeof(*grown));
-        if (!grown) {
-            return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for the seek index", path);
-        }
-        r->marks = grown;
-        r->mark_capacity = capacity;
+    if (sta_array_reserve((void **)&r->marks, &r->mark_capacity, r->mark_count + 1,
+                          sizeof(*r->marks), 16, NULL) != STA_OK) {
+        return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for the seek index", path);
     }
     r->marks[r->mark_count].pos = c->pos;
     r->marks[r->mark_count].line = c->line;

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
 #include "core/bytes.h"
 
 #define MAX_HEADER_TOKENS 8
@@ -218,14 +219,9 @@ static sta_status add_element(header_parser *hp, sta_ply_header *h, const token 
                         "integer",
                         hp->path, (unsigned long long)hp->line, text);
     }
-    if (h->element_count == hp->element_capacity) {
-        size_t capacity = hp->element_capacity ? hp->element_capacity * 2 : 4;
-        sta_ply_element *grown = sta_realloc_array(h->elements, capacity, sizeof(*grown));
-        if (!grown) {
-            return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for the PLY header", hp->path);
-        }
-        h->elements = grown;
-        hp->element_capacity = capacity;
+    if (sta_array_reserve((void **)&h->elements, &hp->element_capacity, h->element_count + 1,
+                          sizeof(*h->elements), 4, NULL) != STA_OK) {
+        return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for the PLY header", hp->path);
     }
     sta_ply_element *e = &h->elements[h->element_count];
     memset(e, 0, sizeof(*e));
@@ -275,14 +271,9 @@ static sta_status add_property(header_parser *hp, sta_ply_header *h, const token
         return sta_fail(err, STA_ERR_FORMAT, "%s: header line %llu: property name too long",
                         hp->path, (unsigned long long)hp->line);
     }
-    if (e->property_count == hp->property_capacity) {
-        size_t capacity = hp->property_capacity ? hp->property_capacity * 2 : 8;
-        sta_ply_property *grown = sta_realloc_array(e->properties, capacity, sizeof(*grown));
-        if (!grown) {
-            return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for the PLY header", hp->path);
-        }
-        e->properties = grown;
-        hp->property_capacity = capacity;
+    if (sta_array_reserve((void **)&e->properties, &hp->property_capacity, e->property_count + 1,
+                          sizeof(*e->properties), 8, NULL) != STA_OK) {
+        return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for the PLY header", hp->path);
     }
     e->properties[e->property_count++] = p;
     return STA_OK;

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
 #include "core/file_map.h"
 #include "io/ply.h"
 #include "io/ply_internal.h"
@@ -87,15 +88,10 @@ out_free:
 static sta_status push_triangle(mesh_loader *ml, uint32_t a, uint32_t b, uint32_t c, sta_error *err)
 {
     sta_mesh *m = &ml->mesh;
-    if (m->triangle_count == ml->triangle_capacity) {
-        size_t capacity = ml->triangle_capacity ? ml->triangle_capacity * 2 : 64;
-        uint32_t *grown = sta_realloc_array(m->triangles, capacity, 3 * sizeof(*grown));
-        if (!grown) {
-            return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for %zu triangles", ml->name,
-                            capacity);
-        }
-        m->triangles = grown;
-        ml->triangle_capacity = capacity;
+    if (sta_array_reserve((void **)&m->triangles, &ml->triangle_capacity, m->triangle_count + 1,
+                          3 * sizeof(*m->triangles), 64, NULL) != STA_OK) {
+        return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for %zu triangles", ml->name,
+                        m->triangle_count + 1);
     }
     uint32_t *t = &m->triangles[m->triangle_count * 3];
     t[0] = a;

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
 #include "core/file_map.h"
 #include "core/json_out.h"
 
@@ -20,14 +21,9 @@ sta_status sta_camera_path_add(sta_camera_path *p, const sta_camera *c, double t
         return sta_fail(err, STA_ERR_ARG, "keyframe time %.3f s is not after %.3f s", time_s,
                         p->keys[p->count - 1].time_s);
     }
-    if (p->count == p->capacity) {
-        size_t grown = p->capacity ? 2 * p->capacity : 16;
-        sta_keyframe *keys = sta_realloc_array(p->keys, grown, sizeof(*keys));
-        if (!keys) {
-            return sta_fail(err, STA_ERR_NOMEM, "out of memory for keyframes");
-        }
-        p->keys = keys;
-        p->capacity = grown;
+    if (sta_array_reserve((void **)&p->keys, &p->capacity, p->count + 1, sizeof(*p->keys), 16,
+                          NULL) != STA_OK) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for keyframes");
     }
     sta_keyframe *k = &p->keys[p->count++];
     k->time_s = time_s;

@@ -3,8 +3,8 @@
 #include "render/pipeline.h"
 
 #include <string.h>
-#include <time.h>
 
+#include "core/clock.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 
@@ -150,18 +150,11 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
 // wall clock read. GL timestamp queries would be cheaper on a real GPU but on llvmpipe
 // they record when commands are queued, not when they run; a drained pipeline gives
 // honest numbers on both (and timing is only on for --stats and benchmarks).
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
 static void mark(sta_pipeline *p, sta_pipeline_timing *t, int pass, int end)
 {
     if (t) {
         glFinish();
-        p->marks[2 * pass + end] = now_ms();
+        p->marks[2 * pass + end] = sta_clock_ms();
     }
 }
 

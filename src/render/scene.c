@@ -3,9 +3,9 @@
 #include "render/scene.h"
 
 #include <string.h>
-#include <time.h>
 
 #include "core/alloc.h"
+#include "core/clock.h"
 #include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gpu_cache.h"
@@ -110,13 +110,6 @@ void sta_scene_set_colour_mode(sta_scene *s, int mode)
     s->colour_mode = mode >= 0 && mode < STA_COLOUR_MODE_COUNT ? mode : STA_COLOUR_RGB;
 }
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
 sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_target *target,
                             sta_frame_stats *stats, sta_error *err)
 {
@@ -135,7 +128,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     double geometry_start = 0;
     if (s->timing) {
         glFinish();
-        geometry_start = now_ms();
+        geometry_start = sta_clock_ms();
     }
     const sta_strata_info *info = sta_scene_info(s);
     sta_geometry_colours colours = { s->colour_mode, info->bounds_min[2],
@@ -145,7 +138,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
                            frame.draw_count, target);
     if (s->timing) {
         glFinish();
-        stats->geometry_ms = now_ms() - geometry_start;
+        stats->geometry_ms = sta_clock_ms() - geometry_start;
     }
     stats->s0_m = s->pipeline_options.s0_m > 0 ? s->pipeline_options.s0_m
                                                : (float)sta_streamer_surface_spacing(s->streamer);

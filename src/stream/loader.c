@@ -6,9 +6,9 @@
 #include <pthread.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #include "core/alloc.h"
+#include "core/clock.h"
 #include "stream/gpu_points.h"
 
 enum {
@@ -45,13 +45,6 @@ struct sta_loader {
     uint64_t points_done;
     double busy_s;
 };
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 // Next wanted node that is idle, or UINT32_MAX. Called under the lock.
 static uint32_t next_wanted(sta_loader *l)
@@ -100,13 +93,13 @@ static void *worker_main(void *argument)
         l->loading++;
         pthread_mutex_unlock(&l->lock);
 
-        double t0 = now_s();
+        double t0 = sta_clock_s();
         result_item *item = sta_malloc(sizeof(*item));
         if (item) {
             load_node(l, worker, index, &item->node);
             item->next = NULL;
         }
-        double busy = now_s() - t0;
+        double busy = sta_clock_s() - t0;
 
         pthread_mutex_lock(&l->lock);
         l->loading--;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
 
 // Box outside a plane when its most positive corner is below it.
 static int box_outside(const double plane[4], const double min[3], const double max[3])
@@ -41,23 +42,15 @@ double sta_select_node_priority(const sta_lod_node *node, const sta_camera *came
 static sta_status reserve(uint32_t **nodes, double **keys, size_t *capacity, size_t needed,
                           sta_error *err)
 {
-    if (needed <= *capacity) {
-        return STA_OK;
-    }
-    size_t grown = *capacity ? *capacity * 2 : 256;
-    grown = grown < needed ? needed : grown;
-    uint32_t *n = sta_realloc_array(*nodes, grown, sizeof(*n));
-    if (n) {
-        *nodes = n;
-    }
-    double *k = sta_realloc_array(*keys, grown, sizeof(*k));
-    if (k) {
-        *keys = k;
-    }
-    if (!n || !k) {
+    // Both arrays share one capacity, which grows only when both have grown.
+    size_t node_capacity = *capacity, key_capacity = *capacity;
+    if (sta_array_reserve((void **)nodes, &node_capacity, needed, sizeof(**nodes), 256, NULL) !=
+            STA_OK ||
+        sta_array_reserve((void **)keys, &key_capacity, needed, sizeof(**keys), 256, NULL) !=
+            STA_OK) {
         return sta_fail(err, STA_ERR_NOMEM, "out of memory selecting nodes");
     }
-    *capacity = grown;
+    *capacity = node_capacity;
     return STA_OK;
 }
 

@@ -11,9 +11,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "core/alloc.h"
+#include "core/clock.h"
 #include "core/log.h"
 #include "synth/synth.h"
 
@@ -213,13 +213,6 @@ static int parse(int argc, char **argv, cli *c)
     return -1;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 typedef struct progress_state {
     double start_s;
     double last_s;
@@ -229,7 +222,7 @@ typedef struct progress_state {
 static bool show_progress(void *user, uint64_t done, uint64_t total)
 {
     progress_state *ps = user;
-    double t = now_s();
+    double t = sta_clock_s();
     if (done < total && t - ps->last_s < 0.25) {
         return true;
     }
@@ -252,7 +245,7 @@ int main(int argc, char **argv)
     if (status >= 0) {
         return status;
     }
-    progress_state ps = { .start_s = now_s() };
+    progress_state ps = { .start_s = sta_clock_s() };
     bool draw = !c.quiet && sta_log_is_terminal();
     sta_error err = { 0 };
     sta_status s = sta_synth_generate(&c.params, c.output, draw ? show_progress : NULL, &ps, &err);
@@ -264,7 +257,7 @@ int main(int argc, char **argv)
         return 1;
     }
     if (!c.quiet) {
-        double elapsed = now_s() - ps.start_s;
+        double elapsed = sta_clock_s() - ps.start_s;
         char *truth = NULL;
         sta_synth_truth_path(c.output, &truth, NULL);
         fprintf(

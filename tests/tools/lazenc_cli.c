@@ -14,8 +14,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "core/clock.h"
 #include "core/file_map.h"
 #include "io/cloud.h"
 #include "io/las.h"
@@ -123,13 +123,6 @@ static int encode(int argc, char **argv)
     return 0;
 }
 
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 // Decodes every raw record of `path` once; returns the seconds taken or < 0.
 static double decode_once(const char *path, uint64_t *count)
 {
@@ -141,7 +134,7 @@ static double decode_once(const char *path, uint64_t *count)
     }
     void *impl = NULL;
     const sta_cloud_ops *ops = NULL;
-    double t0 = now();
+    double t0 = sta_clock_s();
     if (sta_las_open_map(&map, NULL, &impl, &ops, &err) != STA_OK) {
         fprintf(stderr, "lazenc: %s\n", err.message);
         sta_file_map_close(&map);
@@ -164,7 +157,7 @@ static double decode_once(const char *path, uint64_t *count)
         }
     }
     if (seconds == 0) {
-        seconds = now() - t0;
+        seconds = sta_clock_s() - t0;
     }
     free(buffer);
     ops->close(impl);
