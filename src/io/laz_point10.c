@@ -13,7 +13,8 @@
  * changes predicted from the red channel's change. BYTE: per-byte differences.
  * The models of flag byte, classification and user data depend on the previous value
  * (256 possible models each) and are allocated on first use, then kept for the next
- * chunks (reset at each chunk start).
+ * chunks (reset at each chunk start; sta_laz_context_model in laz_arith.c, which the
+ * version 1 items use too).
  *
  * Based on: M. Isenburg, "LASzip: lossless compression of LiDAR data", PE&RS 79(2),
  * 2013, sections on the point, GPS time and RGB predictors; the LAZ specification's
@@ -102,20 +103,6 @@ struct sta_laz_p10 {
     size_t item_count;
     item_slot items[STA_LAZ_MAX_ITEMS];
 };
-
-sta_laz_model *sta_laz_context_model(sta_laz_model **models, uint8_t *used, uint8_t ctx)
-{
-    if (!models[ctx]) {
-        models[ctx] = sta_laz_model_create(256);
-        if (!models[ctx]) {
-            return NULL;
-        }
-    } else if (!(used[ctx >> 3] & (1u << (ctx & 7)))) {
-        sta_laz_model_reset(models[ctx]);
-    }
-    used[ctx >> 3] |= (uint8_t)(1u << (ctx & 7));
-    return models[ctx];
-}
 
 // ---- POINT10 ----
 
