@@ -12,8 +12,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "core/status.h"
 #include "core/point.h"
+#include "core/status.h"
 
 typedef enum sta_cloud_kind {
     STA_CLOUD_LAS = 1,
