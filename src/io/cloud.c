@@ -116,17 +116,3 @@ void sta_cloud_close(sta_cloud_reader *reader)
     sta_file_map_close(&reader->map);
     sta_free(reader);
 }
-
-const char *sta_extra_type_name(uint8_t data_type)
-{
-    static const char *const scalar_names[] = { "opaque", "uint8",  "int8",  "uint16",
-                                                "int16",  "uint32", "int32", "uint64",
-                                                "int64",  "float",  "double" };
-    if (data_type <= 10) {
-        return scalar_names[data_type];
-    }
-    if (data_type <= 30) {
-        return "deprecated tuple";
-    }
-    return "reserved";
-}

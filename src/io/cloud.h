@@ -12,8 +12,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "core/status.h"
 #include "core/point.h"
+#include "core/status.h"
 
 typedef enum sta_cloud_kind {
     STA_CLOUD_LAS = 1,
@@ -118,7 +118,8 @@ sta_status sta_cloud_seek(sta_cloud_reader *reader, uint64_t index, sta_error *e
 /* Closes the reader and frees its info; NULL is a no-op. */
 void sta_cloud_close(sta_cloud_reader *reader);
 
-/* The human name of a LAS extra-bytes data type code ("uint16", "double", ...). */
+/* The human name of a LAS extra-bytes data type code ("uint16", "double", ...); defined
+ * with the Extra Bytes decoder (las_extra.c). */
 const char *sta_extra_type_name(uint8_t data_type);
 
 #endif

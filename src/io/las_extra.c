@@ -13,6 +13,9 @@
  *   "undeclared" (data_type 0, options 0).
  * - For data type 0 (undocumented bytes) the options byte is the field's size, as the
  *   specification says; it is kept as stored.
+ *
+ * Also here: the names of the data type codes (sta_extra_type_name, declared in
+ * cloud.h for every reader's callers).
  */
 #include <string.h>
 
@@ -40,6 +43,20 @@ enum {
 
 // Bytes of the scalar types 1..10 (index 0 unused).
 static const uint8_t scalar_sizes[11] = { 0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8 };
+
+const char *sta_extra_type_name(uint8_t data_type)
+{
+    static const char *const scalar_names[] = { "opaque", "uint8",  "int8",  "uint16",
+                                                "int16",  "uint32", "int32", "uint64",
+                                                "int64",  "float",  "double" };
+    if (data_type <= 10) {
+        return scalar_names[data_type];
+    }
+    if (data_type <= 30) {
+        return "deprecated tuple";
+    }
+    return "reserved";
+}
 
 // A no_data / min / max slot ("anytype": 8 bytes, integer or double by base type).
 static double load_anytype(const uint8_t *p, int base_type)

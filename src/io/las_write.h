@@ -26,8 +26,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "core/status.h"
 #include "core/point.h"
+#include "core/status.h"
 
 /* How to write. Zero means default (see each field). */
 typedef struct sta_las_write_options {

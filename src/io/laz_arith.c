@@ -180,6 +180,20 @@ void sta_laz_model_destroy(sta_laz_model *model)
     sta_free(model);
 }
 
+sta_laz_model *sta_laz_context_model(sta_laz_model **models, uint8_t *used, uint8_t ctx)
+{
+    if (!models[ctx]) {
+        models[ctx] = sta_laz_model_create(256);
+        if (!models[ctx]) {
+            return NULL;
+        }
+    } else if (!(used[ctx >> 3] & (1u << (ctx & 7)))) {
+        sta_laz_model_reset(models[ctx]);
+    }
+    used[ctx >> 3] |= (uint8_t)(1u << (ctx & 7));
+    return models[ctx];
+}
+
 uint32_t sta_laz_decode_symbol(sta_laz_dec *dec, sta_laz_model *m)
 {
     uint32_t sym;

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT
  * LAZ entropy decoding: the range (arithmetic) decoder over a byte stream, its
- * adaptive bit and symbol models, and the integer corrector ("integer compressor")
- * that LAZ items use to decode a value as a prediction plus a coded correction.
+ * adaptive bit and symbol models (and lazily created families of them chosen by a
+ * previous byte), and the integer corrector ("integer compressor") that LAZ items use
+ * to decode a value as a prediction plus a coded correction.
  *
  * Design: the decoder reads a bounded byte range; bytes past its end read as zero and
  * are counted in `overrun`, so a truncated or corrupt stream never reads outside the
@@ -92,6 +93,12 @@ sta_laz_model *sta_laz_model_create(uint32_t symbols);
 /* Back to the initial (uniform) state. */
 void sta_laz_model_reset(sta_laz_model *model);
 void sta_laz_model_destroy(sta_laz_model *model);
+
+/* The model for context `ctx` of a lazily allocated family of 256 models of 256
+ * symbols (one per previous byte value), created on first use and reset once per
+ * chunk: `used` (32 bytes) marks the models already reset in this chunk, the caller
+ * clears it at chunk start. NULL when out of memory. */
+sta_laz_model *sta_laz_context_model(sta_laz_model **models, uint8_t *used, uint8_t ctx);
 
 /* The models' periodic adaptation (called by the decoder; exported for the test suite's
  * LAZ encoder, which must adapt exactly as the decoder does). */

@@ -90,12 +90,6 @@ void sta_laz_p10_begin(sta_laz_p10 *state, const uint8_t *first);
 /* Decodes the next record of the chunk into `record`. False when out of memory. */
 bool sta_laz_p10_decode(sta_laz_p10 *state, sta_laz_dec *dec, uint8_t *record);
 
-/* The model for context `ctx` of a lazily allocated family of 256 models of 256
- * symbols (one per previous byte value), created on first use and reset once per
- * chunk: `used` (32 bytes) marks the models already reset in this chunk, the caller
- * clears it at chunk start. NULL when out of memory. */
-sta_laz_model *sta_laz_context_model(sta_laz_model **models, uint8_t *used, uint8_t ctx);
-
 /* ---- point10 family, version 1 items (laz_point10_v1.c; LASzip 1.x files) ---- */
 
 /* One version 1 item: POINT10, GPSTIME11, RGB12, WAVEPACKET13 (the only version the

@@ -9,11 +9,13 @@
  * classification, scan angle, user data and point source ID changed; x and y are
  * predicted by the median of the last five differences of the same return class, z
  * by the last z of the same return level. GPSTIME11: up to four interleaved time
- * sequences, each predicted as a multiple of its last difference. RGB12: per-byte
- * changes predicted from the red channel's change. BYTE: per-byte differences.
+ * sequences, each predicted as a multiple of its last difference (the predictor it
+ * shares with POINT14, laz_gpstime.c). RGB12: per-byte changes predicted from the red
+ * channel's change. BYTE: per-byte differences.
  * The models of flag byte, classification and user data depend on the previous value
  * (256 possible models each) and are allocated on first use, then kept for the next
- * chunks (reset at each chunk start).
+ * chunks (reset at each chunk start; sta_laz_context_model in laz_arith.c, which the
+ * version 1 items use too).
  *
  * Based on: M. Isenburg, "LASzip: lossless compression of LiDAR data", PE&RS 79(2),
  * 2013, sections on the point, GPS time and RGB predictors; the LAZ specification's
@@ -23,15 +25,12 @@
 
 #include "core/alloc.h"
 #include "core/bytes.h"
+#include "io/laz_gpstime.h"
 #include "io/laz_internal.h"
 #include "io/laz_predict.h"
 
 enum {
-    GPS_MULTI = 500,
-    GPS_MULTI_MINUS = -10,
-    GPS_MULTI_UNCHANGED = GPS_MULTI - GPS_MULTI_MINUS + 1, // 511
-    GPS_MULTI_CODE_FULL = GPS_MULTI - GPS_MULTI_MINUS + 2, // 512
-    GPS_MULTI_TOTAL = GPS_MULTI - GPS_MULTI_MINUS + 6,     // 516
+    GPS_MAX_SWITCHES = 4, // a valid stream switches sequence at most once per point
 };
 
 // Return class m of (number of returns n, return number r): single returns, first
@@ -64,17 +63,6 @@ typedef struct point10_state {
     sta_laz_ic ic_z;
 } point10_state;
 
-typedef struct gpstime_state {
-    uint32_t last;
-    uint32_t next;
-    uint64_t time[4];
-    int32_t diff[4];
-    int32_t extreme[4];
-    sta_laz_model *m_multi;
-    sta_laz_model *m_zero_diff;
-    sta_laz_ic ic;
-} gpstime_state;
-
 typedef struct rgb_state {
     uint16_t last[3];
     sta_laz_model *m_used;
@@ -95,27 +83,13 @@ typedef struct item_slot {
 } item_slot;
 
 struct sta_laz_p10 {
-    point10_state point; // models allocated only when POINT10 is version 2
-    gpstime_state *gps;  // version 2 items; NULL when absent
+    point10_state point;  // models allocated only when POINT10 is version 2
+    sta_laz_gpstime *gps; // version 2 items; NULL when absent
     rgb_state *rgb;
     byte_state *bytes;
     size_t item_count;
     item_slot items[STA_LAZ_MAX_ITEMS];
 };
-
-sta_laz_model *sta_laz_context_model(sta_laz_model **models, uint8_t *used, uint8_t ctx)
-{
-    if (!models[ctx]) {
-        models[ctx] = sta_laz_model_create(256);
-        if (!models[ctx]) {
-            return NULL;
-        }
-    } else if (!(used[ctx >> 3] & (1u << (ctx & 7)))) {
-        sta_laz_model_reset(models[ctx]);
-    }
-    used[ctx >> 3] |= (uint8_t)(1u << (ctx & 7));
-    return models[ctx];
-}
 
 // ---- POINT10 ----
 
@@ -246,117 +220,6 @@ static bool point10_decode(point10_state *s, sta_laz_dec *dec, uint8_t *out)
 
     memcpy(out, last, 20);
     return true;
-}
-
-// ---- GPSTIME11 ----
-
-static bool gpstime_create(gpstime_state *s)
-{
-    s->m_multi = sta_laz_model_create(GPS_MULTI_TOTAL);
-    s->m_zero_diff = sta_laz_model_create(6);
-    return s->m_multi && s->m_zero_diff && sta_laz_ic_init(&s->ic, 32, 9);
-}
-
-static void gpstime_release(gpstime_state *s)
-{
-    sta_laz_model_destroy(s->m_multi);
-    sta_laz_model_destroy(s->m_zero_diff);
-    sta_laz_ic_release(&s->ic);
-}
-
-static void gpstime_begin(gpstime_state *s, const uint8_t *first)
-{
-    s->last = 0;
-    s->next = 0;
-    memset(s->diff, 0, sizeof(s->diff));
-    memset(s->extreme, 0, sizeof(s->extreme));
-    sta_laz_model_reset(s->m_multi);
-    sta_laz_model_reset(s->m_zero_diff);
-    sta_laz_ic_reset(&s->ic);
-    s->time[0] = sta_load_u64le(first);
-    s->time[1] = s->time[2] = s->time[3] = 0;
-}
-
-// A new sequence whose time is sent in full (upper half predicted, lower half raw).
-static void gpstime_full(gpstime_state *s, sta_laz_dec *dec)
-{
-    s->next = (s->next + 1) & 3;
-    uint32_t high =
-        (uint32_t)sta_laz_ic_decode(&s->ic, dec, (int32_t)(uint32_t)(s->time[s->last] >> 32), 8);
-    uint32_t low = sta_laz_read_u32(dec);
-    s->time[s->next] = ((uint64_t)high << 32) | low;
-    s->last = s->next;
-    s->diff[s->last] = 0;
-    s->extreme[s->last] = 0;
-}
-
-// The difference predicted as `multi` times the sequence's last difference; after
-// more than three extreme multiples in a row the new difference becomes the base.
-static int32_t gpstime_multiple(gpstime_state *s, sta_laz_dec *dec, int32_t multi, uint32_t context,
-                                bool extreme)
-{
-    uint32_t pred = (uint32_t)multi * (uint32_t)s->diff[s->last];
-    int32_t diff = sta_laz_ic_decode(&s->ic, dec, (int32_t)pred, context);
-    if (extreme) {
-        s->extreme[s->last]++;
-        if (s->extreme[s->last] > 3) {
-            s->diff[s->last] = diff;
-            s->extreme[s->last] = 0;
-        }
-    }
-    return diff;
-}
-
-static void gpstime_decode(gpstime_state *s, sta_laz_dec *dec, uint8_t *out)
-{
-    // A sequence switch is followed by the time in the new sequence; valid streams
-    // never switch twice in a row, the bound keeps corrupt ones finite.
-    for (int attempt = 0; attempt < 4; attempt++) {
-        uint32_t last = s->last;
-        if (s->diff[last] == 0) {
-            uint32_t multi = sta_laz_decode_symbol(dec, s->m_zero_diff);
-            if (multi == 1) {
-                s->diff[last] = sta_laz_ic_decode(&s->ic, dec, 0, 0);
-                s->time[last] += (uint64_t)(int64_t)s->diff[last];
-                s->extreme[last] = 0;
-            } else if (multi == 2) {
-                gpstime_full(s, dec);
-            } else if (multi > 2) {
-                s->last = (last + multi - 2) & 3;
-                continue;
-            }
-            break;
-        }
-        uint32_t multi = sta_laz_decode_symbol(dec, s->m_multi);
-        if (multi == 1) {
-            s->time[last] += (uint64_t)(int64_t)sta_laz_ic_decode(&s->ic, dec, s->diff[last], 1);
-            s->extreme[last] = 0;
-        } else if (multi < GPS_MULTI_UNCHANGED) {
-            int32_t diff;
-            if (multi == 0) {
-                diff = gpstime_multiple(s, dec, 0, 7, true);
-            } else if (multi < GPS_MULTI) {
-                diff = gpstime_multiple(s, dec, (int32_t)multi, multi < 10 ? 2 : 3, false);
-            } else if (multi == GPS_MULTI) {
-                diff = gpstime_multiple(s, dec, GPS_MULTI, 4, true);
-            } else {
-                int32_t negative = GPS_MULTI - (int32_t)multi;
-                if (negative > GPS_MULTI_MINUS) {
-                    diff = gpstime_multiple(s, dec, negative, 5, false);
-                } else {
-                    diff = gpstime_multiple(s, dec, GPS_MULTI_MINUS, 6, true);
-                }
-            }
-            s->time[last] += (uint64_t)(int64_t)diff;
-        } else if (multi == GPS_MULTI_CODE_FULL) {
-            gpstime_full(s, dec);
-        } else if (multi > GPS_MULTI_CODE_FULL) {
-            s->last = (last + multi - GPS_MULTI_CODE_FULL) & 3;
-            continue;
-        }
-        break;
-    }
-    sta_store_u64le(out, s->time[s->last]);
 }
 
 // ---- RGB12 ----
@@ -510,7 +373,7 @@ sta_laz_p10 *sta_laz_p10_create(const sta_laz_vlr *vlr)
             break;
         case STA_LAZ_ITEM_GPSTIME11:
             state->gps = sta_calloc(1, sizeof(*state->gps));
-            ok = state->gps && gpstime_create(state->gps);
+            ok = state->gps && sta_laz_gpstime_init(state->gps, true);
             break;
         case STA_LAZ_ITEM_RGB12:
             state->rgb = sta_calloc(1, sizeof(*state->rgb));
@@ -539,7 +402,7 @@ void sta_laz_p10_destroy(sta_laz_p10 *state)
         sta_laz_v1_item_destroy(state->items[i].v1);
     }
     if (state->gps) {
-        gpstime_release(state->gps);
+        sta_laz_gpstime_release(state->gps);
         sta_free(state->gps);
     }
     if (state->rgb) {
@@ -567,7 +430,7 @@ void sta_laz_p10_begin(sta_laz_p10 *state, const uint8_t *first)
             point10_begin(&state->point, p);
             break;
         case STA_LAZ_ITEM_GPSTIME11:
-            gpstime_begin(state->gps, p);
+            sta_laz_gpstime_begin(state->gps, sta_load_u64le(p));
             break;
         case STA_LAZ_ITEM_RGB12:
             rgb_begin(state->rgb, p);
@@ -598,7 +461,10 @@ bool sta_laz_p10_decode(sta_laz_p10 *state, sta_laz_dec *dec, uint8_t *record)
             }
             break;
         case STA_LAZ_ITEM_GPSTIME11:
-            gpstime_decode(state->gps, dec, p);
+            // GPSTIME11 does not treat endless sequence switching (corrupt) as an
+            // error: the point keeps the time of the sequence switched to.
+            (void)sta_laz_gpstime_decode(state->gps, dec, GPS_MAX_SWITCHES);
+            sta_store_u64le(p, sta_laz_gpstime_last(state->gps));
             break;
         case STA_LAZ_ITEM_RGB12:
             rgb_decode(state->rgb, dec, p);

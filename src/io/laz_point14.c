@@ -13,7 +13,8 @@
  * is initialised from the record of the previous context on its first use in a chunk.
  * Predictions follow point10: medians of the last five X/Y differences per return
  * class, last Z per return level, last intensity per return kind, GPS time as up to
- * four interleaved sequences predicted by multiples of their last difference.
+ * four interleaved sequences predicted by multiples of their last difference (the
+ * GPSTIME11 predictor, shared: laz_gpstime.c).
  * The symbol models whose context is a previous value are allocated on first use and
  * kept (reset when their context is initialised in a later chunk).
  * Versions 3 and 4 differ only in the items after POINT14: on a switch to a context
@@ -30,6 +31,7 @@
 
 #include "core/alloc.h"
 #include "core/bytes.h"
+#include "io/laz_gpstime.h"
 #include "io/laz_internal.h"
 #include "io/laz_predict.h"
 
@@ -45,10 +47,6 @@ enum {
     L_SOURCE,
     L_GPS,
     CONTEXTS = 4,
-    GPS_MULTI = 500,
-    GPS_MULTI_MINUS = -10,
-    GPS_CODE_FULL = GPS_MULTI - GPS_MULTI_MINUS + 1,   // 511
-    GPS_MULTI_TOTAL = GPS_MULTI - GPS_MULTI_MINUS + 5, // 515
     GPS_MAX_SWITCHES = 8, // a valid stream switches sequence at most once per point
 };
 
@@ -99,10 +97,7 @@ typedef struct p14_context {
     median5 dx[12];
     median5 dy[12];
     int32_t last_z[8];
-    uint64_t gps[4];
-    int32_t gps_diff[4];
-    int32_t extreme[4];
-    uint32_t gps_last, gps_next;
+    sta_laz_gpstime gps; // the GPS time layer's predictor and models
     sta_laz_model *m_changed[8];
     sta_laz_model *m_channel;
     sta_laz_model *m_n[16];
@@ -111,9 +106,7 @@ typedef struct p14_context {
     sta_laz_model *m_class[64];
     sta_laz_model *m_flags[64];
     sta_laz_model *m_user[64];
-    sta_laz_model *m_gps_multi;
-    sta_laz_model *m_gps_0diff;
-    sta_laz_ic ic_dx, ic_dy, ic_z, ic_intensity, ic_scan_angle, ic_source, ic_gps;
+    sta_laz_ic ic_dx, ic_dy, ic_z, ic_intensity, ic_scan_angle, ic_source;
 } p14_context;
 
 // RGB14 / RGBNIR14 / WAVEPACKET14 / BYTE14: `size` bytes predicted per context.
@@ -215,34 +208,31 @@ static bool context_create(p14_context *c)
     }
     c->m_channel = sta_laz_model_create(3);
     c->m_r_same = sta_laz_model_create(13);
-    c->m_gps_multi = sta_laz_model_create(GPS_MULTI_TOTAL);
-    c->m_gps_0diff = sta_laz_model_create(5);
-    if (!c->m_channel || !c->m_r_same || !c->m_gps_multi || !c->m_gps_0diff) {
+    if (!c->m_channel || !c->m_r_same || !sta_laz_gpstime_init(&c->gps, false)) {
         return false;
     }
     c->created = sta_laz_ic_init(&c->ic_dx, 32, 2) && sta_laz_ic_init(&c->ic_dy, 32, 22) &&
                  sta_laz_ic_init(&c->ic_z, 32, 20) && sta_laz_ic_init(&c->ic_intensity, 16, 4) &&
-                 sta_laz_ic_init(&c->ic_scan_angle, 16, 2) &&
-                 sta_laz_ic_init(&c->ic_source, 16, 1) && sta_laz_ic_init(&c->ic_gps, 32, 9);
+                 sta_laz_ic_init(&c->ic_scan_angle, 16, 2) && sta_laz_ic_init(&c->ic_source, 16, 1);
     return c->created;
 }
 
 static void context_release(p14_context *c)
 {
-    sta_laz_model **all[] = { c->m_changed,    &c->m_channel,  c->m_n,     c->m_r,
-                              &c->m_r_same,    c->m_class,     c->m_flags, c->m_user,
-                              &c->m_gps_multi, &c->m_gps_0diff };
-    static const size_t counts[] = { 8, 1, 16, 16, 1, 64, 64, 64, 1, 1 };
+    sta_laz_model **all[] = { c->m_changed, &c->m_channel, c->m_n,     c->m_r,
+                              &c->m_r_same, c->m_class,    c->m_flags, c->m_user };
+    static const size_t counts[] = { 8, 1, 16, 16, 1, 64, 64, 64 };
     for (size_t a = 0; a < sizeof(counts) / sizeof(counts[0]); a++) {
         for (size_t i = 0; i < counts[a]; i++) {
             sta_laz_model_destroy(all[a][i]);
         }
     }
-    sta_laz_ic *ics[] = { &c->ic_dx,         &c->ic_dy,     &c->ic_z,  &c->ic_intensity,
-                          &c->ic_scan_angle, &c->ic_source, &c->ic_gps };
+    sta_laz_ic *ics[] = { &c->ic_dx,        &c->ic_dy,         &c->ic_z,
+                          &c->ic_intensity, &c->ic_scan_angle, &c->ic_source };
     for (size_t i = 0; i < sizeof(ics) / sizeof(ics[0]); i++) {
         sta_laz_ic_release(ics[i]);
     }
+    sta_laz_gpstime_release(&c->gps);
     *c = (p14_context){ .unused = true };
 }
 
@@ -267,15 +257,12 @@ static bool context_init(p14_context *c, const p14_item *from)
         reset_if(c->m_flags[i]);
         reset_if(c->m_user[i]);
     }
-    sta_laz_model_reset(c->m_gps_multi);
-    sta_laz_model_reset(c->m_gps_0diff);
     sta_laz_ic_reset(&c->ic_dx);
     sta_laz_ic_reset(&c->ic_dy);
     sta_laz_ic_reset(&c->ic_z);
     sta_laz_ic_reset(&c->ic_intensity);
     sta_laz_ic_reset(&c->ic_scan_angle);
     sta_laz_ic_reset(&c->ic_source);
-    sta_laz_ic_reset(&c->ic_gps);
     for (int i = 0; i < 12; i++) {
         sta_laz_median_init(&c->dx[i]);
         sta_laz_median_init(&c->dy[i]);
@@ -284,100 +271,11 @@ static bool context_init(p14_context *c, const p14_item *from)
         c->last_z[i] = from->z;
         c->last_intensity[i] = from->intensity;
     }
-    c->gps_last = 0;
-    c->gps_next = 0;
-    memset(c->gps_diff, 0, sizeof(c->gps_diff));
-    memset(c->extreme, 0, sizeof(c->extreme));
-    c->gps[0] = from->gps;
-    c->gps[1] = c->gps[2] = c->gps[3] = 0;
+    sta_laz_gpstime_begin(&c->gps, from->gps);
     c->last = *from;
     c->last.gps_change = false;
     c->unused = false;
     return true;
-}
-
-// The upper 32 bits of the time of the current sequence predict a "huge" jump.
-static void gps_full(p14_context *c, sta_laz_dec *dec)
-{
-    c->gps_next = (c->gps_next + 1) & 3;
-    uint32_t high = (uint32_t)sta_laz_ic_decode(&c->ic_gps, dec,
-                                                (int32_t)(uint32_t)(c->gps[c->gps_last] >> 32), 8);
-    uint32_t low = sta_laz_read_u32(dec);
-    c->gps[c->gps_next] = ((uint64_t)high << 32) | low;
-    c->gps_last = c->gps_next;
-    c->gps_diff[c->gps_last] = 0;
-    c->extreme[c->gps_last] = 0;
-}
-
-// A difference predicted as `multi` times the last one (context `ctx`); an extreme
-// multiple that repeats becomes the sequence's new difference.
-static int32_t gps_multiple(p14_context *c, sta_laz_dec *dec, int32_t multi, uint32_t ctx,
-                            bool extreme)
-{
-    uint32_t pred = (uint32_t)multi * (uint32_t)c->gps_diff[c->gps_last];
-    int32_t diff = sta_laz_ic_decode(&c->ic_gps, dec, (int32_t)pred, ctx);
-    if (extreme) {
-        c->extreme[c->gps_last]++;
-        if (c->extreme[c->gps_last] > 3) {
-            c->gps_diff[c->gps_last] = diff;
-            c->extreme[c->gps_last] = 0;
-        }
-    }
-    return diff;
-}
-
-static bool gps_decode(p14_context *c, sta_laz_dec *dec)
-{
-    for (int round = 0; round < GPS_MAX_SWITCHES; round++) {
-        uint32_t last = c->gps_last;
-        if (c->gps_diff[last] == 0) {
-            uint32_t multi = sta_laz_decode_symbol(dec, c->m_gps_0diff);
-            if (multi == 0) {
-                c->gps_diff[last] = sta_laz_ic_decode(&c->ic_gps, dec, 0, 0);
-                c->gps[last] += (uint64_t)(int64_t)c->gps_diff[last];
-                c->extreme[last] = 0;
-                return true;
-            }
-            if (multi == 1) {
-                gps_full(c, dec);
-                return true;
-            }
-            c->gps_last = (last + multi - 1) & 3;
-            continue;
-        }
-        int32_t multi = (int32_t)sta_laz_decode_symbol(dec, c->m_gps_multi);
-        if (multi == 1) {
-            c->gps[last] +=
-                (uint64_t)(int64_t)sta_laz_ic_decode(&c->ic_gps, dec, c->gps_diff[last], 1);
-            c->extreme[last] = 0;
-            return true;
-        }
-        if (multi < GPS_CODE_FULL) {
-            int32_t diff;
-            if (multi == 0) {
-                diff = gps_multiple(c, dec, 0, 7, true);
-            } else if (multi < GPS_MULTI) {
-                diff = gps_multiple(c, dec, multi, multi < 10 ? 2 : 3, false);
-            } else if (multi == GPS_MULTI) {
-                diff = gps_multiple(c, dec, GPS_MULTI, 4, true);
-            } else {
-                int32_t minus = GPS_MULTI - multi;
-                if (minus > GPS_MULTI_MINUS) {
-                    diff = gps_multiple(c, dec, minus, 5, false);
-                } else {
-                    diff = gps_multiple(c, dec, GPS_MULTI_MINUS, 6, true);
-                }
-            }
-            c->gps[last] += (uint64_t)(int64_t)diff;
-            return true;
-        }
-        if (multi == GPS_CODE_FULL) {
-            gps_full(c, dec);
-            return true;
-        }
-        c->gps_last = (last + (uint32_t)(multi - GPS_CODE_FULL)) & 3;
-    }
-    return false; // endless sequence switching: corrupt
 }
 
 static bool point14_decode(sta_laz_p14 *s, uint8_t *out)
@@ -509,10 +407,10 @@ static bool point14_decode(sta_laz_p14 *s, uint8_t *out)
             (uint16_t)sta_laz_ic_decode(&c->ic_source, &L[L_SOURCE].dec, last->source, 0);
     }
     if (L[L_GPS].size && gps_change) {
-        if (!gps_decode(c, &L[L_GPS].dec)) {
+        if (!sta_laz_gpstime_decode(&c->gps, &L[L_GPS].dec, GPS_MAX_SWITCHES)) {
             s->bad = true;
         }
-        last->gps = c->gps[c->gps_last];
+        last->gps = sta_laz_gpstime_last(&c->gps);
     }
     item_to_record(last, s->current, out);
     last->gps_change = gps_change;

@@ -23,8 +23,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "core/status.h"
 #include "core/point.h"
+#include "core/status.h"
 
 #define STA_SYNTH_STREET_VERSION 1 /* bump when the street generator's output changes */
 
