@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 
@@ -74,8 +75,10 @@ sta_status sta_normals_screen_pass_run(const sta_normals_screen_pass *pass,
     glUniform2i(pass->u_size[m], view->width_px, view->height_px);
     glUniform1i(pass->u_samples[m], p.samples);
     glUniform1f(pass->u_max_distance2[m], sta_normals_screen_max_distance2(&p));
-    glBindImageTexture(0, normal_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, position_texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_SCREEN_IMAGE_NORMAL, normal_texture, 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_SCREEN_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     return STA_OK;
 }
@@ -98,9 +101,12 @@ sta_status sta_normals_smooth_pass_run(const sta_normals_screen_pass *pass,
     glUseProgram(pass->smooth_program);
     glUniform2i(pass->smooth_u_size, view->width_px, view->height_px);
     glUniform1f(pass->smooth_u_max_distance2, sta_normals_screen_max_distance2(&p));
-    glBindImageTexture(0, out_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, position_texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, normal_texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_SMOOTH_IMAGE_SMOOTHED, out_texture, 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_SMOOTH_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_SMOOTH_IMAGE_NORMAL, normal_texture, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     return STA_OK;
 }
