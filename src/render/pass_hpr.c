@@ -187,7 +187,8 @@ sta_status sta_hpr_pass_run_pyramid(const sta_hpr_pass *pass, const sta_view_par
     if (status != STA_OK) {
         return status;
     }
-    sta_hpr_params p = sta_hpr_params_defaults(view, params);
+    sta_hpr_params p = params ? *params : (sta_hpr_params){ 0 };
+    sta_hpr_params_defaults(&p);
     int levels = sta_hpr_pyramid_levels(view->width_px, view->height_px);
     float level_depth[STA_HPR_MAX_LEVELS];
     sta_hpr_level_depths(view, &p, levels, level_depth);
@@ -227,7 +228,8 @@ sta_status sta_hpr_pass_run_exhaustive(const sta_hpr_pass *pass, const sta_view_
     if (status != STA_OK) {
         return status;
     }
-    sta_hpr_params p = sta_hpr_params_defaults(view, params);
+    sta_hpr_params p = params ? *params : (sta_hpr_params){ 0 };
+    sta_hpr_params_defaults(&p);
     float th[2];
     tan_half(view, th);
     glUseProgram(pass->exhaustive_program);
