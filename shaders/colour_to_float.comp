@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The geometry pass's RGBA8 colour as RGBA32F for the screen-space passes.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 0) uniform sampler2D u_colour8;
-layout(binding = 0, rgba32f) writeonly uniform image2D u_colour;
+layout(binding = STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8) uniform sampler2D u_colour8;
+layout(binding = STA_COLOUR_TO_FLOAT_IMAGE_COLOUR, rgba32f) writeonly uniform image2D u_colour;
 uniform vec2 u_size;
 
 void main()

@@ -2,11 +2,11 @@
 // Shows an intermediate buffer of the screen-space pipeline in the RGBA8 output:
 // mode 0 the HPR labels over the point colours, 1 the filled colour, 2 the normals.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 0, rgba32f) readonly uniform image2D u_position;
-layout(binding = 1, rgba32f) readonly uniform image2D u_colour;
-layout(binding = 2, r32f) readonly uniform image2D u_label;
-layout(binding = 3, rgba32f) readonly uniform image2D u_normal;
-layout(binding = 4, rgba8) writeonly uniform image2D u_out;
+layout(binding = STA_DISPLAY_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
+layout(binding = STA_DISPLAY_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_colour;
+layout(binding = STA_DISPLAY_IMAGE_LABEL, r32f) readonly uniform image2D u_label;
+layout(binding = STA_DISPLAY_IMAGE_NORMAL, rgba32f) readonly uniform image2D u_normal;
+layout(binding = STA_DISPLAY_IMAGE_OUT, rgba8) writeonly uniform image2D u_out;
 uniform vec2 u_size;
 uniform int u_mode;
 

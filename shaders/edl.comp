@@ -2,9 +2,9 @@
 // Eye-dome lighting (Boucheny 2009): darkens a pixel by how much its 8 neighbours at a
 // radius of `u_radius` pixels are nearer to the eye, in log2 depth. Needs depth only.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 0, rgba32f) readonly uniform image2D u_position;
-layout(binding = 1, rgba32f) readonly uniform image2D u_colour;
-layout(binding = 3, rgba8) writeonly uniform image2D u_out;
+layout(binding = STA_EDL_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
+layout(binding = STA_EDL_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_colour;
+layout(binding = STA_EDL_IMAGE_OUT, rgba8) writeonly uniform image2D u_out;
 uniform vec2 u_size;
 uniform float u_radius;   // pixels
 uniform float u_strength; // response scale

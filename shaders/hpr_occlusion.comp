@@ -9,9 +9,11 @@
 // shared-memory version was 3x slower (per-lane gathers), and on GPUs the texture cache
 // serves the overlapping rings of a workgroup.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 0) uniform sampler2D u_position; // level 0 (RGBA32F, screen_space.h)
-layout(binding = 1) uniform sampler2D u_pyramid;  // level l >= 1 at mip level l - 1
-layout(binding = 0, r32f) writeonly uniform image2D u_label;
+// level 0 (RGBA32F, screen_space.h)
+layout(binding = STA_HPR_OCCLUSION_SAMPLER_POSITION) uniform sampler2D u_position;
+// level l >= 1 at mip level l - 1
+layout(binding = STA_HPR_OCCLUSION_SAMPLER_PYRAMID) uniform sampler2D u_pyramid;
+layout(binding = STA_HPR_OCCLUSION_IMAGE_LABEL, r32f) writeonly uniform image2D u_label;
 uniform ivec2 u_size;       // width, height in pixels
 uniform int u_level_count;  // pyramid levels, level 0 included (>= 2)
 uniform int u_coarse_level; // already clamped to [1, u_level_count - 1]

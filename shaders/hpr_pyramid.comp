@@ -4,8 +4,8 @@
 // (0,0), (1,0), (0,1), (1,1) on a tie; texels outside the level below are ignored and
 // a block with no point gives zeros. Twin: sta_hpr_ref_build_pyramid.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 0, rgba32f) readonly uniform image2D u_src;  // level l - 1
-layout(binding = 1, rgba32f) writeonly uniform image2D u_dst; // level l
+layout(binding = STA_HPR_PYRAMID_IMAGE_SRC, rgba32f) readonly uniform image2D u_src;  // level l - 1
+layout(binding = STA_HPR_PYRAMID_IMAGE_DST, rgba32f) writeonly uniform image2D u_dst; // level l
 uniform ivec2 u_src_size; // logical size of level l - 1 (the texture may be larger)
 uniform ivec2 u_dst_size; // logical size of level l
 

@@ -6,8 +6,10 @@
 // points (u_points, the pull-push output), since bilinear interpolation at a pixel
 // centre of level 0 reads that one texel. Twin: src/render/ref/normals_pyramid_ref.c.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 0, rgba32f) writeonly uniform image2D u_normal;
-layout(binding = 2, rgba32f) readonly uniform image2D u_atlas; // normals of levels >= 1
+layout(binding = STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL, rgba32f)
+    writeonly uniform image2D u_normal;
+// normals of levels >= 1
+layout(binding = STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS, rgba32f) readonly uniform image2D u_atlas;
 uniform ivec2 u_size;
 uniform int u_level_count;
 uniform ivec2 u_level_offset[16]; // STA_PULLPUSH_MAX_LEVELS

@@ -3,7 +3,7 @@
 // one pyramid level l >= 1 (pn_point_normal in pullpush_normals.glsl), written into the
 // level's block of the normal atlas (w = 1 valid, 0 none).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 0, rgba32f) writeonly uniform image2D u_atlas;
+layout(binding = STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS, rgba32f) writeonly uniform image2D u_atlas;
 uniform ivec2 u_size;   // level size
 uniform ivec2 u_offset; // the level's origin in the atlas
 

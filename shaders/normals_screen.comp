@@ -6,8 +6,9 @@
 // links eigen3.glsl.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 // Inputs are read as images: on llvmpipe an image load costs about half a texel fetch.
-layout(binding = 1, rgba32f) readonly uniform image2D u_position; // xyz camera space, w > 0 valid
-layout(binding = 0, rgba32f) writeonly uniform image2D u_normal;
+// xyz camera space, w > 0 valid
+layout(binding = STA_NORMALS_SCREEN_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
+layout(binding = STA_NORMALS_SCREEN_IMAGE_NORMAL, rgba32f) writeonly uniform image2D u_normal;
 uniform ivec2 u_size;          // width, height in pixels
 uniform int u_samples;         // 5, 9, 17 or 25
 uniform float u_max_distance2; // squared 3D distance limit (FLT_MAX = none)

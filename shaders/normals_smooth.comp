@@ -5,9 +5,11 @@
 // 2 (edge), 1 (corner). Twin: sta_normals_smooth_ref in
 // src/render/ref/normals_screen_ref.c.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 1, rgba32f) readonly uniform image2D u_position; // xyz camera space, w > 0 valid
-layout(binding = 2, rgba32f) readonly uniform image2D u_normal;   // xyz unit normal, w = 1 valid
-layout(binding = 0, rgba32f) writeonly uniform image2D u_smoothed;
+// xyz camera space, w > 0 valid
+layout(binding = STA_NORMALS_SMOOTH_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
+// xyz unit normal, w = 1 valid
+layout(binding = STA_NORMALS_SMOOTH_IMAGE_NORMAL, rgba32f) readonly uniform image2D u_normal;
+layout(binding = STA_NORMALS_SMOOTH_IMAGE_SMOOTHED, rgba32f) writeonly uniform image2D u_smoothed;
 uniform ivec2 u_size;
 uniform float u_max_distance2;
 

@@ -3,7 +3,8 @@
 // normals_pyramid_level.comp and normals_pyramid_gather.comp (which uses it for level
 // 0, where bilinear interpolation at pixel centres reads a single texel). Twin:
 // sta_normals_pyramid_level_ref in src/render/ref/normals_pyramid_ref.c.
-layout(binding = 1, rgba32f) readonly uniform image2D u_points; // xyz, w > 0 where a point is
+// xyz, w > 0 where a point is
+layout(binding = STA_NORMALS_PYRAMID_IMAGE_POINTS, rgba32f) readonly uniform image2D u_points;
 
 // The point at q, w = 0 outside the level.
 vec4 pn_point_at(ivec2 q, ivec2 size)

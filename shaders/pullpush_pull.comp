@@ -6,15 +6,18 @@
 // Built twice: with PP_FROM_INPUT the fine level is level 0 (the inputs, weights from
 // the HPR labels), without it a pyramid level.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 0, rgba32f) writeonly uniform image2D u_coarse_position;
-layout(binding = 1, rgba32f) writeonly uniform image2D u_coarse_colour;
-layout(binding = 2, rgba32f) readonly uniform image2D u_fine_position;
+layout(binding = STA_PULLPUSH_IMAGE_OUT_POSITION, rgba32f)
+    writeonly uniform image2D u_coarse_position;
+layout(binding = STA_PULLPUSH_IMAGE_OUT_COLOUR, rgba32f) writeonly uniform image2D u_coarse_colour;
+layout(binding = STA_PULLPUSH_IMAGE_FINE_POSITION, rgba32f)
+    readonly uniform image2D u_fine_position;
 #ifdef PP_FROM_INPUT
-layout(binding = 1) uniform sampler2D u_input_colour; // RGBA32F or RGBA8
-layout(binding = 4, r32f) readonly uniform image2D u_label;
+// The input colour, RGBA32F or RGBA8.
+layout(binding = STA_PULLPUSH_SAMPLER_INPUT_COLOUR) uniform sampler2D u_input_colour;
+layout(binding = STA_PULLPUSH_IMAGE_LABEL, r32f) readonly uniform image2D u_label;
 uniform bool u_has_label;
 #else
-layout(binding = 3, rgba32f) readonly uniform image2D u_fine_colour;
+layout(binding = STA_PULLPUSH_IMAGE_FINE_COLOUR, rgba32f) readonly uniform image2D u_fine_colour;
 #endif
 uniform ivec2 u_fine_size;
 uniform ivec2 u_coarse_size;

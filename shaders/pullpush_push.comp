@@ -8,18 +8,25 @@
 // found by HPR is restored; without it a pyramid level is updated in place.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 #ifdef PP_LEVEL0
-layout(binding = 0, rgba32f) writeonly uniform image2D u_position; // output
-layout(binding = 1, rgba32f) writeonly uniform image2D u_colour;
-layout(binding = 2, rgba32f) readonly uniform image2D u_input_position;
-layout(binding = 1) uniform sampler2D u_input_colour; // RGBA32F or RGBA8
-layout(binding = 4, r32f) readonly uniform image2D u_label;
+// Level 0: the outputs.
+layout(binding = STA_PULLPUSH_IMAGE_OUT_POSITION, rgba32f) writeonly uniform image2D u_position;
+layout(binding = STA_PULLPUSH_IMAGE_OUT_COLOUR, rgba32f) writeonly uniform image2D u_colour;
+layout(binding = STA_PULLPUSH_IMAGE_FINE_POSITION, rgba32f)
+    readonly uniform image2D u_input_position;
+// The input colour, RGBA32F or RGBA8.
+layout(binding = STA_PULLPUSH_SAMPLER_INPUT_COLOUR) uniform sampler2D u_input_colour;
+layout(binding = STA_PULLPUSH_IMAGE_LABEL, r32f) readonly uniform image2D u_label;
 uniform bool u_has_label;
 #else
-layout(binding = 0, rgba32f) uniform image2D u_position; // level l, in place
-layout(binding = 1, rgba32f) uniform image2D u_colour;
+// Level l, updated in place.
+layout(binding = STA_PULLPUSH_IMAGE_OUT_POSITION, rgba32f) uniform image2D u_position;
+layout(binding = STA_PULLPUSH_IMAGE_OUT_COLOUR, rgba32f) uniform image2D u_colour;
 #endif
-layout(binding = 5, rgba32f) readonly uniform image2D u_coarse_position; // pushed l + 1
-layout(binding = 6, rgba32f) readonly uniform image2D u_coarse_colour;
+// The pushed level l + 1.
+layout(binding = STA_PULLPUSH_IMAGE_COARSE_POSITION, rgba32f)
+    readonly uniform image2D u_coarse_position;
+layout(binding = STA_PULLPUSH_IMAGE_COARSE_COLOUR, rgba32f)
+    readonly uniform image2D u_coarse_colour;
 uniform ivec2 u_size;
 uniform ivec2 u_coarse_size;
 uniform bool u_has_coarse; // false only for a 1 x 1 view

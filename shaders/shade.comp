@@ -2,10 +2,10 @@
 // Deferred shading: Blinn-Phong with a headlight from the reconstructed positions and
 // normals and the (filled) point colours. Pixels without a surface get the background.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 0, rgba32f) readonly uniform image2D u_position;
-layout(binding = 1, rgba32f) readonly uniform image2D u_colour;
-layout(binding = 2, rgba32f) readonly uniform image2D u_normal;
-layout(binding = 3, rgba8) writeonly uniform image2D u_out;
+layout(binding = STA_SHADE_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
+layout(binding = STA_SHADE_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_colour;
+layout(binding = STA_SHADE_IMAGE_NORMAL, rgba32f) readonly uniform image2D u_normal;
+layout(binding = STA_SHADE_IMAGE_OUT, rgba8) writeonly uniform image2D u_out;
 uniform vec2 u_size;
 uniform vec4 u_light; // ambient, diffuse, specular, shininess
 uniform vec3 u_background;

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Unproject: reverse-Z depth buffer -> camera-space positions (screen_space.h).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = 0) uniform sampler2D u_depth; // reverse-Z: near / distance, 0 = empty
-layout(binding = 0, rgba32f) writeonly uniform image2D u_position;
+// reverse-Z: near / distance, 0 = empty
+layout(binding = STA_UNPROJECT_SAMPLER_DEPTH) uniform sampler2D u_depth;
+layout(binding = STA_UNPROJECT_IMAGE_POSITION, rgba32f) writeonly uniform image2D u_position;
 uniform vec2 u_size;        // width, height in pixels
 uniform vec2 u_tan_half;    // tan(fov_y / 2) * aspect, tan(fov_y / 2)
 uniform float u_near;

@@ -301,7 +301,8 @@ static void run_both(const char *name, const sta_view_params *view, const sta_hp
     memset(out, 0, sizeof(*out));
     sta_error err = { 0 };
     int w = view->width_px, h = view->height_px;
-    sta_hpr_params resolved = sta_hpr_params_defaults(view, params);
+    sta_hpr_params resolved = params ? *params : (sta_hpr_params){ 0 };
+    sta_hpr_params_defaults(&resolved);
     sta_hpr_pyramid twin_pyramid, gpu_pyramid_levels;
     assert_int_equal(sta_hpr_ref_build_pyramid(position, &twin_pyramid, &err), STA_OK);
     new_image(&out->pyramid_label, w, h, 1);
@@ -432,9 +433,16 @@ static void adaptive_level_is_rounded_eq1(void **state)
 {
     (void)state;
     sta_view_params view = make_view(1248, 768);
-    sta_hpr_params p = sta_hpr_params_defaults(&view, NULL);
+    sta_hpr_params p = { 0 };
+    sta_hpr_params_defaults(&p);
     assert_true(p.threshold == 0.1f && p.coarse_level == 4 && p.far_m == 1.0e6f);
-    assert_true(fabsf(p.s_hpr - 0.25f) < 1e-7f);
+    assert_true(p.s_hpr == 0.0f); // derived from the view where used
+    assert_true(fabsf(sta_hpr_s_hpr_m(&view, &p) - 0.25f) < 1e-7f);
+    sta_hpr_params set = { .threshold = -1.0f, .s_hpr = 2.0f, .coarse_level = 2, .far_m = 9.0f };
+    sta_hpr_params_defaults(&set);
+    assert_true(set.threshold == -1.0f && set.s_hpr == 2.0f && set.coarse_level == 2 &&
+                set.far_m == 9.0f);
+    assert_true(sta_hpr_s_hpr_m(&view, &set) == 2.0f);
     int levels = sta_hpr_pyramid_levels(view.width_px, view.height_px);
     float depth[STA_HPR_MAX_LEVELS];
     sta_hpr_level_depths(&view, &p, levels, depth);
@@ -463,7 +471,8 @@ static void adaptive_level_is_rounded_eq1(void **state)
     // No s0 (0 everywhere): level 0, no NaN.
     sta_view_params flat = view;
     flat.s0 = 0.0f;
-    sta_hpr_params q = sta_hpr_params_defaults(&flat, NULL);
+    sta_hpr_params q = { 0 };
+    sta_hpr_params_defaults(&q);
     sta_hpr_level_depths(&flat, &q, levels, depth);
     for (int l = 1; l < levels; l++) {
         assert_true(depth[l] == 0.0f);

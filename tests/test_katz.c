@@ -771,6 +771,18 @@ static void timing(void **state)
     }
 }
 
+static void defaults_fill_only_zero_fields(void **state)
+{
+    (void)state;
+    sta_katz_params params = { 0 };
+    sta_katz_params_defaults(&params);
+    assert_true(params.radius_factor == STA_KATZ_DEFAULT_RADIUS_FACTOR);
+    assert_true(params.perturbation == 0.0 && params.seed == STA_KATZ_DEFAULT_SEED);
+    params = (sta_katz_params){ .radius_factor = 3.0, .perturbation = 0.01, .seed = 9 };
+    sta_katz_params_defaults(&params);
+    assert_true(params.radius_factor == 3.0 && params.perturbation == 0.01 && params.seed == 9);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(sphere_from_outside),
     cmocka_unit_test(nested_sphere_in_box),
@@ -786,6 +798,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(qhull_is_silent),
     cmocka_unit_test(allocation_failures),
     cmocka_unit_test(perturbation_is_deterministic),
+    cmocka_unit_test(defaults_fill_only_zero_fields),
     cmocka_unit_test(timing),
 };
 

@@ -588,25 +588,33 @@ static void parameters_resolve_and_reject(void **state)
 {
     (void)state;
     sta_view_params view = { 10, 10, 0.9f, 0.05f, 0.02f };
-    sta_normals_screen_params p = { 0, 0, 0.0f }, out;
+    sta_normals_screen_params p = { 0, 0, 0.0f };
     sta_error err = { 0 };
-    assert_int_equal(sta_normals_screen_defaults(&p, &view, &out, &err), STA_OK);
-    assert_int_equal(out.method, STA_NORMALS_SCREEN_TI);
-    assert_int_equal(out.samples, 9);
-    assert_true(out.max_distance_m == 5.0f * 0.02f);
+    assert_int_equal(sta_normals_screen_params_check(&p, &err), STA_OK);
+    sta_normals_screen_params_defaults(&p);
+    assert_int_equal(p.method, STA_NORMALS_SCREEN_TI);
+    assert_int_equal(p.samples, 9);
+    assert_true(p.max_distance_m == 0.0f); // derived from the view where used
+    assert_true(sta_normals_screen_max_distance2(&view, &p) == (5.0f * 0.02f) * (5.0f * 0.02f));
     view.s0 = 0.0f;
-    assert_int_equal(sta_normals_screen_defaults(&p, &view, &out, &err), STA_OK);
-    assert_true(isinf(out.max_distance_m));
-    assert_true(sta_normals_screen_max_distance2(&out) == FLT_MAX);
+    assert_true(sta_normals_screen_max_distance2(&view, &p) == FLT_MAX);
+    p.max_distance_m = -1.0f;
+    view.s0 = 0.02f;
+    assert_true(sta_normals_screen_max_distance2(&view, &p) == FLT_MAX);
+    // Set fields stay as they are.
+    sta_normals_screen_params set = { STA_NORMALS_SCREEN_PD, 17, 0.5f };
+    sta_normals_screen_params_defaults(&set);
+    assert_true(set.method == STA_NORMALS_SCREEN_PD && set.samples == 17 &&
+                set.max_distance_m == 0.5f);
     p.samples = 7;
-    assert_int_equal(sta_normals_screen_defaults(&p, &view, &out, &err), STA_ERR_ARG);
+    assert_int_equal(sta_normals_screen_params_check(&p, &err), STA_ERR_ARG);
     assert_non_null(strstr(err.message, "samples 7"));
     p.samples = 25;
     p.method = 9;
-    assert_int_equal(sta_normals_screen_defaults(&p, &view, &out, &err), STA_ERR_ARG);
+    assert_int_equal(sta_normals_screen_params_check(&p, &err), STA_ERR_ARG);
     p.method = STA_NORMALS_SCREEN_PD;
     p.max_distance_m = NAN;
-    assert_int_equal(sta_normals_screen_defaults(&p, &view, &out, &err), STA_ERR_ARG);
+    assert_int_equal(sta_normals_screen_params_check(&p, &err), STA_ERR_ARG);
     // The twin rejects mismatched images.
     sta_image position, normal;
     assert_int_equal(sta_image_init(&position, 4, 3, 4, NULL), STA_OK);

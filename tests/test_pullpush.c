@@ -905,6 +905,17 @@ static void twin_rejects_mismatched_sizes(void **state)
     frame_release(&f);
 }
 
+static void normal_defaults_fill_only_zero_fields(void **state)
+{
+    (void)state;
+    sta_normals_pyramid_params params = { 0 };
+    sta_normals_pyramid_params_defaults(&params);
+    assert_true(params.radius_s0 == STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0);
+    params.radius_s0 = 1.5f;
+    sta_normals_pyramid_params_defaults(&params);
+    assert_true(params.radius_s0 == 1.5f);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shader_matches_twin_37x23),
     cmocka_unit_test(shader_matches_twin_without_labels),
@@ -919,6 +930,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(depth_discontinuity_stays_bounded),
     cmocka_unit_test(near_plane_and_far_points),
     cmocka_unit_test(twin_rejects_mismatched_sizes),
+    cmocka_unit_test(normal_defaults_fill_only_zero_fields),
 };
 
 STA_TEST_MAIN(tests)

@@ -173,6 +173,21 @@ static void lighting_means_what_it_should(void **state)
     sta_image_release(&out);
 }
 
+static void defaults_fill_only_zero_fields(void **state)
+{
+    (void)state;
+    sta_shade_params shade = { .specular = 0.5f, .background = { 0.1f, 0.2f, 0.3f } };
+    sta_shade_params_defaults(&shade);
+    assert_true(shade.ambient == STA_SHADE_DEFAULT_AMBIENT);
+    assert_true(shade.diffuse == STA_SHADE_DEFAULT_DIFFUSE);
+    assert_true(shade.specular == 0.5f);
+    assert_true(shade.shininess == STA_SHADE_DEFAULT_SHININESS);
+    assert_true(shade.background[0] == 0.1f && shade.background[2] == 0.3f);
+    sta_edl_params edl = { .strength = 5.0f };
+    sta_edl_params_defaults(&edl);
+    assert_true(edl.radius_px == STA_EDL_DEFAULT_RADIUS_PX && edl.strength == 5.0f);
+}
+
 static void empty_frame_is_background(void **state)
 {
     (void)state;
@@ -211,6 +226,7 @@ static void empty_frame_is_background(void **state)
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(shaders_match_twins, setup, teardown),
     cmocka_unit_test(lighting_means_what_it_should),
+    cmocka_unit_test(defaults_fill_only_zero_fields),
     cmocka_unit_test_setup_teardown(empty_frame_is_background, setup, teardown),
 };
 

@@ -213,10 +213,8 @@ static void hull_line(const coordT *flipped, size_t count, const double axis[3],
 
 static sta_status check_params(const sta_katz_params *params, sta_katz_params *out, sta_error *err)
 {
-    *out = params ? *params : sta_katz_params_defaults();
-    if (out->radius_factor == 0.0) {
-        out->radius_factor = STA_KATZ_DEFAULT_RADIUS_FACTOR;
-    }
+    *out = params ? *params : (sta_katz_params){ 0 };
+    sta_katz_params_defaults(out);
     if (!(out->radius_factor > 1.0 && out->radius_factor <= MAX_RADIUS_FACTOR)) {
         return sta_fail(err, STA_ERR_ARG,
                         "katz hpr: radius_factor %g is outside (1, %g] (0 for the default %g)",
@@ -226,20 +224,17 @@ static sta_status check_params(const sta_katz_params *params, sta_katz_params *o
         return sta_fail(err, STA_ERR_ARG, "katz hpr: perturbation %g is outside [0, 1]",
                         out->perturbation);
     }
-    if (out->seed == 0) {
-        out->seed = 1;
-    }
     return STA_OK;
 }
 
-sta_katz_params sta_katz_params_defaults(void)
+void sta_katz_params_defaults(sta_katz_params *config)
 {
-    sta_katz_params params = {
-        .radius_factor = STA_KATZ_DEFAULT_RADIUS_FACTOR,
-        .perturbation = 0.0,
-        .seed = 1,
-    };
-    return params;
+    if (config->radius_factor == 0.0) {
+        config->radius_factor = STA_KATZ_DEFAULT_RADIUS_FACTOR;
+    }
+    if (config->seed == 0) {
+        config->seed = STA_KATZ_DEFAULT_SEED;
+    }
 }
 
 // Adds the perturbation to the distinct points; a point that would land on the

@@ -22,18 +22,22 @@
 /* Default R / max ||p_i - C|| (Katz's 10^gamma with gamma = 2), see docs/KATZ.md. */
 #define STA_KATZ_DEFAULT_RADIUS_FACTOR 100.0
 
+/* Default seed of the perturbation. */
+#define STA_KATZ_DEFAULT_SEED 1
+
 /* Braga et al.'s perturbation: each coordinate moves by up to 0.01 of the model's radius. */
 #define STA_KATZ_BRAGA_PERTURBATION 0.01
 
-/* Parameters. Zero radius_factor and zero seed mean their defaults; perturbation 0 means
- * no perturbation (exact Katz). sta_katz_params_defaults() gives the exact operator. */
+/* Parameters. Zero means default (sta_katz_params_defaults); the default perturbation
+ * is none, so the defaults give the exact operator. */
 typedef struct sta_katz_params {
     double radius_factor; /* R = radius_factor * max ||p_i - C|| (Katz: 10^gamma); > 1, or
                              0 for STA_KATZ_DEFAULT_RADIUS_FACTOR */
-    double perturbation;  /* 0: none; else each coordinate moves by a uniform random amount
-                             in [-a, a], a = perturbation * the model's radius (half the
-                             diagonal of its bounding box); in [0, 1]; Braga et al.: 0.01 */
-    uint64_t seed;        /* seed of the perturbation (splitmix64); 0 means 1 */
+    double perturbation;  /* 0 (the default): none; else each coordinate moves by a uniform
+                             random amount in [-a, a], a = perturbation * the model's radius
+                             (half the diagonal of its bounding box); in [0, 1]; Braga et
+                             al.: STA_KATZ_BRAGA_PERTURBATION */
+    uint64_t seed;        /* seed of the perturbation (splitmix64); 0: STA_KATZ_DEFAULT_SEED */
 } sta_katz_params;
 
 /* Degenerate-input handling that a call used (bits of sta_katz_stats.degenerate). */
@@ -63,8 +67,10 @@ typedef struct sta_katz_stats {
     char qhull_options[32];    /* the Qhull command of the hull that was used ("" if none) */
 } sta_katz_stats;
 
-/* The exact operator: default radius factor, no perturbation, seed 1. */
-sta_katz_params sta_katz_params_defaults(void);
+/* Fills the zero fields of `config` with their defaults, in place (radius_factor,
+ * seed; perturbation's default is 0); other fields stay as they are. A zeroed struct
+ * becomes the exact operator. */
+void sta_katz_params_defaults(sta_katz_params *config);
 
 /* Marks which of `count` points are visible from `viewpoint` by HPR: out_visible[i] is 1
  * when the spherically flipped point i is a vertex of the convex hull of all flipped
@@ -72,7 +78,7 @@ sta_katz_params sta_katz_params_defaults(void);
  * points get the same flag; fewer than 4 distinct points are all visible; flat and
  * collinear configurations use a hull of lower dimension (docs/KATZ.md).
  * points: borrowed, count xyz triples (NULL when count is 0); viewpoint: xyz;
- * params: NULL for sta_katz_params_defaults(); out_visible: count bytes, written only
+ * params: NULL for all defaults (the exact operator); out_visible: count bytes, written only
  * on success; out_stats: may be NULL. Deterministic for given inputs and seed.
  * Returns STA_ERR_ARG for NaN or infinite coordinates (naming the point and value),
  * bad parameters or more than INT_MAX - 1 points; STA_ERR_NOMEM; STA_ERR_UNSUPPORTED

@@ -2,6 +2,14 @@
  * Binding points, attribute locations and workgroup sizes shared by C and GLSL.
  * sta_gl_program_create injects each of these into every shader as a #define, so
  * the numbers live only here.
+ *
+ * Binding names: STA_<SHADER>_{IMAGE,SAMPLER}_<ROLE>. <SHADER> is the shader's file
+ * name (hpr_occlusion.comp: HPR_OCCLUSION); a binding declared in a .glsl library
+ * shared by the steps of one pass, or a layout that all the shaders of one pass share
+ * (pull-push), takes the pass's name. IMAGE is an image unit (image2D in GLSL,
+ * glBindImageTexture in C), SAMPLER a texture unit (sampler2D, glBindTextureUnit):
+ * the two are separate number spaces, so an IMAGE and a SAMPLER of one shader may
+ * share a number. Within one shader and one space the numbers are distinct.
  */
 #ifndef STA_RENDER_BINDINGS_H
 #define STA_RENDER_BINDINGS_H
@@ -23,6 +31,71 @@
 #define STA_COLOUR_RETURN_NUMBER  4
 #define STA_COLOUR_MODE_COUNT     5
 
+/* Unproject (unproject.comp). */
+#define STA_UNPROJECT_SAMPLER_DEPTH  0 /* reverse-Z depth */
+#define STA_UNPROJECT_IMAGE_POSITION 0 /* RGBA32F out: camera-space positions */
+
+/* Colour conversion of the pipeline's input (colour_to_float.comp). */
+#define STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8 0 /* RGBA8 colour of the geometry pass */
+#define STA_COLOUR_TO_FLOAT_IMAGE_COLOUR    0 /* RGBA32F out */
+
+/* Debug views of the pipeline's buffers (display.comp). */
+#define STA_DISPLAY_IMAGE_POSITION 0 /* RGBA32F */
+#define STA_DISPLAY_IMAGE_COLOUR   1 /* RGBA32F */
+#define STA_DISPLAY_IMAGE_LABEL    2 /* R32F, STA_LABEL_* */
+#define STA_DISPLAY_IMAGE_NORMAL   3 /* RGBA32F */
+#define STA_DISPLAY_IMAGE_OUT      4 /* RGBA8 out */
+
+/* HPR point pyramid, one level per dispatch (hpr_pyramid.comp). */
+#define STA_HPR_PYRAMID_IMAGE_SRC 0 /* RGBA32F level l - 1 */
+#define STA_HPR_PYRAMID_IMAGE_DST 1 /* RGBA32F out: level l */
+
+/* HPR pyramidal occlusion (hpr_occlusion.comp). */
+#define STA_HPR_OCCLUSION_SAMPLER_POSITION 0 /* level 0 */
+#define STA_HPR_OCCLUSION_SAMPLER_PYRAMID  1 /* level l >= 1 at mip l - 1 */
+#define STA_HPR_OCCLUSION_IMAGE_LABEL      0 /* R32F out */
+
+/* HPR exhaustive occlusion (hpr_exhaustive.comp). */
+#define STA_HPR_EXHAUSTIVE_SAMPLER_POSITION 0
+#define STA_HPR_EXHAUSTIVE_IMAGE_LABEL      0 /* R32F out */
+
+/* Pull-push (pullpush_pull.comp, pullpush_push.comp): one layout for both, so that a
+ * level bound for one dispatch stays valid for the next. */
+#define STA_PULLPUSH_IMAGE_OUT_POSITION    0 /* level written: pull's coarse, push's own */
+#define STA_PULLPUSH_IMAGE_OUT_COLOUR      1
+#define STA_PULLPUSH_IMAGE_FINE_POSITION   2 /* pull's fine level; push's input (level 0) */
+#define STA_PULLPUSH_IMAGE_FINE_COLOUR     3 /* pull's fine level above level 0 */
+#define STA_PULLPUSH_IMAGE_LABEL           4 /* R32F HPR labels of the input */
+#define STA_PULLPUSH_IMAGE_COARSE_POSITION 5 /* push: the pushed level l + 1 */
+#define STA_PULLPUSH_IMAGE_COARSE_COLOUR   6
+#define STA_PULLPUSH_IMAGE_LAST            6 /* highest image unit above */
+#define STA_PULLPUSH_SAMPLER_INPUT_COLOUR  1 /* RGBA32F or RGBA8 input colour */
+
+/* Screen-space normals (normals_screen.comp) and their smoothing (normals_smooth.comp). */
+#define STA_NORMALS_SCREEN_IMAGE_NORMAL   0 /* RGBA32F out */
+#define STA_NORMALS_SCREEN_IMAGE_POSITION 1
+#define STA_NORMALS_SMOOTH_IMAGE_SMOOTHED 0 /* RGBA32F out */
+#define STA_NORMALS_SMOOTH_IMAGE_POSITION 1
+#define STA_NORMALS_SMOOTH_IMAGE_NORMAL   2
+
+/* Pyramidal normals (normals_pyramid_level.comp, normals_pyramid_gather.comp); POINTS
+ * is declared by their shared library pullpush_normals.glsl. */
+#define STA_NORMALS_PYRAMID_IMAGE_POINTS        1 /* RGBA32F points of the level */
+#define STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS   0 /* RGBA32F out: normals of levels >= 1 */
+#define STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL 0 /* RGBA32F out */
+#define STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS  2
+#define STA_NORMALS_PYRAMID_IMAGE_LAST          2 /* highest image unit above */
+
+/* Blinn-Phong shading (shade.comp). */
+#define STA_SHADE_IMAGE_POSITION 0
+#define STA_SHADE_IMAGE_COLOUR   1
+#define STA_SHADE_IMAGE_NORMAL   2
+#define STA_SHADE_IMAGE_OUT      3 /* RGBA8 out */
+
+/* Eye-dome lighting (edl.comp). */
+#define STA_EDL_IMAGE_POSITION 0
+#define STA_EDL_IMAGE_COLOUR   1
+#define STA_EDL_IMAGE_OUT      3 /* RGBA8 out */
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \
@@ -36,6 +109,48 @@
  X(STA_COLOUR_ELEVATION)                                                                           \
  X(STA_COLOUR_CLASSIFICATION)                                                                      \
  X(STA_COLOUR_RETURN_NUMBER)                                                                       \
- X(STA_HPR_BACKGROUND_OPEN_SECTORS)
+ X(STA_HPR_BACKGROUND_OPEN_SECTORS)                                                                \
+ X(STA_UNPROJECT_SAMPLER_DEPTH)                                                                    \
+ X(STA_UNPROJECT_IMAGE_POSITION)                                                                   \
+ X(STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8)                                                            \
+ X(STA_COLOUR_TO_FLOAT_IMAGE_COLOUR)                                                               \
+ X(STA_DISPLAY_IMAGE_POSITION)                                                                     \
+ X(STA_DISPLAY_IMAGE_COLOUR)                                                                       \
+ X(STA_DISPLAY_IMAGE_LABEL)                                                                        \
+ X(STA_DISPLAY_IMAGE_NORMAL)                                                                       \
+ X(STA_DISPLAY_IMAGE_OUT)                                                                          \
+ X(STA_HPR_PYRAMID_IMAGE_SRC)                                                                      \
+ X(STA_HPR_PYRAMID_IMAGE_DST)                                                                      \
+ X(STA_HPR_OCCLUSION_SAMPLER_POSITION)                                                             \
+ X(STA_HPR_OCCLUSION_SAMPLER_PYRAMID)                                                              \
+ X(STA_HPR_OCCLUSION_IMAGE_LABEL)                                                                  \
+ X(STA_HPR_EXHAUSTIVE_SAMPLER_POSITION)                                                            \
+ X(STA_HPR_EXHAUSTIVE_IMAGE_LABEL)                                                                 \
+ X(STA_PULLPUSH_IMAGE_OUT_POSITION)                                                                \
+ X(STA_PULLPUSH_IMAGE_OUT_COLOUR)                                                                  \
+ X(STA_PULLPUSH_IMAGE_FINE_POSITION)                                                               \
+ X(STA_PULLPUSH_IMAGE_FINE_COLOUR)                                                                 \
+ X(STA_PULLPUSH_IMAGE_LABEL)                                                                       \
+ X(STA_PULLPUSH_IMAGE_COARSE_POSITION)                                                             \
+ X(STA_PULLPUSH_IMAGE_COARSE_COLOUR)                                                               \
+ X(STA_PULLPUSH_IMAGE_LAST)                                                                        \
+ X(STA_PULLPUSH_SAMPLER_INPUT_COLOUR)                                                              \
+ X(STA_NORMALS_SCREEN_IMAGE_NORMAL)                                                                \
+ X(STA_NORMALS_SCREEN_IMAGE_POSITION)                                                              \
+ X(STA_NORMALS_SMOOTH_IMAGE_SMOOTHED)                                                              \
+ X(STA_NORMALS_SMOOTH_IMAGE_POSITION)                                                              \
+ X(STA_NORMALS_SMOOTH_IMAGE_NORMAL)                                                                \
+ X(STA_NORMALS_PYRAMID_IMAGE_POINTS)                                                               \
+ X(STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS)                                                          \
+ X(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL)                                                        \
+ X(STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS)                                                         \
+ X(STA_NORMALS_PYRAMID_IMAGE_LAST)                                                                 \
+ X(STA_SHADE_IMAGE_POSITION)                                                                       \
+ X(STA_SHADE_IMAGE_COLOUR)                                                                         \
+ X(STA_SHADE_IMAGE_NORMAL)                                                                         \
+ X(STA_SHADE_IMAGE_OUT)                                                                            \
+ X(STA_EDL_IMAGE_POSITION)                                                                         \
+ X(STA_EDL_IMAGE_COLOUR)                                                                           \
+ X(STA_EDL_IMAGE_OUT)
 
 #endif

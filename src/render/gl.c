@@ -96,24 +96,20 @@ static GLenum stage_of(const char *name)
     return 0;
 }
 
-// "#version 450 core" + one #define per binding + the caller's defines.
-static void build_preamble(char *out, size_t size, const char *extra)
-{
-    int used = snprintf(out, size, "#version 450 core\n");
-#define X(name) used += snprintf(out + used, size - (size_t)used, "#define " #name " %d\n", name);
+// "#version 450 core" + one #define per entry of STA_BINDING_DEFINES, built by the
+// preprocessor: each value is spelled as bindings.h spells it.
+#define STRINGIFY(text)  #text
+#define VALUE_TEXT(name) STRINGIFY(name)
+static const char preamble[] = "#version 450 core\n"
+#define X(name) "#define " #name " " VALUE_TEXT(name) "\n"
     STA_BINDING_DEFINES
 #undef X
-    if (extra) {
-        snprintf(out + used, size - (size_t)used, "%s\n", extra);
-    }
-}
+    ;
 
 sta_status sta_gl_program_create(const char *const *names, size_t count, const char *extra_defines,
                                  GLuint *out_program, sta_error *err)
 {
     *out_program = 0;
-    char preamble[2048];
-    build_preamble(preamble, sizeof(preamble), extra_defines);
     // ".glsl" names are shared function libraries, inserted before every stage.
     enum {
         MAX_PARTS = 16
@@ -121,6 +117,10 @@ sta_status sta_gl_program_create(const char *const *names, size_t count, const c
     const char *parts[MAX_PARTS];
     int part_count = 0;
     parts[part_count++] = preamble;
+    if (extra_defines) {
+        parts[part_count++] = extra_defines;
+        parts[part_count++] = "\n";
+    }
     for (size_t i = 0; i < count; i++) {
         if (stage_of(names[i]) == 0) {
             const char *text = find_source(names[i]);

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 
@@ -158,8 +159,10 @@ sta_status sta_hpr_pass_build_pyramid(const sta_hpr_pass *pass, const sta_view_p
         int dst_w = sta_hpr_level_size(w, l), dst_h = sta_hpr_level_size(h, l);
         glUniform2i(pass->pyr_src_size, sta_hpr_level_size(w, l - 1), sta_hpr_level_size(h, l - 1));
         glUniform2i(pass->pyr_dst_size, dst_w, dst_h);
-        glBindImageTexture(0, src, src_mip, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-        glBindImageTexture(1, pyramid_texture, l - 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(STA_HPR_PYRAMID_IMAGE_SRC, src, src_mip, GL_FALSE, 0, GL_READ_ONLY,
+                           GL_RGBA32F);
+        glBindImageTexture(STA_HPR_PYRAMID_IMAGE_DST, pyramid_texture, l - 1, GL_FALSE, 0,
+                           GL_WRITE_ONLY, GL_RGBA32F);
         sta_gl_dispatch_2d(dst_w, dst_h);
     }
     return sta_gl_check("hpr pyramid", err);
@@ -184,7 +187,8 @@ sta_status sta_hpr_pass_run_pyramid(const sta_hpr_pass *pass, const sta_view_par
     if (status != STA_OK) {
         return status;
     }
-    sta_hpr_params p = sta_hpr_params_defaults(view, params);
+    sta_hpr_params p = params ? *params : (sta_hpr_params){ 0 };
+    sta_hpr_params_defaults(&p);
     int levels = sta_hpr_pyramid_levels(view->width_px, view->height_px);
     float level_depth[STA_HPR_MAX_LEVELS];
     sta_hpr_level_depths(view, &p, levels, level_depth);
@@ -199,9 +203,10 @@ sta_status sta_hpr_pass_run_pyramid(const sta_hpr_pass *pass, const sta_view_par
     glUniform2f(pass->occ_tan_half, th[0], th[1]);
     glUniform1f(pass->occ_far, p.far_m);
     glUniform1f(pass->occ_threshold, p.threshold);
-    glBindTextureUnit(0, position_texture);
-    glBindTextureUnit(1, pyramid_texture);
-    glBindImageTexture(0, label_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindTextureUnit(STA_HPR_OCCLUSION_SAMPLER_POSITION, position_texture);
+    glBindTextureUnit(STA_HPR_OCCLUSION_SAMPLER_PYRAMID, pyramid_texture);
+    glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_R32F);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     return sta_gl_check("hpr pyramidal occlusion", err);
 }
@@ -223,7 +228,8 @@ sta_status sta_hpr_pass_run_exhaustive(const sta_hpr_pass *pass, const sta_view_
     if (status != STA_OK) {
         return status;
     }
-    sta_hpr_params p = sta_hpr_params_defaults(view, params);
+    sta_hpr_params p = params ? *params : (sta_hpr_params){ 0 };
+    sta_hpr_params_defaults(&p);
     float th[2];
     tan_half(view, th);
     glUseProgram(pass->exhaustive_program);
@@ -232,8 +238,9 @@ sta_status sta_hpr_pass_run_exhaustive(const sta_hpr_pass *pass, const sta_view_
     glUniform2f(pass->exh_tan_half, th[0], th[1]);
     glUniform1f(pass->exh_far, p.far_m);
     glUniform1f(pass->exh_threshold, p.threshold);
-    glBindTextureUnit(0, position_texture);
-    glBindImageTexture(0, label_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindTextureUnit(STA_HPR_EXHAUSTIVE_SAMPLER_POSITION, position_texture);
+    glBindImageTexture(STA_HPR_EXHAUSTIVE_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_R32F);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     return sta_gl_check("hpr exhaustive occlusion", err);
 }

@@ -5,6 +5,7 @@
 
 #include <string.h>
 
+#include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 
@@ -118,9 +119,11 @@ sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const st
     }
     GLuint lp = pass->level_program;
     glUseProgram(lp);
-    glBindImageTexture(0, pass->atlas, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS, pass->atlas, 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA32F);
     for (int l = 1; l < count; l++) {
-        glBindImageTexture(1, pyramid->position[l], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(STA_NORMALS_PYRAMID_IMAGE_POINTS, pyramid->position[l], 0, GL_FALSE, 0,
+                           GL_READ_ONLY, GL_RGBA32F);
         glProgramUniform2i(lp, pass->level_size, sizes[2 * l], sizes[2 * l + 1]);
         glProgramUniform2i(lp, pass->level_offset, offsets[2 * l], offsets[2 * l + 1]);
         sta_gl_dispatch_2d(sizes[2 * l], sizes[2 * l + 1]);
@@ -134,11 +137,14 @@ sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const st
     glProgramUniform2iv(gp, pass->gather_level_size, count, sizes);
     glProgramUniform1f(gp, pass->gather_radius_px_m, sta_normals_pyramid_radius_px_m(view, &p));
     glProgramUniform1f(gp, pass->gather_near, view->near_m);
-    glBindImageTexture(0, out_normal_tex, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, filled_position_tex, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, pass->atlas, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL, out_normal_tex, 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_PYRAMID_IMAGE_POINTS, filled_position_tex, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS, pass->atlas, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
-    for (GLuint unit = 0; unit < 3; unit++) {
+    for (GLuint unit = 0; unit <= STA_NORMALS_PYRAMID_IMAGE_LAST; unit++) {
         glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     }
     return sta_gl_check("pyramidal normal pass", err);

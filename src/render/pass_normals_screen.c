@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 
@@ -64,8 +65,9 @@ sta_status sta_normals_screen_pass_run(const sta_normals_screen_pass *pass,
                                        GLuint position_texture, GLuint normal_texture,
                                        sta_error *err)
 {
-    sta_normals_screen_params p;
-    sta_status status = sta_normals_screen_defaults(params, view, &p, err);
+    sta_normals_screen_params p = *params;
+    sta_normals_screen_params_defaults(&p);
+    sta_status status = sta_normals_screen_params_check(&p, err);
     if (status != STA_OK) {
         return status;
     }
@@ -73,9 +75,11 @@ sta_status sta_normals_screen_pass_run(const sta_normals_screen_pass *pass,
     glUseProgram(pass->programs[m]);
     glUniform2i(pass->u_size[m], view->width_px, view->height_px);
     glUniform1i(pass->u_samples[m], p.samples);
-    glUniform1f(pass->u_max_distance2[m], sta_normals_screen_max_distance2(&p));
-    glBindImageTexture(0, normal_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, position_texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glUniform1f(pass->u_max_distance2[m], sta_normals_screen_max_distance2(view, &p));
+    glBindImageTexture(STA_NORMALS_SCREEN_IMAGE_NORMAL, normal_texture, 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_SCREEN_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     return STA_OK;
 }
@@ -86,8 +90,9 @@ sta_status sta_normals_smooth_pass_run(const sta_normals_screen_pass *pass,
                                        GLuint position_texture, GLuint normal_texture,
                                        GLuint out_texture, sta_error *err)
 {
-    sta_normals_screen_params p;
-    sta_status status = sta_normals_screen_defaults(params, view, &p, err);
+    sta_normals_screen_params p = *params;
+    sta_normals_screen_params_defaults(&p);
+    sta_status status = sta_normals_screen_params_check(&p, err);
     if (status != STA_OK) {
         return status;
     }
@@ -97,10 +102,13 @@ sta_status sta_normals_smooth_pass_run(const sta_normals_screen_pass *pass,
     }
     glUseProgram(pass->smooth_program);
     glUniform2i(pass->smooth_u_size, view->width_px, view->height_px);
-    glUniform1f(pass->smooth_u_max_distance2, sta_normals_screen_max_distance2(&p));
-    glBindImageTexture(0, out_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, position_texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, normal_texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glUniform1f(pass->smooth_u_max_distance2, sta_normals_screen_max_distance2(view, &p));
+    glBindImageTexture(STA_NORMALS_SMOOTH_IMAGE_SMOOTHED, out_texture, 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_SMOOTH_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_SMOOTH_IMAGE_NORMAL, normal_texture, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     return STA_OK;
 }

@@ -29,9 +29,9 @@ sta_status sta_normals_screen_pass_init(sta_normals_screen_pass *pass, sta_error
 void sta_normals_screen_pass_release(sta_normals_screen_pass *pass);
 
 /* Estimates normals over view->width_px x height_px. position_texture: RGBA32F positions,
- * level 0 read as an image (image unit 1); normal_texture: RGBA32F of the same size,
- * written (image unit 0). Errors:
- * STA_ERR_ARG for bad parameters (sta_normals_screen_defaults). */
+ * level 0 read as an image (STA_NORMALS_SCREEN_IMAGE_POSITION); normal_texture: RGBA32F
+ * of the same size, written (STA_NORMALS_SCREEN_IMAGE_NORMAL). Errors: STA_ERR_ARG for
+ * bad parameters (sta_normals_screen_params_check). */
 sta_status sta_normals_screen_pass_run(const sta_normals_screen_pass *pass,
                                        const sta_view_params *view,
                                        const sta_normals_screen_params *params,

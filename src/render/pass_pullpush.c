@@ -7,20 +7,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
-
-/* Image units (see the shaders). */
-enum {
-    UNIT_OUT_POSITION = 0,
-    UNIT_OUT_COLOUR = 1,
-    UNIT_FINE_POSITION = 2,
-    UNIT_FINE_COLOUR = 3,
-    UNIT_LABEL = 4,
-    UNIT_COARSE_POSITION = 5,
-    UNIT_COARSE_COLOUR = 6,
-    TEXTURE_UNIT_INPUT_COLOUR = 1
-};
 
 const char *sta_pullpush_shader_defines(void)
 {
@@ -153,8 +142,8 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
     }
     int count = pyr->level_count;
     GLint has_label = label_tex != 0;
-    glBindTextureUnit(TEXTURE_UNIT_INPUT_COLOUR, colour_tex);
-    bind_image(UNIT_LABEL, label_tex, GL_READ_ONLY, GL_R32F);
+    glBindTextureUnit(STA_PULLPUSH_SAMPLER_INPUT_COLOUR, colour_tex);
+    bind_image(STA_PULLPUSH_IMAGE_LABEL, label_tex, GL_READ_ONLY, GL_R32F);
 
     // Pull: level 1 from the inputs, level l from level l - 1.
     for (int l = 1; l < count; l++) {
@@ -162,13 +151,15 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
         glUseProgram(p->program);
         if (l == 1) {
             glProgramUniform1i(p->program, p->has_label, has_label);
-            bind_image(UNIT_FINE_POSITION, position_tex, GL_READ_ONLY, GL_RGBA32F);
+            bind_image(STA_PULLPUSH_IMAGE_FINE_POSITION, position_tex, GL_READ_ONLY, GL_RGBA32F);
         } else {
-            bind_image(UNIT_FINE_POSITION, pyr->position[l - 1], GL_READ_ONLY, GL_RGBA32F);
-            bind_image(UNIT_FINE_COLOUR, pyr->colour[l - 1], GL_READ_ONLY, GL_RGBA32F);
+            bind_image(STA_PULLPUSH_IMAGE_FINE_POSITION, pyr->position[l - 1], GL_READ_ONLY,
+                       GL_RGBA32F);
+            bind_image(STA_PULLPUSH_IMAGE_FINE_COLOUR, pyr->colour[l - 1], GL_READ_ONLY,
+                       GL_RGBA32F);
         }
-        bind_image(UNIT_OUT_POSITION, pyr->position[l], GL_WRITE_ONLY, GL_RGBA32F);
-        bind_image(UNIT_OUT_COLOUR, pyr->colour[l], GL_WRITE_ONLY, GL_RGBA32F);
+        bind_image(STA_PULLPUSH_IMAGE_OUT_POSITION, pyr->position[l], GL_WRITE_ONLY, GL_RGBA32F);
+        bind_image(STA_PULLPUSH_IMAGE_OUT_COLOUR, pyr->colour[l], GL_WRITE_ONLY, GL_RGBA32F);
         set_sizes(p, pyr, l - 1, l);
         sta_gl_dispatch_2d(pyr->width_px[l], pyr->height_px[l]);
     }
@@ -178,10 +169,11 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
     glUseProgram(p->program);
     glProgramUniform1i(p->program, p->has_coarse, 1);
     for (int l = count - 2; l >= 1; l--) {
-        bind_image(UNIT_OUT_POSITION, pyr->position[l], GL_READ_WRITE, GL_RGBA32F);
-        bind_image(UNIT_OUT_COLOUR, pyr->colour[l], GL_READ_WRITE, GL_RGBA32F);
-        bind_image(UNIT_COARSE_POSITION, pyr->position[l + 1], GL_READ_ONLY, GL_RGBA32F);
-        bind_image(UNIT_COARSE_COLOUR, pyr->colour[l + 1], GL_READ_ONLY, GL_RGBA32F);
+        bind_image(STA_PULLPUSH_IMAGE_OUT_POSITION, pyr->position[l], GL_READ_WRITE, GL_RGBA32F);
+        bind_image(STA_PULLPUSH_IMAGE_OUT_COLOUR, pyr->colour[l], GL_READ_WRITE, GL_RGBA32F);
+        bind_image(STA_PULLPUSH_IMAGE_COARSE_POSITION, pyr->position[l + 1], GL_READ_ONLY,
+                   GL_RGBA32F);
+        bind_image(STA_PULLPUSH_IMAGE_COARSE_COLOUR, pyr->colour[l + 1], GL_READ_ONLY, GL_RGBA32F);
         set_sizes(p, pyr, l, l + 1);
         sta_gl_dispatch_2d(pyr->width_px[l], pyr->height_px[l]);
     }
@@ -192,16 +184,18 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
     glUseProgram(p->program);
     glProgramUniform1i(p->program, p->has_label, has_label);
     glProgramUniform1i(p->program, p->has_coarse, count > 1);
-    bind_image(UNIT_FINE_POSITION, position_tex, GL_READ_ONLY, GL_RGBA32F);
-    bind_image(UNIT_OUT_POSITION, out_position_tex, GL_WRITE_ONLY, GL_RGBA32F);
-    bind_image(UNIT_OUT_COLOUR, out_colour_tex, GL_WRITE_ONLY, GL_RGBA32F);
-    bind_image(UNIT_COARSE_POSITION, count > 1 ? pyr->position[1] : 0, GL_READ_ONLY, GL_RGBA32F);
-    bind_image(UNIT_COARSE_COLOUR, count > 1 ? pyr->colour[1] : 0, GL_READ_ONLY, GL_RGBA32F);
+    bind_image(STA_PULLPUSH_IMAGE_FINE_POSITION, position_tex, GL_READ_ONLY, GL_RGBA32F);
+    bind_image(STA_PULLPUSH_IMAGE_OUT_POSITION, out_position_tex, GL_WRITE_ONLY, GL_RGBA32F);
+    bind_image(STA_PULLPUSH_IMAGE_OUT_COLOUR, out_colour_tex, GL_WRITE_ONLY, GL_RGBA32F);
+    bind_image(STA_PULLPUSH_IMAGE_COARSE_POSITION, count > 1 ? pyr->position[1] : 0, GL_READ_ONLY,
+               GL_RGBA32F);
+    bind_image(STA_PULLPUSH_IMAGE_COARSE_COLOUR, count > 1 ? pyr->colour[1] : 0, GL_READ_ONLY,
+               GL_RGBA32F);
     set_sizes(p, pyr, 0, count > 1 ? 1 : 0);
     sta_gl_dispatch_2d(pyr->width_px[0], pyr->height_px[0]);
 
-    glBindTextureUnit(TEXTURE_UNIT_INPUT_COLOUR, 0);
-    for (GLuint unit = 0; unit <= UNIT_COARSE_COLOUR; unit++) {
+    glBindTextureUnit(STA_PULLPUSH_SAMPLER_INPUT_COLOUR, 0);
+    for (GLuint unit = 0; unit <= STA_PULLPUSH_IMAGE_LAST; unit++) {
         bind_image(unit, 0, GL_READ_ONLY, GL_RGBA32F);
     }
     return sta_gl_check("pull-push pass", err);

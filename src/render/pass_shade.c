@@ -4,6 +4,7 @@
 
 #include <string.h>
 
+#include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 
@@ -50,10 +51,11 @@ void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *para
     glUniform2f(pass->shade_size, (float)width, (float)height);
     glUniform4f(pass->shade_light, p.ambient, p.diffuse, p.specular, p.shininess);
     glUniform3f(pass->shade_background, p.background[0], p.background[1], p.background[2]);
-    glBindImageTexture(0, position, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, normal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(3, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(STA_SHADE_IMAGE_POSITION, position, 0, GL_FALSE, 0, GL_READ_ONLY,
+                       GL_RGBA32F);
+    glBindImageTexture(STA_SHADE_IMAGE_COLOUR, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_SHADE_IMAGE_NORMAL, normal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_SHADE_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
     sta_gl_dispatch_2d(width, height);
 }
 
@@ -67,8 +69,8 @@ void sta_edl_pass_run(const sta_shade_pass *pass, const sta_edl_params *params, 
     glUniform1f(pass->edl_radius, p.radius_px);
     glUniform1f(pass->edl_strength, p.strength);
     glUniform3f(pass->edl_background, p.background[0], p.background[1], p.background[2]);
-    glBindImageTexture(0, position, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(3, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(STA_EDL_IMAGE_POSITION, position, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_EDL_IMAGE_COLOUR, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_EDL_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
     sta_gl_dispatch_2d(width, height);
 }

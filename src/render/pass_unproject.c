@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 
@@ -38,7 +39,8 @@ void sta_unproject_pass_run(const sta_unproject_pass *pass, const sta_view_param
     glUniform2f(pass->u_size, (float)view->width_px, (float)view->height_px);
     glUniform2f(pass->u_tan_half, tan_y * (float)view->width_px / (float)view->height_px, tan_y);
     glUniform1f(pass->u_near, view->near_m);
-    glBindTextureUnit(0, depth_texture);
-    glBindImageTexture(0, position_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindTextureUnit(STA_UNPROJECT_SAMPLER_DEPTH, depth_texture);
+    glBindImageTexture(STA_UNPROJECT_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA32F);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
 }

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/clock.h"
+#include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 
@@ -163,13 +164,14 @@ static void display(sta_pipeline *p, int mode, int w, int h, GLuint out)
     glUseProgram(p->display_program);
     glUniform2f(p->display_size, (float)w, (float)h);
     glUniform1i(p->display_mode, mode);
-    glBindImageTexture(0, mode == 1 ? p->filled_position : p->position, 0, GL_FALSE, 0,
-                       GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, mode == 1 ? p->filled_colour : p->colour, 0, GL_FALSE, 0, GL_READ_ONLY,
+    glBindImageTexture(STA_DISPLAY_IMAGE_POSITION, mode == 1 ? p->filled_position : p->position, 0,
+                       GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_DISPLAY_IMAGE_COLOUR, mode == 1 ? p->filled_colour : p->colour, 0,
+                       GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_DISPLAY_IMAGE_LABEL, p->label, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(STA_DISPLAY_IMAGE_NORMAL, p->normal, 0, GL_FALSE, 0, GL_READ_ONLY,
                        GL_RGBA32F);
-    glBindImageTexture(2, p->label, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    glBindImageTexture(3, p->normal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(4, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(STA_DISPLAY_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
     sta_gl_dispatch_2d(w, h);
 }
 
@@ -243,8 +245,9 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     sta_unproject_pass_run(&p->unproject, view, depth, p->position);
     glUseProgram(p->colour_program);
     glUniform2f(p->colour_size, (float)w, (float)h);
-    glBindTextureUnit(0, colour_rgba8);
-    glBindImageTexture(0, p->colour, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindTextureUnit(STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8, colour_rgba8);
+    glBindImageTexture(STA_COLOUR_TO_FLOAT_IMAGE_COLOUR, p->colour, 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_RGBA32F);
     sta_gl_dispatch_2d(w, h);
     mark(p, t, STA_PASS_UNPROJECT, 1);
     ran[STA_PASS_UNPROJECT] = true;

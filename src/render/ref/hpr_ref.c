@@ -7,29 +7,33 @@
  */
 #include "render/ref/hpr_ref.h"
 
-
 #include <math.h>
 #include <stdbool.h>
 #include <string.h>
 
-sta_hpr_params sta_hpr_params_defaults(const sta_view_params *view, const sta_hpr_params *params)
+void sta_hpr_params_defaults(sta_hpr_params *config)
 {
-    sta_hpr_params p = { 0 };
-    if (params) {
-        p = *params;
+    if (config->threshold == 0.0f) {
+        config->threshold = STA_HPR_DEFAULT_THRESHOLD;
     }
-    if (p.threshold == 0.0f) {
-        p.threshold = STA_HPR_DEFAULT_THRESHOLD;
+    if (config->coarse_level <= 0) {
+        config->coarse_level = STA_HPR_DEFAULT_COARSE_LEVEL;
     }
-    if (p.s_hpr == 0.0f) {
-        p.s_hpr = STA_HPR_DEFAULT_S_HPR_FACTOR * view->s0;
+    if (!(config->far_m > 0.0f) || !isfinite(config->far_m)) {
+        config->far_m = STA_HPR_DEFAULT_FAR_M;
     }
-    if (p.coarse_level <= 0) {
-        p.coarse_level = STA_HPR_DEFAULT_COARSE_LEVEL;
-    }
-    if (!(p.far_m > 0.0f) || !isfinite(p.far_m)) {
-        p.far_m = STA_HPR_DEFAULT_FAR_M;
-    }
+}
+
+float sta_hpr_s_hpr_m(const sta_view_params *view, const sta_hpr_params *config)
+{
+    return config->s_hpr != 0.0f ? config->s_hpr : STA_HPR_DEFAULT_S_HPR_FACTOR * view->s0;
+}
+
+// `params` (may be NULL) through sta_hpr_params_defaults.
+static sta_hpr_params resolve(const sta_hpr_params *params)
+{
+    sta_hpr_params p = params ? *params : (sta_hpr_params){ 0 };
+    sta_hpr_params_defaults(&p);
     return p;
 }
 
@@ -53,7 +57,8 @@ void sta_hpr_level_depths(const sta_view_params *view, const sta_hpr_params *res
                           int level_count, float out_depth_m[STA_HPR_MAX_LEVELS])
 {
     // K = s_hpr h / (2 tan(theta)): the neighbourhood size in pixels times the depth.
-    float k = resolved->s_hpr * (float)view->height_px / (2.0f * tanf(0.5f * view->fov_y));
+    float s_hpr = sta_hpr_s_hpr_m(view, resolved);
+    float k = s_hpr * (float)view->height_px / (2.0f * tanf(0.5f * view->fov_y));
     if (!(k > 0.0f) || !isfinite(k)) {
         k = 0.0f; // no s0: level 0 everywhere
     }
@@ -214,7 +219,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                                 const sta_hpr_pyramid *pyramid, sta_image *out_label,
                                 sta_image *out_mean, sta_image *out_level)
 {
-    sta_hpr_params p = sta_hpr_params_defaults(view, params);
+    sta_hpr_params p = resolve(params);
     occlusion_frame f = frame_of(view, &p);
     int level_count = pyramid->level_count;
     float level_depth[STA_HPR_MAX_LEVELS];
@@ -294,7 +299,7 @@ void sta_hpr_ref_exhaustive(const sta_view_params *view, const sta_hpr_params *p
                             int radius_px, const sta_image *position, sta_image *out_label,
                             sta_image *out_mean)
 {
-    sta_hpr_params p = sta_hpr_params_defaults(view, params);
+    sta_hpr_params p = resolve(params);
     occlusion_frame f = frame_of(view, &p);
     for (int py = 0; py < f.height; py++) {
         for (int px = 0; px < f.width; px++) {

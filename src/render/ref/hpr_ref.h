@@ -38,16 +38,27 @@
 #define STA_HPR_SECTOR_TAN_DEN       985
 
 /* Parameters. Zero means default (resolved by sta_hpr_params_defaults). A negative
- * threshold makes every pixel open (HPR off). */
+ * threshold makes every pixel open (HPR off). s_hpr's default depends on the view: it
+ * stays 0 after sta_hpr_params_defaults and sta_hpr_s_hpr_m derives it where used. */
 typedef struct sta_hpr_params {
-    float threshold;  /* a pixel is open when its mean sector occlusion >= this; 0: 0.1 */
-    float s_hpr;      /* metric size of the neighbourhood (eq. 1), metres; 0: 10 * s0 */
-    int coarse_level; /* pyramid level giving the coarse depth (eq. 1); <= 0: 4 */
-    float far_m;      /* depth of background pixels, metres; <= 0: 1e6 */
+    float threshold;  /* a pixel is open when its mean sector occlusion >= this;
+                         0: STA_HPR_DEFAULT_THRESHOLD */
+    float s_hpr;      /* metric size of the neighbourhood (eq. 1), metres; 0: derived,
+                         STA_HPR_DEFAULT_S_HPR_FACTOR * view s0 (sta_hpr_s_hpr_m) */
+    int coarse_level; /* pyramid level giving the coarse depth (eq. 1);
+                         <= 0: STA_HPR_DEFAULT_COARSE_LEVEL */
+    float far_m;      /* depth of background pixels, metres; <= 0 or not finite:
+                         STA_HPR_DEFAULT_FAR_M */
 } sta_hpr_params;
 
-/* `params` (may be NULL) with every zero field replaced by its default. */
-sta_hpr_params sta_hpr_params_defaults(const sta_view_params *view, const sta_hpr_params *params);
+/* Fills threshold, coarse_level and far_m of `config` with their defaults where they
+ * are zero (or, as documented above, out of range), in place; other fields stay as
+ * they are. s_hpr stays 0 when it is 0 (its default needs the view). */
+void sta_hpr_params_defaults(sta_hpr_params *config);
+
+/* s_hpr in metres: config->s_hpr, or STA_HPR_DEFAULT_S_HPR_FACTOR * view->s0 when it
+ * is 0. */
+float sta_hpr_s_hpr_m(const sta_view_params *view, const sta_hpr_params *config);
 
 /* Number of pyramid levels for a width x height image, level 0 (the image) included:
  * max(2, 1 + ceil(log2(max(width, height)))), so the last level is 1 x 1 and level 1
@@ -64,7 +75,8 @@ static inline int sta_hpr_level_size(int size_px, int level)
  * K 2^(0.5 - l) with K = s_hpr h / (2 tan(fov_y / 2)); a pixel of coarse depth z gets
  * the largest l with z <= out[l] (0 when none), i.e. round(log2(K / z)) clamped to
  * [0, level_count - 1], computed by comparisons so that shader and twin agree exactly.
- * out[0] = +inf (unused). `resolved`: parameters after sta_hpr_params_defaults. */
+ * out[0] = +inf (unused). `resolved`: parameters after sta_hpr_params_defaults; s_hpr
+ * is sta_hpr_s_hpr_m of them. */
 void sta_hpr_level_depths(const sta_view_params *view, const sta_hpr_params *resolved,
                           int level_count, float out_depth_m[STA_HPR_MAX_LEVELS]);
 

@@ -10,10 +10,10 @@
 #include <stdbool.h>
 #include <string.h>
 
-void sta_normals_pyramid_params_defaults(sta_normals_pyramid_params *params)
+void sta_normals_pyramid_params_defaults(sta_normals_pyramid_params *config)
 {
-    if (!(params->radius_s0 > 0.0f)) {
-        params->radius_s0 = 3.0f;
+    if (!(config->radius_s0 > 0.0f)) {
+        config->radius_s0 = STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0;
     }
 }
 

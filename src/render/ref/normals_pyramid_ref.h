@@ -25,12 +25,18 @@
 #include "render/ref/pullpush_ref.h"
 #include "render/ref/screen_space.h"
 
+/* Default metric radius r_n, in units of the view's s0 (sta_normals_pyramid_params_defaults). */
+#define STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0 3.0f
+
+/* Zero (or negative) fields mean their defaults. */
 typedef struct sta_normals_pyramid_params {
-    float radius_s0; /* metric radius r_n in units of the view's s0; <= 0: 3 */
+    float radius_s0; /* metric radius r_n in units of the view's s0; <= 0 (or NaN):
+                        STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0 */
 } sta_normals_pyramid_params;
 
-/* Fills zero (or negative) fields with the defaults above. */
-void sta_normals_pyramid_params_defaults(sta_normals_pyramid_params *params);
+/* Fills the zero (or negative, or NaN) fields of `config` with the defaults above, in
+ * place; other fields stay as they are. */
+void sta_normals_pyramid_params_defaults(sta_normals_pyramid_params *config);
 
 /* r_n times H / (2 tan(fov_y / 2)), so that r_px = result / depth. params must have
  * been through sta_normals_pyramid_params_defaults. The GL pass passes exactly this

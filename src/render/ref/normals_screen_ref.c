@@ -235,47 +235,62 @@ static void normal_ti(const pixel_ctx *k, int samples, float out[4])
     out[3] = 1.0f;
 }
 
-sta_status sta_normals_screen_defaults(const sta_normals_screen_params *params,
-                                       const sta_view_params *view, sta_normals_screen_params *out,
-                                       sta_error *err)
+void sta_normals_screen_params_defaults(sta_normals_screen_params *config)
 {
-    sta_normals_screen_params p = *params;
-    if (p.method == STA_NORMALS_SCREEN_DEFAULT) {
-        p.method = STA_NORMALS_SCREEN_TI;
+    if (config->method == STA_NORMALS_SCREEN_DEFAULT) {
+        config->method = STA_NORMALS_SCREEN_DEFAULT_METHOD;
     }
-    if (p.method < STA_NORMALS_SCREEN_LD || p.method > STA_NORMALS_SCREEN_TI) {
-        return sta_fail(err, STA_ERR_ARG, "screen-space normals: unknown method %d", p.method);
+    if (config->samples == 0) {
+        config->samples = STA_NORMALS_SCREEN_DEFAULT_SAMPLES;
     }
-    if (p.samples == 0) {
-        p.samples = 9;
+}
+
+sta_status sta_normals_screen_params_check(const sta_normals_screen_params *config, sta_error *err)
+{
+    int method = config->method, samples = config->samples;
+    if (method < STA_NORMALS_SCREEN_DEFAULT || method > STA_NORMALS_SCREEN_TI) {
+        return sta_fail(err, STA_ERR_ARG, "screen-space normals: unknown method %d", method);
     }
-    if (p.samples != 5 && p.samples != 9 && p.samples != 17 && p.samples != 25) {
+    if (samples != 0 && samples != 5 && samples != 9 && samples != 17 && samples != 25) {
         return sta_fail(err, STA_ERR_ARG,
                         "screen-space normals: samples %d is not a scheme (5, 9, 17 or 25)",
-                        p.samples);
+                        samples);
     }
-    if (isnan(p.max_distance_m)) {
+    if (isnan(config->max_distance_m)) {
         return sta_fail(err, STA_ERR_ARG, "screen-space normals: max_distance_m is NaN");
     }
-    if (p.max_distance_m == 0.0f) {
-        p.max_distance_m = view->s0 > 0.0f ? 5.0f * view->s0 : INFINITY;
-    } else if (p.max_distance_m < 0.0f) {
-        p.max_distance_m = INFINITY;
-    }
-    *out = p;
     return STA_OK;
 }
 
-float sta_normals_screen_max_distance2(const sta_normals_screen_params *resolved)
+float sta_normals_screen_max_distance2(const sta_view_params *view,
+                                       const sta_normals_screen_params *config)
 {
-    float d2 = resolved->max_distance_m * resolved->max_distance_m;
+    float d = config->max_distance_m;
+    if (d == 0.0f) {
+        d = view->s0 > 0.0f ? STA_NORMALS_SCREEN_DEFAULT_DISTANCE_S0 * view->s0 : INFINITY;
+    } else if (d < 0.0f) {
+        d = INFINITY;
+    }
+    float d2 = d * d;
     return d2 <= FLT_MAX ? d2 : FLT_MAX;
 }
 
 const char *sta_normals_screen_method_name(int method)
 {
-    static const char *const names[] = { "TI", "LD", "PD", "PC", "TI" };
-    return method >= 0 && method < STA_NORMALS_SCREEN_METHOD_COUNT ? names[method] : "?";
+    static const char *const names[] = { "?", "LD", "PD", "PC", "TI" };
+    if (method == STA_NORMALS_SCREEN_DEFAULT) {
+        method = STA_NORMALS_SCREEN_DEFAULT_METHOD;
+    }
+    return method > 0 && method < STA_NORMALS_SCREEN_METHOD_COUNT ? names[method] : "?";
+}
+
+// `params` through sta_normals_screen_params_check and _defaults.
+static sta_status resolve(const sta_normals_screen_params *params, sta_normals_screen_params *out,
+                          sta_error *err)
+{
+    *out = *params;
+    sta_normals_screen_params_defaults(out);
+    return sta_normals_screen_params_check(out, err);
 }
 
 static sta_status check_image(const sta_image *image, const sta_image *position, const char *what,
@@ -295,7 +310,7 @@ sta_status sta_normals_screen_ref(const sta_view_params *view,
                                   const sta_image *position, sta_image *out, sta_error *err)
 {
     sta_normals_screen_params p;
-    sta_status status = sta_normals_screen_defaults(params, view, &p, err);
+    sta_status status = resolve(params, &p, err);
     if (status == STA_OK) {
         status = check_image(position, position, "position", err);
     }
@@ -305,7 +320,7 @@ sta_status sta_normals_screen_ref(const sta_view_params *view,
     if (status != STA_OK) {
         return status;
     }
-    pixel_ctx k = { position, sta_normals_screen_max_distance2(&p), 0, 0, { 0, 0, 0 } };
+    pixel_ctx k = { position, sta_normals_screen_max_distance2(view, &p), 0, 0, { 0, 0, 0 } };
     for (k.y = 0; k.y < position->height; k.y++) {
         for (k.x = 0; k.x < position->width; k.x++) {
             float *o = sta_image_at(out, k.x, k.y);
@@ -339,7 +354,7 @@ sta_status sta_normals_smooth_ref(const sta_view_params *view,
                                   sta_image *out, sta_error *err)
 {
     sta_normals_screen_params p;
-    sta_status status = sta_normals_screen_defaults(params, view, &p, err);
+    sta_status status = resolve(params, &p, err);
     if (status == STA_OK) {
         status = check_image(position, position, "position", err);
     }
@@ -355,7 +370,7 @@ sta_status sta_normals_smooth_ref(const sta_view_params *view,
     if (status != STA_OK) {
         return status;
     }
-    float max_distance2 = sta_normals_screen_max_distance2(&p);
+    float max_distance2 = sta_normals_screen_max_distance2(view, &p);
     for (int y = 0; y < position->height; y++) {
         for (int x = 0; x < position->width; x++) {
             float *o = sta_image_at(out, x, y);

@@ -23,7 +23,7 @@
 
 /* Estimators (Schiffner et al.'s names). */
 typedef enum sta_normals_screen_method {
-    STA_NORMALS_SCREEN_DEFAULT = 0, /* resolves to TI */
+    STA_NORMALS_SCREEN_DEFAULT = 0, /* resolves to STA_NORMALS_SCREEN_DEFAULT_METHOD */
     STA_NORMALS_SCREEN_LD = 1,      /* local derivatives: right/up differences */
     STA_NORMALS_SCREEN_PD = 2,      /* plane fit from diagonal (opposite) sample pairs */
     STA_NORMALS_SCREEN_PC = 3,      /* plane fit from counter-clockwise sample fans */
@@ -31,26 +31,38 @@ typedef enum sta_normals_screen_method {
     STA_NORMALS_SCREEN_METHOD_COUNT = 5
 } sta_normals_screen_method;
 
-/* Zero fields mean the defaults (sta_normals_screen_defaults). */
+/* Defaults (sta_normals_screen_params_defaults, sta_normals_screen_max_distance2). */
+#define STA_NORMALS_SCREEN_DEFAULT_METHOD      STA_NORMALS_SCREEN_TI
+#define STA_NORMALS_SCREEN_DEFAULT_SAMPLES     9
+#define STA_NORMALS_SCREEN_DEFAULT_DISTANCE_S0 5.0f /* max_distance_m = this * view s0 */
+
+/* Zero fields mean the defaults (sta_normals_screen_params_defaults). max_distance_m's
+ * default depends on the view: it stays 0 after sta_normals_screen_params_defaults and
+ * sta_normals_screen_max_distance2 derives it where used. */
 typedef struct sta_normals_screen_params {
-    int method;           /* sta_normals_screen_method; 0 = TI */
-    int samples;          /* sampling scheme: 5, 9, 17 or 25 samples; 0 = 9; LD ignores it */
+    int method;           /* sta_normals_screen_method; 0: STA_NORMALS_SCREEN_DEFAULT_METHOD */
+    int samples;          /* sampling scheme: 5, 9, 17 or 25 samples;
+                             0: STA_NORMALS_SCREEN_DEFAULT_SAMPLES; LD ignores it */
     float max_distance_m; /* neighbours farther than this from the centre (3D, metres) are
-                             rejected; 0 = 5 * view s0 (no limit when s0 <= 0); < 0 = no
-                             limit */
+                             rejected; 0: derived, STA_NORMALS_SCREEN_DEFAULT_DISTANCE_S0 *
+                             view s0 (no limit when s0 <= 0); < 0: no limit */
 } sta_normals_screen_params;
 
-/* Resolves the defaults of `params` into `out` (which may alias it): method, samples
- * and max_distance_m as documented above; "no limit" becomes INFINITY. Errors:
+/* Fills method and samples of `config` with their defaults where they are zero, in
+ * place; other fields stay as they are. max_distance_m stays 0 when it is 0 (its
+ * default needs the view). */
+void sta_normals_screen_params_defaults(sta_normals_screen_params *config);
+
+/* Validates `config`, before or after sta_normals_screen_params_defaults. Errors:
  * STA_ERR_ARG for an unknown method, a sample count other than 0/5/9/17/25, or a NaN
  * distance. */
-sta_status sta_normals_screen_defaults(const sta_normals_screen_params *params,
-                                       const sta_view_params *view, sta_normals_screen_params *out,
-                                       sta_error *err);
+sta_status sta_normals_screen_params_check(const sta_normals_screen_params *config, sta_error *err);
 
-/* The squared distance limit the twin and the shader compare with: max_distance_m^2 of
- * resolved parameters, FLT_MAX when that is not finite. */
-float sta_normals_screen_max_distance2(const sta_normals_screen_params *resolved);
+/* The squared distance limit the twin and the shader compare with: max_distance_m^2,
+ * with 0 resolved from the view's s0 as documented above, and FLT_MAX when there is no
+ * limit. */
+float sta_normals_screen_max_distance2(const sta_view_params *view,
+                                       const sta_normals_screen_params *config);
 
 /* "LD", "PD", "PC", "TI" (or "?") for reports. */
 const char *sta_normals_screen_method_name(int method);

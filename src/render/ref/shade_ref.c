@@ -4,18 +4,18 @@
 
 #include <math.h>
 
-void sta_shade_params_defaults(sta_shade_params *p)
+void sta_shade_params_defaults(sta_shade_params *config)
 {
-    p->ambient = p->ambient > 0 ? p->ambient : 0.25f;
-    p->diffuse = p->diffuse > 0 ? p->diffuse : 0.75f;
-    p->specular = p->specular > 0 ? p->specular : 0.15f;
-    p->shininess = p->shininess > 0 ? p->shininess : 24.0f;
+    config->ambient = config->ambient > 0 ? config->ambient : STA_SHADE_DEFAULT_AMBIENT;
+    config->diffuse = config->diffuse > 0 ? config->diffuse : STA_SHADE_DEFAULT_DIFFUSE;
+    config->specular = config->specular > 0 ? config->specular : STA_SHADE_DEFAULT_SPECULAR;
+    config->shininess = config->shininess > 0 ? config->shininess : STA_SHADE_DEFAULT_SHININESS;
 }
 
-void sta_edl_params_defaults(sta_edl_params *p)
+void sta_edl_params_defaults(sta_edl_params *config)
 {
-    p->radius_px = p->radius_px > 0 ? p->radius_px : 1.5f;
-    p->strength = p->strength > 0 ? p->strength : 60.0f;
+    config->radius_px = config->radius_px > 0 ? config->radius_px : STA_EDL_DEFAULT_RADIUS_PX;
+    config->strength = config->strength > 0 ? config->strength : STA_EDL_DEFAULT_STRENGTH;
 }
 
 static float clamp01(float v)
