@@ -12,8 +12,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "core/status.h"
 #include "core/point.h"
+#include "core/status.h"
 
 enum {
     STA_OCTREE_MAX_LEVEL = 30

@@ -8,10 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench/bench_truth.h"
 #include "bench/metrics.h"
 #include "bench/report.h"
 #include "bench/sweep.h"
-#include "bench/bench_truth.h"
 #include "bench/view_eval.h"
 #include "convert.h"
 #include "render/gl.h"

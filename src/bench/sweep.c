@@ -10,9 +10,9 @@
 #include <unistd.h>
 
 #include "bench/bench_cameras.h"
+#include "bench/bench_truth.h"
 #include "bench/katz_hpr.h"
 #include "bench/metrics.h"
-#include "bench/bench_truth.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
 #include "core/array.h"

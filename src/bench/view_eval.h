@@ -11,8 +11,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "bench/metrics.h"
 #include "bench/bench_truth.h"
+#include "bench/metrics.h"
 #include "core/camera.h"
 #include "core/status.h"
 #include "render/ref/image.h"

@@ -17,9 +17,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/point.h"
 #include "core/status.h"
 #include "format/layout.h"
-#include "core/point.h"
 
 /* One extra dimension: a run of bytes per point with its LAS description. */
 typedef struct sta_strata_extra_dim {

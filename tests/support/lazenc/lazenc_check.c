@@ -9,10 +9,10 @@
 
 #include "core/bytes.h"
 #include "core/file_map.h"
+#include "core/point.h"
 #include "io/cloud.h"
 #include "io/las.h"
 #include "io/las_internal.h"
-#include "core/point.h"
 #include "lazenc_check.h"
 
 // From ../shared/data/README.md, "LAS / LAZ twins".

@@ -9,8 +9,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "io/laz_internal.h"
 #include "core/point.h"
+#include "io/laz_internal.h"
 
 /* The LAZ files of ../shared/data/laz and their uncompressed LAS twins (paths relative
  * to the shared data folder; the list of its README). */
