@@ -36,7 +36,7 @@ void sta_bench_options_defaults(sta_bench_options *o)
         o->fov_deg = 60.0;
     }
     if (!o->budget_count) {
-        o->budgets[0] = 30000000;
+        o->budgets[0] = STA_DEFAULT_BUDGET_POINTS;
         o->budget_count = 1;
     }
     if (!o->mode_count) {

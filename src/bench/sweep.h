@@ -20,6 +20,7 @@
 
 #include "core/status.h"
 #include "render/pipeline.h"
+#include "stream/select.h"
 
 typedef enum sta_bench_camera_kind {
     STA_BENCH_ORBIT = 0, /* sta_bench_orbit */
@@ -44,7 +45,7 @@ typedef struct sta_bench_options {
     int width_px, height_px;              /* 0: 1920 x 1080 */
     double fov_deg;                       /* 0: 60 */
     uint64_t budgets[STA_BENCH_MAX_LIST]; /* points per frame; 0 = all points */
-    int budget_count;                     /* 0: one budget of 30,000,000 */
+    int budget_count;                     /* 0: one budget of STA_DEFAULT_BUDGET_POINTS */
     int modes[STA_BENCH_MAX_LIST];        /* sta_pipeline_mode */
     int mode_count;                       /* 0: shaded */
     int normals[STA_BENCH_MAX_LIST];      /* sta_normal_method */
