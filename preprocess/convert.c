@@ -34,9 +34,6 @@
 #include "refine.h"
 
 enum {
-    DEFAULT_MEMORY_MIB = 2048,
-    DEFAULT_GRID_CELLS = 128,
-    DEFAULT_LEAF_CAPACITY = 32768,
     FIXED_OVERHEAD_MIB = 96, /* counting pyramid, chunk map, reader batches, code */
 };
 
@@ -456,9 +453,9 @@ void sta_convert_options_defaults(sta_convert_options *o)
         long cores = sysconf(_SC_NPROCESSORS_ONLN);
         o->threads = (int)(cores > 0 ? cores : 1);
     }
-    o->memory_mib = o->memory_mib ? o->memory_mib : DEFAULT_MEMORY_MIB;
-    o->grid_cells = o->grid_cells ? o->grid_cells : DEFAULT_GRID_CELLS;
-    o->leaf_capacity = o->leaf_capacity ? o->leaf_capacity : DEFAULT_LEAF_CAPACITY;
+    o->memory_mib = o->memory_mib ? o->memory_mib : STA_CONVERT_DEFAULT_MEMORY_MIB;
+    o->grid_cells = o->grid_cells ? o->grid_cells : (int)STA_STRATA_DEFAULT_CELLS;
+    o->leaf_capacity = o->leaf_capacity ? o->leaf_capacity : STA_CONVERT_DEFAULT_LEAF_CAPACITY;
     o->compress_level = o->compress_level ? o->compress_level : STA_STRATA_DEFAULT_ZSTD_LEVEL;
 }
 

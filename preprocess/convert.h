@@ -18,6 +18,11 @@
 
 #include "core/status.h"
 
+/* Defaults (the grid's is STA_STRATA_DEFAULT_CELLS, the zstd level's
+ * STA_STRATA_DEFAULT_ZSTD_LEVEL). */
+#define STA_CONVERT_DEFAULT_MEMORY_MIB    2048
+#define STA_CONVERT_DEFAULT_LEAF_CAPACITY 32768
+
 /* compress_level value that stores node payloads uncompressed (`--compress 0`). */
 #define STA_CONVERT_STORE (-1)
 
@@ -27,11 +32,11 @@ typedef struct sta_convert_options {
     size_t input_count;
     const char *output;   /* .strata path; written under a temporary name first */
     int threads;          /* 0: all cores */
-    size_t memory_mib;    /* 0: 2048; hard budget for the whole process */
+    size_t memory_mib;    /* 0: STA_CONVERT_DEFAULT_MEMORY_MIB; hard budget for the process */
     const char *tmp_dir;  /* NULL: the output's folder */
     int compress_level;   /* 0: STA_STRATA_DEFAULT_ZSTD_LEVEL; 1..19 zstd; STA_CONVERT_STORE */
-    int grid_cells;       /* 0: 128; a power of two, 16..1024 */
-    size_t leaf_capacity; /* 0: 32768 points before a leaf splits */
+    int grid_cells;       /* 0: STA_STRATA_DEFAULT_CELLS; a power of two, 16..1024 */
+    size_t leaf_capacity; /* 0: STA_CONVERT_DEFAULT_LEAF_CAPACITY points before a split */
     size_t chunk_points;  /* 0: from the memory budget; tests force small chunks */
     bool force;           /* overwrite an existing output */
     bool keep_extra;      /* keep LAS extra dimensions (--attributes extra) */
@@ -40,8 +45,8 @@ typedef struct sta_convert_options {
     atomic_bool *cancel;  /* set from a signal handler to stop; may be NULL */
 } sta_convert_options;
 
-/* Fills the zero fields of `options` with their defaults (threads: the cores; memory
- * 2048 MiB; grid 128 cells; leaf 32768 points; zstd level 3). */
+/* Fills the zero fields of `options` with their defaults (threads: the cores; the
+ * rest: the constants above). */
 void sta_convert_options_defaults(sta_convert_options *options);
 
 /* What the conversion did, for the closing summary and benchmarks. */

@@ -1,7 +1,6 @@
 /* SPDX-License-Identifier: MIT
  * strata-convert: LAS / PLY files in, one .strata LOD hierarchy out.
  */
-#include <errno.h>
 #include <inttypes.h>
 #include <signal.h>
 #include <stdio.h>
@@ -10,8 +9,10 @@
 #include <unistd.h>
 
 #include "convert.h"
-#include "core/alloc.h"
+#include "core/cli.h"
 #include "core/log.h"
+#include "format/layout.h"
+#include "format/strata_writer.h"
 
 static atomic_bool cancel_requested;
 
@@ -21,138 +22,123 @@ static void on_signal(int signal_number)
     atomic_store(&cancel_requested, true);
 }
 
-static void print_usage(FILE *out)
-{
-    fputs("usage: strata-convert [options] INPUT... -o OUTPUT.strata\n"
-          "\n"
-          "Builds a nested-octree LOD hierarchy (one memory-mappable .strata file) from\n"
-          "LAS 1.0-1.4 and PLY files, out of core and in bounded memory. Several inputs\n"
-          "(tiles of one survey) merge into one scene. Every input point is stored exactly\n"
-          "once, on the input's integer grid (lossless).\n"
-          "\n"
-          "options:\n"
-          "  -o, --output FILE      the .strata file to write (required)\n"
-          "  --threads N            worker threads (default: all cores)\n"
-          "  --memory MIB           memory budget for the whole process (default 2048)\n"
-          "  --tmp DIR              folder for the temporary file (default: the output's)\n"
-          "  --compress LEVEL       zstd level 1-19, 0 = store uncompressed (default 3)\n"
-          "  --grid CELLS           grid cells per node axis, power of two 16-1024\n"
-          "                         (default 128)\n"
-          "  --leaf POINTS          points a leaf holds before it splits (default 32768)\n"
-          "  --attributes extra     also keep LAS extra dimensions (extra bytes)\n"
-          "  --salvage              convert the complete points of truncated inputs\n"
-          "  --force                overwrite OUTPUT if it exists\n"
-          "  -q, --quiet            no progress line, no summary, no warnings\n"
-          "  -h, --help             this text\n"
-          "\n"
-          "exit status: 0 done, 1 failed (nothing written), 2 bad usage, 130 interrupted\n",
-          out);
-}
+static const char usage_text[] =
+    "usage: strata-convert [options] INPUT... -o OUTPUT.strata\n"
+    "\n"
+    "Builds a nested-octree LOD hierarchy (one memory-mappable .strata file) from\n"
+    "LAS 1.0-1.4 and PLY files, out of core and in bounded memory. Several inputs\n"
+    "(tiles of one survey) merge into one scene. Every input point is stored exactly\n"
+    "once, on the input's integer grid (lossless).\n";
 
-static int parse_long(const char *option, const char *text, long lo, long hi, long *out)
-{
-    char *end = NULL;
-    errno = 0;
-    long v = text ? strtol(text, &end, 10) : 0;
-    if (!text || errno || end == text || *end != '\0' || v < lo || v > hi) {
-        fprintf(stderr, "strata-convert: %s needs a whole number from %ld to %ld, got '%s'\n",
-                option, lo, hi, text ? text : "");
-        return 0;
-    }
-    *out = v;
-    return 1;
-}
+static const char exit_text[] =
+    "exit status: 0 done, 1 failed (nothing written), 2 bad usage, 130 interrupted\n";
 
 int main(int argc, char **argv)
 {
-    sta_convert_options options = { .compress_level = 3, .progress = true };
-    const char **inputs = sta_calloc((size_t)argc, sizeof(*inputs));
-    if (!inputs) {
-        return 1;
-    }
-    size_t input_count = 0;
+    // The defaults, shown by --help from here (convert.c resolves 0 to the same values).
+    sta_convert_options options = { .compress_level = STA_STRATA_DEFAULT_ZSTD_LEVEL,
+                                    .grid_cells = (int)STA_STRATA_DEFAULT_CELLS,
+                                    .progress = true };
+    int memory_mib = STA_CONVERT_DEFAULT_MEMORY_MIB;
+    int leaf_capacity = STA_CONVERT_DEFAULT_LEAF_CAPACITY;
+    int attributes = -1; // index into attribute_names
     bool quiet = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *value = i + 1 < argc ? argv[i + 1] : NULL;
-        long v = 0;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            print_usage(stdout);
-            sta_free(inputs);
-            return 0;
-        } else if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
-            if (!value) {
-                fprintf(stderr, "strata-convert: %s needs a file name\n", a);
-                goto usage_error;
-            }
-            options.output = value;
-            i++;
-        } else if (strcmp(a, "--threads") == 0) {
-            if (!parse_long(a, value, 1, 256, &v)) {
-                goto usage_error;
-            }
-            options.threads = (int)v;
-            i++;
-        } else if (strcmp(a, "--memory") == 0) {
-            if (!parse_long(a, value, 64, 1 << 24, &v)) {
-                goto usage_error;
-            }
-            options.memory_mib = (size_t)v;
-            i++;
-        } else if (strcmp(a, "--tmp") == 0) {
-            if (!value) {
-                fprintf(stderr, "strata-convert: --tmp needs a folder\n");
-                goto usage_error;
-            }
-            options.tmp_dir = value;
-            i++;
-        } else if (strcmp(a, "--compress") == 0) {
-            if (!parse_long(a, value, 0, 19, &v)) {
-                goto usage_error;
-            }
-            options.compress_level = (int)v;
-            i++;
-        } else if (strcmp(a, "--grid") == 0) {
-            if (!parse_long(a, value, 16, 1024, &v)) {
-                goto usage_error;
-            }
-            if ((v & (v - 1)) != 0) {
-                fprintf(stderr, "strata-convert: --grid must be a power of two, got %ld\n", v);
-                goto usage_error;
-            }
-            options.grid_cells = (int)v;
-            i++;
-        } else if (strcmp(a, "--leaf") == 0) {
-            if (!parse_long(a, value, 16, 1 << 24, &v)) {
-                goto usage_error;
-            }
-            options.leaf_capacity = (size_t)v;
-            i++;
-        } else if (strcmp(a, "--attributes") == 0) {
-            if (!value || strcmp(value, "extra") != 0) {
-                fprintf(stderr, "strata-convert: --attributes takes 'extra'\n");
-                goto usage_error;
-            }
-            options.keep_extra = true;
-            i++;
-        } else if (strcmp(a, "--salvage") == 0) {
-            options.salvage = true;
-        } else if (strcmp(a, "--force") == 0) {
-            options.force = true;
-        } else if (strcmp(a, "-q") == 0 || strcmp(a, "--quiet") == 0) {
-            quiet = true;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            fprintf(stderr, "strata-convert: unknown option %s (see --help)\n", a);
-            goto usage_error;
-        } else {
-            inputs[input_count++] = a;
-        }
+    static const char *const attribute_names[] = { "extra", NULL };
+    const sta_cli_option table[] = {
+        { .name = "output",
+          .short_name = 'o',
+          .kind = STA_CLI_STRING,
+          .dest = &options.output,
+          .metavar = "FILE",
+          .help = "the .strata file to write (required)" },
+        { .name = "threads",
+          .kind = STA_CLI_INT,
+          .dest = &options.threads,
+          .metavar = "N",
+          .int_min = 1,
+          .int_max = 256,
+          .help = "worker threads",
+          .default_text = "all cores" },
+        { .name = "memory",
+          .kind = STA_CLI_INT,
+          .dest = &memory_mib,
+          .metavar = "MIB",
+          .int_min = 64,
+          .int_max = 1 << 24,
+          .help = "memory budget for the whole process" },
+        { .name = "tmp",
+          .kind = STA_CLI_STRING,
+          .dest = &options.tmp_dir,
+          .metavar = "DIR",
+          .help = "folder for the temporary file",
+          .default_text = "the output's" },
+        { .name = "compress",
+          .kind = STA_CLI_INT,
+          .dest = &options.compress_level,
+          .metavar = "LEVEL",
+          .int_min = 0,
+          .int_max = 19,
+          .help = "zstd level, 0 = store uncompressed" },
+        { .name = "grid",
+          .kind = STA_CLI_INT,
+          .dest = &options.grid_cells,
+          .metavar = "CELLS",
+          .int_min = 16,
+          .int_max = 1024,
+          .help = "grid cells per node axis, a power of two" },
+        { .name = "leaf",
+          .kind = STA_CLI_INT,
+          .dest = &leaf_capacity,
+          .metavar = "POINTS",
+          .int_min = 16,
+          .int_max = 1 << 24,
+          .help = "points a leaf holds before it splits" },
+        { .name = "attributes",
+          .kind = STA_CLI_CHOICE,
+          .dest = &attributes,
+          .metavar = "extra",
+          .choices = attribute_names,
+          .help = "also keep LAS extra dimensions (extra bytes)" },
+        { .name = "salvage",
+          .kind = STA_CLI_FLAG,
+          .dest = &options.salvage,
+          .help = "convert the complete points of truncated inputs" },
+        { .name = "force",
+          .kind = STA_CLI_FLAG,
+          .dest = &options.force,
+          .help = "overwrite OUTPUT if it exists" },
+        { .name = "quiet",
+          .short_name = 'q',
+          .kind = STA_CLI_FLAG,
+          .dest = &quiet,
+          .help = "no progress line, no summary, no warnings" },
+        { .name = NULL },
+    };
+    const sta_cli cli = {
+        .program = "strata-convert", .usage = usage_text, .epilog = exit_text, .options = table
+    };
+    sta_cli_result r;
+    int rc = sta_cli_parse_main(&cli, argc, argv, &r);
+    if (rc >= 0) {
+        return rc;
     }
-    if (input_count == 0 || !options.output) {
-        fprintf(stderr, "strata-convert: %s\n",
-                input_count == 0 ? "no input files" : "no output file (-o OUTPUT.strata)");
-        goto usage_error;
+    if ((options.grid_cells & (options.grid_cells - 1)) != 0) {
+        return sta_cli_usage_error(&cli, "--grid must be a power of two, got %d",
+                                   options.grid_cells);
     }
+    if (options.compress_level == 0) {
+        options.compress_level = STA_CONVERT_STORE; // "--compress 0": zero means default below
+    }
+    options.memory_mib = (size_t)memory_mib;
+    options.leaf_capacity = (size_t)leaf_capacity;
+    options.keep_extra = attributes == 0;
+    if (r.positional_count == 0 || !options.output) {
+        return sta_cli_usage_error(&cli, "%s",
+                                   r.positional_count == 0 ? "no input files"
+                                                           : "no output file (-o OUTPUT.strata)");
+    }
+    size_t input_count = (size_t)r.positional_count;
+    const char *const *inputs = (const char *const *)r.positional;
     if (quiet) {
         sta_log_set_level(STA_LOG_QUIET);
     }
@@ -170,7 +156,6 @@ int main(int argc, char **argv)
     sta_convert_report report;
     sta_error err = { 0 };
     sta_status status = sta_convert(&options, &report, &err);
-    sta_free(inputs);
     if (status == STA_ERR_CANCELLED) {
         fprintf(stderr, "strata-convert: interrupted; nothing written\n");
         return 130;
@@ -197,7 +182,4 @@ int main(int argc, char **argv)
                 (double)report.temp_bytes / 1048576.0);
     }
     return 0;
-usage_error:
-    sta_free(inputs);
-    return 2;
 }

@@ -10,38 +10,20 @@
 
 #include "app/info_print.h"
 #include "app/info_strata.h"
+#include "core/cli.h"
 #include "core/log.h"
 
-static void print_usage(FILE *out)
-{
-    fputs("usage: strata-info [options] FILE...\n"
-          "\n"
-          "Prints what a LAS (1.0-1.4, point formats 0-10) or PLY file holds: header,\n"
-          "VLRs/EVLRs, extra dimensions, CRS, and facts from a full scan of the points\n"
-          "(actual bounds, classes, returns, GPS time range, colour depth).\n"
-          "For a .strata file: tree statistics (nodes, points and spacing per level,\n"
-          "compression, bounds).\n"
-          "\n"
-          "options:\n"
-          "  --json                 print one JSON object per file instead of text\n"
-          "  --points START:COUNT   print COUNT points from index START as CSV:\n"
-          "                         x,y,z,intensity,return_number,number_of_returns,\n"
-          "                         classification,gps_time,red,green,blue\n"
-          "                         (real-world coordinates; empty where the format\n"
-          "                         lacks a field)\n"
-          "  --verify               (.strata) check every checksum and the octree rules\n"
-          "                         (points inside their node, one per cell); exit 1 on\n"
-          "                         the first violation\n"
-          "  --decode-speed         (.strata) time decompression alone and the viewer's\n"
-          "                         whole per-node load (decode + GPU layout), one thread\n"
-          "  --salvage              read the complete points of a truncated file and\n"
-          "                         report how many were missing (default: refuse it)\n"
-          "  -q, --quiet            no warnings\n"
-          "  -h, --help             this text\n"
-          "\n"
-          "exit status: 0 when every file was read, 1 when any file failed, 2 on bad usage\n",
-          out);
-}
+static const char usage_text[] =
+    "usage: strata-info [options] FILE...\n"
+    "\n"
+    "Prints what a LAS (1.0-1.4, point formats 0-10) or PLY file holds: header,\n"
+    "VLRs/EVLRs, extra dimensions, CRS, and facts from a full scan of the points\n"
+    "(actual bounds, classes, returns, GPS time range, colour depth).\n"
+    "For a .strata file: tree statistics (nodes, points and spacing per level,\n"
+    "compression, bounds).\n";
+
+static const char exit_text[] =
+    "exit status: 0 when every file was read, 1 when any file failed, 2 on bad usage\n";
 
 typedef struct info_args {
     bool json;
@@ -53,28 +35,24 @@ typedef struct info_args {
     bool decode_speed;
 } info_args;
 
-static bool parse_range(const char *text, uint64_t *start, uint64_t *count)
+// --points START:COUNT (dest: info_args).
+static sta_status parse_range(const sta_cli_option *option, const char *text, sta_error *err)
 {
+    info_args *args = option->dest;
     char *end = NULL;
     errno = 0;
-    if (text[0] == '-') {
-        return false;
+    unsigned long long a = text[0] != '-' ? strtoull(text, &end, 10) : 0;
+    bool ok = end && errno == 0 && end != text && *end == ':';
+    const char *second = ok ? end + 1 : "";
+    ok = ok && second[0] != '-' && second[0] != '\0';
+    unsigned long long b = ok ? strtoull(second, &end, 10) : 0;
+    if (!ok || errno || *end != '\0') {
+        return sta_cli_fail_value(err, option, text, "START:COUNT (e.g. 0:10)");
     }
-    unsigned long long a = strtoull(text, &end, 10);
-    if (errno || end == text || *end != ':') {
-        return false;
-    }
-    const char *second = end + 1;
-    if (second[0] == '-' || second[0] == '\0') {
-        return false;
-    }
-    unsigned long long b = strtoull(second, &end, 10);
-    if (errno || *end != '\0') {
-        return false;
-    }
-    *start = a;
-    *count = b;
-    return true;
+    args->points_start = a;
+    args->points_count = b;
+    args->points = true;
+    return STA_OK;
 }
 
 static int report_file(const char *path, const info_args *args)
@@ -129,48 +107,62 @@ static int report_file(const char *path, const info_args *args)
 int main(int argc, char **argv)
 {
     info_args args = { 0 };
+    bool quiet = false;
+    const sta_cli_option options[] = {
+        { .name = "json",
+          .kind = STA_CLI_FLAG,
+          .dest = &args.json,
+          .help = "print one JSON object per file instead of text" },
+        { .name = "points",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &args,
+          .metavar = "START:COUNT",
+          .parse = parse_range,
+          .help = "print COUNT points from index START as CSV:\n"
+                  "x,y,z,intensity,return_number,number_of_returns,\n"
+                  "classification,gps_time,red,green,blue\n"
+                  "(real-world coordinates; empty where the format lacks a field)" },
+        { .name = "verify",
+          .kind = STA_CLI_FLAG,
+          .dest = &args.verify,
+          .help = "(.strata) check every checksum and the octree rules (points inside their "
+                  "node, one per cell); exit 1 on the first violation" },
+        { .name = "decode-speed",
+          .kind = STA_CLI_FLAG,
+          .dest = &args.decode_speed,
+          .help = "(.strata) time decompression alone and the viewer's whole per-node load "
+                  "(decode + GPU layout), one thread" },
+        { .name = "salvage",
+          .kind = STA_CLI_FLAG,
+          .dest = &args.salvage,
+          .help = "read the complete points of a truncated file and report how many were "
+                  "missing (default: refuse it)" },
+        { .name = "quiet",
+          .short_name = 'q',
+          .kind = STA_CLI_FLAG,
+          .dest = &quiet,
+          .help = "no warnings" },
+        { .name = NULL },
+    };
+    const sta_cli cli = {
+        .program = "strata-info", .usage = usage_text, .epilog = exit_text, .options = options
+    };
     // Options may come before or after the files; files keep their order.
-    int file_count = 0;
-    bool options_done = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (options_done || a[0] != '-' || a[1] == '\0') {
-            argv[1 + file_count++] = argv[i];
-        } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            print_usage(stdout);
-            return 0;
-        } else if (strcmp(a, "--json") == 0) {
-            args.json = true;
-        } else if (strcmp(a, "--verify") == 0) {
-            args.verify = true;
-        } else if (strcmp(a, "--decode-speed") == 0) {
-            args.decode_speed = true;
-        } else if (strcmp(a, "--salvage") == 0) {
-            args.salvage = true;
-        } else if (strcmp(a, "-q") == 0 || strcmp(a, "--quiet") == 0) {
-            sta_log_set_level(STA_LOG_QUIET);
-        } else if (strcmp(a, "--points") == 0) {
-            if (i + 1 >= argc ||
-                !parse_range(argv[i + 1], &args.points_start, &args.points_count)) {
-                fprintf(stderr, "strata-info: --points needs START:COUNT (e.g. 0:10)\n");
-                return 2;
-            }
-            args.points = true;
-            i++;
-        } else if (strcmp(a, "--") == 0) {
-            options_done = true;
-        } else {
-            fprintf(stderr, "strata-info: unknown option %s (see --help)\n", a);
-            return 2;
-        }
+    sta_cli_result r;
+    int rc = sta_cli_parse_main(&cli, argc, argv, &r);
+    if (rc >= 0) {
+        return rc;
     }
-    if (file_count == 0) {
-        print_usage(stderr);
+    if (quiet) {
+        sta_log_set_level(STA_LOG_QUIET);
+    }
+    if (r.positional_count == 0) {
+        sta_cli_print_help(&cli, stderr);
         return 2;
     }
     int failed = 0;
-    for (int i = 1; i <= file_count; i++) {
-        failed |= report_file(argv[i], &args);
+    for (int i = 0; i < r.positional_count; i++) {
+        failed |= report_file(r.positional[i], &args);
     }
     return failed;
 }

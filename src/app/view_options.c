@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT
- * strata-view's command line. */
+ * strata-view's command line: one option table (core/cli.h) holds each option, its range
+ * and, through the values set before parsing, its default. */
 #include "app/view_options.h"
 
 #include <errno.h>
@@ -7,69 +8,43 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/cli.h"
 #include "render/bindings.h"
 #include "render/pipeline.h"
+#include "render/ref/hpr_ref.h"
+#include "render/ref/normals_screen_ref.h"
+#include "stream/streamer.h"
 
-static void print_usage(FILE *out)
-{
-    fputs("usage: strata-view [options] SCENE.strata\n"
-          "\n"
-          "Opens a .strata scene in a window and streams it to the GPU within a point budget.\n"
-          "With --headless it renders through EGL (no display needed) to a PNG / EXR.\n"
-          "\n"
-          "options:\n"
-          "  --headless             render offscreen; needs --out and/or --exr\n"
-          "  --out FILE.png         write the colour image (headless)\n"
-          "  --exr FILE.exr         write colour and depth as float channels (headless)\n"
-          "  --size WxH             image or window size (default 1280x720)\n"
-          "  --camera X,Y,Z,YAW,PITCH[,FOV]\n"
-          "                         camera in world coordinates; angles in degrees, yaw 0\n"
-          "                         looks along +X, 90 along +Y; fov vertical (default 60)\n"
-          "  --look DX,DY,DZ,YAW,PITCH[,FOV]\n"
-          "                         the same, relative to the centre of the scene's bounds\n"
-          "                         (default: the whole scene, seen from the south-west)\n"
-          "  --frames N             stop after N frames (headless default: until every\n"
-          "                         wanted node is loaded)\n"
-          "  --budget POINTS        points drawn per frame at most (default 30000000)\n"
-          "  --gpu-mem MIB          GPU memory for resident nodes (default 1024)\n"
-          "  --colour MODE          rgb, intensity, elevation, class or returns (default:\n"
-          "                         rgb when the scene has colour, else elevation)\n"
-          "  --path FILE.json       play a recorded camera path (window or headless)\n"
-          "  --frames-out PATTERN   headless path playback: write frame i to\n"
-          "                         PATTERN with %d replaced (e.g. frames/%05d.png)\n"
-          "  --record FILE.json     window: record the camera path (key P adds a keyframe)\n"
-          "  --stats                print one line of frame statistics per frame, with the\n"
-          "                         GPU time of every pass\n"
-          "\n"
-          "screen-space pipeline (after the one-pixel-per-point geometry pass):\n"
-          "  --pipeline MODE        raw (points only), hpr (hidden point removal labels),\n"
-          "                         fill (pull-push), normals, shaded (default) or edl\n"
-          "  --normals METHOD       pyramid (default), ld, pd, pc or ti\n"
-          "  --samples N            sampling scheme of pd/pc/ti: 5, 9 (default), 17 or 25\n"
-          "  --smooth               smooth the normals (one extra pass)\n"
-          "  --hpr pyramid|exhaustive  pyramidal HPR (default) or the fixed-radius baseline\n"
-          "  --hpr-radius PX        radius of the exhaustive operator (default 8)\n"
-          "  --hpr-threshold T      visibility threshold (default 0.1)\n"
-          "  --s0 METRES            sampling scale (default: from the hierarchy's spacing)\n"
-          "  -h, --help             this text\n"
-          "\n"
-          "window keys and mouse:\n"
-          "  left drag      orbit around the picked point      right drag / shift  pan\n"
-          "  wheel          zoom towards the cursor             double-click  focus a point\n"
-          "  W A S D Q E    fly (hold shift: faster)            F       toggle fly / orbit\n"
-          "  1..5           colour: rgb, intensity, elevation, class, returns\n"
-          "  M / N          next pipeline mode / next normal method\n"
-          "  H              pyramidal / exhaustive HPR     G    normal smoothing on/off\n"
-          "  R              reset to the whole scene            P       add path keyframe\n"
-          "  Esc            quit\n",
-          out);
-}
+enum {
+    MAX_SIZE_PX = 16384 /* --size: the largest side */
+};
+
+static const char usage_text[] =
+    "usage: strata-view [options] SCENE.strata\n"
+    "\n"
+    "Opens a .strata scene in a window and streams it to the GPU within a point budget.\n"
+    "With --headless it renders through EGL (no display needed) to a PNG / EXR.\n";
+
+static const char keys_text[] =
+    "window keys and mouse:\n"
+    "  left drag      orbit around the picked point      right drag / shift  pan\n"
+    "  wheel          zoom towards the cursor             double-click  focus a point\n"
+    "  W A S D Q E    fly (hold shift: faster)            F       toggle fly / orbit\n"
+    "  1..5           colour: rgb, intensity, elevation, class, returns\n"
+    "  M / N          next pipeline mode / next normal method\n"
+    "  H              pyramidal / exhaustive HPR     G    normal smoothing on/off\n"
+    "  R              reset to the whole scene            P       add path keyframe\n"
+    "  Esc            quit\n";
+
+static const char *const colour_names[] = { "rgb",   "intensity", "elevation",
+                                            "class", "returns",   NULL };
+_Static_assert(sizeof(colour_names) / sizeof(colour_names[0]) == STA_COLOUR_MODE_COUNT + 1,
+               "one name per colour mode");
 
 int sta_view_colour_mode(const char *name)
 {
-    static const char *names[] = { "rgb", "intensity", "elevation", "class", "returns" };
-    for (int i = 0; i < STA_COLOUR_MODE_COUNT; i++) {
-        if (strcmp(name, names[i]) == 0) {
+    for (int i = 0; colour_names[i]; i++) {
+        if (strcmp(name, colour_names[i]) == 0) {
             return i;
         }
     }
@@ -98,208 +73,266 @@ static int parse_doubles(const char *text, double *out, int min_count, int max_c
     return n >= min_count && *p == '\0' ? n : -1;
 }
 
-static int parse_count(const char *option, const char *text, uint64_t lo, uint64_t hi,
-                       uint64_t *out)
+// --size WxH (dest: sta_view_args).
+static sta_status parse_size(const sta_cli_option *option, const char *value, sta_error *err)
 {
-    char *end = NULL;
-    errno = 0;
-    unsigned long long v = text && text[0] != '-' ? strtoull(text, &end, 10) : 0;
-    if (!text || errno || end == text || *end || v < lo || v > hi) {
-        fprintf(stderr, "strata-view: %s needs a whole number from %llu to %llu, got '%s'\n",
-                option, (unsigned long long)lo, (unsigned long long)hi, text ? text : "");
-        return 0;
+    sta_view_args *a = option->dest;
+    int w = 0, h = 0;
+    char tail = 0;
+    if (sscanf(value, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > MAX_SIZE_PX ||
+        h > MAX_SIZE_PX) {
+        char expected[96];
+        snprintf(expected, sizeof(expected), "WxH, each from 1 to %d (e.g. 1920x1080)",
+                 MAX_SIZE_PX);
+        return sta_cli_fail_value(err, option, value, expected);
     }
-    *out = v;
-    return 1;
+    a->width_px = w;
+    a->height_px = h;
+    return STA_OK;
+}
+
+static void show_size(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_view_args *a = option->dest;
+    snprintf(out_text, size, "%dx%d", a->width_px, a->height_px);
+}
+
+// --camera and --look X,Y,Z,YAW,PITCH[,FOV] (dest: sta_view_args).
+static sta_status parse_camera(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_view_args *a = option->dest;
+    if (parse_doubles(value, a->camera, 5, 6) < 0) {
+        return sta_cli_fail_value(err, option, value, "X,Y,Z,YAW,PITCH[,FOV]");
+    }
+    a->has_camera = true;
+    a->camera_relative = strcmp(option->name, "look") == 0;
+    return STA_OK;
+}
+
+static void show_camera(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_view_args *a = option->dest;
+    snprintf(out_text, size, "the whole scene, seen from the south-west; FOV %g", a->camera[5]);
+}
+
+// --frames-out PATTERN: exactly one %d-style conversion, as the pattern reaches snprintf.
+static sta_status parse_frame_pattern(const sta_cli_option *option, const char *value,
+                                      sta_error *err)
+{
+    const char *pc = strchr(value, '%');
+    const char *d = pc ? pc + 1 : NULL;
+    while (d && *d >= '0' && *d <= '9') {
+        d++;
+    }
+    if (!pc || *d != 'd' || strchr(pc + 1, '%')) {
+        return sta_cli_fail_value(err, option, value, "one %d (e.g. f/%05d.png)");
+    }
+    *(const char **)option->dest = value;
+    return STA_OK;
 }
 
 int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
 {
+    // The defaults, shown by --help from here.
     memset(a, 0, sizeof(*a));
     a->width_px = 1280;
     a->height_px = 720;
     a->colour_mode = -1;
     a->timeout_s = 300.0;
     a->camera[5] = 60.0;
+    a->budget_points = STA_DEFAULT_BUDGET_POINTS;
+    a->gpu_mem_mib = (int)(STA_DEFAULT_GPU_BYTES_CAP >> 20);
     a->pipeline = STA_PIPELINE_SHADED;
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        // "--name=value" is "--name value" (handy for negative numbers).
-        char name[64];
-        const char *eq = strchr(o, '=');
-        bool joined = o[0] == '-' && o[1] == '-' && eq && (size_t)(eq - o) < sizeof(name);
-        if (joined) {
-            memcpy(name, o, (size_t)(eq - o));
-            name[eq - o] = '\0';
-            o = name;
-            v = eq + 1;
-        }
-        uint64_t n = 0;
-        if (strcmp(o, "-h") == 0 || strcmp(o, "--help") == 0) {
-            print_usage(stdout);
-            return -1;
-        } else if (joined && (strcmp(o, "--headless") == 0 || strcmp(o, "--stats") == 0 ||
-                              strcmp(o, "--smooth") == 0)) {
-            fprintf(stderr, "strata-view: %s takes no value\n", o);
-            return 2;
-        } else if (strcmp(o, "--headless") == 0) {
-            a->headless = true;
-        } else if (strcmp(o, "--stats") == 0) {
-            a->stats = true;
-        } else if (strcmp(o, "--smooth") == 0) {
-            a->smooth = true;
-        } else if (o[0] == '-' && o[1] == '-' && !v) {
-            fprintf(stderr, "strata-view: %s needs a value (or is unknown; see --help)\n", o);
-            return 2;
-        } else if (strcmp(o, "--out") == 0) {
-            a->out_png = v;
-            i += !joined;
-        } else if (strcmp(o, "--exr") == 0) {
-            a->out_exr = v;
-            i += !joined;
-        } else if (strcmp(o, "--path") == 0) {
-            a->path_file = v;
-            i += !joined;
-        } else if (strcmp(o, "--record") == 0) {
-            a->record_file = v;
-            i += !joined;
-        } else if (strcmp(o, "--frames-out") == 0) {
-            // Exactly one %d-style conversion: the pattern reaches snprintf.
-            const char *pc = strchr(v, '%');
-            const char *d = pc ? pc + 1 : NULL;
-            while (d && *d >= '0' && *d <= '9') {
-                d++;
-            }
-            if (!pc || *d != 'd' || strchr(pc + 1, '%')) {
-                fprintf(stderr, "strata-view: --frames-out needs one %%d (e.g. f/%%05d.png)\n");
-                return 2;
-            }
-            a->frame_pattern = v;
-            i += !joined;
-        } else if (strcmp(o, "--size") == 0) {
-            int w = 0, h = 0;
-            char tail = 0;
-            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 ||
-                h > 16384) {
-                fprintf(stderr, "strata-view: --size needs WxH (e.g. 1920x1080), got '%s'\n", v);
-                return 2;
-            }
-            a->width_px = w;
-            a->height_px = h;
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--camera") == 0 || strcmp(o, "--look") == 0) {
-            if (parse_doubles(v, a->camera, 5, 6) < 0) {
-                fprintf(stderr, "strata-view: %s needs X,Y,Z,YAW,PITCH[,FOV], got '%s'\n", o, v);
-                return 2;
-            }
-            a->has_camera = true;
-            a->camera_relative = strcmp(o, "--look") == 0;
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--frames") == 0) {
-            if (!parse_count(o, v, 1, 1000000, &n)) {
-                return 2;
-            }
-            a->max_frames = (int)n;
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--repeat") == 0) {
-            if (!parse_count(o, v, 1, 256, &n)) {
-                return 2;
-            }
-            a->repeat = (int)n;
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--budget") == 0) {
-            if (!parse_count(o, v, 1000, 2000000000ull, &n)) {
-                return 2;
-            }
-            a->budget_points = n;
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--gpu-mem") == 0) {
-            if (!parse_count(o, v, 16, 1 << 20, &n)) {
-                return 2;
-            }
-            a->gpu_mem_mib = n;
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--pipeline") == 0) {
-            a->pipeline = sta_pipeline_mode_from_name(v);
-            if (a->pipeline < 0) {
-                fprintf(stderr,
-                        "strata-view: --pipeline takes raw, hpr, fill, normals, shaded "
-                        "or edl, got '%s'\n",
-                        v);
-                return 2;
-            }
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--normals") == 0) {
-            a->normals = sta_normal_method_from_name(v);
-            if (a->normals < 0) {
-                fprintf(stderr,
-                        "strata-view: --normals takes pyramid, ld, pd, pc or ti, got "
-                        "'%s'\n",
-                        v);
-                return 2;
-            }
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--samples") == 0) {
-            if (!parse_count(o, v, 5, 25, &n) || (n != 5 && n != 9 && n != 17 && n != 25)) {
-                fprintf(stderr, "strata-view: --samples takes 5, 9, 17 or 25\n");
-                return 2;
-            }
-            a->samples = (int)n;
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--hpr") == 0) {
-            if (strcmp(v, "pyramid") != 0 && strcmp(v, "exhaustive") != 0) {
-                fprintf(stderr, "strata-view: --hpr takes pyramid or exhaustive, got '%s'\n", v);
-                return 2;
-            }
-            a->hpr_exhaustive = strcmp(v, "exhaustive") == 0;
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--hpr-radius") == 0) {
-            if (!parse_count(o, v, 1, 64, &n)) {
-                return 2;
-            }
-            a->hpr_radius_px = (int)n;
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--hpr-threshold") == 0 || strcmp(o, "--s0") == 0) {
-            char *end = NULL;
-            double d = strtod(v, &end);
-            if (end == v || *end || !(d > 0) || d > 1e6) {
-                fprintf(stderr, "strata-view: %s needs a positive number, got '%s'\n", o, v);
-                return 2;
-            }
-            if (strcmp(o, "--s0") == 0) {
-                a->s0_m = d;
-            } else {
-                a->hpr_threshold = d;
-            }
-            i += !joined; // the value was the next argument
-        } else if (strcmp(o, "--colour") == 0 || strcmp(o, "--color") == 0) {
-            a->colour_mode = sta_view_colour_mode(v);
-            if (a->colour_mode < 0) {
-                fprintf(stderr,
-                        "strata-view: --colour takes rgb, intensity, elevation, class "
-                        "or returns, got '%s'\n",
-                        v);
-                return 2;
-            }
-            i += !joined; // the value was the next argument
-        } else if (o[0] == '-' && o[1] != '\0') {
-            fprintf(stderr, "strata-view: unknown option %s (see --help)\n", o);
-            return 2;
-        } else if (!a->scene) {
-            a->scene = o;
-        } else {
-            fprintf(stderr, "strata-view: one scene at a time (got %s and %s)\n", a->scene, o);
-            return 2;
-        }
+    a->normals = STA_NORMAL_PYRAMID;
+    a->samples = STA_NORMALS_SCREEN_DEFAULT_SAMPLES;
+    a->hpr_radius_px = STA_PIPELINE_DEFAULT_HPR_RADIUS_PX;
+    a->hpr_threshold = (double)STA_HPR_DEFAULT_THRESHOLD;
+    int hpr = 0; // index into hpr_names
+    static const char *const hpr_names[] = { "pyramid", "exhaustive", NULL };
+    static const char *const sample_names[] = { "5", "9", "17", "25", NULL };
+    static const int sample_values[] = { 5, 9, 17, 25 };
+    const char *pipeline_names[STA_PIPELINE_MODE_COUNT + 1] = { NULL };
+    for (int i = 0; i < STA_PIPELINE_MODE_COUNT; i++) {
+        pipeline_names[i] = sta_pipeline_mode_name(i);
     }
-    if (!a->scene) {
-        fprintf(stderr, "strata-view: no scene given (see --help)\n");
-        return 2;
+    const char *normal_names[STA_NORMAL_METHOD_COUNT + 1] = { NULL };
+    for (int i = 0; i < STA_NORMAL_METHOD_COUNT; i++) {
+        normal_names[i] = sta_normal_method_name(i);
     }
+    const sta_cli_option options[] = {
+        { .name = "headless",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->headless,
+          .help = "render offscreen; needs --out, --exr, --frames-out or --stats" },
+        { .name = "out",
+          .kind = STA_CLI_STRING,
+          .dest = &a->out_png,
+          .metavar = "FILE.png",
+          .help = "write the colour image (headless)" },
+        { .name = "exr",
+          .kind = STA_CLI_STRING,
+          .dest = &a->out_exr,
+          .metavar = "FILE.exr",
+          .help = "write colour and depth as float channels (headless)" },
+        { .name = "size",
+          .kind = STA_CLI_CALLBACK,
+          .dest = a,
+          .metavar = "WxH",
+          .parse = parse_size,
+          .show = show_size,
+          .help = "image or window size in pixels" },
+        { .name = "camera",
+          .kind = STA_CLI_CALLBACK,
+          .dest = a,
+          .metavar = "X,Y,Z,YAW,PITCH[,FOV]",
+          .parse = parse_camera,
+          .show = show_camera,
+          .help = "camera in world coordinates; angles in degrees, yaw 0 looks along +X, 90 "
+                  "along +Y; FOV vertical" },
+        { .name = "look",
+          .kind = STA_CLI_CALLBACK,
+          .dest = a,
+          .metavar = "DX,DY,DZ,YAW,PITCH[,FOV]",
+          .parse = parse_camera,
+          .help = "the same, relative to the centre of the scene's bounds" },
+        { .name = "frames",
+          .kind = STA_CLI_INT,
+          .dest = &a->max_frames,
+          .metavar = "N",
+          .int_min = 1,
+          .int_max = 1000000,
+          .help = "stop after N frames",
+          .default_text = "headless: until every wanted node is loaded" },
+        { .name = "repeat",
+          .kind = STA_CLI_INT,
+          .dest = &a->repeat,
+          .metavar = "N",
+          .int_min = 1,
+          .int_max = 256,
+          .help = "headless: once loaded, time N more frames and print their median time" },
+        { .name = "budget",
+          .kind = STA_CLI_COUNT,
+          .dest = &a->budget_points,
+          .metavar = "POINTS",
+          .count_min = 1000,
+          .count_max = 2000000000u,
+          .help = "points drawn per frame at most" },
+        { .name = "gpu-mem",
+          .kind = STA_CLI_COUNT,
+          .dest = &a->gpu_mem_mib,
+          .metavar = "MIB",
+          .count_min = 16,
+          .count_max = 1u << 20,
+          .help = "GPU memory for resident nodes" },
+        { .name = "colour",
+          .kind = STA_CLI_CHOICE,
+          .dest = &a->colour_mode,
+          .metavar = "MODE",
+          .choices = colour_names,
+          .help = "point colours",
+          .default_text = "rgb when the scene has colour, else elevation" },
+        { .name = "color",
+          .kind = STA_CLI_CHOICE,
+          .dest = &a->colour_mode,
+          .choices = colour_names,
+          .flags = STA_CLI_HIDDEN },
+        { .name = "path",
+          .kind = STA_CLI_STRING,
+          .dest = &a->path_file,
+          .metavar = "FILE.json",
+          .help = "play a recorded camera path (window or headless)" },
+        { .name = "frames-out",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &a->frame_pattern,
+          .metavar = "PATTERN",
+          .parse = parse_frame_pattern,
+          .help = "headless path playback: write frame i to PATTERN with %d replaced (e.g. "
+                  "frames/%05d.png)" },
+        { .name = "record",
+          .kind = STA_CLI_STRING,
+          .dest = &a->record_file,
+          .metavar = "FILE.json",
+          .help = "window: record the camera path (key P adds a keyframe)" },
+        { .name = "stats",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->stats,
+          .help = "print one line of frame statistics per frame, with the GPU time of every pass" },
+        { .heading = "screen-space pipeline (after the one-pixel-per-point geometry pass):",
+          .name = "pipeline",
+          .kind = STA_CLI_CHOICE,
+          .dest = &a->pipeline,
+          .metavar = "MODE",
+          .choices = pipeline_names,
+          .help = "raw: points only; hpr: hidden point removal labels; fill: pull-push; "
+                  "normals; shaded; edl: eye-dome lighting" },
+        { .name = "normals",
+          .kind = STA_CLI_CHOICE,
+          .dest = &a->normals,
+          .metavar = "METHOD",
+          .choices = normal_names,
+          .help = "normal estimation method" },
+        { .name = "samples",
+          .kind = STA_CLI_CHOICE,
+          .dest = &a->samples,
+          .metavar = "N",
+          .choices = sample_names,
+          .choice_values = sample_values,
+          .help = "sampling scheme of pd, pc and ti" },
+        { .name = "smooth",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->smooth,
+          .help = "smooth the normals (one extra pass)" },
+        { .name = "hpr",
+          .kind = STA_CLI_CHOICE,
+          .dest = &hpr,
+          .metavar = "MODE",
+          .choices = hpr_names,
+          .help = "pyramidal HPR or the fixed-radius baseline" },
+        { .name = "hpr-radius",
+          .kind = STA_CLI_INT,
+          .dest = &a->hpr_radius_px,
+          .metavar = "PX",
+          .int_min = 1,
+          .int_max = 64,
+          .help = "radius of the exhaustive operator" },
+        { .name = "hpr-threshold",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->hpr_threshold,
+          .metavar = "T",
+          .real_min = 0.0,
+          .real_max = 1e6,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "visibility threshold" },
+        { .name = "s0",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->s0_m,
+          .metavar = "METRES",
+          .real_min = 0.0,
+          .real_max = 1e6,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "sampling scale",
+          .default_text = "from the hierarchy's spacing" },
+        { .name = NULL },
+    };
+    const sta_cli cli = {
+        .program = "strata-view", .usage = usage_text, .epilog = keys_text, .options = options
+    };
+    sta_cli_result r;
+    int rc = sta_cli_parse_main(&cli, argc, argv, &r);
+    if (rc >= 0) {
+        return rc == 0 ? -1 : rc;
+    }
+    a->hpr_exhaustive = hpr == 1;
+    if (r.positional_count == 0) {
+        return sta_cli_usage_error(&cli, "no scene given (see --help)");
+    }
+    if (r.positional_count > 1) {
+        return sta_cli_usage_error(&cli, "one scene at a time (got %s and %s)", r.positional[0],
+                                   r.positional[1]);
+    }
+    a->scene = r.positional[0];
     if (a->headless && !a->out_png && !a->out_exr && !a->frame_pattern && !a->stats) {
-        fprintf(stderr, "strata-view: --headless needs --out, --exr, --frames-out or --stats\n");
-        return 2;
+        return sta_cli_usage_error(&cli, "--headless needs --out, --exr, --frames-out or --stats");
     }
     return 0;
 }

@@ -38,8 +38,9 @@ typedef struct sta_view_args {
     int repeat;                /* --repeat: time N more frames once loaded */
 } sta_view_args;
 
-/* Parses argv; prints usage or an error itself. Returns 0 to continue, -1 when
- * --help was printed (exit 0), 2 for bad usage. */
+/* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints
+ * the help or an error itself. Returns 0 to continue, -1 when --help was printed (exit 0),
+ * 2 for bad usage. */
 int sta_view_parse_args(int argc, char **argv, sta_view_args *out);
 
 /* Parses "rgb|intensity|elevation|class|returns"; -1 when unknown. */

@@ -12,48 +12,19 @@
 #include "bench/report.h"
 #include "bench/sweep.h"
 #include "core/alloc.h"
+#include "core/cli.h"
 #include "render/gl.h"
+#include "render/ref/hpr_ref.h"
 
-static const char usage[] =
+enum {
+    MAX_SIZE_PX = 16384 /* --size: the largest side */
+};
+
+static const char usage_text[] =
     "usage: strata-bench [options] SCENE.strata...\n"
-    "views (default --orbit 8):\n"
-    "  --orbit N              N views around the scene, 30 degrees above the horizon\n"
-    "  --street N             N street-level views (eye 1.7 m) along the scene\n"
-    "  --path FILE.json       the keyframes of a strata-view camera path\n"
-    "  --size WxH             viewport (default 1920x1080); --fov DEG (default 60)\n"
-    "sweeps (comma-separated lists; every combination that applies is run):\n"
-    "  --budgets LIST         points per frame, e.g. 1e6,3M,all (default 30M)\n"
-    "  --pipelines LIST       raw,hpr,fill,normals,shaded,edl (default shaded)\n"
-    "  --normals LIST         pyramid,ld,pd,pc,ti (default pyramid)\n"
-    "  --samples LIST         LD/PD/PC/TI samples: 5,9,17,25 (default 9)\n"
-    "  --hpr LIST             pyramid,exhaustive (default pyramid)\n"
-    "  --smooth               add the normal smoothing pass\n"
-    "  --hpr-radius PX        exhaustive HPR radius (default 8)\n"
-    "  --hpr-threshold T      HPR threshold (default 0.1)\n"
-    "  --s0 M                 sampling scale in metres (default: the scene's estimate)\n"
-    "measuring:\n"
-    "  --repeat R             timed frames per setting, median reported (default 5)\n"
-    "  --truth FILE           strata-synth truth sidecar (once per scene; default:\n"
-    "                         SCENE's <stem>.truth.json when it exists)\n"
-    "  --tolerance K          truth visibility tolerance in s0 (default 3)\n"
-    "  --katz                 Katz et al. HPR (Qhull) on the drawn points as reference\n"
-    "  --no-image-error       no unbudgeted reference renders (no PSNR/SSIM)\n"
-    "  --timeout S            seconds a view may take to load (default 300)\n"
-    "output:\n"
-    "  --out DIR              results.csv and results.json (default bench-out)\n"
-    "  --quiet                no progress line\n"
-    "  --help\n";
-
-__attribute__((format(printf, 1, 2))) static int usage_error(const char *fmt, ...)
-{
-    fputs("strata-bench: ", stderr);
-    va_list args;
-    va_start(args, fmt);
-    vfprintf(stderr, fmt, args);
-    va_end(args);
-    fputs("\n(see strata-bench --help)\n", stderr);
-    return 2;
-}
+    "\n"
+    "Frame times and errors of the renderer on .strata scenes, headless; every\n"
+    "combination of the sweep lists that applies is run (docs/BENCH.md).\n";
 
 // Splits a comma-separated list, calling parse on each item; false on a bad item.
 typedef bool (*item_parser)(const char *item, void *out, int index);
@@ -139,158 +110,396 @@ static bool parse_hpr(const char *item, void *out, int i)
     return true;
 }
 
-static bool parse_positive(const char *text, double *out)
+// The callbacks' view of their list options: the option's dest is sta_bench_options.
+static sta_status parse_list_option(const sta_cli_option *option, const char *value,
+                                    item_parser parse, void *items, int *count,
+                                    const char *expected, sta_error *err)
 {
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(text, &end);
-    if (errno || end == text || *end || !(v > 0) || !isfinite(v)) {
-        return false;
+    int n = 0;
+    if (!parse_list(value, parse, items, &n)) {
+        char text[160];
+        snprintf(text, sizeof(text), "a list of at most %d %s", STA_BENCH_MAX_LIST, expected);
+        return sta_cli_fail_value(err, option, value, text);
     }
-    *out = v;
-    return true;
+    *count = n;
+    return STA_OK;
 }
 
-static bool parse_count(const char *text, int *out)
+static sta_status parse_budgets(const sta_cli_option *option, const char *value, sta_error *err)
 {
-    double v;
-    if (!parse_positive(text, &v) || v != floor(v) || v > 100000) {
-        return false;
+    sta_bench_options *o = option->dest;
+    return parse_list_option(option, value, parse_budget, o->budgets, &o->budget_count,
+                             "point counts or 'all' (e.g. 1e6,3M,all)", err);
+}
+
+static sta_status parse_modes(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_bench_options *o = option->dest;
+    return parse_list_option(option, value, parse_mode, o->modes, &o->mode_count,
+                             "pipeline modes (raw,hpr,fill,normals,shaded,edl)", err);
+}
+
+static sta_status parse_normals(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_bench_options *o = option->dest;
+    return parse_list_option(option, value, parse_normal, o->normals, &o->normal_count,
+                             "normal methods (pyramid,ld,pd,pc,ti)", err);
+}
+
+static sta_status parse_sample_list(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_bench_options *o = option->dest;
+    return parse_list_option(option, value, parse_samples, o->samples, &o->sample_count,
+                             "sample counts (5,9,17,25)", err);
+}
+
+// --hpr: the variants of every --hpr given add up; the first replaces the default.
+typedef struct hpr_list {
+    bool *variants; /* sta_bench_options.hpr_variants */
+    bool given;     /* an --hpr was read */
+} hpr_list;
+
+static sta_status parse_hpr_list(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    hpr_list *h = option->dest;
+    bool variants[2] = { false, false };
+    int count = 0;
+    if (!parse_list(value, parse_hpr, variants, &count)) {
+        return sta_cli_fail_value(err, option, value, "a list of pyramid,exhaustive");
     }
-    *out = (int)v;
-    return true;
+    if (!h->given) {
+        h->variants[0] = h->variants[1] = false;
+    }
+    h->given = true;
+    h->variants[0] |= variants[0];
+    h->variants[1] |= variants[1];
+    return STA_OK;
+}
+
+// --orbit N and --street N: the view count goes through the option's own INT range.
+static sta_status parse_views(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_bench_options *o = option->dest;
+    sta_cli_option count = *option;
+    count.kind = STA_CLI_INT;
+    count.dest = &o->camera_count;
+    sta_status status = sta_cli_parse_value(&count, value, err);
+    if (status == STA_OK) {
+        o->cameras = strcmp(option->name, "orbit") == 0 ? STA_BENCH_ORBIT : STA_BENCH_STREET;
+    }
+    return status;
+}
+
+static sta_status parse_path(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    (void)err;
+    sta_bench_options *o = option->dest;
+    o->cameras = STA_BENCH_PATH;
+    o->path_file = value;
+    return STA_OK;
+}
+
+static sta_status parse_size(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_bench_options *o = option->dest;
+    int w = 0, h = 0, n = 0;
+    if (sscanf(value, "%dx%d%n", &w, &h, &n) != 2 || value[n] || w < 1 || h < 1 ||
+        w > MAX_SIZE_PX || h > MAX_SIZE_PX) {
+        char expected[96];
+        snprintf(expected, sizeof(expected), "WxH, each from 1 to %d (e.g. 1920x1080)",
+                 MAX_SIZE_PX);
+        return sta_cli_fail_value(err, option, value, expected);
+    }
+    o->width_px = w;
+    o->height_px = h;
+    return STA_OK;
+}
+
+// --truth FILE, once per scene (dest: truth_list).
+typedef struct truth_list {
+    const char **items; /* argc entries */
+    size_t count;
+} truth_list;
+
+static sta_status parse_truth(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    (void)err;
+    truth_list *t = option->dest;
+    t->items[t->count++] = value; // at most one per argument: items has argc entries
+    return STA_OK;
+}
+
+/* Help's defaults, read from the options as sta_bench_options_defaults set them. */
+
+static void show_views(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_bench_options *o = option->dest;
+    snprintf(out_text, size, "%d", o->camera_count);
+    if (o->cameras != STA_BENCH_ORBIT || strcmp(option->name, "orbit") != 0) {
+        out_text[0] = '\0';
+    }
+}
+
+static void show_size(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_bench_options *o = option->dest;
+    snprintf(out_text, size, "%dx%d", o->width_px, o->height_px);
+}
+
+static void show_budgets(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_bench_options *o = option->dest;
+    size_t used = 0;
+    out_text[0] = '\0';
+    for (int i = 0; i < o->budget_count && used < size; i++) {
+        uint64_t b = o->budgets[i];
+        const char *sep = i ? "," : "";
+        int n = b == 0 ? snprintf(out_text + used, size - used, "%sall", sep)
+                : b % 1000000u == 0u
+                    ? snprintf(out_text + used, size - used, "%s%lluM", sep,
+                               (unsigned long long)(b / 1000000u))
+                    : snprintf(out_text + used, size - used, "%s%llu", sep, (unsigned long long)b);
+        used += n > 0 ? (size_t)n : 0;
+    }
+}
+
+// Names of a list of enum values, comma-separated.
+static void show_names(const int *values, int count, const char *(*name)(int), char *out_text,
+                       size_t size)
+{
+    size_t used = 0;
+    out_text[0] = '\0';
+    for (int i = 0; i < count && used < size; i++) {
+        int n = snprintf(out_text + used, size - used, "%s%s", i ? "," : "", name(values[i]));
+        used += n > 0 ? (size_t)n : 0;
+    }
+}
+
+static void show_modes(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_bench_options *o = option->dest;
+    show_names(o->modes, o->mode_count, sta_pipeline_mode_name, out_text, size);
+}
+
+static void show_normals(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_bench_options *o = option->dest;
+    show_names(o->normals, o->normal_count, sta_normal_method_name, out_text, size);
+}
+
+static void show_samples(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_bench_options *o = option->dest;
+    size_t used = 0;
+    out_text[0] = '\0';
+    for (int i = 0; i < o->sample_count && used < size; i++) {
+        int n = snprintf(out_text + used, size - used, "%s%d", i ? "," : "", o->samples[i]);
+        used += n > 0 ? (size_t)n : 0;
+    }
+}
+
+static void show_hpr(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const hpr_list *h = option->dest;
+    snprintf(out_text, size, "%s%s%s", h->variants[0] ? "pyramid" : "",
+             h->variants[0] && h->variants[1] ? "," : "", h->variants[1] ? "exhaustive" : "");
 }
 
 int main(int argc, char **argv)
 {
+    // The defaults, shown by --help from here: the sweep's own (resolving them twice is
+    // harmless), a local copy of the threshold the pipeline uses for 0.
     sta_bench_options o = { .progress = true };
+    sta_bench_options_defaults(&o);
+    o.hpr_radius_px = 8;
+    double hpr_threshold = (double)STA_HPR_DEFAULT_THRESHOLD;
     const char *out_dir = "bench-out";
-    const char **scenes = calloc((size_t)argc, sizeof(char *));
-    const char **truths = calloc((size_t)argc, sizeof(char *));
-    if (!scenes || !truths) {
+    bool quiet = false;
+    hpr_list hpr = { .variants = o.hpr_variants };
+    truth_list truths = { .items = calloc((size_t)argc, sizeof(char *)) };
+    if (!truths.items) {
         fputs("strata-bench: out of memory\n", stderr);
         return 1;
     }
-    size_t scene_count = 0, truth_count = 0;
-    int rc = 0;
-    for (int i = 1; i < argc && rc == 0; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        double number = 0.0;
-        int n = 0;
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            fputs(usage, stdout);
-            free(scenes);
-            free(truths);
-            return 0;
-        }
-        if (a[0] != '-') {
-            scenes[scene_count++] = a;
-            continue;
-        }
-        bool takes_value = strcmp(a, "--katz") != 0 && strcmp(a, "--smooth") != 0 &&
-                           strcmp(a, "--quiet") != 0 && strcmp(a, "--no-image-error") != 0;
-        if (takes_value && !v) {
-            rc = usage_error("%s needs a value", a);
-            break;
-        }
-        if (takes_value) {
-            i++;
-        }
-        if (strcmp(a, "--orbit") == 0 || strcmp(a, "--street") == 0) {
-            o.cameras = a[2] == 'o' ? STA_BENCH_ORBIT : STA_BENCH_STREET;
-            if (!parse_count(v, &o.camera_count)) {
-                rc = usage_error("bad view count '%s'", v);
-            }
-        } else if (strcmp(a, "--path") == 0) {
-            o.cameras = STA_BENCH_PATH;
-            o.path_file = v;
-        } else if (strcmp(a, "--size") == 0) {
-            if (sscanf(v, "%dx%d%n", &o.width_px, &o.height_px, &n) != 2 || v[n] ||
-                o.width_px < 1 || o.height_px < 1 || o.width_px > 16384 || o.height_px > 16384) {
-                rc = usage_error("bad size '%s' (want WxH, e.g. 1920x1080)", v);
-            }
-        } else if (strcmp(a, "--fov") == 0) {
-            if (!parse_positive(v, &o.fov_deg) || o.fov_deg >= 179.0) {
-                rc = usage_error("bad field of view '%s' (degrees, 0..179)", v);
-            }
-        } else if (strcmp(a, "--budgets") == 0) {
-            if (!parse_list(v, parse_budget, o.budgets, &o.budget_count)) {
-                rc = usage_error("bad budget list '%s' (e.g. 1e6,3M,all)", v);
-            }
-        } else if (strcmp(a, "--pipelines") == 0) {
-            if (!parse_list(v, parse_mode, o.modes, &o.mode_count)) {
-                rc = usage_error("bad pipeline list '%s' (raw,hpr,fill,normals,shaded,edl)", v);
-            }
-        } else if (strcmp(a, "--normals") == 0) {
-            if (!parse_list(v, parse_normal, o.normals, &o.normal_count)) {
-                rc = usage_error("bad normal method list '%s' (pyramid,ld,pd,pc,ti)", v);
-            }
-        } else if (strcmp(a, "--samples") == 0) {
-            if (!parse_list(v, parse_samples, o.samples, &o.sample_count)) {
-                rc = usage_error("bad samples list '%s' (5,9,17,25)", v);
-            }
-        } else if (strcmp(a, "--hpr") == 0) {
-            int count = 0;
-            if (!parse_list(v, parse_hpr, o.hpr_variants, &count)) {
-                rc = usage_error("bad HPR list '%s' (pyramid,exhaustive)", v);
-            }
-        } else if (strcmp(a, "--hpr-radius") == 0) {
-            if (!parse_count(v, &o.hpr_radius_px) || o.hpr_radius_px > 64) {
-                rc = usage_error("bad HPR radius '%s' (1..64 pixels)", v);
-            }
-        } else if (strcmp(a, "--hpr-threshold") == 0) {
-            if (!parse_positive(v, &number)) {
-                rc = usage_error("bad HPR threshold '%s'", v);
-            }
-            o.hpr_threshold = (float)number;
-        } else if (strcmp(a, "--s0") == 0) {
-            if (!parse_positive(v, &o.s0_m)) {
-                rc = usage_error("bad s0 '%s' (metres, > 0)", v);
-            }
-        } else if (strcmp(a, "--repeat") == 0) {
-            if (!parse_count(v, &o.repeat)) {
-                rc = usage_error("bad repeat count '%s'", v);
-            }
-        } else if (strcmp(a, "--truth") == 0) {
-            truths[truth_count++] = v;
-        } else if (strcmp(a, "--tolerance") == 0) {
-            if (!parse_positive(v, &o.tolerance_s0)) {
-                rc = usage_error("bad tolerance '%s' (in s0, > 0)", v);
-            }
-        } else if (strcmp(a, "--timeout") == 0) {
-            if (!parse_positive(v, &o.timeout_s)) {
-                rc = usage_error("bad timeout '%s' (seconds)", v);
-            }
-        } else if (strcmp(a, "--out") == 0) {
-            out_dir = v;
-        } else if (strcmp(a, "--katz") == 0) {
-            o.katz = true;
-        } else if (strcmp(a, "--smooth") == 0) {
-            o.smooth = true;
-        } else if (strcmp(a, "--no-image-error") == 0) {
-            o.no_image_error = true;
-        } else if (strcmp(a, "--quiet") == 0) {
-            o.progress = false;
-        } else {
-            rc = usage_error("unknown option '%s'", a);
-        }
+    const sta_cli_option options[] = {
+        { .heading = "views:",
+          .name = "orbit",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &o,
+          .metavar = "N",
+          .int_min = 1,
+          .int_max = 100000,
+          .flags = STA_CLI_ANY_NOTATION,
+          .parse = parse_views,
+          .show = show_views,
+          .help = "N views around the scene, 30 degrees above the horizon" },
+        { .name = "street",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &o,
+          .metavar = "N",
+          .int_min = 1,
+          .int_max = 100000,
+          .flags = STA_CLI_ANY_NOTATION,
+          .parse = parse_views,
+          .help = "N street-level views (eye 1.7 m) along the scene" },
+        { .name = "path",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &o,
+          .metavar = "FILE.json",
+          .parse = parse_path,
+          .help = "the keyframes of a strata-view camera path" },
+        { .name = "size",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &o,
+          .metavar = "WxH",
+          .parse = parse_size,
+          .show = show_size,
+          .help = "viewport" },
+        { .name = "fov",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &o.fov_deg,
+          .metavar = "DEG",
+          .real_min = 0.0,
+          .real_max = 179.0,
+          .flags = STA_CLI_ABOVE_MIN | STA_CLI_BELOW_MAX,
+          .help = "vertical field of view in degrees" },
+        { .heading = "sweeps (comma-separated lists; every combination that applies is run):",
+          .name = "budgets",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &o,
+          .metavar = "LIST",
+          .parse = parse_budgets,
+          .show = show_budgets,
+          .help = "points per frame, e.g. 1e6,3M,all" },
+        { .name = "pipelines",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &o,
+          .metavar = "LIST",
+          .parse = parse_modes,
+          .show = show_modes,
+          .help = "raw,hpr,fill,normals,shaded,edl" },
+        { .name = "normals",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &o,
+          .metavar = "LIST",
+          .parse = parse_normals,
+          .show = show_normals,
+          .help = "pyramid,ld,pd,pc,ti" },
+        { .name = "samples",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &o,
+          .metavar = "LIST",
+          .parse = parse_sample_list,
+          .show = show_samples,
+          .help = "LD/PD/PC/TI samples: 5,9,17,25" },
+        { .name = "hpr",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &hpr,
+          .metavar = "LIST",
+          .parse = parse_hpr_list,
+          .show = show_hpr,
+          .help = "pyramid,exhaustive" },
+        { .name = "smooth",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.smooth,
+          .help = "add the normal smoothing pass" },
+        { .name = "hpr-radius",
+          .kind = STA_CLI_INT,
+          .dest = &o.hpr_radius_px,
+          .metavar = "PX",
+          .int_min = 1,
+          .int_max = 64,
+          .flags = STA_CLI_ANY_NOTATION,
+          .help = "exhaustive HPR radius" },
+        { .name = "hpr-threshold",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &hpr_threshold,
+          .metavar = "T",
+          .real_min = 0.0,
+          .real_max = HUGE_VAL,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "HPR threshold" },
+        { .name = "s0",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &o.s0_m,
+          .metavar = "M",
+          .real_min = 0.0,
+          .real_max = HUGE_VAL,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "sampling scale in metres",
+          .default_text = "the scene's estimate" },
+        { .heading = "measuring:",
+          .name = "repeat",
+          .kind = STA_CLI_INT,
+          .dest = &o.repeat,
+          .metavar = "R",
+          .int_min = 1,
+          .int_max = 100000,
+          .flags = STA_CLI_ANY_NOTATION,
+          .help = "timed frames per setting, median reported" },
+        { .name = "truth",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &truths,
+          .metavar = "FILE",
+          .parse = parse_truth,
+          .help = "strata-synth truth sidecar, once per scene",
+          .default_text = "SCENE's <stem>.truth.json when it exists" },
+        { .name = "tolerance",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &o.tolerance_s0,
+          .metavar = "K",
+          .real_min = 0.0,
+          .real_max = HUGE_VAL,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "truth visibility tolerance in s0" },
+        { .name = "katz",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.katz,
+          .help = "Katz et al. HPR (Qhull) on the drawn points as reference" },
+        { .name = "no-image-error",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.no_image_error,
+          .help = "no unbudgeted reference renders (no PSNR/SSIM)" },
+        { .name = "timeout",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &o.timeout_s,
+          .metavar = "S",
+          .real_min = 0.0,
+          .real_max = HUGE_VAL,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "seconds a view may take to load" },
+        { .heading = "output:",
+          .name = "out",
+          .kind = STA_CLI_STRING,
+          .dest = &out_dir,
+          .metavar = "DIR",
+          .help = "folder for results.csv and results.json" },
+        { .name = "quiet", .kind = STA_CLI_FLAG, .dest = &quiet, .help = "no progress line" },
+        { .name = NULL },
+    };
+    const sta_cli cli = { .program = "strata-bench",
+                          .usage = usage_text,
+                          .hint = "(see strata-bench --help)",
+                          .options = options };
+    sta_cli_result r;
+    int rc = sta_cli_parse_main(&cli, argc, argv, &r);
+    if (rc < 0 && r.positional_count == 0) {
+        rc = sta_cli_usage_error(&cli, "%s", "no scene given");
     }
-    if (rc == 0 && scene_count == 0) {
-        rc = usage_error("%s", "no scene given");
+    if (rc < 0 && truths.count > 0 && truths.count != (size_t)r.positional_count) {
+        rc = sta_cli_usage_error(&cli, "%s",
+                                 "give --truth once per scene, in the order of the scenes");
     }
-    if (rc == 0 && truth_count > 0 && truth_count != scene_count) {
-        rc = usage_error("%s", "give --truth once per scene, in the order of the scenes");
-    }
-    if (rc != 0) {
-        free(scenes);
-        free(truths);
+    if (rc >= 0) {
+        free(truths.items);
         return rc;
     }
-    o.scenes = scenes;
-    o.scene_count = scene_count;
-    o.truths = truths;
-    o.truth_count = truth_count;
+    o.hpr_threshold = (float)hpr_threshold;
+    o.progress = !quiet;
+    o.scenes = (const char *const *)r.positional;
+    o.scene_count = (size_t)r.positional_count;
+    o.truths = truths.items;
+    o.truth_count = truths.count;
 
     sta_error err = { 0 };
     sta_gl_headless gl = { 0 };
@@ -310,8 +519,7 @@ int main(int argc, char **argv)
     }
     sta_bench_results_release(&results);
     sta_gl_headless_destroy(&gl);
-    free(scenes);
-    free(truths);
+    free(truths.items);
     if (s != STA_OK) {
         fprintf(stderr, "strata-bench: %s\n", err.message);
         return 1;

@@ -266,8 +266,9 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     sta_hpr_params hpr = { .threshold = o->hpr_threshold };
     if (o->hpr_exhaustive) {
         s = sta_hpr_pass_run_exhaustive(&p->hpr, view, &hpr,
-                                        o->hpr_radius_px > 0 ? o->hpr_radius_px : 8, p->position,
-                                        p->label, err);
+                                        o->hpr_radius_px > 0 ? o->hpr_radius_px
+                                                             : STA_PIPELINE_DEFAULT_HPR_RADIUS_PX,
+                                        p->position, p->label, err);
     } else {
         s = sta_hpr_pass_run_pyramid(&p->hpr, view, &hpr, p->position, p->pyramid, p->label, err);
     }

@@ -51,13 +51,16 @@ typedef enum sta_pass_id {
     STA_PASS_COUNT
 } sta_pass_id;
 
+/* Radius of the exhaustive HPR baseline when none is given, pixels. */
+#define STA_PIPELINE_DEFAULT_HPR_RADIUS_PX 8
+
 typedef struct sta_pipeline_options {
     int mode;                    /* sta_pipeline_mode */
     int normals;                 /* sta_normal_method */
     int samples;                 /* LD/PD/PC/TI scheme: 5, 9, 17, 25 (0: 9) */
     bool smooth;                 /* run the normal smoothing pass */
     bool hpr_exhaustive;         /* the fixed-radius baseline instead of the pyramid */
-    int hpr_radius_px;           /* exhaustive radius (0: 8) */
+    int hpr_radius_px;           /* exhaustive radius (0: STA_PIPELINE_DEFAULT_HPR_RADIUS_PX) */
     float hpr_threshold;         /* 0: 0.1 */
     float s0_m;                  /* sampling scale; 0: the scene's estimate */
     float normal_max_distance_m; /* screen-space normals; 0: 5 s0 */

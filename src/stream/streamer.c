@@ -46,7 +46,7 @@ struct sta_streamer {
 void sta_streamer_options_defaults(sta_streamer_options *o)
 {
     o->budget_points = o->budget_points ? o->budget_points : STA_DEFAULT_BUDGET_POINTS;
-    o->gpu_bytes_cap = o->gpu_bytes_cap ? o->gpu_bytes_cap : (uint64_t)1 << 30;
+    o->gpu_bytes_cap = o->gpu_bytes_cap ? o->gpu_bytes_cap : STA_DEFAULT_GPU_BYTES_CAP;
     o->upload_bytes_per_frame =
         o->upload_bytes_per_frame ? o->upload_bytes_per_frame : (uint64_t)64 << 20;
     if (o->loader_threads <= 0) {

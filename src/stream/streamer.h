@@ -29,11 +29,14 @@
 #include "stream/node_source.h"
 #include "stream/select.h"
 
+/* GPU memory for resident nodes when none is given. */
+#define STA_DEFAULT_GPU_BYTES_CAP (UINT64_C(1) << 30)
+
 typedef struct sta_streamer sta_streamer;
 
 typedef struct sta_streamer_options {
     uint64_t budget_points;          /* 0: STA_DEFAULT_BUDGET_POINTS per frame */
-    uint64_t gpu_bytes_cap;          /* 0: 1 GiB for resident nodes */
+    uint64_t gpu_bytes_cap;          /* 0: STA_DEFAULT_GPU_BYTES_CAP */
     uint64_t upload_bytes_per_frame; /* 0: 64 MiB */
     int loader_threads;              /* 0: cores - 1 (at least 1) */
     double min_spacing_px;           /* 0: 0.75 (sta_select_params) */
