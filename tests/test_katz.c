@@ -18,7 +18,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "bench/katz_hpr.h"
+#include "visibility/katz_hpr.h"
 #include "core/alloc.h"
 
 #define PI 3.14159265358979323846

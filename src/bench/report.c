@@ -95,6 +95,7 @@ static const column columns[] = {
     COL(psnr_db, COL_F64),
     COL(ssim, COL_F64),
     COL(katz_ms, COL_F64),
+    COL(katz_radius_m, COL_F64),
     COL(katz_points, COL_U64),
     COL(katz_visible, COL_U64),
     COL(katz_precision, COL_F64),

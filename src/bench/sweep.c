@@ -11,7 +11,6 @@
 
 #include "bench/bench_cameras.h"
 #include "bench/bench_truth.h"
-#include "bench/katz_hpr.h"
 #include "bench/metrics.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
@@ -20,6 +19,7 @@
 #include "render/gl.h"
 #include "render/gl_image.h"
 #include "render/scene.h"
+#include "visibility/katz_hpr.h"
 
 static const double degrees = 3.14159265358979323846 / 180.0;
 
@@ -387,12 +387,15 @@ static void clear_errors(sta_bench_row *row)
     row->normal_mean_deg = row->normal_median_deg = row->normal_p95_deg = (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
     row->psnr_db = row->ssim = (double)NAN;
-    row->katz_ms = row->katz_precision = row->katz_recall = row->katz_f1 = (double)NAN;
+    row->katz_ms = row->katz_radius_m = row->katz_precision = row->katz_recall = row->katz_f1 =
+        (double)NAN;
 }
 
 // Katz's operator on the view's points (relative to the eye, for precision).
+// R follows the view's pixel pitch and the same depth tolerance as the truth
+// (sta_katz_view_radius, docs/KATZ.md "Choosing R").
 static sta_status run_katz(const sta_camera *camera, const sta_view_points *points, bool has_truth,
-                           sta_bench_row *katz, sta_error *err)
+                           double tolerance_m, sta_bench_row *katz, sta_error *err)
 {
     katz->katz_points = points->count;
     if (points->count == 0) {
@@ -412,12 +415,15 @@ static sta_status run_katz(const sta_camera *camera, const sta_view_points *poin
     }
     const double origin[3] = { 0.0, 0.0, 0.0 };
     sta_katz_stats stats;
-    s = sta_katz_visible((const double(*)[3])relative, points->count, origin, NULL, visible, &stats,
-                         err);
+    const sta_katz_params params = { .radius_m = sta_katz_view_radius(
+                                         tolerance_m, camera->fov_y / camera->height_px) };
+    s = sta_katz_visible((const double(*)[3])relative, points->count, origin, &params, visible,
+                         &stats, err);
     if (s != STA_OK) {
         goto out_free;
     }
     katz->katz_ms = stats.total_ms;
+    katz->katz_radius_m = stats.radius;
     katz->katz_visible = stats.visible_count;
     if (has_truth) {
         sta_confusion c = { 0 };
@@ -486,13 +492,16 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         sta_render_target_read_depth(&run->target, run->depth);
         s = sta_view_points_from_depth(camera, run->depth, &points, err);
     }
-    if (s == STA_OK && run->has_truth) {
+    double tolerance_m = 0.0;
+    if (s == STA_OK && (run->has_truth || o->katz)) {
         // The tolerance needs s0: one raw frame gives the scene's estimate.
         sta_frame_stats stats;
         s = sta_scene_render(scene, camera, &run->target, &stats, err);
         double s0 = o->s0_m > 0 ? o->s0_m : (double)stats.s0_m;
-        sta_view_points_classify(&run->truth, camera,
-                                 o->tolerance_s0 * s0 + 3.0 * run->truth.noise_m, &points);
+        tolerance_m = o->tolerance_s0 * s0 + (run->has_truth ? 3.0 * run->truth.noise_m : 0.0);
+    }
+    if (s == STA_OK && run->has_truth) {
+        sta_view_points_classify(&run->truth, camera, tolerance_m, &points);
         base.truth_points = points.count;
         for (size_t i = 0; i < points.count; i++) {
             base.truly_hidden += !points.visible[i];
@@ -500,7 +509,7 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
     }
     if (s == STA_OK && o->katz) {
         progress(run, cam_index + 1, run->camera_count, "Katz HPR");
-        s = run_katz(camera, &points, run->has_truth, &base, err);
+        s = run_katz(camera, &points, run->has_truth, tolerance_m, &base, err);
     }
     const size_t view = (size_t)camera->width_px * (size_t)camera->height_px;
     for (size_t k = 0; k < run->setting_count && s == STA_OK; k++) {

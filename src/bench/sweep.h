@@ -106,6 +106,7 @@ typedef struct sta_bench_row {
     double psnr_db; /* +inf for identical images */
     double ssim;
     double katz_ms;
+    double katz_radius_m; /* Katz's sphere radius R used (sta_katz_view_radius) */
     uint64_t katz_points, katz_visible;
     double katz_precision, katz_recall, katz_f1;
 } sta_bench_row;
