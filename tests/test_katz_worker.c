@@ -2,10 +2,10 @@
  * The live Katz worker (visibility/katz_worker.h) without GL: sets handed over from the
  * hull threads are never torn (each set's points, viewpoint and flags belong to one
  * submission, and its flags equal the operator's on those points), generations only
- * grow, the last submission is the one finally shown, a sphere's front hemisphere comes
- * back through the worker, bad input is refused at submit, a failing hull is reported,
- * and the perturbed hull is compared with the plain one on the same input.
- * Meant to run under the thread sanitizer too (cmake --preset tsan; docs/KATZ.md).
+ * grow (tags travel with their points), the last submission is the one finally shown, a sphere's
+ * front hemisphere comes back through the worker, bad input is refused at submit, a failing hull is
+ * reported, and the perturbed hull is compared with the plain one on the same input. Meant to run
+ * under the thread sanitizer too (cmake --preset tsan; docs/KATZ.md).
  */
 #include "test_support.h"
 
@@ -78,6 +78,9 @@ static void check_set(const sta_katz_set *set, float (*scratch)[3], double (*xyz
     assert_memory_equal(set->visible, flags, count);
     assert_int_equal(set->visible_count, stats.visible_count);
     assert_int_equal(set->frame, set->generation + 1000);
+    for (size_t i = 0; i < count; i++) {
+        assert_int_equal(set->tags[i], set->generation * 1000000u + i);
+    }
 }
 
 // Many submissions, two hull threads, the caller acquiring between them: every set seen
@@ -96,7 +99,8 @@ static void handover_is_whole_and_ordered(void **state)
     float(*scratch)[3] = sta_alloc_array(MAX_POINTS, sizeof(*scratch));
     double(*xyz)[3] = sta_alloc_array(MAX_POINTS, sizeof(*xyz));
     uint8_t *flags = sta_alloc_array(MAX_POINTS, 1);
-    assert_true(points && scratch && xyz && flags);
+    uint64_t *tags = sta_alloc_array(MAX_POINTS, sizeof(*tags));
+    assert_true(points && scratch && xyz && flags && tags);
 
     const sta_katz_set *set = NULL;
     assert_false(sta_katz_worker_acquire(worker, &set));
@@ -106,8 +110,11 @@ static void handover_is_whole_and_ordered(void **state)
     for (uint64_t seq = 1; seq <= SUBMISSIONS; seq++) {
         double viewpoint[3];
         size_t count = fill_submission(seq, points, viewpoint);
-        assert_int_equal(sta_katz_worker_submit(worker, (const float(*)[3])points, count, viewpoint,
-                                                0.0, seq + 1000, NULL),
+        for (size_t i = 0; i < count; i++) {
+            tags[i] = seq * 1000000u + i;
+        }
+        assert_int_equal(sta_katz_worker_submit(worker, (const float(*)[3])points, tags, count,
+                                                viewpoint, 0.0, seq + 1000, NULL),
                          STA_OK);
         if (seq % 3 == 0) {
             sleep_ms(1); // let some hulls finish between submissions
@@ -142,6 +149,7 @@ static void handover_is_whole_and_ordered(void **state)
     sta_free(scratch);
     sta_free(xyz);
     sta_free(flags);
+    sta_free(tags);
 }
 
 // A sphere seen from outside through the worker: visible iff dot(p - c, v - p) > 0
@@ -166,7 +174,7 @@ static void sphere_front_hemisphere(void **state)
     sta_katz_worker *worker = NULL;
     assert_int_equal(sta_katz_worker_create(NULL, &worker, NULL), STA_OK);
     const double eye[3] = { 0.0, 0.0, 0.0 };
-    assert_int_equal(sta_katz_worker_submit(worker, (const float(*)[3])points, COUNT, eye,
+    assert_int_equal(sta_katz_worker_submit(worker, (const float(*)[3])points, NULL, COUNT, eye,
                                             sta_katz_view_radius(0.01, 1e-3), 1, NULL),
                      STA_OK);
     wait_idle(worker);
@@ -211,26 +219,28 @@ static void errors_are_reported(void **state)
     const double eye[3] = { 0, 0, 0 };
     points[2][1] = NAN;
     assert_int_equal(
-        sta_katz_worker_submit(worker, (const float(*)[3])points, 5, eye, 0.0, 1, &err),
+        sta_katz_worker_submit(worker, (const float(*)[3])points, NULL, 5, eye, 0.0, 1, &err),
         STA_ERR_ARG);
     assert_non_null(strstr(err.message, "point 2"));
     points[2][1] = 1.0f;
     const double nan_eye[3] = { 0, NAN, 0 };
     assert_int_equal(
-        sta_katz_worker_submit(worker, (const float(*)[3])points, 5, nan_eye, 0.0, 1, &err),
+        sta_katz_worker_submit(worker, (const float(*)[3])points, NULL, 5, nan_eye, 0.0, 1, &err),
         STA_ERR_ARG);
     assert_non_null(strstr(err.message, "viewpoint"));
 
     // A good set first, then one whose radius is out of range: the hull thread fails.
     assert_int_equal(
-        sta_katz_worker_submit(worker, (const float(*)[3])points, 5, eye, 0.0, 1, NULL), STA_OK);
+        sta_katz_worker_submit(worker, (const float(*)[3])points, NULL, 5, eye, 0.0, 1, NULL),
+        STA_OK);
     wait_idle(worker);
     const sta_katz_set *set = NULL;
     assert_true(sta_katz_worker_acquire(worker, &set));
     assert_int_equal(set->generation, 1);
     assert_int_equal(set->visible_count, 5); // the far point is seen past the near four
     assert_int_equal(
-        sta_katz_worker_submit(worker, (const float(*)[3])points, 5, eye, 1e300, 2, NULL), STA_OK);
+        sta_katz_worker_submit(worker, (const float(*)[3])points, NULL, 5, eye, 1e300, 2, NULL),
+        STA_OK);
     wait_idle(worker);
     assert_false(sta_katz_worker_acquire(worker, &set));
     assert_int_equal(set->generation, 1);
@@ -239,12 +249,13 @@ static void errors_are_reported(void **state)
     assert_int_equal(sta_katz_worker_take_error(worker, NULL), STA_OK);
 
     // Degenerate input goes through: nothing, and fewer than four points (all visible).
-    assert_int_equal(sta_katz_worker_submit(worker, NULL, 0, eye, 0.0, 3, NULL), STA_OK);
+    assert_int_equal(sta_katz_worker_submit(worker, NULL, NULL, 0, eye, 0.0, 3, NULL), STA_OK);
     wait_idle(worker);
     assert_true(sta_katz_worker_acquire(worker, &set));
     assert_int_equal(set->count, 0);
     assert_int_equal(
-        sta_katz_worker_submit(worker, (const float(*)[3])points, 3, eye, 0.0, 4, NULL), STA_OK);
+        sta_katz_worker_submit(worker, (const float(*)[3])points, NULL, 3, eye, 0.0, 4, NULL),
+        STA_OK);
     wait_idle(worker);
     assert_true(sta_katz_worker_acquire(worker, &set));
     assert_int_equal(set->visible_count, 3);
@@ -274,9 +285,9 @@ static void perturbation_is_compared(void **state)
     sta_katz_worker_config config = { .params = { .perturbation = 1e-4 }, .compare_plain = true };
     sta_katz_worker *worker = NULL;
     assert_int_equal(sta_katz_worker_create(&config, &worker, NULL), STA_OK);
-    assert_int_equal(
-        sta_katz_worker_submit(worker, (const float(*)[3])points, count, viewpoint, 0.0, 9, NULL),
-        STA_OK);
+    assert_int_equal(sta_katz_worker_submit(worker, (const float(*)[3])points, NULL, count,
+                                            viewpoint, 0.0, 9, NULL),
+                     STA_OK);
     wait_idle(worker);
     const sta_katz_set *set = NULL;
     assert_true(sta_katz_worker_acquire(worker, &set));

@@ -16,6 +16,7 @@
 // staging buffer, the pending slot, or a thread's work buffer.
 typedef struct request {
     float (*points)[3];
+    uint64_t *tags; // NULL when the submission had none
     size_t count, capacity;
     double viewpoint[3];
     double radius_m; // 0: the configured R
@@ -63,6 +64,7 @@ static void set_free(sta_katz_set *set)
 {
     if (set) {
         sta_free(set->points);
+        sta_free(set->tags);
         sta_free(set->visible);
         sta_free(set);
     }
@@ -72,6 +74,7 @@ static void request_free(request *r)
 {
     if (r) {
         sta_free(r->points);
+        sta_free(r->tags);
         sta_free(r);
     }
 }
@@ -83,15 +86,19 @@ static sta_status set_reserve(sta_katz_set *set, size_t count, sta_error *err)
         return STA_OK;
     }
     float(*points)[3] = sta_alloc_array(count, sizeof(*points));
+    uint64_t *tags = sta_alloc_array(count, sizeof(*tags));
     uint8_t *visible = sta_alloc_array(count, 1);
-    if (!points || !visible) {
+    if (!points || !tags || !visible) {
         sta_free(points);
+        sta_free(tags);
         sta_free(visible);
         return sta_fail(err, STA_ERR_NOMEM, "katz worker: out of memory for %zu points", count);
     }
     sta_free(set->points);
+    sta_free(set->tags);
     sta_free(set->visible);
     set->points = points;
+    set->tags = tags;
     set->visible = visible;
     set->capacity = count;
     return STA_OK;
@@ -103,11 +110,16 @@ static sta_status request_reserve(request *r, size_t count, sta_error *err)
         return STA_OK;
     }
     float(*points)[3] = sta_alloc_array(count, sizeof(*points));
-    if (!points) {
+    uint64_t *tags = sta_alloc_array(count, sizeof(*tags));
+    if (!points || !tags) {
+        sta_free(points);
+        sta_free(tags);
         return sta_fail(err, STA_ERR_NOMEM, "katz worker: out of memory for %zu points", count);
     }
     sta_free(r->points);
+    sta_free(r->tags);
     r->points = points;
+    r->tags = tags;
     r->capacity = count;
     return STA_OK;
 }
@@ -159,6 +171,7 @@ static sta_status compute(hull_thread *t, sta_error *err)
     }
     if (r->count > 0) {
         memcpy(set->points, r->points, r->count * sizeof(*r->points));
+        memcpy(set->tags, r->tags, r->count * sizeof(*r->tags));
     }
     set->count = r->count;
     set->visible_count = r->count > 0 ? set->stats.visible_count : 0;
@@ -296,9 +309,9 @@ void sta_katz_worker_destroy(sta_katz_worker *worker)
     sta_free(worker);
 }
 
-sta_status sta_katz_worker_submit(sta_katz_worker *worker, const float (*points)[3], size_t count,
-                                  const double viewpoint[3], double radius_m, uint64_t frame,
-                                  sta_error *err)
+sta_status sta_katz_worker_submit(sta_katz_worker *worker, const float (*points)[3],
+                                  const uint64_t *tags, size_t count, const double viewpoint[3],
+                                  double radius_m, uint64_t frame, sta_error *err)
 {
     if (!worker || !viewpoint || (count > 0 && !points)) {
         return sta_fail(err, STA_ERR_ARG, "katz worker: NULL argument to submit");
@@ -323,6 +336,9 @@ sta_status sta_katz_worker_submit(sta_katz_worker *worker, const float (*points)
     }
     if (count > 0) {
         memcpy(r->points, points, count * sizeof(*points));
+        for (size_t i = 0; i < count; i++) {
+            r->tags[i] = tags ? tags[i] : (uint64_t)i;
+        }
     }
     r->count = count;
     memcpy(r->viewpoint, viewpoint, sizeof(r->viewpoint));

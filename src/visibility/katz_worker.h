@@ -50,6 +50,7 @@ typedef struct sta_katz_set {
     uint64_t frame;           /* the caller's frame number given with the request */
     size_t count;             /* points of the request */
     float (*points)[3];       /* count positions as submitted */
+    uint64_t *tags;           /* count tags as submitted (the index when none were given) */
     uint8_t *visible;         /* count flags: 1 visible */
     size_t visible_count;     /* flags set */
     double viewpoint[3];      /* as submitted */
@@ -85,14 +86,15 @@ sta_status sta_katz_worker_create(const sta_katz_worker_config *config, sta_katz
  * including the sets handed out. NULL is a no-op. */
 void sta_katz_worker_destroy(sta_katz_worker *worker);
 
-/* Hands `count` positions (copied; borrowed for the call) and the viewpoint to the
- * threads; radius_m > 0 replaces the configured R (sta_katz_view_radius), 0 keeps it.
- * frame: the caller's frame number, returned in the set (for its age). Never waits for a
- * hull. Returns STA_ERR_ARG for NULL or non-finite input, STA_ERR_NOMEM. One caller
- * thread only (the same that acquires). */
-sta_status sta_katz_worker_submit(sta_katz_worker *worker, const float (*points)[3], size_t count,
-                                  const double viewpoint[3], double radius_m, uint64_t frame,
-                                  sta_error *err);
+/* Hands `count` positions and their tags (copied; borrowed for the call; tags may be
+ * NULL, then a point's tag is its index; the caller's way back from a set to its points)
+ * and the viewpoint to the threads; radius_m > 0 replaces the configured R (sta_katz_view_radius),
+ * 0 keeps it. frame: the caller's frame number, returned in the set (for its age). Never waits for
+ * a hull. Returns STA_ERR_ARG for NULL or non-finite input, STA_ERR_NOMEM. One caller thread only
+ * (the same that acquires). */
+sta_status sta_katz_worker_submit(sta_katz_worker *worker, const float (*points)[3],
+                                  const uint64_t *tags, size_t count, const double viewpoint[3],
+                                  double radius_m, uint64_t frame, sta_error *err);
 
 /* The newest complete set: *out points to the caller's front set, valid until the next
  * acquire or destroy; generation 0 until the first result. Returns true when the set is
