@@ -13,33 +13,34 @@
 typedef struct sta_view_args {
     const char *scene; /* .strata path */
     bool headless;
-    int width_px, height_px;    /* --size */
-    const char *out_png;        /* --out */
-    const char *out_exr;        /* --exr */
-    int max_frames;             /* --frames (0: until fully loaded) */
-    double timeout_s;           /* headless: give up waiting after this */
-    uint64_t budget_points;     /* --budget */
-    uint64_t gpu_mem_mib;       /* --gpu-mem */
-    int colour_mode;            /* --colour */
-    bool has_camera;            /* --camera given (world coordinates) */
-    bool camera_relative;       /* --look given (relative to the scene centre) */
-    double camera[6];           /* x, y, z, yaw deg, pitch deg, fov deg */
-    const char *path_file;      /* --path: play a camera path */
-    const char *record_file;    /* --record: write a camera path (window) */
-    double path_speed_mps;      /* --path-speed: constant speed playback (0: key times) */
-    double orbit_pitch_deg[2];  /* --orbit-pitch: camera elevation above the orbit centre */
-    const char *frame_pattern;  /* --frames-out: numbered PNGs when playing a path */
-    bool stats;                 /* --stats: one line per frame */
-    int pipeline;               /* --pipeline (sta_pipeline_mode) */
-    int normals;                /* --normals (sta_normal_method) */
-    int samples;                /* --samples 5|9|17|25 */
-    bool smooth;                /* --smooth */
-    bool hpr_exhaustive;        /* --hpr exhaustive */
-    int hpr_radius_px;          /* --hpr-radius */
-    double hpr_threshold;       /* --hpr-threshold */
-    double s0_m;                /* --s0 */
-    int repeat;                 /* --repeat: time N more frames once loaded */
-    sta_katz_view_options katz; /* --hpr katz, --katz-*: the live Katz mode */
+    int width_px, height_px;   /* --size */
+    const char *out_png;       /* --out */
+    const char *out_exr;       /* --exr */
+    int max_frames;            /* --frames (0: until fully loaded) */
+    double timeout_s;          /* headless: give up waiting after this */
+    uint64_t budget_points;    /* --budget */
+    uint64_t gpu_mem_mib;      /* --gpu-mem */
+    int colour_mode;           /* --colour */
+    bool has_camera;           /* --camera given (world coordinates) */
+    bool camera_relative;      /* --look given (relative to the scene centre) */
+    double camera[6];          /* x, y, z, yaw deg, pitch deg, fov deg */
+    const char *path_file;     /* --path: play a camera path */
+    const char *record_file;   /* --record: write a camera path (window) */
+    double path_speed_mps;     /* --path-speed: constant speed playback (0: key times) */
+    double orbit_pitch_deg[2]; /* --orbit-pitch: camera elevation above the orbit centre */
+    const char *frame_pattern; /* --frames-out: numbered PNGs when playing a path */
+    bool stats;                /* --stats: one line per frame */
+    int pipeline;              /* --pipeline (sta_pipeline_mode) */
+    int normals;               /* --normals (sta_normal_method) */
+    int samples;               /* --samples 5|9|17|25 */
+    bool smooth;               /* --smooth */
+    bool hpr_exhaustive;       /* --hpr exhaustive */
+    int hpr_radius_px;         /* --hpr-radius */
+    double hpr_threshold;      /* --hpr-threshold */
+    double s0_m;               /* --s0 */
+    int repeat;                /* --repeat: time N more frames once loaded */
+    /* --hpr katz, --katz-*: the live Katz mode */
+    sta_katz_view_options katz;
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints
