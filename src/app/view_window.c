@@ -448,13 +448,16 @@ int sta_view_run_window(const sta_view_args *args)
         }
         s.redraw = false;
         shown = s.camera;
+        bool was_complete = frame > 0 && stats.complete;
         status = sta_scene_render(s.scene, &s.camera, &s.target, &stats, &err);
         sta_render_target_present(&s.target);
         glfwSwapBuffers(window);
         frame++;
         frames_since_title++;
         double drawn_s = glfwGetTime() - title_time;
-        if (drawn_s > 0.5 || was_idle) {
+        // Also when the view has just become complete: the viewer may go idle next, and
+        // the title should show the last frame (e.g. the live Katz set that arrived).
+        if (drawn_s > 0.5 || was_idle || (stats.complete && !was_complete)) {
             update_title(window, &stats, frames_since_title / drawn_s,
                          args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS,
                          s.fly);
@@ -476,6 +479,9 @@ int sta_view_run_window(const sta_view_args *args)
         }
         if (args->max_frames && frame >= args->max_frames) {
             break;
+        }
+        if (s.katz.enabled && !changed && !stats.katz.current) {
+            glfwWaitEventsTimeout(0.01); // only the live Katz set is awaited: leave the CPU to it
         }
     }
     if (status != STA_OK) {
