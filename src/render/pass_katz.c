@@ -22,20 +22,14 @@ void sta_katz_view_options_defaults(sta_katz_view_options *o)
     }
 }
 
-sta_status sta_pass_katz_init(sta_pass_katz *p, uint32_t node_count, uint64_t budget_points,
-                              const double origin[3], const sta_katz_view_options *options,
-                              sta_error *err)
+void sta_pass_katz_init(sta_pass_katz *p, uint32_t node_count, const double origin[3],
+                        const sta_katz_view_options *options)
 {
     memset(p, 0, sizeof(*p));
-    if (budget_points == 0) {
-        return sta_fail(err, STA_ERR_ARG, "katz view: budget of 0 points");
-    }
     p->options = options ? *options : (sta_katz_view_options){ 0 };
     sta_katz_view_options_defaults(&p->options);
     memcpy(p->origin, origin, sizeof(p->origin));
     p->node_count = node_count;
-    p->budget_points = budget_points;
-    return STA_OK;
 }
 
 // The subsample and the gather scratch for options.sample_points at a draw list of
@@ -145,7 +139,7 @@ static sta_status start(sta_pass_katz *p, const sta_gpu_cache *cache, uint64_t d
         }
     }
     if (!p->sample) {
-        sta_status s = make_sample(p, cache, wanted ? wanted : p->budget_points, err);
+        sta_status s = make_sample(p, cache, wanted, err);
         if (s != STA_OK) {
             return s;
         }

@@ -6,8 +6,8 @@
  * depth), instead of the whole draw list. The frame never waits for a hull; the set's
  * age in frames is reported. Main thread (GL) only.
  *
- * Design: the subsample (every stride-th GPU record, stride = ceil(budget / sample
- * points)) is made on the first enabled frame from the nodes then resident, read back from
+ * Design: the subsample (every stride-th GPU record, stride = ceil(points drawn /
+ * sample points)) is made on the first enabled frame from the nodes then resident, read back from
  * the GPU cache once, and from then on kept in step with every frame's uploads and
  * evictions, on or off; no reload is needed to turn the mode on.
  * A new submission is made when the camera or the draw list changed since the last one;
@@ -61,7 +61,6 @@ typedef struct sta_katz_frame_stats {
 typedef struct sta_pass_katz {
     sta_katz_view_options options;
     uint32_t node_count;
-    uint64_t budget_points;
     sta_point_sample *sample; /* from the first enabled frame, then kept in step */
     sta_katz_worker *worker;  /* from the first enabled frame */
     double origin[3];         /* sample positions are relative to this, metres */
@@ -90,12 +89,11 @@ typedef struct sta_pass_katz {
 /* Fills the zero fields of `options` with defaults, in place. */
 void sta_katz_view_options_defaults(sta_katz_view_options *options);
 
-/* A pass for `node_count` nodes drawn `budget_points` per frame, positions relative to
- * `origin`; nothing is allocated and no GL is called until the first enabled frame.
- * options: NULL for defaults (off). */
-sta_status sta_pass_katz_init(sta_pass_katz *pass, uint32_t node_count, uint64_t budget_points,
-                              const double origin[3], const sta_katz_view_options *options,
-                              sta_error *err);
+/* A pass for a scene of `node_count` nodes, positions relative to `origin`; nothing is
+ * allocated and no GL is called until the first enabled frame. options: NULL for
+ * defaults (off). */
+void sta_pass_katz_init(sta_pass_katz *pass, uint32_t node_count, const double origin[3],
+                        const sta_katz_view_options *options);
 
 /* Stops the threads and frees everything (GL objects too: the context must be current if
  * the mode was ever on). A zeroed pass is a no-op. */

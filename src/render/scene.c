@@ -55,9 +55,7 @@ sta_status sta_scene_open(const char *path, const sta_scene_options *options, st
         for (int a = 0; a < 3; a++) {
             centre[a] = 0.5 * (info->bounds_min[a] + info->bounds_max[a]);
         }
-        status = sta_pass_katz_init(&s->katz, info->node_count,
-                                    sta_streamer_options_used(s->streamer)->budget_points, centre,
-                                    NULL, err);
+        sta_pass_katz_init(&s->katz, info->node_count, centre, NULL);
     }
     if (status == STA_OK) {
         status = sta_pass_geometry_init(&s->geometry, err);
