@@ -76,15 +76,37 @@ void hpr_lower_sector(int sector, float value, inout vec4 min_lo, inout vec4 min
     min_hi = mix(min_hi, vec4(value), take_hi);
 }
 
-float hpr_sector_mean(vec4 min_lo, vec4 min_hi)
+// For an empty pixel, sector s is unknown when nothing in it closes it (its minimum is
+// still 1) and the neighbourhood disc of radius `reach` crosses the image border in its
+// direction: what lies outside the image could have closed it, so it is left out of the
+// mean. A point keeps all 8 sectors (twin: sector_mean in hpr_ref.c).
+bool hpr_sector_known(float sector_min, int s, ivec2 p, ivec2 size, float reach)
 {
-    precise float sum = min_lo.x;
-    sum += min_lo.y;
-    sum += min_lo.z;
-    sum += min_lo.w;
-    sum += min_hi.x;
-    sum += min_hi.y;
-    sum += min_hi.z;
-    sum += min_hi.w;
-    return sum * 0.125;
+    const vec2 DIR[8] = vec2[8](vec2(1.0, 0.0), vec2(STA_HPR_SQRT_HALF, STA_HPR_SQRT_HALF),
+                                vec2(0.0, 1.0), vec2(-STA_HPR_SQRT_HALF, STA_HPR_SQRT_HALF),
+                                vec2(-1.0, 0.0), vec2(-STA_HPR_SQRT_HALF, -STA_HPR_SQRT_HALF),
+                                vec2(0.0, -1.0), vec2(STA_HPR_SQRT_HALF, -STA_HPR_SQRT_HALF));
+    if (sector_min < 1.0) {
+        return true;
+    }
+    precise float ex = (float(p.x) + 0.5) + reach * DIR[s].x;
+    precise float ey = (float(p.y) + 0.5) + reach * DIR[s].y;
+    return !(ex < 0.0 || ey < 0.0 || ex >= float(size.x) || ey >= float(size.y));
+}
+
+// Mean of the known sectors' minima, summed in sector order; 1 when none is known.
+float hpr_sector_mean(vec4 min_lo, vec4 min_hi, bool is_point, ivec2 p, ivec2 size,
+                      float reach)
+{
+    float m[8] = float[8](min_lo.x, min_lo.y, min_lo.z, min_lo.w, min_hi.x, min_hi.y, min_hi.z,
+                          min_hi.w);
+    precise float sum = 0.0;
+    int known = 0;
+    for (int s = 0; s < 8; s++) {
+        if (is_point || hpr_sector_known(m[s], s, p, size, reach)) {
+            sum += m[s];
+            known++;
+        }
+    }
+    return known > 0 ? sum / float(known) : 1.0;
 }

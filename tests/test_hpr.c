@@ -429,7 +429,7 @@ static void sectors_follow_the_angle(void **state)
     assert_true(checked > 19000);
 }
 
-static void adaptive_level_is_rounded_eq1(void **state)
+static void adaptive_level_is_rounded_up_eq1(void **state)
 {
     (void)state;
     sta_view_params view = make_view(1248, 768);
@@ -446,15 +446,16 @@ static void adaptive_level_is_rounded_eq1(void **state)
     int levels = sta_hpr_pyramid_levels(view.width_px, view.height_px);
     float depth[STA_HPR_MAX_LEVELS];
     sta_hpr_level_depths(&view, &p, levels, depth);
-    // Eq. 1 in double: l = log2(s_hpr h / (2 tan(theta)) / z), rounded and clamped.
+    // Eq. 1 in double: l = log2(s_hpr h / (2 tan(theta)) / z), rounded up (the rings of
+    // levels 0..l then reach the unrounded radius) and clamped.
     double k = 0.25 * 768.0 / (2.0 * tan(0.4));
     int seen[STA_HPR_MAX_LEVELS] = { 0 };
     for (double z = 0.01; z < 1e6; z *= 1.0137) {
         double l = log2(k / z);
-        if (fabs(l - floor(l) - 0.5) < 1e-4) {
+        if (fabs(l - floor(l + 0.5)) < 1e-4) {
             continue; // at a rounding border
         }
-        long expected = lround(l);
+        long expected = (long)ceil(l);
         expected = expected < 0 ? 0 : (expected > levels - 1 ? levels - 1 : expected);
         int level = 0;
         for (int i = 1; i < levels; i++) {
@@ -866,7 +867,7 @@ static void bad_arguments_are_refused(void **state)
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(pyramid_sizes_and_levels),
     cmocka_unit_test(sectors_follow_the_angle),
-    cmocka_unit_test(adaptive_level_is_rounded_eq1),
+    cmocka_unit_test(adaptive_level_is_rounded_up_eq1),
     cmocka_unit_test_setup_teardown(shader_matches_twin_on_random_buffers, setup, teardown),
     cmocka_unit_test_setup_teardown(near_plane_over_far_plane_known_truth, setup, teardown),
     cmocka_unit_test_setup_teardown(labels_match_with_thresholds_on_the_means, setup, teardown),

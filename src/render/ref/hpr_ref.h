@@ -36,6 +36,13 @@
  * a ratio of integers so that the shader and the twin pick the same sector. */
 #define STA_HPR_SECTOR_TAN_NUM       408
 #define STA_HPR_SECTOR_TAN_DEN       985
+#define STA_HPR_SQRT_HALF            0.70710678f /* sector directions on the diagonals */
+/* Smallest neighbourhood radius, pixels, used for the image-border test: the 8 direct
+ * neighbours (up to 1.5 px from the centre) always take part. */
+#define STA_HPR_MIN_REACH_PX         1.5f
+/* Pyramidal operator: ring candidates (levels >= 1) landing farther than this many
+ * neighbourhood radii K / z from the pixel are dropped (per-pixel decision). */
+#define STA_HPR_CUT_FACTOR           2.0f
 
 /* Parameters. Zero means default (resolved by sta_hpr_params_defaults). A negative
  * threshold makes every pixel open (HPR off). s_hpr's default depends on the view: it
@@ -71,12 +78,18 @@ static inline int sta_hpr_level_size(int size_px, int level)
     return (size_px + (1 << level) - 1) >> level;
 }
 
+/* K = s_hpr h / (2 tan(fov_y / 2)) (0 when s_hpr is 0 or not finite): a pixel of
+ * coarse depth z has the neighbourhood radius K / z pixels (eq. 1). `resolved`:
+ * parameters after sta_hpr_params_defaults. */
+float sta_hpr_radius_k(const sta_view_params *view, const sta_hpr_params *resolved);
+
 /* The depths at which the adaptive level changes: out[l] (l = 1 .. level_count - 1) is
- * K 2^(0.5 - l) with K = s_hpr h / (2 tan(fov_y / 2)); a pixel of coarse depth z gets
- * the largest l with z <= out[l] (0 when none), i.e. round(log2(K / z)) clamped to
- * [0, level_count - 1], computed by comparisons so that shader and twin agree exactly.
- * out[0] = +inf (unused). `resolved`: parameters after sta_hpr_params_defaults; s_hpr
- * is sta_hpr_s_hpr_m of them. */
+ * K 2^(1 - l) with K = sta_hpr_radius_k; a pixel of coarse depth z gets the largest l
+ * with z <= out[l] (0 when none), i.e. ceil(log2(K / z)) clamped to
+ * [0, level_count - 1] (the rings of levels 0..l then reach the whole radius K / z),
+ * computed by comparisons so that shader and twin agree exactly. out[0] = +inf
+ * (unused). `resolved`: parameters after sta_hpr_params_defaults; s_hpr is
+ * sta_hpr_s_hpr_m of them. */
 void sta_hpr_level_depths(const sta_view_params *view, const sta_hpr_params *resolved,
                           int level_count, float out_depth_m[STA_HPR_MAX_LEVELS]);
 
