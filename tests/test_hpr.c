@@ -779,6 +779,57 @@ static void near_plane_and_huge_depth(void **state)
     sta_image_release(&position);
 }
 
+// A plane at 2 m tilted by `tilt` seen through 30 % of its pixels (a fixed hash picks
+// them), with an empty disc of `gap_px` pixels' radius around (gap_x, gap_y) (none for
+// gap_px <= 0).
+static void make_sparse_plane(const sta_view_params *view, float tilt, int gap_x, int gap_y,
+                              float gap_px, sta_image *out)
+{
+    make_plane(view, 2.0f, tilt, out);
+    for (int y = 0; y < view->height_px; y++) {
+        for (int x = 0; x < view->width_px; x++) {
+            unsigned hash = (unsigned)(x * 73856093) ^ (unsigned)(y * 19349663);
+            float dx = (float)(x - gap_x), dy = (float)(y - gap_y);
+            bool in_gap = gap_px > 0.0f && dx * dx + dy * dy < gap_px * gap_px;
+            if (in_gap || (hash % 1000u) >= 300u) {
+                float *p = sta_image_at(out, x, y);
+                p[0] = p[1] = p[2] = p[3] = 0.0f;
+            }
+        }
+    }
+}
+
+static void surfaces_fill_to_the_image_edge(void **state)
+{
+    (void)state;
+    // A surface that runs off-screen on every side: no empty pixel is background, in
+    // particular none in the 16-px border band (before: outside the image counted as
+    // open sky, and the band came out ragged and black).
+    sta_view_params view = make_view(96, 64);
+    sta_image position;
+    make_sparse_plane(&view, 1.0f, 0, 0, 0.0f, &position);
+    both_result r;
+    run_both("sparse plane", &view, NULL, &position, 5, &r);
+    int band_background = 0, band_empty = 0;
+    for (int y = 0; y < 64; y++) {
+        for (int x = 0; x < 96; x++) {
+            if (sta_image_at(&position, x, y)[3] > 0.5f) {
+                continue;
+            }
+            bool band = x < 16 || y < 16 || x >= 96 - 16 || y >= 64 - 16;
+            band_empty += band;
+            band_background +=
+                band && *sta_image_at(&r.pyramid_label, x, y) == STA_LABEL_BACKGROUND;
+        }
+    }
+    printf("sparse plane 96x64: %d of %d empty border-band pixels background\n", band_background,
+           band_empty);
+    assert_true(band_empty > 2000);
+    assert_int_equal(band_background, 0);
+    both_release(&r);
+    sta_image_release(&position);
+}
+
 static void coincident_points_are_skipped(void **state)
 {
     (void)state;
@@ -876,6 +927,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(full_planes_are_visible, setup, teardown),
     cmocka_unit_test_setup_teardown(near_plane_and_huge_depth, setup, teardown),
     cmocka_unit_test_setup_teardown(coincident_points_are_skipped, setup, teardown),
+    cmocka_unit_test_setup_teardown(surfaces_fill_to_the_image_edge, setup, teardown),
     cmocka_unit_test(allocation_failures_are_clean),
     cmocka_unit_test_setup_teardown(bad_arguments_are_refused, setup, teardown),
 };

@@ -149,7 +149,7 @@ void sta_hpr_ref_pyramid_release(sta_hpr_pyramid *pyramid)
 // What the shaders' hpr_common.glsl computes, one function for one function.
 
 typedef struct occlusion_frame {
-    float tan_x, tan_y; // tan of the half field of view, horizontally and vertically
+    float tan_x, tan_y;     // tan of the half field of view, horizontally and vertically
     float scale_x, scale_y; // pixels per unit of x / d and y / d: size / (2 tan)
     float far_m;
     float threshold;
@@ -385,8 +385,8 @@ void sta_hpr_ref_exhaustive(const sta_view_params *view, const sta_hpr_params *p
                     }
                 }
             }
-            float reach = (float)radius_px > STA_HPR_MIN_REACH_PX ? (float)radius_px
-                                                                   : STA_HPR_MIN_REACH_PX;
+            float reach =
+                (float)radius_px > STA_HPR_MIN_REACH_PX ? (float)radius_px : STA_HPR_MIN_REACH_PX;
             float mean = sector_mean(&f, px, py, sector_min, own[3] > 0.5f, reach);
             *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
             if (out_mean) {
