@@ -85,8 +85,10 @@ static bool pick(view_state *s, double cursor_x, double cursor_y, double out[3])
 
 static void look_at(sta_camera *c, const double target[3])
 {
-    double d[3] = { target[0] - c->position[0], target[1] - c->position[1],
-                    target[2] - c->position[2] };
+    const double w[3] = { target[0] - c->position[0], target[1] - c->position[1],
+                          target[2] - c->position[2] };
+    double d[3]; // in the camera's z-up frame, where yaw and pitch are measured
+    sta_camera_to_frame(c, w, d);
     double len = length3(d);
     if (len <= 0) {
         return;
@@ -98,15 +100,21 @@ static void look_at(sta_camera *c, const double target[3])
 static void orbit(view_state *s, double dx, double dy)
 {
     sta_camera *c = &s->camera;
-    double offset[3] = { c->position[0] - s->pivot[0], c->position[1] - s->pivot[1],
-                         c->position[2] - s->pivot[2] };
+    const double w[3] = { c->position[0] - s->pivot[0], c->position[1] - s->pivot[1],
+                          c->position[2] - s->pivot[2] };
+    double offset[3]; // in the camera's z-up frame: orbit about the data's up axis
+    sta_camera_to_frame(c, w, offset);
     double radius = length3(offset);
     double yaw = atan2(offset[1], offset[0]) - dx * 0.005;
     double pitch = asin(radius > 0 ? offset[2] / radius : 0) + dy * 0.005;
     pitch = fmax(-1.5, fmin(1.5, pitch));
-    c->position[0] = s->pivot[0] + radius * cos(pitch) * cos(yaw);
-    c->position[1] = s->pivot[1] + radius * cos(pitch) * sin(yaw);
-    c->position[2] = s->pivot[2] + radius * sin(pitch);
+    const double moved[3] = { radius * cos(pitch) * cos(yaw), radius * cos(pitch) * sin(yaw),
+                              radius * sin(pitch) };
+    double world[3];
+    sta_camera_from_frame(c, moved, world);
+    for (int a = 0; a < 3; a++) {
+        c->position[a] = s->pivot[a] + world[a];
+    }
     look_at(c, s->pivot);
 }
 

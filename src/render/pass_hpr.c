@@ -27,11 +27,13 @@ static void shader_defines(char *out, size_t size)
              "#define STA_LABEL_HOLE %.1f\n"
              "#define STA_HPR_SQRT_HALF %.9e\n"
              "#define STA_HPR_MIN_REACH_PX %.9e\n"
+             "#define STA_HPR_MAX_REACH_PX %.9e\n"
              "#define STA_HPR_CUT_FACTOR %.9e\n",
              STA_HPR_MAX_LEVELS, STA_HPR_SECTOR_TAN_NUM, STA_HPR_SECTOR_TAN_DEN,
              (double)STA_HPR_MIN_LENGTH2_M2, (double)STA_LABEL_BACKGROUND,
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
-             (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_CUT_FACTOR);
+             (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_MAX_REACH_PX,
+             (double)STA_HPR_CUT_FACTOR);
 }
 
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)

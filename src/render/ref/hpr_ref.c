@@ -334,7 +334,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                     }
                 }
             }
-            float reach = radius > STA_HPR_MIN_REACH_PX ? radius : STA_HPR_MIN_REACH_PX;
+            float reach = fminf(fmaxf(radius, STA_HPR_MIN_REACH_PX), STA_HPR_MAX_REACH_PX);
             float mean = sector_mean(&f, px, py, sector_min, own[3] > 0.5f, reach);
             *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
             if (out_mean) {
@@ -386,7 +386,7 @@ void sta_hpr_ref_exhaustive(const sta_view_params *view, const sta_hpr_params *p
                 }
             }
             float reach =
-                (float)radius_px > STA_HPR_MIN_REACH_PX ? (float)radius_px : STA_HPR_MIN_REACH_PX;
+                fminf(fmaxf((float)radius_px, STA_HPR_MIN_REACH_PX), STA_HPR_MAX_REACH_PX);
             float mean = sector_mean(&f, px, py, sector_min, own[3] > 0.5f, reach);
             *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
             if (out_mean) {

@@ -37,9 +37,12 @@
 #define STA_HPR_SECTOR_TAN_NUM       408
 #define STA_HPR_SECTOR_TAN_DEN       985
 #define STA_HPR_SQRT_HALF            0.70710678f /* sector directions on the diagonals */
-/* Smallest neighbourhood radius, pixels, used for the image-border test: the 8 direct
- * neighbours (up to 1.5 px from the centre) always take part. */
+/* The image-border test of empty pixels looks this far, in pixels: the neighbourhood
+ * radius, but at least 1.5 (the 8 direct neighbours always take part) and at most 32
+ * (only a band along the border is treated as running on off-screen; a gap between
+ * two objects near the border, such as the bunny's ears, stays open beyond it). */
 #define STA_HPR_MIN_REACH_PX         1.5f
+#define STA_HPR_MAX_REACH_PX         32.0f
 /* Pyramidal operator: ring candidates (levels >= 1) landing farther than this many
  * neighbourhood radii K / z from the pixel are dropped (per-pixel decision). */
 #define STA_HPR_CUT_FACTOR           2.0f
