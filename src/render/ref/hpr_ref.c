@@ -66,9 +66,8 @@ void sta_hpr_level_depths(const sta_view_params *view, const sta_hpr_params *res
 {
     float k = sta_hpr_radius_k(view, resolved);
     for (int l = 0; l < STA_HPR_MAX_LEVELS; l++) {
-        // ceil(log2(K / z)) >= l  <=>  z < K 2^(1 - l): the rings up to level l reach
-        // at least 2^l >= K / z pixels from the pixel, the whole cut-off radius.
-        out_depth_m[l] = l == 0 ? INFINITY : (l < level_count ? ldexpf(k, 1 - l) : -1.0f);
+        // round(log2(K / z)) >= l  <=>  z <= K 2^(0.5 - l)
+        out_depth_m[l] = l == 0 ? INFINITY : (l < level_count ? ldexpf(k * 1.41421356f, -l) : -1.0f);
     }
 }
 

@@ -87,12 +87,11 @@ static inline int sta_hpr_level_size(int size_px, int level)
 float sta_hpr_radius_k(const sta_view_params *view, const sta_hpr_params *resolved);
 
 /* The depths at which the adaptive level changes: out[l] (l = 1 .. level_count - 1) is
- * K 2^(1 - l) with K = sta_hpr_radius_k; a pixel of coarse depth z gets the largest l
- * with z <= out[l] (0 when none), i.e. ceil(log2(K / z)) clamped to
- * [0, level_count - 1] (the rings of levels 0..l then reach the whole radius K / z),
- * computed by comparisons so that shader and twin agree exactly. out[0] = +inf
- * (unused). `resolved`: parameters after sta_hpr_params_defaults; s_hpr is
- * sta_hpr_s_hpr_m of them. */
+ * K 2^(0.5 - l) with K = sta_hpr_radius_k; a pixel of coarse depth z gets the largest
+ * l with z <= out[l] (0 when none), i.e. round(log2(K / z)) clamped to
+ * [0, level_count - 1], computed by comparisons so that shader and twin agree exactly.
+ * out[0] = +inf (unused). `resolved`: parameters after sta_hpr_params_defaults; s_hpr
+ * is sta_hpr_s_hpr_m of them. */
 void sta_hpr_level_depths(const sta_view_params *view, const sta_hpr_params *resolved,
                           int level_count, float out_depth_m[STA_HPR_MAX_LEVELS]);
 
