@@ -76,34 +76,37 @@ void hpr_lower_sector(int sector, float value, inout vec4 min_lo, inout vec4 min
     min_hi = mix(min_hi, vec4(value), take_hi);
 }
 
-// For an empty pixel, sector s is unknown when nothing in it closes it (its minimum is
-// still 1) and the neighbourhood disc of radius `reach` crosses the image border in its
-// direction: what lies outside the image could have closed it, so it is left out of the
-// mean. A point keeps all 8 sectors (twin: sector_mean in hpr_ref.c).
-bool hpr_sector_known(float sector_min, int s, ivec2 p, ivec2 size, float reach)
+// Bit s set when the disc of radius `reach` around pixel p crosses the image border in
+// sector s's direction (the exhaustive operator's outside sectors; twin: reach_outside).
+int hpr_reach_outside(ivec2 p, ivec2 size, float reach)
 {
     const vec2 DIR[8] = vec2[8](vec2(1.0, 0.0), vec2(STA_HPR_SQRT_HALF, STA_HPR_SQRT_HALF),
                                 vec2(0.0, 1.0), vec2(-STA_HPR_SQRT_HALF, STA_HPR_SQRT_HALF),
                                 vec2(-1.0, 0.0), vec2(-STA_HPR_SQRT_HALF, -STA_HPR_SQRT_HALF),
                                 vec2(0.0, -1.0), vec2(STA_HPR_SQRT_HALF, -STA_HPR_SQRT_HALF));
-    if (sector_min < 1.0) {
-        return true;
+    int outside = 0;
+    for (int s = 0; s < 8; s++) {
+        precise float ex = (float(p.x) + 0.5) + reach * DIR[s].x;
+        precise float ey = (float(p.y) + 0.5) + reach * DIR[s].y;
+        if (ex < 0.0 || ey < 0.0 || ex >= float(size.x) || ey >= float(size.y)) {
+            outside |= 1 << s;
+        }
     }
-    precise float ex = (float(p.x) + 0.5) + reach * DIR[s].x;
-    precise float ey = (float(p.y) + 0.5) + reach * DIR[s].y;
-    return !(ex < 0.0 || ey < 0.0 || ex >= float(size.x) || ey >= float(size.y));
+    return outside;
 }
 
-// Mean of the known sectors' minima, summed in sector order; 1 when none is known.
-float hpr_sector_mean(vec4 min_lo, vec4 min_hi, bool is_point, ivec2 p, ivec2 size,
-                      float reach)
+// Mean of the known sectors' minima, summed in sector order; 1 when none is known. For
+// an empty pixel, a sector is unknown when nothing closes it (its minimum is still 1)
+// and part of its neighbourhood lies outside the image (bit s of `outside`): what lies
+// there could have closed it. A point keeps all 8 sectors (twin: sector_mean).
+float hpr_sector_mean(vec4 min_lo, vec4 min_hi, bool is_point, int outside)
 {
     float m[8] = float[8](min_lo.x, min_lo.y, min_lo.z, min_lo.w, min_hi.x, min_hi.y, min_hi.z,
                           min_hi.w);
     precise float sum = 0.0;
     int known = 0;
     for (int s = 0; s < 8; s++) {
-        if (is_point || hpr_sector_known(m[s], s, p, size, reach)) {
+        if (is_point || m[s] < 1.0 || ((outside >> s) & 1) == 0) {
             sum += m[s];
             known++;
         }

@@ -77,11 +77,14 @@ void main()
     vec4 own = texelFetch(u_position, p, 0);
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
+    int outside = 0; // sectors with ring texels outside the image within the reach
     // Level 0: the 8 direct neighbours, from the position texture.
     for (int i = 0; i < 8; i++) {
         ivec2 n = p + RING[i];
         if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
             add_neighbour(texelFetch(u_position, n, 0), RING[i], p, x, false, cut2, min_lo, min_hi);
+        } else {
+            outside |= 1 << hpr_sector(2 * RING[i]);
         }
     }
     // Levels 1..level: the ring around the ancestor, from the pyramid.
@@ -93,9 +96,12 @@ void main()
             if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
                 add_neighbour(texelFetch(u_pyramid, n, k - 1), RING[i], p, x, true, cut2, min_lo,
                               min_hi);
+            } else {
+                // Outside the image: its sector may have been closed out there.
+                outside |= 1 << hpr_sector(2 * RING[i]);
             }
         }
     }
-    float mean = hpr_sector_mean(min_lo, min_hi, own.w > 0.5, p, u_size, clamp(radius, STA_HPR_MIN_REACH_PX, STA_HPR_MAX_REACH_PX));
+    float mean = hpr_sector_mean(min_lo, min_hi, own.w > 0.5, outside);
     imageStore(u_label, p, vec4(hpr_label(own.w > 0.5, mean, u_threshold), 0.0, 0.0, 0.0));
 }

@@ -39,7 +39,7 @@ static void shader_defines(char *out, size_t size)
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
-    char defines[512];
+    char defines[1024];
     shader_defines(defines, sizeof(defines));
     const char *pyramid[] = { "hpr_pyramid.comp" };
     const char *occlusion[] = { "hpr_common.glsl", "hpr_occlusion.comp" };

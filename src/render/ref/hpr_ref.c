@@ -67,7 +67,8 @@ void sta_hpr_level_depths(const sta_view_params *view, const sta_hpr_params *res
     float k = sta_hpr_radius_k(view, resolved);
     for (int l = 0; l < STA_HPR_MAX_LEVELS; l++) {
         // round(log2(K / z)) >= l  <=>  z <= K 2^(0.5 - l)
-        out_depth_m[l] = l == 0 ? INFINITY : (l < level_count ? ldexpf(k * 1.41421356f, -l) : -1.0f);
+        out_depth_m[l] =
+            l == 0 ? INFINITY : (l < level_count ? ldexpf(k * 1.41421356f, -l) : -1.0f);
     }
 }
 
@@ -222,12 +223,13 @@ static bool screen_offset(const occlusion_frame *f, const float *y, int px, int 
     return true;
 }
 
-// For an empty pixel, sector s is unknown when nothing in it closes it and the
-// neighbourhood disc of radius `reach_px` crosses the image border in its direction:
-// what lies outside the image could have closed it, so it is left out of the mean
-// rather than counted open (surfaces running off-screen are filled to the edge). A
-// point keeps all 8 sectors, outside counting open: without evidence of a surface in
-// front it stays visible.
+// For an empty pixel, sector s is unknown when nothing in it closes it and part of its
+// neighbourhood lies outside the image (bit s of `outside`): what lies there could have
+// closed it, so it is left out of the mean rather than counted open (surfaces running
+// off-screen are filled to the edge). A point keeps all 8 sectors, outside counting
+// open: without evidence of a surface in front it stays visible. The exhaustive
+// operator sets bit s when the disc of radius `reach_px` crosses the border in the
+// sector's direction.
 static const float sector_dir[8][2] = { { 1, 0 },  { STA_HPR_SQRT_HALF, STA_HPR_SQRT_HALF },
                                         { 0, 1 },  { -STA_HPR_SQRT_HALF, STA_HPR_SQRT_HALF },
                                         { -1, 0 }, { -STA_HPR_SQRT_HALF, -STA_HPR_SQRT_HALF },
@@ -241,14 +243,22 @@ static bool sector_leaves_image(const occlusion_frame *f, int px, int py, int se
     return ex < 0.0f || ey < 0.0f || ex >= (float)f->width || ey >= (float)f->height;
 }
 
+static unsigned reach_outside(const occlusion_frame *f, int px, int py, float reach_px)
+{
+    unsigned outside = 0;
+    for (int s = 0; s < 8; s++) {
+        outside |= (unsigned)sector_leaves_image(f, px, py, s, reach_px) << s;
+    }
+    return outside;
+}
+
 // Mean of the known sectors' minima (summed in sector order); 1 when none is known.
-static float sector_mean(const occlusion_frame *f, int px, int py, const float sector_min[8],
-                         bool is_point, float reach_px)
+static float sector_mean(const float sector_min[8], bool is_point, unsigned outside)
 {
     float sum = 0.0f;
     int known = 0;
     for (int s = 0; s < 8; s++) {
-        if (is_point || sector_min[s] < 1.0f || !sector_leaves_image(f, px, py, s, reach_px)) {
+        if (is_point || sector_min[s] < 1.0f || !((outside >> s) & 1u)) {
             sum += sector_min[s];
             known++;
         }
@@ -307,14 +317,20 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             float cut = STA_HPR_CUT_FACTOR * radius;
             float cut2 = cut * cut;
             float sector_min[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
+            unsigned outside = 0;
             for (int k = 0; k <= level; k++) {
                 const sta_image *lk = &pyramid->levels[k];
                 int ax = px >> k, ay = py >> k;
                 for (int dy = -1; dy <= 1; dy++) {
                     for (int dx = -1; dx <= 1; dx++) {
                         int nx = ax + dx, ny = ay + dy;
-                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= lk->width ||
-                            ny >= lk->height) {
+                        if (dx == 0 && dy == 0) {
+                            continue;
+                        }
+                        if (nx < 0 || ny < 0 || nx >= lk->width || ny >= lk->height) {
+                            // A ring texel outside the image: its sector may have been
+                            // closed out there.
+                            outside |= 1u << sta_hpr_sector(2 * dx, 2 * dy);
                             continue;
                         }
                         const float *y = sta_image_at(lk, nx, ny);
@@ -333,8 +349,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                     }
                 }
             }
-            float reach = fminf(fmaxf(radius, STA_HPR_MIN_REACH_PX), STA_HPR_MAX_REACH_PX);
-            float mean = sector_mean(&f, px, py, sector_min, own[3] > 0.5f, reach);
+            float mean = sector_mean(sector_min, own[3] > 0.5f, outside);
             *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
             if (out_mean) {
                 *sta_image_at(out_mean, px, py) = mean;
@@ -386,7 +401,7 @@ void sta_hpr_ref_exhaustive(const sta_view_params *view, const sta_hpr_params *p
             }
             float reach =
                 fminf(fmaxf((float)radius_px, STA_HPR_MIN_REACH_PX), STA_HPR_MAX_REACH_PX);
-            float mean = sector_mean(&f, px, py, sector_min, own[3] > 0.5f, reach);
+            float mean = sector_mean(sector_min, own[3] > 0.5f, reach_outside(&f, px, py, reach));
             *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
             if (out_mean) {
                 *sta_image_at(out_mean, px, py) = mean;

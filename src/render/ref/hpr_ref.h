@@ -37,10 +37,9 @@
 #define STA_HPR_SECTOR_TAN_NUM       408
 #define STA_HPR_SECTOR_TAN_DEN       985
 #define STA_HPR_SQRT_HALF            0.70710678f /* sector directions on the diagonals */
-/* The image-border test of empty pixels looks this far, in pixels: the neighbourhood
- * radius, but at least 1.5 (the 8 direct neighbours always take part) and at most 32
- * (only a band along the border is treated as running on off-screen; a gap between
- * two objects near the border, such as the bunny's ears, stays open beyond it). */
+/* Exhaustive operator: the image-border test of empty pixels looks this far, in
+ * pixels: the radius, but at least 1.5 (the 8 direct neighbours always take part) and
+ * at most 32. (The pyramidal operator counts the ring texels outside the image.) */
 #define STA_HPR_MIN_REACH_PX         1.5f
 #define STA_HPR_MAX_REACH_PX         32.0f
 /* Pyramidal operator: ring candidates (levels >= 1) landing farther than this many
