@@ -13,7 +13,7 @@
 #define STA_VIEW_DEFAULT_PITCH_DEG -30.0 /* 30 degrees from above */
 #define STA_VIEW_ELONGATED_RATIO   1.5   /* longer / shorter horizontal side beyond this */
 #define STA_VIEW_ACROSS_TURN_DEG   25.0  /* elongated: turned this far from square-on */
-#define STA_VIEW_FRAME_GROW        0.1   /* the robust box grown by this share per side */
+#define STA_VIEW_FRAME_GROW        0.5   /* the robust box grown by this share per side */
 #define STA_VIEW_FRAME_KEEP        0.995 /* share of the root's points inside each view edge */
 
 /* The camera the arguments ask for, or a default one 30 degrees from above, yaw from
