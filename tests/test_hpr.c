@@ -787,7 +787,7 @@ static void make_sparse_plane(const sta_view_params *view, float tilt, int gap_x
     make_plane(view, 2.0f, tilt, out);
     for (int y = 0; y < view->height_px; y++) {
         for (int x = 0; x < view->width_px; x++) {
-            unsigned hash = (unsigned)(x * 73856093) ^ (unsigned)(y * 19349663);
+            unsigned hash = ((unsigned)x * 73856093u) ^ ((unsigned)y * 19349663u);
             float dx = (float)(x - gap_x), dy = (float)(y - gap_y);
             bool in_gap = gap_px > 0.0f && dx * dx + dy * dy < gap_px * gap_px;
             if (in_gap || (hash % 1000u) >= 300u) {
