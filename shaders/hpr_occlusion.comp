@@ -3,7 +3,9 @@
 // Figure 3). Every pixel (point or background) gets a neighbourhood level from the
 // coarse depth of its ancestor, then takes the 8-texel ring around its ancestor at each
 // level 0..level, keeps the least occlusion value per sector and compares their mean
-// with the threshold. Twin: sta_hpr_ref_pyramid_labels.
+// with the threshold. Ring candidates farther than STA_HPR_CUT_FACTOR K / z pixels are
+// dropped, and for empty pixels sectors with ring texels outside the image that nothing
+// closes are left out of the mean (docs/HPR.md). Twin: sta_hpr_ref_pyramid_labels.
 //
 // Neighbours are fetched from the textures, not staged in shared memory: on llvmpipe a
 // shared-memory version was 3x slower (per-lane gathers), and on GPUs the texture cache

@@ -11,7 +11,11 @@
  * Both take, in 8 sectors around the pixel, the minimum occlusion value
  * 1 - dot((y - x) / |y - x|, -y / |y|) of the neighbours y (each sector starts at 1,
  * fully open, so it counts at most 1), and call the pixel open when the mean of the 8
- * minima reaches a threshold. docs/HPR.md gives every rule.
+ * minima reaches a threshold. Issue 15 added: ring candidates landing farther than
+ * STA_HPR_CUT_FACTOR K / z pixels from the pixel are dropped (a per-pixel decision),
+ * and for empty pixels a sector whose neighbourhood leaves the image and that nothing
+ * closes is unknown, not open (surfaces run on to the image edge). docs/HPR.md gives
+ * every rule.
  *
  * Based on: H. Bouchiba, J.-E. Deschaud, F. Goulette, "Raw point cloud deferred
  * shading through screen space pyramidal operators", Eurographics 2018 (short), section 3.1,
