@@ -16,8 +16,8 @@ size=640x480
 if [ -f $data/models/bun_zipper.ply ]; then
     $bin/preprocess/strata-convert $data/models/bun_zipper.ply -o "$work/bunny.strata" --force -q
     for mode in raw hpr fill normals shaded edl; do
-        # The bunny is y-up: look down -Z from above with yaw 90 so +Y is up on screen.
-        $bin/src/strata-view --headless "$work/bunny.strata" --camera=-0.017,0.11,0.3,90,-90,40 \
+        # The bunny is y-up (the converter writes up_axis +Y): yaw 90 pitch 0 looks along -Z.
+        $bin/src/strata-view --headless "$work/bunny.strata" --camera=-0.017,0.11,0.3,90,0,40 \
             --size $size --pipeline $mode --colour intensity --out "$out/bunny_$mode.png"
     done
 else

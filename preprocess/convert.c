@@ -32,6 +32,7 @@
 #include "node_writer.h"
 #include "progress.h"
 #include "refine.h"
+#include "up_axis.h"
 
 enum {
     FIXED_OVERHEAD_MIB = 96, /* counting pyramid, chunk map, reader batches, code */
@@ -551,6 +552,8 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     wopt.geometry.grid_cells = (uint32_t)grid_cells;
     wopt.zstd_level = level;
     wopt.generator = "strata-convert 0.1";
+    wopt.up_axis = sta_inputs_up_axis(&job.inputs, report->up_why, sizeof(report->up_why));
+    report->up_axis = wopt.up_axis;
     status = sta_strata_layout_init(&wopt.layout,
                                     sta_strata_attributes_from_sta_attr(job.inputs.attributes),
                                     extra_dims, extra_count, err);

@@ -64,6 +64,8 @@ typedef struct sta_convert_report {
     double seconds_merge;
     double seconds_finish;
     double seconds_total;
+    int up_axis;      /* STA_STRATA_UP_* written to the header */
+    char up_why[256]; /* how it was decided (sta_inputs_up_axis) */
 } sta_convert_report;
 
 /* Runs the whole conversion. On any failure no output and no temporary file is left

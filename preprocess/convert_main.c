@@ -180,6 +180,7 @@ int main(int argc, char **argv)
                 report.seconds_count, report.seconds_distribute, report.seconds_index,
                 report.seconds_merge, report.seconds_finish, report.chunk_count,
                 (double)report.temp_bytes / 1048576.0);
+        fprintf(stderr, "  up axis: %s\n", report.up_why);
     }
     return 0;
 }

@@ -76,15 +76,40 @@ void hpr_lower_sector(int sector, float value, inout vec4 min_lo, inout vec4 min
     min_hi = mix(min_hi, vec4(value), take_hi);
 }
 
-float hpr_sector_mean(vec4 min_lo, vec4 min_hi)
+// Bit s set when the disc of radius `reach` around pixel p crosses the image border in
+// sector s's direction (the exhaustive operator's outside sectors; twin: reach_outside).
+int hpr_reach_outside(ivec2 p, ivec2 size, float reach)
 {
-    precise float sum = min_lo.x;
-    sum += min_lo.y;
-    sum += min_lo.z;
-    sum += min_lo.w;
-    sum += min_hi.x;
-    sum += min_hi.y;
-    sum += min_hi.z;
-    sum += min_hi.w;
-    return sum * 0.125;
+    const vec2 DIR[8] = vec2[8](vec2(1.0, 0.0), vec2(STA_HPR_SQRT_HALF, STA_HPR_SQRT_HALF),
+                                vec2(0.0, 1.0), vec2(-STA_HPR_SQRT_HALF, STA_HPR_SQRT_HALF),
+                                vec2(-1.0, 0.0), vec2(-STA_HPR_SQRT_HALF, -STA_HPR_SQRT_HALF),
+                                vec2(0.0, -1.0), vec2(STA_HPR_SQRT_HALF, -STA_HPR_SQRT_HALF));
+    int outside = 0;
+    for (int s = 0; s < 8; s++) {
+        precise float ex = (float(p.x) + 0.5) + reach * DIR[s].x;
+        precise float ey = (float(p.y) + 0.5) + reach * DIR[s].y;
+        if (ex < 0.0 || ey < 0.0 || ex >= float(size.x) || ey >= float(size.y)) {
+            outside |= 1 << s;
+        }
+    }
+    return outside;
+}
+
+// Mean of the known sectors' minima, summed in sector order; 1 when none is known. For
+// an empty pixel, a sector is unknown when nothing closes it (its minimum is still 1)
+// and part of its neighbourhood lies outside the image (bit s of `outside`): what lies
+// there could have closed it. A point keeps all 8 sectors (twin: sector_mean).
+float hpr_sector_mean(vec4 min_lo, vec4 min_hi, bool is_point, int outside)
+{
+    float m[8] = float[8](min_lo.x, min_lo.y, min_lo.z, min_lo.w, min_hi.x, min_hi.y, min_hi.z,
+                          min_hi.w);
+    precise float sum = 0.0;
+    int known = 0;
+    for (int s = 0; s < 8; s++) {
+        if (is_point || m[s] < 1.0 || ((outside >> s) & 1) == 0) {
+            sum += m[s];
+            known++;
+        }
+    }
+    return known > 0 ? sum / float(known) : 1.0;
 }

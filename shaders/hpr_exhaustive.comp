@@ -36,6 +36,8 @@ void main()
             }
         }
     }
-    float mean = hpr_sector_mean(min_lo, min_hi);
+    int outside = hpr_reach_outside(
+        p, u_size, clamp(float(u_radius), STA_HPR_MIN_REACH_PX, STA_HPR_MAX_REACH_PX));
+    float mean = hpr_sector_mean(min_lo, min_hi, own.w > 0.5, outside);
     imageStore(u_label, p, vec4(hpr_label(own.w > 0.5, mean, u_threshold), 0.0, 0.0, 0.0));
 }

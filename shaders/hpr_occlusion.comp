@@ -3,7 +3,9 @@
 // Figure 3). Every pixel (point or background) gets a neighbourhood level from the
 // coarse depth of its ancestor, then takes the 8-texel ring around its ancestor at each
 // level 0..level, keeps the least occlusion value per sector and compares their mean
-// with the threshold. Twin: sta_hpr_ref_pyramid_labels.
+// with the threshold. Ring candidates farther than STA_HPR_CUT_FACTOR K / z pixels are
+// dropped, and for empty pixels sectors with ring texels outside the image that nothing
+// closes are left out of the mean (docs/HPR.md). Twin: sta_hpr_ref_pyramid_labels.
 //
 // Neighbours are fetched from the textures, not staged in shared memory: on llvmpipe a
 // shared-memory version was 3x slower (per-lane gathers), and on GPUs the texture cache
@@ -21,16 +23,28 @@ uniform float u_level_depth[STA_HPR_MAX_LEVELS]; // sta_hpr_level_depths
 uniform vec2 u_tan_half;    // tan(fov_y / 2) * aspect, tan(fov_y / 2)
 uniform float u_far;        // depth of background pixels, metres
 uniform float u_threshold;
+uniform float u_radius_k;   // K of eq. 1: the neighbourhood radius is K / z pixels
+uniform vec2 u_scale;       // pixels per unit of x / d and y / d: size / (2 tan)
 
 const ivec2 RING[8] = ivec2[8](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-1, 0),
                                ivec2(1, 0), ivec2(-1, 1), ivec2(0, 1), ivec2(1, 1));
 
 // Lowers the sector minima by neighbour y at ring offset `ring` (its sector: each ring
-// position is one sector, as in the paper's Figure 3).
-void add_neighbour(vec4 y, ivec2 ring, vec3 x, inout vec4 min_lo, inout vec4 min_hi)
+// position is one sector, as in the paper's Figure 3). Ring candidates of levels >= 1
+// (`cut`) whose points land farther than the cut radius (squared: cut2) from pixel p's
+// centre are dropped, which makes the decision per pixel rather than per block.
+void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2,
+                   inout vec4 min_lo, inout vec4 min_hi)
 {
+    if (!(y.w > 0.5) || !(-y.z > 0.0)) {
+        return;
+    }
+    precise float inv = 1.0 / -y.z;
+    precise float vx = y.x * inv * u_scale.x + 0.5 * float(u_size.x) - (float(p.x) + 0.5);
+    precise float vy = y.y * inv * u_scale.y + 0.5 * float(u_size.y) - (float(p.y) + 0.5);
+    precise float dist2 = vx * vx + vy * vy;
     float value;
-    if (y.w > 0.5 && hpr_occlusion(x, y.xyz, value)) {
+    if ((!cut || dist2 <= cut2) && hpr_occlusion(x, y.xyz, value)) {
         hpr_lower_sector(hpr_sector(2 * ring), value, min_lo, min_hi);
     }
 }
@@ -57,15 +71,22 @@ void main()
             level = l;
         }
     }
+    // The neighbourhood radius K / z (eq. 1 unrounded) and the cut radius.
+    precise float radius = u_radius_k / z;
+    precise float cut = STA_HPR_CUT_FACTOR * radius;
+    precise float cut2 = cut * cut;
 
     vec4 own = texelFetch(u_position, p, 0);
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
+    int outside = 0; // sectors with ring texels outside the image within the reach
     // Level 0: the 8 direct neighbours, from the position texture.
     for (int i = 0; i < 8; i++) {
         ivec2 n = p + RING[i];
         if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
-            add_neighbour(texelFetch(u_position, n, 0), RING[i], x, min_lo, min_hi);
+            add_neighbour(texelFetch(u_position, n, 0), RING[i], p, x, false, cut2, min_lo, min_hi);
+        } else {
+            outside |= 1 << hpr_sector(2 * RING[i]);
         }
     }
     // Levels 1..level: the ring around the ancestor, from the pyramid.
@@ -75,10 +96,14 @@ void main()
         for (int i = 0; i < 8; i++) {
             ivec2 n = a + RING[i];
             if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
-                add_neighbour(texelFetch(u_pyramid, n, k - 1), RING[i], x, min_lo, min_hi);
+                add_neighbour(texelFetch(u_pyramid, n, k - 1), RING[i], p, x, true, cut2, min_lo,
+                              min_hi);
+            } else {
+                // Outside the image: its sector may have been closed out there.
+                outside |= 1 << hpr_sector(2 * RING[i]);
             }
         }
     }
-    float mean = hpr_sector_mean(min_lo, min_hi);
+    float mean = hpr_sector_mean(min_lo, min_hi, own.w > 0.5, outside);
     imageStore(u_label, p, vec4(hpr_label(own.w > 0.5, mean, u_threshold), 0.0, 0.0, 0.0));
 }

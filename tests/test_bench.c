@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "bench/bench_truth.h"
 #include "bench/metrics.h"
@@ -314,6 +315,52 @@ static void settings_expand(void **state)
     sta_bench_setting_label(&s[n - 1], label, sizeof(label));
     assert_string_equal(label, "shaded/pd25/hpr-exh");
     free(s);
+    // LD takes no sample count: one setting per HPR variant, not one per count.
+    o.normals[1] = STA_NORMAL_LD;
+    assert_int_equal(sta_bench_settings(&o, &s, &n, &err), STA_OK);
+    assert_int_equal(n, 1 + 2 + 2 * 2);
+    sta_bench_setting_label(&s[n - 1], label, sizeof(label));
+    assert_string_equal(label, "shaded/ld/hpr-exh");
+    assert_int_equal(s[n - 1].samples, 0);
+    free(s);
+}
+
+// The sidecar of a mesh scene stores the mesh path relative to its own folder, and the
+// bench finds the mesh from any working directory.
+static void truth_mesh_path_is_relative_to_the_sidecar(void **state)
+{
+    (void)state;
+    static const char ply[] = "ply\nformat ascii 1.0\nelement vertex 4\n"
+                              "property float x\nproperty float y\nproperty float z\n"
+                              "element face 4\nproperty list uchar int vertex_indices\n"
+                              "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                              "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    char mesh[4096], las[4096], truth[4096], cwd[4096];
+    snprintf(mesh, sizeof(mesh), "%s", sta_test_tmp_path("bench_tetra.ply"));
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("bench_tetra.las"));
+    snprintf(truth, sizeof(truth), "%s", sta_test_tmp_path("bench_tetra.truth.json"));
+    sta_test_write_file(mesh, ply, sizeof(ply) - 1);
+    sta_error err = { 0 };
+    sta_synth_params p = {
+        .kind = STA_SYNTH_MESH, .seed = 2, .point_count = 1000, .mesh_path = mesh
+    };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    size_t size = 0;
+    uint8_t *bytes = sta_test_read_file(truth, &size);
+    char *text = calloc(size + 1, 1);
+    assert_non_null(bytes);
+    assert_non_null(text);
+    memcpy(text, bytes, size);
+    assert_non_null(strstr(text, "\"path\": \"bench_tetra.ply\""));
+    free(text);
+    free(bytes);
+    assert_non_null(getcwd(cwd, sizeof(cwd)));
+    assert_int_equal(chdir("/"), 0);
+    sta_bench_truth t;
+    sta_status s = sta_bench_truth_load(truth, &t, &err);
+    assert_int_equal(chdir(cwd), 0);
+    assert_int_equal(s, STA_OK);
+    sta_bench_truth_release(&t);
 }
 
 // The sweep on a real converted synth sphere at 192x144: HPR against truth, pyramid
@@ -494,6 +541,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(metrics_ssim),
     cmocka_unit_test(eval_buffers_hand_made),
     cmocka_unit_test(settings_expand),
+    cmocka_unit_test(truth_mesh_path_is_relative_to_the_sidecar),
     cmocka_unit_test(core_end_to_end_sphere),
 };
 

@@ -340,6 +340,50 @@ static void existing_output_needs_force_and_cancel_cleans_up(void **state)
     unlink(out);
 }
 
+// A PLY of 125 points on a grid spanning ex x ey x ez metres.
+static void write_grid_ply(const char *path, double ex, double ey, double ez)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "ply\nformat ascii 1.0\nelement vertex 125\nproperty float x\n"
+               "property float y\nproperty float z\nend_header\n");
+    for (int i = 0; i < 125; i++) {
+        fprintf(f, "%g %g %g\n", ex * (i % 5) / 4.0, ey * (i / 5 % 5) / 4.0, ez * (i / 25) / 4.0);
+    }
+    fclose(f);
+}
+
+// The header's up axis: +Y for a PLY model, +Z for flat or z-tall PLY data and LAS.
+static void up_axis_from_the_source(void **state)
+{
+    (void)state;
+    const struct {
+        double ex, ey, ez;
+        int up;
+    } cases[] = { { 1.0, 1.2, 0.8, STA_STRATA_UP_Y },
+                  { 10.0, 10.0, 0.5, STA_STRATA_UP_Z },
+                  { 1.0, 1.0, 3.0, STA_STRATA_UP_Z } };
+    char ply[4096], out[4096];
+    snprintf(ply, sizeof(ply), "%s/up.ply", sta_test_tmpdir());
+    snprintf(out, sizeof(out), "%s/up.strata", sta_test_tmpdir());
+    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+        write_grid_ply(ply, cases[i].ex, cases[i].ey, cases[i].ez);
+        const char *one[] = { ply };
+        sta_convert_options o = { .inputs = one, .input_count = 1, .output = out, .force = true };
+        sta_convert_report report;
+        sta_error err = { 0 };
+        assert_int_equal(sta_convert(&o, &report, &err), STA_OK);
+        assert_int_equal(report.up_axis, cases[i].up);
+        assert_non_null(strstr(report.up_why, "PLY"));
+        sta_strata_reader *r = NULL;
+        assert_int_equal(sta_strata_open(out, NULL, &r, &err), STA_OK);
+        assert_int_equal(sta_strata_reader_info(r)->up_axis, cases[i].up);
+        sta_strata_close(r);
+    }
+    unlink(ply);
+    unlink(out);
+}
+
 static void corrupted_output_is_refused(void **state)
 {
     (void)state;
@@ -352,7 +396,9 @@ static void corrupted_output_is_refused(void **state)
         .inputs = one, .input_count = 1, .output = out, .leaf_capacity = 1000
     };
     sta_error err = { 0 };
-    assert_int_equal(sta_convert(&o, NULL, &err), STA_OK);
+    sta_convert_report report;
+    assert_int_equal(sta_convert(&o, &report, &err), STA_OK);
+    assert_int_equal(report.up_axis, STA_STRATA_UP_Z); // LAS is z-up
     size_t size;
     uint8_t *bytes = sta_test_read_file(out, &size);
     // Flip a byte in the middle (a payload): open succeeds, verify names a node.
@@ -373,6 +419,7 @@ static void corrupted_output_is_refused(void **state)
 
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shared_las_files_round_trip),
+    cmocka_unit_test(up_axis_from_the_source),
     cmocka_unit_test(laz_files_convert_on_parallel_threads),
     cmocka_unit_test(lion_tiles_merge_into_one_scene),
     cmocka_unit_test(uncompressed_single_thread_one_chunk),

@@ -12,6 +12,8 @@
 #include "core/alloc.h"
 #include "core/array.h"
 #include "core/bytes.h"
+#include "core/camera.h"
+#include "core/camera_frame.h"
 #include "core/clock.h"
 #include "core/file_map.h"
 #include "core/json_out.h"
@@ -327,6 +329,88 @@ static void json_writer_nests_and_escapes(void **state)
     assert_string_equal(text, "{\"a\":[-1,0.5,null],\"s\\\"\":\"x\\n\\u0000y\",\"e\":{}}");
 }
 
+// With +Y up, yaw 0 pitch 0 looks along +X with +Y up on screen and +Z to the right
+// (a right-handed turn of the z-up frame); a point above the eye shows in the upper
+// half, one to +Z on the right; frame conversions invert each other.
+static void camera_y_up_basis(void **state)
+{
+    (void)state;
+    sta_camera c = {
+        .fov_y = 1.0, .near_m = 0.01, .width_px = 200, .height_px = 100, .up_axis = STA_CAMERA_UP_Y
+    };
+    double f[3], r[3], u[3];
+    sta_camera_basis(&c, f, r, u);
+    const double ef[3] = { 1, 0, 0 }, er[3] = { 0, 0, 1 }, eu[3] = { 0, 1, 0 };
+    for (int a = 0; a < 3; a++) {
+        assert_true(fabs(f[a] - ef[a]) < 1e-12 && fabs(r[a] - er[a]) < 1e-12 &&
+                    fabs(u[a] - eu[a]) < 1e-12);
+    }
+    double x, y, d;
+    const double above[3] = { 10, 2, 0 }, right[3] = { 10, 0, 2 };
+    assert_true(sta_camera_project(&c, above, &x, &y, &d));
+    assert_true(y < 50.0 && fabs(x - 100.0) < 1e-9 && fabs(d - 10.0) < 1e-9);
+    assert_true(sta_camera_project(&c, right, &x, &y, &d));
+    assert_true(x > 100.0 && fabs(y - 50.0) < 1e-9);
+    const double v[3] = { 0.3, -1.7, 2.9 };
+    double frame[3], back[3];
+    sta_camera_to_frame(&c, v, frame);
+    assert_true(fabs(frame[2] - v[1]) < 1e-15); // up is the frame's z
+    sta_camera_from_frame(&c, frame, back);
+    for (int a = 0; a < 3; a++) {
+        assert_true(fabs(back[a] - v[a]) < 1e-15);
+    }
+    // Pitching up looks up: +Y.
+    c.pitch = 0.5;
+    sta_camera_basis(&c, f, r, u);
+    assert_true(f[1] > 0.4 && fabs(f[2]) < 1e-12);
+}
+
+// A cloud 10 times longer along x than along y: its long axis is found, and framed it
+// fills the view without a point outside.
+static void camera_frames_points(void **state)
+{
+    (void)state;
+    enum {
+        N = 2000
+    };
+    double *p = malloc(N * 3 * sizeof(double));
+    assert_non_null(p);
+    uint64_t seed = 7;
+    for (int i = 0; i < N; i++) {
+        for (int a = 0; a < 3; a++) {
+            seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+            double t = (double)(seed >> 11) / 9007199254740992.0 - 0.5;
+            p[3 * i + a] = (a == 0 ? 100.0 : a == 1 ? 10.0 : 5.0) * t + 1000.0;
+        }
+    }
+    sta_camera c = { .fov_y = 1.0, .width_px = 320, .height_px = 240 };
+    double elongation = 0.0;
+    double yaw = sta_camera_points_long_yaw(&c, p, N, &elongation);
+    assert_true(fabs(sin(yaw)) < 0.02);
+    assert_true(elongation > 8.0 && elongation < 12.0);
+    c.yaw = yaw + 1.2;
+    c.pitch = -0.5;
+    const double centre[3] = { 1010.0, 995.0, 1000.0 }; // off the cloud's middle
+    sta_camera_frame_points(&c, centre, p, N, 1.0);
+    double lo[2] = { 1e9, 1e9 }, hi[2] = { -1e9, -1e9 };
+    for (int i = 0; i < N; i++) {
+        double x, y, d;
+        assert_true(sta_camera_project(&c, p + 3 * i, &x, &y, &d));
+        assert_true(x >= 0.0 && y >= 0.0 && x <= 320.0 && y <= 240.0);
+        lo[0] = fmin(lo[0], x), hi[0] = fmax(hi[0], x);
+        lo[1] = fmin(lo[1], y), hi[1] = fmax(hi[1], y);
+    }
+    // Tight on one axis (5 % margin) and centred on both.
+    assert_true(hi[0] - lo[0] > 0.85 * 320.0 || hi[1] - lo[1] > 0.85 * 240.0);
+    assert_true(fabs(0.5 * (lo[0] + hi[0]) - 160.0) < 8.0);
+    assert_true(fabs(0.5 * (lo[1] + hi[1]) - 120.0) < 8.0);
+    assert_true(c.near_m > 0.0);
+    // No points: one metre back, no crash.
+    sta_camera_frame_points(&c, centre, NULL, 0, 1.0);
+    assert_true(isfinite(c.position[0]));
+    free(p);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(format_double_is_shortest_exact),
     cmocka_unit_test(json_writer_nests_and_escapes),
@@ -341,6 +425,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(clock_is_monotonic_and_non_negative),
     cmocka_unit_test(bytes_round_trip_little_endian),
     cmocka_unit_test(file_map_reads_file_and_names_missing_one),
+    cmocka_unit_test(camera_y_up_basis),
+    cmocka_unit_test(camera_frames_points),
 };
 
 STA_TEST_MAIN(tests)

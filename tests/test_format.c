@@ -972,7 +972,7 @@ static void inconsistent_tables_are_named(void **state)
     expect_open_error(&sc, data, size, overflow_with_children, STA_ERR_FORMAT,
                       "overflow node must be a leaf");
     expect_open_error(&sc, data, size, future_major_version, STA_ERR_UNSUPPORTED,
-                      "format version 2.1 is not supported");
+                      "format version 2.2 is not supported");
     expect_open_error(&sc, data, size, unknown_feature_flag, STA_ERR_UNSUPPORTED, "features");
     expect_open_error(&sc, data, size, root_outside_int32, STA_ERR_FORMAT, "int32");
     expect_open_error(&sc, data, size, bad_extra_dimension, STA_ERR_FORMAT,
@@ -1093,6 +1093,40 @@ static void verify_accepts_overflow_leaves_and_reports_progress(void **state)
     assert_int_equal(calls, 3);
     assert_contains(err.message, "cancelled after 3 of");
     sta_strata_close(r);
+    scene_release(&sc);
+}
+
+// The up axis (1.2): written by the writer, read back; a file without it (zero, as 1.0
+// and 1.1 wrote the reserved byte) and an unknown value read as +Z.
+static void up_axis_round_trips(void **state)
+{
+    (void)state;
+    scene_params pp = full_params;
+    scene sc;
+    scene_init(&sc, &pp);
+    sta_strata_writer_options o = scene_options(&sc);
+    o.up_axis = STA_STRATA_UP_Y;
+    sta_strata_writer *w = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_strata_writer_create(sc.path, &o, &w, &err), STA_OK);
+    assert_int_equal(write_nodes(&sc, w, 0, 1, &err), STA_OK);
+    assert_int_equal(sta_strata_writer_finish(w, sc.table, sc.tree_count, &err), STA_OK);
+    sta_strata_writer_destroy(w);
+    size_t size;
+    uint8_t *data = sta_test_read_file(sc.path, &size);
+    assert_int_equal(data[STA_STRATA_H_UP_AXIS_OFF], STA_STRATA_UP_Y);
+    assert_int_equal(sta_load_u16le(data + STA_STRATA_H_VERSION_MINOR_OFF), 2);
+    const uint8_t values[] = { STA_STRATA_UP_Y, STA_STRATA_UP_Z, 7 };
+    const uint8_t expected[] = { STA_STRATA_UP_Y, STA_STRATA_UP_Z, STA_STRATA_UP_Z };
+    for (int i = 0; i < 3; i++) {
+        data[STA_STRATA_H_UP_AXIS_OFF] = values[i];
+        reseal(data, size);
+        sta_strata_reader *r = NULL;
+        assert_int_equal(sta_strata_open_memory(data, size, "up.strata", NULL, &r, &err), STA_OK);
+        assert_int_equal(sta_strata_reader_info(r)->up_axis, expected[i]);
+        sta_strata_close(r);
+    }
+    free(data);
     scene_release(&sc);
 }
 
@@ -1456,6 +1490,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(verify_names_node_and_point),
     cmocka_unit_test(verify_accepts_overflow_leaves_and_reports_progress),
     cmocka_unit_test(writer_checks_points_and_table),
+    cmocka_unit_test(up_axis_round_trips),
     cmocka_unit_test(temporary_file_until_finish),
     cmocka_unit_test(two_threads_write_a_valid_file),
     cmocka_unit_test(allocation_failures_clean_up),

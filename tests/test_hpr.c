@@ -778,6 +778,130 @@ static void near_plane_and_huge_depth(void **state)
     sta_image_release(&position);
 }
 
+// A plane at 2 m tilted by `tilt` seen through 30 % of its pixels (a fixed hash picks
+// them), with an empty disc of `gap_px` pixels' radius around (gap_x, gap_y) (none for
+// gap_px <= 0).
+static void make_sparse_plane(const sta_view_params *view, float tilt, int gap_x, int gap_y,
+                              float gap_px, sta_image *out)
+{
+    make_plane(view, 2.0f, tilt, out);
+    for (int y = 0; y < view->height_px; y++) {
+        for (int x = 0; x < view->width_px; x++) {
+            unsigned hash = ((unsigned)x * 73856093u) ^ ((unsigned)y * 19349663u);
+            float dx = (float)(x - gap_x), dy = (float)(y - gap_y);
+            bool in_gap = gap_px > 0.0f && dx * dx + dy * dy < gap_px * gap_px;
+            if (in_gap || (hash % 1000u) >= 300u) {
+                float *p = sta_image_at(out, x, y);
+                p[0] = p[1] = p[2] = p[3] = 0.0f;
+            }
+        }
+    }
+}
+
+static void surfaces_fill_to_the_image_edge(void **state)
+{
+    (void)state;
+    // A surface that runs off-screen on every side: no empty pixel is background, in
+    // particular none in the 16-px border band (before: outside the image counted as
+    // open sky, and the band came out ragged and black).
+    sta_view_params view = make_view(96, 64);
+    sta_image position;
+    make_sparse_plane(&view, 1.0f, 0, 0, 0.0f, &position);
+    both_result r;
+    run_both("sparse plane", &view, NULL, &position, 5, &r);
+    int band_background = 0, band_empty = 0;
+    for (int y = 0; y < 64; y++) {
+        for (int x = 0; x < 96; x++) {
+            if (sta_image_at(&position, x, y)[3] > 0.5f) {
+                continue;
+            }
+            bool band = x < 16 || y < 16 || x >= 96 - 16 || y >= 64 - 16;
+            band_empty += band;
+            band_background +=
+                band && *sta_image_at(&r.pyramid_label, x, y) == STA_LABEL_BACKGROUND;
+        }
+    }
+    printf("sparse plane 96x64: %d of %d empty border-band pixels background\n", band_background,
+           band_empty);
+    assert_true(band_empty > 2000);
+    assert_int_equal(band_background, 0);
+    both_release(&r);
+    sta_image_release(&position);
+}
+
+// Label changes between 4-neighbour empty pixels, on 8-px block lines of the pyramid
+// (between x = 8i - 1 and 8i, likewise y) and elsewhere, as rates per pair.
+static void block_line_rates(const sta_image *position, const sta_image *label, double *on,
+                             double *off)
+{
+    long pairs[2] = { 0, 0 }, changes[2] = { 0, 0 };
+    for (int y = 0; y < label->height; y++) {
+        for (int x = 0; x < label->width; x++) {
+            if (sta_image_at(position, x, y)[3] > 0.5f) {
+                continue;
+            }
+            float l = *sta_image_at(label, x, y);
+            const int next[2][2] = { { x + 1, y }, { x, y + 1 } };
+            for (int d = 0; d < 2; d++) {
+                int nx = next[d][0], ny = next[d][1];
+                if (nx >= label->width || ny >= label->height ||
+                    sta_image_at(position, nx, ny)[3] > 0.5f) {
+                    continue;
+                }
+                int line = (d == 0 ? nx : ny) % 8 == 0;
+                pairs[line]++;
+                changes[line] += *sta_image_at(label, nx, ny) != l;
+            }
+        }
+    }
+    *off = pairs[0] ? (double)changes[0] / (double)pairs[0] : 0.0;
+    *on = pairs[1] ? (double)changes[1] / (double)pairs[1] : 0.0;
+}
+
+static void gaps_have_no_block_edges(void **state)
+{
+    (void)state;
+    // Scan-shadow-like gaps (a disc and a slanted band) in a sparse surface: the gaps
+    // stay open (background), and where hole turns into background the border does not
+    // follow the pyramid's block lines (a decision per block changes only there; a
+    // decision per pixel as often on them as elsewhere).
+    sta_view_params view = make_view(192, 144);
+    view.s0 = 0.01f; // neighbourhood radius K / z about 8 px
+    sta_image position;
+    make_sparse_plane(&view, 0.0f, 60, 70, 30.0f, &position);
+    for (int y = 0; y < 144; y++) {
+        for (int x = 0; x < 192; x++) {
+            int band = x - y / 2; // a band 24 px wide, slanted 2:1
+            if (band >= 100 && band < 124) {
+                float *p = sta_image_at(&position, x, y);
+                p[0] = p[1] = p[2] = p[3] = 0.0f;
+            }
+        }
+    }
+    both_result r;
+    run_both("gaps in a sparse plane", &view, NULL, &position, -1, &r);
+    double on = 0.0, off = 0.0;
+    block_line_rates(&position, &r.pyramid_label, &on, &off);
+    int gap_background = 0, gap_pixels = 0;
+    for (int y = 0; y < 144; y++) {
+        for (int x = 0; x < 192; x++) {
+            float dx = (float)(x - 60), dy = (float)(y - 70);
+            if (dx * dx + dy * dy < 15.0f * 15.0f) { // the disc's inner half
+                gap_pixels++;
+                gap_background += *sta_image_at(&r.pyramid_label, x, y) == STA_LABEL_BACKGROUND;
+            }
+        }
+    }
+    printf("gaps 192x144: hole/background changes per pair %.4f on 8-px block lines, %.4f "
+           "elsewhere; %d of %d pixels of the disc's inner half background\n",
+           on, off, gap_background, gap_pixels);
+    assert_true(gap_background == gap_pixels);
+    assert_true(off > 0.0);
+    assert_true(on < 2.0 * off);
+    both_release(&r);
+    sta_image_release(&position);
+}
+
 static void coincident_points_are_skipped(void **state)
 {
     (void)state;
@@ -875,6 +999,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(full_planes_are_visible, setup, teardown),
     cmocka_unit_test_setup_teardown(near_plane_and_huge_depth, setup, teardown),
     cmocka_unit_test_setup_teardown(coincident_points_are_skipped, setup, teardown),
+    cmocka_unit_test_setup_teardown(surfaces_fill_to_the_image_edge, setup, teardown),
+    cmocka_unit_test_setup_teardown(gaps_have_no_block_edges, setup, teardown),
     cmocka_unit_test(allocation_failures_are_clean),
     cmocka_unit_test_setup_teardown(bad_arguments_are_refused, setup, teardown),
 };

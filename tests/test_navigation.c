@@ -52,6 +52,25 @@ static void orbit_keeps_distance_and_pitch_limits(void **state)
     }
 }
 
+static void orbit_follows_a_y_up_axis(void **state)
+{
+    (void)state;
+    sta_camera c = make_camera(pivot[0] + 30, pivot[1] + 10, pivot[2]);
+    c.up_axis = STA_CAMERA_UP_Y; // a PLY model: y is up
+    double r0 = distance(c.position, pivot);
+    for (int i = 0; i < 200; i++) { // down past the horizon: stops at the pivot's height in y
+        sta_nav_orbit(&c, pivot, 0.02, -0.05, 0.0, 89.0 * M_PI / 180.0);
+        assert_true(fabs(distance(c.position, pivot) - r0) < 1e-6);
+        assert_true(c.position[1] >= pivot[1] - 1e-6);
+    }
+    assert_true(fabs(c.position[1] - pivot[1]) < 1e-6);
+    double f[3], r[3], u[3];
+    sta_camera_basis(&c, f, r, u);
+    for (int a = 0; a < 3; a++) {
+        assert_true(fabs(c.position[a] + f[a] * r0 - pivot[a]) < 1e-6); // looks at the pivot
+    }
+}
+
 static void fly_speed_follows_the_surface_and_ramps(void **state)
 {
     (void)state;
@@ -202,6 +221,7 @@ static void bad_path_files_are_named(void **state)
 
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(orbit_keeps_distance_and_pitch_limits),
+    cmocka_unit_test(orbit_follows_a_y_up_axis),
     cmocka_unit_test(fly_speed_follows_the_surface_and_ramps),
     cmocka_unit_test(focus_centres_the_point_and_blend_eases),
     cmocka_unit_test(constant_speed_retimes_by_length),

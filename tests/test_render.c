@@ -370,7 +370,8 @@ static void no_z_fighting_at_one_kilometre(void **state)
                         2.0 * 3.14159265358979 / 180.0,
                         0.01,
                         160,
-                        160 };
+                        160,
+                        STA_CAMERA_UP_Z };
     sta_scene *scene = NULL;
     sta_scene_options options = { 0 };
     assert_int_equal(sta_scene_open(strata, &options, &scene, &err), STA_OK);
@@ -391,7 +392,7 @@ static void no_z_fighting_at_one_kilometre(void **state)
     assert_int_equal(blue, 0);
 
     // The point 50 km away along +x at the camera's height is drawn at the centre.
-    sta_camera ahead = { { 0.0, 0.0, 1000.0 }, 0.0, 0.0, 0.5, 0.01, 65, 65 };
+    sta_camera ahead = { { 0.0, 0.0, 1000.0 }, 0.0, 0.0, 0.5, 0.01, 65, 65, STA_CAMERA_UP_Z };
     stats = render_complete(scene, &ahead, &target);
     sta_render_target_read_rgba(&target, rgba);
     const uint8_t *centre = rgba + 4 * (32 * 65 + 32);

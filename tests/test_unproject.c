@@ -44,7 +44,7 @@ static void shader_matches_cpu_twin_and_camera(void **state)
         assert_true(fabsf(a - b) <= 5e-7f * fmaxf(1.0f, fabsf(a)));
     }
     // The twin agrees with the camera: a position projects back to its pixel centre.
-    sta_camera camera = { { 0, 0, 0 }, 0, 0, view.fov_y, view.near_m, w, h };
+    sta_camera camera = { { 0, 0, 0 }, 0, 0, view.fov_y, view.near_m, w, h, STA_CAMERA_UP_Z };
     double f[3], r[3], u[3];
     sta_camera_basis(&camera, f, r, u);
     for (int y = 0; y < h; y++) {

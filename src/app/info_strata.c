@@ -69,6 +69,7 @@ static void print_text(FILE *out, const sta_strata_info *info, const level_stats
     fprintf(out, "bounds max:     %s %s %s\n", sta_format_double(info->bounds_max[0], a, 40),
             sta_format_double(info->bounds_max[1], b, 40),
             sta_format_double(info->bounds_max[2], c, 40));
+    fprintf(out, "up axis:        %s\n", info->up_axis == STA_STRATA_UP_Y ? "+Y" : "+Z");
     fprintf(out, "attributes:    ");
     uint32_t attributes = sta_strata_attributes_to_sta_attr(info->layout.attributes);
     for (uint32_t bit = 1; bit != 0; bit <<= 1) {
@@ -127,6 +128,8 @@ static void print_json(FILE *out, const sta_strata_info *info, const level_stats
     json_triple(&j, "offset", info->geometry.grid.offset);
     json_triple(&j, "bounds_min", info->bounds_min);
     json_triple(&j, "bounds_max", info->bounds_max);
+    sta_json_key(&j, "up_axis");
+    sta_json_string(&j, info->up_axis == STA_STRATA_UP_Y ? "+Y" : "+Z");
     sta_json_key(&j, "record_size");
     sta_json_uint(&j, info->layout.record_size);
     sta_json_key(&j, "raw_bytes");

@@ -44,6 +44,7 @@ static void print_stats(int frame, const sta_frame_stats *s, double ms)
         }
         printf("\n");
     }
+    fflush(stdout); // line by line also when stdout is a pipe or a file
 }
 
 // Renders frames until the view is fully loaded (or --frames / the timeout).
@@ -66,6 +67,7 @@ static sta_status render_until_loaded(const sta_view_args *args, sta_scene *scen
             if (args->stats) {
                 printf("view loaded: %d frames, %.3f s from the first frame\n", frame,
                        sta_clock_s() - start);
+                fflush(stdout);
             }
             return STA_OK;
         }
@@ -123,6 +125,7 @@ static sta_status time_repeats(const sta_view_args *args, sta_scene *scene,
         }
     }
     printf("; %" PRIu64 " points drawn, %u nodes\n", stats.points_drawn, stats.nodes_drawn);
+    fflush(stdout);
     return STA_OK;
 }
 

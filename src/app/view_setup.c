@@ -3,11 +3,58 @@
 #include "app/view_setup.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
+#include "core/camera_frame.h"
+#include "format/strata_reader.h"
 #include "render/bindings.h"
 
 static const double degrees = 3.14159265358979323846 / 180.0;
+
+// The root node's points inside the robust box grown by STA_VIEW_FRAME_GROW of its
+// size on every side (far strays stay out, a model's extremities that the percentiles
+// cut, such as the bunny's ear tips, come back in); world metres, *out owned by the
+// caller. 0 when the file cannot be read here (the caller falls back to the box).
+static size_t root_points(const sta_strata_info *info, const double box_min[3],
+                          const double box_max[3], double (**out)[3])
+{
+    double min[3], max[3];
+    for (int a = 0; a < 3; a++) {
+        double grow = STA_VIEW_FRAME_GROW * (box_max[a] - box_min[a]);
+        min[a] = box_min[a] - grow;
+        max[a] = box_max[a] + grow;
+    }
+    *out = NULL;
+    sta_strata_reader *reader = NULL;
+    sta_strata_decoder *decoder = NULL;
+    sta_strata_points points;
+    size_t kept = 0;
+    if (sta_strata_open(info->path, NULL, &reader, NULL) == STA_OK &&
+        sta_strata_decoder_create(&decoder, NULL) == STA_OK &&
+        sta_strata_decode_node(reader, 0, decoder, &points, NULL) == STA_OK &&
+        (*out = sta_alloc_array(points.count ? points.count : 1, sizeof(**out)))) {
+        const sta_grid *grid = &sta_strata_reader_info(reader)->geometry.grid;
+        for (size_t i = 0; i < points.count; i++) {
+            const int32_t xyz[3] = { points.points[i].X, points.points[i].Y, points.points[i].Z };
+            double *p = (*out)[kept];
+            bool inside = true;
+            for (int a = 0; a < 3; a++) {
+                p[a] = sta_grid_apply(grid, a, xyz[a]);
+                inside = inside && p[a] >= min[a] && p[a] <= max[a];
+            }
+            kept += inside;
+        }
+    }
+    if (decoder) {
+        sta_strata_decoder_destroy(decoder);
+    }
+    if (reader) {
+        sta_strata_close(reader);
+    }
+    return kept;
+}
 
 void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *info,
                              const double frame_min[3], const double frame_max[3], sta_camera *c)
@@ -15,6 +62,9 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
     c->width_px = args->width_px;
     c->height_px = args->height_px;
     c->fov_y = args->camera[5] * degrees;
+    // The up axis is the file's (strata-convert decides it from the source): yaw and
+    // pitch, given or default, are about it.
+    c->up_axis = info->up_axis == STA_STRATA_UP_Y ? STA_CAMERA_UP_Y : STA_CAMERA_UP_Z;
     if (args->has_camera) {
         for (int a = 0; a < 3; a++) {
             double centre = 0.5 * (info->bounds_min[a] + info->bounds_max[a]);
@@ -31,9 +81,32 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
         c->near_m = extent * 1e-5 > 1e-3 ? extent * 1e-5 : 1e-3;
         return;
     }
-    c->yaw = 45.0 * degrees;
-    c->pitch = -30.0 * degrees;
-    sta_camera_frame_box(c, frame_min, frame_max);
+    c->pitch = STA_VIEW_DEFAULT_PITCH_DEG * degrees;
+    double(*points)[3] = NULL;
+    size_t count = root_points(info, frame_min, frame_max, &points);
+    c->yaw = sta_view_default_yaw(c, points ? &points[0][0] : NULL, count);
+    if (count > 0) {
+        const double centre[3] = { 0.5 * (frame_min[0] + frame_max[0]),
+                                   0.5 * (frame_min[1] + frame_max[1]),
+                                   0.5 * (frame_min[2] + frame_max[2]) };
+        sta_camera_frame_points(c, centre, &points[0][0], count, STA_VIEW_FRAME_KEEP);
+    } else {
+        sta_camera_frame_box(c, frame_min, frame_max);
+    }
+    sta_free(points);
+}
+
+double sta_view_default_yaw(const sta_camera *c, const double *points, size_t count)
+{
+    double elongation = 1.0;
+    double long_yaw = sta_camera_points_long_yaw(c, points, count, &elongation);
+    if (!(elongation > STA_VIEW_ELONGATED_RATIO)) {
+        return STA_VIEW_DEFAULT_YAW_DEG * degrees;
+    }
+    // Elongated (a street, a corridor scan): look across the long axis, turned by
+    // STA_VIEW_ACROSS_TURN_DEG so that depth still shows, and the long axis spans the
+    // width of the view instead of running away from the eye.
+    return long_yaw + (90.0 - STA_VIEW_ACROSS_TURN_DEG) * degrees;
 }
 
 int sta_view_initial_colour(const sta_view_args *args, const sta_strata_info *info)

@@ -9,11 +9,27 @@
 #include "format/strata.h"
 #include "render/pipeline.h"
 
-/* The camera the arguments ask for, or one framing `frame_min`..`frame_max` (the
- * scene's robust bounds) from the south-west, 30 degrees from above. */
+#define STA_VIEW_DEFAULT_YAW_DEG   45.0  /* default view from the south-west */
+#define STA_VIEW_DEFAULT_PITCH_DEG -30.0 /* 30 degrees from above */
+#define STA_VIEW_ELONGATED_RATIO   1.5   /* longer / shorter horizontal side beyond this */
+#define STA_VIEW_ACROSS_TURN_DEG   25.0  /* elongated: turned this far from square-on */
+#define STA_VIEW_FRAME_GROW        0.5   /* the robust box grown by this share per side */
+#define STA_VIEW_FRAME_KEEP        0.995 /* share of the root's points inside each view edge */
+
+/* The camera the arguments ask for, or a default one 30 degrees from above, yaw from
+ * sta_view_default_yaw, centred on the robust bounds `frame_min`..`frame_max` and
+ * backed off until STA_VIEW_FRAME_KEEP of the root node's points inside them fill the
+ * view (the box itself when the root cannot be read). Its up axis is the file's
+ * (info->up_axis): given yaw and pitch are about it too. */
 void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *info,
                              const double frame_min[3], const double frame_max[3],
                              sta_camera *out_camera);
+
+/* The default yaw for points seen by `camera` (its up axis): 45 degrees (from the
+ * south-west), or for points whose horizontal spread is more than
+ * STA_VIEW_ELONGATED_RATIO times longer one way than across, across the long axis,
+ * STA_VIEW_ACROSS_TURN_DEG off square-on, so that the long axis fills the width. */
+double sta_view_default_yaw(const sta_camera *camera, const double *points, size_t count);
 
 /* The screen-space pipeline options the arguments ask for. */
 void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *out);

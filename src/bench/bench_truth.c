@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <inttypes.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -87,6 +88,7 @@ sta_status sta_bench_truth_load(const char *path, sta_bench_truth *out, sta_erro
     cJSON *root = cJSON_ParseWithLength((const char *)map.data, map.size);
     sta_synth_params p = { 0 };
     double origin[3] = { 0 }, number = 0.0;
+    char mesh_buf[4096];
     const char *bad = NULL;
     if (!root) {
         bad = "not valid JSON";
@@ -145,7 +147,20 @@ sta_status sta_bench_truth_load(const char *path, sta_bench_truth *out, sta_erro
             bad = "field \"mesh.path\" is missing";
             goto out_close;
         }
-        p.mesh_path = mesh_path->valuestring;
+        // A relative mesh path is relative to the sidecar's folder, not to the
+        // working directory (the sidecar travels with its LAS).
+        const char *mesh = mesh_path->valuestring;
+        const char *slash = strrchr(path, '/');
+        if (mesh[0] != '/' && slash) {
+            int n =
+                snprintf(mesh_buf, sizeof(mesh_buf), "%.*s/%s", (int)(slash - path), path, mesh);
+            if (n < 0 || (size_t)n >= sizeof(mesh_buf)) {
+                bad = "field \"mesh.path\" is too long";
+                goto out_close;
+            }
+            mesh = mesh_buf;
+        }
+        p.mesh_path = mesh;
     }
     const cJSON *scanner = field(root, "scanner");
     if (p.kind == STA_SYNTH_STREET) {

@@ -98,9 +98,11 @@ sta_status sta_bench_settings(const sta_bench_options *o, sta_bench_setting **ou
             }
             for (int k = 0; k < (mode_runs_normals(mode) ? o->normal_count : 1); k++) {
                 const int method = mode_runs_normals(mode) ? o->normals[k] : 0;
-                const bool screen = mode_runs_normals(mode) && method != STA_NORMAL_PYRAMID;
-                for (int j = 0; j < (screen ? o->sample_count : 1); j++) {
-                    s[n++] = (sta_bench_setting){ mode, method, screen ? o->samples[j] : 0,
+                // The pyramid and LD (right/up differences) take no sample count: once.
+                const bool sampled = mode_runs_normals(mode) && method != STA_NORMAL_PYRAMID &&
+                                     method != STA_NORMAL_LD;
+                for (int j = 0; j < (sampled ? o->sample_count : 1); j++) {
+                    s[n++] = (sta_bench_setting){ mode, method, sampled ? o->samples[j] : 0,
                                                   mode_runs_hpr(mode) && h == 1 };
                 }
             }
@@ -115,8 +117,8 @@ void sta_bench_setting_label(const sta_bench_setting *s, char *out, size_t size)
 {
     char normals[24] = "";
     if (mode_runs_normals(s->mode)) {
-        if (s->normals == STA_NORMAL_PYRAMID) {
-            snprintf(normals, sizeof(normals), "/pyramid");
+        if (s->normals == STA_NORMAL_PYRAMID || s->normals == STA_NORMAL_LD) {
+            snprintf(normals, sizeof(normals), "/%s", sta_normal_method_name(s->normals));
         } else {
             snprintf(normals, sizeof(normals), "/%s%d", sta_normal_method_name(s->normals),
                      s->samples);

@@ -5,6 +5,26 @@
 #include <math.h>
 #include <string.h>
 
+void sta_camera_to_frame(const sta_camera *c, const double world[3], double out[3])
+{
+    double x = world[0], y = world[1], z = world[2];
+    if (c->up_axis == STA_CAMERA_UP_Y) {
+        out[0] = x, out[1] = -z, out[2] = y;
+    } else {
+        out[0] = x, out[1] = y, out[2] = z;
+    }
+}
+
+void sta_camera_from_frame(const sta_camera *c, const double frame[3], double out[3])
+{
+    double x = frame[0], y = frame[1], z = frame[2];
+    if (c->up_axis == STA_CAMERA_UP_Y) {
+        out[0] = x, out[1] = z, out[2] = -y;
+    } else {
+        out[0] = x, out[1] = y, out[2] = z;
+    }
+}
+
 void sta_camera_basis(const sta_camera *c, double forward[3], double right[3], double up[3])
 {
     double cp = cos(c->pitch), sp = sin(c->pitch);
@@ -20,6 +40,13 @@ void sta_camera_basis(const sta_camera *c, double forward[3], double right[3], d
     up[0] = right[1] * forward[2] - right[2] * forward[1];
     up[1] = right[2] * forward[0] - right[0] * forward[2];
     up[2] = right[0] * forward[1] - right[1] * forward[0];
+    if (c->up_axis == STA_CAMERA_UP_Y) {
+        double f[3] = { forward[0], forward[1], forward[2] },
+               r[3] = { right[0], right[1], right[2] }, u[3] = { up[0], up[1], up[2] };
+        sta_camera_from_frame(c, f, forward);
+        sta_camera_from_frame(c, r, right);
+        sta_camera_from_frame(c, u, up);
+    }
 }
 
 void sta_camera_view_rotation(const sta_camera *c, float out[16])

@@ -8,15 +8,27 @@
 
 #include <stdbool.h>
 
+/* The world axis that points up (sta_camera.up_axis). Yaw and pitch are angles in the
+ * camera's z-up frame: with +Z up that is the world; with +Y up the frame's x, y, z are
+ * the world's x, -z, y (a rotation by -90 deg about x), so yaw turns about world +Y. */
+#define STA_CAMERA_UP_Z 0
+#define STA_CAMERA_UP_Y 1
+
 typedef struct sta_camera {
     double position[3]; /* world (real) coordinates, metres */
-    double yaw;         /* radians around +Z; 0 looks along +X, pi/2 along +Y */
+    double yaw;         /* radians around up; 0 looks along +X, pi/2 along the frame's +Y
+                           (world +Y when z is up, world -Z when y is up) */
     double pitch;       /* radians; positive looks up, within (-pi/2, pi/2) */
     double fov_y;       /* vertical field of view, radians */
     double near_m;      /* near plane distance, metres (> 0); the far plane is at infinity */
     int width_px;       /* viewport */
     int height_px;
+    int up_axis; /* STA_CAMERA_UP_Z (0, the default) or STA_CAMERA_UP_Y */
 } sta_camera;
+
+/* A world direction in the camera's z-up frame, and back (the identity for +Z up). */
+void sta_camera_to_frame(const sta_camera *camera, const double world[3], double out_frame[3]);
+void sta_camera_from_frame(const sta_camera *camera, const double frame[3], double out_world[3]);
 
 /* Unit view direction, right and up vectors in world coordinates. */
 void sta_camera_basis(const sta_camera *camera, double forward[3], double right[3], double up[3]);

@@ -9,10 +9,14 @@ static double length3(const double v[3])
     return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
+// Yaw and pitch are angles in the camera's z-up frame (core/camera.h: the data's up
+// axis), so directions are turned into that frame first.
 static void look_at(sta_camera *c, const double target[3])
 {
-    double d[3] = { target[0] - c->position[0], target[1] - c->position[1],
-                    target[2] - c->position[2] };
+    const double w[3] = { target[0] - c->position[0], target[1] - c->position[1],
+                          target[2] - c->position[2] };
+    double d[3];
+    sta_camera_to_frame(c, w, d);
     double len = length3(d);
     if (len <= 0) {
         return;
@@ -24,8 +28,10 @@ static void look_at(sta_camera *c, const double target[3])
 void sta_nav_orbit(sta_camera *c, const double pivot[3], double d_yaw, double d_pitch,
                    double pitch_min, double pitch_max)
 {
-    double offset[3] = { c->position[0] - pivot[0], c->position[1] - pivot[1],
-                         c->position[2] - pivot[2] };
+    const double w[3] = { c->position[0] - pivot[0], c->position[1] - pivot[1],
+                          c->position[2] - pivot[2] };
+    double offset[3]; // in the camera's z-up frame: orbit about the data's up axis
+    sta_camera_to_frame(c, w, offset);
     double radius = length3(offset);
     if (radius <= 0) {
         return;
@@ -33,9 +39,13 @@ void sta_nav_orbit(sta_camera *c, const double pivot[3], double d_yaw, double d_
     double yaw = atan2(offset[1], offset[0]) + d_yaw;
     double pitch = asin(fmax(-1.0, fmin(1.0, offset[2] / radius))) + d_pitch;
     pitch = fmax(pitch_min, fmin(pitch_max, pitch));
-    c->position[0] = pivot[0] + radius * cos(pitch) * cos(yaw);
-    c->position[1] = pivot[1] + radius * cos(pitch) * sin(yaw);
-    c->position[2] = pivot[2] + radius * sin(pitch);
+    const double moved[3] = { radius * cos(pitch) * cos(yaw), radius * cos(pitch) * sin(yaw),
+                              radius * sin(pitch) };
+    double world[3];
+    sta_camera_from_frame(c, moved, world);
+    for (int a = 0; a < 3; a++) {
+        c->position[a] = pivot[a] + world[a];
+    }
     look_at(c, pivot);
 }
 

@@ -19,9 +19,9 @@
 /* Seconds of the eased move of a double-click. */
 #define STA_NAV_FOCUS_SECONDS 0.35
 
-/* Rotates the camera around `pivot` by d_yaw, d_pitch (radians), keeping its distance,
- * with its elevation above the pivot clamped to [pitch_min, pitch_max] (radians), and
- * turns it to look at the pivot. */
+/* Rotates the camera around `pivot` by d_yaw, d_pitch (radians) about the data's up axis
+ * (camera->up_axis), keeping its distance, with its elevation above the pivot clamped to
+ * [pitch_min, pitch_max] (radians), and turns it to look at the pivot. */
 void sta_nav_orbit(sta_camera *camera, const double pivot[3], double d_yaw, double d_pitch,
                    double pitch_min, double pitch_max);
 

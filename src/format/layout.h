@@ -15,7 +15,7 @@
 #define STA_STRATA_MAGIC           "STRATA\r\n" /* 8 bytes, no NUL */
 #define STA_STRATA_MAGIC_SIZE      8
 #define STA_STRATA_VERSION_MAJOR   1
-#define STA_STRATA_VERSION_MINOR   1      /* 1.1 added compression code 2 */
+#define STA_STRATA_VERSION_MINOR   2      /* 1.1 added compression code 2, 1.2 up_axis */
 #define STA_STRATA_HEADER_SIZE     384u   /* fixed header of version 1.0 */
 #define STA_STRATA_HEADER_SIZE_MAX 65536u /* readers refuse larger headers */
 #define STA_STRATA_EXTRA_DIM_SIZE  128u   /* one extra-dimension descriptor */
@@ -90,7 +90,8 @@ typedef struct sta_strata_header_disk {
     uint64_t table_checksum;      /* 296 XXH3-64 of the node table */
     uint64_t extra_dims_checksum; /* 304 XXH3-64 of the descriptors */
     char generator[32];           /* 312 NUL-padded name of the writing software */
-    uint8_t reserved[40];         /* 344 zero */
+    uint8_t up_axis;              /* 344 STA_STRATA_UP_*: 0 = +Z (also before 1.2) */
+    uint8_t reserved[39];         /* 345 zero */
 } sta_strata_header_disk;
 
 #define STA_STRATA_H_MAGIC_OFF           0
@@ -123,7 +124,8 @@ typedef struct sta_strata_header_disk {
 #define STA_STRATA_H_TABLE_CHECKSUM_OFF  296
 #define STA_STRATA_H_EXTRA_CHECKSUM_OFF  304
 #define STA_STRATA_H_GENERATOR_OFF       312
-#define STA_STRATA_H_RESERVED_OFF        344
+#define STA_STRATA_H_UP_AXIS_OFF         344
+#define STA_STRATA_H_RESERVED_OFF        345
 
 _Static_assert(sizeof(sta_strata_header_disk) == STA_STRATA_HEADER_SIZE, "header size");
 _Static_assert(offsetof(sta_strata_header_disk, version_major) == STA_STRATA_H_VERSION_MAJOR_OFF,
@@ -182,6 +184,7 @@ _Static_assert(offsetof(sta_strata_header_disk, extra_dims_checksum) ==
                "extra_dims_checksum");
 _Static_assert(offsetof(sta_strata_header_disk, generator) == STA_STRATA_H_GENERATOR_OFF,
                "generator");
+_Static_assert(offsetof(sta_strata_header_disk, up_axis) == STA_STRATA_H_UP_AXIS_OFF, "up_axis");
 _Static_assert(offsetof(sta_strata_header_disk, reserved) == STA_STRATA_H_RESERVED_OFF, "reserved");
 
 /* One extra-dimension descriptor, 128 bytes; extra_dim_count of them follow the

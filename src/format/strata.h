@@ -136,6 +136,12 @@ sta_status sta_strata_choose_root(const sta_grid *grid, const int32_t min[3], co
 
 /* What the header of an open file says (see sta_strata_reader_info), also what the
  * writer serialises. Counts and offsets are validated against the file. */
+/* Which world axis points up (header field up_axis, since 1.2). The converter sets it
+ * from the source: LAS is +Z; PLY models are usually +Y (docs/FORMAT.md). Values a
+ * reader does not know read as +Z. */
+#define STA_STRATA_UP_Z 0
+#define STA_STRATA_UP_Y 1
+
 typedef struct sta_strata_info {
     const char *path;             /* as opened (for messages) */
     uint16_t version_major;       /* 1 */
@@ -160,6 +166,7 @@ typedef struct sta_strata_info {
     uint64_t table_checksum;      /* as stored */
     uint64_t extra_dims_checksum; /* as stored */
     char generator[33];           /* writing software, NUL-terminated */
+    uint8_t up_axis;              /* STA_STRATA_UP_Z (0, also files before 1.2) or _Y */
 } sta_strata_info;
 
 /* Formats "node 17 (level 3, 5/2/7)" into buf (for messages); returns buf. */

@@ -46,6 +46,7 @@ struct sta_strata_writer {
     sta_strata_extra_dim *dims;   // owned copy
     int zstd_level;               // 0 store
     char generator[33];           // NUL-terminated
+    uint8_t up_axis;              // STA_STRATA_UP_*
     uint64_t data_offset;         // first payload byte
     bool finished;                // finish succeeded (caller's thread only)
     pthread_mutex_t lock;         // guards the fields below
@@ -174,6 +175,7 @@ sta_status sta_strata_writer_create(const char *path, const sta_strata_writer_op
     w->zstd_level = options->zstd_level;
     snprintf(w->generator, sizeof(w->generator), "%s",
              options->generator ? options->generator : "strata");
+    w->up_axis = options->up_axis == STA_STRATA_UP_Y ? STA_STRATA_UP_Y : STA_STRATA_UP_Z;
     uint32_t dim_count = options->layout.extra_dim_count;
     if (dim_count > 0 && dim_count <= STA_STRATA_MAX_EXTRA_DIMS && options->layout.extra_dims) {
         w->dims = sta_alloc_array(dim_count, sizeof(*w->dims));
@@ -435,6 +437,7 @@ static void describe(const sta_strata_writer *w, const sta_strata_node *nodes, u
     info->table_offset = w->next_offset;
     info->file_size = w->next_offset + (uint64_t)count * STA_STRATA_NODE_ENTRY_SIZE;
     snprintf(info->generator, sizeof(info->generator), "%s", w->generator);
+    info->up_axis = w->up_axis;
     for (uint32_t i = 0; i < count; i++) {
         info->point_count += nodes[i].point_count; // overflow is caught by the table check
         if (nodes[i].key.level > info->max_level) {

@@ -48,6 +48,7 @@ typedef struct sta_strata_writer_options {
     int zstd_level;               /* 0 stores payloads uncompressed; 1..19 zstd level
                                      (STA_STRATA_DEFAULT_ZSTD_LEVEL is a good choice) */
     const char *generator;        /* software name for the header; NULL means "strata" */
+    int up_axis;                  /* STA_STRATA_UP_Z (0) or STA_STRATA_UP_Y */
 } sta_strata_writer_options;
 
 /* Creates the temporary file beside `path` and checks the options (scale, root box,

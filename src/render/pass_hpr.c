@@ -24,16 +24,22 @@ static void shader_defines(char *out, size_t size)
              "#define STA_LABEL_BACKGROUND %.1f\n"
              "#define STA_LABEL_VISIBLE %.1f\n"
              "#define STA_LABEL_HIDDEN %.1f\n"
-             "#define STA_LABEL_HOLE %.1f\n",
+             "#define STA_LABEL_HOLE %.1f\n"
+             "#define STA_HPR_SQRT_HALF %.9e\n"
+             "#define STA_HPR_MIN_REACH_PX %.9e\n"
+             "#define STA_HPR_MAX_REACH_PX %.9e\n"
+             "#define STA_HPR_CUT_FACTOR %.9e\n",
              STA_HPR_MAX_LEVELS, STA_HPR_SECTOR_TAN_NUM, STA_HPR_SECTOR_TAN_DEN,
              (double)STA_HPR_MIN_LENGTH2_M2, (double)STA_LABEL_BACKGROUND,
-             (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE);
+             (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
+             (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_MAX_REACH_PX,
+             (double)STA_HPR_CUT_FACTOR);
 }
 
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
-    char defines[512];
+    char defines[1024];
     shader_defines(defines, sizeof(defines));
     const char *pyramid[] = { "hpr_pyramid.comp" };
     const char *occlusion[] = { "hpr_common.glsl", "hpr_occlusion.comp" };
@@ -60,6 +66,8 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
     pass->occ_tan_half = glGetUniformLocation(p, "u_tan_half");
     pass->occ_far = glGetUniformLocation(p, "u_far");
     pass->occ_threshold = glGetUniformLocation(p, "u_threshold");
+    pass->occ_radius_k = glGetUniformLocation(p, "u_radius_k");
+    pass->occ_scale = glGetUniformLocation(p, "u_scale");
     p = pass->exhaustive_program;
     pass->exh_size = glGetUniformLocation(p, "u_size");
     pass->exh_radius = glGetUniformLocation(p, "u_radius");
@@ -203,6 +211,10 @@ sta_status sta_hpr_pass_run_pyramid(const sta_hpr_pass *pass, const sta_view_par
     glUniform2f(pass->occ_tan_half, th[0], th[1]);
     glUniform1f(pass->occ_far, p.far_m);
     glUniform1f(pass->occ_threshold, p.threshold);
+    glUniform1f(pass->occ_radius_k, sta_hpr_radius_k(view, &p));
+    // As the twin (hpr_ref.c frame_of): pixels per unit of x / d and y / d.
+    glUniform2f(pass->occ_scale, 0.5f * (float)view->width_px / th[0],
+                0.5f * (float)view->height_px / th[1]);
     glBindTextureUnit(STA_HPR_OCCLUSION_SAMPLER_POSITION, position_texture);
     glBindTextureUnit(STA_HPR_OCCLUSION_SAMPLER_PYRAMID, pyramid_texture);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY,

@@ -26,7 +26,7 @@ typedef struct sta_hpr_pass {
     GLuint exhaustive_program; /* hpr_exhaustive.comp: fixed-radius operator */
     GLint pyr_src_size, pyr_dst_size;
     GLint occ_size, occ_level_count, occ_coarse_level, occ_level_depth, occ_tan_half, occ_far,
-        occ_threshold;
+        occ_threshold, occ_radius_k, occ_scale;
     GLint exh_size, exh_radius, exh_tan_half, exh_far, exh_threshold;
 } sta_hpr_pass;
 

@@ -133,12 +133,53 @@ static void put_rects(FILE *f, const synth_analytic *an, bool comma_after)
     }
 }
 
-static void put_analytic(FILE *f, const sta_synth_scene *scene)
+// The mesh path as the sidecar stores it: relative to the sidecar's folder (readers
+// resolve it from there, whatever their working directory), or as given when either
+// path cannot be resolved.
+static void sidecar_mesh_path(const char *sidecar, const char *mesh, char *out, size_t size)
+{
+    snprintf(out, size, "%s", mesh);
+    char *dir = sta_malloc(strlen(sidecar) + 2);
+    if (!dir) {
+        return;
+    }
+    const char *slash = strrchr(sidecar, '/');
+    snprintf(dir, strlen(sidecar) + 2, "%.*s", slash ? (int)(slash - sidecar) + 1 : 1,
+             slash ? sidecar : ".");
+    char *dir_real = realpath(dir, NULL), *mesh_real = realpath(mesh, NULL);
+    sta_free(dir);
+    if (dir_real && mesh_real) {
+        // d = the sidecar's folder with a trailing '/'; keep the common leading folders,
+        // then one "../" per folder of d left over.
+        char d[4096];
+        snprintf(d, sizeof(d), "%s%s", dir_real, strcmp(dir_real, "/") == 0 ? "" : "/");
+        size_t common = 0;
+        for (size_t i = 0; d[i] && d[i] == mesh_real[i]; i++) {
+            if (d[i] == '/') {
+                common = i + 1;
+            }
+        }
+        size_t used = 0;
+        out[0] = '\0';
+        for (const char *c = d + common; *c; c++) {
+            if (*c == '/' && used + 4 < size) {
+                used += (size_t)snprintf(out + used, size - used, "../");
+            }
+        }
+        snprintf(out + used, size - used, "%s", mesh_real + common);
+    }
+    free(dir_real);
+    free(mesh_real);
+}
+
+static void put_analytic(FILE *f, const sta_synth_scene *scene, const char *sidecar)
 {
     const synth_analytic *an = &scene->analytic;
     if (scene->params.kind == STA_SYNTH_MESH) {
         fputs("  \"mesh\": {\n    \"path\": ", f);
-        put_string(f, scene->params.mesh_path);
+        char mesh[4096];
+        sidecar_mesh_path(sidecar, scene->params.mesh_path, mesh, sizeof(mesh));
+        put_string(f, mesh);
         fputs(",\n    \"transform\": \"local = (ply - centre) * scale\",\n", f);
         fputs("    \"centre\": ", f);
         put_vec(f, an->mesh_centre, 3);
@@ -189,7 +230,7 @@ static void put_classes(FILE *f, bool street, bool legacy)
     fputs("},\n", f);
 }
 
-static void put_document(FILE *f, const synth_source *src)
+static void put_document(FILE *f, const synth_source *src, const char *sidecar)
 {
     const sta_synth_scene *scene = src->scene;
     const sta_synth_params *p = &scene->params;
@@ -223,7 +264,7 @@ static void put_document(FILE *f, const synth_source *src)
     if (street) {
         put_street(f, src);
     } else {
-        put_analytic(f, scene);
+        put_analytic(f, scene, sidecar);
     }
     fputs("  \"normals\": \"", f);
     fputs(street ? "from sta_synth_scene_raycast (hit.normal)"
@@ -247,7 +288,7 @@ sta_status sta_synth_truth_write(const char *path, const synth_source *src, sta_
         status = sta_fail(err, STA_ERR_IO, "%s: cannot create %s: %s", path, tmp, strerror(errno));
         goto out_free;
     }
-    put_document(f, src);
+    put_document(f, src, path);
     bool failed = ferror(f) != 0;
     if (fclose(f) != 0 || failed) {
         status = sta_fail(err, STA_ERR_IO, "%s: write failed: %s", path, strerror(errno));

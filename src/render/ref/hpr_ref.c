@@ -53,19 +53,22 @@ int sta_hpr_pyramid_levels(int width_px, int height_px)
     return levels < 2 ? 2 : levels;
 }
 
-void sta_hpr_level_depths(const sta_view_params *view, const sta_hpr_params *resolved,
-                          int level_count, float out_depth_m[STA_HPR_MAX_LEVELS])
+float sta_hpr_radius_k(const sta_view_params *view, const sta_hpr_params *resolved)
 {
     // K = s_hpr h / (2 tan(theta)): the neighbourhood size in pixels times the depth.
     float s_hpr = sta_hpr_s_hpr_m(view, resolved);
     float k = s_hpr * (float)view->height_px / (2.0f * tanf(0.5f * view->fov_y));
-    if (!(k > 0.0f) || !isfinite(k)) {
-        k = 0.0f; // no s0: level 0 everywhere
-    }
-    float k_sqrt2 = k * 1.41421356f;
+    return k > 0.0f && isfinite(k) ? k : 0.0f; // no s0: level 0 everywhere
+}
+
+void sta_hpr_level_depths(const sta_view_params *view, const sta_hpr_params *resolved,
+                          int level_count, float out_depth_m[STA_HPR_MAX_LEVELS])
+{
+    float k = sta_hpr_radius_k(view, resolved);
     for (int l = 0; l < STA_HPR_MAX_LEVELS; l++) {
         // round(log2(K / z)) >= l  <=>  z <= K 2^(0.5 - l)
-        out_depth_m[l] = l == 0 ? INFINITY : (l < level_count ? ldexpf(k_sqrt2, -l) : -1.0f);
+        out_depth_m[l] =
+            l == 0 ? INFINITY : (l < level_count ? ldexpf(k * 1.41421356f, -l) : -1.0f);
     }
 }
 
@@ -146,7 +149,8 @@ void sta_hpr_ref_pyramid_release(sta_hpr_pyramid *pyramid)
 // What the shaders' hpr_common.glsl computes, one function for one function.
 
 typedef struct occlusion_frame {
-    float tan_x, tan_y; // tan of the half field of view, horizontally and vertically
+    float tan_x, tan_y;     // tan of the half field of view, horizontally and vertically
+    float scale_x, scale_y; // pixels per unit of x / d and y / d: size / (2 tan)
     float far_m;
     float threshold;
     int width, height;
@@ -157,6 +161,8 @@ static occlusion_frame frame_of(const sta_view_params *view, const sta_hpr_param
     occlusion_frame f;
     f.tan_y = tanf(0.5f * view->fov_y);
     f.tan_x = f.tan_y * (float)view->width_px / (float)view->height_px;
+    f.scale_x = 0.5f * (float)view->width_px / f.tan_x;
+    f.scale_y = 0.5f * (float)view->height_px / f.tan_y;
     f.far_m = resolved->far_m;
     f.threshold = resolved->threshold;
     f.width = view->width_px;
@@ -180,30 +186,84 @@ static void centre_point(const occlusion_frame *f, const float *own, int px, int
     out[2] = -f->far_m;
 }
 
-// Lowers `sector_min` by neighbour y's occlusion value seen from x; coincident points
-// (and a neighbour at the eye) are skipped.
-static void add_neighbour(const float x[3], const float *y, int sector, float sector_min[8])
+// Neighbour y's occlusion value seen from x; false for coincident points (and a
+// neighbour at the eye), which are skipped.
+static bool occlusion_value(const float x[3], const float *y, float *value)
 {
     float d0 = y[0] - x[0], d1 = y[1] - x[1], d2 = y[2] - x[2];
     float dd = d0 * d0 + d1 * d1 + d2 * d2;
     float yy = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
     if (!(dd >= STA_HPR_MIN_LENGTH2_M2) || !(yy >= STA_HPR_MIN_LENGTH2_M2)) {
-        return;
+        return false;
     }
     float c = d0 * -y[0] + d1 * -y[1] + d2 * -y[2];
-    float value = 1.0f - c * (1.0f / sqrtf(dd)) * (1.0f / sqrtf(yy));
-    if (value < sector_min[sector]) {
+    *value = 1.0f - c * (1.0f / sqrtf(dd)) * (1.0f / sqrtf(yy));
+    return true;
+}
+
+static void add_neighbour(const float x[3], const float *y, int sector, float sector_min[8])
+{
+    float value;
+    if (occlusion_value(x, y, &value) && value < sector_min[sector]) {
         sector_min[sector] = value;
     }
 }
 
-static float sector_mean(const float sector_min[8])
+// Where point y lands on screen relative to pixel (px, py)'s centre, in pixels; false
+// for a point not in front of the eye.
+static bool screen_offset(const occlusion_frame *f, const float *y, int px, int py, float v[2])
 {
-    float sum = sector_min[0];
-    for (int s = 1; s < 8; s++) {
-        sum += sector_min[s];
+    float d = -y[2];
+    if (!(d > 0.0f)) {
+        return false;
     }
-    return sum * 0.125f;
+    float inv = 1.0f / d;
+    v[0] = y[0] * inv * f->scale_x + 0.5f * (float)f->width - ((float)px + 0.5f);
+    v[1] = y[1] * inv * f->scale_y + 0.5f * (float)f->height - ((float)py + 0.5f);
+    return true;
+}
+
+// For an empty pixel, sector s is unknown when nothing in it closes it and part of its
+// neighbourhood lies outside the image (bit s of `outside`): what lies there could have
+// closed it, so it is left out of the mean rather than counted open (surfaces running
+// off-screen are filled to the edge). A point keeps all 8 sectors, outside counting
+// open: without evidence of a surface in front it stays visible. The exhaustive
+// operator sets bit s when the disc of radius `reach_px` crosses the border in the
+// sector's direction.
+static const float sector_dir[8][2] = { { 1, 0 },  { STA_HPR_SQRT_HALF, STA_HPR_SQRT_HALF },
+                                        { 0, 1 },  { -STA_HPR_SQRT_HALF, STA_HPR_SQRT_HALF },
+                                        { -1, 0 }, { -STA_HPR_SQRT_HALF, -STA_HPR_SQRT_HALF },
+                                        { 0, -1 }, { STA_HPR_SQRT_HALF, -STA_HPR_SQRT_HALF } };
+
+static bool sector_leaves_image(const occlusion_frame *f, int px, int py, int sector,
+                                float reach_px)
+{
+    float ex = ((float)px + 0.5f) + reach_px * sector_dir[sector][0];
+    float ey = ((float)py + 0.5f) + reach_px * sector_dir[sector][1];
+    return ex < 0.0f || ey < 0.0f || ex >= (float)f->width || ey >= (float)f->height;
+}
+
+static unsigned reach_outside(const occlusion_frame *f, int px, int py, float reach_px)
+{
+    unsigned outside = 0;
+    for (int s = 0; s < 8; s++) {
+        outside |= (unsigned)sector_leaves_image(f, px, py, s, reach_px) << s;
+    }
+    return outside;
+}
+
+// Mean of the known sectors' minima (summed in sector order); 1 when none is known.
+static float sector_mean(const float sector_min[8], bool is_point, unsigned outside)
+{
+    float sum = 0.0f;
+    int known = 0;
+    for (int s = 0; s < 8; s++) {
+        if (is_point || sector_min[s] < 1.0f || !((outside >> s) & 1u)) {
+            sum += sector_min[s];
+            known++;
+        }
+    }
+    return known > 0 ? sum / (float)known : 1.0f;
 }
 
 static float label_of(bool is_point, float mean, float threshold)
@@ -224,6 +284,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
     int level_count = pyramid->level_count;
     float level_depth[STA_HPR_MAX_LEVELS];
     sta_hpr_level_depths(view, &p, level_count, level_depth);
+    float radius_k = sta_hpr_radius_k(view, &p);
     // Level 1 at least (coarse_level >= 1 and level_count >= 2).
     int coarse = p.coarse_level < level_count - 1 ? p.coarse_level : level_count - 1;
     for (int py = 0; py < f.height; py++) {
@@ -247,30 +308,48 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                     level = l;
                 }
             }
+            // The neighbourhood radius is K / z pixels (eq. 1 without rounding).
+            // Candidates of the rings at levels >= 1 whose points land farther than
+            // STA_HPR_CUT_FACTOR radii from the pixel's centre are dropped: all pixels of
+            // an ancestor block share its rings, and without the cut the whole block
+            // flips between hole and background at once (square, stair-stepped gaps).
+            float radius = radius_k / z;
+            float cut = STA_HPR_CUT_FACTOR * radius;
+            float cut2 = cut * cut;
             float sector_min[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
+            unsigned outside = 0;
             for (int k = 0; k <= level; k++) {
                 const sta_image *lk = &pyramid->levels[k];
                 int ax = px >> k, ay = py >> k;
                 for (int dy = -1; dy <= 1; dy++) {
                     for (int dx = -1; dx <= 1; dx++) {
                         int nx = ax + dx, ny = ay + dy;
-                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= lk->width ||
-                            ny >= lk->height) {
+                        if (dx == 0 && dy == 0) {
+                            continue;
+                        }
+                        if (nx < 0 || ny < 0 || nx >= lk->width || ny >= lk->height) {
+                            // A ring texel outside the image: its sector may have been
+                            // closed out there.
+                            outside |= 1u << sta_hpr_sector(2 * dx, 2 * dy);
                             continue;
                         }
                         const float *y = sta_image_at(lk, nx, ny);
-                        if (y[3] <= 0.5f) {
+                        float v[2];
+                        if (y[3] <= 0.5f || !screen_offset(&f, y, px, py, v)) {
+                            continue;
+                        }
+                        float dist2 = v[0] * v[0] + v[1] * v[1];
+                        if (k > 0 && dist2 > cut2) {
                             continue;
                         }
                         // Each ring position is its own sector (Figure 3's colours). The
-                        // direction from the pixel to a coarse texel's centre would be
-                        // skewed by up to half a texel for pixels off their ancestor's
-                        // centre, leaving sectors empty along block edges.
+                        // direction from the pixel to where the point lands would leave
+                        // sectors empty (the ring's points cluster), opening holes.
                         add_neighbour(x, y, sta_hpr_sector(2 * dx, 2 * dy), sector_min);
                     }
                 }
             }
-            float mean = sector_mean(sector_min);
+            float mean = sector_mean(sector_min, own[3] > 0.5f, outside);
             *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
             if (out_mean) {
                 *sta_image_at(out_mean, px, py) = mean;
@@ -320,7 +399,9 @@ void sta_hpr_ref_exhaustive(const sta_view_params *view, const sta_hpr_params *p
                     }
                 }
             }
-            float mean = sector_mean(sector_min);
+            float reach =
+                fminf(fmaxf((float)radius_px, STA_HPR_MIN_REACH_PX), STA_HPR_MAX_REACH_PX);
+            float mean = sector_mean(sector_min, own[3] > 0.5f, reach_outside(&f, px, py, reach));
             *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
             if (out_mean) {
                 *sta_image_at(out_mean, px, py) = mean;

@@ -11,7 +11,11 @@
  * Both take, in 8 sectors around the pixel, the minimum occlusion value
  * 1 - dot((y - x) / |y - x|, -y / |y|) of the neighbours y (each sector starts at 1,
  * fully open, so it counts at most 1), and call the pixel open when the mean of the 8
- * minima reaches a threshold. docs/HPR.md gives every rule.
+ * minima reaches a threshold. Issue 15 added: ring candidates landing farther than
+ * STA_HPR_CUT_FACTOR K / z pixels from the pixel are dropped (a per-pixel decision),
+ * and for empty pixels a sector whose neighbourhood leaves the image and that nothing
+ * closes is unknown, not open (surfaces run on to the image edge). docs/HPR.md gives
+ * every rule.
  *
  * Based on: H. Bouchiba, J.-E. Deschaud, F. Goulette, "Raw point cloud deferred
  * shading through screen space pyramidal operators", Eurographics 2018 (short), section 3.1,
@@ -36,6 +40,15 @@
  * a ratio of integers so that the shader and the twin pick the same sector. */
 #define STA_HPR_SECTOR_TAN_NUM       408
 #define STA_HPR_SECTOR_TAN_DEN       985
+#define STA_HPR_SQRT_HALF            0.70710678f /* sector directions on the diagonals */
+/* Exhaustive operator: the image-border test of empty pixels looks this far, in
+ * pixels: the radius, but at least 1.5 (the 8 direct neighbours always take part) and
+ * at most 32. (The pyramidal operator counts the ring texels outside the image.) */
+#define STA_HPR_MIN_REACH_PX         1.5f
+#define STA_HPR_MAX_REACH_PX         32.0f
+/* Pyramidal operator: ring candidates (levels >= 1) landing farther than this many
+ * neighbourhood radii K / z from the pixel are dropped (per-pixel decision). */
+#define STA_HPR_CUT_FACTOR           2.0f
 
 /* Parameters. Zero means default (resolved by sta_hpr_params_defaults). A negative
  * threshold makes every pixel open (HPR off). s_hpr's default depends on the view: it
@@ -71,9 +84,14 @@ static inline int sta_hpr_level_size(int size_px, int level)
     return (size_px + (1 << level) - 1) >> level;
 }
 
+/* K = s_hpr h / (2 tan(fov_y / 2)) (0 when s_hpr is 0 or not finite): a pixel of
+ * coarse depth z has the neighbourhood radius K / z pixels (eq. 1). `resolved`:
+ * parameters after sta_hpr_params_defaults. */
+float sta_hpr_radius_k(const sta_view_params *view, const sta_hpr_params *resolved);
+
 /* The depths at which the adaptive level changes: out[l] (l = 1 .. level_count - 1) is
- * K 2^(0.5 - l) with K = s_hpr h / (2 tan(fov_y / 2)); a pixel of coarse depth z gets
- * the largest l with z <= out[l] (0 when none), i.e. round(log2(K / z)) clamped to
+ * K 2^(0.5 - l) with K = sta_hpr_radius_k; a pixel of coarse depth z gets the largest
+ * l with z <= out[l] (0 when none), i.e. round(log2(K / z)) clamped to
  * [0, level_count - 1], computed by comparisons so that shader and twin agree exactly.
  * out[0] = +inf (unused). `resolved`: parameters after sta_hpr_params_defaults; s_hpr
  * is sta_hpr_s_hpr_m of them. */

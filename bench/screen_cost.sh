@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Screen-space passes against the geometry pass at 1920x1080 on the README's street
+# view, for two builds in the same run, interleaved A B A B A B (issue 15): per pass the
+# median over the rounds of each round's median of 5 frames, and the ratio of all
+# screen-space passes together to the geometry pass.
+# usage: bench/screen_cost.sh BUILD_A BUILD_B [SCENE.strata] [ROUNDS]
+#   (BUILD_*: release build folders, e.g. a build of main and build/release)
+set -euo pipefail
+a=$1 b=$2
+work=${BENCH_DIR:-/tmp/strata-bench}
+mkdir -p "$work"
+scene=${3:-$work/street2m.strata}
+rounds=${4:-3}
+if [ ! -f "$scene" ]; then
+    "$b/src/strata-synth" street --points 2000000 --seed 1 -o "$work/street2m.las" --quiet
+    "$b/preprocess/strata-convert" "$work/street2m.las" -o "$scene" --force -q
+fi
+camera=650235,5401873.6,105.5,180,-8,70
+size=${SIZE:-1920x1080}
+out=$(mktemp -d)
+for r in $(seq "$rounds"); do
+    for side in a b; do
+        bin=$a
+        [ $side = b ] && bin=$b
+        "$bin/src/strata-view" --headless "$scene" --camera=$camera --size "$size" --repeat 5 \
+            --stats --pipeline shaded | grep '^median' >>"$out/$side"
+    done
+done
+# "median of 5 frames: frame F ms, geometry G ms, unproject U ms, hpr H ms, ..."
+for side in a b; do
+    python3 - "$out/$side" "$side" <<'PY'
+import re, statistics, sys
+rows = [dict((k, float(v)) for k, v in re.findall(r'(\w+) ([0-9.]+) ms', l)) for l in open(sys.argv[1])]
+keys = [k for k in rows[0] if k != 'frame']
+med = {k: statistics.median(r[k] for r in rows) for k in keys}
+screen = sum(v for k, v in med.items() if k != 'geometry')
+spread = [sum(v for k, v in r.items() if k not in ('frame', 'geometry')) / r['geometry'] for r in rows]
+print(sys.argv[2], ' '.join('%s %.1f' % (k, v) for k, v in med.items()),
+      '| screen %.1f ms = %.2fx geometry (rounds %s)' % (screen, screen / med['geometry'],
+      ', '.join('%.2f' % s for s in spread)))
+PY
+done
+rm -rf "$out"

@@ -1,0 +1,30 @@
+/* SPDX-License-Identifier: MIT
+ * Default views from a sample of the scene's points: which way the scene is long, and
+ * how far back the camera must stand for the points to fill the view.
+ */
+#ifndef STA_CORE_CAMERA_FRAME_H
+#define STA_CORE_CAMERA_FRAME_H
+
+#include <stddef.h>
+
+#include "core/camera.h"
+
+/* The principal horizontal direction of `points` (count xyz triples, world metres) in the
+ * camera's z-up frame (its up_axis), as a yaw in radians, and in *out_elongation
+ * (may be NULL) the ratio of the standard deviations along it and across it (1 for
+ * round or fewer than 2 points; 1e6 at most). */
+double sta_camera_points_long_yaw(const sta_camera *camera, const double *points, size_t count,
+                                  double *out_elongation);
+
+/* Fit, then centre across the view and fit again, this many times in all. */
+#define STA_CAMERA_FRAME_ROUNDS 3
+
+/* Places the camera (yaw, pitch, fov and viewport as set) to look at `centre`, moved
+ * across the view so that what it frames is centred, from the smallest distance at
+ * which, for each of the four edges of the view, a `keep` share (0..1] of the points
+ * lies on its inner side, plus a 5 % margin; sets the near plane from that distance.
+ * With no points the camera stands 1 m back. */
+void sta_camera_frame_points(sta_camera *camera, const double centre[3], const double *points,
+                             size_t count, double keep);
+
+#endif
