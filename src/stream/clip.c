@@ -179,7 +179,7 @@ sta_status sta_clip_parse_classes(sta_clip *clip, const char *text, sta_error *e
     sta_clip parsed = *clip;
     memset(parsed.class_mask, 0, sizeof(parsed.class_mask));
     const char *s = text;
-    do {
+    for (;;) {
         unsigned long lo = 0, hi = 0;
         if (!read_uint(&s, 255, &lo)) {
             return sta_fail(err, STA_ERR_ARG,
@@ -196,7 +196,11 @@ sta_status sta_clip_parse_classes(sta_clip *clip, const char *text, sta_error *e
         for (unsigned long c = lo; c <= hi; c++) {
             sta_clip_set_class(&parsed, (unsigned)c, true);
         }
-    } while (*s == ',' && *++s != '\0');
+        if (*s != ',') {
+            break;
+        }
+        s++;
+    }
     if (*s != '\0') {
         return sta_fail(err, STA_ERR_ARG, "classes \"%s\": unexpected \"%s\"", text, s);
     }
