@@ -29,6 +29,7 @@
 #include "format/strata_writer.h"
 #include "index.h"
 #include "inputs.h"
+#include "las_source.h"
 #include "node_writer.h"
 #include "progress.h"
 #include "refine.h"
@@ -551,6 +552,12 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     wopt.geometry.grid_cells = (uint32_t)grid_cells;
     wopt.zstd_level = level;
     wopt.generator = "strata-convert 0.1";
+    sta_las_source_keep las_source;
+    status = sta_las_source_collect(&job.inputs, &las_source, err);
+    if (status != STA_OK) {
+        goto out;
+    }
+    wopt.las_source = las_source.present ? &las_source.source : NULL;
     status = sta_strata_layout_init(&wopt.layout,
                                     sta_strata_attributes_from_sta_attr(job.inputs.attributes),
                                     extra_dims, extra_count, err);
@@ -558,6 +565,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     status = sta_strata_writer_create(options->output, &wopt, &job.writer, err);
+    sta_las_source_release(&las_source); // the writer keeps a copy
     if (status != STA_OK) {
         goto out;
     }

@@ -460,6 +460,123 @@ static void damaged_scene_is_a_named_error_and_leaves_nothing(void **state)
     unlink(scene);
 }
 
+/* The CRS records (LASF_Projection VLRs and EVLRs, payloads byte for byte) and the
+ * header fields kept in the scene's LAS source block come back; read here from the
+ * files' bytes. */
+typedef struct crs_list {
+    int count;
+    uint16_t ids[8];
+    const uint8_t *data[8];
+    uint64_t size[8];
+} crs_list;
+
+static void collect_crs(const uint8_t *b, size_t size, crs_list *out)
+{
+    memset(out, 0, sizeof(*out));
+    uint16_t header_size = sta_load_u16le(b + 94);
+    uint32_t count = sta_load_u32le(b + 100);
+    size_t at = header_size;
+    for (uint32_t i = 0; i < count; i++) {
+        assert_true(at + 54 <= size);
+        uint16_t length = sta_load_u16le(b + at + 20);
+        if (strncmp((const char *)b + at + 2, "LASF_Projection", 16) == 0 && out->count < 8) {
+            out->ids[out->count] = sta_load_u16le(b + at + 18);
+            out->data[out->count] = b + at + 54;
+            out->size[out->count++] = length;
+        }
+        at += 54u + length;
+    }
+    if (b[25] >= 4) {
+        uint64_t start = sta_load_u64le(b + 235);
+        uint32_t evlrs = sta_load_u32le(b + 243);
+        for (uint32_t i = 0; i < evlrs; i++) {
+            assert_true(start + 60 <= size);
+            uint64_t length = sta_load_u64le(b + start + 20);
+            if (strncmp((const char *)b + start + 2, "LASF_Projection", 16) == 0 &&
+                out->count < 8) {
+                out->ids[out->count] = sta_load_u16le(b + start + 18);
+                out->data[out->count] = b + start + 60;
+                out->size[out->count++] = length;
+            }
+            start += 60u + length;
+        }
+    }
+}
+
+static void crs_records_and_header_fields_come_back(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    // GeoTIFF keys + WKT; adjusted GPS time and an empty GeoDoubleParams; WKT as an
+    // EVLR in LAS 1.4; a LAS 1.0 input.
+    const char *files[] = { "las/autzen_trim.las", "las/1815.las", "las/1_4_w_evlr.las",
+                            "las/Example.las" };
+    const int crs_counts[] = { 4, 3, 1, 1 };
+    for (size_t f = 0; f < sizeof(files) / sizeof(files[0]); f++) {
+        char source[4096], scene[4096], out[4096];
+        snprintf(source, sizeof(source), "%s", sta_test_shared_path(files[f]));
+        snprintf(scene, sizeof(scene), "%s/crs.strata", sta_test_tmpdir());
+        snprintf(out, sizeof(out), "%s/crs.las", sta_test_tmpdir());
+        const char *one[] = { source };
+        convert(one, 1, scene);
+        export_scene(scene, out, NULL, 0);
+        size_t want_size, got_size;
+        uint8_t *want = sta_test_read_file(source, &want_size);
+        uint8_t *got = sta_test_read_file(out, &got_size);
+        crs_list a, b;
+        collect_crs(want, want_size, &a);
+        collect_crs(got, got_size, &b);
+        assert_int_equal(a.count, crs_counts[f]);
+        assert_int_equal(b.count, a.count);
+        for (int i = 0; i < a.count; i++) {
+            assert_int_equal(b.ids[i], a.ids[i]);
+            assert_int_equal(b.size[i], a.size[i]);
+            assert_memory_equal(b.data[i], a.data[i], a.size[i]);
+        }
+        // Global encoding bits 0 (GPS time) and 4 (WKT), file source id, creation date.
+        uint16_t mask = got[25] >= 4 ? 0x11 : 0x01;
+        assert_int_equal(sta_load_u16le(got + 6) & mask, sta_load_u16le(want + 6) & mask);
+        assert_memory_equal(got + 4, want + 4, 2);
+        assert_memory_equal(got + 90, want + 90, 4);
+        assert_int_equal(strncmp((const char *)got + 26, (const char *)want + 26, 32), 0);
+        free(want);
+        free(got);
+        unlink(scene);
+        unlink(out);
+    }
+}
+
+/* The LAS source block is checksummed: a flipped byte in it is a named error. */
+static void damaged_las_source_block_is_named(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char source[4096], scene[4096];
+    snprintf(source, sizeof(source), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    snprintf(scene, sizeof(scene), "%s/src.strata", sta_test_tmpdir());
+    const char *one[] = { source };
+    convert(one, 1, scene);
+    size_t size;
+    uint8_t *bytes = sta_test_read_file(scene, &size);
+    sta_strata_reader *r = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_strata_open_memory(bytes, size, "src.strata", NULL, &r, &err), STA_OK);
+    const sta_strata_info *info = sta_strata_reader_info(r);
+    assert_int_equal(info->version_minor, 2);
+    const sta_strata_las_source *las = sta_strata_reader_las_source(r);
+    assert_non_null(las);
+    assert_int_equal(las->point_format, 3);
+    assert_int_equal(las->record_count, 4);
+    uint64_t at = info->source_offset + 200;
+    sta_strata_close(r);
+    bytes[at] ^= 1;
+    assert_int_equal(sta_strata_open_memory(bytes, size, "src.strata", NULL, &r, &err),
+                     STA_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "LAS source"));
+    free(bytes);
+    unlink(scene);
+}
+
 static void refused_outputs_are_named(void **state)
 {
     (void)state;
@@ -602,6 +719,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(level_spacing_and_max_points),
     cmocka_unit_test(damaged_scene_is_a_named_error_and_leaves_nothing),
     cmocka_unit_test(refused_outputs_are_named),
+    cmocka_unit_test(crs_records_and_header_fields_come_back),
+    cmocka_unit_test(damaged_las_source_block_is_named),
     cmocka_unit_test(point_format_follows_the_attributes),
     cmocka_unit_test(clip_node_test_is_conservative),
     cmocka_unit_test(clip_parsers_name_what_is_wrong),

@@ -30,6 +30,7 @@ typedef struct export_job {
     size_t pending; /* points waiting in the batch */
     uint8_t *extra_vlr;
     size_t extra_vlr_size;
+    sta_las_vlr_record *vlrs; /* the scene's CRS records, then the Extra Bytes record */
 } export_job;
 
 int sta_export_point_format(uint32_t sta_attr_mask)
@@ -148,6 +149,54 @@ static sta_status run_nodes(export_job *job, sta_export_report *report, sta_erro
     return status;
 }
 
+/* The writer's header fields and VLRs from the scene's LAS source block (absent in
+ * files before 1.2): identifiers, date, GPS time encoding, CRS records; then the
+ * Extra Bytes record. A CRS EVLR too large for a LAS 1.2 VLR is an error. */
+static sta_status source_options(export_job *job, const sta_strata_las_source *source,
+                                 int version_minor, sta_las_write_options *w, sta_error *err)
+{
+    uint32_t count = source ? source->record_count : 0;
+    job->vlrs = sta_calloc((size_t)count + 1, sizeof(*job->vlrs));
+    if (!job->vlrs) {
+        return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory", job->options->output);
+    }
+    size_t n = 0;
+    if (source) {
+        w->system_identifier = source->system_identifier;
+        w->generating_software = source->generating_software;
+        w->file_source_id = source->file_source_id;
+        w->creation_day = source->creation_day;
+        w->creation_year = source->creation_year;
+        w->gps_time_adjusted = source->global_encoding & 1u;
+        w->wkt_crs = source->global_encoding & (1u << 4); // LAS 1.4: the CRS is WKT
+        for (uint32_t i = 0; i < count; i++) {
+            const sta_strata_las_record *r = &source->records[i];
+            if (version_minor < 4 && r->size > UINT16_MAX) {
+                return sta_fail(err, STA_ERR_ARG,
+                                "%s: the CRS record %s/%u of %llu bytes needs LAS 1.4 (an EVLR)",
+                                job->options->output, r->user_id, r->record_id,
+                                (unsigned long long)r->size);
+            }
+            job->vlrs[n++] = (sta_las_vlr_record){ .user_id = r->user_id,
+                                                   .record_id = r->record_id,
+                                                   .description = r->description,
+                                                   .data = r->data,
+                                                   .size = r->size,
+                                                   .extended = r->extended };
+        }
+    }
+    if (job->extra_vlr_size > 0) {
+        job->vlrs[n++] = (sta_las_vlr_record){ .user_id = "LASF_Spec",
+                                               .record_id = 4,
+                                               .description = "Extra Bytes",
+                                               .data = job->extra_vlr,
+                                               .size = job->extra_vlr_size };
+    }
+    w->vlrs = job->vlrs;
+    w->vlr_count = n;
+    return STA_OK;
+}
+
 static sta_status open_writer(export_job *job, sta_export_report *report, sta_error *err)
 {
     const sta_export_options *o = job->options;
@@ -170,20 +219,18 @@ static sta_status open_writer(export_job *job, sta_export_report *report, sta_er
     if (status != STA_OK) {
         return status;
     }
-    const sta_las_vlr_record extra_vlr = { .user_id = "LASF_Spec",
-                                           .record_id = 4,
-                                           .description = "Extra Bytes",
-                                           .data = job->extra_vlr,
-                                           .size = job->extra_vlr_size };
     sta_las_write_options w = {
         .version_minor = report->version_minor,
         .point_format = report->point_format,
         .grid = info->geometry.grid,
         .generating_software = "strata-export",
-        .vlrs = job->extra_vlr_size > 0 ? &extra_vlr : NULL,
-        .vlr_count = job->extra_vlr_size > 0 ? 1u : 0u,
         .extra_size = job->extra_size,
     };
+    const sta_strata_las_source *source = sta_strata_reader_las_source(job->reader);
+    status = source_options(job, source, report->version_minor, &w, err);
+    if (status != STA_OK) {
+        return status;
+    }
     job->points = sta_alloc_array(EXPORT_BATCH_POINTS, sizeof(*job->points));
     job->extra = job->extra_size ? sta_alloc_array(EXPORT_BATCH_POINTS, job->extra_size) : NULL;
     if (!job->points || (job->extra_size && !job->extra)) {
@@ -245,6 +292,7 @@ sta_status sta_export(const sta_export_options *options, sta_export_report *repo
     sta_free(job.points);
     sta_free(job.extra);
     sta_free(job.extra_vlr);
+    sta_free(job.vlrs);
     sta_strata_decoder_destroy(job.decoder);
     sta_strata_close(job.reader);
     return status;

@@ -68,6 +68,9 @@ void sta_strata_header_store(const sta_strata_info *info, uint8_t *out)
     sta_store_u64le(out + STA_STRATA_H_EXTRA_CHECKSUM_OFF, info->extra_dims_checksum);
     size_t n = strnlen(info->generator, 32);
     memcpy(out + STA_STRATA_H_GENERATOR_OFF, info->generator, n);
+    sta_store_u64le(out + STA_STRATA_H_SOURCE_OFFSET_OFF, info->source_offset);
+    sta_store_u64le(out + STA_STRATA_H_SOURCE_SIZE_OFF, info->source_size);
+    sta_store_u64le(out + STA_STRATA_H_SOURCE_CHECKSUM_OFF, info->source_checksum);
     sta_store_u64le(out + STA_STRATA_H_HEADER_CHECKSUM_OFF,
                     sta_strata_header_checksum(out, info->header_size));
 }
@@ -311,6 +314,11 @@ static void load_fields(const uint8_t *h, sta_strata_info *info)
     info->table_checksum = sta_load_u64le(h + STA_STRATA_H_TABLE_CHECKSUM_OFF);
     info->extra_dims_checksum = sta_load_u64le(h + STA_STRATA_H_EXTRA_CHECKSUM_OFF);
     copy_text(info->generator, h + STA_STRATA_H_GENERATOR_OFF, 32);
+    if (info->version_minor >= 2) { // reserved (ignored) before 1.2
+        info->source_offset = sta_load_u64le(h + STA_STRATA_H_SOURCE_OFFSET_OFF);
+        info->source_size = sta_load_u64le(h + STA_STRATA_H_SOURCE_SIZE_OFF);
+        info->source_checksum = sta_load_u64le(h + STA_STRATA_H_SOURCE_CHECKSUM_OFF);
+    }
 }
 
 sta_status sta_strata_header_parse(const uint8_t *data, size_t size, const char *name,

@@ -391,7 +391,7 @@ sta_status sta_las_writer_open(const char *path, const sta_las_write_options *op
         return status;
     }
     w->global_encoding = options->gps_time_adjusted ? 1u : 0u;
-    if (w->wkt && w->version_minor >= 4) {
+    if ((w->wkt || options->wkt_crs) && w->version_minor >= 4) {
         w->global_encoding |= 1u << 4;
     }
     for (int a = 0; a < 3; a++) {

@@ -49,6 +49,8 @@ typedef struct sta_las_write_options {
     const char *wkt;                 /* OGC WKT, written as the LASF_Projection/2112 VLR
                                         (1.4: global encoding bit 4 is set); NULL: none */
     bool gps_time_adjusted;          /* global encoding bit 0: adjusted standard GPS time */
+    bool wkt_crs;                    /* LAS 1.4: global encoding bit 4 (the CRS is WKT),
+                                        for a WKT record given in vlrs */
     uint16_t file_source_id;         /* as stored */
     uint16_t creation_day;           /* day of year 1..366, or 0 (unknown) */
     uint16_t creation_year;          /* e.g. 2024, or 0 (unknown) */
