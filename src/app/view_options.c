@@ -13,6 +13,7 @@
 #include "render/pipeline.h"
 #include "render/ref/hpr_ref.h"
 #include "render/ref/normals_screen_ref.h"
+#include "stream/clip_cli.h"
 #include "stream/streamer.h"
 
 enum {
@@ -210,6 +211,24 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .int_min = 1,
           .int_max = 256,
           .help = "headless: once loaded, time N more frames and print their median time" },
+        { .name = "clip",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &a->clip,
+          .metavar = "X0,Y0,Z0,X1,Y1,Z1",
+          .parse = sta_clip_cli_box,
+          .help = STA_CLIP_HELP_BOX "; nodes outside are not loaded" },
+        { .name = "classes",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &a->clip,
+          .metavar = "LIST",
+          .parse = sta_clip_cli_classes,
+          .help = STA_CLIP_HELP_CLASSES },
+        { .name = "returns",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &a->clip,
+          .metavar = "LIST",
+          .parse = sta_clip_cli_returns,
+          .help = STA_CLIP_HELP_RETURNS },
         { .name = "budget",
           .kind = STA_CLI_COUNT,
           .dest = &a->budget_points,

@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "core/camera.h"
+#include "stream/clip.h"
 
 typedef struct sta_view_args {
     const char *scene; /* .strata path */
@@ -36,6 +37,7 @@ typedef struct sta_view_args {
     double hpr_threshold;      /* --hpr-threshold */
     double s0_m;               /* --s0 */
     int repeat;                /* --repeat: time N more frames once loaded */
+    sta_clip clip;             /* --clip, --classes, --returns (the streamer's selection) */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

@@ -53,7 +53,7 @@ void sta_streamer_options_defaults(sta_streamer_options *o)
         long cores = sysconf(_SC_NPROCESSORS_ONLN);
         o->loader_threads = cores > 1 ? (int)cores - 1 : 1;
     }
-    sta_select_params select = { 0, o->min_spacing_px };
+    sta_select_params select = { .min_spacing_px = o->min_spacing_px };
     sta_select_params_defaults(&select);
     o->min_spacing_px = select.min_spacing_px;
 }
@@ -112,6 +112,9 @@ static sta_status start(sta_streamer *s, const sta_streamer_options *options, st
         sta_residency_init(&s->residency, s->tree.count, s->options.gpu_bytes_cap, err);
     if (status != STA_OK) {
         return status;
+    }
+    if (s->reader && sta_clip_filters_points(&s->options.clip)) {
+        s->strata_source.clip = &s->options.clip; // before any worker starts
     }
     sta_loader_options lo = { .threads = s->options.loader_threads };
     return sta_loader_create(s->source, &lo, &s->loader, err);
@@ -247,7 +250,7 @@ sta_status sta_streamer_update(sta_streamer *s, const sta_camera *camera, sta_st
     uint64_t cache_points = s->options.gpu_bytes_cap / STA_GPU_POINT_SIZE;
     sta_select_params params = { s->options.budget_points < cache_points ? s->options.budget_points
                                                                          : cache_points,
-                                 s->options.min_spacing_px };
+                                 s->options.min_spacing_px, &s->options.clip };
     sta_status status = sta_select(&s->tree, camera, &params, &s->selection, err);
     if (status != STA_OK) {
         return status;

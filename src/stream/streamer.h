@@ -25,6 +25,7 @@
 #include "core/camera.h"
 #include "core/status.h"
 #include "format/strata_reader.h"
+#include "stream/clip.h"
 #include "stream/lod_tree.h"
 #include "stream/node_source.h"
 #include "stream/select.h"
@@ -40,6 +41,10 @@ typedef struct sta_streamer_options {
     uint64_t upload_bytes_per_frame; /* 0: 64 MiB */
     int loader_threads;              /* 0: cores - 1 (at least 1) */
     double min_spacing_px;           /* 0: 0.75 (sta_select_params) */
+    sta_clip clip;                   /* zero: everything; nodes outside it are neither
+                                        selected nor loaded, and loaded nodes keep only
+                                        the points that pass (its polygon is borrowed
+                                        and must outlive the streamer) */
 } sta_streamer_options;
 
 /* Fills the zero fields of `options` with their defaults. */
