@@ -11,12 +11,14 @@
 #include <time.h>
 
 #include "app/view_setup.h"
+#include "app/view_survey.h"
 #include "core/alloc.h"
 #include "core/clock.h"
 #include "render/camera_path.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
 #include "render/image_io.h"
+#include "render/measure_file.h"
 #include "render/scene.h"
 
 static void print_stats(int frame, const sta_frame_stats *s, double ms)
@@ -241,6 +243,35 @@ static sta_status play_path(const sta_view_args *args, sta_scene *scene, sta_cam
     return status;
 }
 
+// --pick, --measure and --measure-csv after the last frame (lines on stdout).
+static sta_status survey_outputs(const sta_view_args *args, const sta_scene *scene,
+                                 const sta_camera *camera, sta_error *err)
+{
+    char line[1024];
+    sta_status status = STA_OK;
+    if (args->has_pick) {
+        sta_pick_result pick;
+        status = sta_view_pick(scene, camera, args->pick_px[0], args->pick_px[1], &pick, err);
+        if (status == STA_OK) {
+            sta_view_describe_pick(&pick, line, sizeof(line));
+            printf("pick %g,%g: %s\n", args->pick_px[0], args->pick_px[1], line);
+        }
+    }
+    sta_measure_list measures = { 0 };
+    if (status == STA_OK && args->measure_file) {
+        status = sta_measure_load_json(args->measure_file, &measures, err);
+    }
+    for (size_t i = 0; status == STA_OK && i < measures.count; i++) {
+        sta_view_describe_measure(&measures.items[i], line, sizeof(line));
+        printf("measure %zu %s\n", i + 1, line);
+    }
+    if (status == STA_OK && args->measure_csv) {
+        status = sta_measure_save_csv(args->measure_csv, &measures, err);
+    }
+    sta_measure_list_release(&measures);
+    return status;
+}
+
 int sta_view_run_headless(const sta_view_args *args)
 {
     sta_error err = { 0 };
@@ -273,6 +304,9 @@ int sta_view_run_headless(const sta_view_args *args)
             if (status == STA_OK && args->repeat > 0) {
                 status = time_repeats(args, scene, &camera, &target, &err);
             }
+        }
+        if (status == STA_OK) {
+            status = survey_outputs(args, scene, &camera, &err);
         }
         if (status == STA_OK && (args->out_png || args->out_exr)) {
             status = write_outputs(args, scene, &camera, &target, &err);

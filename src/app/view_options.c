@@ -110,6 +110,17 @@ static sta_status parse_camera(const sta_cli_option *option, const char *value, 
     return STA_OK;
 }
 
+// --pick X,Y (dest: sta_view_args).
+static sta_status parse_pick(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_view_args *a = option->dest;
+    if (parse_doubles(value, a->pick_px, 2, 2) < 0) {
+        return sta_cli_fail_value(err, option, value, "X,Y in pixels");
+    }
+    a->has_pick = true;
+    return STA_OK;
+}
+
 static void show_camera(const sta_cli_option *option, char *out_text, size_t size)
 {
     const sta_view_args *a = option->dest;
@@ -164,7 +175,8 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
         { .name = "headless",
           .kind = STA_CLI_FLAG,
           .dest = &a->headless,
-          .help = "render offscreen; needs --out, --exr, --frames-out or --stats" },
+          .help = "render offscreen; needs --out, --exr, --frames-out, --stats, --pick or "
+                  "--measure" },
         { .name = "out",
           .kind = STA_CLI_STRING,
           .dest = &a->out_png,
@@ -229,6 +241,23 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .metavar = "LIST",
           .parse = sta_clip_cli_returns,
           .help = STA_CLIP_HELP_RETURNS },
+        { .name = "pick",
+          .kind = STA_CLI_CALLBACK,
+          .dest = a,
+          .metavar = "X,Y",
+          .parse = parse_pick,
+          .help = "headless: after the last frame, print the point drawn at pixel X,Y "
+                  "(origin top-left): coordinates and attributes" },
+        { .name = "measure",
+          .kind = STA_CLI_STRING,
+          .dest = &a->measure_file,
+          .metavar = "FILE.json",
+          .help = "load measurements (as the window saves them with S) and list their values" },
+        { .name = "measure-csv",
+          .kind = STA_CLI_STRING,
+          .dest = &a->measure_csv,
+          .metavar = "FILE.csv",
+          .help = "write the measurements as CSV (headless: those of --measure)" },
         { .name = "budget",
           .kind = STA_CLI_COUNT,
           .dest = &a->budget_points,
@@ -350,8 +379,10 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
                                    r.positional[1]);
     }
     a->scene = r.positional[0];
-    if (a->headless && !a->out_png && !a->out_exr && !a->frame_pattern && !a->stats) {
-        return sta_cli_usage_error(&cli, "--headless needs --out, --exr, --frames-out or --stats");
+    if (a->headless && !a->out_png && !a->out_exr && !a->frame_pattern && !a->stats &&
+        !a->has_pick && !a->measure_file) {
+        return sta_cli_usage_error(
+            &cli, "--headless needs --out, --exr, --frames-out, --stats, --pick or --measure");
     }
     return 0;
 }

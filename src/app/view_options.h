@@ -38,6 +38,10 @@ typedef struct sta_view_args {
     double s0_m;               /* --s0 */
     int repeat;                /* --repeat: time N more frames once loaded */
     sta_clip clip;             /* --clip, --classes, --returns (the streamer's selection) */
+    bool has_pick;             /* --pick given */
+    double pick_px[2];         /* --pick X,Y: pixel to pick after the last frame */
+    const char *measure_file;  /* --measure: measurements (JSON) to load and show */
+    const char *measure_csv;   /* --measure-csv: export the measurements as CSV */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

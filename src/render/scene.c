@@ -75,6 +75,11 @@ void sta_scene_close(sta_scene *s)
     sta_free(s);
 }
 
+const sta_streamer *sta_scene_streamer(const sta_scene *s)
+{
+    return s->streamer;
+}
+
 const sta_strata_info *sta_scene_info(const sta_scene *s)
 {
     return sta_strata_reader_info(sta_streamer_reader(s->streamer));

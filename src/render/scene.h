@@ -48,6 +48,9 @@ void sta_scene_close(sta_scene *scene);
 
 const sta_strata_info *sta_scene_info(const sta_scene *scene);
 
+/* The scene's streamer (draw list, reader, clip: what picking needs). */
+const sta_streamer *sta_scene_streamer(const sta_scene *scene);
+
 /* Bounds of where most of the scene is (sta_streamer_robust_bounds). */
 void sta_scene_robust_bounds(const sta_scene *scene, double out_min[3], double out_max[3]);
 

@@ -38,6 +38,7 @@ struct sta_streamer {
     sta_stream_upload *upload;
     size_t loaded_count;
     uint32_t *draw;
+    size_t draw_count; /* entries of draw from the last update */
     uint32_t *new_bad;
     uint8_t *selected;     /* scratch for the s0 estimate, one byte per node */
     s0_sample *s0_samples; /* scratch for the s0 estimate, one per node */
@@ -280,6 +281,7 @@ sta_status sta_streamer_update(sta_streamer *s, const sta_camera *camera, sta_st
     f->evict = s->evict;
     f->upload = s->upload;
     f->draw = s->draw;
+    s->draw_count = f->draw_count;
     f->new_bad = s->new_bad;
     f->points_selected = s->selection.point_count;
     f->nodes_selected = (uint32_t)s->selection.count;
@@ -300,6 +302,17 @@ const sta_streamer_options *sta_streamer_options_used(const sta_streamer *s)
 const sta_lod_tree *sta_streamer_tree(const sta_streamer *s)
 {
     return &s->tree;
+}
+
+const uint32_t *sta_streamer_last_draw(const sta_streamer *s, size_t *out_count)
+{
+    *out_count = s->draw_count;
+    return s->draw;
+}
+
+const sta_clip *sta_streamer_clip(const sta_streamer *s)
+{
+    return &s->options.clip;
 }
 
 const sta_strata_reader *sta_streamer_reader(const sta_streamer *s)

@@ -103,6 +103,13 @@ const sta_streamer_options *sta_streamer_options_used(const sta_streamer *stream
 
 const sta_lod_tree *sta_streamer_tree(const sta_streamer *streamer);
 
+/* The nodes drawn by the last update (its draw list, valid until the next update),
+ * for picking. */
+const uint32_t *sta_streamer_last_draw(const sta_streamer *streamer, size_t *out_count);
+
+/* The clip in use (zeroed: none). */
+const sta_clip *sta_streamer_clip(const sta_streamer *streamer);
+
 /* The .strata reader (owned by the streamer), or NULL for a streamer over another source. */
 const sta_strata_reader *sta_streamer_reader(const sta_streamer *streamer);
 

@@ -1,0 +1,109 @@
+/* SPDX-License-Identifier: MIT
+ * Picking and measurement text for strata-view. */
+#include "app/view_survey.h"
+
+#include <string.h>
+
+#include "core/json_out.h"
+
+sta_status sta_view_pick(const sta_scene *scene, const sta_camera *camera, double x_px, double y_px,
+                         sta_pick_result *out, sta_error *err)
+{
+    const sta_streamer *streamer = sta_scene_streamer(scene);
+    size_t count = 0;
+    const uint32_t *nodes = sta_streamer_last_draw(streamer, &count);
+    sta_strata_decoder *decoder = NULL;
+    sta_status status = sta_strata_decoder_create(&decoder, err);
+    if (status == STA_OK) {
+        status = sta_pick(sta_streamer_reader(streamer), decoder, nodes, count,
+                          sta_streamer_clip(streamer), camera, x_px, y_px, STA_VIEW_PICK_RADIUS_PX,
+                          out, err);
+    }
+    sta_strata_decoder_destroy(decoder);
+    return status;
+}
+
+// Appends formatted text at *at (bounded by end).
+static void append(char **at, const char *end, const char *text)
+{
+    size_t room = (size_t)(end - *at);
+    size_t n = strlen(text);
+    if (room == 0) {
+        return;
+    }
+    n = n < room - 1 ? n : room - 1;
+    memcpy(*at, text, n);
+    *at += n;
+    **at = '\0';
+}
+
+void sta_view_describe_pick(const sta_pick_result *pick, char *out, size_t size)
+{
+    char *at = out, *end = out + size;
+    out[0] = '\0';
+    if (!pick->hit) {
+        append(&at, end, "no point");
+        return;
+    }
+    char num[40], text[160];
+    for (int a = 0; a < 3; a++) {
+        append(&at, end, a == 0 ? "x " : (a == 1 ? " y " : " z "));
+        append(&at, end, sta_format_double(pick->world[a], num, sizeof(num)));
+    }
+    const sta_point *p = &pick->point;
+    uint32_t attr = pick->attributes;
+    if (attr & STA_ATTR_CLASSIFICATION) {
+        snprintf(text, sizeof(text), "  class %u (%s)", (unsigned)p->classification,
+                 sta_pick_class_name(p->classification));
+        append(&at, end, text);
+    }
+    if (attr & STA_ATTR_INTENSITY) {
+        snprintf(text, sizeof(text), "  intensity %u", (unsigned)p->intensity);
+        append(&at, end, text);
+    }
+    if (attr & STA_ATTR_RETURNS) {
+        snprintf(text, sizeof(text), "  return %u of %u", (unsigned)p->return_number,
+                 (unsigned)p->number_of_returns);
+        append(&at, end, text);
+    }
+    if (attr & STA_ATTR_GPS_TIME) {
+        append(&at, end, "  gps time ");
+        append(&at, end, sta_format_double(p->gps_time, num, sizeof(num)));
+    }
+    if (attr & STA_ATTR_RGB) {
+        snprintf(text, sizeof(text), "  rgb %u %u %u", (unsigned)p->red, (unsigned)p->green,
+                 (unsigned)p->blue);
+        append(&at, end, text);
+    }
+}
+
+void sta_view_describe_measure(const sta_measure *m, char *out, size_t size)
+{
+    sta_measure_values v;
+    if (sta_measure_compute(m->kind, (const double(*)[3])m->points, m->count, &v, NULL) != STA_OK) {
+        snprintf(out, size, "%s: %s (incomplete)", m->name, sta_measure_kind_name(m->kind));
+        return;
+    }
+    const char *name = m->name[0] ? m->name : sta_measure_kind_name(m->kind);
+    switch (m->kind) {
+    case STA_MEASURE_POINT:
+        snprintf(out, size, "%s: %.3f %.3f %.3f", name, m->points[0][0], m->points[0][1],
+                 m->points[0][2]);
+        break;
+    case STA_MEASURE_DISTANCE:
+        snprintf(out, size, "%s: 3D %.3f m, horizontal %.3f m, vertical %+.3f m", name,
+                 v.distance_3d, v.distance_xy, v.distance_z);
+        break;
+    case STA_MEASURE_HEIGHT:
+        snprintf(out, size, "%s: height %+.3f m above ground", name, v.distance_z);
+        break;
+    case STA_MEASURE_POLYLINE:
+        snprintf(out, size, "%s: length %.3f m (horizontal %.3f m), %zu points", name,
+                 v.distance_3d, v.distance_xy, m->count);
+        break;
+    case STA_MEASURE_AREA:
+        snprintf(out, size, "%s: area %.3f m2 plan, %.3f m2 3D, perimeter %.3f m", name, v.area_xy,
+                 v.area_3d, v.distance_3d);
+        break;
+    }
+}
