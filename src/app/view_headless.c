@@ -17,6 +17,7 @@
 #include "render/camera_path.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/hud_text.h"
 #include "render/image_io.h"
 #include "render/measure_file.h"
 #include "render/scene.h"
@@ -146,9 +147,24 @@ static bool read_normals(const sta_scene *scene, const sta_render_target *target
     return true;
 }
 
+// Burns the readout into the image (top-left), with the default font.
+static sta_status burn_readout(const sta_view_readout *readout, uint8_t *rgba, int width,
+                               int height, sta_error *err)
+{
+    sta_hud_font *font = NULL;
+    sta_status status = sta_hud_font_open(NULL, 0.0f, &font, err);
+    if (status == STA_OK) {
+        const char *lines[STA_VIEW_HUD_MAX_LINES];
+        sta_view_readout_pointers(readout, lines);
+        sta_hud_draw_lines(font, rgba, width, height, 8, 8, lines, readout->count);
+    }
+    sta_hud_font_close(font);
+    return status;
+}
+
 static sta_status write_outputs(const sta_view_args *args, const sta_scene *scene,
                                 const sta_camera *camera, const sta_render_target *target,
-                                sta_error *err)
+                                const sta_view_readout *readout, sta_error *err)
 {
     size_t pixels = (size_t)target->width_px * (size_t)target->height_px;
     uint8_t *rgba = sta_alloc_array(pixels, 4);
@@ -161,6 +177,9 @@ static sta_status write_outputs(const sta_view_args *args, const sta_scene *scen
     }
     if (status == STA_OK) {
         sta_render_target_read_rgba(target, rgba);
+    }
+    if (status == STA_OK && readout) {
+        status = burn_readout(readout, rgba, target->width_px, target->height_px, err);
     }
     if (status == STA_OK && args->out_png) {
         status = sta_png_write_rgba(args->out_png, rgba, target->width_px, target->height_px, err);
@@ -244,13 +263,15 @@ static sta_status play_path(const sta_view_args *args, sta_scene *scene, sta_cam
 }
 
 // --pick, --measure and --measure-csv after the last frame (lines on stdout).
+// Also fills the readout burnt in by --hud.
 static sta_status survey_outputs(const sta_view_args *args, const sta_scene *scene,
-                                 const sta_camera *camera, sta_error *err)
+                                 const sta_camera *camera, const sta_frame_stats *stats,
+                                 sta_view_readout *readout, sta_error *err)
 {
     char line[1024];
     sta_status status = STA_OK;
+    sta_pick_result pick;
     if (args->has_pick) {
-        sta_pick_result pick;
         status = sta_view_pick(scene, camera, args->pick_px[0], args->pick_px[1], &pick, err);
         if (status == STA_OK) {
             sta_view_describe_pick(&pick, line, sizeof(line));
@@ -268,6 +289,11 @@ static sta_status survey_outputs(const sta_view_args *args, const sta_scene *sce
     if (status == STA_OK && args->measure_csv) {
         status = sta_measure_save_csv(args->measure_csv, &measures, err);
     }
+    sta_pipeline_options pipeline;
+    sta_view_pipeline_options(args, &pipeline);
+    sta_view_readout_fill(readout, stats, 0.0, args->budget_points,
+                          sta_pipeline_mode_name(pipeline.mode),
+                          args->has_pick && status == STA_OK ? &pick : NULL, &measures);
     sta_measure_list_release(&measures);
     return status;
 }
@@ -296,7 +322,7 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_view_pipeline_options(args, &pipeline);
         sta_scene_set_pipeline(scene, &pipeline);
         sta_scene_set_timing(scene, args->stats);
-        sta_frame_stats stats;
+        sta_frame_stats stats = { 0 };
         if (args->path_file) {
             status = play_path(args, scene, &camera, &target, &err);
         } else {
@@ -305,11 +331,13 @@ int sta_view_run_headless(const sta_view_args *args)
                 status = time_repeats(args, scene, &camera, &target, &err);
             }
         }
+        sta_view_readout readout = { .count = 0 };
         if (status == STA_OK) {
-            status = survey_outputs(args, scene, &camera, &err);
+            status = survey_outputs(args, scene, &camera, &stats, &readout, &err);
         }
         if (status == STA_OK && (args->out_png || args->out_exr)) {
-            status = write_outputs(args, scene, &camera, &target, &err);
+            status =
+                write_outputs(args, scene, &camera, &target, args->hud ? &readout : NULL, &err);
         }
     }
     sta_render_target_release(&target);

@@ -258,6 +258,11 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .dest = &a->measure_csv,
           .metavar = "FILE.csv",
           .help = "write the measurements as CSV (headless: those of --measure)" },
+        { .name = "hud",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->hud,
+          .help = "headless: burn the readout (budget use, nodes, pipeline, pick, "
+                  "measurements) into the image, as the window shows it" },
         { .name = "budget",
           .kind = STA_CLI_COUNT,
           .dest = &a->budget_points,

@@ -42,6 +42,7 @@ typedef struct sta_view_args {
     double pick_px[2];         /* --pick X,Y: pixel to pick after the last frame */
     const char *measure_file;  /* --measure: measurements (JSON) to load and show */
     const char *measure_csv;   /* --measure-csv: export the measurements as CSV */
+    bool hud;                  /* --hud: burn the readout into headless frames */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

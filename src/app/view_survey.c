@@ -2,6 +2,7 @@
  * Picking and measurement text for strata-view. */
 #include "app/view_survey.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "core/json_out.h"
@@ -105,5 +106,56 @@ void sta_view_describe_measure(const sta_measure *m, char *out, size_t size)
         snprintf(out, size, "%s: area %.3f m2 plan, %.3f m2 3D, perimeter %.3f m", name, v.area_xy,
                  v.area_3d, v.distance_3d);
         break;
+    }
+}
+
+// Adds one line to the readout if there is room.
+static char *readout_line(sta_view_readout *out)
+{
+    if (out->count >= STA_VIEW_HUD_MAX_LINES) {
+        return NULL;
+    }
+    char *line = out->lines[out->count++];
+    line[0] = '\0';
+    return line;
+}
+
+void sta_view_readout_fill(sta_view_readout *out, const sta_frame_stats *stats, double fps,
+                           uint64_t budget_points, const char *pipeline,
+                           const sta_pick_result *pick, const sta_measure_list *measures)
+{
+    const size_t size = sizeof(out->lines[0]);
+    out->count = 0;
+    char *line = readout_line(out);
+    if (fps > 0) {
+        snprintf(line, size, "%.0f fps  ", fps);
+    }
+    size_t n = strlen(line);
+    snprintf(line + n, size - n, "%.2f / %.2f M points (%.0f%% of budget)  pipeline %s",
+             (double)stats->points_drawn * 1e-6, (double)budget_points * 1e-6,
+             budget_points ? 100.0 * (double)stats->points_drawn / (double)budget_points : 0.0,
+             pipeline);
+    line = readout_line(out);
+    snprintf(line, size, "%u nodes resident, %zu loading  %.0f MiB GPU%s", stats->nodes_resident,
+             stats->loader_backlog, (double)stats->gpu_bytes / 1048576.0,
+             stats->bad_nodes ? "  (damaged nodes hidden)" : "");
+    if (pick) {
+        line = readout_line(out);
+        memcpy(line, "pick: ", 7);
+        sta_view_describe_pick(pick, line + 6, size - 6);
+    }
+    for (size_t i = 0; measures && i < measures->count; i++) {
+        line = readout_line(out);
+        if (!line) {
+            break;
+        }
+        sta_view_describe_measure(&measures->items[i], line, size);
+    }
+}
+
+void sta_view_readout_pointers(const sta_view_readout *readout, const char **out_lines)
+{
+    for (size_t i = 0; i < readout->count; i++) {
+        out_lines[i] = readout->lines[i];
     }
 }

@@ -23,6 +23,23 @@ sta_status sta_view_pick(const sta_scene *scene, const sta_camera *camera, doubl
  * name, intensity, return n of m, GPS time, RGB. Writes "no point" for a miss. */
 void sta_view_describe_pick(const sta_pick_result *pick, char *out, size_t size);
 
+/* The readout's lines (fps, budget use, nodes, pipeline, picked point, measurements). */
+#define STA_VIEW_HUD_MAX_LINES 24
+typedef struct sta_view_readout {
+    char lines[STA_VIEW_HUD_MAX_LINES][320];
+    size_t count;
+} sta_view_readout;
+
+/* Fills `out` with the frame's figures: `fps` (0: not shown, e.g. headless), points
+ * drawn of the budget, nodes resident and loading, GPU memory, the pipeline's name,
+ * then the pick (when `pick` is not NULL) and up to the lines left of measurements. */
+void sta_view_readout_fill(sta_view_readout *out, const sta_frame_stats *stats, double fps,
+                           uint64_t budget_points, const char *pipeline,
+                           const sta_pick_result *pick, const sta_measure_list *measures);
+
+/* The readout's lines as an array of pointers (for sta_hud_draw_lines). */
+void sta_view_readout_pointers(const sta_view_readout *readout, const char **out_lines);
+
 /* One line per measurement: name, kind and its values (metres, square metres). */
 void sta_view_describe_measure(const sta_measure *m, char *out, size_t size);
 
