@@ -10,6 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "app/view_tools.h"
 #include "convert.h"
 #include "core/measure.h"
 #include "io/las_write.h"
@@ -301,11 +302,67 @@ static void measurements_round_trip_json_and_csv(void **state)
     unlink(csv_path);
 }
 
+static sta_pick_result hit_at(double x, double y, double z)
+{
+    sta_pick_result r = { .hit = true, .world = { x, y, z } };
+    return r;
+}
+
+/* The window's tools: distance finishes on its second pick, a miss adds nothing, a
+ * polyline waits for Enter, undo drops a vertex then a measurement. */
+static void measuring_tools_follow_the_clicks(void **state)
+{
+    (void)state;
+    sta_view_tools t;
+    sta_view_tools_init(&t);
+    sta_error err = { 0 };
+    bool done = false;
+    sta_view_tools_next(&t); // point -> distance
+    assert_int_equal(t.tool, STA_MEASURE_DISTANCE);
+    sta_pick_result a = hit_at(OX + 1, OY + 1, 10), b = hit_at(OX + 4, OY + 5, 10);
+    sta_pick_result miss = { .hit = false };
+    assert_int_equal(sta_view_tools_click(&t, &a, &done, &err), STA_OK);
+    assert_false(done);
+    assert_int_equal(sta_view_tools_click(&t, &miss, &done, &err), STA_OK);
+    assert_int_equal(t.pending_count, 1);
+    assert_int_equal(sta_view_tools_click(&t, &b, &done, &err), STA_OK);
+    assert_true(done);
+    assert_int_equal(t.list.count, 1);
+    assert_string_equal(t.list.items[0].name, "distance 1");
+    sta_measure_values v;
+    assert_int_equal(sta_measure_compute(t.list.items[0].kind,
+                                         (const double(*)[3])t.list.items[0].points,
+                                         t.list.items[0].count, &v, &err),
+                     STA_OK);
+    assert_true(fabs(v.distance_xy - 5.0) < 1e-9);
+    sta_view_tools_next(&t); // height
+    sta_view_tools_next(&t); // polyline
+    assert_int_equal(t.tool, STA_MEASURE_POLYLINE);
+    assert_false(sta_view_tools_finish(&t)); // nothing picked yet
+    for (int i = 0; i < 3; i++) {
+        sta_pick_result p = hit_at(OX + i, OY, 10);
+        assert_int_equal(sta_view_tools_click(&t, &p, &done, &err), STA_OK);
+        assert_false(done);
+    }
+    sta_view_tools_undo(&t); // drops the third vertex
+    assert_int_equal(t.pending_count, 2);
+    assert_true(sta_view_tools_finish(&t));
+    assert_int_equal(t.list.count, 2);
+    assert_int_equal(t.list.items[1].count, 2);
+    sta_view_tools_undo(&t); // nothing pending: drops the polyline
+    assert_int_equal(t.list.count, 1);
+    char status[256];
+    sta_view_tools_status(&t, status, sizeof(status));
+    assert_non_null(strstr(status, "polyline"));
+    sta_view_tools_release(&t);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(picks_the_millimetre_far_from_the_origin),
     cmocka_unit_test(nearest_point_wins_and_misses_are_misses),
     cmocka_unit_test(measurement_maths_in_double),
     cmocka_unit_test(measurements_round_trip_json_and_csv),
+    cmocka_unit_test(measuring_tools_follow_the_clicks),
 };
 
 STA_TEST_MAIN(tests)

@@ -14,12 +14,17 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "app/view_setup.h"
+#include "app/view_survey.h"
+#include "app/view_tools.h"
 #include "core/log.h"
 #include "render/bindings.h"
 #include "render/camera_path.h"
 #include "render/gl.h"
+#include "render/hud_overlay.h"
+#include "render/measure_file.h"
 #include "render/scene.h"
 
 typedef struct view_state {
@@ -38,6 +43,9 @@ typedef struct view_state {
     sta_pipeline_options pipeline; /* M, N, H, G change it */
     double record_start_s;
     int colour_mode;
+    sta_view_tools tools;  /* picking and measuring (Ctrl+click, T, Enter, ...) */
+    const char *save_json; /* J writes the measurements here */
+    const char *save_csv;  /* C exports them here */
 } view_state;
 
 static double length3(const double v[3])
@@ -131,13 +139,65 @@ static void pan(view_state *s, double dx, double dy)
     }
 }
 
+// Picks the point under the cursor and hands it to the measuring tools.
+static void survey_click(view_state *s, double x, double y)
+{
+    sta_error err = { 0 };
+    sta_pick_result pick;
+    bool finished = false;
+    sta_status status = sta_view_pick(s->scene, &s->camera, x, y, &pick, &err);
+    if (status == STA_OK) {
+        status = sta_view_tools_click(&s->tools, &pick, &finished, &err);
+    }
+    char line[512];
+    if (status != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+        return;
+    }
+    sta_view_describe_pick(&pick, line, sizeof(line));
+    fprintf(stderr, "pick: %s\n", line);
+    if (finished) {
+        const sta_measure_list *list = &s->tools.list;
+        sta_view_describe_measure(&list->items[list->count - 1], line, sizeof(line));
+        fprintf(stderr, "measure: %s\n", line);
+    }
+}
+
+// T, Enter, Backspace, J and C: the measuring tools' keys. True when `key` was one.
+static bool survey_key(view_state *s, int key)
+{
+    sta_error err = { 0 };
+    sta_status status = STA_OK;
+    if (key == GLFW_KEY_T) {
+        sta_view_tools_next(&s->tools);
+    } else if (key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER) {
+        sta_view_tools_finish(&s->tools);
+    } else if (key == GLFW_KEY_BACKSPACE) {
+        sta_view_tools_undo(&s->tools);
+    } else if (key == GLFW_KEY_J) {
+        status = sta_measure_save_json(s->save_json, &s->tools.list, &err);
+        fprintf(stderr, "wrote %zu measurements to %s\n", s->tools.list.count, s->save_json);
+    } else if (key == GLFW_KEY_C) {
+        status = sta_measure_save_csv(s->save_csv, &s->tools.list, &err);
+        fprintf(stderr, "wrote %zu measurements to %s\n", s->tools.list.count, s->save_csv);
+    } else {
+        return false;
+    }
+    if (status != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+    }
+    return true;
+}
+
 static void on_mouse_button(GLFWwindow *window, int button, int action, int mods)
 {
     view_state *s = glfwGetWindowUserPointer(window);
     double x, y;
     glfwGetCursorPos(window, &x, &y);
     bool pressed = action == GLFW_PRESS;
-    if (button == GLFW_MOUSE_BUTTON_LEFT) {
+    if (button == GLFW_MOUSE_BUTTON_LEFT && pressed && (mods & GLFW_MOD_CONTROL)) {
+        survey_click(s, x, y); // Ctrl+click: pick and measure, no camera move
+    } else if (button == GLFW_MOUSE_BUTTON_LEFT) {
         s->dragging_left = pressed && !(mods & GLFW_MOD_SHIFT);
         s->dragging_right = pressed && (mods & GLFW_MOD_SHIFT);
         double now = glfwGetTime();
@@ -209,6 +269,9 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
         return;
     }
     view_state *s = glfwGetWindowUserPointer(window);
+    if (survey_key(s, key)) {
+        return;
+    }
     if (key == GLFW_KEY_ESCAPE) {
         glfwSetWindowShouldClose(window, GLFW_TRUE);
     } else if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + STA_COLOUR_MODE_COUNT) {
@@ -295,6 +358,26 @@ static void update_title(GLFWwindow *window, const sta_frame_stats *stats, doubl
     glfwSetWindowTitle(window, title);
 }
 
+// The readout over the frame: figures, pick, measurements, the tool's hint.
+static void draw_readout(view_state *s, sta_hud_overlay *hud, const sta_frame_stats *stats,
+                         double fps, const sta_view_args *args, sta_error *err)
+{
+    sta_view_readout readout;
+    uint64_t budget = args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS;
+    sta_view_readout_fill(&readout, stats, fps, budget, sta_pipeline_mode_name(s->pipeline.mode),
+                          s->tools.has_pick ? &s->tools.last_pick : NULL, &s->tools.list);
+    if (readout.count < STA_VIEW_HUD_MAX_LINES) {
+        sta_view_tools_status(&s->tools, readout.lines[readout.count], sizeof(readout.lines[0]));
+        readout.count++;
+    }
+    const char *lines[STA_VIEW_HUD_MAX_LINES];
+    sta_view_readout_pointers(&readout, lines);
+    if (sta_hud_overlay_draw(hud, lines, readout.count, s->camera.width_px, s->camera.height_px,
+                             err) != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err->message);
+    }
+}
+
 static void on_glfw_error(int code, const char *message)
 {
     fprintf(stderr, "strata-view: GLFW error 0x%x: %s\n", code, message);
@@ -353,6 +436,19 @@ int sta_view_run_window(const sta_view_args *args)
         s.pivot[a] = 0.5 * (s.info->bounds_min[a] + s.info->bounds_max[a]);
         s.scene_size = fmax(s.scene_size, s.info->bounds_max[a] - s.info->bounds_min[a]);
     }
+    sta_view_tools_init(&s.tools);
+    s.save_json = args->measure_file ? args->measure_file : "measurements.json";
+    s.save_csv = args->measure_csv ? args->measure_csv : "measurements.csv";
+    if (args->measure_file && access(args->measure_file, F_OK) == 0 &&
+        sta_measure_load_json(args->measure_file, &s.tools.list, &err) != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+    }
+    sta_hud_overlay hud = { 0 };
+    bool has_hud = sta_hud_overlay_init(&hud, &err) == STA_OK;
+    if (!has_hud) {
+        fprintf(stderr, "strata-view: no on-screen readout: %s\n", err.message);
+    }
+    double fps = 0.0;
     glfwSetWindowUserPointer(window, &s);
     glfwSetMouseButtonCallback(window, on_mouse_button);
     glfwSetCursorPosCallback(window, on_cursor);
@@ -380,10 +476,14 @@ int sta_view_run_window(const sta_view_args *args)
         }
         status = sta_scene_render(s.scene, &s.camera, &s.target, &stats, &err);
         sta_render_target_present(&s.target);
+        if (has_hud && status == STA_OK) {
+            draw_readout(&s, &hud, &stats, fps, args, &err);
+        }
         glfwSwapBuffers(window);
         frame++;
         frames_since_title++;
         if (now - title_time > 0.5) {
+            fps = frames_since_title / (now - title_time);
             update_title(window, &stats, frames_since_title / (now - title_time),
                          args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS);
             if (args->stats) {
@@ -418,6 +518,8 @@ int sta_view_run_window(const sta_view_args *args)
     }
     sta_camera_path_release(&s.recorded);
     sta_camera_path_release(&playback);
+    sta_hud_overlay_release(&hud);
+    sta_view_tools_release(&s.tools);
     sta_render_target_release(&s.target);
     sta_scene_close(s.scene);
     glfwDestroyWindow(window);
