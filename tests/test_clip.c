@@ -18,6 +18,7 @@
 #include "stream/lod_tree.h"
 #include "stream/select.h"
 #include "stream/strata_source.h"
+#include "stream/streamer.h"
 
 static const char *convert_autzen(char *scene, size_t size)
 {
@@ -163,9 +164,75 @@ static void loaded_nodes_hold_only_passing_points(void **state)
     unlink(scene);
 }
 
+// Frames until the streamer reports a complete cut (at most 2000); the last frame.
+static sta_stream_frame run_until_complete(sta_streamer *s, const sta_camera *cam)
+{
+    sta_stream_frame f;
+    sta_error err = { 0 };
+    for (int i = 0; i < 2000; i++) {
+        assert_int_equal(sta_streamer_update(s, cam, &f, &err), STA_OK);
+        if (f.complete) {
+            return f;
+        }
+        usleep(2000);
+    }
+    fail_msg("the streamer never completed its cut");
+    return f;
+}
+
+/* Changing the clip at run time: every resident node is evicted with the next frame
+ * and the cut is reloaded holding only the passing points. */
+static void changing_the_clip_reloads_the_cut(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char scene[4096];
+    const char *source = convert_autzen(scene, sizeof(scene));
+    uint64_t ground = 0;
+    sta_cloud_reader *cr = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_cloud_open(source, NULL, &cr, &err), STA_OK);
+    sta_point_batch batch;
+    assert_int_equal(sta_point_batch_init(&batch, 65536, 0, &err), STA_OK);
+    for (;;) {
+        assert_int_equal(sta_cloud_read(cr, &batch, &err), STA_OK);
+        if (batch.count == 0) {
+            break;
+        }
+        for (size_t i = 0; i < batch.count; i++) {
+            ground += batch.points[i].classification == 2;
+        }
+    }
+    sta_point_batch_release(&batch);
+    sta_cloud_close(cr);
+
+    sta_streamer_options o = { .budget_points = 1000000, .loader_threads = 2 };
+    sta_streamer *s = NULL;
+    assert_int_equal(sta_streamer_open(scene, &o, &s, &err), STA_OK);
+    const sta_strata_info *info = sta_strata_reader_info(sta_streamer_reader(s));
+    sta_camera cam = overview(info);
+    // A close look would not select every node: take a budget and view that do.
+    cam.width_px = 4096;
+    cam.height_px = 4096;
+    sta_stream_frame f = run_until_complete(s, &cam);
+    uint32_t resident = f.nodes_resident;
+    assert_true(resident > 0);
+    sta_clip clip = { 0 };
+    assert_int_equal(sta_clip_parse_classes(&clip, "2", &err), STA_OK);
+    assert_int_equal(sta_streamer_set_clip(s, &clip, &err), STA_OK);
+    assert_int_equal(sta_streamer_update(s, &cam, &f, &err), STA_OK);
+    assert_true(f.evict_count >= resident); // all of them, with this frame's own
+    f = run_until_complete(s, &cam);
+    assert_int_equal(f.points_selected, info->point_count); // the whole scene is in the cut
+    assert_int_equal(f.points_drawn, ground);
+    sta_streamer_close(s);
+    unlink(scene);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(selection_skips_nodes_outside_the_box),
     cmocka_unit_test(loaded_nodes_hold_only_passing_points),
+    cmocka_unit_test(changing_the_clip_reloads_the_cut),
 };
 
 STA_TEST_MAIN(tests)

@@ -48,8 +48,14 @@ void sta_view_describe_pick(const sta_pick_result *pick, char *out, size_t size)
     }
     char num[40], text[160];
     for (int a = 0; a < 3; a++) {
+        // As many decimals as the grid step has (0.001 -> 3): the stored precision.
+        int decimals = 0;
+        for (double step = pick->grid.scale[a]; step < 0.999999 && decimals < 12; step *= 10) {
+            decimals++;
+        }
+        snprintf(num, sizeof(num), "%.*f", decimals, pick->world[a]);
         append(&at, end, a == 0 ? "x " : (a == 1 ? " y " : " z "));
-        append(&at, end, sta_format_double(pick->world[a], num, sizeof(num)));
+        append(&at, end, num);
     }
     const sta_point *p = &pick->point;
     uint32_t attr = pick->attributes;
@@ -139,10 +145,16 @@ void sta_view_readout_fill(sta_view_readout *out, const sta_frame_stats *stats, 
     snprintf(line, size, "%u nodes resident, %zu loading  %.0f MiB GPU%s", stats->nodes_resident,
              stats->loader_backlog, (double)stats->gpu_bytes / 1048576.0,
              stats->bad_nodes ? "  (damaged nodes hidden)" : "");
-    if (pick) {
+    if (pick) { // coordinates on one line, attributes on the next
         line = readout_line(out);
         memcpy(line, "pick: ", 7);
         sta_view_describe_pick(pick, line + 6, size - 6);
+        char *attributes = strstr(line, "  ");
+        char *next = attributes ? readout_line(out) : NULL;
+        if (next) {
+            snprintf(next, size, "      %s", attributes + 2);
+            *attributes = '\0';
+        }
     }
     for (size_t i = 0; measures && i < measures->count; i++) {
         line = readout_line(out);

@@ -10,6 +10,7 @@
 #include <epoxy/gl.h> // before GLFW, which must not include GL headers itself
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
+#include <float.h>
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
@@ -46,6 +47,9 @@ typedef struct view_state {
     sta_view_tools tools;  /* picking and measuring (Ctrl+click, T, Enter, ...) */
     const char *save_json; /* J writes the measurements here */
     const char *save_csv;  /* C exports them here */
+    sta_clip clip;         /* F1-F12, L, Shift+Ctrl+click, X change it */
+    double clip_corner[3]; /* first corner of a clip box being drawn */
+    bool has_clip_corner;
 } view_state;
 
 static double length3(const double v[3])
@@ -163,6 +167,74 @@ static void survey_click(view_state *s, double x, double y)
     }
 }
 
+static void apply_clip(view_state *s)
+{
+    sta_error err = { 0 };
+    if (sta_scene_set_clip(s->scene, &s->clip, &err) != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+    }
+}
+
+// Two picked points span a clip box in plan (all heights).
+static void clip_click(view_state *s, double x, double y)
+{
+    sta_error err = { 0 };
+    sta_pick_result pick;
+    if (sta_view_pick(s->scene, &s->camera, x, y, &pick, &err) != STA_OK || !pick.hit) {
+        return;
+    }
+    if (!s->has_clip_corner) {
+        memcpy(s->clip_corner, pick.world, sizeof(pick.world));
+        s->has_clip_corner = true;
+        fprintf(stderr, "clip: first corner %.3f %.3f; Shift+Ctrl+click the second\n",
+                pick.world[0], pick.world[1]);
+        return;
+    }
+    s->has_clip_corner = false;
+    s->clip.has_box = true;
+    for (int a = 0; a < 2; a++) {
+        s->clip.box_min[a] = fmin(s->clip_corner[a], pick.world[a]);
+        s->clip.box_max[a] = fmax(s->clip_corner[a], pick.world[a]);
+    }
+    s->clip.box_min[2] = -DBL_MAX;
+    s->clip.box_max[2] = DBL_MAX;
+    fprintf(stderr, "clip box: %.3f %.3f .. %.3f %.3f (X clears)\n", s->clip.box_min[0],
+            s->clip.box_min[1], s->clip.box_max[0], s->clip.box_max[1]);
+    apply_clip(s);
+}
+
+// F1-F12 toggle classes 1-12, L cycles the return filter, X clears clip and filters.
+static bool filter_key(view_state *s, int key)
+{
+    static const uint32_t returns[4] = { 0, STA_CLIP_RETURN_FIRST, STA_CLIP_RETURN_LAST,
+                                         STA_CLIP_RETURN_SINGLE };
+    static const char *const return_names[4] = { "all", "first", "last", "single" };
+    if (key >= GLFW_KEY_F1 && key <= GLFW_KEY_F12) {
+        unsigned c = (unsigned)(key - GLFW_KEY_F1) + 1;
+        if (!s->clip.has_classes) {
+            memset(s->clip.class_mask, 0xff, sizeof(s->clip.class_mask));
+        }
+        sta_clip_set_class(&s->clip, c, !sta_clip_keeps_class(&s->clip, c));
+        fprintf(stderr, "class %u (%s) %s\n", c, sta_pick_class_name(c),
+                sta_clip_keeps_class(&s->clip, c) ? "shown" : "hidden");
+    } else if (key == GLFW_KEY_L) {
+        int next = 0;
+        for (int i = 0; i < 4; i++) {
+            next = s->clip.return_mask == returns[i] ? (i + 1) % 4 : next;
+        }
+        s->clip.return_mask = returns[next];
+        fprintf(stderr, "returns: %s\n", return_names[next]);
+    } else if (key == GLFW_KEY_X) {
+        memset(&s->clip, 0, sizeof(s->clip));
+        s->has_clip_corner = false;
+        fprintf(stderr, "clip and filters cleared\n");
+    } else {
+        return false;
+    }
+    apply_clip(s);
+    return true;
+}
+
 // T, Enter, Backspace, J and C: the measuring tools' keys. True when `key` was one.
 static bool survey_key(view_state *s, int key)
 {
@@ -195,7 +267,10 @@ static void on_mouse_button(GLFWwindow *window, int button, int action, int mods
     double x, y;
     glfwGetCursorPos(window, &x, &y);
     bool pressed = action == GLFW_PRESS;
-    if (button == GLFW_MOUSE_BUTTON_LEFT && pressed && (mods & GLFW_MOD_CONTROL)) {
+    if (button == GLFW_MOUSE_BUTTON_LEFT && pressed && (mods & GLFW_MOD_CONTROL) &&
+        (mods & GLFW_MOD_SHIFT)) {
+        clip_click(s, x, y); // Shift+Ctrl+click: corners of a clip box
+    } else if (button == GLFW_MOUSE_BUTTON_LEFT && pressed && (mods & GLFW_MOD_CONTROL)) {
         survey_click(s, x, y); // Ctrl+click: pick and measure, no camera move
     } else if (button == GLFW_MOUSE_BUTTON_LEFT) {
         s->dragging_left = pressed && !(mods & GLFW_MOD_SHIFT);
@@ -269,7 +344,7 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
         return;
     }
     view_state *s = glfwGetWindowUserPointer(window);
-    if (survey_key(s, key)) {
+    if (survey_key(s, key) || filter_key(s, key)) {
         return;
     }
     if (key == GLFW_KEY_ESCAPE) {
@@ -437,6 +512,7 @@ int sta_view_run_window(const sta_view_args *args)
         s.scene_size = fmax(s.scene_size, s.info->bounds_max[a] - s.info->bounds_min[a]);
     }
     sta_view_tools_init(&s.tools);
+    s.clip = args->clip;
     s.save_json = args->measure_file ? args->measure_file : "measurements.json";
     s.save_csv = args->measure_csv ? args->measure_csv : "measurements.csv";
     if (args->measure_file && access(args->measure_file, F_OK) == 0 &&

@@ -80,6 +80,11 @@ const sta_streamer *sta_scene_streamer(const sta_scene *s)
     return s->streamer;
 }
 
+sta_status sta_scene_set_clip(sta_scene *s, const sta_clip *clip, sta_error *err)
+{
+    return sta_streamer_set_clip(s->streamer, clip, err);
+}
+
 const sta_strata_info *sta_scene_info(const sta_scene *s)
 {
     return sta_strata_reader_info(sta_streamer_reader(s->streamer));

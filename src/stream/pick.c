@@ -64,6 +64,7 @@ sta_status sta_pick(const sta_strata_reader *reader, sta_strata_decoder *decoder
     const sta_grid *grid = &info->geometry.grid;
     const uint32_t attributes = sta_strata_attributes_to_sta_attr(info->layout.attributes);
     out->attributes = attributes;
+    out->grid = *grid;
     const bool filter = clip && sta_clip_filters_points(clip);
     double best_depth = INFINITY, best_d2 = INFINITY;
     for (size_t k = 0; k < node_count; k++) {

@@ -32,6 +32,7 @@ typedef struct sta_pick_result {
     double world[3];     /* its coordinates in the scene's CRS (integer * scale + offset) */
     double pixel[2];     /* where it projects, pixels */
     double depth_m;      /* distance along the view axis */
+    sta_grid grid;       /* the scene's grid (its scale gives the coordinates' decimals) */
 } sta_pick_result;
 
 /* Finds the drawn point under pixel (x_px, y_px) (origin top-left). `nodes` lists

@@ -38,7 +38,8 @@ struct sta_streamer {
     sta_stream_upload *upload;
     size_t loaded_count;
     uint32_t *draw;
-    size_t draw_count; /* entries of draw from the last update */
+    size_t draw_count;    /* entries of draw from the last update */
+    size_t pending_evict; /* evict[0 .. pending_evict) go out with the next frame */
     uint32_t *new_bad;
     uint8_t *selected;     /* scratch for the s0 estimate, one byte per node */
     s0_sample *s0_samples; /* scratch for the s0 estimate, one per node */
@@ -246,6 +247,8 @@ sta_status sta_streamer_update(sta_streamer *s, const sta_camera *camera, sta_st
 {
     memset(f, 0, sizeof(*f));
     release_loaded(s);
+    f->evict_count = s->pending_evict; // a clip change evicted everything
+    s->pending_evict = 0;
     sta_residency_begin_frame(&s->residency);
     // The budget can never ask for more than the GPU holds.
     uint64_t cache_points = s->options.gpu_bytes_cap / STA_GPU_POINT_SIZE;
@@ -313,6 +316,20 @@ const uint32_t *sta_streamer_last_draw(const sta_streamer *s, size_t *out_count)
 const sta_clip *sta_streamer_clip(const sta_streamer *s)
 {
     return &s->options.clip;
+}
+
+sta_status sta_streamer_set_clip(sta_streamer *s, const sta_clip *clip, sta_error *err)
+{
+    // The workers read the clip: stop them, drop what they made under the old one.
+    sta_loader_destroy(s->loader);
+    s->loader = NULL;
+    release_loaded(s);
+    s->options.clip = *clip;
+    s->strata_source.clip = s->reader && sta_clip_filters_points(clip) ? &s->options.clip : NULL;
+    // Resident nodes hold the old clip's points: all go, and are loaded again as wanted.
+    sta_residency_evict_all(&s->residency, s->evict, &s->pending_evict);
+    sta_loader_options lo = { .threads = s->options.loader_threads };
+    return sta_loader_create(s->source, &lo, &s->loader, err);
 }
 
 const sta_strata_reader *sta_streamer_reader(const sta_streamer *s)

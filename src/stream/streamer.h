@@ -110,6 +110,13 @@ const uint32_t *sta_streamer_last_draw(const sta_streamer *streamer, size_t *out
 /* The clip in use (zeroed: none). */
 const sta_clip *sta_streamer_clip(const sta_streamer *streamer);
 
+/* Changes the clip between frames (its polygon is borrowed as in the options): the
+ * loader is restarted and every resident node is evicted with the next frame (its
+ * points were filtered by the old clip), then reloaded as the new cut wants it. Main
+ * thread, after the last frame's lists were carried out. Errors: STA_ERR_NOMEM (the
+ * loader could not restart; the streamer then must be closed). */
+sta_status sta_streamer_set_clip(sta_streamer *streamer, const sta_clip *clip, sta_error *err);
+
 /* The .strata reader (owned by the streamer), or NULL for a streamer over another source. */
 const sta_strata_reader *sta_streamer_reader(const sta_streamer *streamer);
 
