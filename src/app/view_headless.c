@@ -318,6 +318,8 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_scene_robust_bounds(scene, frame_min, frame_max);
         sta_view_initial_camera(args, info, frame_min, frame_max, &camera);
         sta_scene_set_colour_mode(scene, sta_view_initial_colour(args, info));
+        sta_scene_set_ramps(scene, args->elevation_range[0], args->elevation_range[1],
+                            args->intensity_max);
         sta_pipeline_options pipeline;
         sta_view_pipeline_options(args, &pipeline);
         sta_scene_set_pipeline(scene, &pipeline);

@@ -110,6 +110,18 @@ static sta_status parse_camera(const sta_cli_option *option, const char *value, 
     return STA_OK;
 }
 
+// --elevation-range MIN,MAX (dest: sta_view_args).
+static sta_status parse_elevation(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_view_args *a = option->dest;
+    double v[2];
+    if (parse_doubles(value, v, 2, 2) < 0 || !(v[1] > v[0])) {
+        return sta_cli_fail_value(err, option, value, "MIN,MAX in metres with MIN < MAX");
+    }
+    memcpy(a->elevation_range, v, sizeof(v));
+    return STA_OK;
+}
+
 // --pick X,Y (dest: sta_view_args).
 static sta_status parse_pick(const sta_cli_option *option, const char *value, sta_error *err)
 {
@@ -258,6 +270,22 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .dest = &a->measure_csv,
           .metavar = "FILE.csv",
           .help = "write the measurements as CSV (headless: those of --measure)" },
+        { .name = "elevation-range",
+          .kind = STA_CLI_CALLBACK,
+          .dest = a,
+          .metavar = "MIN,MAX",
+          .parse = parse_elevation,
+          .help = "heights (scene CRS) the elevation colour ramp spans",
+          .default_text = "the scene's" },
+        { .name = "intensity-max",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->intensity_max,
+          .metavar = "I",
+          .real_min = 0.0,
+          .real_max = 65535.0,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "intensity at the top of the intensity ramp",
+          .default_text = "the largest in the scene's root node" },
         { .name = "hud",
           .kind = STA_CLI_FLAG,
           .dest = &a->hud,

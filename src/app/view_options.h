@@ -43,6 +43,8 @@ typedef struct sta_view_args {
     const char *measure_file;  /* --measure: measurements (JSON) to load and show */
     const char *measure_csv;   /* --measure-csv: export the measurements as CSV */
     bool hud;                  /* --hud: burn the readout into headless frames */
+    double elevation_range[2]; /* --elevation-range MIN,MAX (max <= min: the scene's) */
+    double intensity_max;      /* --intensity-max (0: the scene's) */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

@@ -507,6 +507,8 @@ int sta_view_run_window(const sta_view_args *args)
     sta_scene_set_pipeline(s.scene, &s.pipeline);
     sta_scene_set_timing(s.scene, args->stats);
     sta_scene_set_colour_mode(s.scene, s.colour_mode);
+    sta_scene_set_ramps(s.scene, args->elevation_range[0], args->elevation_range[1],
+                        args->intensity_max);
     for (int a = 0; a < 3; a++) {
         s.pivot[a] = 0.5 * (s.info->bounds_min[a] + s.info->bounds_max[a]);
         s.scene_size = fmax(s.scene_size, s.info->bounds_max[a] - s.info->bounds_min[a]);

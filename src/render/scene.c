@@ -21,7 +21,8 @@ struct sta_scene {
     sta_pipeline pipeline; /* initialised on first use */
     bool has_pipeline;
     sta_pipeline_options pipeline_options;
-    bool timing; /* drain and time each pass */
+    bool timing;    /* drain and time each pass */
+    double ramp[3]; /* elevation ramp min, max (metres), largest intensity; 0: from the scene */
 };
 
 sta_status sta_scene_open(const char *path, const sta_scene_options *options, sta_scene **out_scene,
@@ -120,6 +121,15 @@ void sta_scene_set_colour_mode(sta_scene *s, int mode)
     s->colour_mode = mode >= 0 && mode < STA_COLOUR_MODE_COUNT ? mode : STA_COLOUR_RGB;
 }
 
+void sta_scene_set_ramps(sta_scene *s, double elevation_min, double elevation_max,
+                         double intensity_max)
+{
+    bool elevation = elevation_max > elevation_min;
+    s->ramp[0] = elevation ? elevation_min : 0.0;
+    s->ramp[1] = elevation ? elevation_max : 0.0;
+    s->ramp[2] = intensity_max > 0.0 ? intensity_max : 0.0;
+}
+
 sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_target *target,
                             sta_frame_stats *stats, sta_error *err)
 {
@@ -144,6 +154,13 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     sta_geometry_colours colours = { s->colour_mode, info->bounds_min[2],
                                      info->bounds_max[2] - info->bounds_min[2],
                                      sta_streamer_intensity_scale(s->streamer) };
+    if (s->ramp[1] > s->ramp[0]) { // --elevation-range
+        colours.elevation_min = s->ramp[0];
+        colours.elevation_span = s->ramp[1] - s->ramp[0];
+    }
+    if (s->ramp[2] > 0.0) { // --intensity-max
+        colours.intensity_scale = (float)(1.0 / s->ramp[2]);
+    }
     sta_pass_geometry_draw(&s->geometry, camera, &colours, &s->cache, s->frames, frame.draw,
                            frame.draw_count, target);
     if (s->timing) {

@@ -1,0 +1,6 @@
+# SPDX-License-Identifier: MIT
+# strata-view's surveyor options headless: --classes, --clip, --pick, --measure, --hud.
+find_program(PYTHON3 python3 REQUIRED)
+add_test(NAME view.survey_options
+         COMMAND ${PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/tools/check_view_survey.py ${PROJECT_BINARY_DIR})
+set_tests_properties(view.survey_options PROPERTIES LABELS gl)
