@@ -287,8 +287,8 @@ static void measurements_round_trip_json_and_csv(void **state)
     assert_non_null(strstr(csv, ",25,25,")); // plan and 3D area of the triangle
     free(csv);
     // Broken files: named, and the list is left as it was.
-    sta_test_write_file(json_path, "{\"measurements\": [{\"kind\": \"angle\", \"points\": []}]}",
-                        53);
+    const char *angle = "{\"measurements\": [{\"kind\": \"angle\", \"points\": []}]}";
+    sta_test_write_file(json_path, angle, strlen(angle));
     assert_int_equal(sta_measure_load_json(json_path, &back, &err), STA_ERR_FORMAT);
     assert_non_null(strstr(err.message, "kind"));
     const char *bad = "{\"measurements\": [{\"kind\": \"distance\", \"points\": [[1,2,3]]}]}";
