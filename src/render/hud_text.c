@@ -153,8 +153,8 @@ static void draw_text(sta_hud_font *font, uint8_t *rgba, int width, int height, 
     }
 }
 
-void sta_hud_draw_lines(sta_hud_font *font, uint8_t *rgba, int width, int height, int x,
-                        int y, const char *const *lines, size_t count)
+void sta_hud_draw_lines(sta_hud_font *font, uint8_t *rgba, int width, int height, int x, int y,
+                        const char *const *lines, size_t count)
 {
     if (count == 0) {
         return;

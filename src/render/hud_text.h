@@ -39,7 +39,7 @@ int sta_hud_text_width(const sta_hud_font *font, const char *text);
  * pixels, top row first, 4 bytes each), white on a translucent dark box so that the
  * text reads over any scene; clipped at the image's borders. Characters outside
  * printable ASCII are drawn as '?'. */
-void sta_hud_draw_lines(sta_hud_font *font, uint8_t *rgba, int width, int height, int x,
-                        int y, const char *const *lines, size_t count);
+void sta_hud_draw_lines(sta_hud_font *font, uint8_t *rgba, int width, int height, int x, int y,
+                        const char *const *lines, size_t count);
 
 #endif
