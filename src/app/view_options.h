@@ -45,6 +45,7 @@ typedef struct sta_view_args {
     const char *measure_file;  /* --measure: measurements (JSON) to load and show */
     const char *measure_csv;   /* --measure-csv: export the measurements as CSV */
     bool hud;                  /* --hud: burn the readout into headless frames */
+    bool no_readout;           /* --no-readout: no readout over the window's frames */
     double elevation_range[2]; /* --elevation-range MIN,MAX (max <= min: the scene's) */
     double intensity_max;      /* --intensity-max (0: the scene's) */
 } sta_view_args;

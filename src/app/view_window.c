@@ -553,8 +553,8 @@ int sta_view_run_window(const sta_view_args *args)
         fprintf(stderr, "strata-view: %s\n", err.message);
     }
     sta_hud_overlay hud = { 0 };
-    bool has_hud = sta_hud_overlay_init(&hud, &err) == STA_OK;
-    if (!has_hud) {
+    bool has_hud = !args->no_readout && sta_hud_overlay_init(&hud, &err) == STA_OK;
+    if (!has_hud && !args->no_readout) {
         fprintf(stderr, "strata-view: no on-screen readout: %s\n", err.message);
     }
     double fps = 0.0;
