@@ -112,11 +112,12 @@ sta_status sta_strata_las_source_parse(const uint8_t *data, uint64_t size, const
         copy_text(r->description, p + 32, 32);
         at += STA_STRATA_LAS_RECORD_SIZE;
         if (r->size > size - at) {
-            sta_free(records);
-            return sta_fail(err, STA_ERR_FORMAT,
-                            "%s: LAS source: record %" PRIu32 " (%s/%u) of %" PRIu64
-                            " bytes passes the block's end",
-                            name, i, r->user_id, r->record_id, r->size);
+            sta_status s = sta_fail(err, STA_ERR_FORMAT,
+                                    "%s: LAS source: record %" PRIu32 " (%s/%u) of %" PRIu64
+                                    " bytes passes the block's end",
+                                    name, i, r->user_id, r->record_id, r->size);
+            sta_free(records); // after the message, which reads the record
+            return s;
         }
         r->data = data + at;
         at += r->size;
