@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "convert.h"
+#include "core/alloc.h"
 #include "core/bytes.h"
 #include "export/export.h"
 #include "format/strata_reader.h"
@@ -595,6 +596,48 @@ static void damaged_las_source_block_is_named(void **state)
     unlink(scene);
 }
 
+/* Every allocation failing in turn: a named out-of-memory error, no output and no
+ * temporary file; the export succeeds once allocations do (LeakSanitizer in CI). */
+static void allocation_failures_leave_nothing(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char source[4096], scene[4096], out[4096];
+    snprintf(source, sizeof(source), "%s", sta_test_shared_path("las/autzen-point-format-3.las"));
+    snprintf(scene, sizeof(scene), "%s/nomem.strata", sta_test_tmpdir());
+    snprintf(out, sizeof(out), "%s/nomem.las", sta_test_tmpdir());
+    const char *one[] = { source };
+    convert(one, 1, scene);
+    int before = count_files(sta_test_tmpdir());
+    long n;
+    for (n = 0; n < 10000; n++) {
+        sta_export_options o = { .input = scene,
+                                 .output = out,
+                                 .clip = { .has_classes = true, .class_mask = { 0xff, 0xff } } };
+        sta_error err = { 0 };
+        sta_alloc_fail_after(n);
+        sta_status s = sta_export(&o, NULL, &err);
+        sta_alloc_fail_after(-1);
+        if (s == STA_OK) {
+            break;
+        }
+        if (s != STA_ERR_NOMEM) {
+            fail_msg("allocation %ld failing gave status %d: %s", n, s, err.message);
+        }
+        assert_true(err.message[0] != '\0');
+        assert_int_equal(count_files(sta_test_tmpdir()), before);
+    }
+    assert_true(n > 3 && n < 10000);
+    records want = { 0 }, got = { 0 };
+    records_append_las(&want, source);
+    records_append_las(&got, out);
+    assert_same_records(&want, &got);
+    free(want.bytes);
+    free(got.bytes);
+    unlink(out);
+    unlink(scene);
+}
+
 static void refused_outputs_are_named(void **state)
 {
     (void)state;
@@ -737,6 +780,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(level_spacing_and_max_points),
     cmocka_unit_test(damaged_scene_is_a_named_error_and_leaves_nothing),
     cmocka_unit_test(refused_outputs_are_named),
+    cmocka_unit_test(allocation_failures_leave_nothing),
     cmocka_unit_test(crs_records_and_header_fields_come_back),
     cmocka_unit_test(damaged_las_source_block_is_named),
     cmocka_unit_test(point_format_follows_the_attributes),
