@@ -34,10 +34,24 @@ start_viewer() { # extra options
     viewer=$!
     for _ in $(seq 1 60); do
         win=$(xdotool search --pid "$viewer" 2>/dev/null | head -1 || true)
-        [ -n "$win" ] && sleep 6 && return 0
+        [ -n "$win" ] && settle && return 0
         sleep 0.5
     done
     echo "no window appeared" >&2
+    exit 1
+}
+
+# Waits until the window's picture is the same twice in a row, 1 s apart (loaded;
+# slow under the sanitizers).
+settle() {
+    local previous="" now
+    for _ in $(seq 1 120); do
+        sleep 1
+        now=$(xwd -id "$win" -silent | sha256sum)
+        [ "$now" = "$previous" ] && return 0
+        previous=$now
+    done
+    echo "the window never settled" >&2
     exit 1
 }
 
@@ -60,7 +74,8 @@ kill "$viewer"; wait "$viewer" 2>/dev/null || true; viewer=
 start_viewer --measure m.json
 [ "$(corner)" != "$plain" ] || { echo "no readout over the frame" >&2; exit 1; }
 xdotool key --window "$win" F6
-sleep 2
+sleep 1
+settle
 xdotool key --window "$win" t
 for point in "240 200" "400 250"; do
     # shellcheck disable=SC2086
