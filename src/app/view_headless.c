@@ -157,6 +157,7 @@ static sta_status burn_readout(const sta_view_readout *readout, uint8_t *rgba, i
     if (status == STA_OK) {
         const char *lines[STA_VIEW_HUD_MAX_LINES];
         sta_view_readout_pointers(readout, lines);
+        sta_hud_fill_rects(rgba, width, height, readout->marks, readout->mark_count);
         sta_hud_draw_lines(font, rgba, width, height, 8, 8, lines, readout->count);
     }
     sta_hud_font_close(font);
@@ -323,6 +324,15 @@ static sta_status survey_outputs(const sta_view_args *args, const sta_scene *sce
     sta_view_readout_fill(readout, stats, 0.0, args->budget_points,
                           sta_pipeline_mode_name(pipeline.mode),
                           args->has_pick && status == STA_OK ? &pick : NULL, &measures);
+    if (status == STA_OK && args->hud) {
+        readout->marks = sta_alloc_array(STA_VIEW_MAX_MARKS, sizeof(*readout->marks));
+        if (!readout->marks) {
+            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the readout's markers");
+        } else {
+            readout->mark_count = sta_view_measure_marks(camera, &measures, NULL, 0, readout->marks,
+                                                         STA_VIEW_MAX_MARKS);
+        }
+    }
     sta_measure_list_release(&measures);
     return status;
 }
@@ -362,7 +372,7 @@ int sta_view_run_headless(const sta_view_args *args)
                 status = time_repeats(args, scene, &camera, &target, &err);
             }
         }
-        sta_view_readout readout = { .count = 0 };
+        sta_view_readout readout = { .count = 0, .marks = NULL };
         if (status == STA_OK) {
             status = survey_outputs(args, scene, &camera, &stats, &readout, &err);
         }
@@ -370,6 +380,7 @@ int sta_view_run_headless(const sta_view_args *args)
             status =
                 write_outputs(args, scene, &camera, &target, args->hud ? &readout : NULL, &err);
         }
+        sta_free(readout.marks);
     }
     sta_render_target_release(&target);
     sta_scene_close(scene);

@@ -2,6 +2,8 @@
  * Picking and measurement text for strata-view. */
 #include "app/view_survey.h"
 
+#include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -170,4 +172,62 @@ void sta_view_readout_pointers(const sta_view_readout *readout, const char **out
     for (size_t i = 0; i < readout->count; i++) {
         out_lines[i] = readout->lines[i];
     }
+}
+
+// Appends a square of `size` px centred on (x, y).
+static void add_mark(sta_hud_rect *out, size_t capacity, size_t *n, double x, double y, int size,
+                     const uint8_t rgb[3])
+{
+    if (*n < capacity) {
+        out[*n] = (sta_hud_rect){
+            .x = (int)(x - size / 2.0), .y = (int)(y - size / 2.0), .w = size, .h = size
+        };
+        memcpy(out[*n].rgb, rgb, 3);
+        (*n)++;
+    }
+}
+
+// Vertices and dotted edges of one polyline (closed: back to the first vertex).
+static void add_path(const sta_camera *camera, const double (*points)[3], size_t count, bool closed,
+                     const uint8_t rgb[3], sta_hud_rect *out, size_t capacity, size_t *n)
+{
+    enum {
+        DOT_STEP_PX = 5,
+        MAX_DOTS = 400
+    };
+    size_t edges = closed && count > 2 ? count : (count > 0 ? count - 1 : 0);
+    for (size_t i = 0; i < count; i++) {
+        double x, y, depth;
+        if (sta_camera_project(camera, points[i], &x, &y, &depth)) {
+            add_mark(out, capacity, n, x, y, 5, rgb);
+        }
+    }
+    for (size_t e = 0; e < edges; e++) {
+        double a[2], b[2], depth;
+        if (!sta_camera_project(camera, points[e], &a[0], &a[1], &depth) ||
+            !sta_camera_project(camera, points[(e + 1) % count], &b[0], &b[1], &depth)) {
+            continue; // an end behind the camera
+        }
+        double length = hypot(b[0] - a[0], b[1] - a[1]);
+        int dots = (int)fmin(length / DOT_STEP_PX, MAX_DOTS);
+        for (int d = 1; d < dots; d++) {
+            double t = (double)d / dots;
+            add_mark(out, capacity, n, a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t, 2, rgb);
+        }
+    }
+}
+
+size_t sta_view_measure_marks(const sta_camera *camera, const sta_measure_list *measures,
+                              const double (*pending)[3], size_t pending_count, sta_hud_rect *out,
+                              size_t capacity)
+{
+    static const uint8_t done_rgb[3] = { 255, 220, 0 }, pending_rgb[3] = { 0, 230, 255 };
+    size_t n = 0;
+    for (size_t i = 0; measures && i < measures->count; i++) {
+        const sta_measure *m = &measures->items[i];
+        add_path(camera, (const double(*)[3])m->points, m->count, m->kind == STA_MEASURE_AREA,
+                 done_rgb, out, capacity, &n);
+    }
+    add_path(camera, pending, pending_count, false, pending_rgb, out, capacity, &n);
+    return n;
 }

@@ -8,6 +8,7 @@
 #include <stdio.h>
 
 #include "core/measure.h"
+#include "render/hud_text.h"
 #include "render/scene.h"
 #include "stream/pick.h"
 
@@ -28,7 +29,12 @@ void sta_view_describe_pick(const sta_pick_result *pick, char *out, size_t size)
 typedef struct sta_view_readout {
     char lines[STA_VIEW_HUD_MAX_LINES][320];
     size_t count;
+    sta_hud_rect *marks; /* measurement markers (owner: whoever filled them), or NULL */
+    size_t mark_count;
 } sta_view_readout;
+
+/* Rectangles of markers drawn at most per frame. */
+#define STA_VIEW_MAX_MARKS 8192
 
 /* Fills `out` with the frame's figures: `fps` (0: not shown, e.g. headless), points
  * drawn of the budget, nodes resident and loading, GPU memory, the pipeline's name,
@@ -39,6 +45,14 @@ void sta_view_readout_fill(sta_view_readout *out, const sta_frame_stats *stats, 
 
 /* The readout's lines as an array of pointers (for sta_hud_draw_lines). */
 void sta_view_readout_pointers(const sta_view_readout *readout, const char **out_lines);
+
+/* Markers of the measurements (vertices 5 px squares, edges dotted; areas closed) and
+ * of `pending_count` vertices being picked, projected with `camera`; at most
+ * `capacity` rectangles into `out`. Returns how many. Parts behind the camera are left
+ * out. */
+size_t sta_view_measure_marks(const sta_camera *camera, const sta_measure_list *measures,
+                              const double (*pending)[3], size_t pending_count, sta_hud_rect *out,
+                              size_t capacity);
 
 /* One line per measurement: name, kind and its values (metres, square metres). */
 void sta_view_describe_measure(const sta_measure *m, char *out, size_t size);

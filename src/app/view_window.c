@@ -23,6 +23,7 @@
 #include "app/view_setup.h"
 #include "app/view_survey.h"
 #include "app/view_tools.h"
+#include "core/alloc.h"
 #include "core/log.h"
 #include "core/navigation.h"
 #include "render/bindings.h"
@@ -60,6 +61,7 @@ typedef struct view_state {
     sta_clip clip;         /* F1-F12, L, Shift+Ctrl+click, X change it */
     double clip_corner[3]; /* first corner of a clip box being drawn */
     bool has_clip_corner;
+    sta_hud_rect *marks; /* STA_VIEW_MAX_MARKS: the measurements' markers, each frame */
 } view_state;
 
 // Cursor position in framebuffer pixels (window coordinates differ on HiDPI screens).
@@ -471,6 +473,10 @@ static void draw_readout(view_state *s, sta_hud_overlay *hud, const sta_frame_st
         sta_view_tools_status(&s->tools, readout.lines[readout.count], sizeof(readout.lines[0]));
         readout.count++;
     }
+    readout.mark_count =
+        sta_view_measure_marks(&s->camera, &s->tools.list, (const double(*)[3])s->tools.pending,
+                               s->tools.pending_count, s->marks, STA_VIEW_MAX_MARKS);
+    sta_hud_overlay_fill_rects(s->marks, readout.mark_count, s->camera.height_px);
     const char *lines[STA_VIEW_HUD_MAX_LINES];
     sta_view_readout_pointers(&readout, lines);
     if (sta_hud_overlay_draw(hud, lines, readout.count, s->camera.width_px, s->camera.height_px,
@@ -553,7 +559,8 @@ int sta_view_run_window(const sta_view_args *args)
         fprintf(stderr, "strata-view: %s\n", err.message);
     }
     sta_hud_overlay hud = { 0 };
-    bool has_hud = !args->no_readout && sta_hud_overlay_init(&hud, &err) == STA_OK;
+    s.marks = sta_alloc_array(STA_VIEW_MAX_MARKS, sizeof(*s.marks));
+    bool has_hud = !args->no_readout && s.marks && sta_hud_overlay_init(&hud, &err) == STA_OK;
     if (!has_hud && !args->no_readout) {
         fprintf(stderr, "strata-view: no on-screen readout: %s\n", err.message);
     }
@@ -658,6 +665,7 @@ int sta_view_run_window(const sta_view_args *args)
     sta_camera_path_release(&s.recorded);
     sta_camera_path_release(&playback);
     sta_hud_overlay_release(&hud);
+    sta_free(s.marks);
     sta_view_tools_release(&s.tools);
     sta_render_target_release(&s.target);
     sta_scene_close(s.scene);

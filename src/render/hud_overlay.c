@@ -66,6 +66,23 @@ sta_status sta_hud_overlay_draw(sta_hud_overlay *o, const char *const *lines, si
     return STA_OK;
 }
 
+void sta_hud_overlay_fill_rects(const sta_hud_rect *rects, size_t count, int window_h)
+{
+    if (count == 0) {
+        return;
+    }
+    const GLuint window_framebuffer = 0; // the default framebuffer
+    glEnable(GL_SCISSOR_TEST);
+    for (size_t i = 0; i < count; i++) {
+        const sta_hud_rect *r = &rects[i];
+        glScissor(r->x, window_h - r->y - r->h, r->w, r->h); // GL rows count from the bottom
+        const GLfloat colour[4] = { r->rgb[0] / 255.0f, r->rgb[1] / 255.0f, r->rgb[2] / 255.0f,
+                                    1.0f };
+        glClearNamedFramebufferfv(window_framebuffer, GL_COLOR, 0, colour);
+    }
+    glDisable(GL_SCISSOR_TEST);
+}
+
 void sta_hud_overlay_release(sta_hud_overlay *o)
 {
     release_gl(o);

@@ -28,6 +28,10 @@ sta_status sta_hud_overlay_init(sta_hud_overlay *overlay, sta_error *err);
 sta_status sta_hud_overlay_draw(sta_hud_overlay *overlay, const char *const *lines, size_t count,
                                 int window_w, int window_h, sta_error *err);
 
+/* Fills rectangles (top-left pixel coordinates) on the default framebuffer of height
+ * `window_h`: scissored clears, no shader. */
+void sta_hud_overlay_fill_rects(const sta_hud_rect *rects, size_t count, int window_h);
+
 /* Frees GL objects and memory; a zeroed overlay is a no-op. */
 void sta_hud_overlay_release(sta_hud_overlay *overlay);
 

@@ -153,6 +153,24 @@ static void draw_text(sta_hud_font *font, uint8_t *rgba, int width, int height, 
     }
 }
 
+void sta_hud_fill_rects(uint8_t *rgba, int width, int height, const sta_hud_rect *rects,
+                        size_t count)
+{
+    for (size_t i = 0; i < count; i++) {
+        const sta_hud_rect *r = &rects[i];
+        int x0 = r->x < 0 ? 0 : r->x, y0 = r->y < 0 ? 0 : r->y;
+        int x1 = r->x + r->w > width ? width : r->x + r->w;
+        int y1 = r->y + r->h > height ? height : r->y + r->h;
+        for (int y = y0; y < y1; y++) {
+            for (int x = x0; x < x1; x++) {
+                uint8_t *p = rgba + 4 * ((size_t)y * (size_t)width + (size_t)x);
+                memcpy(p, r->rgb, 3);
+                p[3] = 255;
+            }
+        }
+    }
+}
+
 void sta_hud_draw_lines(sta_hud_font *font, uint8_t *rgba, int width, int height, int x, int y,
                         const char *const *lines, size_t count)
 {

@@ -42,4 +42,15 @@ int sta_hud_text_width(const sta_hud_font *font, const char *text);
 void sta_hud_draw_lines(sta_hud_font *font, uint8_t *rgba, int width, int height, int x, int y,
                         const char *const *lines, size_t count);
 
+/* A filled rectangle of the readout's markers (measurement vertices and edges), in
+ * pixels from the top-left corner. */
+typedef struct sta_hud_rect {
+    int x, y, w, h;
+    uint8_t rgb[3];
+} sta_hud_rect;
+
+/* Fills `count` rectangles into `rgba` (width x height, top row first), clipped. */
+void sta_hud_fill_rects(uint8_t *rgba, int width, int height, const sta_hud_rect *rects,
+                        size_t count);
+
 #endif

@@ -98,6 +98,11 @@ open(m, "w").write('{"measurements": [{"kind": "distance", "name": "d", "points"
 (_, _, hud), out = render("hud", "--measure", m, "--hud")
 assert "measure 1 d: 3D 13.000 m, horizontal 5.000 m, vertical +12.000 m" in out, out
 changed = [(x, y) for y in range(h) for x in range(w) if hud[y][x] != full[y][x]]
-assert changed and max(x for x, _ in changed) < w and max(y for _, y in changed) < 80, \
-    "the readout drew outside its corner"
-print("view survey options: ok (%d drawn ground pixels, %d readout pixels)" % (len(drawn), len(changed)))
+corner = [(x, y) for x, y in changed if y < 80]
+markers = [(x, y) for x, y in changed if y >= 80]
+assert corner, "no readout in the corner"
+# Outside the text's corner only the measurement's markers (yellow) are drawn.
+assert markers and all(hud[y][x] == (255, 220, 0) for x, y in markers), \
+    ("the readout drew outside its corner", markers[:5])
+print("view survey options: ok (%d drawn ground pixels, %d readout pixels, %d marker pixels)"
+      % (len(drawn), len(corner), len(markers)))

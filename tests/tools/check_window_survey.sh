@@ -7,7 +7,7 @@
 # window's top-left corner differs from a --no-readout window's).
 # usage: check_window_survey.sh BUILD_DIR WORK_DIR
 set -euo pipefail
-bin=$1 work=$2
+bin=$(cd "$1" && pwd) work=$2
 mkdir -p "$work"
 for tool in Xvfb xdotool xwd; do
     command -v $tool >/dev/null || { echo "$tool is missing (scripts/install-deps.sh installs it)" >&2; exit 1; }
