@@ -78,7 +78,7 @@ run "$out/methods-street" "$work/street.strata" --street "$views" --pipelines sh
     --normals pyramid,ld,pd,pc,ti --samples 9,25 --hpr pyramid,exhaustive --no-image-error
 $bench --quiet --size "$katz_size" --repeat 1 --out "$out/katz" "$work/sphere.strata" \
     "$work/nested.strata" --orbit "$views" --pipelines hpr --hpr pyramid,exhaustive --katz \
-    --no-image-error
+    --katz-live --no-image-error
 # 2. Frame time against scene size at a fixed budget.
 args=()
 for n in $street_sizes; do args+=("$work/street-$n.strata"); done
@@ -134,6 +134,8 @@ plot "methods.dat" using 4:5 with points pt 7 title "screen-space HPR (per setti
      "katz.dat" using 4:5:(sprintf("Katz (Qhull), %s-size view", "$katz_size")) every ::0::0 \
          with labels point pt 5 offset 0.5,-0.5 left notitle, \
      "katz.dat" using 2:3:1 with labels point pt 9 offset 0.5,0.5 left notitle
+# katz.dat's "katz-live" line: the live mode's hull time (worker thread) and the F1 of its
+# subsample, beside pyramid and exhaustive (docs/KATZ.md, Live mode).
 unset multiplot
 
 set terminal pngcairo size 900,600 font ",10" noenhanced

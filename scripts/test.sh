@@ -5,7 +5,9 @@
 #   2. checks formatting with clang-format 14,
 #   3. builds the ci-release preset (warnings are errors) and runs every ctest label,
 #   4. builds the ci-debug preset (AddressSanitizer + UndefinedBehaviorSanitizer) and
-#      runs every ctest label again.
+#      runs every ctest label again,
+#   5. builds the threaded hand-over test of the live Katz worker (no GL) in the tsan
+#      preset (ThreadSanitizer) and runs it.
 # Tests that need ../shared/data report themselves skipped when it is absent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,3 +25,8 @@ for preset in ci-release ci-debug; do
     echo "== test $preset"
     ctest --test-dir "build/$preset" --output-on-failure -j "$jobs"
 done
+
+echo "== tsan: live Katz worker hand-over"
+cmake --preset tsan >/dev/null
+cmake --build build/tsan -j "$jobs" --target test_katz_worker
+TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -R '^katz_worker\.'

@@ -415,8 +415,77 @@ static void core_end_to_end_sphere(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
+// The live Katz mode as a method (--katz-live) beside the offline reference with a
+// perturbation (--katz-perturbation): one extra row per view, with the latency from the
+// camera to its set, the hull's CPU time and F1 of the set's points against the truth;
+// the reference rows carry the perturbed and the plain hull's times on the same input.
+static void live_katz_method_sphere(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    sta_gl_headless gl = { 0 };
+    if (sta_gl_headless_create(&gl, &err) != STA_OK) {
+        fail_msg("no GL context: %s", err.message);
+    }
+    enum {
+        POINTS = 20000
+    };
+    char las[4096], strata[4096];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("live_sphere.las"));
+    snprintf(strata, sizeof(strata), "%s", sta_test_tmp_path("live_sphere.strata"));
+    sta_synth_params p = { .kind = STA_SYNTH_SPHERE, .seed = 3, .point_count = POINTS };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    const char *inputs[] = { las };
+    sta_convert_options co = {
+        .inputs = inputs, .input_count = 1, .output = strata, .force = true, .compress_level = 1
+    };
+    assert_int_equal(sta_convert(&co, NULL, &err), STA_OK);
+    const char *scenes[] = { strata };
+    sta_bench_options o = { .scenes = scenes,
+                            .scene_count = 1,
+                            .camera_count = 2,
+                            .width_px = 192,
+                            .height_px = 144,
+                            .modes = { STA_PIPELINE_HPR },
+                            .mode_count = 1,
+                            .repeat = 3,
+                            .no_image_error = true,
+                            .katz = true,
+                            .katz_live = true,
+                            .katz_points = 5000,
+                            .katz_perturbation = 1e-5 };
+    sta_bench_results r = { 0 };
+    if (sta_bench_run(&o, &r, &err) != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    assert_int_equal(r.count, 4); // 2 cameras x (1 setting + the live row)
+    for (size_t i = 0; i < r.count; i++) {
+        const sta_bench_row *row = &r.rows[i];
+        print_message("camera %d %s: F1 %.3f, hpr %.1f ms; latency %.1f ms (%d frames), hull "
+                      "cpu %.1f ms, plain %.1f ms; reference hull %.1f ms, plain %.1f ms\n",
+                      row->camera, row->hpr, row->hpr_f1, row->pass_ms[STA_PASS_HPR],
+                      row->katz_live_latency_ms, row->katz_live_frames, row->katz_live_hull_cpu_ms,
+                      row->katz_live_plain_hull_ms, row->katz_hull_ms, row->katz_plain_hull_ms);
+        assert_true(row->katz_hull_ms > 0.0 && row->katz_plain_hull_ms > 0.0);
+        assert_true(row->katz_plain_f1 > 0.9 && row->katz_f1 > 0.9);
+        if (strcmp(row->hpr, "katz-live") == 0) {
+            assert_string_equal(row->setting, "raw/katz-live");
+            assert_true(row->katz_live_latency_ms > 0.0 && row->katz_live_frames >= 1);
+            assert_true(row->katz_live_hull_cpu_ms > 0.0 && row->katz_live_plain_hull_ms > 0.0);
+            assert_true(row->katz_points > 1000 && row->katz_points <= 5000);
+            assert_true(row->hpr_f1 > 0.9);
+            assert_true(row->pass_ms[STA_PASS_HPR] > 0.0 && row->frame_ms > 0.0);
+        } else {
+            assert_true(isnan(row->katz_live_latency_ms));
+        }
+    }
+    sta_bench_results_release(&r);
+    sta_gl_headless_destroy(&gl);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(truth_sphere_near_visible_far_hidden),
+    cmocka_unit_test(live_katz_method_sphere),
     cmocka_unit_test(truth_sphere_ray_depth_and_normal),
     cmocka_unit_test(truth_sidecar_rebuilds_scene),
     cmocka_unit_test(metrics_confusion_counts),

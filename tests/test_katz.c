@@ -18,8 +18,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "bench/katz_hpr.h"
 #include "core/alloc.h"
+#include "visibility/katz_hpr.h"
 
 #define PI 3.14159265358979323846
 
@@ -783,6 +783,97 @@ static void defaults_fill_only_zero_fields(void **state)
     assert_true(params.radius_factor == 3.0 && params.perturbation == 0.01 && params.seed == 9);
 }
 
+// A front square seen on a fine pixel grid (pitch 1e-3 rad, about 1080p at 60 degrees)
+// with depth roughness of +-1 cm, every fourth direction of it showing a far plane 2 m
+// behind through a one-pixel gap, and the far plane in the open around it. With R from a
+// fixed ratio (100 times the farthest point) the roughness exceeds R a^2 and most of the
+// surface is lost (the recall loss at large image sizes); with sta_katz_view_radius for
+// the pitch the surface comes back as the tolerance grows (2 cm: the roughness itself,
+// 20 cm: ten times it) while the far points in the gaps stay hidden.
+static void view_radius_keeps_fine_surfaces(void **state)
+{
+    (void)state;
+    enum {
+        SIDE = 160
+    };
+    const double pitch = 1e-3;
+    point3 *points = new_points((size_t)SIDE * SIDE);
+    uint8_t *truth = new_flags((size_t)SIDE * SIDE);
+    uint8_t *flags = new_flags((size_t)SIDE * SIDE);
+    rng_state = 7;
+    size_t n = 0;
+    for (int row = 0; row < SIDE; row++) {
+        for (int col = 0; col < SIDE; col++) {
+            double ax = (col - SIDE / 2) * pitch;
+            double ay = (row - SIDE / 2) * pitch;
+            bool in_front = abs(col - SIDE / 2) < SIDE / 4 && abs(row - SIDE / 2) < SIDE / 4;
+            bool gap = in_front && row % 2 == 0 && col % 2 == 0;
+            double depth = in_front && !gap ? 10.0 + 0.02 * (rng_uniform() - 0.5) : 12.0;
+            double dir[3] = { tan(ax), tan(ay), -1.0 };
+            double len = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + 1.0);
+            for (int a = 0; a < 3; a++) {
+                points[n][a] = dir[a] / len * depth;
+            }
+            truth[n] = !gap;
+            n++;
+        }
+    }
+    const double eye[3] = { 0.0, 0.0, 0.0 };
+    sta_katz_params rules[3] = {
+        { 0 },
+        { .radius_m = sta_katz_view_radius(0.02, pitch) },
+        { .radius_m = sta_katz_view_radius(0.2, pitch) },
+    };
+    assert_true(rules[1].radius_m > 1.99e4 && rules[1].radius_m < 2.01e4);
+    double found[3], leaked[3];
+    for (int k = 0; k < 3; k++) {
+        sta_katz_stats stats;
+        assert_int_equal(
+            sta_katz_visible((const double(*)[3])points, n, eye, &rules[k], flags, &stats, NULL),
+            STA_OK);
+        size_t tp = 0, visible_truth = 0, fp = 0, hidden_truth = 0;
+        for (size_t i = 0; i < n; i++) {
+            visible_truth += truth[i];
+            hidden_truth += !truth[i];
+            tp += truth[i] && flags[i];
+            fp += !truth[i] && flags[i];
+        }
+        found[k] = (double)tp / (double)visible_truth;
+        leaked[k] = (double)fp / (double)hidden_truth;
+        printf("R %.4g m: recall %.3f, hidden points shown %.3f\n", stats.radius, found[k],
+               leaked[k]);
+        assert_true(leaked[k] < 0.01);
+    }
+    assert_true(found[0] < 0.3);
+    assert_true(found[1] > 0.8);
+    assert_true(found[2] > 0.95);
+    assert_true(sta_katz_view_radius(0.0, pitch) == 0.0);
+    assert_true(sta_katz_view_radius(0.02, 0.0) == 0.0);
+    sta_free(points);
+    sta_free(truth);
+    sta_free(flags);
+}
+
+// An absolute radius below the farthest point is raised to hold every point; one out of
+// range is refused with a message naming it.
+static void radius_m_is_checked(void **state)
+{
+    (void)state;
+    point3 pts[4] = { { 1, 0, -5 }, { -1, 0, -5 }, { 0, 1, -5 }, { 0, -1, -6 } };
+    uint8_t flags[4];
+    sta_katz_stats stats;
+    const double eye[3] = { 0, 0, 0 };
+    sta_katz_params small = { .radius_m = 1.0 };
+    assert_int_equal(sta_katz_visible((const double(*)[3])pts, 4, eye, &small, flags, &stats, NULL),
+                     STA_OK);
+    assert_true(stats.radius >= STA_KATZ_MIN_RADIUS_FACTOR * 6.0);
+    sta_katz_params bad = { .radius_m = -1.0 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_katz_visible((const double(*)[3])pts, 4, eye, &bad, flags, &stats, &err),
+                     STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "radius_m"));
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(sphere_from_outside),
     cmocka_unit_test(nested_sphere_in_box),
@@ -799,6 +890,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(allocation_failures),
     cmocka_unit_test(perturbation_is_deterministic),
     cmocka_unit_test(defaults_fill_only_zero_fields),
+    cmocka_unit_test(view_radius_keeps_fine_surfaces),
+    cmocka_unit_test(radius_m_is_checked),
     cmocka_unit_test(timing),
 };
 

@@ -37,6 +37,16 @@ static void print_stats(int frame, const sta_frame_stats *s, double ms)
         }
     }
     printf("; s0 %.4g m\n", (double)s->s0_m);
+    if (s->katz.generation > 0) {
+        printf("  katz: set %" PRIu64 ", %" PRIu64 " frames old%s, %" PRIu64 " of %" PRIu64
+               " points visible, R %.4g m, hull %.1f ms",
+               s->katz.generation, s->katz.age_frames, s->katz.current ? " (current)" : "",
+               s->katz.visible, s->katz.points, s->katz.radius_m, s->katz.hull_ms);
+        if (s->katz.plain_hull_ms > 0) {
+            printf(" (plain hull %.1f ms)", s->katz.plain_hull_ms);
+        }
+        printf("\n");
+    }
 }
 
 // Renders frames until the view is fully loaded (or --frames / the timeout).
@@ -362,6 +372,7 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_pipeline_options pipeline;
         sta_view_pipeline_options(args, &pipeline);
         sta_scene_set_pipeline(scene, &pipeline);
+        sta_scene_set_katz(scene, &args->katz);
         sta_scene_set_timing(scene, args->stats);
         sta_frame_stats stats = { 0 };
         if (args->path_file) {

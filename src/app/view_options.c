@@ -35,6 +35,7 @@ static const char keys_text[] =
     "  1..5           colour: rgb, intensity, elevation, class, returns\n"
     "  M / N          next pipeline mode / next normal method\n"
     "  H              pyramidal / exhaustive HPR     G    normal smoothing on/off\n"
+    "  K              live Katz HPR on/off (drawn subsample, hull on worker threads)\n"
     "  R              reset to the whole scene            P       add path keyframe\n"
     "  Esc            quit\n";
 
@@ -194,8 +195,9 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     a->samples = STA_NORMALS_SCREEN_DEFAULT_SAMPLES;
     a->hpr_radius_px = STA_PIPELINE_DEFAULT_HPR_RADIUS_PX;
     a->hpr_threshold = (double)STA_HPR_DEFAULT_THRESHOLD;
+    sta_katz_view_options_defaults(&a->katz);
     int hpr = 0; // index into hpr_names
-    static const char *const hpr_names[] = { "pyramid", "exhaustive", NULL };
+    static const char *const hpr_names[] = { "pyramid", "exhaustive", "katz", NULL };
     static const char *const sample_names[] = { "5", "9", "17", "25", NULL };
     static const int sample_values[] = { 5, 9, 17, 25 };
     const char *pipeline_names[STA_PIPELINE_MODE_COUNT + 1] = { NULL };
@@ -412,7 +414,34 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .dest = &hpr,
           .metavar = "MODE",
           .choices = hpr_names,
-          .help = "pyramidal HPR or the fixed-radius baseline" },
+          .help = "pyramidal HPR, the fixed-radius baseline, or live Katz HPR (CPU threads: "
+                  "the visible points of a subsample are drawn; docs/KATZ.md)" },
+        { .name = "katz-points",
+          .kind = STA_CLI_COUNT,
+          .dest = &a->katz.sample_points,
+          .metavar = "N",
+          .count_min = 4,
+          .count_max = 100000000,
+          .flags = STA_CLI_SUFFIX,
+          .help = "live Katz: points per hull (a subsample of the drawn points)" },
+        { .name = "katz-threads",
+          .kind = STA_CLI_INT,
+          .dest = &a->katz.threads,
+          .metavar = "N",
+          .int_min = 1,
+          .int_max = STA_KATZ_WORKER_MAX_THREADS,
+          .help = "live Katz: hull threads" },
+        { .name = "katz-perturbation",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->katz.perturbation,
+          .metavar = "A",
+          .real_min = 0.0,
+          .real_max = 1.0,
+          .help = "live Katz: Braga's perturbation, in model radii (0: none)" },
+        { .name = "katz-compare",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->katz.compare_plain,
+          .help = "live Katz: also time the plain hull on each input (--stats shows both)" },
         { .name = "hpr-radius",
           .kind = STA_CLI_INT,
           .dest = &a->hpr_radius_px,
@@ -448,6 +477,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
         return rc == 0 ? -1 : rc;
     }
     a->hpr_exhaustive = hpr == 1;
+    a->katz.enabled = hpr == 2;
     if (r.positional_count == 0) {
         return sta_cli_usage_error(&cli, "no scene given (see --help)");
     }

@@ -4,6 +4,7 @@
 #ifndef STA_APP_VIEW_OPTIONS_H
 #define STA_APP_VIEW_OPTIONS_H
 
+#include "render/pass_katz.h"
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -39,6 +40,8 @@ typedef struct sta_view_args {
     double hpr_threshold;      /* --hpr-threshold */
     double s0_m;               /* --s0 */
     int repeat;                /* --repeat: time N more frames once loaded */
+    /* --hpr katz, --katz-*: the live Katz mode */
+    sta_katz_view_options katz;
     sta_clip clip;             /* --clip, --classes, --returns (the streamer's selection) */
     bool has_pick;             /* --pick given */
     double pick_px[2];         /* --pick X,Y: pixel to pick after the last frame */

@@ -47,6 +47,7 @@ typedef struct view_state {
     double scene_size;             /* largest extent, metres */
     sta_camera_path recorded;      /* P adds keyframes */
     sta_pipeline_options pipeline; /* M, N, H, G change it */
+    sta_katz_view_options katz;    /* K turns it on and off */
     double record_start_s;
     int colour_mode;
     double orbit_pitch[2]; /* radians: the camera's elevation above the pivot, min and max */
@@ -388,6 +389,10 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
         fprintf(stderr, "pipeline %s, normals %s%s, hpr %s\n", sta_pipeline_mode_name(o->mode),
                 sta_normal_method_name(o->normals), o->smooth ? " smoothed" : "",
                 o->hpr_exhaustive ? "exhaustive" : "pyramid");
+    } else if (key == GLFW_KEY_K) {
+        s->katz.enabled = !s->katz.enabled;
+        sta_scene_set_katz(s->scene, &s->katz);
+        fprintf(stderr, "live katz hpr %s\n", s->katz.enabled ? "on" : "off");
     } else if (key == GLFW_KEY_P) {
         sta_error err = { 0 };
         double t = glfwGetTime() - s->record_start_s;
@@ -458,6 +463,12 @@ static void update_title(GLFWwindow *window, const sta_frame_stats *stats, doubl
              fly_mode ? "fly: WASD QE, drag to look" : "orbit", fps,
              (double)stats->points_drawn * 1e-6, (double)budget * 1e-6, stats->nodes_resident,
              stats->loader_backlog, (double)stats->gpu_bytes / 1048576.0);
+    if (stats->katz.generation > 0) {
+        size_t used = strlen(title);
+        snprintf(title + used, sizeof(title) - used,
+                 "  katz %" PRIu64 "/%" PRIu64 " visible, %" PRIu64 " frames old",
+                 stats->katz.visible, stats->katz.points, stats->katz.age_frames);
+    }
     glfwSetWindowTitle(window, title);
 }
 
@@ -540,6 +551,8 @@ int sta_view_run_window(const sta_view_args *args)
     s.colour_mode = sta_view_initial_colour(args, s.info);
     sta_view_pipeline_options(args, &s.pipeline);
     sta_scene_set_pipeline(s.scene, &s.pipeline);
+    s.katz = args->katz;
+    sta_scene_set_katz(s.scene, &s.katz);
     sta_scene_set_timing(s.scene, args->stats);
     sta_scene_set_colour_mode(s.scene, s.colour_mode);
     sta_scene_set_ramps(s.scene, args->elevation_range[0], args->elevation_range[1],
@@ -617,6 +630,7 @@ int sta_view_run_window(const sta_view_args *args)
         }
         s.redraw = false;
         shown = s.camera;
+        bool was_complete = frame > 0 && stats.complete;
         status = sta_scene_render(s.scene, &s.camera, &s.target, &stats, &err);
         sta_render_target_present(&s.target);
         if (has_hud && status == STA_OK) {
@@ -626,7 +640,9 @@ int sta_view_run_window(const sta_view_args *args)
         frame++;
         frames_since_title++;
         double drawn_s = glfwGetTime() - title_time;
-        if (drawn_s > 0.5 || was_idle) {
+        // Also when the view has just become complete: the viewer may go idle next, and
+        // the title should show the last frame (e.g. the live Katz set that arrived).
+        if (drawn_s > 0.5 || was_idle || (stats.complete && !was_complete)) {
             fps = frames_since_title / drawn_s;
             update_title(window, &stats, frames_since_title / drawn_s,
                          args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS,
@@ -649,6 +665,9 @@ int sta_view_run_window(const sta_view_args *args)
         }
         if (args->max_frames && frame >= args->max_frames) {
             break;
+        }
+        if (s.katz.enabled && !changed && !stats.katz.current) {
+            glfwWaitEventsTimeout(0.01); // only the live Katz set is awaited: leave the CPU to it
         }
     }
     if (status != STA_OK) {

@@ -15,6 +15,7 @@
 #include "core/cli.h"
 #include "render/gl.h"
 #include "render/ref/hpr_ref.h"
+#include "stream/point_sample.h"
 
 enum {
     MAX_SIZE_PX = 16384 /* --size: the largest side */
@@ -309,7 +310,7 @@ int main(int argc, char **argv)
 {
     // The defaults, shown by --help from here: the sweep's own (resolving them twice is
     // harmless), a local copy of the threshold the pipeline uses for 0.
-    sta_bench_options o = { .progress = true };
+    sta_bench_options o = { .progress = true, .katz_points = STA_DEFAULT_KATZ_SAMPLE_POINTS };
     sta_bench_options_defaults(&o);
     o.hpr_radius_px = 8;
     double hpr_threshold = (double)STA_HPR_DEFAULT_THRESHOLD;
@@ -456,6 +457,26 @@ int main(int argc, char **argv)
           .kind = STA_CLI_FLAG,
           .dest = &o.katz,
           .help = "Katz et al. HPR (Qhull) on the drawn points as reference" },
+        { .name = "katz-live",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.katz_live,
+          .help = "the viewer's live Katz mode as a method (latency, F1, hull time)" },
+        { .name = "katz-points",
+          .kind = STA_CLI_COUNT,
+          .dest = &o.katz_points,
+          .metavar = "N",
+          .count_min = 4,
+          .count_max = 100000000,
+          .flags = STA_CLI_SUFFIX,
+          .help = "live Katz: points per hull" },
+        { .name = "katz-perturbation",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &o.katz_perturbation,
+          .metavar = "A",
+          .real_min = 0.0,
+          .real_max = 1.0,
+          .help = "Braga's perturbation in model radii for --katz and --katz-live; above 0 "
+                  "also times the plain hull on the same input" },
         { .name = "no-image-error",
           .kind = STA_CLI_FLAG,
           .dest = &o.no_image_error,

@@ -95,11 +95,19 @@ static const column columns[] = {
     COL(psnr_db, COL_F64),
     COL(ssim, COL_F64),
     COL(katz_ms, COL_F64),
+    COL(katz_radius_m, COL_F64),
+    COL(katz_hull_ms, COL_F64),
+    COL(katz_plain_hull_ms, COL_F64),
+    COL(katz_plain_f1, COL_F64),
     COL(katz_points, COL_U64),
     COL(katz_visible, COL_U64),
     COL(katz_precision, COL_F64),
     COL(katz_recall, COL_F64),
     COL(katz_f1, COL_F64),
+    COL(katz_live_latency_ms, COL_F64),
+    COL(katz_live_frames, COL_INT),
+    COL(katz_live_hull_cpu_ms, COL_F64),
+    COL(katz_live_plain_hull_ms, COL_F64),
 };
 
 #define COLUMN_COUNT (sizeof(columns) / sizeof(columns[0]))

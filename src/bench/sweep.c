@@ -11,7 +11,6 @@
 
 #include "bench/bench_cameras.h"
 #include "bench/bench_truth.h"
-#include "bench/katz_hpr.h"
 #include "bench/metrics.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
@@ -20,6 +19,7 @@
 #include "render/gl.h"
 #include "render/gl_image.h"
 #include "render/scene.h"
+#include "visibility/katz_hpr.h"
 
 static const double degrees = 3.14159265358979323846 / 180.0;
 
@@ -387,21 +387,47 @@ static void clear_errors(sta_bench_row *row)
     row->normal_mean_deg = row->normal_median_deg = row->normal_p95_deg = (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
     row->psnr_db = row->ssim = (double)NAN;
-    row->katz_ms = row->katz_precision = row->katz_recall = row->katz_f1 = (double)NAN;
+    row->katz_ms = row->katz_radius_m = row->katz_hull_ms = row->katz_plain_hull_ms =
+        row->katz_plain_f1 = row->katz_live_latency_ms = row->katz_live_hull_cpu_ms =
+            row->katz_live_plain_hull_ms = row->katz_precision = row->katz_recall = row->katz_f1 =
+                (double)NAN;
 }
 
 // Katz's operator on the view's points (relative to the eye, for precision).
-static sta_status run_katz(const sta_camera *camera, const sta_view_points *points, bool has_truth,
-                           sta_bench_row *katz, sta_error *err)
+// Confusion of Katz flags against the truth flags.
+static void katz_score(const uint8_t *visible, const uint8_t *truth, size_t count, double *out_p,
+                       double *out_r, double *out_f1)
 {
+    sta_confusion c = { 0 };
+    for (size_t i = 0; i < count; i++) {
+        sta_confusion_add(&c, visible[i], truth[i]);
+    }
+    *out_p = sta_confusion_precision(&c);
+    *out_r = sta_confusion_recall(&c);
+    *out_f1 = sta_confusion_f1(&c);
+}
+
+// Katz's operator on the view's points (relative to the eye, for precision). R follows
+// the view's pixel pitch and the same depth tolerance as the truth (sta_katz_view_radius,
+// docs/KATZ.md "Choosing R"). With a perturbation, the perturbed and the plain hull run
+// on the same input, interleaved, `repeat` times each; medians reported.
+static sta_status run_katz(const scene_run *run, const sta_camera *camera,
+                           const sta_view_points *points, double tolerance_m, sta_bench_row *katz,
+                           sta_error *err)
+{
+    const sta_bench_options *o = run->o;
     katz->katz_points = points->count;
     if (points->count == 0) {
         return STA_OK;
     }
+    const bool compare = o->katz_perturbation > 0.0;
+    const int repeat = compare ? o->repeat : 1;
     double(*relative)[3] = sta_alloc_array(points->count, sizeof(*relative));
     uint8_t *visible = sta_alloc_array(points->count, 1);
+    uint8_t *plain = sta_alloc_array(points->count, 1);
+    double *times = sta_alloc_array((size_t)repeat * 2, sizeof(double));
     sta_status s = STA_OK;
-    if (!relative || !visible) {
+    if (!relative || !visible || !plain || !times) {
         s = sta_fail(err, STA_ERR_NOMEM, "out of memory for Katz on %zu points", points->count);
         goto out_free;
     }
@@ -411,26 +437,121 @@ static sta_status run_katz(const sta_camera *camera, const sta_view_points *poin
         }
     }
     const double origin[3] = { 0.0, 0.0, 0.0 };
-    sta_katz_stats stats;
-    s = sta_katz_visible((const double(*)[3])relative, points->count, origin, NULL, visible, &stats,
-                         err);
+    const double radius_m = sta_katz_view_radius(tolerance_m, camera->fov_y / camera->height_px);
+    const sta_katz_params params = { .radius_m = radius_m, .perturbation = o->katz_perturbation };
+    const sta_katz_params exact = { .radius_m = radius_m };
+    sta_katz_stats stats = { 0 }, plain_stats;
+    for (int r = 0; r < repeat && s == STA_OK; r++) {
+        s = sta_katz_visible((const double(*)[3])relative, points->count, origin, &params, visible,
+                             &stats, err);
+        times[r] = stats.hull_ms;
+        if (s == STA_OK && compare) {
+            s = sta_katz_visible((const double(*)[3])relative, points->count, origin, &exact, plain,
+                                 &plain_stats, err);
+            times[repeat + r] = plain_stats.hull_ms;
+        }
+    }
     if (s != STA_OK) {
         goto out_free;
     }
     katz->katz_ms = stats.total_ms;
+    katz->katz_radius_m = stats.radius;
     katz->katz_visible = stats.visible_count;
-    if (has_truth) {
-        sta_confusion c = { 0 };
-        for (size_t i = 0; i < points->count; i++) {
-            sta_confusion_add(&c, visible[i], points->visible[i]);
+    katz->katz_hull_ms = median_of(times, repeat);
+    if (compare) {
+        katz->katz_plain_hull_ms = median_of(times + repeat, repeat);
+    }
+    if (run->has_truth) {
+        katz_score(visible, points->visible, points->count, &katz->katz_precision,
+                   &katz->katz_recall, &katz->katz_f1);
+        if (compare) {
+            double p, r;
+            katz_score(plain, points->visible, points->count, &p, &r, &katz->katz_plain_f1);
         }
-        katz->katz_precision = sta_confusion_precision(&c);
-        katz->katz_recall = sta_confusion_recall(&c);
-        katz->katz_f1 = sta_confusion_f1(&c);
     }
 out_free:
     sta_free(relative);
     sta_free(visible);
+    sta_free(plain);
+    sta_free(times);
+    return s;
+}
+
+// The live Katz mode (render/pass_katz.h) as a method, one row: the camera is set, frames
+// are drawn until the set of this view is shown (latency), then timed frames; the set's
+// points are scored against the truth (P / R / F1 in the hpr_* columns, its hull time in
+// hpr_ms).
+static sta_status run_katz_live(scene_run *run, sta_scene *scene, const sta_camera *camera,
+                                double tolerance_m, const sta_bench_row *base,
+                                sta_bench_results *results, sta_error *err)
+{
+    const sta_bench_options *o = run->o;
+    sta_bench_row row = *base;
+    snprintf(row.setting, sizeof(row.setting), "raw/katz-live");
+    snprintf(row.pipeline, sizeof(row.pipeline), "%s", sta_pipeline_mode_name(STA_PIPELINE_RAW));
+    snprintf(row.hpr, sizeof(row.hpr), "katz-live");
+    set_pipeline(run, scene, &(sta_bench_setting){ .mode = STA_PIPELINE_RAW });
+    sta_katz_view_options k = { .enabled = true,
+                                .sample_points = o->katz_points,
+                                .perturbation = o->katz_perturbation,
+                                .compare_plain = o->katz_perturbation > 0.0 };
+    sta_scene_set_katz(scene, &k);
+    sta_frame_stats stats = { 0 };
+    sta_status s = STA_OK;
+    double start = sta_clock_ms();
+    int frames = 0;
+    while (s == STA_OK && !stats.katz.current) {
+        s = sta_scene_render(scene, camera, &run->target, &stats, err);
+        sta_gl_finish();
+        frames++;
+        if (s == STA_OK && !stats.katz.current) {
+            if ((sta_clock_ms() - start) * 1e-3 > o->timeout_s) {
+                s = sta_fail(err, STA_ERR_IO, "%s: the live Katz set did not arrive in %.0f s",
+                             run->path, o->timeout_s);
+            }
+            struct timespec nap = { 0, 1000000 };
+            nanosleep(&nap, NULL);
+        }
+    }
+    row.katz_live_latency_ms = sta_clock_ms() - start;
+    row.katz_live_frames = frames;
+    if (s == STA_OK) {
+        s = timed_frames(run, scene, camera, &row, err);
+    }
+    const sta_pass_katz *pass = sta_scene_katz(scene);
+    const sta_katz_set *set = sta_pass_katz_set(pass);
+    if (s == STA_OK && set) {
+        row.pass_ms[STA_PASS_HPR] = set->stats.hull_ms;
+        row.katz_live_hull_cpu_ms = set->stats.hull_cpu_ms;
+        row.katz_live_plain_hull_ms = k.compare_plain ? set->plain_hull_ms : (double)NAN;
+        row.katz_points = set->count;
+        row.katz_visible = set->visible_count;
+        row.katz_radius_m = set->stats.radius;
+        if (run->has_truth) {
+            sta_confusion c = { 0 };
+            for (size_t i = 0; i < set->count; i++) {
+                double p[3];
+                for (int a = 0; a < 3; a++) {
+                    p[a] = (double)set->points[i][a] + pass->origin[a];
+                }
+                sta_confusion_add(
+                    &c, set->visible[i],
+                    sta_bench_truth_point_visible(&run->truth, camera->position, p, tolerance_m));
+            }
+            row.hpr_tp = c.tp;
+            row.hpr_fp = c.fp;
+            row.hpr_fn = c.fn;
+            row.hpr_tn = c.tn;
+            row.hpr_precision = sta_confusion_precision(&c);
+            row.hpr_recall = sta_confusion_recall(&c);
+            row.hpr_f1 = sta_confusion_f1(&c);
+        }
+    }
+    k.enabled = false;
+    sta_scene_set_katz(scene, &k);
+    if (s == STA_OK) {
+        s = push_row(results, &row, err);
+    }
     return s;
 }
 
@@ -486,13 +607,16 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         sta_render_target_read_depth(&run->target, run->depth);
         s = sta_view_points_from_depth(camera, run->depth, &points, err);
     }
-    if (s == STA_OK && run->has_truth) {
+    double tolerance_m = 0.0;
+    if (s == STA_OK && (run->has_truth || o->katz || o->katz_live)) {
         // The tolerance needs s0: one raw frame gives the scene's estimate.
         sta_frame_stats stats;
         s = sta_scene_render(scene, camera, &run->target, &stats, err);
         double s0 = o->s0_m > 0 ? o->s0_m : (double)stats.s0_m;
-        sta_view_points_classify(&run->truth, camera,
-                                 o->tolerance_s0 * s0 + 3.0 * run->truth.noise_m, &points);
+        tolerance_m = o->tolerance_s0 * s0 + (run->has_truth ? 3.0 * run->truth.noise_m : 0.0);
+    }
+    if (s == STA_OK && run->has_truth) {
+        sta_view_points_classify(&run->truth, camera, tolerance_m, &points);
         base.truth_points = points.count;
         for (size_t i = 0; i < points.count; i++) {
             base.truly_hidden += !points.visible[i];
@@ -500,7 +624,7 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
     }
     if (s == STA_OK && o->katz) {
         progress(run, cam_index + 1, run->camera_count, "Katz HPR");
-        s = run_katz(camera, &points, run->has_truth, &base, err);
+        s = run_katz(run, camera, &points, tolerance_m, &base, err);
     }
     const size_t view = (size_t)camera->width_px * (size_t)camera->height_px;
     for (size_t k = 0; k < run->setting_count && s == STA_OK; k++) {
@@ -534,6 +658,10 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         if (s == STA_OK) {
             s = push_row(results, &row, err);
         }
+    }
+    if (s == STA_OK && o->katz_live) {
+        progress(run, cam_index + 1, run->camera_count, "live Katz");
+        s = run_katz_live(run, scene, camera, tolerance_m, &base, results, err);
     }
     sta_view_points_release(&points);
     return s;

@@ -62,6 +62,11 @@ typedef struct sta_bench_options {
     double tolerance_s0;                  /* truth tolerance in s0; 0: 3 */
     double timeout_s;                     /* per view loading; 0: 300 */
     bool katz;                            /* run the Katz reference */
+    double katz_perturbation;             /* Braga's perturbation for --katz and the live
+                                             mode (0: none); > 0 also times the plain hull
+                                             on the same input, interleaved */
+    bool katz_live;                       /* the live Katz mode as a method (its own row) */
+    uint64_t katz_points;                 /* live mode's points per hull; 0: its default */
     bool no_image_error;                  /* skip the unbudgeted reference renders */
     bool progress;                        /* progress line on stderr (a terminal only) */
 } sta_bench_options;
@@ -106,6 +111,14 @@ typedef struct sta_bench_row {
     double psnr_db; /* +inf for identical images */
     double ssim;
     double katz_ms;
+    double katz_radius_m;         /* Katz's sphere radius R used (sta_katz_view_radius) */
+    double katz_hull_ms;          /* median hull wall time (repeat runs when perturbed) */
+    double katz_plain_hull_ms;    /* perturbed: median plain hull on the same input, interleaved */
+    double katz_plain_f1;         /* perturbed: the plain operator's F1 */
+    double katz_live_latency_ms;  /* live row: camera set to the set of this view shown */
+    int katz_live_frames;         /* live row: frames drawn meanwhile */
+    double katz_live_hull_cpu_ms; /* live row: CPU time of its hull (worker thread) */
+    double katz_live_plain_hull_ms; /* live row, perturbed: plain hull on the same input */
     uint64_t katz_points, katz_visible;
     double katz_precision, katz_recall, katz_f1;
 } sta_bench_row;

@@ -21,8 +21,9 @@ struct sta_scene {
     sta_pipeline pipeline; /* initialised on first use */
     bool has_pipeline;
     sta_pipeline_options pipeline_options;
-    bool timing;    /* drain and time each pass */
-    double ramp[3]; /* elevation ramp min, max (metres), largest intensity; 0: from the scene */
+    bool timing;        /* drain and time each pass */
+    sta_pass_katz katz; /* live Katz mode */
+    double ramp[3];     /* elevation ramp min, max (metres), largest intensity; 0: from the scene */
 };
 
 sta_status sta_scene_open(const char *path, const sta_scene_options *options, sta_scene **out_scene,
@@ -51,6 +52,13 @@ sta_status sta_scene_open(const char *path, const sta_scene_options *options, st
         status = sta_gpu_cache_init(&s->cache, info->node_count, err);
     }
     if (status == STA_OK) {
+        double centre[3];
+        for (int a = 0; a < 3; a++) {
+            centre[a] = 0.5 * (info->bounds_min[a] + info->bounds_max[a]);
+        }
+        sta_pass_katz_init(&s->katz, info->node_count, centre, NULL);
+    }
+    if (status == STA_OK) {
         status = sta_pass_geometry_init(&s->geometry, err);
     }
     if (status != STA_OK) {
@@ -66,6 +74,7 @@ void sta_scene_close(sta_scene *s)
     if (!s) {
         return;
     }
+    sta_pass_katz_release(&s->katz);
     sta_pass_geometry_release(&s->geometry);
     if (s->has_pipeline) {
         sta_pipeline_release(&s->pipeline);
@@ -116,6 +125,16 @@ const sta_pipeline *sta_scene_pipeline(const sta_scene *s)
     return s->has_pipeline ? &s->pipeline : NULL;
 }
 
+void sta_scene_set_katz(sta_scene *s, const sta_katz_view_options *options)
+{
+    sta_pass_katz_set_options(&s->katz, options);
+}
+
+const sta_pass_katz *sta_scene_katz(const sta_scene *s)
+{
+    return &s->katz;
+}
+
 void sta_scene_set_colour_mode(sta_scene *s, int mode)
 {
     s->colour_mode = mode >= 0 && mode < STA_COLOUR_MODE_COUNT ? mode : STA_COLOUR_RGB;
@@ -144,6 +163,10 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         return status;
     }
     sta_gpu_cache_apply(&s->cache, &frame);
+    status = sta_pass_katz_apply(&s->katz, &frame, err);
+    if (status != STA_OK) {
+        return status;
+    }
 
     double geometry_start = 0;
     if (s->timing) {
@@ -161,14 +184,22 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     if (s->ramp[2] > 0.0) { // --intensity-max
         colours.intensity_scale = (float)(1.0 / s->ramp[2]);
     }
-    sta_pass_geometry_draw(&s->geometry, camera, &colours, &s->cache, s->frames, frame.draw,
-                           frame.draw_count, target);
+    stats->s0_m = s->pipeline_options.s0_m > 0 ? s->pipeline_options.s0_m
+                                               : (float)sta_streamer_surface_spacing(s->streamer);
+    if (s->katz.options.enabled) {
+        status = sta_pass_katz_frame(&s->katz, camera, &colours, s->frames, &frame, &s->cache,
+                                     stats->s0_m, target, &stats->katz, err);
+        if (status != STA_OK) {
+            return status;
+        }
+    } else {
+        sta_pass_geometry_draw(&s->geometry, camera, &colours, &s->cache, s->frames, frame.draw,
+                               frame.draw_count, target);
+    }
     if (s->timing) {
         glFinish();
         stats->geometry_ms = sta_clock_ms() - geometry_start;
     }
-    stats->s0_m = s->pipeline_options.s0_m > 0 ? s->pipeline_options.s0_m
-                                               : (float)sta_streamer_surface_spacing(s->streamer);
     if (s->pipeline_options.mode != STA_PIPELINE_RAW) {
         if (!s->has_pipeline) {
             status = sta_pipeline_init(&s->pipeline, err);
@@ -195,6 +226,6 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     stats->loader_backlog = frame.loader_backlog;
     stats->bad_nodes = frame.bad_nodes;
     stats->evictions = frame.evictions;
-    stats->complete = frame.complete;
+    stats->complete = frame.complete && (!s->katz.options.enabled || stats->katz.current);
     return sta_gl_check("drawing the scene", err);
 }

@@ -13,6 +13,7 @@
 #include "core/camera.h"
 #include "core/status.h"
 #include "format/strata_reader.h"
+#include "render/pass_katz.h"
 #include "render/pipeline.h"
 #include "render/target.h"
 #include "stream/streamer.h"
@@ -36,7 +37,9 @@ typedef struct sta_frame_stats {
     float s0_m;                 /* sampling scale used by the screen-space passes, metres */
     double geometry_ms;         /* GPU time of the geometry pass (when timing is on) */
     sta_pipeline_timing timing; /* screen-space passes (when timing is on) */
-    bool complete;              /* every selected node is resident (or refused) */
+    bool complete;              /* every selected node is resident (or refused), and in the
+                                   live Katz mode the set drawn is of this view */
+    sta_katz_frame_stats katz;  /* live Katz mode (zero when off) */
 } sta_frame_stats;
 
 /* Opens `path` (maps it, validates it, starts the loader). Needs a current GL 4.5
@@ -80,6 +83,12 @@ const sta_pipeline *sta_scene_pipeline(const sta_scene *scene);
 
 /* The pipeline mode last set (sta_pipeline_mode). */
 int sta_scene_pipeline_mode(const sta_scene *scene);
+
+/* The live Katz HPR mode (render/pass_katz.h): on, off, options. */
+void sta_scene_set_katz(sta_scene *scene, const sta_katz_view_options *options);
+
+/* The live Katz pass (its set and origin, for the benchmark). */
+const sta_pass_katz *sta_scene_katz(const sta_scene *scene);
 
 /* Renders one frame into `target` (resized to the camera's viewport). */
 sta_status sta_scene_render(sta_scene *scene, const sta_camera *camera, sta_render_target *target,

@@ -11,7 +11,7 @@
  * flipping) and section 3 (visible iff on the convex hull with the viewpoint added);
  * Braga et al., section 4 (random addition of 0.01 of the radius to each coordinate).
  */
-#include "bench/katz_hpr.h"
+#include "visibility/katz_hpr.h"
 
 #include <limits.h>
 #include <math.h>
@@ -220,6 +220,10 @@ static sta_status check_params(const sta_katz_params *params, sta_katz_params *o
                         "katz hpr: radius_factor %g is outside (1, %g] (0 for the default %g)",
                         out->radius_factor, MAX_RADIUS_FACTOR, STA_KATZ_DEFAULT_RADIUS_FACTOR);
     }
+    if (!(out->radius_m >= 0.0 && out->radius_m <= MAX_RADIUS)) {
+        return sta_fail(err, STA_ERR_ARG, "katz hpr: radius_m %g is outside [0, %g]", out->radius_m,
+                        MAX_RADIUS);
+    }
     if (!(out->perturbation >= 0.0 && out->perturbation <= 1.0)) {
         return sta_fail(err, STA_ERR_ARG, "katz hpr: perturbation %g is outside [0, 1]",
                         out->perturbation);
@@ -274,11 +278,28 @@ static double max_norm(const unique_point *pts, size_t count)
     return result;
 }
 
+// R: the absolute radius when one is given (at least STA_KATZ_MIN_RADIUS_FACTOR times the
+// farthest point, so that the sphere holds every point), else radius_factor times it.
+static double resolve_radius(const sta_katz_params *params, double far_m)
+{
+    if (params->radius_m > 0.0) {
+        return fmax(params->radius_m, STA_KATZ_MIN_RADIUS_FACTOR * far_m);
+    }
+    return params->radius_factor * far_m;
+}
+
+double sta_katz_view_radius(double depth_tolerance_m, double pixel_angle_rad)
+{
+    if (!(depth_tolerance_m > 0.0) || !(pixel_angle_rad > 0.0) || !isfinite(depth_tolerance_m)) {
+        return 0.0;
+    }
+    return depth_tolerance_m / (pixel_angle_rad * pixel_angle_rad);
+}
+
 // Flips the distinct points into coords (count + 1 rows, the last the origin).
-static void flip(const unique_point *pts, size_t count, double radius_factor, coordT *coords,
+static void flip(const unique_point *pts, size_t count, double radius, coordT *coords,
                  double *out_radius)
 {
-    double radius = radius_factor * max_norm(pts, count);
     for (size_t k = 0; k < count; k++) {
         double norm = sqrt(dot3(pts[k].x, pts[k].x));
         double scale = 2.0 * radius / norm - 1.0; // p + 2 (R - |p|) p / |p|
@@ -493,18 +514,20 @@ static sta_status compute(const double (*points)[3], size_t count, const double 
                               unique);
             goto out;
         }
-        double radius = params->radius_factor * max_norm(pts, unique);
+        double radius = resolve_radius(params, max_norm(pts, unique));
         if (radius > MAX_RADIUS) {
             status = sta_fail(err, STA_ERR_ARG,
-                              "katz hpr: sphere radius %g (radius_factor %g times the largest "
-                              "distance to the viewpoint) exceeds %g",
-                              radius, params->radius_factor, MAX_RADIUS);
+                              "katz hpr: sphere radius %g (radius_m %g, radius_factor %g times the "
+                              "largest distance to the viewpoint) exceeds %g",
+                              radius, params->radius_m, params->radius_factor, MAX_RADIUS);
             goto out;
         }
         if (params->perturbation > 0.0) {
             perturb(pts, unique, params, &stats->perturbation_abs);
+            // The sphere must still hold every (moved) point.
+            radius = fmax(radius, STA_KATZ_MIN_RADIUS_FACTOR * max_norm(pts, unique));
         }
-        flip(pts, unique, params->radius_factor, coords, &stats->radius);
+        flip(pts, unique, radius, coords, &stats->radius);
         status = hull_visible(coords, unique, visible, stats, err);
         if (status != STA_OK) {
             goto out;

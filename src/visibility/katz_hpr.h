@@ -10,8 +10,8 @@
  * for real-time applications", section 4 (perturbation of 0.01 of the sphere radius).
  * Decisions on degenerate input and the Qhull options are in docs/KATZ.md.
  */
-#ifndef STA_BENCH_KATZ_HPR_H
-#define STA_BENCH_KATZ_HPR_H
+#ifndef STA_VISIBILITY_KATZ_HPR_H
+#define STA_VISIBILITY_KATZ_HPR_H
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -21,6 +21,10 @@
 
 /* Default R / max ||p_i - C|| (Katz's 10^gamma with gamma = 2), see docs/KATZ.md. */
 #define STA_KATZ_DEFAULT_RADIUS_FACTOR 100.0
+
+/* With an absolute radius (radius_m), R is at least this many times the farthest point:
+ * the sphere must hold every point for the flip to turn near into far. */
+#define STA_KATZ_MIN_RADIUS_FACTOR 2.0
 
 /* Default seed of the perturbation. */
 #define STA_KATZ_DEFAULT_SEED 1
@@ -32,7 +36,10 @@
  * is none, so the defaults give the exact operator. */
 typedef struct sta_katz_params {
     double radius_factor; /* R = radius_factor * max ||p_i - C|| (Katz: 10^gamma); > 1, or
-                             0 for STA_KATZ_DEFAULT_RADIUS_FACTOR */
+                             0 for STA_KATZ_DEFAULT_RADIUS_FACTOR; unused when radius_m > 0 */
+    double radius_m;      /* 0 (the default): R from radius_factor; else R itself, in input
+                             units (at least STA_KATZ_MIN_RADIUS_FACTOR times the farthest
+                             point); sta_katz_view_radius gives it for a rendered view */
     double perturbation;  /* 0 (the default): none; else each coordinate moves by a uniform
                              random amount in [-a, a], a = perturbation * the model's radius
                              (half the diagonal of its bounding box); in [0, 1]; Braga et
@@ -71,6 +78,18 @@ typedef struct sta_katz_stats {
  * seed; perturbation's default is 0); other fields stay as they are. A zeroed struct
  * becomes the exact operator. */
 void sta_katz_params_defaults(sta_katz_params *config);
+
+/* Katz's sphere radius for points sampled on a pixel grid (docs/KATZ.md, "Choosing R"):
+ * R = depth_tolerance_m / pixel_angle_rad^2. With spherical flipping, a point between two
+ * neighbours an angle a apart on either side stays a hull vertex while it lies less than
+ * about R a^2 / 2 behind their mean depth (the flipped sheet has radius ~2R); so R sets the
+ * depth step, at the sampling's angular pitch, that still counts as one surface. A fixed
+ * ratio R / max ||p - C|| therefore hides ever more of a surface as the pitch shrinks (4x
+ * less tolerance per doubling of resolution): the recall loss of Katz at large image
+ * sizes. depth_tolerance_m: the depth roughness to accept as surface (metres, > 0), e.g.
+ * a few sampling spacings plus the noise; pixel_angle_rad: the angle of one pixel
+ * (vertical field of view / height, > 0). Returns 0 for arguments out of range. */
+double sta_katz_view_radius(double depth_tolerance_m, double pixel_angle_rad);
 
 /* Marks which of `count` points are visible from `viewpoint` by HPR: out_visible[i] is 1
  * when the spherically flipped point i is a vertex of the convex hull of all flipped
