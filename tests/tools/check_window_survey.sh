@@ -43,12 +43,17 @@ start_viewer() { # extra options
 
 # Waits until the window's picture is the same twice in a row, 1 s apart (loaded;
 # slow under the sanitizers).
-settle() {
-    local previous="" now
-    for _ in $(seq 1 120); do
+settle() { # the same picture three times in a row, 1 s apart
+    local previous="" now same=0
+    for _ in $(seq 1 180); do
         sleep 1
         now=$(xwd -id "$win" -silent | sha256sum)
-        [ "$now" = "$previous" ] && return 0
+        if [ "$now" = "$previous" ]; then
+            same=$((same + 1))
+            [ $same -ge 2 ] && return 0
+        else
+            same=0
+        fi
         previous=$now
     done
     echo "the window never settled" >&2
@@ -77,11 +82,18 @@ xdotool key --window "$win" F6
 sleep 1
 settle
 xdotool key --window "$win" t
+picks=0
 for point in "240 200" "400 250"; do
-    # shellcheck disable=SC2086
-    xdotool mousemove --window "$win" $point
-    xdotool keydown ctrl click 1 keyup ctrl
-    sleep 1
+    # A loaded machine may still be drawing the cut: click again until a point is hit.
+    for _ in $(seq 1 15); do
+        # shellcheck disable=SC2086
+        xdotool mousemove --window "$win" $point
+        xdotool keydown ctrl click 1 keyup ctrl
+        sleep 1
+        [ "$(grep -c '^pick: x ' "$work/viewer.log" || true)" -gt $picks ] && break
+        sleep 1
+    done
+    picks=$((picks + 1))
 done
 xdotool key --window "$win" j
 sleep 2
