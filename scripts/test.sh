@@ -6,8 +6,8 @@
 #   3. builds the ci-release preset (warnings are errors) and runs every ctest label,
 #   4. builds the ci-debug preset (AddressSanitizer + UndefinedBehaviorSanitizer) and
 #      runs every ctest label again,
-#   5. builds the threaded hand-over test of the live Katz worker (no GL) in the tsan
-#      preset (ThreadSanitizer) and runs it.
+#   5. builds the threaded tests without GL (the live Katz worker's hand-over, the
+#      streamer and its loader threads) in the tsan preset (ThreadSanitizer), runs them.
 # Tests that need ../shared/data report themselves skipped when it is absent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,7 +26,7 @@ for preset in ci-release ci-debug; do
     ctest --test-dir "build/$preset" --output-on-failure -j "$jobs"
 done
 
-echo "== tsan: live Katz worker hand-over"
+echo "== tsan: live Katz worker hand-over, streamer and loader threads"
 cmake --preset tsan >/dev/null
-cmake --build build/tsan -j "$jobs" --target test_katz_worker
-TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -R '^katz_worker\.'
+cmake --build build/tsan -j "$jobs" --target test_katz_worker test_stream
+TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -R '^(katz_worker|stream)\.'
