@@ -29,6 +29,7 @@
 #include "format/strata_writer.h"
 #include "index.h"
 #include "inputs.h"
+#include "las_source.h"
 #include "node_writer.h"
 #include "progress.h"
 #include "refine.h"
@@ -554,6 +555,12 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     wopt.generator = "strata-convert 0.1";
     wopt.up_axis = sta_inputs_up_axis(&job.inputs, report->up_why, sizeof(report->up_why));
     report->up_axis = wopt.up_axis;
+    sta_las_source_keep las_source;
+    status = sta_las_source_collect(&job.inputs, &las_source, err);
+    if (status != STA_OK) {
+        goto out;
+    }
+    wopt.las_source = las_source.present ? &las_source.source : NULL;
     status = sta_strata_layout_init(&wopt.layout,
                                     sta_strata_attributes_from_sta_attr(job.inputs.attributes),
                                     extra_dims, extra_count, err);
@@ -561,6 +568,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     status = sta_strata_writer_create(options->output, &wopt, &job.writer, err);
+    sta_las_source_release(&las_source); // the writer keeps a copy
     if (status != STA_OK) {
         goto out;
     }

@@ -12,6 +12,7 @@ packages=(
     libopenexr-dev libpng-dev                                  # image output
     libqhull-dev libcglm-dev liblapacke-dev                    # Katz HPR, maths, test references
     libcjson-dev                                               # camera paths, truth sidecars
+    libstb-dev fonts-dejavu-core                               # on-screen text (stb_truetype, DejaVu)
     clang-format-14 python3                                    # format check, test helpers
     xvfb xdotool x11-apps                                      # window tests (Xvfb, xwd)
 )

@@ -7,7 +7,8 @@
 #   4. builds the ci-debug preset (AddressSanitizer + UndefinedBehaviorSanitizer) and
 #      runs every ctest label again,
 #   5. builds the threaded tests without GL (the live Katz worker's hand-over, the
-#      streamer and its loader threads) in the tsan preset (ThreadSanitizer), runs them.
+#      streamer and its loader threads, the clip changed at run time) in the tsan preset
+#      (ThreadSanitizer), runs them.
 # Tests that need ../shared/data report themselves skipped when it is absent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,5 +29,5 @@ done
 
 echo "== tsan: live Katz worker hand-over, streamer and loader threads"
 cmake --preset tsan >/dev/null
-cmake --build build/tsan -j "$jobs" --target test_katz_worker test_stream
-TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -R '^(katz_worker|stream)\.'
+cmake --build build/tsan -j "$jobs" --target test_katz_worker test_stream test_clip
+TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -R '^(katz_worker|stream|clip)\.'

@@ -10,6 +10,7 @@
 
 #include "app/info_print.h"
 #include "app/info_strata.h"
+#include "app/info_strata_points.h"
 #include "core/cli.h"
 #include "core/log.h"
 
@@ -20,7 +21,7 @@ static const char usage_text[] =
     "VLRs/EVLRs, extra dimensions, CRS, and facts from a full scan of the points\n"
     "(actual bounds, classes, returns, GPS time range, colour depth).\n"
     "For a .strata file: tree statistics (nodes, points and spacing per level,\n"
-    "compression, bounds).\n";
+    "compression, bounds), or its points with --points.\n";
 
 static const char exit_text[] =
     "exit status: 0 when every file was read, 1 when any file failed, 2 on bad usage\n";
@@ -59,13 +60,12 @@ static int report_file(const char *path, const info_args *args)
 {
     sta_error err = { 0 };
     if (sta_info_is_strata(path)) {
-        if (args->points) {
-            fprintf(stderr, "strata-info: %s: --points is for LAS and PLY files\n", path);
-            return 1;
-        }
-        sta_status s = args->decode_speed ? sta_info_strata_decode_speed(stdout, path, &err)
-                                          : sta_info_strata(stdout, path, args->json, args->verify,
-                                                            sta_log_is_terminal(), &err);
+        sta_status s =
+            args->points
+                ? sta_info_strata_points(stdout, path, args->points_start, args->points_count, &err)
+            : args->decode_speed ? sta_info_strata_decode_speed(stdout, path, &err)
+                                 : sta_info_strata(stdout, path, args->json, args->verify,
+                                                   sta_log_is_terminal(), &err);
         if (s != STA_OK) {
             fflush(stdout);
             fprintf(stderr, "strata-info: %s\n", err.message);
@@ -121,7 +121,8 @@ int main(int argc, char **argv)
           .help = "print COUNT points from index START as CSV:\n"
                   "x,y,z,intensity,return_number,number_of_returns,\n"
                   "classification,gps_time,red,green,blue\n"
-                  "(real-world coordinates; empty where the format lacks a field)" },
+                  "(real-world coordinates; empty where the format lacks a field);\n"
+                  ".strata: in file order (nodes breadth-first, coarse points first)" },
         { .name = "verify",
           .kind = STA_CLI_FLAG,
           .dest = &args.verify,

@@ -277,13 +277,52 @@ static void csv_double(FILE *out, double value)
     fputs(sta_format_double(value, text, sizeof(text)), out);
 }
 
+void sta_info_print_points_header(FILE *out)
+{
+    fputs("x,y,z,intensity,return_number,number_of_returns,classification,gps_time,red,green,"
+          "blue\n",
+          out);
+}
+
+void sta_info_print_point_row(FILE *out, const sta_grid *grid, uint32_t attr, const sta_point *p)
+{
+    csv_double(out, sta_grid_apply(grid, 0, p->X));
+    fputc(',', out);
+    csv_double(out, sta_grid_apply(grid, 1, p->Y));
+    fputc(',', out);
+    csv_double(out, sta_grid_apply(grid, 2, p->Z));
+    fputc(',', out);
+    if (attr & STA_ATTR_INTENSITY) {
+        fprintf(out, "%u", (unsigned)p->intensity);
+    }
+    fputc(',', out);
+    if (attr & STA_ATTR_RETURNS) {
+        fprintf(out, "%u,%u", (unsigned)p->return_number, (unsigned)p->number_of_returns);
+    } else {
+        fputc(',', out);
+    }
+    fputc(',', out);
+    if (attr & STA_ATTR_CLASSIFICATION) {
+        fprintf(out, "%u", (unsigned)p->classification);
+    }
+    fputc(',', out);
+    if (attr & STA_ATTR_GPS_TIME) {
+        csv_double(out, p->gps_time);
+    }
+    fputc(',', out);
+    if (attr & STA_ATTR_RGB) {
+        fprintf(out, "%u,%u,%u", (unsigned)p->red, (unsigned)p->green, (unsigned)p->blue);
+    } else {
+        fputs(",,", out);
+    }
+    fputc('\n', out);
+}
+
 sta_status sta_info_print_points(FILE *out, sta_cloud_reader *reader, uint64_t start,
                                  uint64_t count, sta_error *err)
 {
     const sta_cloud_info *info = sta_cloud_reader_info(reader);
-    fputs("x,y,z,intensity,return_number,number_of_returns,classification,gps_time,red,green,"
-          "blue\n",
-          out);
+    sta_info_print_points_header(out);
     if (start >= info->point_count || count == 0) {
         return STA_OK;
     }
@@ -297,7 +336,6 @@ sta_status sta_info_print_points(FILE *out, sta_cloud_reader *reader, uint64_t s
     if (status != STA_OK) {
         return status;
     }
-    const uint32_t attr = info->attributes;
     uint64_t left = count;
     while (left > 0 && status == STA_OK) {
         status = sta_cloud_read(reader, &batch, err);
@@ -305,37 +343,7 @@ sta_status sta_info_print_points(FILE *out, sta_cloud_reader *reader, uint64_t s
             break;
         }
         for (size_t i = 0; i < batch.count && left > 0; i++, left--) {
-            const sta_point *p = &batch.points[i];
-            csv_double(out, sta_grid_apply(&info->grid, 0, p->X));
-            fputc(',', out);
-            csv_double(out, sta_grid_apply(&info->grid, 1, p->Y));
-            fputc(',', out);
-            csv_double(out, sta_grid_apply(&info->grid, 2, p->Z));
-            fputc(',', out);
-            if (attr & STA_ATTR_INTENSITY) {
-                fprintf(out, "%u", (unsigned)p->intensity);
-            }
-            fputc(',', out);
-            if (attr & STA_ATTR_RETURNS) {
-                fprintf(out, "%u,%u", (unsigned)p->return_number, (unsigned)p->number_of_returns);
-            } else {
-                fputc(',', out);
-            }
-            fputc(',', out);
-            if (attr & STA_ATTR_CLASSIFICATION) {
-                fprintf(out, "%u", (unsigned)p->classification);
-            }
-            fputc(',', out);
-            if (attr & STA_ATTR_GPS_TIME) {
-                csv_double(out, p->gps_time);
-            }
-            fputc(',', out);
-            if (attr & STA_ATTR_RGB) {
-                fprintf(out, "%u,%u,%u", (unsigned)p->red, (unsigned)p->green, (unsigned)p->blue);
-            } else {
-                fputs(",,", out);
-            }
-            fputc('\n', out);
+            sta_info_print_point_row(out, &info->grid, info->attributes, &batch.points[i]);
         }
     }
     sta_point_batch_release(&batch);

@@ -45,6 +45,23 @@ static bool draw_progress(void *user, uint32_t done, uint32_t count)
     return true;
 }
 
+// The LAS source block (format 1.2): what strata-export writes back.
+static void print_las_source(FILE *out, const sta_strata_las_source *source)
+{
+    if (!source) {
+        fprintf(out, "las source:     none (export writes default header fields, no CRS)\n");
+        return;
+    }
+    fprintf(out, "las source:     LAS %u.%u, point format %u, global encoding 0x%04x, \"%s\"\n",
+            source->version_major, source->version_minor, source->point_format,
+            source->global_encoding, source->generating_software);
+    for (uint32_t i = 0; i < source->record_count; i++) {
+        const sta_strata_las_record *r = &source->records[i];
+        fprintf(out, "  %s %s/%u %" PRIu64 " bytes \"%s\"\n", r->extended ? "EVLR" : "VLR ",
+                r->user_id, r->record_id, r->size, r->description);
+    }
+}
+
 static void print_text(FILE *out, const sta_strata_info *info, const level_stats *levels,
                        int level_count, uint64_t raw, uint64_t stored)
 {
@@ -196,6 +213,7 @@ sta_status sta_info_strata(FILE *out, const char *path, bool json, bool verify, 
         print_json(out, info, levels, level_count, raw, stored, verify);
     } else {
         print_text(out, info, levels, level_count, raw, stored);
+        print_las_source(out, sta_strata_reader_las_source(reader));
         if (verify) {
             fprintf(out, "verify:         ok (every checksum, point inside its node, one point "
                          "per cell)\n");

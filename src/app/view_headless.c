@@ -11,13 +11,16 @@
 #include <time.h>
 
 #include "app/view_setup.h"
+#include "app/view_survey.h"
 #include "core/alloc.h"
 #include "core/clock.h"
 #include "core/log.h"
 #include "render/camera_path.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/hud_text.h"
 #include "render/image_io.h"
+#include "render/measure_file.h"
 #include "render/scene.h"
 
 static void print_stats(int frame, const sta_frame_stats *s, double ms)
@@ -158,9 +161,25 @@ static bool read_normals(const sta_scene *scene, const sta_render_target *target
     return true;
 }
 
+// Burns the readout into the image (top-left), with the default font.
+static sta_status burn_readout(const sta_view_readout *readout, uint8_t *rgba, int width,
+                               int height, sta_error *err)
+{
+    sta_hud_font *font = NULL;
+    sta_status status = sta_hud_font_open(NULL, 0.0f, &font, err);
+    if (status == STA_OK) {
+        const char *lines[STA_VIEW_HUD_MAX_LINES];
+        sta_view_readout_pointers(readout, lines);
+        sta_hud_fill_rects(rgba, width, height, readout->marks, readout->mark_count);
+        sta_hud_draw_lines(font, rgba, width, height, 8, 8, lines, readout->count);
+    }
+    sta_hud_font_close(font);
+    return status;
+}
+
 static sta_status write_outputs(const sta_view_args *args, const sta_scene *scene,
                                 const sta_camera *camera, const sta_render_target *target,
-                                sta_error *err)
+                                const sta_view_readout *readout, sta_error *err)
 {
     size_t pixels = (size_t)target->width_px * (size_t)target->height_px;
     uint8_t *rgba = sta_alloc_array(pixels, 4);
@@ -173,6 +192,9 @@ static sta_status write_outputs(const sta_view_args *args, const sta_scene *scen
     }
     if (status == STA_OK) {
         sta_render_target_read_rgba(target, rgba);
+    }
+    if (status == STA_OK && readout) {
+        status = burn_readout(readout, rgba, target->width_px, target->height_px, err);
     }
     if (status == STA_OK && args->out_png) {
         status = sta_png_write_rgba(args->out_png, rgba, target->width_px, target->height_px, err);
@@ -283,6 +305,51 @@ static sta_status play_path(const sta_view_args *args, sta_scene *scene, sta_cam
     return status;
 }
 
+// --pick, --measure and --measure-csv after the last frame (lines on stdout).
+// Also fills the readout burnt in by --hud.
+static sta_status survey_outputs(const sta_view_args *args, const sta_scene *scene,
+                                 const sta_camera *camera, const sta_frame_stats *stats,
+                                 sta_view_readout *readout, sta_error *err)
+{
+    char line[1024];
+    sta_status status = STA_OK;
+    sta_pick_result pick;
+    if (args->has_pick) {
+        status = sta_view_pick(scene, camera, args->pick_px[0], args->pick_px[1], &pick, err);
+        if (status == STA_OK) {
+            sta_view_describe_pick(&pick, line, sizeof(line));
+            printf("pick %g,%g: %s\n", args->pick_px[0], args->pick_px[1], line);
+        }
+    }
+    sta_measure_list measures = { 0 };
+    if (status == STA_OK && args->measure_file) {
+        status = sta_measure_load_json(args->measure_file, &measures, err);
+    }
+    for (size_t i = 0; status == STA_OK && i < measures.count; i++) {
+        sta_view_describe_measure(&measures.items[i], line, sizeof(line));
+        printf("measure %zu %s\n", i + 1, line);
+    }
+    if (status == STA_OK && args->measure_csv) {
+        status = sta_measure_save_csv(args->measure_csv, &measures, err);
+    }
+    sta_pipeline_options pipeline;
+    sta_view_pipeline_options(args, &pipeline);
+    sta_view_readout_fill(readout, stats, 0.0, args->budget_points,
+                          sta_pipeline_mode_name(pipeline.mode),
+                          args->has_pick && status == STA_OK ? &pick : NULL, &measures);
+    if (status == STA_OK && args->hud) {
+        readout->marks = sta_alloc_array(STA_VIEW_MAX_MARKS, sizeof(*readout->marks));
+        if (!readout->marks) {
+            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the readout's markers");
+        } else {
+            readout->mark_count = sta_view_measure_marks(camera, &measures, NULL, 0, readout->marks,
+                                                         STA_VIEW_MAX_MARKS);
+        }
+    }
+    sta_measure_list_release(&measures);
+    return status;
+}
+
 int sta_view_run_headless(const sta_view_args *args)
 {
     sta_error err = { 0 };
@@ -292,7 +359,8 @@ int sta_view_run_headless(const sta_view_args *args)
     sta_status status = sta_gl_headless_create(&gl, &err);
     if (status == STA_OK) {
         sta_scene_options options = { .budget_points = args->budget_points,
-                                      .gpu_bytes_cap = args->gpu_mem_mib << 20 };
+                                      .gpu_bytes_cap = args->gpu_mem_mib << 20,
+                                      .clip = args->clip };
         status = sta_scene_open(args->scene, &options, &scene, &err);
     }
     if (status == STA_OK) {
@@ -302,12 +370,14 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_scene_robust_bounds(scene, frame_min, frame_max);
         sta_view_initial_camera(args, info, frame_min, frame_max, &camera);
         sta_scene_set_colour_mode(scene, sta_view_initial_colour(args, info));
+        sta_scene_set_ramps(scene, args->elevation_range[0], args->elevation_range[1],
+                            args->intensity_max);
         sta_pipeline_options pipeline;
         sta_view_pipeline_options(args, &pipeline);
         sta_scene_set_pipeline(scene, &pipeline);
         sta_scene_set_katz(scene, &args->katz);
         sta_scene_set_timing(scene, args->stats);
-        sta_frame_stats stats;
+        sta_frame_stats stats = { 0 };
         if (args->path_file) {
             status = play_path(args, scene, &camera, &target, &err);
         } else {
@@ -316,9 +386,15 @@ int sta_view_run_headless(const sta_view_args *args)
                 status = time_repeats(args, scene, &camera, &target, &err);
             }
         }
-        if (status == STA_OK && (args->out_png || args->out_exr)) {
-            status = write_outputs(args, scene, &camera, &target, &err);
+        sta_view_readout readout = { .count = 0, .marks = NULL };
+        if (status == STA_OK) {
+            status = survey_outputs(args, scene, &camera, &stats, &readout, &err);
         }
+        if (status == STA_OK && (args->out_png || args->out_exr)) {
+            status =
+                write_outputs(args, scene, &camera, &target, args->hud ? &readout : NULL, &err);
+        }
+        sta_free(readout.marks);
     }
     sta_render_target_release(&target);
     sta_scene_close(scene);

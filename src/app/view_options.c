@@ -14,6 +14,7 @@
 #include "render/pipeline.h"
 #include "render/ref/hpr_ref.h"
 #include "render/ref/normals_screen_ref.h"
+#include "stream/clip_cli.h"
 #include "stream/streamer.h"
 
 enum {
@@ -111,6 +112,29 @@ static sta_status parse_camera(const sta_cli_option *option, const char *value, 
     return STA_OK;
 }
 
+// --elevation-range MIN,MAX (dest: sta_view_args).
+static sta_status parse_elevation(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_view_args *a = option->dest;
+    double v[2];
+    if (parse_doubles(value, v, 2, 2) < 0 || !(v[1] > v[0])) {
+        return sta_cli_fail_value(err, option, value, "MIN,MAX in metres with MIN < MAX");
+    }
+    memcpy(a->elevation_range, v, sizeof(v));
+    return STA_OK;
+}
+
+// --pick X,Y (dest: sta_view_args).
+static sta_status parse_pick(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_view_args *a = option->dest;
+    if (parse_doubles(value, a->pick_px, 2, 2) < 0) {
+        return sta_cli_fail_value(err, option, value, "X,Y in pixels");
+    }
+    a->has_pick = true;
+    return STA_OK;
+}
+
 static void show_camera(const sta_cli_option *option, char *out_text, size_t size)
 {
     const sta_view_args *a = option->dest;
@@ -188,7 +212,8 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
         { .name = "headless",
           .kind = STA_CLI_FLAG,
           .dest = &a->headless,
-          .help = "render offscreen; needs --out, --exr, --frames-out or --stats" },
+          .help = "render offscreen; needs --out, --exr, --frames-out, --stats, --pick or "
+                  "--measure" },
         { .name = "out",
           .kind = STA_CLI_STRING,
           .dest = &a->out_png,
@@ -235,6 +260,66 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .int_min = 1,
           .int_max = 256,
           .help = "headless: once loaded, time N more frames and print their median time" },
+        { .name = "clip",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &a->clip,
+          .metavar = "X0,Y0,Z0,X1,Y1,Z1",
+          .parse = sta_clip_cli_box,
+          .help = STA_CLIP_HELP_BOX "; nodes outside are not loaded" },
+        { .name = "classes",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &a->clip,
+          .metavar = "LIST",
+          .parse = sta_clip_cli_classes,
+          .help = STA_CLIP_HELP_CLASSES },
+        { .name = "returns",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &a->clip,
+          .metavar = "LIST",
+          .parse = sta_clip_cli_returns,
+          .help = STA_CLIP_HELP_RETURNS },
+        { .name = "pick",
+          .kind = STA_CLI_CALLBACK,
+          .dest = a,
+          .metavar = "X,Y",
+          .parse = parse_pick,
+          .help = "headless: after the last frame, print the point drawn at pixel X,Y "
+                  "(origin top-left): coordinates and attributes" },
+        { .name = "measure",
+          .kind = STA_CLI_STRING,
+          .dest = &a->measure_file,
+          .metavar = "FILE.json",
+          .help = "load measurements (as the window saves them with S) and list their values" },
+        { .name = "measure-csv",
+          .kind = STA_CLI_STRING,
+          .dest = &a->measure_csv,
+          .metavar = "FILE.csv",
+          .help = "write the measurements as CSV (headless: those of --measure)" },
+        { .name = "no-readout",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->no_readout,
+          .help = "window: no readout (figures, pick, measurements) over the frame" },
+        { .name = "elevation-range",
+          .kind = STA_CLI_CALLBACK,
+          .dest = a,
+          .metavar = "MIN,MAX",
+          .parse = parse_elevation,
+          .help = "heights (scene CRS) the elevation colour ramp spans",
+          .default_text = "the scene's" },
+        { .name = "intensity-max",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->intensity_max,
+          .metavar = "I",
+          .real_min = 0.0,
+          .real_max = 65535.0,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "intensity at the top of the intensity ramp",
+          .default_text = "the largest in the scene's root node" },
+        { .name = "hud",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->hud,
+          .help = "headless: burn the readout (budget use, nodes, pipeline, pick, "
+                  "measurements) into the image, as the window shows it" },
         { .name = "budget",
           .kind = STA_CLI_COUNT,
           .dest = &a->budget_points,
@@ -401,8 +486,10 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
                                    r.positional[1]);
     }
     a->scene = r.positional[0];
-    if (a->headless && !a->out_png && !a->out_exr && !a->frame_pattern && !a->stats) {
-        return sta_cli_usage_error(&cli, "--headless needs --out, --exr, --frames-out or --stats");
+    if (a->headless && !a->out_png && !a->out_exr && !a->frame_pattern && !a->stats &&
+        !a->has_pick && !a->measure_file) {
+        return sta_cli_usage_error(
+            &cli, "--headless needs --out, --exr, --frames-out, --stats, --pick or --measure");
     }
     return 0;
 }

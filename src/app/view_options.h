@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "core/camera.h"
+#include "stream/clip.h"
 
 typedef struct sta_view_args {
     const char *scene; /* .strata path */
@@ -41,6 +42,15 @@ typedef struct sta_view_args {
     int repeat;                /* --repeat: time N more frames once loaded */
     /* --hpr katz, --katz-*: the live Katz mode */
     sta_katz_view_options katz;
+    sta_clip clip;             /* --clip, --classes, --returns (the streamer's selection) */
+    bool has_pick;             /* --pick given */
+    double pick_px[2];         /* --pick X,Y: pixel to pick after the last frame */
+    const char *measure_file;  /* --measure: measurements (JSON) to load and show */
+    const char *measure_csv;   /* --measure-csv: export the measurements as CSV */
+    bool hud;                  /* --hud: burn the readout into headless frames */
+    bool no_readout;           /* --no-readout: no readout over the window's frames */
+    double elevation_range[2]; /* --elevation-range MIN,MAX (max <= min: the scene's) */
+    double intensity_max;      /* --intensity-max (0: the scene's) */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

@@ -13,17 +13,24 @@
 #include <epoxy/gl.h> // before GLFW, which must not include GL headers itself
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
+#include <float.h>
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "app/view_setup.h"
+#include "app/view_survey.h"
+#include "app/view_tools.h"
+#include "core/alloc.h"
 #include "core/log.h"
 #include "core/navigation.h"
 #include "render/bindings.h"
 #include "render/camera_path.h"
 #include "render/gl.h"
+#include "render/hud_overlay.h"
+#include "render/measure_file.h"
 #include "render/scene.h"
 
 typedef struct view_state {
@@ -48,7 +55,14 @@ typedef struct view_state {
     bool animating;        /* a double-click's eased move is under way */
     sta_camera anim_from, anim_to;
     double anim_start_s;
-    bool redraw; /* something changed that the last frame does not show */
+    bool redraw;           /* something changed that the last frame does not show */
+    sta_view_tools tools;  /* picking and measuring (Ctrl+click, T, Enter, ...) */
+    const char *save_json; /* J writes the measurements here */
+    const char *save_csv;  /* C exports them here */
+    sta_clip clip;         /* F1-F12, L, Shift+Ctrl+click, X change it */
+    double clip_corner[3]; /* first corner of a clip box being drawn */
+    bool has_clip_corner;
+    sta_hud_rect *marks; /* STA_VIEW_MAX_MARKS: the measurements' markers, each frame */
 } view_state;
 
 // Cursor position in framebuffer pixels (window coordinates differ on HiDPI screens).
@@ -134,6 +148,124 @@ static void pan(view_state *s, double dx, double dy)
     }
 }
 
+// Picks the point under the cursor and hands it to the measuring tools.
+static void survey_click(view_state *s, double x, double y)
+{
+    sta_error err = { 0 };
+    sta_pick_result pick;
+    bool finished = false;
+    sta_status status = sta_view_pick(s->scene, &s->camera, x, y, &pick, &err);
+    if (status == STA_OK) {
+        status = sta_view_tools_click(&s->tools, &pick, &finished, &err);
+    }
+    char line[512];
+    if (status != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+        return;
+    }
+    sta_view_describe_pick(&pick, line, sizeof(line));
+    fprintf(stderr, "pick: %s\n", line);
+    if (finished) {
+        const sta_measure_list *list = &s->tools.list;
+        sta_view_describe_measure(&list->items[list->count - 1], line, sizeof(line));
+        fprintf(stderr, "measure: %s\n", line);
+    }
+}
+
+static void apply_clip(view_state *s)
+{
+    sta_error err = { 0 };
+    if (sta_scene_set_clip(s->scene, &s->clip, &err) != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+    }
+}
+
+// Two picked points span a clip box in plan (all heights).
+static void clip_click(view_state *s, double x, double y)
+{
+    sta_error err = { 0 };
+    sta_pick_result pick;
+    if (sta_view_pick(s->scene, &s->camera, x, y, &pick, &err) != STA_OK || !pick.hit) {
+        return;
+    }
+    if (!s->has_clip_corner) {
+        memcpy(s->clip_corner, pick.world, sizeof(pick.world));
+        s->has_clip_corner = true;
+        fprintf(stderr, "clip: first corner %.3f %.3f; Shift+Ctrl+click the second\n",
+                pick.world[0], pick.world[1]);
+        return;
+    }
+    s->has_clip_corner = false;
+    s->clip.has_box = true;
+    for (int a = 0; a < 2; a++) {
+        s->clip.box_min[a] = fmin(s->clip_corner[a], pick.world[a]);
+        s->clip.box_max[a] = fmax(s->clip_corner[a], pick.world[a]);
+    }
+    s->clip.box_min[2] = -DBL_MAX;
+    s->clip.box_max[2] = DBL_MAX;
+    fprintf(stderr, "clip box: %.3f %.3f .. %.3f %.3f (X clears)\n", s->clip.box_min[0],
+            s->clip.box_min[1], s->clip.box_max[0], s->clip.box_max[1]);
+    apply_clip(s);
+}
+
+// F1-F12 toggle classes 1-12, L cycles the return filter, X clears clip and filters.
+static bool filter_key(view_state *s, int key)
+{
+    static const uint32_t returns[4] = { 0, STA_CLIP_RETURN_FIRST, STA_CLIP_RETURN_LAST,
+                                         STA_CLIP_RETURN_SINGLE };
+    static const char *const return_names[4] = { "all", "first", "last", "single" };
+    if (key >= GLFW_KEY_F1 && key <= GLFW_KEY_F12) {
+        unsigned c = (unsigned)(key - GLFW_KEY_F1) + 1;
+        if (!s->clip.has_classes) {
+            memset(s->clip.class_mask, 0xff, sizeof(s->clip.class_mask));
+        }
+        sta_clip_set_class(&s->clip, c, !sta_clip_keeps_class(&s->clip, c));
+        fprintf(stderr, "class %u (%s) %s\n", c, sta_pick_class_name(c),
+                sta_clip_keeps_class(&s->clip, c) ? "shown" : "hidden");
+    } else if (key == GLFW_KEY_L) {
+        int next = 0;
+        for (int i = 0; i < 4; i++) {
+            next = s->clip.return_mask == returns[i] ? (i + 1) % 4 : next;
+        }
+        s->clip.return_mask = returns[next];
+        fprintf(stderr, "returns: %s\n", return_names[next]);
+    } else if (key == GLFW_KEY_X) {
+        memset(&s->clip, 0, sizeof(s->clip));
+        s->has_clip_corner = false;
+        fprintf(stderr, "clip and filters cleared\n");
+    } else {
+        return false;
+    }
+    apply_clip(s);
+    return true;
+}
+
+// T, Enter, Backspace, J and C: the measuring tools' keys. True when `key` was one.
+static bool survey_key(view_state *s, int key)
+{
+    sta_error err = { 0 };
+    sta_status status = STA_OK;
+    if (key == GLFW_KEY_T) {
+        sta_view_tools_next(&s->tools);
+    } else if (key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER) {
+        sta_view_tools_finish(&s->tools);
+    } else if (key == GLFW_KEY_BACKSPACE) {
+        sta_view_tools_undo(&s->tools);
+    } else if (key == GLFW_KEY_J) {
+        status = sta_measure_save_json(s->save_json, &s->tools.list, &err);
+        fprintf(stderr, "wrote %zu measurements to %s\n", s->tools.list.count, s->save_json);
+    } else if (key == GLFW_KEY_C) {
+        status = sta_measure_save_csv(s->save_csv, &s->tools.list, &err);
+        fprintf(stderr, "wrote %zu measurements to %s\n", s->tools.list.count, s->save_csv);
+    } else {
+        return false;
+    }
+    if (status != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+    }
+    return true;
+}
+
 static void on_mouse_button(GLFWwindow *window, int button, int action, int mods)
 {
     view_state *s = glfwGetWindowUserPointer(window);
@@ -141,7 +273,12 @@ static void on_mouse_button(GLFWwindow *window, int button, int action, int mods
     cursor_px(window, &x, &y);
     bool pressed = action == GLFW_PRESS;
     s->redraw = true;
-    if (button == GLFW_MOUSE_BUTTON_LEFT) {
+    if (button == GLFW_MOUSE_BUTTON_LEFT && pressed && (mods & GLFW_MOD_CONTROL) &&
+        (mods & GLFW_MOD_SHIFT)) {
+        clip_click(s, x, y); // Shift+Ctrl+click: corners of a clip box
+    } else if (button == GLFW_MOUSE_BUTTON_LEFT && pressed && (mods & GLFW_MOD_CONTROL)) {
+        survey_click(s, x, y); // Ctrl+click: pick and measure, no camera move
+    } else if (button == GLFW_MOUSE_BUTTON_LEFT) {
         s->dragging_left = pressed && !(mods & GLFW_MOD_SHIFT);
         s->dragging_right = pressed && (mods & GLFW_MOD_SHIFT);
         double now = glfwGetTime();
@@ -218,6 +355,9 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
     }
     view_state *s = glfwGetWindowUserPointer(window);
     s->redraw = true;
+    if (survey_key(s, key) || filter_key(s, key)) {
+        return;
+    }
     if (key == GLFW_KEY_ESCAPE) {
         glfwSetWindowShouldClose(window, GLFW_TRUE);
     } else if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + STA_COLOUR_MODE_COUNT) {
@@ -332,6 +472,30 @@ static void update_title(GLFWwindow *window, const sta_frame_stats *stats, doubl
     glfwSetWindowTitle(window, title);
 }
 
+// The readout over the frame: figures, pick, measurements, the tool's hint.
+static void draw_readout(view_state *s, sta_hud_overlay *hud, const sta_frame_stats *stats,
+                         double fps, const sta_view_args *args, sta_error *err)
+{
+    sta_view_readout readout;
+    uint64_t budget = args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS;
+    sta_view_readout_fill(&readout, stats, fps, budget, sta_pipeline_mode_name(s->pipeline.mode),
+                          s->tools.has_pick ? &s->tools.last_pick : NULL, &s->tools.list);
+    if (readout.count < STA_VIEW_HUD_MAX_LINES) {
+        sta_view_tools_status(&s->tools, readout.lines[readout.count], sizeof(readout.lines[0]));
+        readout.count++;
+    }
+    readout.mark_count =
+        sta_view_measure_marks(&s->camera, &s->tools.list, (const double(*)[3])s->tools.pending,
+                               s->tools.pending_count, s->marks, STA_VIEW_MAX_MARKS);
+    sta_hud_overlay_fill_rects(s->marks, readout.mark_count, s->camera.height_px);
+    const char *lines[STA_VIEW_HUD_MAX_LINES];
+    sta_view_readout_pointers(&readout, lines);
+    if (sta_hud_overlay_draw(hud, lines, readout.count, s->camera.width_px, s->camera.height_px,
+                             err) != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err->message);
+    }
+}
+
 static void on_glfw_error(int code, const char *message)
 {
     fprintf(stderr, "strata-view: GLFW error 0x%x: %s\n", code, message);
@@ -362,7 +526,8 @@ int sta_view_run_window(const sta_view_args *args)
     memset(&s, 0, sizeof(s));
     sta_error err = { 0 };
     sta_scene_options options = { .budget_points = args->budget_points,
-                                  .gpu_bytes_cap = args->gpu_mem_mib << 20 };
+                                  .gpu_bytes_cap = args->gpu_mem_mib << 20,
+                                  .clip = args->clip };
     sta_camera_path playback = { 0 };
     sta_status status = sta_scene_open(args->scene, &options, &s.scene, &err);
     if (status == STA_OK && args->path_file) {
@@ -390,12 +555,29 @@ int sta_view_run_window(const sta_view_args *args)
     sta_scene_set_katz(s.scene, &s.katz);
     sta_scene_set_timing(s.scene, args->stats);
     sta_scene_set_colour_mode(s.scene, s.colour_mode);
+    sta_scene_set_ramps(s.scene, args->elevation_range[0], args->elevation_range[1],
+                        args->intensity_max);
     s.orbit_pitch[0] = args->orbit_pitch_deg[0] * M_PI / 180.0;
     s.orbit_pitch[1] = args->orbit_pitch_deg[1] * M_PI / 180.0;
     for (int a = 0; a < 3; a++) {
         s.pivot[a] = 0.5 * (s.info->bounds_min[a] + s.info->bounds_max[a]);
         s.scene_size = fmax(s.scene_size, s.info->bounds_max[a] - s.info->bounds_min[a]);
     }
+    sta_view_tools_init(&s.tools);
+    s.clip = args->clip;
+    s.save_json = args->measure_file ? args->measure_file : "measurements.json";
+    s.save_csv = args->measure_csv ? args->measure_csv : "measurements.csv";
+    if (args->measure_file && access(args->measure_file, F_OK) == 0 &&
+        sta_measure_load_json(args->measure_file, &s.tools.list, &err) != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+    }
+    sta_hud_overlay hud = { 0 };
+    s.marks = sta_alloc_array(STA_VIEW_MAX_MARKS, sizeof(*s.marks));
+    bool has_hud = !args->no_readout && s.marks && sta_hud_overlay_init(&hud, &err) == STA_OK;
+    if (!has_hud && !args->no_readout) {
+        fprintf(stderr, "strata-view: no on-screen readout: %s\n", err.message);
+    }
+    double fps = 0.0;
     glfwSetWindowUserPointer(window, &s);
     glfwSetMouseButtonCallback(window, on_mouse_button);
     glfwSetCursorPosCallback(window, on_cursor);
@@ -451,6 +633,9 @@ int sta_view_run_window(const sta_view_args *args)
         bool was_complete = frame > 0 && stats.complete;
         status = sta_scene_render(s.scene, &s.camera, &s.target, &stats, &err);
         sta_render_target_present(&s.target);
+        if (has_hud && status == STA_OK) {
+            draw_readout(&s, &hud, &stats, fps, args, &err);
+        }
         glfwSwapBuffers(window);
         frame++;
         frames_since_title++;
@@ -458,6 +643,7 @@ int sta_view_run_window(const sta_view_args *args)
         // Also when the view has just become complete: the viewer may go idle next, and
         // the title should show the last frame (e.g. the live Katz set that arrived).
         if (drawn_s > 0.5 || was_idle || (stats.complete && !was_complete)) {
+            fps = frames_since_title / drawn_s;
             update_title(window, &stats, frames_since_title / drawn_s,
                          args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS,
                          s.fly);
@@ -497,6 +683,9 @@ int sta_view_run_window(const sta_view_args *args)
     }
     sta_camera_path_release(&s.recorded);
     sta_camera_path_release(&playback);
+    sta_hud_overlay_release(&hud);
+    sta_free(s.marks);
+    sta_view_tools_release(&s.tools);
     sta_render_target_release(&s.target);
     sta_scene_close(s.scene);
     glfwDestroyWindow(window);

@@ -15,7 +15,7 @@
 #define STA_STRATA_MAGIC           "STRATA\r\n" /* 8 bytes, no NUL */
 #define STA_STRATA_MAGIC_SIZE      8
 #define STA_STRATA_VERSION_MAJOR   1
-#define STA_STRATA_VERSION_MINOR   2      /* 1.1 added compression code 2, 1.2 up_axis */
+#define STA_STRATA_VERSION_MINOR   2      /* 1.1: compression 2; 1.2: up axis, LAS source */
 #define STA_STRATA_HEADER_SIZE     384u   /* fixed header of version 1.0 */
 #define STA_STRATA_HEADER_SIZE_MAX 65536u /* readers refuse larger headers */
 #define STA_STRATA_EXTRA_DIM_SIZE  128u   /* one extra-dimension descriptor */
@@ -90,8 +90,12 @@ typedef struct sta_strata_header_disk {
     uint64_t table_checksum;      /* 296 XXH3-64 of the node table */
     uint64_t extra_dims_checksum; /* 304 XXH3-64 of the descriptors */
     char generator[32];           /* 312 NUL-padded name of the writing software */
-    uint8_t up_axis;              /* 344 STA_STRATA_UP_*: 0 = +Z (also before 1.2) */
-    uint8_t reserved[39];         /* 345 zero */
+    uint8_t up_axis;              /* 344 (1.2) STA_STRATA_UP_*: 0 = +Z (also before 1.2) */
+    uint8_t reserved_up[7];       /* 345 zero */
+    uint64_t source_offset;       /* 352 (1.2) LAS source block, 0 when none */
+    uint64_t source_size;         /* 360 (1.2) bytes of the block */
+    uint64_t source_checksum;     /* 368 (1.2) XXH3-64 of the block */
+    uint8_t reserved[8];          /* 376 zero */
 } sta_strata_header_disk;
 
 #define STA_STRATA_H_MAGIC_OFF           0
@@ -125,7 +129,10 @@ typedef struct sta_strata_header_disk {
 #define STA_STRATA_H_EXTRA_CHECKSUM_OFF  304
 #define STA_STRATA_H_GENERATOR_OFF       312
 #define STA_STRATA_H_UP_AXIS_OFF         344
-#define STA_STRATA_H_RESERVED_OFF        345
+#define STA_STRATA_H_SOURCE_OFFSET_OFF   352
+#define STA_STRATA_H_SOURCE_SIZE_OFF     360
+#define STA_STRATA_H_SOURCE_CHECKSUM_OFF 368
+#define STA_STRATA_H_RESERVED_OFF        376
 
 _Static_assert(sizeof(sta_strata_header_disk) == STA_STRATA_HEADER_SIZE, "header size");
 _Static_assert(offsetof(sta_strata_header_disk, version_major) == STA_STRATA_H_VERSION_MAJOR_OFF,
@@ -185,7 +192,49 @@ _Static_assert(offsetof(sta_strata_header_disk, extra_dims_checksum) ==
 _Static_assert(offsetof(sta_strata_header_disk, generator) == STA_STRATA_H_GENERATOR_OFF,
                "generator");
 _Static_assert(offsetof(sta_strata_header_disk, up_axis) == STA_STRATA_H_UP_AXIS_OFF, "up_axis");
+_Static_assert(offsetof(sta_strata_header_disk, source_offset) == STA_STRATA_H_SOURCE_OFFSET_OFF,
+               "source_offset");
+_Static_assert(offsetof(sta_strata_header_disk, source_size) == STA_STRATA_H_SOURCE_SIZE_OFF,
+               "source_size");
+_Static_assert(offsetof(sta_strata_header_disk, source_checksum) ==
+                   STA_STRATA_H_SOURCE_CHECKSUM_OFF,
+               "source_checksum");
 _Static_assert(offsetof(sta_strata_header_disk, reserved) == STA_STRATA_H_RESERVED_OFF, "reserved");
+
+/* The LAS source block (1.2, docs/FORMAT.md §4a): what a LAS input said besides its
+ * points, so an export can write the same header fields and CRS records. */
+typedef struct sta_strata_las_source_disk {
+    uint8_t version_major;        /*  0 LAS version of the input */
+    uint8_t version_minor;        /*  1 */
+    uint8_t point_format;         /*  2 0..10 */
+    uint8_t reserved0;            /*  3 zero */
+    uint16_t global_encoding;     /*  4 as stored */
+    uint16_t file_source_id;      /*  6 */
+    uint16_t creation_day;        /*  8 */
+    uint16_t creation_year;       /* 10 */
+    char system_identifier[32];   /* 12 NUL-padded */
+    char generating_software[32]; /* 44 NUL-padded */
+    uint32_t record_count;        /* 76 records that follow */
+} sta_strata_las_source_disk;
+
+/* One record (a VLR or EVLR of the input) in the block; `size` payload bytes follow. */
+typedef struct sta_strata_las_record_disk {
+    char user_id[16];     /*  0 NUL-padded */
+    uint16_t record_id;   /* 16 */
+    uint16_t flags;       /* 18 bit 0: it was an EVLR */
+    uint32_t reserved;    /* 20 zero */
+    uint64_t size;        /* 24 payload bytes */
+    char description[32]; /* 32 NUL-padded */
+} sta_strata_las_record_disk;
+
+#define STA_STRATA_LAS_SOURCE_SIZE 80u
+#define STA_STRATA_LAS_RECORD_SIZE 64u
+_Static_assert(sizeof(sta_strata_las_source_disk) == STA_STRATA_LAS_SOURCE_SIZE, "source");
+_Static_assert(offsetof(sta_strata_las_source_disk, system_identifier) == 12, "system id");
+_Static_assert(offsetof(sta_strata_las_source_disk, record_count) == 76, "record_count");
+_Static_assert(sizeof(sta_strata_las_record_disk) == STA_STRATA_LAS_RECORD_SIZE, "record");
+_Static_assert(offsetof(sta_strata_las_record_disk, size) == 24, "record size");
+_Static_assert(offsetof(sta_strata_las_record_disk, description) == 32, "record description");
 
 /* One extra-dimension descriptor, 128 bytes; extra_dim_count of them follow the
  * header at offset header_size, in the order of their columns. */

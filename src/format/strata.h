@@ -167,7 +167,50 @@ typedef struct sta_strata_info {
     uint64_t extra_dims_checksum; /* as stored */
     char generator[33];           /* writing software, NUL-terminated */
     uint8_t up_axis;              /* STA_STRATA_UP_Z (0, also files before 1.2) or _Y */
+    uint64_t source_offset;       /* LAS source block (1.2), 0 when none */
+    uint64_t source_size;         /* bytes */
+    uint64_t source_checksum;     /* as stored */
 } sta_strata_info;
+
+/* One VLR or EVLR of a LAS input, kept in the LAS source block. */
+typedef struct sta_strata_las_record {
+    char user_id[17];     /* NUL-terminated, at most 16 characters */
+    uint16_t record_id;   /* as in the input */
+    bool extended;        /* it was an EVLR */
+    char description[33]; /* NUL-terminated, at most 32 characters */
+    const uint8_t *data;  /* size bytes (borrowed: the writer copies, the reader maps) */
+    uint64_t size;        /* payload bytes */
+} sta_strata_las_record;
+
+/* What a LAS input said besides its points (docs/FORMAT.md §4a): its header fields
+ * and the records that describe its coordinate reference system, so that an export
+ * writes them back. */
+typedef struct sta_strata_las_source {
+    uint8_t version_major, version_minor; /* LAS version of the input */
+    uint8_t point_format;                 /* 0..10 */
+    uint16_t global_encoding;             /* as stored (bit 0: adjusted GPS time) */
+    uint16_t file_source_id;
+    uint16_t creation_day;
+    uint16_t creation_year;
+    char system_identifier[33];           /* NUL-terminated */
+    char generating_software[33];         /* NUL-terminated */
+    const sta_strata_las_record *records; /* record_count entries (borrowed) */
+    uint32_t record_count;
+} sta_strata_las_source;
+
+/* Bytes of the LAS source block that sta_strata_las_source_store writes. */
+uint64_t sta_strata_las_source_size(const sta_strata_las_source *source);
+
+/* Serialises `source` into `out` (sta_strata_las_source_size bytes). */
+void sta_strata_las_source_store(const sta_strata_las_source *source, uint8_t *out);
+
+/* Parses a LAS source block of `size` bytes; `name` is used in messages. On success
+ * *out_records (out->record_count entries whose data point into `data`) is owned by
+ * the caller (sta_free). Errors: STA_ERR_FORMAT naming the file and the record,
+ * STA_ERR_NOMEM. */
+sta_status sta_strata_las_source_parse(const uint8_t *data, uint64_t size, const char *name,
+                                       sta_strata_las_source *out,
+                                       sta_strata_las_record **out_records, sta_error *err);
 
 /* Formats "node 17 (level 3, 5/2/7)" into buf (for messages); returns buf. */
 const char *sta_strata_node_label(char *buf, size_t size, uint32_t index, sta_strata_key key);

@@ -69,6 +69,9 @@ void sta_strata_header_store(const sta_strata_info *info, uint8_t *out)
     size_t n = strnlen(info->generator, 32);
     memcpy(out + STA_STRATA_H_GENERATOR_OFF, info->generator, n);
     out[STA_STRATA_H_UP_AXIS_OFF] = info->up_axis;
+    sta_store_u64le(out + STA_STRATA_H_SOURCE_OFFSET_OFF, info->source_offset);
+    sta_store_u64le(out + STA_STRATA_H_SOURCE_SIZE_OFF, info->source_size);
+    sta_store_u64le(out + STA_STRATA_H_SOURCE_CHECKSUM_OFF, info->source_checksum);
     sta_store_u64le(out + STA_STRATA_H_HEADER_CHECKSUM_OFF,
                     sta_strata_header_checksum(out, info->header_size));
 }
@@ -315,6 +318,11 @@ static void load_fields(const uint8_t *h, sta_strata_info *info)
     // Unknown values (a later minor) and files before 1.2 (zero) read as +Z.
     info->up_axis =
         h[STA_STRATA_H_UP_AXIS_OFF] == STA_STRATA_UP_Y ? STA_STRATA_UP_Y : STA_STRATA_UP_Z;
+    if (info->version_minor >= 2) { // reserved (ignored) before 1.2
+        info->source_offset = sta_load_u64le(h + STA_STRATA_H_SOURCE_OFFSET_OFF);
+        info->source_size = sta_load_u64le(h + STA_STRATA_H_SOURCE_SIZE_OFF);
+        info->source_checksum = sta_load_u64le(h + STA_STRATA_H_SOURCE_CHECKSUM_OFF);
+    }
 }
 
 sta_status sta_strata_header_parse(const uint8_t *data, size_t size, const char *name,

@@ -19,12 +19,15 @@
 #define DEFAULT_MAX_NODE_RAW_BYTES ((uint64_t)4 << 30)
 
 struct sta_strata_reader {
-    sta_file_map map;            // the file's bytes
-    sta_strata_info info;        // parsed header; layout.extra_dims = dims
-    sta_strata_extra_dim *dims;  // owned
-    sta_strata_node *nodes;      // owned, info.node_count entries
-    bool ignore_checksums;       // open option
-    uint64_t max_node_raw_bytes; // open option, resolved
+    sta_file_map map;                   // the file's bytes
+    sta_strata_info info;               // parsed header; layout.extra_dims = dims
+    sta_strata_extra_dim *dims;         // owned
+    sta_strata_node *nodes;             // owned, info.node_count entries
+    sta_strata_las_source las_source;   // valid when has_las_source
+    sta_strata_las_record *las_records; // owned; data points into the map
+    bool has_las_source;                // the file has a LAS source block (1.2)
+    bool ignore_checksums;              // open option
+    uint64_t max_node_raw_bytes;        // open option, resolved
 };
 
 struct sta_strata_decoder {
@@ -38,6 +41,36 @@ struct sta_strata_decoder {
     uint8_t *extra;           // decoded extra bytes
     size_t extra_capacity;    // bytes
 };
+
+// The LAS source block (1.2): inside the payload area, checksummed, well formed.
+static sta_status open_las_source(sta_strata_reader *r, sta_error *err)
+{
+    const sta_strata_info *info = &r->info;
+    const char *name = r->map.path;
+    if (info->source_offset == 0) {
+        return STA_OK;
+    }
+    if (info->source_offset < info->data_offset || info->source_offset > info->table_offset ||
+        info->source_size > info->table_offset - info->source_offset) {
+        return sta_fail(err, STA_ERR_FORMAT,
+                        "%s: LAS source block at %" PRIu64 " (%" PRIu64
+                        " bytes) is outside the payload area %" PRIu64 "..%" PRIu64,
+                        name, info->source_offset, info->source_size, info->data_offset,
+                        info->table_offset);
+    }
+    const uint8_t *block = r->map.data + info->source_offset;
+    uint64_t sum = sta_strata_checksum(block, (size_t)info->source_size);
+    if (!r->ignore_checksums && sum != info->source_checksum) {
+        return sta_fail(err, STA_ERR_FORMAT,
+                        "%s: LAS source checksum 0x%016" PRIx64 " does not match 0x%016" PRIx64
+                        " (corrupted file)",
+                        name, sum, info->source_checksum);
+    }
+    sta_status s = sta_strata_las_source_parse(block, info->source_size, name, &r->las_source,
+                                               &r->las_records, err);
+    r->has_las_source = s == STA_OK;
+    return s;
+}
 
 static sta_status open_map(sta_strata_reader *r, const sta_strata_open_options *options,
                            sta_error *err)
@@ -78,7 +111,8 @@ static sta_status open_map(sta_strata_reader *r, const sta_strata_open_options *
     for (uint32_t i = 0; i < info->node_count; i++) {
         sta_strata_node_load(table + (size_t)i * info->node_entry_size, &r->nodes[i]);
     }
-    return sta_strata_table_check(info, r->nodes, name, err);
+    s = sta_strata_table_check(info, r->nodes, name, err);
+    return s == STA_OK ? open_las_source(r, err) : s;
 }
 
 // Takes ownership of *map (also on failure).
@@ -134,6 +168,7 @@ void sta_strata_close(sta_strata_reader *reader)
     }
     sta_free(reader->nodes);
     sta_free(reader->dims);
+    sta_free(reader->las_records);
     sta_file_map_close(&reader->map);
     sta_free(reader);
 }
@@ -141,6 +176,11 @@ void sta_strata_close(sta_strata_reader *reader)
 const sta_strata_info *sta_strata_reader_info(const sta_strata_reader *reader)
 {
     return &reader->info;
+}
+
+const sta_strata_las_source *sta_strata_reader_las_source(const sta_strata_reader *reader)
+{
+    return reader->has_las_source ? &reader->las_source : NULL;
 }
 
 const sta_strata_node *sta_strata_reader_node(const sta_strata_reader *reader, uint32_t index)

@@ -47,6 +47,10 @@ void sta_strata_close(sta_strata_reader *reader);
 /* The header (layout, geometry, bounds, counts); valid until close. */
 const sta_strata_info *sta_strata_reader_info(const sta_strata_reader *reader);
 
+/* The LAS source block (header fields and CRS records of the LAS input), or NULL when
+ * the file has none (files before 1.2, or not converted from LAS); valid until close. */
+const sta_strata_las_source *sta_strata_reader_las_source(const sta_strata_reader *reader);
+
 /* Table entry `index` (< info->node_count, else NULL); valid until close. Node 0 is
  * the root; a node's children are first_child .. first_child + popcount(mask) - 1. */
 const sta_strata_node *sta_strata_reader_node(const sta_strata_reader *reader, uint32_t index);

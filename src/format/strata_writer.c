@@ -47,6 +47,8 @@ struct sta_strata_writer {
     int zstd_level;               // 0 store
     char generator[33];           // NUL-terminated
     uint8_t up_axis;              // STA_STRATA_UP_*
+    uint8_t *source_block;        // serialised LAS source block, or NULL (owned)
+    uint64_t source_size;         // bytes of source_block
     uint64_t data_offset;         // first payload byte
     bool finished;                // finish succeeded (caller's thread only)
     pthread_mutex_t lock;         // guards the fields below
@@ -190,6 +192,15 @@ sta_status sta_strata_writer_create(const char *path, const sta_strata_writer_op
         sta_error_prefix(err, "%s", path);
         goto out_free;
     }
+    if (options->las_source) {
+        w->source_size = sta_strata_las_source_size(options->las_source);
+        w->source_block = w->source_size <= SIZE_MAX ? sta_malloc((size_t)w->source_size) : NULL;
+        if (!w->source_block) {
+            s = sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for the LAS source", path);
+            goto out_free;
+        }
+        sta_strata_las_source_store(options->las_source, w->source_block);
+    }
     w->data_offset =
         sta_strata_align(STA_STRATA_HEADER_SIZE + (uint64_t)dim_count * STA_STRATA_EXTRA_DIM_SIZE,
                          STA_STRATA_ALIGNMENT);
@@ -229,6 +240,7 @@ out_free:
     sta_free(w->folder);
     sta_free(w->path);
     sta_free(w->dims);
+    sta_free(w->source_block);
     sta_free(w);
     return s;
 }
@@ -426,7 +438,7 @@ static void describe(const sta_strata_writer *w, const sta_strata_node *nodes, u
     memset(info, 0, sizeof(*info));
     info->path = w->path;
     info->version_major = STA_STRATA_VERSION_MAJOR;
-    info->version_minor = STA_STRATA_VERSION_MINOR;
+    info->version_minor = STA_STRATA_VERSION_MINOR; // 1.2: up axis, LAS source (may be none)
     info->header_size = STA_STRATA_HEADER_SIZE;
     info->geometry = w->geometry;
     info->layout = w->layout;
@@ -435,7 +447,14 @@ static void describe(const sta_strata_writer *w, const sta_strata_node *nodes, u
     info->payload_alignment = STA_STRATA_ALIGNMENT;
     info->data_offset = w->data_offset;
     info->table_offset = w->next_offset;
-    info->file_size = w->next_offset + (uint64_t)count * STA_STRATA_NODE_ENTRY_SIZE;
+    if (w->source_block) { // after the last payload, before the table
+        info->source_offset = w->next_offset;
+        info->source_size = w->source_size;
+        info->source_checksum = sta_strata_checksum(w->source_block, (size_t)w->source_size);
+        info->table_offset =
+            sta_strata_align(info->source_offset + w->source_size, STA_STRATA_ALIGNMENT);
+    }
+    info->file_size = info->table_offset + (uint64_t)count * STA_STRATA_NODE_ENTRY_SIZE;
     snprintf(info->generator, sizeof(info->generator), "%s", w->generator);
     info->up_axis = w->up_axis;
     for (uint32_t i = 0; i < count; i++) {
@@ -513,6 +532,10 @@ sta_status sta_strata_writer_finish(sta_strata_writer *w, const sta_strata_node 
     sta_strata_header_store(&info, head);
 
     s = sta_pwrite_all(w->fd, table, table_size, info.table_offset, w->temp_path, err);
+    if (s == STA_OK && w->source_block) {
+        s = sta_pwrite_all(w->fd, w->source_block, (size_t)w->source_size, info.source_offset,
+                           w->temp_path, err);
+    }
     if (s == STA_OK) {
         s = sta_pwrite_all(w->fd, head, STA_STRATA_HEADER_SIZE + dims_size, 0, w->temp_path, err);
     }
@@ -564,5 +587,6 @@ void sta_strata_writer_destroy(sta_strata_writer *w)
     sta_free(w->folder);
     sta_free(w->path);
     sta_free(w->dims);
+    sta_free(w->source_block);
     sta_free(w);
 }

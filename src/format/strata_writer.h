@@ -49,6 +49,8 @@ typedef struct sta_strata_writer_options {
                                      (STA_STRATA_DEFAULT_ZSTD_LEVEL is a good choice) */
     const char *generator;        /* software name for the header; NULL means "strata" */
     int up_axis;                  /* STA_STRATA_UP_Z (0) or STA_STRATA_UP_Y */
+    const sta_strata_las_source *las_source; /* LAS header fields and CRS records to keep
+                                                (copied at create), or NULL: none */
 } sta_strata_writer_options;
 
 /* Creates the temporary file beside `path` and checks the options (scale, root box,

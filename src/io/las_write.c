@@ -18,10 +18,21 @@
 #include "core/alloc.h"
 #include "core/bytes.h"
 
-#define BUFFER_SIZE     (4u << 20)
-#define HEADER_SIZE_12  227u
-#define HEADER_SIZE_14  375u
-#define VLR_HEADER_SIZE 54u
+#define BUFFER_SIZE      (4u << 20)
+#define HEADER_SIZE_12   227u
+#define HEADER_SIZE_14   375u
+#define VLR_HEADER_SIZE  54u
+#define EVLR_HEADER_SIZE 60u
+
+/* A VLR or EVLR to write, copied from the options. */
+typedef struct owned_vlr {
+    char user_id[17];
+    char description[33];
+    uint16_t record_id;
+    bool extended; /* written after the points (LAS 1.4) */
+    uint8_t *data; /* size bytes, owned */
+    uint64_t size;
+} owned_vlr;
 
 struct sta_las_writer {
     char *path;                /* final path (owned) */
@@ -36,13 +47,19 @@ struct sta_las_writer {
     sta_las_write_options opt; /* copy; string pointers below replace the caller's */
     char system_identifier[33];
     char generating_software[33];
-    char *wkt;              /* owned copy or NULL */
-    uint8_t *buffer;        /* BUFFER_SIZE bytes */
-    size_t used;            /* bytes pending in buffer */
-    uint64_t count;         /* points written */
-    uint64_t by_return[15]; /* points with return_number 1..15 */
-    int32_t min[3], max[3]; /* integer bounds of the written points */
-    bool failed;            /* a write failed; only abort or a failing close remain */
+    char *wkt;       /* owned copy or NULL */
+    owned_vlr *vlrs; /* vlr_count copies of the options' records */
+    size_t vlr_count;
+    uint32_t vlrs_in_header; /* VLRs before the points (WKT included) */
+    uint32_t evlr_count;     /* EVLRs after the points */
+    uint64_t evlr_start;     /* file offset of the first EVLR, 0 when none */
+    size_t extra_size;       /* bytes appended to each record */
+    uint8_t *buffer;         /* BUFFER_SIZE bytes */
+    size_t used;             /* bytes pending in buffer */
+    uint64_t count;          /* points written */
+    uint64_t by_return[15];  /* points with return_number 1..15 */
+    int32_t min[3], max[3];  /* integer bounds of the written points */
+    bool failed;             /* a write failed; only abort or a failing close remain */
 };
 
 static const uint16_t record_sizes[11] = { 20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67 };
@@ -119,7 +136,7 @@ static void build_header(const sta_las_writer *w, uint8_t *h)
     sta_store_u16le(h + 92, w->opt.creation_year);
     sta_store_u16le(h + 94, w->header_size);
     sta_store_u32le(h + 96, w->offset_to_points);
-    sta_store_u32le(h + 100, w->wkt ? 1u : 0u);
+    sta_store_u32le(h + 100, w->vlrs_in_header);
     h[104] = (uint8_t)w->point_format;
     sta_store_u16le(h + 105, w->record_length);
     // Legacy counts: only where the format and the count allow them (LAS 1.4 R15 2.4).
@@ -141,7 +158,9 @@ static void build_header(const sta_las_writer *w, uint8_t *h)
         sta_store_f64le(h + 187 + 16 * a, lo);
     }
     if (w->version_minor >= 4) {
-        // 227: start of waveform data, 235: start of first EVLR, 243: EVLR count (all 0).
+        // 227: start of waveform data (0), 235: start of first EVLR, 243: EVLR count.
+        sta_store_u64le(h + 235, w->evlr_start);
+        sta_store_u32le(h + 243, w->evlr_count);
         sta_store_u64le(h + 247, w->count);
         for (int r = 0; r < 15; r++) {
             sta_store_u64le(h + 255 + 8 * r, w->by_return[r]);
@@ -178,6 +197,22 @@ static sta_status check_options(const char *path, const sta_las_write_options *o
         return sta_fail(err, STA_ERR_ARG, "%s: WKT of %zu bytes does not fit a VLR (65534 max)",
                         path, strlen(o->wkt));
     }
+    if (o->extra_size > (size_t)(UINT16_MAX - record_sizes[o->point_format])) {
+        return sta_fail(err, STA_ERR_ARG, "%s: %zu extra bytes do not fit a LAS record", path,
+                        o->extra_size);
+    }
+    for (size_t i = 0; i < o->vlr_count; i++) {
+        const sta_las_vlr_record *v = &o->vlrs[i];
+        bool evlr = v->extended && minor >= 4;
+        if (!v->user_id || strlen(v->user_id) > 16 ||
+            (v->description && strlen(v->description) > 32) || (v->size > 0 && !v->data) ||
+            (!evlr && v->size > UINT16_MAX)) {
+            return sta_fail(err, STA_ERR_ARG,
+                            "%s: VLR %zu (%s/%u, %llu bytes) cannot be written in LAS 1.%d", path,
+                            i, v->user_id ? v->user_id : "?", v->record_id,
+                            (unsigned long long)v->size, minor);
+        }
+    }
     return STA_OK;
 }
 
@@ -204,11 +239,39 @@ static sta_status create_temporary(sta_las_writer *w, sta_error *err)
                     w->tmp_path, strerror(errno));
 }
 
+// Writes one VLR (54-byte header) or EVLR (60-byte header) and its payload.
+static sta_status write_vlr(sta_las_writer *w, const owned_vlr *v, bool evlr, sta_error *err)
+{
+    uint8_t head[EVLR_HEADER_SIZE];
+    memset(head, 0, sizeof(head));
+    put_text(head + 2, 16, v->user_id);
+    sta_store_u16le(head + 18, v->record_id);
+    size_t at = 20;
+    if (evlr) {
+        sta_store_u64le(head + at, v->size);
+        at += 8;
+    } else {
+        sta_store_u16le(head + at, (uint16_t)v->size);
+        at += 2;
+    }
+    put_text(head + at, 32, v->description);
+    sta_status status = write_all(w, head, at + 32, err);
+    if (status == STA_OK && v->size > 0) {
+        status = write_all(w, v->data, (size_t)v->size, err);
+    }
+    return status;
+}
+
 static sta_status write_preamble(sta_las_writer *w, sta_error *err)
 {
     uint8_t header[HEADER_SIZE_14];
     build_header(w, header);
     sta_status status = write_all(w, header, w->header_size, err);
+    for (size_t i = 0; i < w->vlr_count && status == STA_OK; i++) {
+        if (!w->vlrs[i].extended) {
+            status = write_vlr(w, &w->vlrs[i], false, err);
+        }
+    }
     if (status != STA_OK || !w->wkt) {
         return status;
     }
@@ -237,8 +300,49 @@ static void destroy(sta_las_writer *w, bool remove_temporary)
     sta_free(w->path);
     sta_free(w->tmp_path);
     sta_free(w->wkt);
+    for (size_t i = 0; i < w->vlr_count; i++) {
+        sta_free(w->vlrs[i].data);
+    }
+    sta_free(w->vlrs);
     sta_free(w->buffer);
     sta_free(w);
+}
+
+// Copies the options' VLRs and accounts for those that go before the points.
+static sta_status copy_vlrs(sta_las_writer *w, const sta_las_write_options *options, sta_error *err)
+{
+    if (options->vlr_count == 0) {
+        return STA_OK;
+    }
+    w->vlrs = sta_calloc(options->vlr_count, sizeof(*w->vlrs));
+    if (!w->vlrs) {
+        return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory", w->path);
+    }
+    w->vlr_count = options->vlr_count;
+    for (size_t i = 0; i < options->vlr_count; i++) {
+        const sta_las_vlr_record *v = &options->vlrs[i];
+        owned_vlr *o = &w->vlrs[i];
+        snprintf(o->user_id, sizeof(o->user_id), "%s", v->user_id);
+        snprintf(o->description, sizeof(o->description), "%s",
+                 v->description ? v->description : "");
+        o->record_id = v->record_id;
+        o->size = v->size;
+        o->extended = v->extended && w->version_minor >= 4;
+        o->data = v->size > 0 ? sta_malloc((size_t)v->size) : NULL;
+        if (v->size > 0 && !o->data) {
+            return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory", w->path);
+        }
+        if (v->size > 0) {
+            memcpy(o->data, v->data, (size_t)v->size);
+        }
+        if (o->extended) {
+            w->evlr_count++;
+        } else {
+            w->offset_to_points += VLR_HEADER_SIZE + (uint32_t)v->size;
+            w->vlrs_in_header++;
+        }
+    }
+    return STA_OK;
 }
 
 sta_status sta_las_writer_open(const char *path, const sta_las_write_options *options,
@@ -260,7 +364,8 @@ sta_status sta_las_writer_open(const char *path, const sta_las_write_options *op
     w->opt.wkt = NULL;
     w->version_minor = options->version_minor == 0 ? 4 : options->version_minor;
     w->point_format = options->point_format;
-    w->record_length = record_sizes[w->point_format];
+    w->extra_size = options->extra_size;
+    w->record_length = (uint16_t)(record_sizes[w->point_format] + options->extra_size);
     w->header_size = w->version_minor == 4 ? HEADER_SIZE_14 : HEADER_SIZE_12;
     snprintf(w->system_identifier, sizeof(w->system_identifier), "%s",
              options->system_identifier ? options->system_identifier : "OTHER");
@@ -278,9 +383,15 @@ sta_status sta_las_writer_open(const char *path, const sta_las_write_options *op
     w->offset_to_points = w->header_size;
     if (w->wkt) {
         w->offset_to_points += VLR_HEADER_SIZE + (uint32_t)strlen(w->wkt) + 1;
+        w->vlrs_in_header = 1;
+    }
+    status = copy_vlrs(w, options, err);
+    if (status != STA_OK) {
+        destroy(w, false);
+        return status;
     }
     w->global_encoding = options->gps_time_adjusted ? 1u : 0u;
-    if (w->wkt && w->version_minor >= 4) {
+    if ((w->wkt || options->wkt_crs) && w->version_minor >= 4) {
         w->global_encoding |= 1u << 4;
     }
     for (int a = 0; a < 3; a++) {
@@ -418,6 +529,12 @@ static sta_status flush(sta_las_writer *w, sta_error *err)
 sta_status sta_las_writer_write(sta_las_writer *w, const sta_point *points, size_t count,
                                 sta_error *err)
 {
+    return sta_las_writer_write_extra(w, points, NULL, count, err);
+}
+
+sta_status sta_las_writer_write_extra(sta_las_writer *w, const sta_point *points,
+                                      const uint8_t *extra, size_t count, sta_error *err)
+{
     if (w->failed) {
         return sta_fail(err, STA_ERR_ARG, "%s: write after a failed write", w->path);
     }
@@ -443,6 +560,14 @@ sta_status sta_las_writer_write(sta_las_writer *w, const sta_point *points, size
             encode_legacy(f, r, p);
         } else {
             encode_extended(f, r, p);
+        }
+        if (w->extra_size > 0) {
+            uint8_t *tail = r + record_sizes[f];
+            if (extra) {
+                memcpy(tail, extra + i * w->extra_size, w->extra_size);
+            } else {
+                memset(tail, 0, w->extra_size);
+            }
         }
         w->used += size;
         const int32_t xyz[3] = { p->X, p->Y, p->Z };
@@ -478,6 +603,17 @@ sta_status sta_las_writer_close(sta_las_writer *w, sta_error *err)
         goto out_remove;
     }
     status = flush(w, err);
+    if (status != STA_OK) {
+        goto out_remove;
+    }
+    if (w->evlr_count > 0) {
+        w->evlr_start = (uint64_t)w->offset_to_points + w->count * w->record_length;
+    }
+    for (size_t i = 0; i < w->vlr_count && status == STA_OK; i++) {
+        if (w->vlrs[i].extended) {
+            status = write_vlr(w, &w->vlrs[i], true, err);
+        }
+    }
     if (status != STA_OK) {
         goto out_remove;
     }

@@ -29,6 +29,16 @@
 #include "core/point.h"
 #include "core/status.h"
 
+/* One VLR (or, in LAS 1.4, EVLR) to write as given, e.g. a CRS record. */
+typedef struct sta_las_vlr_record {
+    const char *user_id;     /* at most 16 bytes */
+    uint16_t record_id;      /* as the specification or the source numbers it */
+    const char *description; /* at most 32 bytes; NULL means "" */
+    const uint8_t *data;     /* size bytes, borrowed until open returns */
+    uint64_t size;           /* payload bytes; <= 65535 unless extended */
+    bool extended;           /* LAS 1.4: written as an EVLR after the points */
+} sta_las_vlr_record;
+
 /* How to write. Zero means default (see each field). */
 typedef struct sta_las_write_options {
     int version_minor;               /* 2 or 4 (LAS 1.2 or 1.4); 0 means 4 */
@@ -39,9 +49,15 @@ typedef struct sta_las_write_options {
     const char *wkt;                 /* OGC WKT, written as the LASF_Projection/2112 VLR
                                         (1.4: global encoding bit 4 is set); NULL: none */
     bool gps_time_adjusted;          /* global encoding bit 0: adjusted standard GPS time */
+    bool wkt_crs;                    /* LAS 1.4: global encoding bit 4 (the CRS is WKT),
+                                        for a WKT record given in vlrs */
     uint16_t file_source_id;         /* as stored */
     uint16_t creation_day;           /* day of year 1..366, or 0 (unknown) */
     uint16_t creation_year;          /* e.g. 2024, or 0 (unknown) */
+    const sta_las_vlr_record *vlrs;  /* written in order, before the WKT VLR (copied) */
+    size_t vlr_count;                /* entries of vlrs */
+    size_t extra_size;               /* bytes appended to every record (LAS extra bytes;
+                                        describe them with a LASF_Spec/4 record in vlrs) */
 } sta_las_write_options;
 
 typedef struct sta_las_writer sta_las_writer;
@@ -61,6 +77,11 @@ sta_status sta_las_writer_open(const char *path, const sta_las_write_options *op
  * sta_las_writer_abort (or close, which then fails) may follow. Not thread-safe. */
 sta_status sta_las_writer_write(sta_las_writer *writer, const sta_point *points, size_t count,
                                 sta_error *err);
+
+/* As sta_las_writer_write, each record followed by its extra_size bytes from `extra`
+ * (count * extra_size bytes, row-wise; NULL writes zeros). */
+sta_status sta_las_writer_write_extra(sta_las_writer *writer, const sta_point *points,
+                                      const uint8_t *extra, size_t count, sta_error *err);
 
 /* Points written so far. */
 uint64_t sta_las_writer_point_count(const sta_las_writer *writer);

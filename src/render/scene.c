@@ -23,6 +23,7 @@ struct sta_scene {
     sta_pipeline_options pipeline_options;
     bool timing;        /* drain and time each pass */
     sta_pass_katz katz; /* live Katz mode */
+    double ramp[3];     /* elevation ramp min, max (metres), largest intensity; 0: from the scene */
 };
 
 sta_status sta_scene_open(const char *path, const sta_scene_options *options, sta_scene **out_scene,
@@ -84,6 +85,16 @@ void sta_scene_close(sta_scene *s)
     sta_free(s);
 }
 
+const sta_streamer *sta_scene_streamer(const sta_scene *s)
+{
+    return s->streamer;
+}
+
+sta_status sta_scene_set_clip(sta_scene *s, const sta_clip *clip, sta_error *err)
+{
+    return sta_streamer_set_clip(s->streamer, clip, err);
+}
+
 const sta_strata_info *sta_scene_info(const sta_scene *s)
 {
     return sta_strata_reader_info(sta_streamer_reader(s->streamer));
@@ -129,6 +140,15 @@ void sta_scene_set_colour_mode(sta_scene *s, int mode)
     s->colour_mode = mode >= 0 && mode < STA_COLOUR_MODE_COUNT ? mode : STA_COLOUR_RGB;
 }
 
+void sta_scene_set_ramps(sta_scene *s, double elevation_min, double elevation_max,
+                         double intensity_max)
+{
+    bool elevation = elevation_max > elevation_min;
+    s->ramp[0] = elevation ? elevation_min : 0.0;
+    s->ramp[1] = elevation ? elevation_max : 0.0;
+    s->ramp[2] = intensity_max > 0.0 ? intensity_max : 0.0;
+}
+
 sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_target *target,
                             sta_frame_stats *stats, sta_error *err)
 {
@@ -157,6 +177,13 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     sta_geometry_colours colours = { s->colour_mode, info->bounds_min[2],
                                      info->bounds_max[2] - info->bounds_min[2],
                                      sta_streamer_intensity_scale(s->streamer) };
+    if (s->ramp[1] > s->ramp[0]) { // --elevation-range
+        colours.elevation_min = s->ramp[0];
+        colours.elevation_span = s->ramp[1] - s->ramp[0];
+    }
+    if (s->ramp[2] > 0.0) { // --intensity-max
+        colours.intensity_scale = (float)(1.0 / s->ramp[2]);
+    }
     stats->s0_m = s->pipeline_options.s0_m > 0 ? s->pipeline_options.s0_m
                                                : (float)sta_streamer_surface_spacing(s->streamer);
     if (s->katz.options.enabled) {

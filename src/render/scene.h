@@ -51,6 +51,18 @@ void sta_scene_close(sta_scene *scene);
 
 const sta_strata_info *sta_scene_info(const sta_scene *scene);
 
+/* The scene's streamer (draw list, reader, clip: what picking needs). */
+const sta_streamer *sta_scene_streamer(const sta_scene *scene);
+
+/* Ranges of the colour ramps: elevation from `elevation_min` to `elevation_max` metres
+ * (max <= min: the scene's bounds), intensity up to `intensity_max` (<= 0: the largest
+ * of the root node). */
+void sta_scene_set_ramps(sta_scene *scene, double elevation_min, double elevation_max,
+                         double intensity_max);
+
+/* Changes the clip and filters (sta_streamer_set_clip): nodes are reloaded. */
+sta_status sta_scene_set_clip(sta_scene *scene, const sta_clip *clip, sta_error *err);
+
 /* Bounds of where most of the scene is (sta_streamer_robust_bounds). */
 void sta_scene_robust_bounds(const sta_scene *scene, double out_min[3], double out_max[3]);
 

@@ -46,6 +46,14 @@ static void evict_at(sta_residency *r, uint32_t slot)
     r->evictions++;
 }
 
+void sta_residency_evict_all(sta_residency *r, uint32_t *evicted, size_t *evicted_count)
+{
+    while (r->resident_count > 0) {
+        evicted[(*evicted_count)++] = r->resident[r->resident_count - 1];
+        evict_at(r, r->resident_count - 1);
+    }
+}
+
 bool sta_residency_admit(sta_residency *r, uint32_t node, uint32_t count, uint32_t *evicted,
                          size_t *evicted_count)
 {

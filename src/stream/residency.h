@@ -39,6 +39,9 @@ sta_status sta_residency_init(sta_residency *residency, uint32_t node_count, uin
 
 void sta_residency_release(sta_residency *residency);
 
+/* Evicts every resident node, appending them to `evicted` (room for node_count). */
+void sta_residency_evict_all(sta_residency *residency, uint32_t *evicted, size_t *evicted_count);
+
 /* Starts a new frame: nodes used before it become evictable. */
 void sta_residency_begin_frame(sta_residency *residency);
 

@@ -39,6 +39,17 @@ double sta_select_node_priority(const sta_lod_node *node, const sta_camera *came
     return priority > 0 ? priority : 1e-12; // visible nodes always rank above culled
 }
 
+// A node's priority, 0 when the clip rejects it (nor can its children pass: their
+// boxes lie inside its box, their levels are deeper, their spacing smaller).
+static double clipped_priority(const sta_lod_node *node, const sta_camera *camera,
+                               const sta_frustum *frustum, const sta_clip *clip)
+{
+    if (clip && !sta_clip_keeps_node(clip, node->level, node->spacing, node->min, node->max)) {
+        return 0.0;
+    }
+    return sta_select_node_priority(node, camera, frustum);
+}
+
 static sta_status reserve(uint32_t **nodes, double **keys, size_t *capacity, size_t needed,
                           sta_error *err)
 {
@@ -127,7 +138,7 @@ sta_status sta_select(const sta_lod_tree *tree, const sta_camera *camera,
     if (status != STA_OK) {
         return status;
     }
-    double root = sta_select_node_priority(&tree->nodes[0], camera, &frustum);
+    double root = clipped_priority(&tree->nodes[0], camera, &frustum, params->clip);
     if (root > 0) {
         heap_push(s, 0, root);
     }
@@ -160,7 +171,7 @@ sta_status sta_select(const sta_lod_tree *tree, const sta_camera *camera,
                 continue;
             }
             if (child < tree->count) {
-                double p = sta_select_node_priority(&tree->nodes[child], camera, &frustum);
+                double p = clipped_priority(&tree->nodes[child], camera, &frustum, params->clip);
                 if (p > 0) {
                     heap_push(s, child, p);
                 }

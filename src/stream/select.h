@@ -17,6 +17,7 @@
 #include <stdint.h>
 
 #include "core/camera.h"
+#include "stream/clip.h"
 #include "stream/lod_tree.h"
 
 /* The point budget per frame when none is given (DESIGN.md: 30 M points per frame). */
@@ -25,6 +26,8 @@
 typedef struct sta_select_params {
     uint64_t budget_points; /* 0: STA_DEFAULT_BUDGET_POINTS */
     double min_spacing_px;  /* 0: 0.75; stop refining below this on-screen spacing */
+    const sta_clip *clip;   /* borrowed or NULL: nodes it rejects are not selected, so
+                               the budget goes to the nodes that can show points */
 } sta_select_params;
 
 /* Fills the zero fields of `params` with their defaults. */

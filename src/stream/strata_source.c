@@ -38,9 +38,34 @@ static sta_status load(void *context, void *worker, uint32_t node, uint8_t **out
     const sta_strata_info *info = sta_strata_reader_info(s->reader);
     sta_gpu_node_frame frame;
     sta_gpu_node_frame_init(&frame, &info->geometry, sta_strata_reader_node(s->reader, node)->key);
-    sta_gpu_points_encode(&frame, points.points, points.count, s->colour_shift, gpu);
+    if (!s->clip) {
+        sta_gpu_points_encode(&frame, points.points, points.count, s->colour_shift, gpu);
+        *out_gpu = gpu;
+        *out_count = points.count;
+        return STA_OK;
+    }
+    // Only the points the clip keeps, in their order, in runs.
+    const uint32_t attributes = sta_strata_attributes_to_sta_attr(info->layout.attributes);
+    size_t kept = 0;
+    for (size_t i = 0; i < points.count;) {
+        size_t end = i;
+        while (end < points.count && sta_clip_keeps_point(s->clip, &info->geometry.grid, attributes,
+                                                          &points.points[end])) {
+            end++;
+        }
+        if (end > i) {
+            sta_gpu_points_encode(&frame, points.points + i, end - i, s->colour_shift,
+                                  gpu + kept * STA_GPU_POINT_SIZE);
+            kept += end - i;
+        }
+        i = end + 1; // points[end] was refused (or end is the count)
+    }
+    if (kept == 0) {
+        sta_free(gpu);
+        gpu = NULL;
+    }
     *out_gpu = gpu;
-    *out_count = points.count;
+    *out_count = kept;
     return STA_OK;
 }
 
@@ -49,6 +74,7 @@ void sta_strata_source_init(sta_strata_source *source, const sta_strata_reader *
 {
     source->reader = reader;
     source->colour_shift = colour_shift;
+    source->clip = NULL;
     source->source = (sta_node_source){ .context = source,
                                         .node_count = sta_strata_reader_info(reader)->node_count,
                                         .worker_begin = worker_begin,

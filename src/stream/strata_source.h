@@ -6,12 +6,15 @@
 #define STA_STREAM_STRATA_SOURCE_H
 
 #include "format/strata_reader.h"
+#include "stream/clip.h"
 #include "stream/node_source.h"
 
 typedef struct sta_strata_source {
     sta_node_source source;          /* what the loader uses */
     const sta_strata_reader *reader; /* borrowed: must outlive the source */
     int colour_shift;                /* 8 for 16-bit colour, 0 for 8-bit */
+    const sta_clip *clip;            /* borrowed or NULL; set before loading starts:
+                                        only the points it keeps are loaded */
 } sta_strata_source;
 
 /* Fills `source` (caller-owned, must stay in place while used) for `reader`. */

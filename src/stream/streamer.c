@@ -38,6 +38,8 @@ struct sta_streamer {
     sta_stream_upload *upload;
     size_t loaded_count;
     uint32_t *draw;
+    size_t draw_count;    /* entries of draw from the last update */
+    size_t pending_evict; /* evict[0 .. pending_evict) go out with the next frame */
     uint32_t *new_bad;
     uint8_t *selected;     /* scratch for the s0 estimate, one byte per node */
     s0_sample *s0_samples; /* scratch for the s0 estimate, one per node */
@@ -53,7 +55,7 @@ void sta_streamer_options_defaults(sta_streamer_options *o)
         long cores = sysconf(_SC_NPROCESSORS_ONLN);
         o->loader_threads = cores > 1 ? (int)cores - 1 : 1;
     }
-    sta_select_params select = { 0, o->min_spacing_px };
+    sta_select_params select = { .min_spacing_px = o->min_spacing_px };
     sta_select_params_defaults(&select);
     o->min_spacing_px = select.min_spacing_px;
 }
@@ -112,6 +114,9 @@ static sta_status start(sta_streamer *s, const sta_streamer_options *options, st
         sta_residency_init(&s->residency, s->tree.count, s->options.gpu_bytes_cap, err);
     if (status != STA_OK) {
         return status;
+    }
+    if (s->reader && sta_clip_filters_points(&s->options.clip)) {
+        s->strata_source.clip = &s->options.clip; // before any worker starts
     }
     sta_loader_options lo = { .threads = s->options.loader_threads };
     return sta_loader_create(s->source, &lo, &s->loader, err);
@@ -242,12 +247,14 @@ sta_status sta_streamer_update(sta_streamer *s, const sta_camera *camera, sta_st
 {
     memset(f, 0, sizeof(*f));
     release_loaded(s);
+    f->evict_count = s->pending_evict; // a clip change evicted everything
+    s->pending_evict = 0;
     sta_residency_begin_frame(&s->residency);
     // The budget can never ask for more than the GPU holds.
     uint64_t cache_points = s->options.gpu_bytes_cap / STA_GPU_POINT_SIZE;
     sta_select_params params = { s->options.budget_points < cache_points ? s->options.budget_points
                                                                          : cache_points,
-                                 s->options.min_spacing_px };
+                                 s->options.min_spacing_px, &s->options.clip };
     sta_status status = sta_select(&s->tree, camera, &params, &s->selection, err);
     if (status != STA_OK) {
         return status;
@@ -277,6 +284,7 @@ sta_status sta_streamer_update(sta_streamer *s, const sta_camera *camera, sta_st
     f->evict = s->evict;
     f->upload = s->upload;
     f->draw = s->draw;
+    s->draw_count = f->draw_count;
     f->new_bad = s->new_bad;
     f->points_selected = s->selection.point_count;
     f->nodes_selected = (uint32_t)s->selection.count;
@@ -297,6 +305,31 @@ const sta_streamer_options *sta_streamer_options_used(const sta_streamer *s)
 const sta_lod_tree *sta_streamer_tree(const sta_streamer *s)
 {
     return &s->tree;
+}
+
+const uint32_t *sta_streamer_last_draw(const sta_streamer *s, size_t *out_count)
+{
+    *out_count = s->draw_count;
+    return s->draw;
+}
+
+const sta_clip *sta_streamer_clip(const sta_streamer *s)
+{
+    return &s->options.clip;
+}
+
+sta_status sta_streamer_set_clip(sta_streamer *s, const sta_clip *clip, sta_error *err)
+{
+    // The workers read the clip: stop them, drop what they made under the old one.
+    sta_loader_destroy(s->loader);
+    s->loader = NULL;
+    release_loaded(s);
+    s->options.clip = *clip;
+    s->strata_source.clip = s->reader && sta_clip_filters_points(clip) ? &s->options.clip : NULL;
+    // Resident nodes hold the old clip's points: all go, and are loaded again as wanted.
+    sta_residency_evict_all(&s->residency, s->evict, &s->pending_evict);
+    sta_loader_options lo = { .threads = s->options.loader_threads };
+    return sta_loader_create(s->source, &lo, &s->loader, err);
 }
 
 const sta_strata_reader *sta_streamer_reader(const sta_streamer *s)

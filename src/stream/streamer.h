@@ -25,6 +25,7 @@
 #include "core/camera.h"
 #include "core/status.h"
 #include "format/strata_reader.h"
+#include "stream/clip.h"
 #include "stream/lod_tree.h"
 #include "stream/node_source.h"
 #include "stream/select.h"
@@ -40,6 +41,10 @@ typedef struct sta_streamer_options {
     uint64_t upload_bytes_per_frame; /* 0: 64 MiB */
     int loader_threads;              /* 0: cores - 1 (at least 1) */
     double min_spacing_px;           /* 0: 0.75 (sta_select_params) */
+    sta_clip clip;                   /* zero: everything; nodes outside it are neither
+                                        selected nor loaded, and loaded nodes keep only
+                                        the points that pass (its polygon is borrowed
+                                        and must outlive the streamer) */
 } sta_streamer_options;
 
 /* Fills the zero fields of `options` with their defaults. */
@@ -97,6 +102,20 @@ sta_status sta_streamer_update(sta_streamer *streamer, const sta_camera *camera,
 const sta_streamer_options *sta_streamer_options_used(const sta_streamer *streamer);
 
 const sta_lod_tree *sta_streamer_tree(const sta_streamer *streamer);
+
+/* The nodes drawn by the last update (its draw list, valid until the next update),
+ * for picking. */
+const uint32_t *sta_streamer_last_draw(const sta_streamer *streamer, size_t *out_count);
+
+/* The clip in use (zeroed: none). */
+const sta_clip *sta_streamer_clip(const sta_streamer *streamer);
+
+/* Changes the clip between frames (its polygon is borrowed as in the options): the
+ * loader is restarted and every resident node is evicted with the next frame (its
+ * points were filtered by the old clip), then reloaded as the new cut wants it. Main
+ * thread, after the last frame's lists were carried out. Errors: STA_ERR_NOMEM (the
+ * loader could not restart; the streamer then must be closed). */
+sta_status sta_streamer_set_clip(sta_streamer *streamer, const sta_clip *clip, sta_error *err);
 
 /* The .strata reader (owned by the streamer), or NULL for a streamer over another source. */
 const sta_strata_reader *sta_streamer_reader(const sta_streamer *streamer);

@@ -56,8 +56,9 @@ settle() {
 }
 
 start_viewer() { # WxH
+    # No readout: its frames-per-second figure differs from window to window.
     "$bin/src/strata-view" "$work/street.strata" --camera=$camera --size "$1" --pipeline raw \
-        >"$work/viewer.log" 2>&1 &
+        --no-readout >"$work/viewer.log" 2>&1 &
     viewer=$!
     local i
     for i in $(seq 1 60); do

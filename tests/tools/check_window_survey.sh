@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# strata-view's surveyor tools in a real window (Xvfb, GLFW, llvmpipe), driven with
+# xdotool: F6 hides buildings, T selects the distance tool, two Ctrl+clicks measure,
+# J saves the measurement; the JSON file holds the two picked points and their
+# distance, the log names the picks, and the readout is drawn over the frame (the
+# window's top-left corner differs from a --no-readout window's).
+# usage: check_window_survey.sh BUILD_DIR WORK_DIR
+set -euo pipefail
+bin=$(cd "$1" && pwd) work=$2
+mkdir -p "$work"
+for tool in Xvfb xdotool xwd; do
+    command -v $tool >/dev/null || { echo "$tool is missing (scripts/install-deps.sh installs it)" >&2; exit 1; }
+done
+display=:$((500 + RANDOM % 400))
+Xvfb "$display" -screen 0 1280x1024x24 -nolisten tcp >/dev/null 2>&1 &
+xvfb=$!
+viewer=
+cleanup() {
+    [ -n "$viewer" ] && kill "$viewer" 2>/dev/null || true
+    kill "$xvfb" 2>/dev/null || true
+}
+trap cleanup EXIT
+export DISPLAY=$display
+sleep 1
+"$bin/src/strata-synth" street --points 300000 --seed 1 -o "$work/street.las" --quiet
+"$bin/preprocess/strata-convert" "$work/street.las" -o "$work/street.strata" --force -q
+camera=650235,5401873.6,105.5,180,-8,70
+rm -f "$work/m.json"
+
+start_viewer() { # extra options
+    (cd "$work" && exec "$bin/src/strata-view" "$work/street.strata" --camera=$camera --size 640x360 \
+        --pipeline raw --colour class "$@" >"$work/viewer.log" 2>&1) &
+    viewer=$!
+    for _ in $(seq 1 60); do
+        win=$(xdotool search --pid "$viewer" 2>/dev/null | head -1 || true)
+        [ -n "$win" ] && settle && return 0
+        sleep 0.5
+    done
+    echo "no window appeared" >&2
+    exit 1
+}
+
+# Waits until the window's picture is the same twice in a row, 1 s apart (loaded;
+# slow under the sanitizers).
+settle() { # the same picture three times in a row, 1 s apart
+    local previous="" now same=0
+    for _ in $(seq 1 180); do
+        sleep 1
+        now=$(xwd -id "$win" -silent | sha256sum)
+        if [ "$now" = "$previous" ]; then
+            same=$((same + 1))
+            [ $same -ge 2 ] && return 0
+        else
+            same=0
+        fi
+        previous=$now
+    done
+    echo "the window never settled" >&2
+    exit 1
+}
+
+# The top-left 300x60 pixels of the window (where the readout goes).
+corner() {
+    xwd -id "$win" -silent >"$work/shot.xwd"
+    python3 - "$work/shot.xwd" <<'PY'
+import hashlib, struct, sys
+d = open(sys.argv[1], "rb").read()
+f = struct.unpack(">25I", d[:100])
+start, stride = f[0] + f[19] * 12, f[12]
+print(hashlib.sha256(b"".join(d[start + y * stride:start + y * stride + 300 * 4] for y in range(60))).hexdigest())
+PY
+}
+
+start_viewer --no-readout
+plain=$(corner)
+kill "$viewer"; wait "$viewer" 2>/dev/null || true; viewer=
+
+start_viewer --measure m.json
+[ "$(corner)" != "$plain" ] || { echo "no readout over the frame" >&2; exit 1; }
+xdotool key --window "$win" F6
+sleep 1
+settle
+xdotool key --window "$win" t
+picks=0
+for point in "240 200" "400 250"; do
+    # A loaded machine may still be drawing the cut: click again until a point is hit.
+    for _ in $(seq 1 15); do
+        # shellcheck disable=SC2086
+        xdotool mousemove --window "$win" $point
+        xdotool keydown ctrl click 1 keyup ctrl
+        sleep 1
+        [ "$(grep -c '^pick: x ' "$work/viewer.log" || true)" -gt $picks ] && break
+        sleep 1
+    done
+    picks=$((picks + 1))
+done
+xdotool key --window "$win" j
+sleep 2
+kill "$viewer"; wait "$viewer" 2>/dev/null || true; viewer=
+grep -q "class 6 (building) hidden" "$work/viewer.log" || { cat "$work/viewer.log" >&2; exit 1; }
+[ "$(grep -c '^pick: x ' "$work/viewer.log")" = 2 ] || { cat "$work/viewer.log" >&2; exit 1; }
+python3 - "$work/m.json" <<'PY'
+import json, math, sys
+m = json.load(open(sys.argv[1]))["measurements"]
+assert len(m) == 1 and m[0]["kind"] == "distance" and len(m[0]["points"]) == 2, m
+a, b = m[0]["points"]
+d = math.dist(a, b)
+assert abs(m[0]["values"]["distance_3d"] - d) < 1e-9 and d > 0.5, (d, m)
+print("window survey: distance %.3f m between two picks, saved" % d)
+PY
