@@ -10,6 +10,7 @@
 
 #include "core/cli.h"
 #include "render/bindings.h"
+#include "render/pass_geometry.h"
 #include "render/pipeline.h"
 #include "render/ref/hpr_ref.h"
 #include "render/ref/normals_screen_ref.h"
@@ -147,6 +148,9 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     a->samples = STA_NORMALS_SCREEN_DEFAULT_SAMPLES;
     a->hpr_radius_px = STA_PIPELINE_DEFAULT_HPR_RADIUS_PX;
     a->hpr_threshold = (double)STA_HPR_DEFAULT_THRESHOLD;
+    a->raster = STA_RASTER_DEFAULT_METHOD;
+    static const char *const raster_names[] = { "compute", "points", NULL };
+    static const int raster_values[] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     int hpr = 0; // index into hpr_names
     static const char *const hpr_names[] = { "pyramid", "exhaustive", NULL };
     static const char *const sample_names[] = { "5", "9", "17", "25", NULL };
@@ -257,6 +261,18 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .kind = STA_CLI_FLAG,
           .dest = &a->stats,
           .help = "print one line of frame statistics per frame, with the GPU time of every pass" },
+        { .name = "raster",
+          .kind = STA_CLI_CHOICE,
+          .dest = &a->raster,
+          .metavar = "METHOD",
+          .choices = raster_names,
+          .choice_values = raster_values,
+          .help = "geometry pass: compute (compute-shader rasteriser) or points (GL_POINTS)" },
+        { .name = "raster-32bit",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->raster_32bit,
+          .help = "compute rasteriser: two passes with 32-bit atomics even where 64-bit "
+                  "ones exist" },
         { .heading = "screen-space pipeline (after the one-pixel-per-point geometry pass):",
           .name = "pipeline",
           .kind = STA_CLI_CHOICE,

@@ -36,6 +36,8 @@ typedef struct sta_view_args {
     double hpr_threshold;      /* --hpr-threshold */
     double s0_m;               /* --s0 */
     int repeat;                /* --repeat: time N more frames once loaded */
+    int raster;                /* --raster (sta_raster_method) */
+    bool raster_32bit;         /* --raster-32bit: the two-pass compute path always */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

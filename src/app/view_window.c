@@ -348,6 +348,9 @@ int sta_view_run_window(const sta_view_args *args)
     sta_scene_set_pipeline(s.scene, &s.pipeline);
     sta_scene_set_timing(s.scene, args->stats);
     sta_scene_set_colour_mode(s.scene, s.colour_mode);
+    sta_geometry_options raster = { .raster = args->raster,
+                                    .force_32bit_atomics = args->raster_32bit };
+    sta_scene_set_raster(s.scene, &raster);
     for (int a = 0; a < 3; a++) {
         s.pivot[a] = 0.5 * (s.info->bounds_min[a] + s.info->bounds_max[a]);
         s.scene_size = fmax(s.scene_size, s.info->bounds_max[a] - s.info->bounds_min[a]);
