@@ -11,11 +11,15 @@
 struct raster_node {
     vec4 origin; // xyz: node corner minus camera position, metres
     vec4 step;   // xyz: metres per quantisation step
-    uvec4 info;  // arena offset, point count, first draw-order index, node slot
+    uvec4 info;  // arena offset, point count, first batch, node slot
 };
 
 layout(std430, binding = STA_RASTER_BUFFER_NODES) readonly buffer raster_nodes {
     raster_node nodes[];
+};
+
+layout(std430, binding = STA_RASTER_BUFFER_BATCHES) readonly buffer raster_batches {
+    uvec2 batches[]; // node table index, first point of the batch in the node
 };
 
 #if STA_RASTER_PACKED

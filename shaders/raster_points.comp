@@ -6,10 +6,6 @@
 // of one node (the batch list is the indirect dispatch).
 layout(local_size_x = STA_RASTER_WORKGROUP_SIZE) in;
 
-layout(std430, binding = STA_RASTER_BUFFER_BATCHES) readonly buffer raster_batches {
-    uvec2 batches[]; // node table index, first point of the batch in the node
-};
-
 void main()
 {
     uvec2 batch = batches[gl_WorkGroupID.x];
@@ -25,7 +21,9 @@ void main()
             continue;
         }
         uint bits = floatBitsToUint(depth);
-        uint index = node.info.z + i;
+        // Draw-order index with gaps: batch number, then the point within the batch, so
+        // that the resolve finds the point through the batch list without a search.
+        uint index = gl_WorkGroupID.x * uint(STA_RASTER_BATCH_POINTS) + (i - batch.y);
 #if STA_RASTER_STEP == STA_RASTER_STEP_DEPTH
         if (bits > depth_bits[pixel]) { // most points lose: skip their atomic
             atomicMax(depth_bits[pixel], bits);

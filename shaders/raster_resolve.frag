@@ -4,7 +4,7 @@
 uniform int u_colour_mode;       // STA_COLOUR_*
 uniform vec2 u_elevation;        // (camera z - min z, 1 / (max z - min z))
 uniform float u_intensity_scale; // 1 / largest intensity
-uniform uint u_node_count;       // entries of the node table
+uniform vec3 u_background;       // colour of empty pixels
 
 layout(location = STA_GEOMETRY_OUT_COLOUR) out vec4 o_colour;
 layout(location = STA_GEOMETRY_OUT_ID) out uvec2 o_id;
@@ -21,22 +21,17 @@ void main()
     uint bits = depth_bits[pixel];
     uint index = payload[pixel];
 #endif
-    if (bits == 0u || index == STA_RASTER_NO_POINT || u_node_count == 0u) {
-        discard;
+    // Every pixel is written, so the target needs no clear first.
+    if (bits == 0u || index == STA_RASTER_NO_POINT) {
+        o_colour = vec4(u_background, 1.0);
+        o_id = uvec2(STA_RASTER_NO_POINT);
+        gl_FragDepth = 0.0;
+        return;
     }
-    // The node holding draw-order index `index`: the last whose first index is <= it
-    // (an empty node shares its first index with the next one, so it is never chosen).
-    uint lo = 0u, hi = u_node_count;
-    while (hi - lo > 1u) {
-        uint mid = (lo + hi) / 2u;
-        if (nodes[mid].info.z <= index) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    raster_node node = nodes[lo];
-    uint i = index - node.info.z;
+    // The draw-order index is batch * STA_RASTER_BATCH_POINTS + point within the batch.
+    uvec2 batch = batches[index / uint(STA_RASTER_BATCH_POINTS)];
+    raster_node node = nodes[batch.x];
+    uint i = batch.y + index % uint(STA_RASTER_BATCH_POINTS);
     uvec4 position_intensity, colour_class, returns;
     unpack_point(texelFetch(u_points, int(node.info.x + i)), position_intensity, colour_class,
                  returns);

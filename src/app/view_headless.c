@@ -264,6 +264,10 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_view_pipeline_options(args, &pipeline);
         sta_scene_set_pipeline(scene, &pipeline);
         sta_scene_set_timing(scene, args->stats);
+        if (args->stats) {
+            char renderer[256];
+            printf("renderer: %s\n", sta_gl_describe(renderer, sizeof(renderer)));
+        }
         sta_geometry_options raster = { .raster = args->raster,
                                         .force_32bit_atomics = args->raster_32bit };
         sta_scene_set_raster(scene, &raster);

@@ -65,7 +65,7 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
     r->u_colour_mode = glGetUniformLocation(p, "u_colour_mode");
     r->u_elevation = glGetUniformLocation(p, "u_elevation");
     r->u_intensity_scale = glGetUniformLocation(p, "u_intensity_scale");
-    r->u_node_count = glGetUniformLocation(p, "u_node_count");
+    r->u_background = glGetUniformLocation(p, "u_background");
     glCreateVertexArrays(1, &r->vao);
     glCreateTextures(GL_TEXTURE_BUFFER, 1, &r->points_texture);
     glCreateBuffers(1, &r->indirect);
@@ -147,7 +147,6 @@ static sta_status build_tables(sta_raster_compute *r, const sta_camera *camera,
     sta_status status = sta_array_reserve(&r->node_table, &r->node_table_capacity,
                                           count ? count : 1, sizeof(raster_node), 64, err);
     size_t batches = 0;
-    uint64_t first = 0;
     for (size_t i = 0; i < count && status == STA_OK; i++) {
         const sta_gpu_cache_entry *e = &cache->entries[draw[i]];
         const sta_gpu_node_frame *f = &frames[draw[i]];
@@ -161,13 +160,14 @@ static sta_status build_tables(sta_raster_compute *r, const sta_camera *camera,
         n->origin[3] = n->step[3] = 0.0f;
         n->info[0] = e->offset;
         n->info[1] = points;
-        n->info[2] = (uint32_t)first;
+        n->info[2] = (uint32_t)batches;
         n->info[3] = draw[i];
-        first += points;
-        if (first >= STA_RASTER_NO_POINT) {
-            return sta_fail(err, STA_ERR_ARG, "compute rasteriser: more than 2^32 - 1 points");
-        }
         size_t node_batches = (points + STA_RASTER_BATCH_POINTS - 1) / STA_RASTER_BATCH_POINTS;
+        // Draw-order indices are batch * STA_RASTER_BATCH_POINTS + point: below 2^32 - 1.
+        if ((uint64_t)(batches + node_batches) * STA_RASTER_BATCH_POINTS >= STA_RASTER_NO_POINT) {
+            return sta_fail(err, STA_ERR_ARG, "compute rasteriser: more than %llu batches",
+                            (unsigned long long)(STA_RASTER_NO_POINT / STA_RASTER_BATCH_POINTS));
+        }
         void *table = r->batch_table;
         status = sta_array_reserve(&table, &r->batch_table_capacity, batches + node_batches,
                                    2 * sizeof(uint32_t), 1024, err);
@@ -196,7 +196,6 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
                                    size_t count, sta_render_target *target, sta_error *err)
 {
     static const float background[3] = { 0.0f, 0.0f, 0.0f };
-    sta_render_target_begin(target, background);
     if (cache->capacity > (uint32_t)r->max_texels) {
         return sta_fail(err, STA_ERR_NOMEM,
                         "compute rasteriser: the GPU arena holds %u points, a texture buffer "
@@ -205,8 +204,12 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     }
     size_t batches = 0;
     sta_status status = build_tables(r, camera, cache, frames, draw, count, &batches, err);
-    if (status != STA_OK || batches == 0 || !cache->buffer) {
+    if (status != STA_OK) {
         return status;
+    }
+    if (batches == 0 || !cache->buffer) {
+        sta_render_target_begin(target, background);
+        return STA_OK;
     }
     int w = target->width_px, h = target->height_px;
     ensure_pixels(r, w, h);
@@ -253,7 +256,8 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     glUniform2f(r->u_elevation, (float)(camera->position[2] - colours->elevation_min),
                 (float)(1.0 / (span > 0 ? span : 1.0)));
     glUniform1f(r->u_intensity_scale, colours->intensity_scale);
-    glUniform1ui(r->u_node_count, (GLuint)count);
+    glUniform3fv(r->u_background, 1, background);
+    sta_render_target_bind(target);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
     glBindVertexArray(r->vao);

@@ -7,10 +7,14 @@
  * Design: per frame the CPU writes a node table (camera-relative origin, step, arena
  * offset, count, first draw-order index, node slot per drawn node) and a batch list
  * (one entry per STA_RASTER_BATCH_POINTS points of a node) and dispatches the batch
- * list indirectly: one dispatch per step for all nodes. With 64-bit atomics one step
- * keeps (depth << 32 | ~draw-order index) per pixel; without, a depth step (atomicMax
- * of the depth's bits: reverse-Z floats >= 0 order like their bits) is followed by a
- * payload step (atomicMin of the draw-order index among the points at that depth).
+ * list indirectly: one dispatch per step for all nodes. A point's draw-order index is
+ * its batch's number times STA_RASTER_BATCH_POINTS plus its place in the batch
+ * (increasing in draw order, with gaps), so the resolve finds the point through the
+ * batch list. With 64-bit atomics one step keeps (depth << 32 | ~draw-order index) per
+ * pixel; without, a depth step (atomicMax of the depth's bits: reverse-Z floats >= 0
+ * order like their bits) is followed by a payload step (atomicMin of the draw-order
+ * index among the points at that depth). The resolve writes every pixel (background
+ * where empty), so the target is not cleared first.
  * Either way the nearest point wins and ties go to the first in draw order, as with
  * GL_POINTS and GL_GREATER.
  *
@@ -50,7 +54,7 @@ typedef struct sta_raster_compute {
     uint32_t *batch_table;                                /* 2 per batch */
     size_t batch_table_capacity;                          /* batches */
     GLint u_view_rotation[3], u_projection[3], u_size[3]; /* per program (steps, resolve) */
-    GLint u_colour_mode, u_elevation, u_intensity_scale, u_node_count;
+    GLint u_colour_mode, u_elevation, u_intensity_scale, u_background;
 } sta_raster_compute;
 
 /* Builds the programs: the packed one-pass variant when `packed` (needs

@@ -51,10 +51,15 @@ void sta_render_target_release(sta_render_target *t)
     memset(t, 0, sizeof(*t));
 }
 
-void sta_render_target_begin(sta_render_target *t, const float background[3])
+void sta_render_target_bind(sta_render_target *t)
 {
     glBindFramebuffer(GL_FRAMEBUFFER, t->framebuffer);
     glViewport(0, 0, t->width_px, t->height_px);
+}
+
+void sta_render_target_begin(sta_render_target *t, const float background[3])
+{
+    sta_render_target_bind(t);
     const float colour[4] = { background[0], background[1], background[2], 1.0f };
     const float far_depth = 0.0f;
     glClearNamedFramebufferfv(t->framebuffer, GL_COLOR, 0, colour);

@@ -31,6 +31,9 @@ void sta_render_target_release(sta_render_target *target);
  * STA_TARGET_NO_POINT. */
 void sta_render_target_begin(sta_render_target *target, const float background[3]);
 
+/* Binds it for drawing (whole viewport) without clearing. */
+void sta_render_target_bind(sta_render_target *target);
+
 /* Reads colour as RGBA8, top row first (width * height * 4 bytes). */
 void sta_render_target_read_rgba(const sta_render_target *target, uint8_t *out);
 
