@@ -148,7 +148,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     a->samples = STA_NORMALS_SCREEN_DEFAULT_SAMPLES;
     a->hpr_radius_px = STA_PIPELINE_DEFAULT_HPR_RADIUS_PX;
     a->hpr_threshold = (double)STA_HPR_DEFAULT_THRESHOLD;
-    a->raster = STA_RASTER_DEFAULT_METHOD;
+    a->raster = STA_RASTER_DEFAULT; // resolved (and so named in the log) by render/
     static const char *const raster_names[] = { "compute", "points", NULL };
     static const int raster_values[] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     int hpr = 0; // index into hpr_names
@@ -267,7 +267,8 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .metavar = "METHOD",
           .choices = raster_names,
           .choice_values = raster_values,
-          .help = "geometry pass: compute (compute-shader rasteriser) or points (GL_POINTS)" },
+          .help = "geometry pass: compute (compute-shader rasteriser) or points (GL_POINTS)",
+          .default_text = sta_raster_method_name(STA_RASTER_DEFAULT_METHOD) },
         { .name = "raster-32bit",
           .kind = STA_CLI_FLAG,
           .dest = &a->raster_32bit,

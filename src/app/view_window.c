@@ -381,6 +381,9 @@ int sta_view_run_window(const sta_view_args *args)
             continue; // minimised
         }
         status = sta_scene_render(s.scene, &s.camera, &s.target, &stats, &err);
+        if (frame == 0 && sta_scene_raster_choice(s.scene)) {
+            fprintf(stderr, "strata-view: %s\n", sta_scene_raster_choice(s.scene)->reason);
+        }
         sta_render_target_present(&s.target);
         glfwSwapBuffers(window);
         frame++;
