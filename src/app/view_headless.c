@@ -253,7 +253,8 @@ int sta_view_run_headless(const sta_view_args *args)
     sta_status status = sta_gl_headless_create(&gl, &err);
     if (status == STA_OK) {
         sta_scene_options options = { .budget_points = args->budget_points,
-                                      .gpu_bytes_cap = args->gpu_mem_mib << 20 };
+                                      .gpu_bytes_cap = args->gpu_mem_mib << 20,
+                                      .min_spacing_px = args->min_spacing_px };
         status = sta_scene_open(args->scene, &options, &scene, &err);
     }
     if (status == STA_OK) {

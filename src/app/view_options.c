@@ -142,6 +142,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     a->timeout_s = 300.0;
     a->camera[5] = 60.0;
     a->budget_points = STA_DEFAULT_BUDGET_POINTS;
+    a->min_spacing_px = STA_DEFAULT_MIN_SPACING_PX;
     a->gpu_mem_mib = (int)(STA_DEFAULT_GPU_BYTES_CAP >> 20);
     a->pipeline = STA_PIPELINE_SHADED;
     a->normals = STA_NORMAL_PYRAMID;
@@ -228,6 +229,15 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .count_min = 16,
           .count_max = 1u << 20,
           .help = "GPU memory for resident nodes" },
+        { .name = "min-spacing",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->min_spacing_px,
+          .metavar = "PX",
+          .real_min = 0.0,
+          .real_max = 1e3,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "stop refining the LOD cut below this on-screen point spacing (smaller: "
+                  "more points per pixel, as in rasteriser benchmarks)" },
         { .name = "colour",
           .kind = STA_CLI_CHOICE,
           .dest = &a->colour_mode,

@@ -19,6 +19,7 @@ typedef struct sta_view_args {
     double timeout_s;          /* headless: give up waiting after this */
     uint64_t budget_points;    /* --budget */
     uint64_t gpu_mem_mib;      /* --gpu-mem */
+    double min_spacing_px;     /* --min-spacing */
     int colour_mode;           /* --colour */
     bool has_camera;           /* --camera given (world coordinates) */
     bool camera_relative;      /* --look given (relative to the scene centre) */

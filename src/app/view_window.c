@@ -325,7 +325,8 @@ int sta_view_run_window(const sta_view_args *args)
     memset(&s, 0, sizeof(s));
     sta_error err = { 0 };
     sta_scene_options options = { .budget_points = args->budget_points,
-                                  .gpu_bytes_cap = args->gpu_mem_mib << 20 };
+                                  .gpu_bytes_cap = args->gpu_mem_mib << 20,
+                                  .min_spacing_px = args->min_spacing_px };
     sta_camera_path playback = { 0 };
     sta_status status = sta_scene_open(args->scene, &options, &s.scene, &err);
     if (status == STA_OK && args->path_file) {
