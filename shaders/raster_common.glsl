@@ -24,7 +24,7 @@ layout(std430, binding = STA_RASTER_BUFFER_BATCHES) readonly buffer raster_batch
 
 #if STA_RASTER_PACKED
 layout(std430, binding = STA_RASTER_BUFFER_DEPTH) coherent buffer raster_packed {
-    uint64_t packed[]; // depth bits << 32 | ~draw-order index; 0: empty
+    uint64_t packed_pixels[]; // depth bits << 32 | ~draw-order index; 0: empty
 };
 #else
 layout(std430, binding = STA_RASTER_BUFFER_DEPTH) coherent buffer raster_depth {

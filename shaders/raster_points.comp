@@ -34,8 +34,8 @@ void main()
         }
 #else
         uint64_t value = (uint64_t(bits) << 32) | uint64_t(~index);
-        if (value > packed[pixel]) {
-            atomicMax(packed[pixel], value);
+        if (value > packed_pixels[pixel]) {
+            atomicMax(packed_pixels[pixel], value);
         }
 #endif
     }

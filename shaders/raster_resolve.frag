@@ -14,7 +14,7 @@ void main()
     ivec2 p = ivec2(gl_FragCoord.xy);
     uint pixel = uint(p.y) * uint(u_size.x) + uint(p.x);
 #if STA_RASTER_PACKED
-    uint64_t value = packed[pixel];
+    uint64_t value = packed_pixels[pixel];
     uint bits = uint(value >> 32);
     uint index = ~uint(value & 0xFFFFFFFFul);
 #else
