@@ -13,6 +13,7 @@ packages=(
     libqhull-dev libcglm-dev liblapacke-dev                    # Katz HPR, maths, test references
     libcjson-dev                                               # camera paths, truth sidecars
     clang-format-14 python3                                    # format check, test helpers
+    glslang-tools                                              # checks shaders llvmpipe cannot build
 )
 
 missing=()
