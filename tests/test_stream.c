@@ -14,6 +14,7 @@
 
 #include "core/alloc.h"
 #include "stream/gpu_points.h"
+#include "stream/ground.h"
 #include "stream/residency.h"
 #include "stream/select.h"
 #include "stream/streamer.h"
@@ -471,6 +472,111 @@ static void source_and_tree_must_agree(void **state)
     fake_release(&f);
 }
 
+// A sloped terrain far from the origin (UTM-like), 200 x 200 m, rising 10 % along x, with
+// a 20 x 20 m building 8 m high and trees 12 m high; classes optional.
+enum {
+    TERRAIN_STEP_DM = 5 /* terrain sample spacing, decimetres */
+};
+#define UTM_X 650000.0
+#define UTM_Y 5400000.0
+
+static double terrain_z(double x)
+{
+    return 100.0 + 0.1 * (x - UTM_X);
+}
+
+static size_t sloped_scene(sta_ground_sample *out, size_t capacity, bool classified, bool hole)
+{
+    size_t n = 0;
+    for (int iy = 0; iy < 400; iy++) {
+        for (int ix = 0; ix < 400; ix++) {
+            double x = UTM_X + ix * 0.5, y = UTM_Y + iy * 0.5;
+            bool in_building =
+                x >= UTM_X + 90 && x < UTM_X + 110 && y >= UTM_Y + 90 && y < UTM_Y + 110;
+            bool in_hole =
+                hole && x >= UTM_X + 20 && x < UTM_X + 40 && y >= UTM_Y + 20 && y < UTM_Y + 40;
+            if (n < capacity && !in_building && !in_hole) { // the building hides its ground
+                out[n++] = (sta_ground_sample){ { x, y, terrain_z(x) }, classified ? 2 : 1 };
+            }
+            if (n < capacity && in_building) {
+                out[n++] = (sta_ground_sample){ { x, y, terrain_z(UTM_X + 90) + 8.0 },
+                                                classified ? 6 : 1 };
+            }
+            if (n < capacity && ix % 40 == 20 && iy % 40 == 20 && !in_building) { // trees
+                for (int k = 0; k < 20 && n < capacity; k++) {
+                    out[n++] = (sta_ground_sample){ { x + 0.1 * k, y, terrain_z(x) + 12.0 },
+                                                    classified ? 5 : 1 };
+                }
+            }
+        }
+    }
+    return n;
+}
+
+static void check_ground(const sta_ground *g, double tolerance_m, bool hole)
+{
+    for (int iy = 0; iy < 40; iy++) {
+        for (int ix = 0; ix < 40; ix++) {
+            double x = UTM_X + 2.5 + ix * 5.0, y = UTM_Y + 2.5 + iy * 5.0;
+            double error = sta_ground_at(g, x, y) - terrain_z(x);
+            bool near_edge = x < UTM_X + 3 || x > UTM_X + 197; // clamped at the grid's edge
+            // Filled cells lean towards their nearest ground (neighbour means, ring by
+            // ring): allow 0.5 m inside the 20 m hole on this 10 % slope.
+            bool in_hole =
+                hole && x > UTM_X + 18 && x < UTM_X + 42 && y > UTM_Y + 18 && y < UTM_Y + 42;
+            double allowed = in_hole ? fmax(tolerance_m, 0.5) : tolerance_m;
+            if (!near_edge && fabs(error) > allowed) {
+                fail_msg("ground off by %.2f m at (%.1f, %.1f)%s", error, x - UTM_X, y - UTM_Y,
+                         hole ? " (scene with a hole)" : "");
+            }
+        }
+    }
+}
+
+static void ground_from_classes_follows_the_slope(void **state)
+{
+    (void)state;
+    size_t capacity = 400 * 400 + 400;
+    sta_ground_sample *samples = sta_alloc_array(capacity, sizeof(*samples));
+    assert_non_null(samples);
+    size_t n = sloped_scene(samples, capacity, true, true);
+    sta_ground g;
+    sta_error err = { 0 };
+    assert_int_equal(sta_ground_from_samples(samples, n, &g, &err), STA_OK);
+    assert_true(g.from_class);
+    assert_int_equal(g.sampled, n);
+    // Under the building and in the 20 m hole, without ground points: filled from the
+    // neighbours, still on the plane within centimetres (the harmonic fill).
+    check_ground(&g, 0.15, true);
+    // Tree tops stand 12 m above the ground.
+    double h = UTM_X + 20.0;
+    assert_true(fabs(terrain_z(h) + 12.0 - sta_ground_at(&g, h, UTM_Y + 10.0) - 12.0) < 0.15);
+    sta_ground_release(&g);
+    sta_ground_release(&g); // a zeroed model is a no-op
+    sta_free(samples);
+}
+
+static void ground_without_classes_removes_roofs_and_trees(void **state)
+{
+    (void)state;
+    size_t capacity = 400 * 400 + 400;
+    sta_ground_sample *samples = sta_alloc_array(capacity, sizeof(*samples));
+    assert_non_null(samples);
+    size_t n = sloped_scene(samples, capacity, false, false);
+    sta_ground g;
+    sta_error err = { 0 };
+    assert_int_equal(sta_ground_from_samples(samples, n, &g, &err), STA_OK);
+    assert_false(g.from_class);
+    // The opening keeps the slope and drops the 20 m building and the trees.
+    check_ground(&g, 0.6, false);
+    double roof = terrain_z(UTM_X + 90) + 8.0;
+    double above = roof - sta_ground_at(&g, UTM_X + 100, UTM_Y + 100);
+    assert_true(above > 7.0 && above < 9.0);
+    sta_ground_release(&g);
+    sta_free(samples);
+    assert_int_equal(sta_ground_from_samples(NULL, 0, &g, &err), STA_ERR_ARG);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(budget_is_never_exceeded),
     cmocka_unit_test(gpu_cap_holds_with_evictions),
@@ -480,6 +586,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(camera_jump_converges),
     cmocka_unit_test(residency_evicts_least_recently_used_of_earlier_frames),
     cmocka_unit_test(source_and_tree_must_agree),
+    cmocka_unit_test(ground_from_classes_follows_the_slope),
+    cmocka_unit_test(ground_without_classes_removes_roofs_and_trees),
 };
 
 STA_TEST_MAIN(tests)

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/cli.h"
+#include "core/navigation.h"
 #include "render/bindings.h"
 #include "render/pass_geometry.h"
 #include "render/pipeline.h"
@@ -117,6 +118,26 @@ static void show_camera(const sta_cli_option *option, char *out_text, size_t siz
 }
 
 // --frames-out PATTERN: exactly one %d-style conversion, as the pattern reaches snprintf.
+static sta_status parse_orbit_pitch(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_view_args *a = option->dest;
+    double lo, hi;
+    char tail;
+    if (sscanf(value, "%lf,%lf%c", &lo, &hi, &tail) != 2 || !(lo >= -89.0) || !(hi <= 89.0) ||
+        !(lo < hi)) {
+        return sta_cli_fail_value(err, option, value, "MIN,MAX degrees, -89 <= MIN < MAX <= 89");
+    }
+    a->orbit_pitch_deg[0] = lo;
+    a->orbit_pitch_deg[1] = hi;
+    return STA_OK;
+}
+
+static void show_orbit_pitch(const sta_cli_option *option, char *out, size_t size)
+{
+    const sta_view_args *a = option->dest;
+    snprintf(out, size, "%g,%g", a->orbit_pitch_deg[0], a->orbit_pitch_deg[1]);
+}
+
 static sta_status parse_frame_pattern(const sta_cli_option *option, const char *value,
                                       sta_error *err)
 {
@@ -143,6 +164,8 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     a->camera[5] = 60.0;
     a->budget_points = STA_DEFAULT_BUDGET_POINTS;
     a->min_spacing_px = STA_DEFAULT_MIN_SPACING_PX;
+    a->orbit_pitch_deg[0] = STA_ORBIT_DEFAULT_PITCH_MIN_DEG;
+    a->orbit_pitch_deg[1] = STA_ORBIT_DEFAULT_PITCH_MAX_DEG;
     a->gpu_mem_mib = (int)(STA_DEFAULT_GPU_BYTES_CAP >> 20);
     a->pipeline = STA_PIPELINE_SHADED;
     a->normals = STA_NORMAL_PYRAMID;
@@ -262,6 +285,23 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .parse = parse_frame_pattern,
           .help = "headless path playback: write frame i to PATTERN with %d replaced (e.g. "
                   "frames/%05d.png)" },
+        { .name = "path-speed",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->path_speed_mps,
+          .metavar = "M/S",
+          .real_min = 0.0,
+          .real_max = 1e6,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "play --path at this constant speed along the path instead of its key times",
+          .default_text = "the key times" },
+        { .name = "orbit-pitch",
+          .kind = STA_CLI_CALLBACK,
+          .dest = a,
+          .metavar = "MIN,MAX",
+          .parse = parse_orbit_pitch,
+          .show = show_orbit_pitch,
+          .help = "window: the camera's elevation above the orbit centre stays in MIN..MAX "
+                  "degrees" },
         { .name = "record",
           .kind = STA_CLI_STRING,
           .dest = &a->record_file,

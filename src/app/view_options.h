@@ -26,6 +26,8 @@ typedef struct sta_view_args {
     double camera[6];          /* x, y, z, yaw deg, pitch deg, fov deg */
     const char *path_file;     /* --path: play a camera path */
     const char *record_file;   /* --record: write a camera path (window) */
+    double path_speed_mps;     /* --path-speed: constant speed playback (0: key times) */
+    double orbit_pitch_deg[2]; /* --orbit-pitch: camera elevation above the orbit centre */
     const char *frame_pattern; /* --frames-out: numbered PNGs when playing a path */
     bool stats;                /* --stats: one line per frame */
     int pipeline;              /* --pipeline (sta_pipeline_mode) */

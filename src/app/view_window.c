@@ -3,7 +3,10 @@
  *
  * Design: the main thread owns the window and the GL context. Each frame renders the
  * scene into an offscreen target (the same path as headless) and blits it to the
- * window. Mouse picking reads the target's depth under the cursor.
+ * window. Mouse picking reads the target's depth under the cursor. Cursor positions
+ * arrive in window coordinates and are scaled to framebuffer pixels (HiDPI). When
+ * nothing changes (camera, size, settings) and nothing is loading, the loop waits for
+ * events instead of redrawing. The navigation maths is core/navigation.h.
  */
 #include "app/view_window.h"
 
@@ -17,6 +20,7 @@
 
 #include "app/view_setup.h"
 #include "core/log.h"
+#include "core/navigation.h"
 #include "render/bindings.h"
 #include "render/camera_path.h"
 #include "render/gl.h"
@@ -38,7 +42,26 @@ typedef struct view_state {
     sta_pipeline_options pipeline; /* M, N, H, G change it */
     double record_start_s;
     int colour_mode;
+    double orbit_pitch[2]; /* radians: the camera's elevation above the pivot, min and max */
+    double fly_ramp;       /* 0..1: fraction of full fly speed (smooth acceleration) */
+    bool animating;        /* a double-click's eased move is under way */
+    sta_camera anim_from, anim_to;
+    double anim_start_s;
+    bool redraw; /* something changed that the last frame does not show */
 } view_state;
+
+// Cursor position in framebuffer pixels (window coordinates differ on HiDPI screens).
+static void cursor_px(GLFWwindow *window, double *x, double *y)
+{
+    int ww, wh, fw, fh;
+    glfwGetCursorPos(window, x, y);
+    glfwGetWindowSize(window, &ww, &wh);
+    glfwGetFramebufferSize(window, &fw, &fh);
+    if (ww > 0 && wh > 0) {
+        *x *= (double)fw / ww;
+        *y *= (double)fh / wh;
+    }
+}
 
 static double length3(const double v[3])
 {
@@ -83,31 +106,10 @@ static bool pick(view_state *s, double cursor_x, double cursor_y, double out[3])
     return true;
 }
 
-static void look_at(sta_camera *c, const double target[3])
-{
-    double d[3] = { target[0] - c->position[0], target[1] - c->position[1],
-                    target[2] - c->position[2] };
-    double len = length3(d);
-    if (len <= 0) {
-        return;
-    }
-    c->yaw = atan2(d[1], d[0]);
-    c->pitch = asin(d[2] / len);
-}
-
 static void orbit(view_state *s, double dx, double dy)
 {
-    sta_camera *c = &s->camera;
-    double offset[3] = { c->position[0] - s->pivot[0], c->position[1] - s->pivot[1],
-                         c->position[2] - s->pivot[2] };
-    double radius = length3(offset);
-    double yaw = atan2(offset[1], offset[0]) - dx * 0.005;
-    double pitch = asin(radius > 0 ? offset[2] / radius : 0) + dy * 0.005;
-    pitch = fmax(-1.5, fmin(1.5, pitch));
-    c->position[0] = s->pivot[0] + radius * cos(pitch) * cos(yaw);
-    c->position[1] = s->pivot[1] + radius * cos(pitch) * sin(yaw);
-    c->position[2] = s->pivot[2] + radius * sin(pitch);
-    look_at(c, s->pivot);
+    sta_nav_orbit(&s->camera, s->pivot, -dx * 0.005, dy * 0.005, s->orbit_pitch[0],
+                  s->orbit_pitch[1]);
 }
 
 static double pivot_distance(const view_state *s)
@@ -135,23 +137,21 @@ static void on_mouse_button(GLFWwindow *window, int button, int action, int mods
 {
     view_state *s = glfwGetWindowUserPointer(window);
     double x, y;
-    glfwGetCursorPos(window, &x, &y);
+    cursor_px(window, &x, &y);
     bool pressed = action == GLFW_PRESS;
+    s->redraw = true;
     if (button == GLFW_MOUSE_BUTTON_LEFT) {
         s->dragging_left = pressed && !(mods & GLFW_MOD_SHIFT);
         s->dragging_right = pressed && (mods & GLFW_MOD_SHIFT);
         double now = glfwGetTime();
         if (pressed && now - s->last_click_s < 0.3) {
             double hit[3];
-            if (pick(s, x, y, hit)) { // double-click: focus the picked point
+            if (pick(s, x, y, hit)) { // double-click: centre the point, move closer, eased
                 memcpy(s->pivot, hit, sizeof(hit));
-                double d = pivot_distance(s) / 3.0;
-                look_at(&s->camera, hit);
-                double f[3], r[3], u[3];
-                sta_camera_basis(&s->camera, f, r, u);
-                for (int a = 0; a < 3; a++) {
-                    s->camera.position[a] = hit[a] - f[a] * d;
-                }
+                s->anim_from = s->camera;
+                sta_nav_focus(&s->camera, hit, 1.0 / 3.0, &s->anim_to);
+                s->anim_start_s = now;
+                s->animating = true;
             }
         } else if (pressed && !s->fly) {
             double hit[3];
@@ -170,9 +170,14 @@ static void on_mouse_button(GLFWwindow *window, int button, int action, int mods
 static void on_cursor(GLFWwindow *window, double x, double y)
 {
     view_state *s = glfwGetWindowUserPointer(window);
+    cursor_px(window, &x, &y);
     double dx = x - s->last_x, dy = y - s->last_y;
     s->last_x = x;
     s->last_y = y;
+    if (s->dragging_left || s->dragging_right) {
+        s->animating = false; // the user takes over
+        s->redraw = true;
+    }
     if (s->dragging_left && s->fly) {
         s->camera.yaw -= dx * 0.003;
         s->camera.pitch = fmax(-1.55, fmin(1.55, s->camera.pitch - dy * 0.003));
@@ -189,7 +194,9 @@ static void on_scroll(GLFWwindow *window, double dx, double dy)
     view_state *s = glfwGetWindowUserPointer(window);
     double hit[3];
     double x, y;
-    glfwGetCursorPos(window, &x, &y);
+    cursor_px(window, &x, &y);
+    s->animating = false;
+    s->redraw = true;
     if (!pick(s, x, y, hit)) {
         memcpy(hit, s->pivot, sizeof(hit));
     }
@@ -209,12 +216,14 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
         return;
     }
     view_state *s = glfwGetWindowUserPointer(window);
+    s->redraw = true;
     if (key == GLFW_KEY_ESCAPE) {
         glfwSetWindowShouldClose(window, GLFW_TRUE);
     } else if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + STA_COLOUR_MODE_COUNT) {
         s->colour_mode = key - GLFW_KEY_1;
         sta_scene_set_colour_mode(s->scene, s->colour_mode);
     } else if (key == GLFW_KEY_R) {
+        s->animating = false;
         int w = s->camera.width_px, h = s->camera.height_px;
         s->camera = s->home;
         s->camera.width_px = w;
@@ -252,16 +261,15 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
     }
 }
 
-// WASD/QE flying; speed follows the distance to what the camera looks at.
-static void fly(view_state *s, GLFWwindow *window, double dt)
+// WASD/QE flying: speed from the distance to the surface at the centre of the screen
+// (or to the orbit centre when nothing is drawn there), ramped up smoothly. Returns
+// whether a fly key is held.
+static bool fly(view_state *s, GLFWwindow *window, double dt)
 {
     double f[3], r[3], u[3];
     sta_camera_basis(&s->camera, f, r, u);
-    double speed = fmax(0.5, fmin(pivot_distance(s), s->scene_size)) * 0.8;
-    if (glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS) {
-        speed *= 5.0;
-    }
     double move[3] = { 0, 0, 0 };
+    bool moving = false;
     const struct {
         int key;
         const double *axis;
@@ -270,10 +278,26 @@ static void fly(view_state *s, GLFWwindow *window, double dt)
                  { GLFW_KEY_A, r, -1 }, { GLFW_KEY_E, u, 1 },  { GLFW_KEY_Q, u, -1 } };
     for (size_t k = 0; k < sizeof(keys) / sizeof(keys[0]); k++) {
         if (glfwGetKey(window, keys[k].key) == GLFW_PRESS) {
+            moving = true;
             for (int a = 0; a < 3; a++) {
                 move[a] += keys[k].axis[a] * keys[k].sign;
             }
         }
+    }
+    s->fly_ramp = sta_nav_ramp(s->fly_ramp, moving, dt);
+    if (!moving) {
+        return false;
+    }
+    s->animating = false;
+    double surface[3], distance = fmin(pivot_distance(s), s->scene_size);
+    if (pick(s, 0.5 * s->camera.width_px, 0.5 * s->camera.height_px, surface)) {
+        double d[3] = { surface[0] - s->camera.position[0], surface[1] - s->camera.position[1],
+                        surface[2] - s->camera.position[2] };
+        distance = length3(d);
+    }
+    double speed = sta_nav_fly_speed(distance, s->scene_size) * s->fly_ramp;
+    if (glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS) {
+        speed *= 5.0;
     }
     for (int a = 0; a < 3; a++) {
         s->camera.position[a] += move[a] * speed * dt;
@@ -281,16 +305,18 @@ static void fly(view_state *s, GLFWwindow *window, double dt)
             s->pivot[a] += move[a] * speed * dt;
         }
     }
+    return true;
 }
 
 static void update_title(GLFWwindow *window, const sta_frame_stats *stats, double fps,
-                         uint64_t budget)
+                         uint64_t budget, bool fly_mode)
 {
     char title[256];
     snprintf(title, sizeof(title),
-             "strata-view  %.0f fps  %.1f / %.1f M points  %u nodes resident, %zu loading  "
-             "%.0f MiB GPU",
-             fps, (double)stats->points_drawn * 1e-6, (double)budget * 1e-6, stats->nodes_resident,
+             "strata-view  [%s]  %.0f fps  %.1f / %.1f M points  %u nodes resident, %zu "
+             "loading  %.0f MiB GPU",
+             fly_mode ? "fly: WASD QE, drag to look" : "orbit", fps,
+             (double)stats->points_drawn * 1e-6, (double)budget * 1e-6, stats->nodes_resident,
              stats->loader_backlog, (double)stats->gpu_bytes / 1048576.0);
     glfwSetWindowTitle(window, title);
 }
@@ -331,6 +357,9 @@ int sta_view_run_window(const sta_view_args *args)
     sta_status status = sta_scene_open(args->scene, &options, &s.scene, &err);
     if (status == STA_OK && args->path_file) {
         status = sta_camera_path_load(args->path_file, &playback, &err);
+        if (status == STA_OK && args->path_speed_mps > 0) {
+            status = sta_camera_path_set_speed(&playback, args->path_speed_mps, &err);
+        }
     }
     if (status != STA_OK) {
         fprintf(stderr, "strata-view: %s\n", err.message);
@@ -352,6 +381,8 @@ int sta_view_run_window(const sta_view_args *args)
     sta_geometry_options raster = { .raster = args->raster,
                                     .force_32bit_atomics = args->raster_32bit };
     sta_scene_set_raster(s.scene, &raster);
+    s.orbit_pitch[0] = args->orbit_pitch_deg[0] * M_PI / 180.0;
+    s.orbit_pitch[1] = args->orbit_pitch_deg[1] * M_PI / 180.0;
     for (int a = 0; a < 3; a++) {
         s.pivot[a] = 0.5 * (s.info->bounds_min[a] + s.info->bounds_max[a]);
         s.scene_size = fmax(s.scene_size, s.info->bounds_max[a] - s.info->bounds_min[a]);
@@ -366,11 +397,23 @@ int sta_view_run_window(const sta_view_args *args)
     int frames_since_title = 0, frame = 0;
     sta_frame_stats stats;
     memset(&stats, 0, sizeof(stats));
+    bool idle = false;
+    sta_camera shown; // the camera of the last frame drawn
+    memset(&shown, 0, sizeof(shown));
     while (!glfwWindowShouldClose(window) && status == STA_OK) {
-        glfwPollEvents();
+        if (idle) {
+            glfwWaitEventsTimeout(0.5); // nothing to redraw: sleep until input (or 0.5 s)
+        } else {
+            glfwPollEvents();
+        }
         double now = glfwGetTime();
-        fly(&s, window, now - last);
+        bool moving = fly(&s, window, now - last);
         last = now;
+        if (s.animating) {
+            double t = (now - s.anim_start_s) / STA_NAV_FOCUS_SECONDS;
+            sta_nav_blend(&s.anim_from, &s.anim_to, t, &s.camera);
+            s.animating = t < 1.0;
+        }
         if (playback.count > 0) {
             sta_camera_path_sample(&playback, playback.keys[0].time_s + (now - start), &s.camera);
             if (now - start > sta_camera_path_duration(&playback)) {
@@ -379,8 +422,23 @@ int sta_view_run_window(const sta_view_args *args)
         }
         glfwGetFramebufferSize(window, &s.camera.width_px, &s.camera.height_px);
         if (s.camera.width_px <= 0 || s.camera.height_px <= 0) {
+            idle = true;
             continue; // minimised
         }
+        // Idle: the last frame was complete and showed this camera at this size.
+        bool changed = s.redraw || moving || s.animating || playback.count > 0 ||
+                       memcmp(&shown, &s.camera, sizeof(shown)) != 0;
+        bool was_idle = idle;
+        idle = !changed && frame > 0 && stats.complete && stats.uploads == 0 && !args->max_frames;
+        if (idle) {
+            continue;
+        }
+        if (was_idle) { // frames per second count from here, not from before the pause
+            title_time = now;
+            frames_since_title = 0;
+        }
+        s.redraw = false;
+        shown = s.camera;
         status = sta_scene_render(s.scene, &s.camera, &s.target, &stats, &err);
         if (frame == 0 && sta_scene_raster_choice(s.scene)) {
             fprintf(stderr, "strata-view: %s\n", sta_scene_raster_choice(s.scene)->reason);
@@ -389,13 +447,14 @@ int sta_view_run_window(const sta_view_args *args)
         glfwSwapBuffers(window);
         frame++;
         frames_since_title++;
-        if (now - title_time > 0.5) {
-            update_title(window, &stats, frames_since_title / (now - title_time),
-                         args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS);
+        double drawn_s = glfwGetTime() - title_time;
+        if (drawn_s > 0.5 || was_idle) {
+            update_title(window, &stats, frames_since_title / drawn_s,
+                         args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS,
+                         s.fly);
             if (args->stats) {
                 printf("%.1f fps, %" PRIu64 " points; ms: geometry %.2f",
-                       frames_since_title / (now - title_time), stats.points_drawn,
-                       stats.geometry_ms);
+                       frames_since_title / drawn_s, stats.points_drawn, stats.geometry_ms);
                 for (int pass = 0; pass < STA_PASS_COUNT; pass++) {
                     if (stats.timing.ms[pass] > 0) {
                         printf(", %s %.2f", sta_pass_name(pass), stats.timing.ms[pass]);
@@ -404,8 +463,10 @@ int sta_view_run_window(const sta_view_args *args)
                 printf("\n");
                 fflush(stdout);
             }
-            title_time = now;
-            frames_since_title = 0;
+            if (drawn_s > 0.5) {
+                title_time = glfwGetTime();
+                frames_since_title = 0;
+            }
         }
         if (args->max_frames && frame >= args->max_frames) {
             break;

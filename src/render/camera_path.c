@@ -91,6 +91,12 @@ sta_status sta_camera_path_load(const char *path, sta_camera_path *out, sta_erro
             break;
         }
         status = sta_camera_path_add(out, &c, time_s, err);
+        if (status == STA_ERR_ARG) { // times that do not increase: the file is wrong
+            status = STA_ERR_FORMAT;
+            if (err) {
+                err->code = STA_ERR_FORMAT;
+            }
+        }
         if (status != STA_OK) {
             sta_error_prefix(err, "%s: keyframe %d", path, index);
             break;
@@ -145,11 +151,26 @@ sta_status sta_camera_path_save(const char *path, const sta_camera_path *p, sta_
     return STA_OK;
 }
 
-static double catmull_rom(double p0, double p1, double p2, double p3, double t)
+// Position on segment i (keys i .. i+1) at s in 0..1: a Hermite curve whose tangent at
+// each key is the difference of its neighbours over their time apart (Catmull-Rom with
+// the keys' times; with evenly spaced keys it is the uniform Catmull-Rom spline). At
+// the path's ends a neighbour is the key itself, one segment's time away.
+static void spline_point(const sta_camera_path *p, size_t i, double s, double out[3])
 {
-    double t2 = t * t, t3 = t2 * t;
-    return 0.5 * (2.0 * p1 + (-p0 + p2) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2 +
-                  (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * t3);
+    const sta_keyframe *k = p->keys, *a = &k[i], *b = &k[i + 1];
+    double h = b->time_s - a->time_s;
+    const sta_keyframe *before = i > 0 ? &k[i - 1] : a;
+    const sta_keyframe *after = i + 2 < p->count ? &k[i + 2] : b;
+    double t_before = i > 0 ? before->time_s : a->time_s - h;
+    double t_after = i + 2 < p->count ? after->time_s : b->time_s + h;
+    double s2 = s * s, s3 = s2 * s;
+    double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
+    for (int axis = 0; axis < 3; axis++) {
+        double m_a = (b->position[axis] - before->position[axis]) / (b->time_s - t_before);
+        double m_b = (after->position[axis] - a->position[axis]) / (t_after - a->time_s);
+        out[axis] =
+            h00 * a->position[axis] + h10 * h * m_a + h01 * b->position[axis] + h11 * h * m_b;
+    }
 }
 
 static double angle_lerp(double a, double b, double t)
@@ -184,16 +205,91 @@ void sta_camera_path_sample(const sta_camera_path *p, double time_s, sta_camera 
         return;
     }
     const sta_keyframe *a = &k[i], *b = &k[i + 1];
-    const sta_keyframe *before = i > 0 ? &k[i - 1] : a;
-    const sta_keyframe *after = i + 2 < p->count ? &k[i + 2] : b;
     double t = (time_s - a->time_s) / (b->time_s - a->time_s);
-    for (int axis = 0; axis < 3; axis++) {
-        c->position[axis] = catmull_rom(before->position[axis], a->position[axis],
-                                        b->position[axis], after->position[axis], t);
-    }
+    spline_point(p, i, t, c->position);
     c->yaw = angle_lerp(a->yaw, b->yaw, t);
     c->pitch = a->pitch + (b->pitch - a->pitch) * t;
     c->fov_y = a->fov_y + (b->fov_y - a->fov_y) * t;
+}
+
+enum {
+    CHORDS = 64, /* chords per segment when measuring its length */
+    SUBKEYS = 16 /* keys per segment after retiming at constant speed */
+};
+
+// Cumulative length along segment i at t = j / CHORDS, j = 0 .. CHORDS.
+static void segment_lengths(const sta_camera_path *p, size_t i, double out[CHORDS + 1])
+{
+    double previous[3], point[3];
+    spline_point(p, i, 0.0, previous);
+    out[0] = 0.0;
+    for (int j = 1; j <= CHORDS; j++) {
+        spline_point(p, i, (double)j / CHORDS, point);
+        double d2 = 0.0;
+        for (int axis = 0; axis < 3; axis++) {
+            d2 += (point[axis] - previous[axis]) * (point[axis] - previous[axis]);
+        }
+        out[j] = out[j - 1] + sqrt(d2);
+        memcpy(previous, point, sizeof(previous));
+    }
+}
+
+// The spline parameter where the length along the segment reaches `s`.
+static double parameter_at(const double lengths[CHORDS + 1], double s)
+{
+    int j = 1;
+    while (j < CHORDS && lengths[j] < s) {
+        j++;
+    }
+    double span = lengths[j] - lengths[j - 1];
+    double f = span > 0 ? (s - lengths[j - 1]) / span : 0.0;
+    return (j - 1 + fmax(0.0, fmin(1.0, f))) / CHORDS;
+}
+
+sta_status sta_camera_path_set_speed(sta_camera_path *p, double speed_mps, sta_error *err)
+{
+    if (!(speed_mps > 0) || !isfinite(speed_mps)) {
+        return sta_fail(err, STA_ERR_ARG, "path speed must be a positive number of m/s, got %g",
+                        speed_mps);
+    }
+    if (p->count < 2) {
+        return STA_OK;
+    }
+    // Each segment becomes SUBKEYS keys at equal lengths along the original spline, so
+    // that playback between them (nearly straight, nearly even) keeps the speed.
+    sta_camera_path out = { 0 };
+    const double turn_rate = STA_CAMERA_PATH_TURN_DEG_PER_S * pi / 180.0;
+    double time_s = p->keys[0].time_s, lengths[CHORDS + 1];
+    sta_status status = STA_OK;
+    for (size_t i = 0; i + 1 < p->count && status == STA_OK; i++) {
+        const sta_keyframe *a = &p->keys[i], *b = &p->keys[i + 1];
+        segment_lengths(p, i, lengths);
+        double turn = fmax(fabs(angle_lerp(a->yaw, b->yaw, 1.0) - a->yaw),
+                           fmax(fabs(b->pitch - a->pitch), fabs(b->fov_y - a->fov_y)));
+        double duration = fmax(lengths[CHORDS] / speed_mps, turn / turn_rate);
+        duration = fmax(duration, 1e-3 * SUBKEYS); // keys stay strictly increasing
+        int last = i + 2 == p->count ? SUBKEYS : SUBKEYS - 1;
+        for (int k = 0; k <= last && status == STA_OK; k++) {
+            double f = (double)k / SUBKEYS;
+            // Where the segment only turns, spread the keys evenly in the spline's t.
+            double t = lengths[CHORDS] > 0 ? parameter_at(lengths, f * lengths[CHORDS]) : f;
+            sta_camera c;
+            memset(&c, 0, sizeof(c));
+            spline_point(p, i, t, c.position);
+            c.yaw = angle_lerp(a->yaw, b->yaw, t);
+            c.pitch = a->pitch + (b->pitch - a->pitch) * t;
+            c.fov_y = a->fov_y + (b->fov_y - a->fov_y) * t;
+            status = sta_camera_path_add(&out, &c, time_s + duration * f, err);
+        }
+        time_s += duration;
+    }
+    if (status != STA_OK) {
+        sta_camera_path_release(&out);
+        return status;
+    }
+    sta_camera_path_release(p);
+    *p = out;
+    return STA_OK;
 }
 
 double sta_camera_path_duration(const sta_camera_path *p)

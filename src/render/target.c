@@ -118,6 +118,11 @@ void sta_render_target_read_depth_block(const sta_render_target *t, int x, int y
 
 void sta_render_target_present(const sta_render_target *t)
 {
+    // Mesa's window-system drawables learn a new window size when the viewport of the
+    // default framebuffer is set; without this a resized window keeps its old size and
+    // shows the blit shifted by the change in height.
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, t->width_px, t->height_px);
     glBlitNamedFramebuffer(t->framebuffer, 0, 0, 0, t->width_px, t->height_px, 0, 0, t->width_px,
                            t->height_px, GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
