@@ -17,6 +17,7 @@ typedef struct raster_node {
     uint32_t info[4]; /* arena offset, count, first draw-order index, node slot */
 } raster_node;
 _Static_assert(sizeof(raster_node) == 48, "raster_node mirrors the std430 struct");
+_Static_assert(STA_RASTER_NO_POINT == STA_TARGET_NO_POINT, "the resolve writes the target's id");
 
 static void uniforms(sta_raster_compute *r, int slot, GLuint program)
 {
