@@ -51,9 +51,10 @@ void unpack_point(uvec4 t, out uvec4 position_intensity, out uvec4 colour_class,
 
 // Pixel (row-major from the bottom) and reverse-Z depth of a point, or false when the
 // GL_POINTS path would not draw it. The rule is the rasteriser's: clip volume test on
-// the point's centre, window position snapped to 1 / 2^STA_RASTER_SUBPIXEL_BITS pixel,
-// and a one-pixel point covers the pixel whose centre lies in [x - 0.5, x + 0.5) on the
-// snapped grid, that is pixel ceil(x) - 1 on each axis.
+// the point's centre, ndc = clip * (1 / w), window = ndc * size / 2 + size / 2 fused,
+// snapped to 1 / 2^STA_RASTER_SUBPIXEL_BITS pixel (half up), and a one-pixel point
+// covers the pixel whose centre lies in [x - 0.5, x + 0.5) on the snapped grid, that is
+// pixel ceil(x) - 1 on each axis.
 bool project_point(vec3 relative, out uint pixel, out float depth)
 {
     vec4 clip = u_projection * (u_view_rotation * vec4(relative, 1.0));
@@ -62,8 +63,12 @@ bool project_point(vec3 relative, out uint pixel, out float depth)
         return false;
     }
     vec3 ndc = clip.xyz * (1.0 / clip.w);
+    // llvmpipe's viewport transform is one fused multiply-add, but its shaders split
+    // fma() into two roundings: in double the product is exact and the sum rounds once
+    // before the float (a second rounding that differs from a fused one only when the
+    // double lands exactly halfway between two floats).
     vec2 half_size = vec2(u_size) * 0.5;
-    vec2 window = ndc.xy * half_size + half_size;
+    vec2 window = vec2(dvec2(ndc.xy) * dvec2(half_size) + dvec2(half_size));
     ivec2 snapped = ivec2(floor(window * float(1 << STA_RASTER_SUBPIXEL_BITS) + 0.5));
     ivec2 p = (snapped - 1) >> STA_RASTER_SUBPIXEL_BITS;
     if (p.x < 0 || p.y < 0 || p.x >= u_size.x || p.y >= u_size.y) {

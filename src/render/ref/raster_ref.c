@@ -21,7 +21,9 @@ static void transform(const float m[16], const float v[4], float out[4])
 static long pixel_of(float ndc, int size, int subpixel_bits)
 {
     float half = (float)size * 0.5f;
-    float window = ndc * half + half;
+    // llvmpipe's fused viewport transform, computed as the shader does (in double: the
+    // product is exact, the sum rounds once, then the float).
+    float window = (float)((double)ndc * (double)half + (double)half);
     float scale = (float)(1 << subpixel_bits);
     long snapped = (long)floorf(window * scale + 0.5f);
     // floor((snapped - 1) / 2^bits) for negative values too.

@@ -6,7 +6,8 @@
  * The rule (shaders/raster_common.glsl): relative = origin + q * step; clip =
  * projection * (view * (relative, 1)), summed column by column in float; a point is
  * drawn when -w <= x, y <= w and 0 <= z <= w (w > 0); ndc = clip * (1 / w); window =
- * ndc * size / 2 + size / 2, snapped to 1 / 2^subpixel_bits pixel (round half up); the
+ * ndc * size / 2 + size / 2 as one fused multiply-add (llvmpipe's viewport transform),
+ * snapped to 1 / 2^subpixel_bits pixel (round half up); the
  * point lands in pixel ceil(snapped) - 1 on each axis. The largest reverse-Z depth wins;
  * at equal depth the first point in draw order (nodes in the given order, then points).
  */
