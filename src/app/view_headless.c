@@ -64,6 +64,9 @@ static sta_status render_until_loaded(const sta_view_args *args, sta_scene *scen
         }
         sta_gl_finish();
         if (args->stats) {
+            if (frame == 1 && sta_scene_raster_choice(scene)) {
+                printf("%s\n", sta_scene_raster_choice(scene)->reason);
+            }
             print_stats(frame, stats, (sta_clock_s() - t0) * 1e3);
         }
         if (args->max_frames ? frame >= args->max_frames : stats->complete) {
@@ -360,7 +363,8 @@ int sta_view_run_headless(const sta_view_args *args)
     if (status == STA_OK) {
         sta_scene_options options = { .budget_points = args->budget_points,
                                       .gpu_bytes_cap = args->gpu_mem_mib << 20,
-                                      .clip = args->clip };
+                                      .clip = args->clip,
+                                      .min_spacing_px = args->min_spacing_px };
         status = sta_scene_open(args->scene, &options, &scene, &err);
     }
     if (status == STA_OK) {
@@ -377,6 +381,13 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_scene_set_pipeline(scene, &pipeline);
         sta_scene_set_katz(scene, &args->katz);
         sta_scene_set_timing(scene, args->stats);
+        if (args->stats) {
+            char renderer[256];
+            printf("renderer: %s\n", sta_gl_describe(renderer, sizeof(renderer)));
+        }
+        sta_geometry_options raster = { .raster = args->raster,
+                                        .force_32bit_atomics = args->raster_32bit };
+        sta_scene_set_raster(scene, &raster);
         sta_frame_stats stats = { 0 };
         if (args->path_file) {
             status = play_path(args, scene, &camera, &target, &err);

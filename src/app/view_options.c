@@ -11,6 +11,7 @@
 #include "core/cli.h"
 #include "core/navigation.h"
 #include "render/bindings.h"
+#include "render/pass_geometry.h"
 #include "render/pipeline.h"
 #include "render/ref/hpr_ref.h"
 #include "render/ref/normals_screen_ref.h"
@@ -187,6 +188,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     a->timeout_s = 300.0;
     a->camera[5] = 60.0;
     a->budget_points = STA_DEFAULT_BUDGET_POINTS;
+    a->min_spacing_px = STA_DEFAULT_MIN_SPACING_PX;
     a->orbit_pitch_deg[0] = STA_ORBIT_DEFAULT_PITCH_MIN_DEG;
     a->orbit_pitch_deg[1] = STA_ORBIT_DEFAULT_PITCH_MAX_DEG;
     a->gpu_mem_mib = (int)(STA_DEFAULT_GPU_BYTES_CAP >> 20);
@@ -196,6 +198,9 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     a->hpr_radius_px = STA_PIPELINE_DEFAULT_HPR_RADIUS_PX;
     a->hpr_threshold = (double)STA_HPR_DEFAULT_THRESHOLD;
     sta_katz_view_options_defaults(&a->katz);
+    a->raster = STA_RASTER_DEFAULT; // resolved (and so named in the log) by render/
+    static const char *const raster_names[] = { "compute", "points", NULL };
+    static const int raster_values[] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     int hpr = 0; // index into hpr_names
     static const char *const hpr_names[] = { "pyramid", "exhaustive", "katz", NULL };
     static const char *const sample_names[] = { "5", "9", "17", "25", NULL };
@@ -334,6 +339,15 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .count_min = 16,
           .count_max = 1u << 20,
           .help = "GPU memory for resident nodes" },
+        { .name = "min-spacing",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->min_spacing_px,
+          .metavar = "PX",
+          .real_min = 0.0,
+          .real_max = 1e3,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "stop refining the LOD cut below this on-screen point spacing (smaller: "
+                  "more points per pixel, as in rasteriser benchmarks)" },
         { .name = "colour",
           .kind = STA_CLI_CHOICE,
           .dest = &a->colour_mode,
@@ -384,6 +398,19 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .kind = STA_CLI_FLAG,
           .dest = &a->stats,
           .help = "print one line of frame statistics per frame, with the GPU time of every pass" },
+        { .name = "raster",
+          .kind = STA_CLI_CHOICE,
+          .dest = &a->raster,
+          .metavar = "METHOD",
+          .choices = raster_names,
+          .choice_values = raster_values,
+          .help = "geometry pass: compute (compute-shader rasteriser) or points (GL_POINTS)",
+          .default_text = sta_raster_method_name(STA_RASTER_DEFAULT_METHOD) },
+        { .name = "raster-32bit",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->raster_32bit,
+          .help = "compute rasteriser: two passes with 32-bit atomics even where 64-bit "
+                  "ones exist" },
         { .heading = "screen-space pipeline (after the one-pixel-per-point geometry pass):",
           .name = "pipeline",
           .kind = STA_CLI_CHOICE,

@@ -21,6 +21,7 @@ typedef struct sta_view_args {
     double timeout_s;          /* headless: give up waiting after this */
     uint64_t budget_points;    /* --budget */
     uint64_t gpu_mem_mib;      /* --gpu-mem */
+    double min_spacing_px;     /* --min-spacing */
     int colour_mode;           /* --colour */
     bool has_camera;           /* --camera given (world coordinates) */
     bool camera_relative;      /* --look given (relative to the scene centre) */
@@ -51,6 +52,8 @@ typedef struct sta_view_args {
     bool no_readout;           /* --no-readout: no readout over the window's frames */
     double elevation_range[2]; /* --elevation-range MIN,MAX (max <= min: the scene's) */
     double intensity_max;      /* --intensity-max (0: the scene's) */
+    int raster;                /* --raster (sta_raster_method) */
+    bool raster_32bit;         /* --raster-32bit: the two-pass compute path always */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

@@ -527,7 +527,8 @@ int sta_view_run_window(const sta_view_args *args)
     sta_error err = { 0 };
     sta_scene_options options = { .budget_points = args->budget_points,
                                   .gpu_bytes_cap = args->gpu_mem_mib << 20,
-                                  .clip = args->clip };
+                                  .clip = args->clip,
+                                  .min_spacing_px = args->min_spacing_px };
     sta_camera_path playback = { 0 };
     sta_status status = sta_scene_open(args->scene, &options, &s.scene, &err);
     if (status == STA_OK && args->path_file) {
@@ -557,6 +558,9 @@ int sta_view_run_window(const sta_view_args *args)
     sta_scene_set_colour_mode(s.scene, s.colour_mode);
     sta_scene_set_ramps(s.scene, args->elevation_range[0], args->elevation_range[1],
                         args->intensity_max);
+    sta_geometry_options raster = { .raster = args->raster,
+                                    .force_32bit_atomics = args->raster_32bit };
+    sta_scene_set_raster(s.scene, &raster);
     s.orbit_pitch[0] = args->orbit_pitch_deg[0] * M_PI / 180.0;
     s.orbit_pitch[1] = args->orbit_pitch_deg[1] * M_PI / 180.0;
     for (int a = 0; a < 3; a++) {
@@ -632,6 +636,9 @@ int sta_view_run_window(const sta_view_args *args)
         shown = s.camera;
         bool was_complete = frame > 0 && stats.complete;
         status = sta_scene_render(s.scene, &s.camera, &s.target, &stats, &err);
+        if (frame == 0 && sta_scene_raster_choice(s.scene)) {
+            fprintf(stderr, "strata-view: %s\n", sta_scene_raster_choice(s.scene)->reason);
+        }
         sta_render_target_present(&s.target);
         if (has_hud && status == STA_OK) {
             draw_readout(&s, &hud, &stats, fps, args, &err);

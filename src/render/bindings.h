@@ -9,7 +9,8 @@
  * (pull-push), takes the pass's name. IMAGE is an image unit (image2D in GLSL,
  * glBindImageTexture in C), SAMPLER a texture unit (sampler2D, glBindTextureUnit):
  * the two are separate number spaces, so an IMAGE and a SAMPLER of one shader may
- * share a number. Within one shader and one space the numbers are distinct.
+ * share a number. BUFFER is a shader storage buffer binding (a third space). Within one
+ * shader and one space the numbers are distinct.
  */
 #ifndef STA_RENDER_BINDINGS_H
 #define STA_RENDER_BINDINGS_H
@@ -30,6 +31,24 @@
 #define STA_COLOUR_CLASSIFICATION 3
 #define STA_COLOUR_RETURN_NUMBER  4
 #define STA_COLOUR_MODE_COUNT     5
+
+/* Fragment outputs of the geometry pass (geometry.frag, raster_resolve.frag): the
+ * render target's colour attachments (render/target.h). */
+#define STA_GEOMETRY_OUT_COLOUR 0 /* RGBA8 colour */
+#define STA_GEOMETRY_OUT_ID     1 /* RG32UI: node slot, point index */
+
+/* Compute rasteriser (raster_common.glsl, raster_points.comp, raster_resolve.*). */
+#define STA_RASTER_SAMPLER_POINTS 0 /* usamplerBuffer RGBA32UI: the node arena */
+#define STA_RASTER_BUFFER_BATCHES 0 /* uvec2 per workgroup: node table index, first point */
+#define STA_RASTER_BUFFER_NODES   1 /* the frame's node table */
+#define STA_RASTER_BUFFER_DEPTH   2 /* uint per pixel (uint64 when packed) */
+#define STA_RASTER_BUFFER_PAYLOAD 3 /* uint per pixel: draw-order index (two-pass only) */
+#define STA_RASTER_WORKGROUP_SIZE 128
+#define STA_RASTER_BATCH_POINTS   4096        /* points per workgroup */
+#define STA_RASTER_NO_POINT       0xFFFFFFFFu /* empty payload */
+#define STA_RASTER_STEP_DEPTH     0           /* two-pass: depth */
+#define STA_RASTER_STEP_PAYLOAD   1           /* two-pass: payload at that depth */
+#define STA_RASTER_STEP_PACKED    2           /* one pass, 64-bit atomics */
 
 /* Unproject (unproject.comp). */
 #define STA_UNPROJECT_SAMPLER_DEPTH  0 /* reverse-Z depth */
@@ -109,6 +128,19 @@
  X(STA_COLOUR_ELEVATION)                                                                           \
  X(STA_COLOUR_CLASSIFICATION)                                                                      \
  X(STA_COLOUR_RETURN_NUMBER)                                                                       \
+ X(STA_GEOMETRY_OUT_COLOUR)                                                                        \
+ X(STA_GEOMETRY_OUT_ID)                                                                            \
+ X(STA_RASTER_SAMPLER_POINTS)                                                                      \
+ X(STA_RASTER_BUFFER_BATCHES)                                                                      \
+ X(STA_RASTER_BUFFER_NODES)                                                                        \
+ X(STA_RASTER_BUFFER_DEPTH)                                                                        \
+ X(STA_RASTER_BUFFER_PAYLOAD)                                                                      \
+ X(STA_RASTER_WORKGROUP_SIZE)                                                                      \
+ X(STA_RASTER_BATCH_POINTS)                                                                        \
+ X(STA_RASTER_NO_POINT)                                                                            \
+ X(STA_RASTER_STEP_DEPTH)                                                                          \
+ X(STA_RASTER_STEP_PAYLOAD)                                                                        \
+ X(STA_RASTER_STEP_PACKED)                                                                         \
  X(STA_HPR_BACKGROUND_OPEN_SECTORS)                                                                \
  X(STA_UNPROJECT_SAMPLER_DEPTH)                                                                    \
  X(STA_UNPROJECT_IMAGE_POSITION)                                                                   \

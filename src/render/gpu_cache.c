@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT
- * GPU node buffers. */
+ * GPU node arena. */
 #include "render/gpu_cache.h"
 
 #include <string.h>
@@ -18,37 +18,93 @@ sta_status sta_gpu_cache_init(sta_gpu_cache *cache, uint32_t node_count, sta_err
     return STA_OK;
 }
 
-static void free_buffer(sta_gpu_cache_entry *e)
-{
-    if (e->buffer) {
-        glDeleteBuffers(1, &e->buffer);
-    }
-    e->buffer = 0;
-    e->count = 0;
-}
-
 void sta_gpu_cache_release(sta_gpu_cache *cache)
 {
-    for (uint32_t i = 0; cache->entries && i < cache->node_count; i++) {
-        free_buffer(&cache->entries[i]);
+    if (cache->buffer) {
+        glDeleteBuffers(1, &cache->buffer);
     }
     sta_free(cache->entries);
     memset(cache, 0, sizeof(*cache));
 }
 
-void sta_gpu_cache_apply(sta_gpu_cache *cache, const sta_stream_frame *frame)
+static void evict(sta_gpu_cache *cache, uint32_t node)
+{
+    sta_gpu_cache_entry *e = &cache->entries[node];
+    if (e->is_resident) {
+        cache->live -= e->count;
+    }
+    memset(e, 0, sizeof(*e));
+}
+
+// Packs the live nodes into a new arena with room for `extra` more points.
+static sta_status repack(sta_gpu_cache *cache, uint32_t extra, sta_error *err)
+{
+    uint64_t need = cache->live + extra;
+    uint64_t capacity = need + need / 2;
+    if (capacity < STA_GPU_CACHE_MIN_POINTS) {
+        capacity = STA_GPU_CACHE_MIN_POINTS;
+    }
+    if (capacity > UINT32_MAX) {
+        capacity = UINT32_MAX;
+    }
+    if (need > capacity) {
+        return sta_fail(err, STA_ERR_NOMEM, "GPU arena: %llu points exceed 2^32",
+                        (unsigned long long)need);
+    }
+    GLuint buffer = 0;
+    glCreateBuffers(1, &buffer);
+    glNamedBufferStorage(buffer, (GLsizeiptr)(capacity * STA_GPU_POINT_SIZE), NULL,
+                         GL_DYNAMIC_STORAGE_BIT);
+    uint32_t end = 0;
+    for (uint32_t i = 0; i < cache->node_count; i++) {
+        sta_gpu_cache_entry *e = &cache->entries[i];
+        if (!e->is_resident) {
+            continue;
+        }
+        if (e->count > 0) {
+            glCopyNamedBufferSubData(cache->buffer, buffer,
+                                     (GLintptr)((uint64_t)e->offset * STA_GPU_POINT_SIZE),
+                                     (GLintptr)((uint64_t)end * STA_GPU_POINT_SIZE),
+                                     (GLsizeiptr)((uint64_t)e->count * STA_GPU_POINT_SIZE));
+        }
+        e->offset = end;
+        end += e->count;
+    }
+    if (cache->buffer) {
+        glDeleteBuffers(1, &cache->buffer);
+        cache->compactions++;
+    }
+    cache->buffer = buffer;
+    cache->capacity = (uint32_t)capacity;
+    cache->end = end;
+    return STA_OK;
+}
+
+sta_status sta_gpu_cache_apply(sta_gpu_cache *cache, const sta_stream_frame *frame, sta_error *err)
 {
     for (size_t i = 0; i < frame->evict_count; i++) {
-        free_buffer(&cache->entries[frame->evict[i]]);
+        evict(cache, frame->evict[i]);
     }
     for (size_t i = 0; i < frame->upload_count; i++) {
         const sta_stream_upload *u = &frame->upload[i];
+        evict(cache, u->node);
+        if (!cache->buffer || (uint64_t)cache->end + u->count > cache->capacity) {
+            sta_status status = repack(cache, u->count, err);
+            if (status != STA_OK) {
+                return status;
+            }
+        }
         sta_gpu_cache_entry *e = &cache->entries[u->node];
-        free_buffer(e);
-        uint64_t bytes = (uint64_t)u->count * STA_GPU_POINT_SIZE;
-        glCreateBuffers(1, &e->buffer);
-        // An empty node still gets a (tiny) buffer so it is drawn as resident.
-        glNamedBufferStorage(e->buffer, bytes ? (GLsizeiptr)bytes : 16, bytes ? u->gpu : NULL, 0);
+        e->offset = cache->end;
         e->count = u->count;
+        e->is_resident = true; // an empty node is resident too, and drawn as such
+        if (u->count > 0) {
+            glNamedBufferSubData(cache->buffer,
+                                 (GLintptr)((uint64_t)e->offset * STA_GPU_POINT_SIZE),
+                                 (GLsizeiptr)((uint64_t)u->count * STA_GPU_POINT_SIZE), u->gpu);
+        }
+        cache->end += u->count;
+        cache->live += u->count;
     }
+    return STA_OK;
 }

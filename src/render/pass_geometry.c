@@ -1,17 +1,17 @@
 /* SPDX-License-Identifier: MIT
- * Geometry pass (GL_POINTS, one pixel per point). */
+ * Geometry pass: the chosen rasteriser; GL_POINTS (one pixel per point) drawn here. */
 #include "render/pass_geometry.h"
 
 #include <string.h>
 
+#include "core/log.h"
 #include "render/bindings.h"
 #include "render/gl.h"
 
-sta_status sta_pass_geometry_init(sta_pass_geometry *p, sta_error *err)
+static sta_status init_points(sta_pass_geometry *p, sta_error *err)
 {
-    memset(p, 0, sizeof(*p));
-    const char *names[] = { "geometry.vert", "geometry.frag" };
-    sta_status status = sta_gl_program_create(names, 2, NULL, &p->program, err);
+    const char *names[] = { "geometry_colour.glsl", "geometry.vert", "geometry.frag" };
+    sta_status status = sta_gl_program_create(names, 3, NULL, &p->program, err);
     if (status != STA_OK) {
         return status;
     }
@@ -22,6 +22,8 @@ sta_status sta_pass_geometry_init(sta_pass_geometry *p, sta_error *err)
     p->u_colour_mode = glGetUniformLocation(p->program, "u_colour_mode");
     p->u_elevation = glGetUniformLocation(p->program, "u_elevation");
     p->u_intensity_scale = glGetUniformLocation(p->program, "u_intensity_scale");
+    p->u_node_slot = glGetUniformLocation(p->program, "u_node_slot");
+    p->u_arena_offset = glGetUniformLocation(p->program, "u_arena_offset");
     glCreateVertexArrays(1, &p->vao);
     glVertexArrayAttribIFormat(p->vao, STA_ATTRIB_POSITION_INTENSITY, 4, GL_UNSIGNED_SHORT, 0);
     glVertexArrayAttribIFormat(p->vao, STA_ATTRIB_COLOUR_CLASS, 4, GL_UNSIGNED_BYTE, 8);
@@ -35,19 +37,35 @@ sta_status sta_pass_geometry_init(sta_pass_geometry *p, sta_error *err)
     return sta_gl_check("creating the geometry pass", err);
 }
 
+sta_status sta_pass_geometry_init(sta_pass_geometry *p, const sta_geometry_options *options,
+                                  sta_error *err)
+{
+    memset(p, 0, sizeof(*p));
+    sta_geometry_choose(options, epoxy_has_gl_extension("GL_ARB_shader_atomic_int64"), &p->choice);
+    sta_log_info("%s", p->choice.reason);
+    sta_status status = p->choice.raster == STA_RASTER_COMPUTE
+                            ? sta_raster_compute_init(&p->compute, p->choice.packed, err)
+                            : init_points(p, err);
+    if (status != STA_OK) {
+        sta_pass_geometry_release(p);
+    }
+    return status;
+}
+
 void sta_pass_geometry_release(sta_pass_geometry *p)
 {
     if (p->program) {
         glDeleteProgram(p->program);
         glDeleteVertexArrays(1, &p->vao);
     }
+    sta_raster_compute_release(&p->compute);
     memset(p, 0, sizeof(*p));
 }
 
-void sta_pass_geometry_draw(const sta_pass_geometry *p, const sta_camera *camera,
-                            const sta_geometry_colours *colours, const sta_gpu_cache *cache,
-                            const sta_gpu_node_frame *frames, const uint32_t *draw, size_t count,
-                            sta_render_target *target)
+static void draw_points(const sta_pass_geometry *p, const sta_camera *camera,
+                        const sta_geometry_colours *colours, const sta_gpu_cache *cache,
+                        const sta_gpu_node_frame *frames, const uint32_t *draw, size_t count,
+                        sta_render_target *target)
 {
     static const float background[3] = { 0.0f, 0.0f, 0.0f };
     sta_render_target_begin(target, background);
@@ -67,19 +85,37 @@ void sta_pass_geometry_draw(const sta_pass_geometry *p, const sta_camera *camera
     glUniform2f(p->u_elevation, (float)(camera->position[2] - colours->elevation_min),
                 (float)(1.0 / (span > 0 ? span : 1.0)));
     glUniform1f(p->u_intensity_scale, colours->intensity_scale);
+    if (cache->buffer) {
+        glVertexArrayVertexBuffer(p->vao, 0, cache->buffer, 0, STA_GPU_POINT_SIZE);
+    }
     for (size_t i = 0; i < count; i++) {
         const sta_gpu_cache_entry *e = &cache->entries[draw[i]];
         const sta_gpu_node_frame *f = &frames[draw[i]];
+        if (!e->is_resident || e->count == 0) {
+            continue;
+        }
         // Node corner relative to the camera in double, then float: exact enough
         // wherever the scene sits on Earth.
         glUniform3f(p->u_node_origin, (float)(f->corner[0] - camera->position[0]),
                     (float)(f->corner[1] - camera->position[1]),
                     (float)(f->corner[2] - camera->position[2]));
         glUniform3f(p->u_step, (float)f->step[0], (float)f->step[1], (float)f->step[2]);
-        if (e->count > 0) {
-            glVertexArrayVertexBuffer(p->vao, 0, e->buffer, 0, STA_GPU_POINT_SIZE);
-            glDrawArrays(GL_POINTS, 0, (GLsizei)e->count);
-        }
+        glUniform1ui(p->u_node_slot, draw[i]);
+        glUniform1ui(p->u_arena_offset, e->offset);
+        glDrawArrays(GL_POINTS, (GLint)e->offset, (GLsizei)e->count);
     }
     glBindVertexArray(0);
+}
+
+sta_status sta_pass_geometry_draw(sta_pass_geometry *p, const sta_camera *camera,
+                                  const sta_geometry_colours *colours, const sta_gpu_cache *cache,
+                                  const sta_gpu_node_frame *frames, const uint32_t *draw,
+                                  size_t count, sta_render_target *target, sta_error *err)
+{
+    if (p->choice.raster == STA_RASTER_COMPUTE) {
+        return sta_raster_compute_draw(&p->compute, camera, colours, cache, frames, draw, count,
+                                       target, err);
+    }
+    draw_points(p, camera, colours, cache, frames, draw, count, target);
+    return STA_OK;
 }

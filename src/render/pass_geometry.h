@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT
  * The geometry pass: one pixel per point of the nodes the streamer lists, into the
- * render target's colour and reverse-Z depth (GL_POINTS through shaders/geometry.*).
+ * render target's colour, reverse-Z depth and point id. Two rasterisers fill the same
+ * target: GL_POINTS with a depth test (shaders/geometry.*), and a compute-shader
+ * rasteriser (render/raster_compute.h), 2-4x faster on llvmpipe.
  * Positions arrive node-relative (16-bit) and are placed relative to the camera with
  * the node corner minus the camera position computed in double, so the GPU only sees
  * small numbers wherever the scene sits on Earth. Main thread (GL) only.
@@ -9,38 +11,73 @@
 #define STA_RENDER_PASS_GEOMETRY_H
 
 #include <epoxy/gl.h>
+#include <stdbool.h>
 
 #include "core/camera.h"
 #include "core/status.h"
+#include "render/geometry_colours.h"
 #include "render/gpu_cache.h"
+#include "render/raster_compute.h"
 #include "render/target.h"
 #include "stream/gpu_points.h"
 
+/* Which rasteriser draws the points. */
+typedef enum sta_raster_method {
+    STA_RASTER_DEFAULT = 0, /* resolved to STA_RASTER_DEFAULT_METHOD */
+    STA_RASTER_COMPUTE,     /* compute shader, atomics per pixel, then a resolve */
+    STA_RASTER_POINTS,      /* GL_POINTS and the depth test */
+} sta_raster_method;
+
+/* The compute rasteriser: 1.9x (1 M points) to 3.8x (31 M) GL_POINTS on llvmpipe at
+ * 1920x1080 (docs/BENCHMARKS.md), and the faster path on GPUs (Schütz et al. 2021). */
+#define STA_RASTER_DEFAULT_METHOD STA_RASTER_COMPUTE
+
+typedef struct sta_geometry_options {
+    int raster;               /* sta_raster_method (0: STA_RASTER_DEFAULT_METHOD) */
+    bool force_32bit_atomics; /* the two-pass compute path even with 64-bit atomics */
+} sta_geometry_options;
+
+void sta_geometry_options_defaults(sta_geometry_options *options);
+
+/* What the pass runs, and why (for the log). */
+typedef struct sta_geometry_choice {
+    int raster;       /* STA_RASTER_COMPUTE or STA_RASTER_POINTS */
+    bool packed;      /* compute: one pass with 64-bit atomics (else two 32-bit passes) */
+    char reason[160]; /* one line: the method and why */
+} sta_geometry_choice;
+
+/* The choice for `options` (defaults resolved) on a driver that has, or lacks,
+ * GL_ARB_shader_atomic_int64. No GL. */
+void sta_geometry_choose(const sta_geometry_options *options, bool has_atomic_int64,
+                         sta_geometry_choice *out_choice);
+
+/* "compute", "points"; -1 when unknown; and the name of a method. */
+int sta_raster_method_from_name(const char *name);
+const char *sta_raster_method_name(int method);
+
 typedef struct sta_pass_geometry {
+    sta_geometry_choice choice;
     GLuint program;
     GLuint vao;
     GLint u_node_origin, u_step, u_view_rotation, u_projection, u_colour_mode, u_elevation,
-        u_intensity_scale;
+        u_intensity_scale, u_node_slot, u_arena_offset;
+    sta_raster_compute compute; /* when choice.raster is STA_RASTER_COMPUTE */
 } sta_pass_geometry;
 
-/* What the colour modes need to know about the scene. */
-typedef struct sta_geometry_colours {
-    int mode;              /* STA_COLOUR_* of render/bindings.h */
-    double elevation_min;  /* metres: bottom of the elevation ramp */
-    double elevation_span; /* metres: height of the elevation ramp (> 0) */
-    float intensity_scale; /* 1 / largest intensity */
-} sta_geometry_colours;
-
-sta_status sta_pass_geometry_init(sta_pass_geometry *pass, sta_error *err);
+/* Builds the chosen rasteriser (`options` may be NULL: defaults) and logs the choice and
+ * its reason once (info level). */
+sta_status sta_pass_geometry_init(sta_pass_geometry *pass, const sta_geometry_options *options,
+                                  sta_error *err);
 
 /* A zeroed pass is a no-op. */
 void sta_pass_geometry_release(sta_pass_geometry *pass);
 
 /* Clears `target` and draws nodes `draw[0..count)` (resident in `cache`, with their
- * dequantisation in `frames`, indexed by node). */
-void sta_pass_geometry_draw(const sta_pass_geometry *pass, const sta_camera *camera,
-                            const sta_geometry_colours *colours, const sta_gpu_cache *cache,
-                            const sta_gpu_node_frame *frames, const uint32_t *draw, size_t count,
-                            sta_render_target *target);
+ * dequantisation in `frames`, indexed by node). Ties in depth go to the first point in
+ * draw order (node order of `draw`, then point order), with either rasteriser. */
+sta_status sta_pass_geometry_draw(sta_pass_geometry *pass, const sta_camera *camera,
+                                  const sta_geometry_colours *colours, const sta_gpu_cache *cache,
+                                  const sta_gpu_node_frame *frames, const uint32_t *draw,
+                                  size_t count, sta_render_target *target, sta_error *err);
 
 #endif

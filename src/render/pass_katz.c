@@ -54,7 +54,7 @@ static sta_status make_sample(sta_pass_katz *p, const sta_gpu_cache *cache, uint
     size_t scratch_count = 0;
     for (uint32_t node = 0; node < cache->node_count && s == STA_OK; node++) {
         const sta_gpu_cache_entry *e = &cache->entries[node];
-        if (!e->buffer || e->count == 0) {
+        if (!e->is_resident || e->count == 0) {
             continue;
         }
         if (scratch_count < e->count) {
@@ -67,7 +67,8 @@ static sta_status make_sample(sta_pass_katz *p, const sta_gpu_cache *cache, uint
                 break;
             }
         }
-        glGetNamedBufferSubData(e->buffer, 0, (GLsizeiptr)e->count * STA_GPU_POINT_SIZE, scratch);
+        glGetNamedBufferSubData(cache->buffer, (GLintptr)e->offset * STA_GPU_POINT_SIZE,
+                                (GLsizeiptr)e->count * STA_GPU_POINT_SIZE, scratch);
         const sta_stream_upload upload = { node, e->count, scratch };
         const sta_stream_frame refill = { .upload = &upload, .upload_count = 1 };
         s = sta_point_sample_apply(p->sample, &refill, err);
@@ -145,7 +146,9 @@ static sta_status start(sta_pass_katz *p, const sta_gpu_cache *cache, uint64_t d
         }
     }
     if (!p->geometry.program) {
-        sta_status s = sta_pass_geometry_init(&p->geometry, err);
+        // GL_POINTS: the set is a few runs of points in a buffer of its own.
+        const sta_geometry_options points = { .raster = STA_RASTER_POINTS };
+        sta_status s = sta_pass_geometry_init(&p->geometry, &points, err);
         if (s != STA_OK) {
             return s;
         }
@@ -329,6 +332,8 @@ static void draw(const sta_pass_katz *p, const sta_camera *camera,
                     (float)(f->corner[1] - camera->position[1]),
                     (float)(f->corner[2] - camera->position[2]));
         glUniform3f(g->u_step, (float)f->step[0], (float)f->step[1], (float)f->step[2]);
+        glUniform1ui(g->u_node_slot, r->node); // ids: the node and the run's point index
+        glUniform1ui(g->u_arena_offset, 0);
         glVertexArrayVertexBuffer(g->vao, 0, p->buffer, (GLintptr)r->first * STA_GPU_POINT_SIZE,
                                   STA_GPU_POINT_SIZE);
         glDrawArrays(GL_POINTS, 0, (GLsizei)r->count);

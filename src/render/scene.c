@@ -16,7 +16,9 @@ struct sta_scene {
     sta_streamer *streamer;
     sta_gpu_node_frame *frames; /* per node dequantisation */
     sta_gpu_cache cache;
-    sta_pass_geometry geometry;
+    sta_pass_geometry geometry; /* built at the first render */
+    bool has_geometry;
+    sta_geometry_options raster; /* rasteriser of the geometry pass */
     int colour_mode;
     sta_pipeline pipeline; /* initialised on first use */
     bool has_pipeline;
@@ -57,9 +59,6 @@ sta_status sta_scene_open(const char *path, const sta_scene_options *options, st
             centre[a] = 0.5 * (info->bounds_min[a] + info->bounds_max[a]);
         }
         sta_pass_katz_init(&s->katz, info->node_count, centre, NULL);
-    }
-    if (status == STA_OK) {
-        status = sta_pass_geometry_init(&s->geometry, err);
     }
     if (status != STA_OK) {
         sta_scene_close(s);
@@ -108,6 +107,20 @@ void sta_scene_robust_bounds(const sta_scene *s, double out_min[3], double out_m
 void sta_scene_set_pipeline(sta_scene *s, const sta_pipeline_options *options)
 {
     s->pipeline_options = *options;
+}
+
+void sta_scene_set_raster(sta_scene *s, const sta_geometry_options *options)
+{
+    s->raster = *options;
+    if (s->has_geometry) {
+        sta_pass_geometry_release(&s->geometry);
+        s->has_geometry = false;
+    }
+}
+
+const sta_geometry_choice *sta_scene_raster_choice(const sta_scene *s)
+{
+    return s->has_geometry ? &s->geometry.choice : NULL;
 }
 
 void sta_scene_set_timing(sta_scene *s, bool on)
@@ -162,8 +175,14 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     if (status != STA_OK) {
         return status;
     }
-    sta_gpu_cache_apply(&s->cache, &frame);
-    status = sta_pass_katz_apply(&s->katz, &frame, err);
+    status = sta_gpu_cache_apply(&s->cache, &frame, err);
+    if (status == STA_OK && !s->has_geometry) {
+        status = sta_pass_geometry_init(&s->geometry, &s->raster, err);
+        s->has_geometry = status == STA_OK;
+    }
+    if (status == STA_OK) {
+        status = sta_pass_katz_apply(&s->katz, &frame, err);
+    }
     if (status != STA_OK) {
         return status;
     }
@@ -193,8 +212,11 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
             return status;
         }
     } else {
-        sta_pass_geometry_draw(&s->geometry, camera, &colours, &s->cache, s->frames, frame.draw,
-                               frame.draw_count, target);
+        status = sta_pass_geometry_draw(&s->geometry, camera, &colours, &s->cache, s->frames,
+                                        frame.draw, frame.draw_count, target, err);
+        if (status != STA_OK) {
+            return status;
+        }
     }
     if (s->timing) {
         glFinish();

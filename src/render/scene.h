@@ -13,6 +13,7 @@
 #include "core/camera.h"
 #include "core/status.h"
 #include "format/strata_reader.h"
+#include "render/pass_geometry.h"
 #include "render/pass_katz.h"
 #include "render/pipeline.h"
 #include "render/target.h"
@@ -68,6 +69,13 @@ void sta_scene_robust_bounds(const sta_scene *scene, double out_min[3], double o
 
 /* Sets the screen-space pipeline run after the geometry pass (mode raw by default). */
 void sta_scene_set_pipeline(sta_scene *scene, const sta_pipeline_options *options);
+
+/* Sets the geometry pass's rasteriser (compute by default); it is built, and its choice
+ * logged, at the next render. */
+void sta_scene_set_raster(sta_scene *scene, const sta_geometry_options *options);
+
+/* The rasteriser the geometry pass runs and why; NULL before the first render. */
+const sta_geometry_choice *sta_scene_raster_choice(const sta_scene *scene);
 
 /* Turns per-pass timing on (times in sta_frame_stats; drains the GPU around each pass). */
 void sta_scene_set_timing(sta_scene *scene, bool on);

@@ -21,8 +21,13 @@ sta_status sta_render_target_resize(sta_render_target *t, int width_px, int heig
     glTextureStorage2D(t->colour, 1, GL_RGBA8, width_px, height_px);
     glCreateTextures(GL_TEXTURE_2D, 1, &t->depth);
     glTextureStorage2D(t->depth, 1, GL_DEPTH_COMPONENT32F, width_px, height_px);
+    glCreateTextures(GL_TEXTURE_2D, 1, &t->id);
+    glTextureStorage2D(t->id, 1, GL_RG32UI, width_px, height_px);
     glCreateFramebuffers(1, &t->framebuffer);
     glNamedFramebufferTexture(t->framebuffer, GL_COLOR_ATTACHMENT0, t->colour, 0);
+    glNamedFramebufferTexture(t->framebuffer, GL_COLOR_ATTACHMENT1, t->id, 0);
+    const GLenum buffers[2] = { GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1 };
+    glNamedFramebufferDrawBuffers(t->framebuffer, 2, buffers);
     glNamedFramebufferTexture(t->framebuffer, GL_DEPTH_ATTACHMENT, t->depth, 0);
     GLenum state = glCheckNamedFramebufferStatus(t->framebuffer, GL_FRAMEBUFFER);
     t->width_px = width_px;
@@ -41,18 +46,26 @@ void sta_render_target_release(sta_render_target *t)
         glDeleteFramebuffers(1, &t->framebuffer);
         glDeleteTextures(1, &t->colour);
         glDeleteTextures(1, &t->depth);
+        glDeleteTextures(1, &t->id);
     }
     memset(t, 0, sizeof(*t));
 }
 
-void sta_render_target_begin(sta_render_target *t, const float background[3])
+void sta_render_target_bind(sta_render_target *t)
 {
     glBindFramebuffer(GL_FRAMEBUFFER, t->framebuffer);
     glViewport(0, 0, t->width_px, t->height_px);
+}
+
+void sta_render_target_begin(sta_render_target *t, const float background[3])
+{
+    sta_render_target_bind(t);
     const float colour[4] = { background[0], background[1], background[2], 1.0f };
     const float far_depth = 0.0f;
     glClearNamedFramebufferfv(t->framebuffer, GL_COLOR, 0, colour);
     glClearNamedFramebufferfv(t->framebuffer, GL_DEPTH, 0, &far_depth);
+    const GLuint no_point[4] = { STA_TARGET_NO_POINT, STA_TARGET_NO_POINT, 0, 0 };
+    glClearNamedFramebufferuiv(t->framebuffer, GL_COLOR, 1, no_point);
 }
 
 // glReadPixels returns the bottom row first: flip rows in place.
@@ -85,6 +98,14 @@ void sta_render_target_read_depth(const sta_render_target *t, float *out)
     glGetTextureImage(t->depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
                       t->width_px * t->height_px * (int)sizeof(float), out);
     flip_rows((uint8_t *)out, t->width_px * (int)sizeof(float), t->height_px);
+}
+
+void sta_render_target_read_ids(const sta_render_target *t, uint32_t *out)
+{
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glGetTextureImage(t->id, 0, GL_RG_INTEGER, GL_UNSIGNED_INT,
+                      t->width_px * t->height_px * 2 * (int)sizeof(uint32_t), out);
+    flip_rows((uint8_t *)out, t->width_px * 2 * (int)sizeof(uint32_t), t->height_px);
 }
 
 void sta_render_target_read_depth_block(const sta_render_target *t, int x, int y, int width_px,

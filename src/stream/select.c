@@ -113,7 +113,7 @@ static void heap_pop(sta_selection *s, uint32_t *node, double *key)
 void sta_select_params_defaults(sta_select_params *p)
 {
     p->budget_points = p->budget_points ? p->budget_points : STA_DEFAULT_BUDGET_POINTS;
-    p->min_spacing_px = p->min_spacing_px > 0 ? p->min_spacing_px : 0.75;
+    p->min_spacing_px = p->min_spacing_px > 0 ? p->min_spacing_px : STA_DEFAULT_MIN_SPACING_PX;
 }
 
 sta_status sta_select(const sta_lod_tree *tree, const sta_camera *camera,

@@ -23,9 +23,12 @@
 /* The point budget per frame when none is given (DESIGN.md: 30 M points per frame). */
 #define STA_DEFAULT_BUDGET_POINTS UINT64_C(30000000)
 
+/* On-screen spacing below which a node is not refined when none is given, pixels. */
+#define STA_DEFAULT_MIN_SPACING_PX 0.75
+
 typedef struct sta_select_params {
     uint64_t budget_points; /* 0: STA_DEFAULT_BUDGET_POINTS */
-    double min_spacing_px;  /* 0: 0.75; stop refining below this on-screen spacing */
+    double min_spacing_px;  /* 0: STA_DEFAULT_MIN_SPACING_PX; stop refining below this */
     const sta_clip *clip;   /* borrowed or NULL: nodes it rejects are not selected, so
                                the budget goes to the nodes that can show points */
 } sta_select_params;

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Headless renders of the demo scene (scripts/demo.sh's street and camera, smaller) in
-# every pipeline and colour mode, compared with the SHA-256 of the PNGs recorded in
-# tests/golden/renders.sha256. Restructuring must not change a pixel; a change that is
+# every pipeline and colour mode (compute rasteriser, the default; GL_POINTS for a few),
+# compared with the SHA-256 of the PNGs recorded in tests/golden/renders.sha256. Restructuring must not change a pixel; a change that is
 # meant to alter pictures re-records the list with --update (and says so in its commit).
 # usage: check_golden_renders.sh BUILD_DIR HASH_FILE WORK_DIR [--update]
 set -euo pipefail
@@ -27,6 +27,9 @@ cases=(
     "normals_pc_smooth --pipeline normals --normals pc --smooth"
     "shaded --pipeline shaded"
     "shaded_ld --pipeline shaded --normals ld"
+    "points_rgb --pipeline raw --colour rgb --raster points"
+    "points_class --pipeline raw --colour class --raster points"
+    "points_shaded --pipeline shaded --raster points"
 )
 actual="$work/renders.sha256"
 : >"$actual"

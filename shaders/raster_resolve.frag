@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+// Compute rasteriser's resolve: the point kept in each pixel gives its colour (as the
+// GL_POINTS path colours it), its depth and its id to the render target.
+uniform int u_colour_mode;       // STA_COLOUR_*
+uniform vec2 u_elevation;        // (camera z - min z, 1 / (max z - min z))
+uniform float u_intensity_scale; // 1 / largest intensity
+uniform vec3 u_background;       // colour of empty pixels
+
+layout(location = STA_GEOMETRY_OUT_COLOUR) out vec4 o_colour;
+layout(location = STA_GEOMETRY_OUT_ID) out uvec2 o_id;
+
+void main()
+{
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    uint pixel = uint(p.y) * uint(u_size.x) + uint(p.x);
+#if STA_RASTER_PACKED
+    uint64_t value = packed_pixels[pixel];
+    uint bits = uint(value >> 32);
+    uint index = ~uint(value & 0xFFFFFFFFul);
+#else
+    uint bits = depth_bits[pixel];
+    uint index = payload[pixel];
+#endif
+    // Every pixel is written, so the target needs no clear first.
+    if (bits == 0u || index == STA_RASTER_NO_POINT) {
+        o_colour = vec4(u_background, 1.0);
+        o_id = uvec2(STA_RASTER_NO_POINT);
+        gl_FragDepth = 0.0;
+        return;
+    }
+    // The draw-order index is batch * STA_RASTER_BATCH_POINTS + point within the batch.
+    uvec2 batch = batches[index / uint(STA_RASTER_BATCH_POINTS)];
+    raster_node node = nodes[batch.x];
+    uint i = batch.y + index % uint(STA_RASTER_BATCH_POINTS);
+    uvec4 position_intensity, colour_class, returns;
+    unpack_point(texelFetch(u_points, int(node.info.x + i)), position_intensity, colour_class,
+                 returns);
+    vec3 relative = node.origin.xyz + vec3(position_intensity.xyz) * node.step.xyz;
+    o_colour = vec4(point_colour(position_intensity, colour_class, returns, relative.z,
+                                 u_colour_mode, u_elevation, u_intensity_scale),
+                    1.0);
+    o_id = uvec2(node.info.w, i);
+    gl_FragDepth = uintBitsToFloat(bits);
+}

@@ -1,0 +1,7 @@
+// SPDX-License-Identifier: MIT
+// Compute rasteriser's resolve: one triangle over the whole target.
+void main()
+{
+    vec2 corner = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+}

@@ -1,0 +1,15 @@
+/* SPDX-License-Identifier: MIT
+ * What the geometry pass's colour modes need to know about the scene (both rasterisers
+ * colour points alike: shaders/geometry_colour.glsl).
+ */
+#ifndef STA_RENDER_GEOMETRY_COLOURS_H
+#define STA_RENDER_GEOMETRY_COLOURS_H
+
+typedef struct sta_geometry_colours {
+    int mode;              /* STA_COLOUR_* of render/bindings.h */
+    double elevation_min;  /* metres: bottom of the elevation ramp */
+    double elevation_span; /* metres: height of the elevation ramp (> 0) */
+    float intensity_scale; /* 1 / largest intensity */
+} sta_geometry_colours;
+
+#endif

@@ -1,0 +1,270 @@
+/* SPDX-License-Identifier: MIT
+ * Compute rasteriser (Schütz et al. 2021): node table, batches, atomics, resolve. */
+#include "render/raster_compute.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "core/array.h"
+#include "render/bindings.h"
+#include "render/gl.h"
+
+/* One entry of the node table, as raster_common.glsl's raster_node (std430). */
+typedef struct raster_node {
+    float origin[4];
+    float step[4];
+    uint32_t info[4]; /* arena offset, count, first draw-order index, node slot */
+} raster_node;
+_Static_assert(sizeof(raster_node) == 48, "raster_node mirrors the std430 struct");
+_Static_assert(STA_RASTER_NO_POINT == STA_TARGET_NO_POINT, "the resolve writes the target's id");
+
+static void uniforms(sta_raster_compute *r, int slot, GLuint program)
+{
+    r->u_view_rotation[slot] = glGetUniformLocation(program, "u_view_rotation");
+    r->u_projection[slot] = glGetUniformLocation(program, "u_projection");
+    r->u_size[slot] = glGetUniformLocation(program, "u_size");
+}
+
+sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error *err)
+{
+    memset(r, 0, sizeof(*r));
+    r->is_packed = packed;
+    GLint subpixel_bits = 8;
+    glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &r->max_texels);
+    // The snapping of raster_common.glsl follows the driver's sub-pixel precision.
+    char defines[512];
+    const char *extensions = packed ? "#extension GL_ARB_gpu_shader_int64 : require\n"
+                                      "#extension GL_ARB_shader_atomic_int64 : require\n"
+                                    : "";
+    const char *points[] = { "raster_common.glsl", "raster_points.comp" };
+    int steps[2] = { packed ? STA_RASTER_STEP_PACKED : STA_RASTER_STEP_DEPTH,
+                     STA_RASTER_STEP_PAYLOAD };
+    sta_status status = STA_OK;
+    for (int i = 0; i < (packed ? 1 : 2) && status == STA_OK; i++) {
+        snprintf(defines, sizeof(defines),
+                 "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n"
+                 "#define STA_RASTER_STEP %d\n",
+                 extensions, packed ? 1 : 0, (int)subpixel_bits, steps[i]);
+        status = sta_gl_program_create(points, 2, defines, &r->points_program[i], err);
+        if (status == STA_OK) {
+            uniforms(r, i, r->points_program[i]);
+        }
+    }
+    if (status == STA_OK) {
+        const char *resolve[] = { "geometry_colour.glsl", "raster_common.glsl",
+                                  "raster_resolve.vert", "raster_resolve.frag" };
+        status = sta_gl_program_create(resolve, 4, defines, &r->resolve_program, err);
+    }
+    if (status != STA_OK) {
+        sta_raster_compute_release(r);
+        return status;
+    }
+    GLuint p = r->resolve_program;
+    uniforms(r, 2, p);
+    r->u_colour_mode = glGetUniformLocation(p, "u_colour_mode");
+    r->u_elevation = glGetUniformLocation(p, "u_elevation");
+    r->u_intensity_scale = glGetUniformLocation(p, "u_intensity_scale");
+    r->u_background = glGetUniformLocation(p, "u_background");
+    glCreateVertexArrays(1, &r->vao);
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &r->points_texture);
+    glCreateBuffers(1, &r->indirect);
+    glNamedBufferStorage(r->indirect, 3 * sizeof(GLuint), NULL, GL_DYNAMIC_STORAGE_BIT);
+    return sta_gl_check("creating the compute rasteriser", err);
+}
+
+static void delete_buffer(GLuint *buffer)
+{
+    if (*buffer) {
+        glDeleteBuffers(1, buffer);
+    }
+    *buffer = 0;
+}
+
+void sta_raster_compute_release(sta_raster_compute *r)
+{
+    for (int i = 0; i < 2; i++) {
+        if (r->points_program[i]) {
+            glDeleteProgram(r->points_program[i]);
+        }
+    }
+    if (r->resolve_program) {
+        glDeleteProgram(r->resolve_program);
+    }
+    if (r->vao) {
+        glDeleteVertexArrays(1, &r->vao);
+    }
+    if (r->points_texture) {
+        glDeleteTextures(1, &r->points_texture);
+    }
+    delete_buffer(&r->nodes);
+    delete_buffer(&r->batches);
+    delete_buffer(&r->indirect);
+    delete_buffer(&r->depth);
+    delete_buffer(&r->payload);
+    sta_free(r->node_table);
+    sta_free(r->batch_table);
+    memset(r, 0, sizeof(*r));
+}
+
+// (Re)creates `buffer` with at least `bytes` when it holds less.
+static void ensure_buffer(GLuint *buffer, size_t *capacity, size_t bytes)
+{
+    if (*buffer && *capacity >= bytes) {
+        return;
+    }
+    delete_buffer(buffer);
+    size_t size = bytes + bytes / 2 + 256;
+    glCreateBuffers(1, buffer);
+    glNamedBufferStorage(*buffer, (GLsizeiptr)size, NULL, GL_DYNAMIC_STORAGE_BIT);
+    *capacity = size;
+}
+
+static void ensure_pixels(sta_raster_compute *r, int width_px, int height_px)
+{
+    if (r->depth && r->width_px == width_px && r->height_px == height_px) {
+        return;
+    }
+    delete_buffer(&r->depth);
+    delete_buffer(&r->payload);
+    size_t pixels = (size_t)width_px * (size_t)height_px;
+    glCreateBuffers(1, &r->depth);
+    glNamedBufferStorage(r->depth, (GLsizeiptr)(pixels * (r->is_packed ? 8 : 4)), NULL, 0);
+    if (!r->is_packed) {
+        glCreateBuffers(1, &r->payload);
+        glNamedBufferStorage(r->payload, (GLsizeiptr)(pixels * 4), NULL, 0);
+    }
+    r->width_px = width_px;
+    r->height_px = height_px;
+}
+
+// The node table and batch list of the frame, on the CPU; returns the batch count.
+static sta_status build_tables(sta_raster_compute *r, const sta_camera *camera,
+                               const sta_gpu_cache *cache, const sta_gpu_node_frame *frames,
+                               const uint32_t *draw, size_t count, size_t *out_batches,
+                               sta_error *err)
+{
+    sta_status status = sta_array_reserve(&r->node_table, &r->node_table_capacity,
+                                          count ? count : 1, sizeof(raster_node), 64, err);
+    size_t batches = 0;
+    for (size_t i = 0; i < count && status == STA_OK; i++) {
+        const sta_gpu_cache_entry *e = &cache->entries[draw[i]];
+        const sta_gpu_node_frame *f = &frames[draw[i]];
+        uint32_t points = e->is_resident ? e->count : 0;
+        raster_node *n = (raster_node *)r->node_table + i;
+        // As the GL_POINTS path: corner minus camera in double, then float.
+        for (int axis = 0; axis < 3; axis++) {
+            n->origin[axis] = (float)(f->corner[axis] - camera->position[axis]);
+            n->step[axis] = (float)f->step[axis];
+        }
+        n->origin[3] = n->step[3] = 0.0f;
+        n->info[0] = e->offset;
+        n->info[1] = points;
+        n->info[2] = (uint32_t)batches;
+        n->info[3] = draw[i];
+        size_t node_batches = (points + STA_RASTER_BATCH_POINTS - 1) / STA_RASTER_BATCH_POINTS;
+        // Draw-order indices are batch * STA_RASTER_BATCH_POINTS + point: below 2^32 - 1.
+        if ((uint64_t)(batches + node_batches) * STA_RASTER_BATCH_POINTS >= STA_RASTER_NO_POINT) {
+            return sta_fail(err, STA_ERR_ARG, "compute rasteriser: more than %llu batches",
+                            (unsigned long long)(STA_RASTER_NO_POINT / STA_RASTER_BATCH_POINTS));
+        }
+        void *table = r->batch_table;
+        status = sta_array_reserve(&table, &r->batch_table_capacity, batches + node_batches,
+                                   2 * sizeof(uint32_t), 1024, err);
+        r->batch_table = table;
+        for (size_t b = 0; b < node_batches && status == STA_OK; b++) {
+            r->batch_table[2 * batches] = (uint32_t)i;
+            r->batch_table[2 * batches + 1] = (uint32_t)(b * STA_RASTER_BATCH_POINTS);
+            batches++;
+        }
+    }
+    *out_batches = batches;
+    return status;
+}
+
+static void set_view(const sta_raster_compute *r, int slot, const float view[16],
+                     const float projection[16], int width_px, int height_px)
+{
+    glUniformMatrix4fv(r->u_view_rotation[slot], 1, GL_FALSE, view);
+    glUniformMatrix4fv(r->u_projection[slot], 1, GL_FALSE, projection);
+    glUniform2i(r->u_size[slot], width_px, height_px);
+}
+
+sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *camera,
+                                   const sta_geometry_colours *colours, const sta_gpu_cache *cache,
+                                   const sta_gpu_node_frame *frames, const uint32_t *draw,
+                                   size_t count, sta_render_target *target, sta_error *err)
+{
+    static const float background[3] = { 0.0f, 0.0f, 0.0f };
+    if (cache->capacity > (uint32_t)r->max_texels) {
+        return sta_fail(err, STA_ERR_NOMEM,
+                        "compute rasteriser: the GPU arena holds %u points, a texture buffer "
+                        "shows at most %d (lower the GPU memory cap or use --raster points)",
+                        cache->capacity, (int)r->max_texels);
+    }
+    size_t batches = 0;
+    sta_status status = build_tables(r, camera, cache, frames, draw, count, &batches, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    if (batches == 0 || !cache->buffer) {
+        sta_render_target_begin(target, background);
+        return STA_OK;
+    }
+    int w = target->width_px, h = target->height_px;
+    ensure_pixels(r, w, h);
+    ensure_buffer(&r->nodes, &r->node_bytes, count * sizeof(raster_node));
+    ensure_buffer(&r->batches, &r->batch_bytes, batches * 2 * sizeof(uint32_t));
+    glNamedBufferSubData(r->nodes, 0, (GLsizeiptr)(count * sizeof(raster_node)), r->node_table);
+    glNamedBufferSubData(r->batches, 0, (GLsizeiptr)(batches * 2 * sizeof(uint32_t)),
+                         r->batch_table);
+    const GLuint groups[3] = { (GLuint)batches, 1, 1 };
+    glNamedBufferSubData(r->indirect, 0, sizeof(groups), groups);
+    if (r->arena_viewed != cache->buffer) {
+        glTextureBuffer(r->points_texture, GL_RGBA32UI, cache->buffer);
+        r->arena_viewed = cache->buffer;
+    }
+    const GLuint zero = 0, none = STA_RASTER_NO_POINT;
+    glClearNamedBufferData(r->depth, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    if (r->payload) {
+        glClearNamedBufferData(r->payload, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_NODES, r->nodes);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_BATCHES, r->batches);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_DEPTH, r->depth);
+    if (r->payload) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_PAYLOAD, r->payload);
+    }
+    glBindTextureUnit(STA_RASTER_SAMPLER_POINTS, r->points_texture);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, r->indirect);
+    float view[16], projection[16];
+    sta_camera_view_rotation(camera, view);
+    sta_camera_projection(camera, projection);
+    for (int step = 0; step < (r->is_packed ? 1 : 2); step++) {
+        glUseProgram(r->points_program[step]);
+        set_view(r, step, view, projection, w, h);
+        glDispatchComputeIndirect(0);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+
+    // Resolve: colour, depth and id of the kept point into the target.
+    glUseProgram(r->resolve_program);
+    set_view(r, 2, view, projection, w, h);
+    glUniform1i(r->u_colour_mode, colours->mode);
+    double span = colours->elevation_span;
+    glUniform2f(r->u_elevation, (float)(camera->position[2] - colours->elevation_min),
+                (float)(1.0 / (span > 0 ? span : 1.0)));
+    glUniform1f(r->u_intensity_scale, colours->intensity_scale);
+    glUniform3fv(r->u_background, 1, background);
+    sta_render_target_bind(target);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glBindVertexArray(r->vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_DEPTH_TEST);
+    return STA_OK;
+}

@@ -1,0 +1,75 @@
+/* SPDX-License-Identifier: MIT
+ * The compute rasteriser of the geometry pass: every point of the frame's draw list,
+ * read from the GPU cache's arena, projected in a compute shader and kept per pixel by
+ * atomics; a resolve draw then writes the kept point's colour, depth and id into the
+ * render target, so the screen-space passes read it as they read GL_POINTS' output.
+ *
+ * Design: per frame the CPU writes a node table (camera-relative origin, step, arena
+ * offset, count, first draw-order index, node slot per drawn node) and a batch list
+ * (one entry per STA_RASTER_BATCH_POINTS points of a node) and dispatches the batch
+ * list indirectly: one dispatch per step for all nodes. A point's draw-order index is
+ * its batch's number times STA_RASTER_BATCH_POINTS plus its place in the batch
+ * (increasing in draw order, with gaps), so the resolve finds the point through the
+ * batch list. With 64-bit atomics one step keeps (depth << 32 | ~draw-order index) per
+ * pixel; without, a depth step (atomicMax of the depth's bits: reverse-Z floats >= 0
+ * order like their bits) is followed by a payload step (atomicMin of the draw-order
+ * index among the points at that depth). The resolve writes every pixel (background
+ * where empty), so the target is not cleared first.
+ * Either way the nearest point wins and ties go to the first in draw order, as with
+ * GL_POINTS and GL_GREATER.
+ *
+ * Based on: Schütz, Kerbl, Wimmer, "Rendering Point Clouds with Compute Shaders and
+ * Vertex Order Optimization", CGF 40(4), 2021, §4 (atomic depth and payload, resolve).
+ * Main thread (GL) only.
+ */
+#ifndef STA_RENDER_RASTER_COMPUTE_H
+#define STA_RENDER_RASTER_COMPUTE_H
+
+#include <epoxy/gl.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/camera.h"
+#include "core/status.h"
+#include "render/geometry_colours.h"
+#include "render/gpu_cache.h"
+#include "render/target.h"
+#include "stream/gpu_points.h"
+
+typedef struct sta_raster_compute {
+    bool is_packed;           /* one pass with 64-bit atomics */
+    GLuint points_program[2]; /* depth and payload steps, or [0] packed */
+    GLuint resolve_program;
+    GLuint vao;                                           /* empty, for the resolve triangle */
+    GLuint points_texture;                                /* texture buffer view of the arena */
+    GLuint arena_viewed;                                  /* arena buffer the view shows */
+    GLuint nodes, batches, indirect;                      /* per-frame tables */
+    GLuint depth, payload;                                /* per-pixel buffers */
+    size_t node_bytes, batch_bytes;                       /* buffer capacities */
+    int width_px, height_px;                              /* size of the per-pixel buffers */
+    GLint max_texels;                                     /* GL_MAX_TEXTURE_BUFFER_SIZE */
+    void *node_table;                                     /* CPU copy of the tables, reused */
+    size_t node_table_capacity;                           /* entries */
+    uint32_t *batch_table;                                /* 2 per batch */
+    size_t batch_table_capacity;                          /* batches */
+    GLint u_view_rotation[3], u_projection[3], u_size[3]; /* per program (steps, resolve) */
+    GLint u_colour_mode, u_elevation, u_intensity_scale, u_background;
+} sta_raster_compute;
+
+/* Builds the programs: the packed one-pass variant when `packed` (needs
+ * GL_ARB_shader_atomic_int64), the two-pass one otherwise. */
+sta_status sta_raster_compute_init(sta_raster_compute *raster, bool packed, sta_error *err);
+
+/* A zeroed rasteriser is a no-op. */
+void sta_raster_compute_release(sta_raster_compute *raster);
+
+/* Rasterises nodes `draw[0..count)` into `target` (cleared first); same contract as
+ * sta_pass_geometry_draw. Errors: out of memory, an arena larger than a texture buffer
+ * can show. */
+sta_status sta_raster_compute_draw(sta_raster_compute *raster, const sta_camera *camera,
+                                   const sta_geometry_colours *colours, const sta_gpu_cache *cache,
+                                   const sta_gpu_node_frame *frames, const uint32_t *draw,
+                                   size_t count, sta_render_target *target, sta_error *err);
+
+#endif

@@ -1,0 +1,47 @@
+/* SPDX-License-Identifier: MIT
+ * CPU twin of the geometry pass's rasterisers (render/pass_geometry.h): the nearest
+ * point per pixel, its depth and its id, with the GPU's float arithmetic and pixel rule,
+ * so that small cases compare exactly. No GL.
+ *
+ * The rule (shaders/raster_common.glsl): relative = origin + q * step; clip =
+ * projection * (view * (relative, 1)), summed column by column in float; a point is
+ * drawn when -w <= x, y <= w and 0 <= z <= w (w > 0); ndc = clip * (1 / w); window =
+ * ndc * size / 2 + size / 2 as one fused multiply-add (llvmpipe's viewport transform),
+ * snapped to 1 / 2^subpixel_bits pixel (round half up); the
+ * point lands in pixel ceil(snapped) - 1 on each axis. The largest reverse-Z depth wins;
+ * at equal depth the first point in draw order (nodes in the given order, then points).
+ */
+#ifndef STA_RENDER_REF_RASTER_REF_H
+#define STA_RENDER_REF_RASTER_REF_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* One drawn node. */
+typedef struct sta_raster_ref_node {
+    float origin[3];       /* node corner minus camera position, metres */
+    float step[3];         /* metres per quantisation step */
+    const uint8_t *points; /* count records of 16 bytes (stream/gpu_points.h layout) */
+    uint32_t count;
+    uint32_t slot; /* node id reported per pixel */
+} sta_raster_ref_node;
+
+typedef struct sta_raster_ref_view {
+    float view[16];       /* column-major, world directions -> camera space */
+    float projection[16]; /* column-major, reverse-Z */
+    int width_px, height_px;
+    int subpixel_bits; /* the driver's GL_SUBPIXEL_BITS */
+} sta_raster_ref_view;
+
+/* Rasterises the nodes. Outputs per pixel, rows from the bottom (GL order): `depth`
+ * (0 where empty) and `ids` (2 per pixel: node slot, point index; 0xFFFFFFFF both
+ * where empty). */
+void sta_raster_ref_draw(const sta_raster_ref_view *view, const sta_raster_ref_node *nodes,
+                         size_t node_count, float *depth, uint32_t *ids);
+
+/* Pixel (GL order: x + y * width) and depth of one camera-relative position, or -1 when
+ * the point is not drawn. */
+long sta_raster_ref_project(const sta_raster_ref_view *view, const float relative[3],
+                            float *out_depth);
+
+#endif
