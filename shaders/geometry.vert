@@ -26,7 +26,7 @@ void main()
     vec3 relative = u_node_origin + vec3(a_position_intensity.xyz) * u_step;
     gl_Position = u_projection * (u_view_rotation * vec4(relative, 1.0));
     gl_PointSize = 1.0;
-    v_colour = point_colour(a_position_intensity, a_colour_class, a_returns, relative.z,
+    v_colour = point_colour(a_position_intensity, a_colour_class, a_returns, relative,
                             u_colour_mode, u_elevation, u_intensity_scale);
     v_id = uvec2(u_node_slot, uint(gl_VertexID) - u_arena_offset);
 }

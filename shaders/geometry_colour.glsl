@@ -2,6 +2,12 @@
 // A point's colour in each colour mode (STA_COLOUR_*), shared by the GL_POINTS vertex
 // shader and the compute rasteriser's resolve, so both paths colour a point alike.
 
+// Height above ground (STA_COLOUR_HEIGHT): the ground model as a texture over the plan,
+// placed camera-relative on the CPU (render/ground_texture.c).
+layout(binding = STA_GEOMETRY_SAMPLER_GROUND) uniform sampler2D u_ground;
+uniform vec4 u_ground_frame; // camera-relative x, y of the grid's corner; its width, height (m)
+uniform vec2 u_ground_height; // ground heights' origin minus camera z (m); 1 / ramp span (1/m)
+
 vec3 ramp(float t)
 {
     // A perceptually ordered blue -> green -> yellow ramp.
@@ -37,11 +43,17 @@ vec3 return_colour(uint r, uint n)
 }
 
 // The colour of one point: its attributes as the vertex stage reads them (position and
-// intensity, colour and class, returns), its camera-relative height for the elevation
-// ramp, and the colour uniforms of the pass.
-vec3 point_colour(uvec4 position_intensity, uvec4 colour_class, uvec4 returns, float relative_z,
+// intensity, colour and class, returns), its camera-relative position for the elevation
+// and height ramps, and the colour uniforms of the pass.
+vec3 point_colour(uvec4 position_intensity, uvec4 colour_class, uvec4 returns, vec3 relative,
                   int mode, vec2 elevation, float intensity_scale)
 {
+    float relative_z = relative.z;
+    if (mode == STA_COLOUR_HEIGHT) {
+        vec2 uv = (relative.xy - u_ground_frame.xy) / u_ground_frame.zw;
+        float ground = texture(u_ground, uv).r + u_ground_height.x;
+        return ramp((relative_z - ground) * u_ground_height.y);
+    }
     if (mode == STA_COLOUR_INTENSITY) {
         return vec3(sqrt(clamp(float(position_intensity.w) * intensity_scale, 0.0, 1.0)));
     } else if (mode == STA_COLOUR_ELEVATION) {

@@ -36,7 +36,7 @@ void main()
     unpack_point(texelFetch(u_points, int(node.info.x + i)), position_intensity, colour_class,
                  returns);
     vec3 relative = node.origin.xyz + vec3(position_intensity.xyz) * node.step.xyz;
-    o_colour = vec4(point_colour(position_intensity, colour_class, returns, relative.z,
+    o_colour = vec4(point_colour(position_intensity, colour_class, returns, relative,
                                  u_colour_mode, u_elevation, u_intensity_scale),
                     1.0);
     o_id = uvec2(node.info.w, i);

@@ -33,15 +33,15 @@ static const char keys_text[] =
     "  left drag      orbit around the picked point      right drag / shift  pan\n"
     "  wheel          zoom towards the cursor             double-click  focus a point\n"
     "  W A S D Q E    fly (hold shift: faster)            F       toggle fly / orbit\n"
-    "  1..5           colour: rgb, intensity, elevation, class, returns\n"
+    "  1..6           colour: rgb, intensity, elevation, class, returns, height\n"
     "  M / N          next pipeline mode / next normal method\n"
     "  H              pyramidal / exhaustive HPR     G    normal smoothing on/off\n"
     "  K              live Katz HPR on/off (drawn subsample, hull on worker threads)\n"
     "  R              reset to the whole scene            P       add path keyframe\n"
     "  Esc            quit\n";
 
-static const char *const colour_names[] = { "rgb",   "intensity", "elevation",
-                                            "class", "returns",   NULL };
+static const char *const colour_names[] = { "rgb",     "intensity", "elevation", "class",
+                                            "returns", "height",    NULL };
 _Static_assert(sizeof(colour_names) / sizeof(colour_names[0]) == STA_COLOUR_MODE_COUNT + 1,
                "one name per colour mode");
 

@@ -30,12 +30,15 @@
 #define STA_COLOUR_ELEVATION      2
 #define STA_COLOUR_CLASSIFICATION 3
 #define STA_COLOUR_RETURN_NUMBER  4
-#define STA_COLOUR_MODE_COUNT     5
+#define STA_COLOUR_HEIGHT         5 /* height above ground (stream/ground.h) */
+#define STA_COLOUR_MODE_COUNT     6
 
 /* Fragment outputs of the geometry pass (geometry.frag, raster_resolve.frag): the
  * render target's colour attachments (render/target.h). */
-#define STA_GEOMETRY_OUT_COLOUR 0 /* RGBA8 colour */
-#define STA_GEOMETRY_OUT_ID     1 /* RG32UI: node slot, point index */
+#define STA_GEOMETRY_OUT_COLOUR     0 /* RGBA8 colour */
+#define STA_GEOMETRY_OUT_ID         1 /* RG32UI: node slot, point index */
+/* The ground model for STA_COLOUR_HEIGHT (geometry_colour.glsl; unit 0 is the raster's). */
+#define STA_GEOMETRY_SAMPLER_GROUND 1 /* R32F: ground height per cell */
 
 /* Compute rasteriser (raster_common.glsl, raster_points.comp, raster_resolve.*). */
 #define STA_RASTER_SAMPLER_POINTS 0 /* usamplerBuffer RGBA32UI: the node arena */
@@ -128,8 +131,10 @@
  X(STA_COLOUR_ELEVATION)                                                                           \
  X(STA_COLOUR_CLASSIFICATION)                                                                      \
  X(STA_COLOUR_RETURN_NUMBER)                                                                       \
+ X(STA_COLOUR_HEIGHT)                                                                              \
  X(STA_GEOMETRY_OUT_COLOUR)                                                                        \
  X(STA_GEOMETRY_OUT_ID)                                                                            \
+ X(STA_GEOMETRY_SAMPLER_GROUND)                                                                    \
  X(STA_RASTER_SAMPLER_POINTS)                                                                      \
  X(STA_RASTER_BUFFER_BATCHES)                                                                      \
  X(STA_RASTER_BUFFER_NODES)                                                                        \

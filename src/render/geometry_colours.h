@@ -5,11 +5,14 @@
 #ifndef STA_RENDER_GEOMETRY_COLOURS_H
 #define STA_RENDER_GEOMETRY_COLOURS_H
 
+#include "render/ground_texture.h"
+
 typedef struct sta_geometry_colours {
-    int mode;              /* STA_COLOUR_* of render/bindings.h */
-    double elevation_min;  /* metres: bottom of the elevation ramp */
-    double elevation_span; /* metres: height of the elevation ramp (> 0) */
-    float intensity_scale; /* 1 / largest intensity */
+    int mode;                         /* STA_COLOUR_* of render/bindings.h */
+    double elevation_min;             /* metres: bottom of the elevation ramp */
+    double elevation_span;            /* metres: height of the elevation ramp (> 0) */
+    float intensity_scale;            /* 1 / largest intensity */
+    const sta_ground_texture *ground; /* for STA_COLOUR_HEIGHT; NULL: none yet */
 } sta_geometry_colours;
 
 #endif

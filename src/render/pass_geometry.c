@@ -85,6 +85,7 @@ static void draw_points(const sta_pass_geometry *p, const sta_camera *camera,
     glUniform2f(p->u_elevation, (float)(camera->position[2] - colours->elevation_min),
                 (float)(1.0 / (span > 0 ? span : 1.0)));
     glUniform1f(p->u_intensity_scale, colours->intensity_scale);
+    sta_ground_texture_use(colours->ground, p->program, camera);
     if (cache->buffer) {
         glVertexArrayVertexBuffer(p->vao, 0, cache->buffer, 0, STA_GPU_POINT_SIZE);
     }

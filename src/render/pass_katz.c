@@ -325,6 +325,7 @@ static void draw(const sta_pass_katz *p, const sta_camera *camera,
     glUniform2f(g->u_elevation, (float)(camera->position[2] - colours->elevation_min),
                 (float)(1.0 / (span > 0 ? span : 1.0)));
     glUniform1f(g->u_intensity_scale, colours->intensity_scale);
+    sta_ground_texture_use(colours->ground, g->program, camera);
     for (size_t i = 0; i < p->range_count; i++) {
         const struct sta_katz_range *r = &p->ranges[i];
         const sta_gpu_node_frame *f = &frames[r->node];

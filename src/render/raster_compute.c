@@ -257,6 +257,7 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     glUniform2f(r->u_elevation, (float)(camera->position[2] - colours->elevation_min),
                 (float)(1.0 / (span > 0 ? span : 1.0)));
     glUniform1f(r->u_intensity_scale, colours->intensity_scale);
+    sta_ground_texture_use(colours->ground, r->resolve_program, camera);
     glUniform3fv(r->u_background, 1, background);
     sta_render_target_bind(target);
     glEnable(GL_DEPTH_TEST);

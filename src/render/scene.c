@@ -6,6 +6,7 @@
 
 #include "core/alloc.h"
 #include "core/clock.h"
+#include "core/log.h"
 #include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gpu_cache.h"
@@ -20,7 +21,8 @@ struct sta_scene {
     bool has_geometry;
     sta_geometry_options raster; /* rasteriser of the geometry pass */
     int colour_mode;
-    sta_pipeline pipeline; /* initialised on first use */
+    sta_ground_texture ground; /* built the first time the height mode is drawn */
+    sta_pipeline pipeline;     /* initialised on first use */
     bool has_pipeline;
     sta_pipeline_options pipeline_options;
     bool timing;        /* drain and time each pass */
@@ -79,6 +81,7 @@ void sta_scene_close(sta_scene *s)
         sta_pipeline_release(&s->pipeline);
     }
     sta_gpu_cache_release(&s->cache);
+    sta_ground_texture_release(&s->ground);
     sta_streamer_close(s->streamer);
     sta_free(s->frames);
     sta_free(s);
@@ -162,6 +165,25 @@ void sta_scene_set_ramps(sta_scene *s, double elevation_min, double elevation_ma
     s->ramp[2] = intensity_max > 0.0 ? intensity_max : 0.0;
 }
 
+// The ground model from the top of the tree (stream/ground.h), as a texture. Once per
+// scene: the model does not depend on the camera.
+static sta_status build_ground(sta_scene *s, sta_error *err)
+{
+    sta_ground ground;
+    sta_status status = sta_ground_build(sta_streamer_reader(s->streamer),
+                                         sta_streamer_tree(s->streamer), &ground, err);
+    if (status == STA_OK) {
+        status = sta_ground_texture_upload(&s->ground, &ground, err);
+        sta_log_info("%s: ground for the height colours from %zu points (%s), %dx%d cells of "
+                     "%.2f m, ramp 0-%.1f m",
+                     sta_scene_info(s)->path, ground.sampled,
+                     ground.from_class ? "class 2" : "lowest points, opened", ground.width,
+                     ground.height, ground.cell_m, ground.height_span_m);
+    }
+    sta_ground_release(&ground);
+    return status;
+}
+
 sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_target *target,
                             sta_frame_stats *stats, sta_error *err)
 {
@@ -193,9 +215,15 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         geometry_start = sta_clock_ms();
     }
     const sta_strata_info *info = sta_scene_info(s);
+    if (s->colour_mode == STA_COLOUR_HEIGHT && !s->ground.texture) {
+        status = build_ground(s, err);
+        if (status != STA_OK) {
+            return status;
+        }
+    }
     sta_geometry_colours colours = { s->colour_mode, info->bounds_min[2],
                                      info->bounds_max[2] - info->bounds_min[2],
-                                     sta_streamer_intensity_scale(s->streamer) };
+                                     sta_streamer_intensity_scale(s->streamer), &s->ground };
     if (s->ramp[1] > s->ramp[0]) { // --elevation-range
         colours.elevation_min = s->ramp[0];
         colours.elevation_span = s->ramp[1] - s->ramp[0];

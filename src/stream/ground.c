@@ -3,6 +3,7 @@
 #include "stream/ground.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/alloc.h"
@@ -151,6 +152,30 @@ static sta_status fill_empty(sta_ground *g, sta_error *err)
     return STA_OK;
 }
 
+static int compare_floats(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return x < y ? -1 : (x > y ? 1 : 0);
+}
+
+// The ramp's top: the 98th percentile of the heights above the model, within 2..100 m.
+static sta_status height_span(sta_ground *g, const sta_ground_sample *s, size_t count,
+                              sta_error *err)
+{
+    float *heights = sta_alloc_array(count, sizeof(float));
+    if (!heights) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for the ground model");
+    }
+    for (size_t i = 0; i < count; i++) {
+        heights[i] = (float)(s[i].xyz[2] - sta_ground_at(g, s[i].xyz[0], s[i].xyz[1]));
+    }
+    qsort(heights, count, sizeof(float), compare_floats);
+    double p98 = (double)heights[(size_t)((double)(count - 1) * 0.98)];
+    g->height_span_m = fmax(2.0, fmin(100.0, p98));
+    sta_free(heights);
+    return STA_OK;
+}
+
 sta_status sta_ground_from_samples(const sta_ground_sample *s, size_t count, sta_ground *g,
                                    sta_error *err)
 {
@@ -209,6 +234,9 @@ sta_status sta_ground_from_samples(const sta_ground_sample *s, size_t count, sta
     }
     if (status == STA_OK) {
         status = fill_empty(g, err);
+    }
+    if (status == STA_OK) {
+        status = height_span(g, s, count, err);
     }
     if (status != STA_OK) {
         sta_ground_release(g);

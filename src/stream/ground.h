@@ -32,13 +32,15 @@
 #define STA_GROUND_OPENING_M     25.0
 
 typedef struct sta_ground {
-    double min[2];     /* world x, y of the grid's corner, metres */
-    double cell_m;     /* cell edge, metres */
-    int width, height; /* cells */
-    float *z;          /* width * height ground heights, metres above z_origin, row-major */
-    double z_origin;   /* world z the heights are relative to (float precision) */
-    bool from_class;   /* true: from class-2 points; false: lowest points, eroded */
-    size_t sampled;    /* points the model was built from */
+    double min[2];        /* world x, y of the grid's corner, metres */
+    double cell_m;        /* cell edge, metres */
+    int width, height;    /* cells */
+    float *z;             /* width * height ground heights, metres above z_origin, row-major */
+    double z_origin;      /* world z the heights are relative to (float precision) */
+    bool from_class;      /* true: from class-2 points; false: lowest points, eroded */
+    size_t sampled;       /* points the model was built from */
+    double height_span_m; /* 98th percentile of the samples' heights above ground, in
+                             2..100 m: the top of the height colour ramp */
 } sta_ground;
 
 /* One sampled point: world coordinates and its ASPRS class. */

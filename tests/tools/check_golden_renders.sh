@@ -17,6 +17,7 @@ cases=(
     "raw_elevation --pipeline raw --colour elevation"
     "raw_class --pipeline raw --colour class"
     "raw_returns --pipeline raw --colour returns"
+    "raw_height --pipeline raw --colour height"
     "raw_budget --pipeline raw --budget 60000"
     "overview --pipeline raw --default-camera"
     "edl --pipeline edl"

@@ -40,15 +40,21 @@ open(sys.argv[2], "wb").write(d[start:start + f[12] * f[5]])
 PY
 }
 
-# Waits until the window's picture is the same twice in a row, 1 s apart.
+# Waits until the window's picture is the same three times in a row, 1 s apart (a busy
+# machine can pause the loader for a second).
 settle() {
-    local previous="" i
-    for i in $(seq 1 90); do
+    local previous="" same=0 i
+    for i in $(seq 1 120); do
         sleep 1
         pixels "$1" "$work/now.raw"
         local sum
         sum=$(sha256sum <"$work/now.raw")
-        [ "$sum" = "$previous" ] && return 0
+        if [ "$sum" = "$previous" ]; then
+            same=$((same + 1))
+            [ $same -ge 2 ] && return 0
+        else
+            same=0
+        fi
         previous=$sum
     done
     echo "the window never settled" >&2
@@ -89,8 +95,11 @@ echo "idle CPU: $((t1 - t0)) ticks in 3 s ($idle_pct % of one core)"
 
 # A key wakes it: F switches to fly mode, shown in the title.
 xdotool key --window "$win" f
-sleep 1.5
-title=$(xdotool getwindowname "$win")
+for i in $(seq 1 30); do
+    sleep 0.5
+    title=$(xdotool getwindowname "$win")
+    [[ $title == *"[fly"* ]] && break
+done
 echo "title after F: $title"
 [[ $title == *"[fly"* ]] || { echo "the title does not show fly mode" >&2; exit 1; }
 kill "$viewer"
