@@ -30,6 +30,7 @@
 #include "index.h"
 #include "inputs.h"
 #include "node_writer.h"
+#include "path_checks.h"
 #include "progress.h"
 #include "refine.h"
 
@@ -71,8 +72,9 @@ typedef struct convert_job {
     sta_error worker_error;    /* first worker error (guard: spill_lock) */
 } convert_job;
 
-// Creates a unique temporary file "<dir>/<base>.<tag>.XXXXXX" and unlinks nothing:
-// the caller removes it. The name is returned in *out_path (owned).
+// Creates a temporary file "<dir>/.<base>.<tag>.XXXXXX" and unlinks it at once: it
+// lives only as the descriptor, so a killed process (SIGKILL, the OOM killer) leaves
+// nothing behind. The name, for messages only, is returned in *out_path (owned).
 static sta_status make_temp(const char *dir, const char *output, const char *tag, char **out_path,
                             int *out_fd, sta_error *err)
 {
@@ -94,22 +96,21 @@ static sta_status make_temp(const char *dir, const char *output, const char *tag
         sta_free(path);
         return status;
     }
+    unlink(path);
     *out_path = path;
     *out_fd = fd;
     return STA_OK;
 }
 
+// Closes a temporary file (its space is freed: it has no name).
 static void remove_temp(char **path, int *fd)
 {
     if (*fd >= 0) {
         close(*fd);
         *fd = -1;
     }
-    if (*path) {
-        unlink(*path);
-        sta_free(*path);
-        *path = NULL;
-    }
+    sta_free(*path);
+    *path = NULL;
 }
 
 static char *output_folder(const char *output)
@@ -494,10 +495,9 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     size_t memory_mib = options->memory_mib;
     int level = options->compress_level == STA_CONVERT_STORE ? 0 : options->compress_level;
 
-    struct stat st;
-    if (!options->force && stat(options->output, &st) == 0) {
-        status = sta_fail(err, STA_ERR_ARG, "%s: already exists (use --force to overwrite)",
-                          options->output);
+    status = sta_path_checks_run(options->inputs, options->input_count, options->output,
+                                 options->force, err);
+    if (status != STA_OK) {
         goto out;
     }
     tmp_dir = options->tmp_dir ? sta_strdup(options->tmp_dir) : output_folder(options->output);

@@ -6,16 +6,26 @@
  * (next_offset advances by the aligned stored size); the pwrite itself runs outside
  * the lock, so threads compress and write in parallel. Alignment gaps are never
  * written: they read as zero. Lock order: only `lock`.
+ *
+ * Crash safety: the temporary file is created without a name (O_TMPFILE) in the
+ * output's folder and only linked under its temporary name at finish, just before
+ * the rename, so a process killed with SIGKILL leaves nothing. Where the file system
+ * has no O_TMPFILE it is named from the start ("<path>.tmp.<pid>.<n>"), and create
+ * removes such files whose process no longer exists.
  */
+#define _GNU_SOURCE // O_TMPFILE
 #include "format/strata_writer.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <inttypes.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -41,6 +51,7 @@ struct sta_strata_writer {
     char *temp_path;              // where bytes go until finish
     char *folder;                 // folder of `path`, fsynced after the rename
     int fd;                       // temp file, -1 once closed
+    bool is_named;                // temp_path names the temp file (else O_TMPFILE)
     sta_strata_geometry geometry; // validated, grid_cells resolved
     sta_strata_layout layout;     // extra_dims point at `dims`
     sta_strata_extra_dim *dims;   // owned copy
@@ -154,6 +165,39 @@ static char *folder_of(const char *path)
     return folder;
 }
 
+// Removes "<base>.tmp.<pid>.<n>" files in `folder` left by a process that no longer
+// exists (killed before it could clean up, on a file system without O_TMPFILE).
+static void sweep_stale_temporaries(const char *path, const char *folder)
+{
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    size_t base_length = strlen(base);
+    DIR *dir = opendir(folder);
+    if (!dir) {
+        return;
+    }
+    struct dirent *entry;
+    while ((entry = readdir(dir)) != NULL) {
+        const char *name = entry->d_name;
+        if (strncmp(name, base, base_length) != 0 || strncmp(name + base_length, ".tmp.", 5)) {
+            continue;
+        }
+        char *end = NULL;
+        long pid = strtol(name + base_length + 5, &end, 10);
+        if (pid <= 0 || *end != '.' || pid == (long)getpid() ||
+            !(kill((pid_t)pid, 0) != 0 && errno == ESRCH)) {
+            continue;
+        }
+        char *stale = sta_malloc(strlen(folder) + strlen(name) + 2);
+        if (stale) {
+            sprintf(stale, "%s/%s", folder, name);
+            unlink(stale);
+            sta_free(stale);
+        }
+    }
+    closedir(dir);
+}
+
 sta_status sta_strata_writer_create(const char *path, const sta_strata_writer_options *options,
                                     sta_strata_writer **out_writer, sta_error *err)
 {
@@ -200,10 +244,17 @@ sta_status sta_strata_writer_create(const char *path, const sta_strata_writer_op
         s = sta_fail(err, STA_ERR_NOMEM, "%s: out of memory", path);
         goto out_free;
     }
+    sweep_stale_temporaries(path, w->folder);
+    snprintf(w->temp_path, temp_size, "%s.tmp.%ld.%u", path, (long)getpid(),
+             atomic_fetch_add(&temp_counter, 1u));
+    w->fd = open(w->folder, O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
     for (int attempt = 0; attempt < 100 && w->fd < 0; attempt++) {
+        // No O_TMPFILE here (or it failed): a named file, removed by a later sweep if
+        // this process dies.
         snprintf(w->temp_path, temp_size, "%s.tmp.%ld.%u", path, (long)getpid(),
                  atomic_fetch_add(&temp_counter, 1u));
         w->fd = open(w->temp_path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        w->is_named = w->fd >= 0;
         if (w->fd < 0 && errno != EEXIST) {
             break;
         }
@@ -215,7 +266,9 @@ sta_status sta_strata_writer_create(const char *path, const sta_strata_writer_op
     }
     if (pthread_mutex_init(&w->lock, NULL) != 0) {
         close(w->fd);
-        unlink(w->temp_path);
+        if (w->is_named) {
+            unlink(w->temp_path);
+        }
         s = sta_fail(err, STA_ERR_NOMEM, "%s: cannot create a mutex", path);
         goto out_free;
     }
@@ -519,6 +572,17 @@ sta_status sta_strata_writer_finish(sta_strata_writer *w, const sta_strata_node 
     if (s != STA_OK) {
         goto out_free;
     }
+    if (!w->is_named) {
+        // Give the unnamed file its temporary name, then rename it like a named one.
+        char proc_path[64];
+        snprintf(proc_path, sizeof(proc_path), "/proc/self/fd/%d", w->fd);
+        if (linkat(AT_FDCWD, proc_path, AT_FDCWD, w->temp_path, AT_SYMLINK_FOLLOW) != 0) {
+            s = sta_fail(err, STA_ERR_IO, "%s: cannot link the temporary file as %s: %s", w->path,
+                         w->temp_path, strerror(errno));
+            goto out_free;
+        }
+        w->is_named = true;
+    }
     int fd = w->fd;
     w->fd = -1;
     if (close(fd) != 0) {
@@ -545,6 +609,11 @@ const char *sta_strata_writer_temp_path(const sta_strata_writer *w)
     return w->temp_path;
 }
 
+bool sta_strata_writer_is_unnamed(const sta_strata_writer *w)
+{
+    return !w->is_named;
+}
+
 void sta_strata_writer_destroy(sta_strata_writer *w)
 {
     if (!w) {
@@ -553,7 +622,7 @@ void sta_strata_writer_destroy(sta_strata_writer *w)
     if (w->fd >= 0) {
         close(w->fd);
     }
-    if (!w->finished) {
+    if (!w->finished && w->is_named) {
         unlink(w->temp_path);
     }
     pthread_mutex_destroy(&w->lock);

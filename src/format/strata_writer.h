@@ -22,6 +22,7 @@
 #ifndef STA_FORMAT_STRATA_WRITER_H
 #define STA_FORMAT_STRATA_WRITER_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -86,8 +87,14 @@ sta_status sta_strata_writer_add_points(sta_strata_writer *writer, sta_strata_en
 sta_status sta_strata_writer_finish(sta_strata_writer *writer, const sta_strata_node *nodes,
                                     size_t node_count, sta_error *err);
 
-/* The temporary file's path (valid until destroy), for tests and messages. */
+/* The temporary file's path (valid until destroy), for tests and messages. While
+ * sta_strata_writer_is_unnamed, nothing exists there yet: the file has no name
+ * (O_TMPFILE) until finish links it there and renames it. */
 const char *sta_strata_writer_temp_path(const sta_strata_writer *writer);
+
+/* True while the temporary file has no name in the folder (O_TMPFILE), so a killed
+ * process leaves nothing behind; false where the file system cannot do that. */
+bool sta_strata_writer_is_unnamed(const sta_strata_writer *writer);
 
 /* Frees the writer; if finish has not succeeded, closes and removes the temporary
  * file (abort). NULL is a no-op. */
