@@ -36,6 +36,9 @@
 
 enum {
     FIXED_OVERHEAD_MIB = 96, /* counting pyramid, chunk map, reader batches, code */
+    CHUNKS_PER_SCENE = 8,    /* chunk size = points / this, within the bounds below */
+    CHUNK_MIN_POINTS = 1 << 20,
+    CHUNK_MAX_POINTS = 3 << 20,
 };
 
 /* A node kept back for the merge, its records in the spill file. */
@@ -188,13 +191,20 @@ static void *index_worker(void *argument)
                 break;
             }
         }
-        status = sta_pread_all(job->chunk_fd, records, count * rec, chunk->first * rec,
-                               job->chunk_path, &err);
+        // The chunk's payloads reach the file in chunk order (deterministic output).
+        status = sta_node_writer_begin_chunk(&job->node_writer, args->index, i, &err);
+        if (status == STA_OK) {
+            status = sta_pread_all(job->chunk_fd, records, count * rec, chunk->first * rec,
+                                   job->chunk_path, &err);
+        }
         sta_pending_node root = { 0 };
         if (status == STA_OK) {
             status =
                 sta_index_chunk(&job->plan.space, &job->inputs.layout, &chunk->key, records, count,
                                 job->leaf_capacity, args->index, &sink, &scratch, &root, &err);
+        }
+        if (status == STA_OK) {
+            status = sta_node_writer_end_chunk(&job->node_writer, args->index, &err);
         }
         if (status == STA_OK) {
             status = spill(job, &root, &err);
@@ -214,6 +224,7 @@ static void *index_worker(void *argument)
             atomic_store(&job->failed, true);
         }
         pthread_mutex_unlock(&job->spill_lock);
+        sta_node_writer_abort(&job->node_writer); // others may wait for this chunk's turn
     }
     return NULL;
 }
@@ -223,9 +234,11 @@ static const sta_chunk *sort_chunks;
 
 static int compare_chunk_size(const void *a, const void *b)
 {
-    uint64_t x = sort_chunks[*(const size_t *)a].count;
-    uint64_t y = sort_chunks[*(const size_t *)b].count;
-    return x < y ? 1 : x > y ? -1 : 0;
+    size_t i = *(const size_t *)a, j = *(const size_t *)b;
+    uint64_t x = sort_chunks[i].count;
+    uint64_t y = sort_chunks[j].count;
+    // Ties by index: this order is also the payloads' order in the file.
+    return x < y ? 1 : x > y ? -1 : i < j ? -1 : i > j ? 1 : 0;
 }
 
 static sta_status run_index_phase(convert_job *job, sta_error *err)
@@ -239,6 +252,10 @@ static sta_status run_index_phase(convert_job *job, sta_error *err)
     }
     sort_chunks = job->plan.chunks;
     qsort(job->chunk_order, job->plan.chunk_count, sizeof(size_t), compare_chunk_size);
+    sta_status status = sta_node_writer_plan_chunks(&job->node_writer, job->plan.chunk_count, err);
+    if (status != STA_OK) {
+        return status;
+    }
 
     pthread_t threads[256];
     worker_args args[256];
@@ -266,6 +283,7 @@ static sta_status run_index_phase(convert_job *job, sta_error *err)
                   !atomic_load(&job->failed);
         if (job->options->cancel && atomic_load(job->options->cancel)) {
             atomic_store(&job->failed, true);
+            sta_node_writer_abort(&job->node_writer);
         }
     }
     for (int t = 0; t < started; t++) {
@@ -277,6 +295,9 @@ static sta_status run_index_phase(convert_job *job, sta_error *err)
         }
         *err = job->worker_error;
         return job->worker_error.code;
+    }
+    if (!sta_node_writer_all_committed(&job->node_writer)) {
+        return sta_fail(err, STA_ERR_ARG, "internal error: chunk payloads left unwritten");
     }
     return STA_OK;
 }
@@ -426,26 +447,45 @@ static int log2_exact(int v)
     return (1 << n) == v ? n : -1;
 }
 
-// Chunk size from the memory budget: what one worker may use for a chunk's records,
-// its index arrays and the node buffers (see docs/CONVERTER.md for the model).
-static size_t plan_chunk_capacity(size_t memory_mib, int threads, size_t record_size, int grid_log2,
-                                  size_t *out_buffer_bytes)
+// Chunk size: a function of the point count only, never of --threads or --memory,
+// because the chunk cut shapes the tree (deterministic output). Several chunks per
+// core keep the workers busy to the end (largest go first).
+static size_t plan_chunk_capacity(uint64_t point_count)
 {
-    size_t budget = memory_mib > FIXED_OVERHEAD_MIB ? (memory_mib - FIXED_OVERHEAD_MIB) << 20
-                                                    : (size_t)32 << 20;
-    // Distribution buffers get an eighth; workers share the rest.
-    *out_buffer_bytes = budget / 8;
-    size_t per_worker = (budget - budget / 8) / (size_t)threads;
+    uint64_t cap = point_count / CHUNKS_PER_SCENE + 1;
+    cap = cap < CHUNK_MIN_POINTS ? CHUNK_MIN_POINTS : cap;
+    return (size_t)(cap > CHUNK_MAX_POINTS ? CHUNK_MAX_POINTS : cap);
+}
+
+// Bytes one index worker needs for a chunk of `cap` points: records, index arrays,
+// the node buffers of its largest node (at most a full grid) and the chunk's packed
+// payloads held until their turn (at most the raw records).
+static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2)
+{
     size_t grid_cells = (size_t)1 << (3 * grid_log2);
     size_t per_point = record_size + 2 * sizeof(sta_index_item) + 1; // records, items, labels
     size_t per_node_point = record_size + sizeof(sta_point) + 2 * record_size; // node buffers
-    // Largest node: a full grid; per_worker = cap * per_point + min(cap, grid) * per_node_point.
-    size_t cap = per_worker / (per_point + per_node_point);
-    if (cap > grid_cells) {
-        size_t left = per_worker - grid_cells * per_node_point;
-        cap = left / per_point;
+    size_t largest_node = cap < grid_cells ? cap : grid_cells;
+    return cap * (per_point + record_size) + largest_node * per_node_point;
+}
+
+// How many chunks are indexed at once within the budget (see docs/CONVERTER.md):
+// the fixed overhead, an eighth for the distribution buffers, the rest for workers.
+static int plan_index_threads(size_t memory_mib, int threads, size_t cap, size_t record_size,
+                              int grid_log2, size_t *out_buffer_bytes)
+{
+    size_t budget = memory_mib > FIXED_OVERHEAD_MIB ? (memory_mib - FIXED_OVERHEAD_MIB) << 20
+                                                    : (size_t)32 << 20;
+    *out_buffer_bytes = budget / 8;
+    size_t need = worker_bytes(cap, record_size, grid_log2);
+    size_t fit = (budget - budget / 8) / need;
+    if (fit == 0) {
+        sta_log_warn("--memory %zu MiB holds no chunk of %zu points (one needs about %zu MiB "
+                     "with the rest): using %zu MiB",
+                     memory_mib, cap, need >> 20, ((need + need / 7) >> 20) + FIXED_OVERHEAD_MIB);
+        fit = 1;
     }
-    return cap < 4096 ? 4096 : cap;
+    return fit < (size_t)threads ? (int)fit : threads;
 }
 
 void sta_convert_options_defaults(sta_convert_options *o)
@@ -512,18 +552,13 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    size_t buffer_bytes = 0;
-    job.chunk_capacity = plan_chunk_capacity(memory_mib, job.threads, job.inputs.layout.size,
-                                             grid_log2, &buffer_bytes);
-    // Several chunks per thread keep every worker busy to the end (largest go first).
-    uint64_t balanced = job.inputs.point_count / (uint64_t)(3 * job.threads) + 1;
-    balanced = balanced < 1000000 ? 1000000 : balanced;
-    if (balanced < job.chunk_capacity) {
-        job.chunk_capacity = (size_t)balanced;
-    }
+    job.chunk_capacity = plan_chunk_capacity(job.inputs.point_count);
     if (options->chunk_points) {
         job.chunk_capacity = options->chunk_points;
     }
+    size_t buffer_bytes = 0;
+    int index_threads = plan_index_threads(memory_mib, job.threads, job.chunk_capacity,
+                                           job.inputs.layout.size, grid_log2, &buffer_bytes);
 
     // 2. count and plan
     job.progress.enabled = options->progress;
@@ -596,6 +631,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     t0 = sta_clock_s();
     sta_progress_begin(&job.progress, "indexing", job.inputs.point_count, options->progress);
     if (job.plan.chunk_count > 0) {
+        job.threads = index_threads; // distribution used them all; the index phase fewer
         status = run_index_phase(&job, err);
     }
     sta_progress_end(&job.progress);

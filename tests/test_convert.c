@@ -622,6 +622,57 @@ static void different_grids_convert_into_one_scene(void **state)
     unlink(b);
 }
 
+/* Deterministic output: the same inputs and options give the same bytes whatever
+ * --threads and --memory, and run after run (many small chunks, so workers finish in
+ * varying order and chunk roots merge above them). */
+static void output_is_byte_identical_across_threads_and_memory(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char path[4096], first[4096], out[4096];
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    snprintf(first, sizeof(first), "%s/det0.strata", sta_test_tmpdir());
+    snprintf(out, sizeof(out), "%s/det.strata", sta_test_tmpdir());
+    const char *one[] = { path };
+    static const struct {
+        int threads;
+        size_t memory_mib;
+    } runs[] = { { 1, 2048 }, { 2, 2048 }, { 4, 64 }, { 3, 300 }, { 2, 2048 }, { 8, 4096 } };
+    size_t size0 = 0;
+    uint8_t *bytes0 = NULL;
+    for (size_t i = 0; i < sizeof(runs) / sizeof(runs[0]); i++) {
+        sta_convert_options o = { .inputs = one,
+                                  .input_count = 1,
+                                  .output = i == 0 ? first : out,
+                                  .threads = runs[i].threads,
+                                  .memory_mib = runs[i].memory_mib,
+                                  .leaf_capacity = 500,
+                                  .chunk_points = 3000,
+                                  .force = true };
+        sta_error err = { 0 };
+        sta_log_set_level(STA_LOG_QUIET); // 64 MiB warns that a chunk needs more
+        sta_status status = sta_convert(&o, NULL, &err);
+        sta_log_set_level(STA_LOG_WARN);
+        if (status != STA_OK) {
+            fail_msg("run %zu: %s", i, err.message);
+        }
+        if (i == 0) {
+            bytes0 = sta_test_read_file(first, &size0);
+            continue;
+        }
+        size_t size = 0;
+        uint8_t *bytes = sta_test_read_file(out, &size);
+        if (size != size0 || memcmp(bytes, bytes0, size) != 0) {
+            fail_msg("run %zu (%d threads, %zu MiB) differs from run 0", i, runs[i].threads,
+                     runs[i].memory_mib);
+        }
+        free(bytes);
+    }
+    free(bytes0);
+    unlink(first);
+    unlink(out);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shared_las_files_round_trip),
     cmocka_unit_test(laz_files_convert_on_parallel_threads),
@@ -634,6 +685,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(corrupted_output_is_refused),
     cmocka_unit_test(output_and_input_paths_are_checked),
     cmocka_unit_test(kill_9_leaves_nothing_behind),
+    cmocka_unit_test(output_is_byte_identical_across_threads_and_memory),
     cmocka_unit_test(different_grids_merge_losslessly),
     cmocka_unit_test(different_grids_convert_into_one_scene),
 };

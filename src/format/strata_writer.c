@@ -114,6 +114,25 @@ static bool reserve(uint8_t **buf, size_t *capacity, size_t need)
     return true;
 }
 
+// Grows a batch's buffer to at least `need` bytes (doubling), keeping its contents.
+static bool reserve_batch(sta_strata_batch *batch, size_t need)
+{
+    if (need <= batch->capacity) {
+        return true;
+    }
+    size_t capacity = batch->capacity ? batch->capacity : 1 << 16;
+    while (capacity < need) {
+        capacity = capacity > SIZE_MAX / 2 ? need : capacity * 2;
+    }
+    uint8_t *grown = sta_realloc_array(batch->bytes, capacity, 1);
+    if (!grown) {
+        return false;
+    }
+    batch->bytes = grown;
+    batch->capacity = capacity;
+    return true;
+}
+
 static sta_status check_options(const sta_strata_writer_options *o, const char *path,
                                 sta_error *err)
 {
@@ -343,21 +362,19 @@ static sta_status check_positions(const sta_strata_writer *w, sta_strata_key key
     return STA_OK;
 }
 
-sta_status sta_strata_writer_add_node(sta_strata_writer *w, sta_strata_encoder *enc,
-                                      sta_strata_key key, const void *columns, size_t count,
-                                      sta_strata_payload *out_payload, sta_error *err)
+// Checks and compresses one node's columns: *out_stored points at the bytes to store
+// (the caller's columns or the encoder's buffer), *out_payload gets everything but
+// the offset, lo/hi the node's tight bounds.
+static sta_status pack(sta_strata_writer *w, sta_strata_encoder *enc, sta_strata_key key,
+                       const void *columns, size_t count, const uint8_t **out_stored,
+                       sta_strata_payload *out_payload, int32_t lo[3], int32_t hi[3],
+                       sta_error *err)
 {
-    memset(out_payload, 0, sizeof(*out_payload));
-    out_payload->checksum = sta_strata_checksum(NULL, 0);
-    if (count == 0) {
-        return STA_OK;
-    }
     if (count > SIZE_MAX / w->layout.record_size) {
         return sta_fail(err, STA_ERR_ARG, "%s: %zu points do not fit in memory", w->path, count);
     }
     const uint8_t *raw = columns;
     size_t raw_size = count * w->layout.record_size;
-    int32_t lo[3], hi[3];
     sta_status s = check_positions(w, key, raw, count, lo, hi, err);
     if (s != STA_OK) {
         return s;
@@ -389,14 +406,26 @@ sta_status sta_strata_writer_add_node(sta_strata_writer *w, sta_strata_encoder *
             compression = STA_STRATA_COMPRESSION_ZSTD_SHUFFLE;
         }
     }
-    uint64_t checksum = sta_strata_checksum(stored, stored_size);
+    *out_stored = stored;
+    out_payload->stored_size = stored_size;
+    out_payload->raw_size = raw_size;
+    out_payload->checksum = sta_strata_checksum(stored, stored_size);
+    out_payload->compression = compression;
+    return STA_OK;
+}
 
+// Reserves `size` bytes (aligned) for `payloads` payloads with bounds lo/hi, writes
+// `bytes` there and returns the offset in *out_offset.
+static sta_status append(sta_strata_writer *w, const uint8_t *bytes, uint64_t size,
+                         uint64_t payloads, const int32_t lo[3], const int32_t hi[3],
+                         uint64_t *out_offset, sta_error *err)
+{
     pthread_mutex_lock(&w->lock);
     bool failed = w->failed;
     uint64_t offset = w->next_offset;
     if (!failed) {
-        w->next_offset = sta_strata_align(offset + stored_size, STA_STRATA_ALIGNMENT);
-        w->payload_count++;
+        w->next_offset = sta_strata_align(offset + size, STA_STRATA_ALIGNMENT);
+        w->payload_count += payloads;
         for (int a = 0; a < 3; a++) {
             w->grid_min[a] = !w->has_points || lo[a] < w->grid_min[a] ? lo[a] : w->grid_min[a];
             w->grid_max[a] = !w->has_points || hi[a] > w->grid_max[a] ? hi[a] : w->grid_max[a];
@@ -407,20 +436,86 @@ sta_status sta_strata_writer_add_node(sta_strata_writer *w, sta_strata_encoder *
     if (failed) {
         return sta_fail(err, STA_ERR_IO, "%s: an earlier write failed", w->path);
     }
-
-    s = sta_pwrite_all(w->fd, stored, stored_size, offset, w->temp_path, err);
+    sta_status s = sta_pwrite_all(w->fd, bytes, (size_t)size, offset, w->temp_path, err);
     if (s != STA_OK) {
         pthread_mutex_lock(&w->lock);
         w->failed = true;
         pthread_mutex_unlock(&w->lock);
         return s;
     }
-    out_payload->offset = offset;
-    out_payload->stored_size = stored_size;
-    out_payload->raw_size = raw_size;
-    out_payload->checksum = checksum;
-    out_payload->compression = compression;
+    *out_offset = offset;
     return STA_OK;
+}
+
+sta_status sta_strata_writer_add_node(sta_strata_writer *w, sta_strata_encoder *enc,
+                                      sta_strata_key key, const void *columns, size_t count,
+                                      sta_strata_payload *out_payload, sta_error *err)
+{
+    memset(out_payload, 0, sizeof(*out_payload));
+    out_payload->checksum = sta_strata_checksum(NULL, 0);
+    if (count == 0) {
+        return STA_OK;
+    }
+    const uint8_t *stored = NULL;
+    int32_t lo[3], hi[3];
+    sta_status s = pack(w, enc, key, columns, count, &stored, out_payload, lo, hi, err);
+    if (s != STA_OK) {
+        return s;
+    }
+    return append(w, stored, out_payload->stored_size, 1, lo, hi, &out_payload->offset, err);
+}
+
+sta_status sta_strata_writer_pack_node(sta_strata_writer *w, sta_strata_encoder *enc,
+                                       sta_strata_key key, const void *columns, size_t count,
+                                       sta_strata_batch *batch, sta_strata_payload *out_payload,
+                                       sta_error *err)
+{
+    memset(out_payload, 0, sizeof(*out_payload));
+    out_payload->checksum = sta_strata_checksum(NULL, 0);
+    if (count == 0) {
+        return STA_OK;
+    }
+    const uint8_t *stored = NULL;
+    int32_t lo[3], hi[3];
+    sta_status s = pack(w, enc, key, columns, count, &stored, out_payload, lo, hi, err);
+    if (s != STA_OK) {
+        return s;
+    }
+    // Aligned inside the batch, so aligned in the file once the batch starts aligned.
+    uint64_t at = sta_strata_align(batch->size, STA_STRATA_ALIGNMENT);
+    uint64_t end = at + out_payload->stored_size;
+    if (end > SIZE_MAX || !reserve_batch(batch, (size_t)end)) {
+        return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for a batch of %" PRIu64 " bytes",
+                        w->path, end);
+    }
+    memset(batch->bytes + batch->size, 0, (size_t)(at - batch->size));
+    memcpy(batch->bytes + at, stored, out_payload->stored_size);
+    batch->size = (size_t)end;
+    batch->payload_count++;
+    for (int a = 0; a < 3; a++) {
+        batch->lo[a] = !batch->has_points || lo[a] < batch->lo[a] ? lo[a] : batch->lo[a];
+        batch->hi[a] = !batch->has_points || hi[a] > batch->hi[a] ? hi[a] : batch->hi[a];
+    }
+    batch->has_points = true;
+    out_payload->offset = at;
+    return STA_OK;
+}
+
+sta_status sta_strata_writer_add_batch(sta_strata_writer *w, const sta_strata_batch *batch,
+                                       uint64_t *out_offset, sta_error *err)
+{
+    *out_offset = 0;
+    if (batch->payload_count == 0) {
+        return STA_OK;
+    }
+    return append(w, batch->bytes, batch->size, batch->payload_count, batch->lo, batch->hi,
+                  out_offset, err);
+}
+
+void sta_strata_batch_release(sta_strata_batch *batch)
+{
+    sta_free(batch->bytes);
+    memset(batch, 0, sizeof(*batch));
 }
 
 sta_status sta_strata_writer_add_points(sta_strata_writer *w, sta_strata_encoder *enc,
