@@ -480,9 +480,10 @@ static int plan_index_threads(size_t memory_mib, int threads, size_t cap, size_t
     size_t need = worker_bytes(cap, record_size, grid_log2);
     size_t fit = (budget - budget / 8) / need;
     if (fit == 0) {
-        sta_log_warn("--memory %zu MiB holds no chunk of %zu points (one needs about %zu MiB "
-                     "with the rest): using %zu MiB",
-                     memory_mib, cap, need >> 20, ((need + need / 7) >> 20) + FIXED_OVERHEAD_MIB);
+        sta_log_warn("--memory %zu MiB is less than one chunk of %zu points needs: the run "
+                     "will use about %zu MiB (the chunk size depends on the input only, so "
+                     "that the output does not depend on --memory)",
+                     memory_mib, cap, ((need + need / 7) >> 20) + FIXED_OVERHEAD_MIB);
         fit = 1;
     }
     return fit < (size_t)threads ? (int)fit : threads;
