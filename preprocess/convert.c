@@ -33,6 +33,7 @@
 #include "path_checks.h"
 #include "progress.h"
 #include "refine.h"
+#include "temp_runs.h"
 
 enum {
     FIXED_OVERHEAD_MIB = 96, /* counting pyramid, chunk map, reader batches, code */
@@ -60,6 +61,8 @@ typedef struct convert_job {
     int threads;
     char *chunk_path; /* temporary file of distributed records */
     int chunk_fd;
+    sta_temp_runs runs;        /* the distributed records, compressed, per chunk */
+    sta_run_codec *codecs;     /* one per index worker */
     char *spill_path; /* temporary file of nodes kept for the merge */
     int spill_fd;
     pthread_mutex_t spill_lock; /* guards spill_end, spilled, spilled_count/capacity */
@@ -194,8 +197,9 @@ static void *index_worker(void *argument)
         // The chunk's payloads reach the file in chunk order (deterministic output).
         status = sta_node_writer_begin_chunk(&job->node_writer, args->index, i, &err);
         if (status == STA_OK) {
-            status = sta_pread_all(job->chunk_fd, records, count * rec, chunk->first * rec,
-                                   job->chunk_path, &err);
+            status = sta_temp_runs_read(&job->runs, &job->codecs[args->index], chunk->list,
+                                        records, &err);
+            sta_temp_runs_discard(&job->runs, chunk->list); // read once: free its disk
         }
         sta_pending_node root = { 0 };
         if (status == STA_OK) {
@@ -613,20 +617,27 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     }
     t0 = sta_clock_s();
     sta_progress_begin(&job.progress, "distributing", job.inputs.point_count, options->progress);
-    status = sta_distribute_write(&job.inputs, &job.plan, job.chunk_fd, job.chunk_path,
-                                  buffer_bytes, &job.progress, options->cancel, err);
+    status = sta_temp_runs_init(&job.runs, job.chunk_fd, job.chunk_path, job.inputs.layout.size,
+                                job.plan.chunk_count, err);
+    if (status == STA_OK) {
+        status = sta_distribute_write(&job.inputs, &job.plan, &job.runs, buffer_bytes,
+                                      &job.progress, options->cancel, err);
+    }
     sta_progress_end(&job.progress);
     if (status != STA_OK) {
         goto out;
     }
-    uint64_t temp_records = job.inputs.point_count;
-    status = sta_refine_chunks(&job.plan, &job.inputs.layout, job.chunk_fd, job.chunk_path,
-                               job.chunk_capacity, buffer_bytes, &temp_records, err);
+    status = sta_refine_chunks(&job.plan, &job.inputs.layout, &job.runs, job.chunk_capacity,
+                               buffer_bytes, err);
     if (status != STA_OK) {
         goto out;
     }
     report->seconds_distribute = sta_clock_s() - t0;
-    report->temp_bytes = temp_records * job.inputs.layout.size;
+    job.codecs = sta_calloc((size_t)job.threads, sizeof(*job.codecs));
+    if (!job.codecs) {
+        status = sta_fail(err, STA_ERR_NOMEM, "out of memory");
+        goto out;
+    }
 
     // 4. index chunks in parallel
     t0 = sta_clock_s();
@@ -654,6 +665,8 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     report->seconds_merge = sta_clock_s() - t0;
+    // An upper bound: the runs' peak plus everything the merge file ever held.
+    report->temp_bytes = job.runs.peak_bytes + job.spill_end;
     t0 = sta_clock_s();
     status = sta_node_writer_finish(&job.node_writer, &report->node_count, &report->max_level, err);
     if (status != STA_OK) {
@@ -670,6 +683,11 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
                           (unsigned long long)job.inputs.point_count);
     }
 out:
+    for (int t = 0; job.codecs && t < job.threads; t++) {
+        sta_run_codec_release(&job.codecs[t]);
+    }
+    sta_free(job.codecs);
+    sta_temp_runs_release(&job.runs);
     remove_temp(&job.chunk_path, &job.chunk_fd);
     remove_temp(&job.spill_path, &job.spill_fd);
     sta_node_writer_release(&job.node_writer);
