@@ -45,7 +45,7 @@ enum {
 /* A node kept back for the merge, its records in the spill file. */
 typedef struct spilled_node {
     sta_node_key key;
-    uint64_t offset; /* byte offset in the spill file */
+    size_t list; /* its run list in spill_runs */
     uint64_t count;
     unsigned flags;
     int has_children;
@@ -62,11 +62,12 @@ typedef struct convert_job {
     char *chunk_path; /* temporary file of distributed records */
     int chunk_fd;
     sta_temp_runs runs;        /* the distributed records, compressed, per chunk */
+    sta_temp_runs spill_runs;  /* nodes kept for the merge, one list each */
+    sta_temp_usage temp_usage; /* both stores' disk together */
     sta_run_codec *codecs;     /* one per index worker */
-    char *spill_path; /* temporary file of nodes kept for the merge */
+    char *spill_path;          /* temporary file of nodes kept for the merge */
     int spill_fd;
-    pthread_mutex_t spill_lock; /* guards spill_end, spilled, spilled_count/capacity */
-    uint64_t spill_end;
+    pthread_mutex_t spill_lock; /* guards spilled, spilled_count/capacity */
     spilled_node *spilled;
     size_t spilled_count;
     size_t spilled_capacity;
@@ -134,14 +135,17 @@ static char *output_folder(const char *output)
     return dir;
 }
 
-// Appends a node's records to the spill file and remembers it for the merge.
-static sta_status spill(convert_job *job, const sta_pending_node *node, sta_error *err)
+// Appends a node's records to the merge runs (compressed) and remembers it.
+static sta_status spill(convert_job *job, sta_run_codec *codec, const sta_pending_node *node,
+                        sta_error *err)
 {
-    size_t bytes = node->count * job->inputs.layout.size;
+    const size_t rec = job->inputs.layout.size;
+    size_t list = 0;
+    sta_status status = sta_temp_runs_add_lists(&job->spill_runs, 1, &list, err);
+    if (status != STA_OK) {
+        return status;
+    }
     pthread_mutex_lock(&job->spill_lock);
-    uint64_t offset = job->spill_end;
-    job->spill_end += bytes;
-    sta_status status = STA_OK;
     if (sta_array_reserve((void **)&job->spilled, &job->spilled_capacity, job->spilled_count + 1,
                           sizeof(*job->spilled), 256, NULL) != STA_OK) {
         status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the merge list");
@@ -149,15 +153,28 @@ static sta_status spill(convert_job *job, const sta_pending_node *node, sta_erro
     if (status == STA_OK) {
         spilled_node *s = &job->spilled[job->spilled_count++];
         s->key = node->key;
-        s->offset = offset;
+        s->list = list;
         s->count = node->count;
         s->flags = node->flags;
         s->has_children = node->has_children;
     }
     pthread_mutex_unlock(&job->spill_lock);
-    if (status == STA_OK && bytes > 0) {
-        status = sta_pwrite_all(job->spill_fd, node->records, bytes, offset, job->spill_path, err);
+    size_t per_block = STA_TEMP_RUNS_MAX_BLOCK_BYTES / rec;
+    for (size_t done = 0, block = 0; status == STA_OK && done < node->count; block++) {
+        size_t n = node->count - done < per_block ? node->count - done : per_block;
+        status = sta_temp_runs_append(&job->spill_runs, codec, list, block,
+                                      node->records + done * rec, n, err);
+        done += n;
     }
+    return status;
+}
+
+// Reads a kept node back (and frees its disk).
+static sta_status unspill(convert_job *job, const spilled_node *s, uint8_t *records, sta_error *err)
+{
+    sta_status status =
+        sta_temp_runs_read(&job->spill_runs, &job->codecs[0], s->list, records, err);
+    sta_temp_runs_discard(&job->spill_runs, s->list);
     return status;
 }
 
@@ -197,8 +214,8 @@ static void *index_worker(void *argument)
         // The chunk's payloads reach the file in chunk order (deterministic output).
         status = sta_node_writer_begin_chunk(&job->node_writer, args->index, i, &err);
         if (status == STA_OK) {
-            status = sta_temp_runs_read(&job->runs, &job->codecs[args->index], chunk->list,
-                                        records, &err);
+            status = sta_temp_runs_read(&job->runs, &job->codecs[args->index], chunk->list, records,
+                                        &err);
             sta_temp_runs_discard(&job->runs, chunk->list); // read once: free its disk
         }
         sta_pending_node root = { 0 };
@@ -211,7 +228,7 @@ static void *index_worker(void *argument)
             status = sta_node_writer_end_chunk(&job->node_writer, args->index, &err);
         }
         if (status == STA_OK) {
-            status = spill(job, &root, &err);
+            status = spill(job, &job->codecs[args->index], &root, &err);
         }
         sta_free(root.records);
         sta_progress_add(&job->progress, count);
@@ -353,8 +370,7 @@ static sta_status run_merge_phase(convert_job *job, sta_error *err)
                                       s->has_children };
             status = root.records ? STA_OK : sta_fail(err, STA_ERR_NOMEM, "out of memory");
             if (status == STA_OK) {
-                status = sta_pread_all(job->spill_fd, root.records, s->count * rec, s->offset,
-                                       job->spill_path, err);
+                status = unspill(job, s, root.records, err);
             }
             if (status == STA_OK) {
                 status = finish_node(job, &root, err);
@@ -385,8 +401,7 @@ static sta_status run_merge_phase(convert_job *job, sta_error *err)
                 if (!children[i].records) {
                     status = sta_fail(err, STA_ERR_NOMEM, "out of memory merging nodes");
                 } else {
-                    status = sta_pread_all(job->spill_fd, children[i].records, s->count * rec,
-                                           s->offset, job->spill_path, err);
+                    status = unspill(job, s, children[i].records, err);
                 }
             }
             sta_pending_node parent = { 0 };
@@ -398,7 +413,7 @@ static sta_status run_merge_phase(convert_job *job, sta_error *err)
                 status = finish_node(job, &children[i], err);
             }
             if (status == STA_OK) {
-                status = spill(job, &parent, err); // may grow job->spilled
+                status = spill(job, &job->codecs[0], &parent, err); // may grow job->spilled
             }
             for (size_t i = 0; i < n; i++) {
                 sta_free(children[i].records);
@@ -618,7 +633,12 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     t0 = sta_clock_s();
     sta_progress_begin(&job.progress, "distributing", job.inputs.point_count, options->progress);
     status = sta_temp_runs_init(&job.runs, job.chunk_fd, job.chunk_path, job.inputs.layout.size,
-                                job.plan.chunk_count, err);
+                                job.plan.chunk_count, STA_TEMP_RUNS_PAGE_ALIGNMENT, err);
+    if (status == STA_OK) {
+        status = sta_temp_runs_init(&job.spill_runs, job.spill_fd, job.spill_path,
+                                    job.inputs.layout.size, 0, 0, err);
+    }
+    job.runs.usage = job.spill_runs.usage = &job.temp_usage;
     if (status == STA_OK) {
         status = sta_distribute_write(&job.inputs, &job.plan, &job.runs, buffer_bytes,
                                       &job.progress, options->cancel, err);
@@ -665,8 +685,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     report->seconds_merge = sta_clock_s() - t0;
-    // An upper bound: the runs' peak plus everything the merge file ever held.
-    report->temp_bytes = job.runs.peak_bytes + job.spill_end;
+    report->temp_bytes = atomic_load(&job.temp_usage.peak_bytes);
     t0 = sta_clock_s();
     status = sta_node_writer_finish(&job.node_writer, &report->node_count, &report->max_level, err);
     if (status != STA_OK) {
@@ -688,6 +707,7 @@ out:
     }
     sta_free(job.codecs);
     sta_temp_runs_release(&job.runs);
+    sta_temp_runs_release(&job.spill_runs);
     remove_temp(&job.chunk_path, &job.chunk_fd);
     remove_temp(&job.spill_path, &job.spill_fd);
     sta_node_writer_release(&job.node_writer);

@@ -57,7 +57,7 @@ typedef struct sta_convert_report {
     int max_level;
     uint64_t raw_bytes;    /* node payloads before compression */
     uint64_t stored_bytes; /* node payloads in the file */
-    uint64_t temp_bytes;   /* temporary disk at its peak (bound: runs peak + merge file) */
+    uint64_t temp_bytes;   /* temporary disk at its peak (both temporary files) */
     double seconds_count;  /* per phase, wall clock */
     double seconds_distribute;
     double seconds_index;

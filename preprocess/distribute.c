@@ -590,9 +590,9 @@ static sta_status distribute_batch(range_task *t, size_t input, sta_point_batch 
     return STA_OK;
 }
 
-sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan,
-                                sta_temp_runs *runs, size_t buffer_bytes, sta_progress *progress,
-                                atomic_bool *cancel, sta_error *err)
+sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, sta_temp_runs *runs,
+                                size_t buffer_bytes, sta_progress *progress, atomic_bool *cancel,
+                                sta_error *err)
 {
     const size_t rec = set->layout.size;
     if (plan->chunk_count == 0) {
@@ -603,8 +603,10 @@ sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan,
         return err->code;
     }
     size_t per_chunk = buffer_bytes / (size_t)plan->threads / plan->chunk_count;
-    per_chunk = per_chunk < rec * 16 ? rec * 16 : per_chunk;
-    per_chunk = per_chunk > STA_TEMP_RUNS_MAX_BLOCK_BYTES ? STA_TEMP_RUNS_MAX_BLOCK_BYTES : per_chunk;
+    per_chunk =
+        per_chunk < STA_TEMP_RUNS_MIN_BLOCK_BYTES ? STA_TEMP_RUNS_MIN_BLOCK_BYTES : per_chunk;
+    per_chunk =
+        per_chunk > STA_TEMP_RUNS_MAX_BLOCK_BYTES ? STA_TEMP_RUNS_MAX_BLOCK_BYTES : per_chunk;
     per_chunk -= per_chunk % rec;
     sta_status status = STA_OK;
     for (int t = 0; t < plan->threads && status == STA_OK; t++) {

@@ -49,9 +49,9 @@ sta_status sta_distribute_plan(sta_input_set *set, int threads, int grid_log2,
  * list in `runs` (compressed blocks; list `chunk.list`), on the plan's threads. Within
  * a chunk the records read back in input order. `buffer_bytes` bounds the write
  * buffers. */
-sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan,
-                                sta_temp_runs *runs, size_t buffer_bytes, sta_progress *progress,
-                                atomic_bool *cancel, sta_error *err);
+sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, sta_temp_runs *runs,
+                                size_t buffer_bytes, sta_progress *progress, atomic_bool *cancel,
+                                sta_error *err);
 
 void sta_chunk_plan_release(sta_chunk_plan *plan);
 

@@ -101,8 +101,8 @@ static size_t cut(const sta_node_key *parent, int depth, const uint64_t *counts,
 
 static sta_status split_one(const sta_chunk_plan *plan, const sta_chunk *chunk,
                             const sta_record_layout *layout, sta_temp_runs *runs,
-                            sta_run_codec *codec, uint64_t capacity, uint8_t *batch,
-                            uint8_t *arena, size_t per_sub, uint64_t *sequence, sub_chunk *subs,
+                            sta_run_codec *codec, uint64_t capacity, uint8_t *batch, uint8_t *arena,
+                            size_t per_sub, uint64_t *sequence, sub_chunk *subs,
                             size_t *out_sub_count, sta_error *err)
 {
     const size_t rec = layout->size;
@@ -185,7 +185,8 @@ sta_status sta_refine_chunks(sta_chunk_plan *plan, const sta_record_layout *layo
     const size_t rec = layout->size;
     size_t per_sub = buffer_bytes / 2 / SUB_CELLS;
     per_sub = per_sub > STA_TEMP_RUNS_MAX_BLOCK_BYTES ? STA_TEMP_RUNS_MAX_BLOCK_BYTES : per_sub;
-    per_sub = per_sub < 64 * rec ? 64 * rec : per_sub - per_sub % rec;
+    per_sub = per_sub < STA_TEMP_RUNS_MIN_BLOCK_BYTES ? STA_TEMP_RUNS_MIN_BLOCK_BYTES : per_sub;
+    per_sub -= per_sub % rec;
     uint8_t *batch = sta_malloc(STA_TEMP_RUNS_MAX_BLOCK_BYTES + rec);
     uint8_t *arena = sta_alloc_array(SUB_CELLS, per_sub);
     sub_chunk *subs = sta_alloc_array(SUB_CELLS, sizeof(*subs));

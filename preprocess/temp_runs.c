@@ -18,13 +18,23 @@
 #include "core/file_io.h"
 
 enum {
-    BLOCK_ALIGNMENT = 4096, /* file-system block: punched holes free whole blocks */
-    ZSTD_LEVEL = 1,         /* fastest: the runs are written and read once */
+    ZSTD_LEVEL = 1, /* fastest: the runs are written and read once */
 };
 
-static uint64_t align_up(uint64_t v)
+static uint64_t align_up(const sta_temp_runs *runs, uint64_t v)
 {
-    return (v + BLOCK_ALIGNMENT - 1) / BLOCK_ALIGNMENT * BLOCK_ALIGNMENT;
+    return (v + runs->alignment - 1) / runs->alignment * runs->alignment;
+}
+
+static void usage_add(sta_temp_usage *usage, uint64_t bytes)
+{
+    if (!usage) {
+        return;
+    }
+    uint64_t live = atomic_fetch_add(&usage->live_bytes, bytes) + bytes;
+    uint64_t peak = atomic_load(&usage->peak_bytes);
+    while (live > peak && !atomic_compare_exchange_weak(&usage->peak_bytes, &peak, live)) {
+    }
 }
 
 static bool grow(uint8_t **buf, size_t *capacity, size_t need)
@@ -43,9 +53,10 @@ static bool grow(uint8_t **buf, size_t *capacity, size_t need)
 }
 
 sta_status sta_temp_runs_init(sta_temp_runs *runs, int fd, const char *path, size_t record_size,
-                              size_t list_count, sta_error *err)
+                              size_t list_count, uint32_t alignment, sta_error *err)
 {
     memset(runs, 0, sizeof(*runs));
+    runs->alignment = alignment ? alignment : 1;
     runs->fd = fd;
     runs->path = path;
     runs->record_size = record_size;
@@ -70,15 +81,19 @@ void sta_temp_runs_release(sta_temp_runs *runs)
 sta_status sta_temp_runs_add_lists(sta_temp_runs *runs, size_t count, size_t *out_first,
                                    sta_error *err)
 {
+    sta_status status = STA_OK;
+    pthread_mutex_lock(&runs->lock); // appends to other lists may run meanwhile
     *out_first = runs->list_count;
     if (sta_array_reserve((void **)&runs->lists, &runs->list_capacity, runs->list_count + count,
                           sizeof(*runs->lists), 64, NULL) != STA_OK) {
-        return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu temporary runs",
-                        runs->list_count + count);
+        status = sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu temporary runs",
+                          runs->list_count + count);
+    } else {
+        memset(runs->lists + runs->list_count, 0, count * sizeof(*runs->lists));
+        runs->list_count += count;
     }
-    memset(runs->lists + runs->list_count, 0, count * sizeof(*runs->lists));
-    runs->list_count += count;
-    return STA_OK;
+    pthread_mutex_unlock(&runs->lock);
+    return status;
 }
 
 static void shuffle(const uint8_t *in, size_t count, size_t rec, uint8_t *out)
@@ -118,8 +133,8 @@ sta_status sta_temp_runs_append(sta_temp_runs *runs, sta_run_codec *codec, size_
         return sta_fail(err, STA_ERR_NOMEM, "out of memory compressing temporary records");
     }
     shuffle(records, count, runs->record_size, codec->shuffled);
-    size_t stored = ZSTD_compressCCtx(codec->cctx, codec->packed, bound, codec->shuffled, raw,
-                                      ZSTD_LEVEL);
+    size_t stored =
+        ZSTD_compressCCtx(codec->cctx, codec->packed, bound, codec->shuffled, raw, ZSTD_LEVEL);
     if (ZSTD_isError(stored)) {
         return sta_fail(err, STA_ERR_NOMEM, "%s: zstd failed: %s", runs->path,
                         ZSTD_getErrorName(stored));
@@ -135,8 +150,9 @@ sta_status sta_temp_runs_append(sta_temp_runs *runs, sta_run_codec *codec, size_
         l->blocks[l->block_count++] =
             (sta_run_block){ offset, order, (uint32_t)stored, (uint32_t)count };
         l->record_count += count;
-        runs->end = align_up(offset + stored);
+        runs->end = align_up(runs, offset + stored);
         runs->live_bytes += runs->end - offset;
+        usage_add(runs->usage, runs->end - offset);
         runs->peak_bytes =
             runs->live_bytes > runs->peak_bytes ? runs->live_bytes : runs->peak_bytes;
     }
@@ -176,8 +192,8 @@ sta_status sta_temp_runs_read_block(sta_temp_runs *runs, sta_run_codec *codec, s
     if (status != STA_OK) {
         return status;
     }
-    size_t n = ZSTD_decompressDCtx(codec->dctx, codec->shuffled, raw, codec->packed,
-                                   b->stored_size);
+    size_t n =
+        ZSTD_decompressDCtx(codec->dctx, codec->shuffled, raw, codec->packed, b->stored_size);
     if (ZSTD_isError(n) || n != raw) {
         return sta_fail(err, STA_ERR_IO, "%s: temporary block at byte %llu is damaged (%s)",
                         runs->path, (unsigned long long)b->offset,
@@ -187,8 +203,8 @@ sta_status sta_temp_runs_read_block(sta_temp_runs *runs, sta_run_codec *codec, s
     return STA_OK;
 }
 
-sta_status sta_temp_runs_read(sta_temp_runs *runs, sta_run_codec *codec, size_t list,
-                              uint8_t *out, sta_error *err)
+sta_status sta_temp_runs_read(sta_temp_runs *runs, sta_run_codec *codec, size_t list, uint8_t *out,
+                              sta_error *err)
 {
     sta_temp_runs_sort(runs, list);
     const sta_run_list *l = &runs->lists[list];
@@ -204,14 +220,16 @@ void sta_temp_runs_discard_block(sta_temp_runs *runs, size_t list, size_t block)
 {
     pthread_mutex_lock(&runs->lock);
     sta_run_block *b = &runs->lists[list].blocks[block];
-    uint64_t offset = b->offset, size = align_up(b->stored_size);
+    uint64_t offset = b->offset, size = align_up(runs, b->stored_size);
     runs->live_bytes -= size;
+    if (runs->usage) {
+        atomic_fetch_sub(&runs->usage->live_bytes, size);
+    }
     b->stored_size = 0; // punched: counted once
     pthread_mutex_unlock(&runs->lock);
     // Not under the lock: the punch is I/O. Failure only costs disk until the end.
     if (size > 0) {
-        fallocate(runs->fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, (off_t)offset,
-                  (off_t)size);
+        fallocate(runs->fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, (off_t)offset, (off_t)size);
     }
 }
 

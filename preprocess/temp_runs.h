@@ -8,13 +8,14 @@
  * order), whichever thread wrote first. A chunk that has been read for the last time
  * is discarded: its blocks' bytes are punched out of the file (fallocate), so the
  * file's allocated size follows the records still waiting, and `peak_bytes` is the
- * most that was ever allocated. Blocks start on 4 KiB boundaries so punching frees
- * whole file-system blocks.
+ * most that was ever allocated. Blocks start on `alignment` boundaries (4 KiB: punching
+ * frees whole file-system blocks).
  */
 #ifndef STA_PREPROCESS_TEMP_RUNS_H
 #define STA_PREPROCESS_TEMP_RUNS_H
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -22,6 +23,13 @@
 
 /* Raw bytes a block holds at most (callers flush buffers of at most this size). */
 #define STA_TEMP_RUNS_MAX_BLOCK_BYTES ((size_t)1 << 20)
+
+/* Raw bytes a block should hold at least: smaller blocks compress poorly and waste
+ * most of their aligned 4 KiB on disk. */
+#define STA_TEMP_RUNS_MIN_BLOCK_BYTES ((size_t)32 << 10)
+
+/* Block alignment for runs whose blocks are punched out as they are read. */
+#define STA_TEMP_RUNS_PAGE_ALIGNMENT 4096u
 
 typedef struct sta_run_block {
     uint64_t offset;      /* in the file, 4 KiB aligned */
@@ -37,17 +45,25 @@ typedef struct sta_run_list {
     uint64_t record_count;
 } sta_run_list;
 
+/* Disk held by several stores together (their peaks need not coincide). */
+typedef struct sta_temp_usage {
+    _Atomic uint64_t live_bytes; /* atomic */
+    _Atomic uint64_t peak_bytes; /* atomic: most live_bytes ever */
+} sta_temp_usage;
+
 typedef struct sta_temp_runs {
-    int fd;              /* borrowed: the temporary file, read-write */
-    const char *path;    /* borrowed, for messages */
-    size_t record_size;  /* bytes per record */
-    pthread_mutex_t lock;        /* guards every field below */
-    sta_run_list *lists;         /* one per chunk */
+    int fd;               /* borrowed: the temporary file, read-write */
+    const char *path;     /* borrowed, for messages */
+    size_t record_size;   /* bytes per record */
+    uint32_t alignment;   /* of block offsets, bytes */
+    pthread_mutex_t lock; /* guards every field below */
+    sta_run_list *lists;  /* one per chunk */
     size_t list_count;
     size_t list_capacity;
-    uint64_t end;        /* next free offset */
-    uint64_t live_bytes; /* allocated and not discarded */
-    uint64_t peak_bytes; /* most live_bytes ever */
+    uint64_t end;          /* next free offset */
+    uint64_t live_bytes;   /* allocated and not discarded */
+    uint64_t peak_bytes;   /* most live_bytes ever */
+    sta_temp_usage *usage; /* borrowed, may be NULL: also counts this store's bytes */
 } sta_temp_runs;
 
 /* Per-thread compression state and buffers; zero-initialize, release when done. */
@@ -60,13 +76,15 @@ typedef struct sta_run_codec {
     size_t packed_capacity;
 } sta_run_codec;
 
+/* Starts an empty store of `list_count` lists over `fd` (borrowed). `alignment`:
+ * block offsets' alignment in bytes (0 means 1). */
 sta_status sta_temp_runs_init(sta_temp_runs *runs, int fd, const char *path, size_t record_size,
-                              size_t list_count, sta_error *err);
+                              size_t list_count, uint32_t alignment, sta_error *err);
 
 void sta_temp_runs_release(sta_temp_runs *runs);
 
-/* Adds `count` empty lists; the first one's index goes to *out_first. Not while other
- * threads append. */
+/* Adds `count` empty lists; the first one's index goes to *out_first. Thread-safe
+ * against appends; not while another thread reads a block. */
 sta_status sta_temp_runs_add_lists(sta_temp_runs *runs, size_t count, size_t *out_first,
                                    sta_error *err);
 
@@ -85,8 +103,8 @@ sta_status sta_temp_runs_read_block(sta_temp_runs *runs, sta_run_codec *codec, s
                                     size_t block, uint8_t *out, sta_error *err);
 
 /* Reads all of list `list` in order into `out` (room for its record_count records). */
-sta_status sta_temp_runs_read(sta_temp_runs *runs, sta_run_codec *codec, size_t list,
-                              uint8_t *out, sta_error *err);
+sta_status sta_temp_runs_read(sta_temp_runs *runs, sta_run_codec *codec, size_t list, uint8_t *out,
+                              sta_error *err);
 
 /* Punches block `block` of list `list` out of the file once it has been read for the
  * last time (the entry stays, with no stored bytes). */

@@ -673,6 +673,74 @@ static void output_is_byte_identical_across_threads_and_memory(void **state)
     unlink(out);
 }
 
+/* Temporary disk: at most 0.6x the input's LAS size at any --memory, and a stray
+ * point 1000 km away (one more input) does not multiply it. autzen_trim.las: 110 000
+ * real points. */
+static void temporary_disk_is_bounded_and_outlier_proof(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char path[4096], stray[4096], out[4096];
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    snprintf(stray, sizeof(stray), "%s/stray.las", sta_test_tmpdir());
+    snprintf(out, sizeof(out), "%s/temp.strata", sta_test_tmpdir());
+    struct stat st;
+    assert_int_equal(stat(path, &st), 0);
+    double las_bytes = (double)st.st_size;
+    // The stray point: on autzen's grid, 1000 km east of its first point.
+    sta_cloud_reader *r = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_cloud_open(path, NULL, &r, &err), STA_OK);
+    const sta_cloud_info *info = sta_cloud_reader_info(r);
+    sta_point_batch batch;
+    assert_int_equal(sta_point_batch_init(&batch, 1, 0, &err), STA_OK);
+    assert_int_equal(sta_cloud_read(r, &batch, &err), STA_OK);
+    sta_point far = batch.points[0];
+    far.X += (int32_t)(1e6 / info->grid.scale[0]);
+    sta_las_write_options wo = { .version_minor = 2,
+                                 .point_format = info->point_format,
+                                 .grid = info->grid };
+    sta_las_writer *w = NULL;
+    assert_int_equal(sta_las_writer_open(stray, &wo, &w, &err), STA_OK);
+    assert_int_equal(sta_las_writer_write(w, &far, 1, &err), STA_OK);
+    assert_int_equal(sta_las_writer_close(w, &err), STA_OK);
+    sta_point_batch_release(&batch);
+    sta_cloud_close(r);
+
+    uint64_t plain_bytes[2] = { 0, 0 };
+    static const size_t memories[2] = { 64, 2048 };
+    for (int with_stray = 0; with_stray <= 1; with_stray++) {
+        for (int m = 0; m < 2; m++) {
+            const char *inputs[] = { path, stray };
+            sta_convert_options o = { .inputs = inputs,
+                                      .input_count = (size_t)(1 + with_stray),
+                                      .output = out,
+                                      .memory_mib = memories[m],
+                                      .chunk_points = 20000,
+                                      .force = true };
+            sta_convert_report report;
+            sta_log_set_level(STA_LOG_QUIET);
+            sta_status status = sta_convert(&o, &report, &err);
+            sta_log_set_level(STA_LOG_WARN);
+            if (status != STA_OK) {
+                fail_msg("convert: %s", err.message);
+            }
+            double ratio = (double)report.temp_bytes / las_bytes;
+            print_message("stray %d, memory %zu MiB: temporary %.3fx the LAS size\n", with_stray,
+                          memories[m], ratio);
+            assert_true(report.temp_bytes > 0);
+            assert_true(ratio <= 0.6);
+            if (!with_stray) {
+                plain_bytes[m] = report.temp_bytes;
+            } else {
+                assert_true(report.temp_bytes <= plain_bytes[m] * 3 / 2);
+            }
+        }
+    }
+    unlink(out);
+    unlink(stray);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shared_las_files_round_trip),
     cmocka_unit_test(laz_files_convert_on_parallel_threads),
@@ -685,6 +753,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(corrupted_output_is_refused),
     cmocka_unit_test(output_and_input_paths_are_checked),
     cmocka_unit_test(kill_9_leaves_nothing_behind),
+    cmocka_unit_test(temporary_disk_is_bounded_and_outlier_proof),
     cmocka_unit_test(output_is_byte_identical_across_threads_and_memory),
     cmocka_unit_test(different_grids_merge_losslessly),
     cmocka_unit_test(different_grids_convert_into_one_scene),
