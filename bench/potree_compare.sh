@@ -37,7 +37,8 @@ declare -A times
 for run in $(seq 1 "$runs"); do
     for key in "${order[@]}"; do
         rm -rf "$work/potree-poisson" "$work/potree-random"
-        t=$( { /usr/bin/time -f "%e %M" ${cmds[$key]} >/dev/null 2>/dev/null; } 2>&1 | tail -1)
+        /usr/bin/time -o "$work/time.txt" -f "%e %M" ${cmds[$key]} >/dev/null 2>&1
+        t=$(tail -1 "$work/time.txt")
         times[$key]="${times[$key]:-} ${t%% *}"
         echo "  run $run: ${names[$key]}: ${t%% *} s, peak RSS $(( ${t##* } / 1024 )) MiB"
     done
