@@ -88,7 +88,7 @@ sta_status sta_temp_runs_add_lists(sta_temp_runs *runs, size_t count, size_t *ou
                           sizeof(*runs->lists), 64, NULL) != STA_OK) {
         status = sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu temporary runs",
                           runs->list_count + count);
-    } else {
+    } else if (count > 0) {
         memset(runs->lists + runs->list_count, 0, count * sizeof(*runs->lists));
         runs->list_count += count;
     }
