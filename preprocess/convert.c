@@ -31,18 +31,23 @@
 #include "inputs.h"
 #include "las_source.h"
 #include "node_writer.h"
+#include "path_checks.h"
 #include "progress.h"
 #include "refine.h"
+#include "temp_runs.h"
 #include "up_axis.h"
 
 enum {
     FIXED_OVERHEAD_MIB = 96, /* counting pyramid, chunk map, reader batches, code */
+    CHUNKS_PER_SCENE = 8,    /* chunk size = points / this, within the bounds below */
+    CHUNK_MIN_POINTS = 1 << 20,
+    CHUNK_MAX_POINTS = 3 << 20,
 };
 
 /* A node kept back for the merge, its records in the spill file. */
 typedef struct spilled_node {
     sta_node_key key;
-    uint64_t offset; /* byte offset in the spill file */
+    size_t list; /* its run list in spill_runs */
     uint64_t count;
     unsigned flags;
     int has_children;
@@ -58,10 +63,13 @@ typedef struct convert_job {
     int threads;
     char *chunk_path; /* temporary file of distributed records */
     int chunk_fd;
-    char *spill_path; /* temporary file of nodes kept for the merge */
+    sta_temp_runs runs;        /* the distributed records, compressed, per chunk */
+    sta_temp_runs spill_runs;  /* nodes kept for the merge, one list each */
+    sta_temp_usage temp_usage; /* both stores' disk together */
+    sta_run_codec *codecs;     /* one per index worker */
+    char *spill_path;          /* temporary file of nodes kept for the merge */
     int spill_fd;
-    pthread_mutex_t spill_lock; /* guards spill_end, spilled, spilled_count/capacity */
-    uint64_t spill_end;
+    pthread_mutex_t spill_lock; /* guards spilled, spilled_count/capacity */
     spilled_node *spilled;
     size_t spilled_count;
     size_t spilled_capacity;
@@ -73,8 +81,9 @@ typedef struct convert_job {
     sta_error worker_error;    /* first worker error (guard: spill_lock) */
 } convert_job;
 
-// Creates a unique temporary file "<dir>/<base>.<tag>.XXXXXX" and unlinks nothing:
-// the caller removes it. The name is returned in *out_path (owned).
+// Creates a temporary file "<dir>/.<base>.<tag>.XXXXXX" and unlinks it at once: it
+// lives only as the descriptor, so a killed process (SIGKILL, the OOM killer) leaves
+// nothing behind. The name, for messages only, is returned in *out_path (owned).
 static sta_status make_temp(const char *dir, const char *output, const char *tag, char **out_path,
                             int *out_fd, sta_error *err)
 {
@@ -96,22 +105,21 @@ static sta_status make_temp(const char *dir, const char *output, const char *tag
         sta_free(path);
         return status;
     }
+    unlink(path);
     *out_path = path;
     *out_fd = fd;
     return STA_OK;
 }
 
+// Closes a temporary file (its space is freed: it has no name).
 static void remove_temp(char **path, int *fd)
 {
     if (*fd >= 0) {
         close(*fd);
         *fd = -1;
     }
-    if (*path) {
-        unlink(*path);
-        sta_free(*path);
-        *path = NULL;
-    }
+    sta_free(*path);
+    *path = NULL;
 }
 
 static char *output_folder(const char *output)
@@ -129,14 +137,17 @@ static char *output_folder(const char *output)
     return dir;
 }
 
-// Appends a node's records to the spill file and remembers it for the merge.
-static sta_status spill(convert_job *job, const sta_pending_node *node, sta_error *err)
+// Appends a node's records to the merge runs (compressed) and remembers it.
+static sta_status spill(convert_job *job, sta_run_codec *codec, const sta_pending_node *node,
+                        sta_error *err)
 {
-    size_t bytes = node->count * job->inputs.layout.size;
+    const size_t rec = job->inputs.layout.size;
+    size_t list = 0;
+    sta_status status = sta_temp_runs_add_lists(&job->spill_runs, 1, &list, err);
+    if (status != STA_OK) {
+        return status;
+    }
     pthread_mutex_lock(&job->spill_lock);
-    uint64_t offset = job->spill_end;
-    job->spill_end += bytes;
-    sta_status status = STA_OK;
     if (sta_array_reserve((void **)&job->spilled, &job->spilled_capacity, job->spilled_count + 1,
                           sizeof(*job->spilled), 256, NULL) != STA_OK) {
         status = sta_fail(err, STA_ERR_NOMEM, "out of memory for the merge list");
@@ -144,15 +155,28 @@ static sta_status spill(convert_job *job, const sta_pending_node *node, sta_erro
     if (status == STA_OK) {
         spilled_node *s = &job->spilled[job->spilled_count++];
         s->key = node->key;
-        s->offset = offset;
+        s->list = list;
         s->count = node->count;
         s->flags = node->flags;
         s->has_children = node->has_children;
     }
     pthread_mutex_unlock(&job->spill_lock);
-    if (status == STA_OK && bytes > 0) {
-        status = sta_pwrite_all(job->spill_fd, node->records, bytes, offset, job->spill_path, err);
+    size_t per_block = STA_TEMP_RUNS_MAX_BLOCK_BYTES / rec;
+    for (size_t done = 0, block = 0; status == STA_OK && done < node->count; block++) {
+        size_t n = node->count - done < per_block ? node->count - done : per_block;
+        status = sta_temp_runs_append(&job->spill_runs, codec, list, block,
+                                      node->records + done * rec, n, err);
+        done += n;
     }
+    return status;
+}
+
+// Reads a kept node back (and frees its disk).
+static sta_status unspill(convert_job *job, const spilled_node *s, uint8_t *records, sta_error *err)
+{
+    sta_status status =
+        sta_temp_runs_read(&job->spill_runs, &job->codecs[0], s->list, records, err);
+    sta_temp_runs_discard(&job->spill_runs, s->list);
     return status;
 }
 
@@ -189,8 +213,13 @@ static void *index_worker(void *argument)
                 break;
             }
         }
-        status = sta_pread_all(job->chunk_fd, records, count * rec, chunk->first * rec,
-                               job->chunk_path, &err);
+        // The chunk's payloads reach the file in chunk order (deterministic output).
+        status = sta_node_writer_begin_chunk(&job->node_writer, args->index, i, &err);
+        if (status == STA_OK) {
+            status = sta_temp_runs_read(&job->runs, &job->codecs[args->index], chunk->list, records,
+                                        &err);
+            sta_temp_runs_discard(&job->runs, chunk->list); // read once: free its disk
+        }
         sta_pending_node root = { 0 };
         if (status == STA_OK) {
             status =
@@ -198,7 +227,10 @@ static void *index_worker(void *argument)
                                 job->leaf_capacity, args->index, &sink, &scratch, &root, &err);
         }
         if (status == STA_OK) {
-            status = spill(job, &root, &err);
+            status = sta_node_writer_end_chunk(&job->node_writer, args->index, &err);
+        }
+        if (status == STA_OK) {
+            status = spill(job, &job->codecs[args->index], &root, &err);
         }
         sta_free(root.records);
         sta_progress_add(&job->progress, count);
@@ -215,6 +247,7 @@ static void *index_worker(void *argument)
             atomic_store(&job->failed, true);
         }
         pthread_mutex_unlock(&job->spill_lock);
+        sta_node_writer_abort(&job->node_writer); // others may wait for this chunk's turn
     }
     return NULL;
 }
@@ -224,9 +257,11 @@ static const sta_chunk *sort_chunks;
 
 static int compare_chunk_size(const void *a, const void *b)
 {
-    uint64_t x = sort_chunks[*(const size_t *)a].count;
-    uint64_t y = sort_chunks[*(const size_t *)b].count;
-    return x < y ? 1 : x > y ? -1 : 0;
+    size_t i = *(const size_t *)a, j = *(const size_t *)b;
+    uint64_t x = sort_chunks[i].count;
+    uint64_t y = sort_chunks[j].count;
+    // Ties by index: this order is also the payloads' order in the file.
+    return x < y ? 1 : x > y ? -1 : i < j ? -1 : i > j ? 1 : 0;
 }
 
 static sta_status run_index_phase(convert_job *job, sta_error *err)
@@ -240,6 +275,10 @@ static sta_status run_index_phase(convert_job *job, sta_error *err)
     }
     sort_chunks = job->plan.chunks;
     qsort(job->chunk_order, job->plan.chunk_count, sizeof(size_t), compare_chunk_size);
+    sta_status status = sta_node_writer_plan_chunks(&job->node_writer, job->plan.chunk_count, err);
+    if (status != STA_OK) {
+        return status;
+    }
 
     pthread_t threads[256];
     worker_args args[256];
@@ -267,6 +306,7 @@ static sta_status run_index_phase(convert_job *job, sta_error *err)
                   !atomic_load(&job->failed);
         if (job->options->cancel && atomic_load(job->options->cancel)) {
             atomic_store(&job->failed, true);
+            sta_node_writer_abort(&job->node_writer);
         }
     }
     for (int t = 0; t < started; t++) {
@@ -278,6 +318,9 @@ static sta_status run_index_phase(convert_job *job, sta_error *err)
         }
         *err = job->worker_error;
         return job->worker_error.code;
+    }
+    if (!sta_node_writer_all_committed(&job->node_writer)) {
+        return sta_fail(err, STA_ERR_ARG, "internal error: chunk payloads left unwritten");
     }
     return STA_OK;
 }
@@ -329,8 +372,7 @@ static sta_status run_merge_phase(convert_job *job, sta_error *err)
                                       s->has_children };
             status = root.records ? STA_OK : sta_fail(err, STA_ERR_NOMEM, "out of memory");
             if (status == STA_OK) {
-                status = sta_pread_all(job->spill_fd, root.records, s->count * rec, s->offset,
-                                       job->spill_path, err);
+                status = unspill(job, s, root.records, err);
             }
             if (status == STA_OK) {
                 status = finish_node(job, &root, err);
@@ -361,8 +403,7 @@ static sta_status run_merge_phase(convert_job *job, sta_error *err)
                 if (!children[i].records) {
                     status = sta_fail(err, STA_ERR_NOMEM, "out of memory merging nodes");
                 } else {
-                    status = sta_pread_all(job->spill_fd, children[i].records, s->count * rec,
-                                           s->offset, job->spill_path, err);
+                    status = unspill(job, s, children[i].records, err);
                 }
             }
             sta_pending_node parent = { 0 };
@@ -374,7 +415,7 @@ static sta_status run_merge_phase(convert_job *job, sta_error *err)
                 status = finish_node(job, &children[i], err);
             }
             if (status == STA_OK) {
-                status = spill(job, &parent, err); // may grow job->spilled
+                status = spill(job, &job->codecs[0], &parent, err); // may grow job->spilled
             }
             for (size_t i = 0; i < n; i++) {
                 sta_free(children[i].records);
@@ -427,26 +468,46 @@ static int log2_exact(int v)
     return (1 << n) == v ? n : -1;
 }
 
-// Chunk size from the memory budget: what one worker may use for a chunk's records,
-// its index arrays and the node buffers (see docs/CONVERTER.md for the model).
-static size_t plan_chunk_capacity(size_t memory_mib, int threads, size_t record_size, int grid_log2,
-                                  size_t *out_buffer_bytes)
+// Chunk size: a function of the point count only, never of --threads or --memory,
+// because the chunk cut shapes the tree (deterministic output). Several chunks per
+// core keep the workers busy to the end (largest go first).
+static size_t plan_chunk_capacity(uint64_t point_count)
 {
-    size_t budget = memory_mib > FIXED_OVERHEAD_MIB ? (memory_mib - FIXED_OVERHEAD_MIB) << 20
-                                                    : (size_t)32 << 20;
-    // Distribution buffers get an eighth; workers share the rest.
-    *out_buffer_bytes = budget / 8;
-    size_t per_worker = (budget - budget / 8) / (size_t)threads;
+    uint64_t cap = point_count / CHUNKS_PER_SCENE + 1;
+    cap = cap < CHUNK_MIN_POINTS ? CHUNK_MIN_POINTS : cap;
+    return (size_t)(cap > CHUNK_MAX_POINTS ? CHUNK_MAX_POINTS : cap);
+}
+
+// Bytes one index worker needs for a chunk of `cap` points: records, index arrays,
+// the node buffers of its largest node (at most a full grid) and the chunk's packed
+// payloads held until their turn (at most the raw records).
+static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2)
+{
     size_t grid_cells = (size_t)1 << (3 * grid_log2);
     size_t per_point = record_size + 2 * sizeof(sta_index_item) + 1; // records, items, labels
     size_t per_node_point = record_size + sizeof(sta_point) + 2 * record_size; // node buffers
-    // Largest node: a full grid; per_worker = cap * per_point + min(cap, grid) * per_node_point.
-    size_t cap = per_worker / (per_point + per_node_point);
-    if (cap > grid_cells) {
-        size_t left = per_worker - grid_cells * per_node_point;
-        cap = left / per_point;
+    size_t largest_node = cap < grid_cells ? cap : grid_cells;
+    return cap * (per_point + record_size) + largest_node * per_node_point;
+}
+
+// How many chunks are indexed at once within the budget (see docs/CONVERTER.md):
+// the fixed overhead, an eighth for the distribution buffers, the rest for workers.
+static int plan_index_threads(size_t memory_mib, int threads, size_t cap, size_t record_size,
+                              int grid_log2, size_t *out_buffer_bytes)
+{
+    size_t budget = memory_mib > FIXED_OVERHEAD_MIB ? (memory_mib - FIXED_OVERHEAD_MIB) << 20
+                                                    : (size_t)32 << 20;
+    *out_buffer_bytes = budget / 8;
+    size_t need = worker_bytes(cap, record_size, grid_log2);
+    size_t fit = (budget - budget / 8) / need;
+    if (fit == 0) {
+        sta_log_warn("--memory %zu MiB is less than one chunk of %zu points needs: the run "
+                     "will use about %zu MiB (the chunk size depends on the input only, so "
+                     "that the output does not depend on --memory)",
+                     memory_mib, cap, ((need + need / 7) >> 20) + FIXED_OVERHEAD_MIB);
+        fit = 1;
     }
-    return cap < 4096 ? 4096 : cap;
+    return fit < (size_t)threads ? (int)fit : threads;
 }
 
 void sta_convert_options_defaults(sta_convert_options *o)
@@ -496,10 +557,9 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     size_t memory_mib = options->memory_mib;
     int level = options->compress_level == STA_CONVERT_STORE ? 0 : options->compress_level;
 
-    struct stat st;
-    if (!options->force && stat(options->output, &st) == 0) {
-        status = sta_fail(err, STA_ERR_ARG, "%s: already exists (use --force to overwrite)",
-                          options->output);
+    status = sta_path_checks_run(options->inputs, options->input_count, options->output,
+                                 options->force, err);
+    if (status != STA_OK) {
         goto out;
     }
     tmp_dir = options->tmp_dir ? sta_strdup(options->tmp_dir) : output_folder(options->output);
@@ -514,18 +574,13 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (status != STA_OK) {
         goto out;
     }
-    size_t buffer_bytes = 0;
-    job.chunk_capacity = plan_chunk_capacity(memory_mib, job.threads, job.inputs.layout.size,
-                                             grid_log2, &buffer_bytes);
-    // Several chunks per thread keep every worker busy to the end (largest go first).
-    uint64_t balanced = job.inputs.point_count / (uint64_t)(3 * job.threads) + 1;
-    balanced = balanced < 1000000 ? 1000000 : balanced;
-    if (balanced < job.chunk_capacity) {
-        job.chunk_capacity = (size_t)balanced;
-    }
+    job.chunk_capacity = plan_chunk_capacity(job.inputs.point_count);
     if (options->chunk_points) {
         job.chunk_capacity = options->chunk_points;
     }
+    size_t buffer_bytes = 0;
+    int index_threads = plan_index_threads(memory_mib, job.threads, job.chunk_capacity,
+                                           job.inputs.layout.size, grid_log2, &buffer_bytes);
 
     // 2. count and plan
     job.progress.enabled = options->progress;
@@ -588,25 +643,38 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     }
     t0 = sta_clock_s();
     sta_progress_begin(&job.progress, "distributing", job.inputs.point_count, options->progress);
-    status = sta_distribute_write(&job.inputs, &job.plan, job.chunk_fd, job.chunk_path,
-                                  buffer_bytes, &job.progress, options->cancel, err);
+    status = sta_temp_runs_init(&job.runs, job.chunk_fd, job.chunk_path, job.inputs.layout.size,
+                                job.plan.chunk_count, STA_TEMP_RUNS_PAGE_ALIGNMENT, err);
+    if (status == STA_OK) {
+        status = sta_temp_runs_init(&job.spill_runs, job.spill_fd, job.spill_path,
+                                    job.inputs.layout.size, 0, 0, err);
+    }
+    job.runs.usage = job.spill_runs.usage = &job.temp_usage;
+    if (status == STA_OK) {
+        status = sta_distribute_write(&job.inputs, &job.plan, &job.runs, buffer_bytes,
+                                      &job.progress, options->cancel, err);
+    }
     sta_progress_end(&job.progress);
     if (status != STA_OK) {
         goto out;
     }
-    uint64_t temp_records = job.inputs.point_count;
-    status = sta_refine_chunks(&job.plan, &job.inputs.layout, job.chunk_fd, job.chunk_path,
-                               job.chunk_capacity, buffer_bytes, &temp_records, err);
+    status = sta_refine_chunks(&job.plan, &job.inputs.layout, &job.runs, job.chunk_capacity,
+                               buffer_bytes, err);
     if (status != STA_OK) {
         goto out;
     }
     report->seconds_distribute = sta_clock_s() - t0;
-    report->temp_bytes = temp_records * job.inputs.layout.size;
+    job.codecs = sta_calloc((size_t)job.threads, sizeof(*job.codecs));
+    if (!job.codecs) {
+        status = sta_fail(err, STA_ERR_NOMEM, "out of memory");
+        goto out;
+    }
 
     // 4. index chunks in parallel
     t0 = sta_clock_s();
     sta_progress_begin(&job.progress, "indexing", job.inputs.point_count, options->progress);
     if (job.plan.chunk_count > 0) {
+        job.threads = index_threads; // distribution used them all; the index phase fewer
         status = run_index_phase(&job, err);
     }
     sta_progress_end(&job.progress);
@@ -628,6 +696,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     report->seconds_merge = sta_clock_s() - t0;
+    report->temp_bytes = atomic_load(&job.temp_usage.peak_bytes);
     t0 = sta_clock_s();
     status = sta_node_writer_finish(&job.node_writer, &report->node_count, &report->max_level, err);
     if (status != STA_OK) {
@@ -644,6 +713,12 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
                           (unsigned long long)job.inputs.point_count);
     }
 out:
+    for (int t = 0; job.codecs && t < job.threads; t++) {
+        sta_run_codec_release(&job.codecs[t]);
+    }
+    sta_free(job.codecs);
+    sta_temp_runs_release(&job.runs);
+    sta_temp_runs_release(&job.spill_runs);
     remove_temp(&job.chunk_path, &job.chunk_fd);
     remove_temp(&job.spill_path, &job.spill_fd);
     sta_node_writer_release(&job.node_writer);

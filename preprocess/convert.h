@@ -5,8 +5,10 @@
  * chunks, distribute points into one temporary file, index chunks in parallel
  * (workers compress and append node payloads as they finish), merge the top of the
  * tree above the chunks, then write the node table and header. Peak memory is set
- * by `memory_mib`: it bounds the chunk size, the write buffers and the number of
- * chunks indexed at once.
+ * by `memory_mib`: it bounds the write buffers and the number of chunks indexed at
+ * once (not the chunk size, which depends on the input only, so that the output does
+ * not depend on the budget). The same inputs and options give the same bytes whatever
+ * `threads` and `memory_mib`.
  */
 #ifndef STA_PREPROCESS_CONVERT_H
 #define STA_PREPROCESS_CONVERT_H
@@ -32,12 +34,13 @@ typedef struct sta_convert_options {
     size_t input_count;
     const char *output;   /* .strata path; written under a temporary name first */
     int threads;          /* 0: all cores */
-    size_t memory_mib;    /* 0: STA_CONVERT_DEFAULT_MEMORY_MIB; hard budget for the process */
+    size_t memory_mib;    /* 0: STA_CONVERT_DEFAULT_MEMORY_MIB; budget for the process (one
+                             chunk's need is used, with a warning, when larger) */
     const char *tmp_dir;  /* NULL: the output's folder */
     int compress_level;   /* 0: STA_STRATA_DEFAULT_ZSTD_LEVEL; 1..19 zstd; STA_CONVERT_STORE */
     int grid_cells;       /* 0: STA_STRATA_DEFAULT_CELLS; a power of two, 16..1024 */
     size_t leaf_capacity; /* 0: STA_CONVERT_DEFAULT_LEAF_CAPACITY points before a split */
-    size_t chunk_points;  /* 0: from the memory budget; tests force small chunks */
+    size_t chunk_points;  /* 0: from the point count; tests force small chunks */
     bool force;           /* overwrite an existing output */
     bool keep_extra;      /* keep LAS extra dimensions (--attributes extra) */
     bool salvage;         /* read what is complete of truncated inputs */
@@ -57,7 +60,7 @@ typedef struct sta_convert_report {
     int max_level;
     uint64_t raw_bytes;    /* node payloads before compression */
     uint64_t stored_bytes; /* node payloads in the file */
-    uint64_t temp_bytes;   /* temporary file size */
+    uint64_t temp_bytes;   /* temporary disk at its peak (both temporary files) */
     double seconds_count;  /* per phase, wall clock */
     double seconds_distribute;
     double seconds_index;

@@ -6,10 +6,11 @@
  * uses the set's). Counting: each thread counts on its own copy of the counting grid
  * (the octree's level min(7, max_level)) and tracks tight bounds; the grids are summed
  * into a pyramid and cut top-down into chunks (a node becomes a chunk when it holds at
- * most chunk_capacity points or is a counting cell). Chunk regions in the temporary
- * file are laid out by prefix sums, and within a chunk each thread's points follow
- * the previous thread's, so distribution writes every point straight to its place
- * with buffered pwrite calls and no locking.
+ * most chunk_capacity points or is a counting cell). Distribution appends each
+ * thread's per-chunk buffers as compressed blocks to the chunk's run list
+ * (temp_runs.c), keyed (thread, sequence): reading a chunk back gives thread 0's
+ * points, then thread 1's, ..., each in input order, so the records' order (and the
+ * tree built from it) does not depend on the number of threads.
  */
 #include "distribute.h"
 
@@ -75,8 +76,9 @@ typedef struct range_task {
     bool outside;
     // distribution
     const sta_chunk_plan *plan;
-    int fd;
-    const char *path;
+    sta_temp_runs *runs;
+    sta_run_codec codec;   /* owned */
+    uint64_t sequence;     /* blocks appended by this thread */
     size_t per_chunk;      /* buffer bytes per chunk */
     chunk_buffer *buffers; /* owned, one per chunk */
     uint8_t *arena;        /* owned */
@@ -206,6 +208,7 @@ static void release_tasks(range_task *tasks, int count, size_t inputs)
         sta_free(tasks[t].counts);
         sta_free(tasks[t].buffers);
         sta_free(tasks[t].arena);
+        sta_run_codec_release(&tasks[t].codec);
     }
     sta_free(tasks);
 }
@@ -373,6 +376,7 @@ static sta_status cut_chunks(sta_chunk_plan *plan, uint64_t **levels, uint64_t c
     for (size_t c = 0; c < plan->chunk_count; c++) {
         sta_chunk *chunk = &plan->chunks[c];
         chunk->first = first;
+        chunk->list = c;
         first += chunk->count;
         int shift = top - chunk->key.level;
         uint32_t span = 1u << shift;
@@ -548,9 +552,9 @@ static sta_status flush_chunk(range_task *t, size_t c)
         return STA_OK;
     }
     const size_t rec = t->set->layout.size;
-    uint64_t first = t->plan->thread_first[(size_t)t->thread * t->plan->chunk_count + c];
-    sta_status status =
-        sta_pwrite_all(t->fd, b->data, b->used, (first + b->written) * rec, t->path, &t->err);
+    uint64_t order = ((uint64_t)t->thread << 48) | t->sequence++;
+    sta_status status = sta_temp_runs_append(t->runs, &t->codec, t->plan->chunks[c].list, order,
+                                             b->data, b->used / rec, &t->err);
     b->written += b->used / rec;
     b->used = 0;
     return status;
@@ -586,31 +590,29 @@ static sta_status distribute_batch(range_task *t, size_t input, sta_point_batch 
     return STA_OK;
 }
 
-sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, int fd,
-                                const char *tmp_path, size_t buffer_bytes, sta_progress *progress,
-                                atomic_bool *cancel, sta_error *err)
+sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, sta_temp_runs *runs,
+                                size_t buffer_bytes, sta_progress *progress, atomic_bool *cancel,
+                                sta_error *err)
 {
     const size_t rec = set->layout.size;
     if (plan->chunk_count == 0) {
         return STA_OK;
-    }
-    if (ftruncate(fd, (off_t)(plan->point_count * rec)) != 0) {
-        return sta_fail(err, STA_ERR_IO, "%s: cannot size the temporary file to %llu bytes: %s",
-                        tmp_path, (unsigned long long)(plan->point_count * rec), strerror(errno));
     }
     range_task *tasks = create_tasks(set, plan, progress, cancel, err);
     if (!tasks) {
         return err->code;
     }
     size_t per_chunk = buffer_bytes / (size_t)plan->threads / plan->chunk_count;
-    per_chunk = per_chunk < rec * 16 ? rec * 16 : per_chunk;
+    per_chunk =
+        per_chunk < STA_TEMP_RUNS_MIN_BLOCK_BYTES ? STA_TEMP_RUNS_MIN_BLOCK_BYTES : per_chunk;
+    per_chunk =
+        per_chunk > STA_TEMP_RUNS_MAX_BLOCK_BYTES ? STA_TEMP_RUNS_MAX_BLOCK_BYTES : per_chunk;
     per_chunk -= per_chunk % rec;
     sta_status status = STA_OK;
     for (int t = 0; t < plan->threads && status == STA_OK; t++) {
         range_task *k = &tasks[t];
         k->plan = plan;
-        k->fd = fd;
-        k->path = tmp_path;
+        k->runs = runs;
         k->per_chunk = per_chunk;
         k->per_batch = distribute_batch;
         k->buffers = sta_calloc(plan->chunk_count, sizeof(*k->buffers));

@@ -13,12 +13,14 @@
 #include "inputs.h"
 #include "octree.h"
 #include "progress.h"
+#include "temp_runs.h"
 
 /* One chunk: a node of the octree whose whole subtree is built in memory. */
 typedef struct sta_chunk {
     sta_node_key key;
     uint64_t count; /* points */
-    uint64_t first; /* index of its first record in the temporary file */
+    uint64_t first; /* where its records would start in one flat file (planning only) */
+    size_t list;    /* its run list in the temporary runs */
 } sta_chunk;
 
 typedef struct sta_chunk_plan {
@@ -43,12 +45,13 @@ sta_status sta_distribute_plan(sta_input_set *set, int threads, int grid_log2,
                                uint64_t chunk_capacity, sta_progress *progress, atomic_bool *cancel,
                                sta_chunk_plan *out_plan, sta_error *err);
 
-/* Reads every input again and writes each point's packed record into its chunk's
- * region of `fd` (opened read-write, sized by this call), on the plan's threads.
- * `buffer_bytes` bounds the write buffers. `tmp_path` is for messages. */
-sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, int fd,
-                                const char *tmp_path, size_t buffer_bytes, sta_progress *progress,
-                                atomic_bool *cancel, sta_error *err);
+/* Reads every input again and appends each point's packed record to its chunk's run
+ * list in `runs` (compressed blocks; list `chunk.list`), on the plan's threads. Within
+ * a chunk the records read back in input order. `buffer_bytes` bounds the write
+ * buffers. */
+sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, sta_temp_runs *runs,
+                                size_t buffer_bytes, sta_progress *progress, atomic_bool *cancel,
+                                sta_error *err);
 
 void sta_chunk_plan_release(sta_chunk_plan *plan);
 

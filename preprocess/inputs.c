@@ -3,10 +3,9 @@
  *
  * Output grid: when every input has the same scale and offset (tiles of one survey,
  * usually), the output keeps it and integer coordinates pass through unchanged. When
- * they differ, the output takes the finest scale per axis and the first input's
- * offset, and points are re-gridded by rounding (exact when scales divide each other
- * and offsets differ by whole steps; otherwise each coordinate moves by at most half
- * an output step, and a warning says so).
+ * they differ, output_grid.c chooses a common grid on which every input lies exactly
+ * where one exists (then points move in integers, losslessly), and otherwise rounds
+ * with a warning naming the input and axis.
  */
 #include "inputs.h"
 
@@ -72,12 +71,7 @@ sta_status sta_inputs_open(const char *const *paths, size_t count, bool salvage,
         const sta_cloud_info *info = sta_cloud_reader_info(out_set->readers[i]);
         out_set->point_count += info->point_count;
         out_set->attributes |= info->attributes;
-        if (!same_grid(&info->grid, &first->grid)) {
-            out_set->is_regridded = true;
-            for (int a = 0; a < 3; a++) {
-                out_set->grid.scale[a] = fmin(out_set->grid.scale[a], info->grid.scale[a]);
-            }
-        }
+        out_set->is_regridded |= !same_grid(&info->grid, &first->grid);
         extra_agree = extra_agree && same_extra_layout(first, info);
     }
     if (keep_extra && first->extra_size > 0 && !extra_agree) {
@@ -88,8 +82,20 @@ sta_status sta_inputs_open(const char *const *paths, size_t count, bool salvage,
         out_set->extra_source = first;
     }
     if (out_set->is_regridded) {
-        sta_log_warn("inputs use different scales/offsets: points are re-gridded to scale "
-                     "%g %g %g, offset %.3f %.3f %.3f",
+        const sta_cloud_info **infos = sta_calloc(count, sizeof(*infos));
+        out_set->regrids = sta_calloc(count, sizeof(*out_set->regrids));
+        if (!infos || !out_set->regrids) {
+            sta_free(infos);
+            sta_inputs_close(out_set);
+            return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu inputs", count);
+        }
+        for (size_t i = 0; i < count; i++) {
+            infos[i] = sta_cloud_reader_info(out_set->readers[i]);
+        }
+        sta_output_grid_choose(infos, count, &out_set->grid, out_set->regrids);
+        sta_free(infos);
+        sta_log_warn("inputs use different scales/offsets: points are moved to one grid, scale "
+                     "%g %g %g, offset %.9g %.9g %.9g",
                      out_set->grid.scale[0], out_set->grid.scale[1], out_set->grid.scale[2],
                      out_set->grid.offset[0], out_set->grid.offset[1], out_set->grid.offset[2]);
     }
@@ -126,6 +132,7 @@ void sta_inputs_close(sta_input_set *set)
         sta_cloud_close(set->readers[i]);
     }
     sta_free(set->readers);
+    sta_free(set->regrids);
     memset(set, 0, sizeof(*set));
 }
 
@@ -135,16 +142,5 @@ bool sta_inputs_to_output(const sta_input_set *set, size_t input, sta_point *poi
         return true;
     }
     const sta_grid *in = &sta_cloud_reader_info(set->readers[input])->grid;
-    if (same_grid(in, &set->grid)) {
-        return true;
-    }
-    int32_t *xyz[3] = { &point->X, &point->Y, &point->Z };
-    for (int a = 0; a < 3; a++) {
-        int64_t v = to_output_int(&set->grid, a, sta_grid_apply(in, a, *xyz[a]));
-        if (v < INT32_MIN || v > INT32_MAX) {
-            return false;
-        }
-        *xyz[a] = (int32_t)v;
-    }
-    return true;
+    return sta_output_grid_apply(&set->regrids[input], in, &set->grid, point);
 }

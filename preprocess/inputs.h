@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "io/cloud.h"
+#include "output_grid.h"
 #include "record.h"
 
 typedef struct sta_input_set {
@@ -19,6 +20,7 @@ typedef struct sta_input_set {
     uint64_t point_count;               /* sum over inputs */
     sta_grid grid;                      /* the output grid */
     bool is_regridded;                  /* some input's grid differs from the output grid */
+    sta_regrid *regrids;                /* one per input when is_regridded, else NULL */
     uint32_t attributes;                /* union of the inputs' attributes */
     size_t extra_size;                  /* extra bytes kept per point (0 unless all agree) */
     const sta_cloud_info *extra_source; /* input whose extra dims describe them */

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT
  * Node payloads into the .strata writer, and the node table.
  *
- * Lock order: only nw->lock (the strata writer has its own, never held together).
+ * Lock order: commit_lock, then nw->lock (the strata writer has its own, never held
+ * together with either); see node_writer.h for the ordered commit of chunk batches.
  */
 #include "node_writer.h"
 
@@ -59,12 +60,132 @@ static sta_status emit(void *context, int worker_index, const sta_node_key *key,
         return sta_fail(err, STA_ERR_ARG, "internal error: a point of %s lies outside it",
                         "a node");
     }
+    if (w->batch) {
+        // Index phase: packed into the chunk's batch, placed in the file in chunk order.
+        sta_node_batch *b = w->batch;
+        if (sta_array_reserve((void **)&b->nodes, &b->node_capacity, b->node_count + 1,
+                              sizeof(*b->nodes), 64, NULL) != STA_OK) {
+            return sta_fail(err, STA_ERR_NOMEM, "out of memory for the node table");
+        }
+        sta_status status = sta_strata_writer_pack_node(
+            nw->writer, w->encoder, node.key, w->columns, count, &b->payloads, &node.payload, err);
+        if (status == STA_OK) {
+            b->nodes[b->node_count++] = node;
+        }
+        return status;
+    }
     sta_status status = sta_strata_writer_add_node(nw->writer, w->encoder, node.key, w->columns,
                                                    count, &node.payload, err);
     if (status != STA_OK) {
         return status;
     }
     return append_node(nw, &node, (size_t)node.payload.raw_size, err);
+}
+
+static void batch_destroy(sta_node_batch *b)
+{
+    if (b) {
+        sta_strata_batch_release(&b->payloads);
+        sta_free(b->nodes);
+        sta_free(b);
+    }
+}
+
+// Writes one batch and adds its nodes to the table with their file offsets.
+static sta_status write_batch(sta_node_writer *nw, sta_node_batch *b, sta_error *err)
+{
+    uint64_t base = 0;
+    sta_status status = sta_strata_writer_add_batch(nw->writer, &b->payloads, &base, err);
+    for (size_t i = 0; i < b->node_count && status == STA_OK; i++) {
+        sta_strata_node *node = &b->nodes[i];
+        if (node->payload.stored_size > 0) {
+            node->payload.offset += base;
+        }
+        status = append_node(nw, node, (size_t)node->payload.raw_size, err);
+    }
+    return status;
+}
+
+sta_status sta_node_writer_plan_chunks(sta_node_writer *nw, size_t chunk_count, sta_error *err)
+{
+    nw->pending = sta_calloc(chunk_count ? chunk_count : 1, sizeof(*nw->pending));
+    if (!nw->pending) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu chunks", chunk_count);
+    }
+    nw->chunk_count = chunk_count;
+    nw->committed = 0;
+    nw->window = 2 * (size_t)nw->worker_count + 2;
+    return STA_OK;
+}
+
+sta_status sta_node_writer_begin_chunk(sta_node_writer *nw, int worker, size_t order,
+                                       sta_error *err)
+{
+    sta_node_batch *b = sta_calloc(1, sizeof(*b));
+    if (!b) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory");
+    }
+    pthread_mutex_lock(&nw->commit_lock);
+    while (!nw->aborted && order >= nw->committed + nw->window) {
+        pthread_cond_wait(&nw->committed_cv, &nw->commit_lock);
+    }
+    bool aborted = nw->aborted;
+    pthread_mutex_unlock(&nw->commit_lock);
+    if (aborted) {
+        sta_free(b);
+        return sta_fail(err, STA_ERR_CANCELLED, "cancelled");
+    }
+    nw->workers[worker].batch = b;
+    nw->workers[worker].order = order;
+    return STA_OK;
+}
+
+sta_status sta_node_writer_end_chunk(sta_node_writer *nw, int worker, sta_error *err)
+{
+    sta_node_worker *w = &nw->workers[worker];
+    sta_node_batch *mine = w->batch;
+    w->batch = NULL;
+    sta_status status = STA_OK;
+    pthread_mutex_lock(&nw->commit_lock);
+    nw->pending[w->order] = mine;
+    if (nw->committing) {
+        pthread_mutex_unlock(&nw->commit_lock);
+        return STA_OK; // the thread writing now also writes this one when its turn comes
+    }
+    nw->committing = true;
+    while (status == STA_OK && nw->committed < nw->chunk_count && nw->pending[nw->committed]) {
+        sta_node_batch *next = nw->pending[nw->committed];
+        nw->pending[nw->committed] = NULL;
+        pthread_mutex_unlock(&nw->commit_lock); // no I/O under the lock
+        status = write_batch(nw, next, err);
+        batch_destroy(next);
+        pthread_mutex_lock(&nw->commit_lock);
+        if (status == STA_OK) {
+            nw->committed++;
+        } else {
+            nw->aborted = true;
+        }
+        pthread_cond_broadcast(&nw->committed_cv);
+    }
+    nw->committing = false;
+    pthread_mutex_unlock(&nw->commit_lock);
+    return status;
+}
+
+void sta_node_writer_abort(sta_node_writer *nw)
+{
+    pthread_mutex_lock(&nw->commit_lock);
+    nw->aborted = true;
+    pthread_cond_broadcast(&nw->committed_cv);
+    pthread_mutex_unlock(&nw->commit_lock);
+}
+
+bool sta_node_writer_all_committed(sta_node_writer *nw)
+{
+    pthread_mutex_lock(&nw->commit_lock);
+    bool all = nw->committed == nw->chunk_count;
+    pthread_mutex_unlock(&nw->commit_lock);
+    return all;
 }
 
 sta_status sta_node_writer_add_empty(sta_node_writer *nw, const sta_node_key *key, sta_error *err)
@@ -108,6 +229,8 @@ sta_status sta_node_writer_init(sta_node_writer *nw, sta_strata_writer *writer,
     }
     nw->worker_count = worker_count;
     pthread_mutex_init(&nw->lock, NULL);
+    pthread_mutex_init(&nw->commit_lock, NULL);
+    pthread_cond_init(&nw->committed_cv, NULL);
     for (int i = 0; i < worker_count; i++) {
         sta_status status = sta_strata_encoder_create(&nw->workers[i].encoder, err);
         if (status != STA_OK) {
@@ -126,10 +249,17 @@ void sta_node_writer_release(sta_node_writer *nw)
     for (int i = 0; i < nw->worker_count; i++) {
         sta_strata_encoder_destroy(nw->workers[i].encoder);
         sta_free(nw->workers[i].columns);
+        batch_destroy(nw->workers[i].batch);
     }
+    for (size_t i = 0; nw->pending && i < nw->chunk_count; i++) {
+        batch_destroy(nw->pending[i]);
+    }
+    sta_free(nw->pending);
     sta_free(nw->workers);
     sta_free(nw->nodes);
     pthread_mutex_destroy(&nw->lock);
+    pthread_mutex_destroy(&nw->commit_lock);
+    pthread_cond_destroy(&nw->committed_cv);
     memset(nw, 0, sizeof(*nw));
 }
 

@@ -1,9 +1,12 @@
 /* SPDX-License-Identifier: MIT
  * Out-of-core splitting of oversized chunks.
  *
- * Design: for a chunk at level L, records are streamed twice from the temporary file
- * in bounded batches: once to count them on the chunk's sub-grid at level L + 3 (512
- * cells), once to copy each into its sub-chunk's new region at the end of the file.
+ * Design: for a chunk at level L, records are streamed twice from its run list, block
+ * by block: once to count them on the chunk's sub-grid at level L + 3 (512 cells),
+ * once to copy each into its sub-chunk's buffer, appended as blocks to the
+ * sub-chunk's new run list (in order). The chunk's list is then discarded (its disk
+ * space punched out), so a dense scene re-split several times, or one stray point
+ * that crowds every other point into one chunk, never holds a record twice.
  * Sub-chunks are cut from the counts top-down as in distribute.c. A sub-chunk that is
  * still too large is split again in a later round, one level finer each time, so the
  * loop ends at the deepest level at the latest.
@@ -37,7 +40,7 @@ static uint32_t sub_cell(const sta_octree_space *s, const sta_node_key *key, int
 typedef struct sub_chunk {
     sta_node_key key;
     uint64_t count;
-    uint64_t first;   /* record index of its new region */
+    size_t list;      /* its run list */
     uint64_t written; /* records written so far */
     size_t used;      /* bytes in its buffer */
 } sub_chunk;
@@ -97,9 +100,9 @@ static size_t cut(const sta_node_key *parent, int depth, const uint64_t *counts,
 }
 
 static sta_status split_one(const sta_chunk_plan *plan, const sta_chunk *chunk,
-                            const sta_record_layout *layout, int fd, const char *path,
-                            uint64_t capacity, uint8_t *batch, size_t batch_records, uint8_t *arena,
-                            size_t per_sub, uint64_t *io_record_count, sub_chunk *subs,
+                            const sta_record_layout *layout, sta_temp_runs *runs,
+                            sta_run_codec *codec, uint64_t capacity, uint8_t *batch, uint8_t *arena,
+                            size_t per_sub, uint64_t *sequence, sub_chunk *subs,
                             size_t *out_sub_count, sta_error *err)
 {
     const size_t rec = layout->size;
@@ -109,12 +112,12 @@ static sta_status split_one(const sta_chunk_plan *plan, const sta_chunk *chunk,
     int16_t chunk_of_cell[SUB_CELLS];
     memset(counts, 0, sizeof(counts));
     int32_t xyz[3];
+    sta_temp_runs_sort(runs, chunk->list);
     for (int pass = 0; pass < 2; pass++) {
-        for (uint64_t done = 0; done < chunk->count;) {
-            size_t n =
-                chunk->count - done < batch_records ? (size_t)(chunk->count - done) : batch_records;
-            sta_status status =
-                sta_pread_all(fd, batch, n * rec, (chunk->first + done) * rec, path, err);
+        size_t blocks = runs->lists[chunk->list].block_count;
+        for (size_t k = 0; k < blocks; k++) {
+            size_t n = runs->lists[chunk->list].blocks[k].count;
+            sta_status status = sta_temp_runs_read_block(runs, codec, chunk->list, k, batch, err);
             if (status != STA_OK) {
                 return status;
             }
@@ -130,8 +133,8 @@ static sta_status split_one(const sta_chunk_plan *plan, const sta_chunk *chunk,
                 memcpy(buffer + s->used, batch + i * rec, rec);
                 s->used += rec;
                 if (s->used == per_sub) {
-                    status = sta_pwrite_all(fd, buffer, s->used, (s->first + s->written) * rec,
-                                            path, err);
+                    status = sta_temp_runs_append(runs, codec, s->list, (*sequence)++, buffer,
+                                                  s->used / rec, err);
                     if (status != STA_OK) {
                         return status;
                     }
@@ -139,39 +142,56 @@ static sta_status split_one(const sta_chunk_plan *plan, const sta_chunk *chunk,
                     s->used = 0;
                 }
             }
-            done += n;
+            if (pass == 1) {
+                // Read for the last time: its disk goes as its records move on, so the
+                // split never holds the chunk twice.
+                sta_temp_runs_discard_block(runs, chunk->list, k);
+            }
         }
         if (pass == 0) {
             *out_sub_count = cut(&chunk->key, depth, counts, capacity, subs, chunk_of_cell);
+            if (*out_sub_count == 1 && subs[0].count == chunk->count) {
+                // Every record in one sub-cell (a stray point made the root huge): the
+                // records stay where they are, only the chunk's key moves down.
+                subs[0].list = chunk->list;
+                return STA_OK;
+            }
+            size_t first = 0;
+            sta_status status = sta_temp_runs_add_lists(runs, *out_sub_count, &first, err);
+            if (status != STA_OK) {
+                return status;
+            }
             for (size_t s = 0; s < *out_sub_count; s++) {
-                subs[s].first = *io_record_count;
-                *io_record_count += subs[s].count;
+                subs[s].list = first + s;
             }
         }
     }
     for (size_t s = 0; s < *out_sub_count; s++) {
         uint8_t *buffer = arena + s * per_sub;
-        sta_status status = sta_pwrite_all(fd, buffer, subs[s].used,
-                                           (subs[s].first + subs[s].written) * rec, path, err);
+        sta_status status = sta_temp_runs_append(runs, codec, subs[s].list, (*sequence)++, buffer,
+                                                 subs[s].used / rec, err);
         if (status != STA_OK) {
             return status;
         }
     }
+    sta_temp_runs_discard(runs, chunk->list);
     return STA_OK;
 }
 
-sta_status sta_refine_chunks(sta_chunk_plan *plan, const sta_record_layout *layout, int fd,
-                             const char *path, uint64_t chunk_capacity, size_t buffer_bytes,
-                             uint64_t *io_record_count, sta_error *err)
+sta_status sta_refine_chunks(sta_chunk_plan *plan, const sta_record_layout *layout,
+                             sta_temp_runs *runs, uint64_t chunk_capacity, size_t buffer_bytes,
+                             sta_error *err)
 {
     const size_t rec = layout->size;
-    size_t batch_records = buffer_bytes / 2 / rec;
-    batch_records = batch_records < 1024 ? 1024 : batch_records;
     size_t per_sub = buffer_bytes / 2 / SUB_CELLS;
-    per_sub = per_sub < 64 * rec ? 64 * rec : per_sub - per_sub % rec;
-    uint8_t *batch = sta_alloc_array(batch_records, rec);
+    per_sub = per_sub > STA_TEMP_RUNS_MAX_BLOCK_BYTES ? STA_TEMP_RUNS_MAX_BLOCK_BYTES : per_sub;
+    per_sub = per_sub < STA_TEMP_RUNS_MIN_BLOCK_BYTES ? STA_TEMP_RUNS_MIN_BLOCK_BYTES : per_sub;
+    per_sub -= per_sub % rec;
+    uint8_t *batch = sta_malloc(STA_TEMP_RUNS_MAX_BLOCK_BYTES + rec);
     uint8_t *arena = sta_alloc_array(SUB_CELLS, per_sub);
     sub_chunk *subs = sta_alloc_array(SUB_CELLS, sizeof(*subs));
+    sta_run_codec codec = { 0 };
+    uint64_t sequence = 0;
     sta_status status = STA_OK;
     if (!batch || !arena || !subs) {
         status = sta_fail(err, STA_ERR_NOMEM, "out of memory splitting large chunks");
@@ -183,8 +203,9 @@ sta_status sta_refine_chunks(sta_chunk_plan *plan, const sta_record_layout *layo
             continue;
         }
         size_t sub_count = 0;
-        status = split_one(plan, &chunk, layout, fd, path, chunk_capacity, batch, batch_records,
-                           arena, per_sub, io_record_count, subs, &sub_count, err);
+        memset(subs, 0, SUB_CELLS * sizeof(*subs));
+        status = split_one(plan, &chunk, layout, runs, &codec, chunk_capacity, batch, arena,
+                           per_sub, &sequence, subs, &sub_count, err);
         if (status != STA_OK) {
             break;
         }
@@ -202,10 +223,12 @@ sta_status sta_refine_chunks(sta_chunk_plan *plan, const sta_record_layout *layo
             sta_chunk *n = &plan->chunks[plan->chunk_count++];
             n->key = subs[s].key;
             n->count = subs[s].count;
-            n->first = subs[s].first;
+            n->first = 0;
+            n->list = subs[s].list;
         }
         // Do not advance: slot c now holds another chunk that may need splitting.
     }
+    sta_run_codec_release(&codec);
     sta_free(batch);
     sta_free(arena);
     sta_free(subs);

@@ -6,16 +6,22 @@
 
 #include <dirent.h>
 #include <glob.h>
+#include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "convert.h"
+#include "core/log.h"
 #include "format/strata_reader.h"
 #include "io/cloud.h"
 #include "io/las_write.h"
+#include "output_grid.h"
 
 /* Order-independent digest of a multiset of points: count, sum and sum of squares of
  * a 64-bit hash of every field that the converter must keep. */
@@ -417,6 +423,370 @@ static void corrupted_output_is_refused(void **state)
     unlink(out);
 }
 
+// Writes `n` pseudo-random format-0 points within `extent` units of `origin` on `grid`.
+static void write_random_las(const char *path, size_t n, const sta_grid *grid,
+                             const double origin[3], double extent, uint64_t seed)
+{
+    sta_las_write_options wo = { .version_minor = 2, .point_format = 0, .grid = *grid };
+    sta_las_writer *w = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_las_writer_open(path, &wo, &w, &err), STA_OK);
+    enum {
+        BATCH = 65536
+    };
+    sta_point *points = calloc(BATCH, sizeof(*points));
+    assert_non_null(points);
+    for (size_t done = 0; done < n;) {
+        size_t m = n - done < BATCH ? n - done : BATCH;
+        for (size_t i = 0; i < m; i++) {
+            int32_t *xyz[3] = { &points[i].X, &points[i].Y, &points[i].Z };
+            for (int a = 0; a < 3; a++) {
+                seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+                double real = origin[a] + extent * (double)(seed >> 11) / 9007199254740992.0;
+                *xyz[a] = (int32_t)llround((real - grid->offset[a]) / grid->scale[a]);
+            }
+            points[i].intensity = (uint16_t)(done + i);
+            points[i].return_number = 1;
+            points[i].number_of_returns = 1;
+        }
+        assert_int_equal(sta_las_writer_write(w, points, m, &err), STA_OK);
+        done += m;
+    }
+    assert_int_equal(sta_las_writer_close(w, &err), STA_OK);
+    free(points);
+}
+
+static bool exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* The output is checked against the inputs before any work: a folder, an input (by
+ * any name, even with --force), an existing file without --force, a file given twice
+ * are all refused with a message naming them, and nothing is written. */
+static void output_and_input_paths_are_checked(void **state)
+{
+    (void)state;
+    const sta_grid grid = { { 0.01, 0.01, 0.01 }, { 0, 0, 0 } };
+    const double origin[3] = { 0, 0, 0 };
+    char in[4096], link_path[4096], folder[4096], twice[4096];
+    snprintf(in, sizeof(in), "%s/in.las", sta_test_tmpdir());
+    snprintf(link_path, sizeof(link_path), "%s/other-name.las", sta_test_tmpdir());
+    snprintf(folder, sizeof(folder), "%s/folder", sta_test_tmpdir());
+    snprintf(twice, sizeof(twice), "%s/./in.las", sta_test_tmpdir());
+    write_random_las(in, 1000, &grid, origin, 10, 1);
+    assert_int_equal(link(in, link_path), 0);
+    assert_int_equal(mkdir(folder, 0777), 0);
+    size_t size_before = 0;
+    free(sta_test_read_file(in, &size_before));
+    static const struct {
+        int input_count; /* in, then twice */
+        int output;      /* 0 folder, 1 the input, 2 a hard link to it */
+        const char *needle;
+    } cases[] = {
+        { 1, 0, "the output is a folder" },
+        { 1, 1, "the output is the input" },
+        { 1, 2, "the output is the input" },
+        { 2, 0, "the output is a folder" },
+    };
+    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+        const char *inputs[] = { in, twice };
+        const char *outputs[] = { folder, in, link_path };
+        sta_convert_options o = { .inputs = inputs,
+                                  .input_count = (size_t)cases[i].input_count,
+                                  .output = outputs[cases[i].output],
+                                  .force = true };
+        sta_error err = { 0 };
+        assert_int_equal(sta_convert(&o, NULL, &err), STA_ERR_ARG);
+        if (!strstr(err.message, cases[i].needle) ||
+            !strstr(err.message, outputs[cases[i].output])) {
+            fail_msg("case %zu: \"%s\" lacks \"%s\"", i, err.message, cases[i].needle);
+        }
+        assert_int_equal(count_files(sta_test_tmpdir()), 3); // in.las, its link, the folder
+    }
+    // The same file twice (another spelling): refused, naming both.
+    char out[4096];
+    snprintf(out, sizeof(out), "%s/twice.strata", sta_test_tmpdir());
+    const char *inputs[] = { in, link_path };
+    sta_convert_options o = { .inputs = inputs, .input_count = 2, .output = out };
+    sta_error err = { 0 };
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "same file"));
+    assert_non_null(strstr(err.message, in));
+    assert_non_null(strstr(err.message, link_path));
+    assert_false(exists(out));
+    size_t size_after = 0;
+    free(sta_test_read_file(in, &size_after));
+    assert_int_equal(size_after, size_before);
+    unlink(link_path);
+    unlink(in);
+    rmdir(folder);
+}
+
+/* SIGKILL at any moment (here: after 0, 50, 150 and 400 ms of a conversion in a
+ * child process) leaves no temporary file in the output's folder, and a rerun
+ * leaves exactly its output. */
+static void kill_9_leaves_nothing_behind(void **state)
+{
+    (void)state;
+    char sub[2048], in[4096], out[4096];
+    snprintf(sub, sizeof(sub), "%s/kill", sta_test_tmpdir());
+    assert_int_equal(mkdir(sub, 0777), 0);
+    snprintf(in, sizeof(in), "%s/in.las", sub);
+    snprintf(out, sizeof(out), "%s/out.strata", sub);
+    const sta_grid grid = { { 0.001, 0.001, 0.001 }, { 0, 0, 0 } };
+    const double origin[3] = { 0, 0, 0 };
+    write_random_las(in, 1500000, &grid, origin, 500, 7);
+    static const int delays_ms[] = { 0, 50, 150, 400 };
+    const char *one[] = { in };
+    sta_convert_options o = {
+        .inputs = one, .input_count = 1, .output = out, .threads = 2, .chunk_points = 40000
+    };
+    int killed = 0;
+    for (size_t i = 0; i < sizeof(delays_ms) / sizeof(delays_ms[0]); i++) {
+        pid_t child = fork();
+        assert_true(child >= 0);
+        if (child == 0) {
+            sta_error err = { 0 };
+            _exit(sta_convert(&o, NULL, &err) == STA_OK ? 0 : 1);
+        }
+        struct timespec delay = { 0, delays_ms[i] * 1000000L };
+        nanosleep(&delay, NULL);
+        kill(child, SIGKILL);
+        int wstatus = 0;
+        assert_int_equal(waitpid(child, &wstatus, 0), child);
+        if (WIFSIGNALED(wstatus)) {
+            killed++;
+            assert_int_equal(count_files(sub), 1); // only the input
+        } else {
+            unlink(out); // finished before the kill: start again
+        }
+    }
+    assert_true(killed >= 2); // the conversion takes well over 50 ms
+    sta_error err = { 0 };
+    if (sta_convert(&o, NULL, &err) != STA_OK) {
+        fail_msg("rerun: %s", err.message);
+    }
+    assert_int_equal(count_files(sub), 2); // the input and the output
+    unlink(out);
+    unlink(in);
+    rmdir(sub);
+}
+
+/* Inputs on different grids: a common step on which both lie exactly is found
+ * (0.01 / offset 0 and 0.001 / offset 3e6 + 0.0005 meet on 0.0005), and an offset that
+ * would put points outside int32 is moved by whole steps; integers map exactly. A
+ * scale that is no whole multiple (0.003 on 0.002) is rounded and named. */
+static void different_grids_merge_losslessly(void **state)
+{
+    (void)state;
+    sta_cloud_info a = { .path = "a.las",
+                         .point_count = 10,
+                         .grid = { { 0.01, 0.01, 0.01 }, { 0, 0, 0 } },
+                         .header_min = { 3e6, 3e6, 0 },
+                         .header_max = { 3e6 + 100, 3e6 + 100, 50 } };
+    sta_cloud_info b = { .path = "b.las",
+                         .point_count = 10,
+                         .grid = { { 0.001, 0.001, 0.001 }, { 3e6 + 0.0005, 3e6, 0.0005 } },
+                         .header_min = { 3e6, 3e6, 0 },
+                         .header_max = { 3e6 + 100, 3e6 + 100, 50 } };
+    const sta_cloud_info *infos[2] = { &a, &b };
+    sta_grid out;
+    sta_regrid maps[2];
+    sta_output_grid_choose(infos, 2, &out, maps);
+    assert_true(fabs(out.scale[0] - 0.0005) < 1e-15);
+    assert_true(fabs(out.scale[1] - 0.001) < 1e-15);
+    for (int i = 0; i < 2; i++) {
+        for (int axis = 0; axis < 3; axis++) {
+            assert_true(maps[i].is_exact[axis]);
+        }
+    }
+    // Every point of both inputs lands on an output integer whose real value is its own.
+    for (int i = 0; i < 2; i++) {
+        const sta_grid *g = &infos[i]->grid;
+        for (int k = 0; k < 1000; k++) {
+            double real[3] = { 3e6 + k * 0.1, 3e6 + k * 0.1, k * 0.05 };
+            sta_point p = { 0 };
+            int32_t *xyz[3] = { &p.X, &p.Y, &p.Z };
+            for (int axis = 0; axis < 3; axis++) {
+                *xyz[axis] = (int32_t)llround((real[axis] - g->offset[axis]) / g->scale[axis]);
+            }
+            sta_point q = p;
+            assert_true(sta_output_grid_apply(&maps[i], g, &out, &q));
+            const int32_t in_xyz[3] = { p.X, p.Y, p.Z }, out_xyz[3] = { q.X, q.Y, q.Z };
+            for (int axis = 0; axis < 3; axis++) {
+                double before = g->offset[axis] + in_xyz[axis] * g->scale[axis];
+                double after = out.offset[axis] + out_xyz[axis] * out.scale[axis];
+                assert_true(fabs(before - after) < 1e-7);
+            }
+        }
+    }
+    // 0.003 and 0.0017 share no step 0.0017 / k (k <= 16): the finest scale is kept,
+    // the other input is rounded (with a warning).
+    sta_cloud_info c = a, d = b;
+    c.grid.scale[0] = 0.003;
+    d.grid.scale[0] = 0.0017;
+    d.grid.offset[0] = 0;
+    const sta_cloud_info *odd[2] = { &c, &d };
+    sta_log_set_level(STA_LOG_QUIET);
+    sta_output_grid_choose(odd, 2, &out, maps);
+    sta_log_set_level(STA_LOG_WARN);
+    assert_true(fabs(out.scale[0] - 0.0017) < 1e-15);
+    assert_false(maps[0].is_exact[0]);
+    assert_true(maps[1].is_exact[0]);
+}
+
+/* Two files on different grids, far from the first file's offset at the finer
+ * scale, convert into one scene with every point. */
+static void different_grids_convert_into_one_scene(void **state)
+{
+    (void)state;
+    char a[4096], b[4096];
+    snprintf(a, sizeof(a), "%s/a.las", sta_test_tmpdir());
+    snprintf(b, sizeof(b), "%s/b.las", sta_test_tmpdir());
+    const sta_grid ga = { { 0.01, 0.01, 0.01 }, { 0, 0, 0 } };
+    const sta_grid gb = { { 0.001, 0.001, 0.001 }, { 3e6, 3e6, 0.0005 } };
+    const double origin[3] = { 3e6, 3e6, 0 };
+    write_random_las(a, 20000, &ga, origin, 100, 3);
+    write_random_las(b, 30000, &gb, origin, 100, 4);
+    const char *inputs[] = { a, b };
+    char out[4096];
+    snprintf(out, sizeof(out), "%s/ab.strata", sta_test_tmpdir());
+    sta_convert_options o = { .inputs = inputs, .input_count = 2, .output = out };
+    sta_convert_report report;
+    sta_error err = { 0 };
+    sta_log_set_level(STA_LOG_QUIET);
+    sta_status status = sta_convert(&o, &report, &err);
+    sta_log_set_level(STA_LOG_WARN);
+    if (status != STA_OK) {
+        fail_msg("convert: %s", err.message);
+    }
+    assert_int_equal(report.point_count, 50000);
+    unlink(out);
+    unlink(a);
+    unlink(b);
+}
+
+/* Deterministic output: the same inputs and options give the same bytes whatever
+ * --threads and --memory, and run after run (many small chunks, so workers finish in
+ * varying order and chunk roots merge above them). */
+static void output_is_byte_identical_across_threads_and_memory(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char path[4096], first[4096], out[4096];
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    snprintf(first, sizeof(first), "%s/det0.strata", sta_test_tmpdir());
+    snprintf(out, sizeof(out), "%s/det.strata", sta_test_tmpdir());
+    const char *one[] = { path };
+    static const struct {
+        int threads;
+        size_t memory_mib;
+    } runs[] = { { 1, 2048 }, { 2, 2048 }, { 4, 64 }, { 3, 300 }, { 2, 2048 }, { 8, 4096 } };
+    size_t size0 = 0;
+    uint8_t *bytes0 = NULL;
+    for (size_t i = 0; i < sizeof(runs) / sizeof(runs[0]); i++) {
+        sta_convert_options o = { .inputs = one,
+                                  .input_count = 1,
+                                  .output = i == 0 ? first : out,
+                                  .threads = runs[i].threads,
+                                  .memory_mib = runs[i].memory_mib,
+                                  .leaf_capacity = 500,
+                                  .chunk_points = 3000,
+                                  .force = true };
+        sta_error err = { 0 };
+        sta_log_set_level(STA_LOG_QUIET); // 64 MiB warns that a chunk needs more
+        sta_status status = sta_convert(&o, NULL, &err);
+        sta_log_set_level(STA_LOG_WARN);
+        if (status != STA_OK) {
+            fail_msg("run %zu: %s", i, err.message);
+        }
+        if (i == 0) {
+            bytes0 = sta_test_read_file(first, &size0);
+            continue;
+        }
+        size_t size = 0;
+        uint8_t *bytes = sta_test_read_file(out, &size);
+        if (size != size0 || memcmp(bytes, bytes0, size) != 0) {
+            fail_msg("run %zu (%d threads, %zu MiB) differs from run 0", i, runs[i].threads,
+                     runs[i].memory_mib);
+        }
+        free(bytes);
+    }
+    free(bytes0);
+    unlink(first);
+    unlink(out);
+}
+
+/* Temporary disk: at most 0.6x the input's LAS size at any --memory, and a stray
+ * point 1000 km away (one more input) does not multiply it. autzen_trim.las: 110 000
+ * real points. */
+static void temporary_disk_is_bounded_and_outlier_proof(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char path[4096], stray[4096], out[4096];
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    snprintf(stray, sizeof(stray), "%s/stray.las", sta_test_tmpdir());
+    snprintf(out, sizeof(out), "%s/temp.strata", sta_test_tmpdir());
+    struct stat st;
+    assert_int_equal(stat(path, &st), 0);
+    double las_bytes = (double)st.st_size;
+    // The stray point: on autzen's grid, 1000 km east of its first point.
+    sta_cloud_reader *r = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_cloud_open(path, NULL, &r, &err), STA_OK);
+    const sta_cloud_info *info = sta_cloud_reader_info(r);
+    sta_point_batch batch;
+    assert_int_equal(sta_point_batch_init(&batch, 1, 0, &err), STA_OK);
+    assert_int_equal(sta_cloud_read(r, &batch, &err), STA_OK);
+    sta_point far = batch.points[0];
+    far.X += (int32_t)(1e6 / info->grid.scale[0]);
+    sta_las_write_options wo = { .version_minor = 2,
+                                 .point_format = info->point_format,
+                                 .grid = info->grid };
+    sta_las_writer *w = NULL;
+    assert_int_equal(sta_las_writer_open(stray, &wo, &w, &err), STA_OK);
+    assert_int_equal(sta_las_writer_write(w, &far, 1, &err), STA_OK);
+    assert_int_equal(sta_las_writer_close(w, &err), STA_OK);
+    sta_point_batch_release(&batch);
+    sta_cloud_close(r);
+
+    uint64_t plain_bytes[2] = { 0, 0 };
+    static const size_t memories[2] = { 64, 2048 };
+    for (int with_stray = 0; with_stray <= 1; with_stray++) {
+        for (int m = 0; m < 2; m++) {
+            const char *inputs[] = { path, stray };
+            sta_convert_options o = { .inputs = inputs,
+                                      .input_count = (size_t)(1 + with_stray),
+                                      .output = out,
+                                      .memory_mib = memories[m],
+                                      .chunk_points = 20000,
+                                      .force = true };
+            sta_convert_report report;
+            sta_log_set_level(STA_LOG_QUIET);
+            sta_status status = sta_convert(&o, &report, &err);
+            sta_log_set_level(STA_LOG_WARN);
+            if (status != STA_OK) {
+                fail_msg("convert: %s", err.message);
+            }
+            double ratio = (double)report.temp_bytes / las_bytes;
+            print_message("stray %d, memory %zu MiB: temporary %.3fx the LAS size\n", with_stray,
+                          memories[m], ratio);
+            assert_true(report.temp_bytes > 0);
+            assert_true(ratio <= 0.6);
+            if (!with_stray) {
+                plain_bytes[m] = report.temp_bytes;
+            } else {
+                assert_true(report.temp_bytes <= plain_bytes[m] * 3 / 2);
+            }
+        }
+    }
+    unlink(out);
+    unlink(stray);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shared_las_files_round_trip),
     cmocka_unit_test(up_axis_from_the_source),
@@ -428,6 +798,12 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(broken_inputs_leave_nothing),
     cmocka_unit_test(existing_output_needs_force_and_cancel_cleans_up),
     cmocka_unit_test(corrupted_output_is_refused),
+    cmocka_unit_test(output_and_input_paths_are_checked),
+    cmocka_unit_test(kill_9_leaves_nothing_behind),
+    cmocka_unit_test(temporary_disk_is_bounded_and_outlier_proof),
+    cmocka_unit_test(output_is_byte_identical_across_threads_and_memory),
+    cmocka_unit_test(different_grids_merge_losslessly),
+    cmocka_unit_test(different_grids_convert_into_one_scene),
 };
 
 STA_TEST_MAIN(tests)

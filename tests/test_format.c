@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <zstd.h>
 
@@ -1193,7 +1194,8 @@ static void temporary_file_until_finish(void **state)
         snprintf(temp, sizeof(temp), "%s", sta_strata_writer_temp_path(w));
         assert_true(strncmp(temp, sc.path, strlen(sc.path)) == 0); // same folder
         assert_int_equal(write_nodes(&sc, w, 0, 1, NULL), STA_OK);
-        assert_true(exists(temp));
+        // Unnamed (O_TMPFILE, nothing to leave behind) where the file system can.
+        assert_int_equal(exists(temp), !sta_strata_writer_is_unnamed(w));
         assert_false(exists(sc.path));
         if (finish) {
             assert_int_equal(sta_strata_writer_finish(w, sc.table, sc.tree_count, NULL), STA_OK);
@@ -1206,6 +1208,36 @@ static void temporary_file_until_finish(void **state)
     }
     check_scene_file(&sc);
     unlink(sc.path);
+    scene_release(&sc);
+}
+
+/* A temporary file left by a process that died (named: a file system without
+ * O_TMPFILE) is removed by the next writer of the same output; a live process's is
+ * kept. */
+static void stale_temporaries_are_swept(void **state)
+{
+    (void)state;
+    scene_params pp = full_params;
+    scene sc;
+    scene_init(&sc, &pp);
+    pid_t child = fork();
+    assert_true(child >= 0);
+    if (child == 0) {
+        _exit(0);
+    }
+    assert_int_equal(waitpid(child, NULL, 0), child);
+    char dead[700], live[700];
+    snprintf(dead, sizeof(dead), "%s.tmp.%ld.0", sc.path, (long)child);
+    snprintf(live, sizeof(live), "%s.tmp.%ld.0", sc.path, (long)getppid());
+    sta_test_write_file(dead, "x", 1);
+    sta_test_write_file(live, "x", 1);
+    sta_strata_writer_options o = scene_options(&sc);
+    sta_strata_writer *w = NULL;
+    assert_int_equal(sta_strata_writer_create(sc.path, &o, &w, NULL), STA_OK);
+    assert_false(exists(dead));
+    assert_true(exists(live));
+    sta_strata_writer_destroy(w);
+    unlink(live);
     scene_release(&sc);
 }
 
@@ -1492,6 +1524,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(writer_checks_points_and_table),
     cmocka_unit_test(up_axis_round_trips),
     cmocka_unit_test(temporary_file_until_finish),
+    cmocka_unit_test(stale_temporaries_are_swept),
     cmocka_unit_test(two_threads_write_a_valid_file),
     cmocka_unit_test(allocation_failures_clean_up),
     cmocka_unit_test(load_node_exposes_columns),

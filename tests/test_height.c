@@ -172,7 +172,7 @@ static void check_raster(const char *strata, int raster, const sta_ground *groun
     printf("raster %d: %zu covered pixels, %zu match the CPU height colour, %zu above 5 m\n",
            raster, covered, matched, high);
     assert_true(covered > W * H / 20);
-    assert_true(high > 100); // roofs and crowns are in view
+    assert_true(high > 100);                    // roofs and crowns are in view
     assert_true(matched >= covered * 99 / 100); // float ramp and 8-bit rounding aside
     sta_strata_decoder_destroy(decoder);
     sta_strata_close(reader);

@@ -6,16 +6,26 @@
  * (next_offset advances by the aligned stored size); the pwrite itself runs outside
  * the lock, so threads compress and write in parallel. Alignment gaps are never
  * written: they read as zero. Lock order: only `lock`.
+ *
+ * Crash safety: the temporary file is created without a name (O_TMPFILE) in the
+ * output's folder and only linked under its temporary name at finish, just before
+ * the rename, so a process killed with SIGKILL leaves nothing. Where the file system
+ * has no O_TMPFILE it is named from the start ("<path>.tmp.<pid>.<n>"), and create
+ * removes such files whose process no longer exists.
  */
+#define _GNU_SOURCE // O_TMPFILE
 #include "format/strata_writer.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <inttypes.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -41,6 +51,7 @@ struct sta_strata_writer {
     char *temp_path;              // where bytes go until finish
     char *folder;                 // folder of `path`, fsynced after the rename
     int fd;                       // temp file, -1 once closed
+    bool is_named;                // temp_path names the temp file (else O_TMPFILE)
     sta_strata_geometry geometry; // validated, grid_cells resolved
     sta_strata_layout layout;     // extra_dims point at `dims`
     sta_strata_extra_dim *dims;   // owned copy
@@ -106,6 +117,25 @@ static bool reserve(uint8_t **buf, size_t *capacity, size_t need)
     return true;
 }
 
+// Grows a batch's buffer to at least `need` bytes (doubling), keeping its contents.
+static bool reserve_batch(sta_strata_batch *batch, size_t need)
+{
+    if (need <= batch->capacity) {
+        return true;
+    }
+    size_t capacity = batch->capacity ? batch->capacity : 1 << 16;
+    while (capacity < need) {
+        capacity = capacity > SIZE_MAX / 2 ? need : capacity * 2;
+    }
+    uint8_t *grown = sta_realloc_array(batch->bytes, capacity, 1);
+    if (!grown) {
+        return false;
+    }
+    batch->bytes = grown;
+    batch->capacity = capacity;
+    return true;
+}
+
 static sta_status check_options(const sta_strata_writer_options *o, const char *path,
                                 sta_error *err)
 {
@@ -155,6 +185,39 @@ static char *folder_of(const char *path)
         strcpy(folder, ".");
     }
     return folder;
+}
+
+// Removes "<base>.tmp.<pid>.<n>" files in `folder` left by a process that no longer
+// exists (killed before it could clean up, on a file system without O_TMPFILE).
+static void sweep_stale_temporaries(const char *path, const char *folder)
+{
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    size_t base_length = strlen(base);
+    DIR *dir = opendir(folder);
+    if (!dir) {
+        return;
+    }
+    struct dirent *entry;
+    while ((entry = readdir(dir)) != NULL) {
+        const char *name = entry->d_name;
+        if (strncmp(name, base, base_length) != 0 || strncmp(name + base_length, ".tmp.", 5)) {
+            continue;
+        }
+        char *end = NULL;
+        long pid = strtol(name + base_length + 5, &end, 10);
+        if (pid <= 0 || *end != '.' || pid == (long)getpid() ||
+            !(kill((pid_t)pid, 0) != 0 && errno == ESRCH)) {
+            continue;
+        }
+        char *stale = sta_malloc(strlen(folder) + strlen(name) + 2);
+        if (stale) {
+            sprintf(stale, "%s/%s", folder, name);
+            unlink(stale);
+            sta_free(stale);
+        }
+    }
+    closedir(dir);
 }
 
 sta_status sta_strata_writer_create(const char *path, const sta_strata_writer_options *options,
@@ -213,10 +276,17 @@ sta_status sta_strata_writer_create(const char *path, const sta_strata_writer_op
         s = sta_fail(err, STA_ERR_NOMEM, "%s: out of memory", path);
         goto out_free;
     }
+    sweep_stale_temporaries(path, w->folder);
+    snprintf(w->temp_path, temp_size, "%s.tmp.%ld.%u", path, (long)getpid(),
+             atomic_fetch_add(&temp_counter, 1u));
+    w->fd = open(w->folder, O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
     for (int attempt = 0; attempt < 100 && w->fd < 0; attempt++) {
+        // No O_TMPFILE here (or it failed): a named file, removed by a later sweep if
+        // this process dies.
         snprintf(w->temp_path, temp_size, "%s.tmp.%ld.%u", path, (long)getpid(),
                  atomic_fetch_add(&temp_counter, 1u));
         w->fd = open(w->temp_path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        w->is_named = w->fd >= 0;
         if (w->fd < 0 && errno != EEXIST) {
             break;
         }
@@ -228,7 +298,9 @@ sta_status sta_strata_writer_create(const char *path, const sta_strata_writer_op
     }
     if (pthread_mutex_init(&w->lock, NULL) != 0) {
         close(w->fd);
-        unlink(w->temp_path);
+        if (w->is_named) {
+            unlink(w->temp_path);
+        }
         s = sta_fail(err, STA_ERR_NOMEM, "%s: cannot create a mutex", path);
         goto out_free;
     }
@@ -304,21 +376,19 @@ static sta_status check_positions(const sta_strata_writer *w, sta_strata_key key
     return STA_OK;
 }
 
-sta_status sta_strata_writer_add_node(sta_strata_writer *w, sta_strata_encoder *enc,
-                                      sta_strata_key key, const void *columns, size_t count,
-                                      sta_strata_payload *out_payload, sta_error *err)
+// Checks and compresses one node's columns: *out_stored points at the bytes to store
+// (the caller's columns or the encoder's buffer), *out_payload gets everything but
+// the offset, lo/hi the node's tight bounds.
+static sta_status pack(sta_strata_writer *w, sta_strata_encoder *enc, sta_strata_key key,
+                       const void *columns, size_t count, const uint8_t **out_stored,
+                       sta_strata_payload *out_payload, int32_t lo[3], int32_t hi[3],
+                       sta_error *err)
 {
-    memset(out_payload, 0, sizeof(*out_payload));
-    out_payload->checksum = sta_strata_checksum(NULL, 0);
-    if (count == 0) {
-        return STA_OK;
-    }
     if (count > SIZE_MAX / w->layout.record_size) {
         return sta_fail(err, STA_ERR_ARG, "%s: %zu points do not fit in memory", w->path, count);
     }
     const uint8_t *raw = columns;
     size_t raw_size = count * w->layout.record_size;
-    int32_t lo[3], hi[3];
     sta_status s = check_positions(w, key, raw, count, lo, hi, err);
     if (s != STA_OK) {
         return s;
@@ -350,14 +420,26 @@ sta_status sta_strata_writer_add_node(sta_strata_writer *w, sta_strata_encoder *
             compression = STA_STRATA_COMPRESSION_ZSTD_SHUFFLE;
         }
     }
-    uint64_t checksum = sta_strata_checksum(stored, stored_size);
+    *out_stored = stored;
+    out_payload->stored_size = stored_size;
+    out_payload->raw_size = raw_size;
+    out_payload->checksum = sta_strata_checksum(stored, stored_size);
+    out_payload->compression = compression;
+    return STA_OK;
+}
 
+// Reserves `size` bytes (aligned) for `payloads` payloads with bounds lo/hi, writes
+// `bytes` there and returns the offset in *out_offset.
+static sta_status append(sta_strata_writer *w, const uint8_t *bytes, uint64_t size,
+                         uint64_t payloads, const int32_t lo[3], const int32_t hi[3],
+                         uint64_t *out_offset, sta_error *err)
+{
     pthread_mutex_lock(&w->lock);
     bool failed = w->failed;
     uint64_t offset = w->next_offset;
     if (!failed) {
-        w->next_offset = sta_strata_align(offset + stored_size, STA_STRATA_ALIGNMENT);
-        w->payload_count++;
+        w->next_offset = sta_strata_align(offset + size, STA_STRATA_ALIGNMENT);
+        w->payload_count += payloads;
         for (int a = 0; a < 3; a++) {
             w->grid_min[a] = !w->has_points || lo[a] < w->grid_min[a] ? lo[a] : w->grid_min[a];
             w->grid_max[a] = !w->has_points || hi[a] > w->grid_max[a] ? hi[a] : w->grid_max[a];
@@ -368,20 +450,86 @@ sta_status sta_strata_writer_add_node(sta_strata_writer *w, sta_strata_encoder *
     if (failed) {
         return sta_fail(err, STA_ERR_IO, "%s: an earlier write failed", w->path);
     }
-
-    s = sta_pwrite_all(w->fd, stored, stored_size, offset, w->temp_path, err);
+    sta_status s = sta_pwrite_all(w->fd, bytes, (size_t)size, offset, w->temp_path, err);
     if (s != STA_OK) {
         pthread_mutex_lock(&w->lock);
         w->failed = true;
         pthread_mutex_unlock(&w->lock);
         return s;
     }
-    out_payload->offset = offset;
-    out_payload->stored_size = stored_size;
-    out_payload->raw_size = raw_size;
-    out_payload->checksum = checksum;
-    out_payload->compression = compression;
+    *out_offset = offset;
     return STA_OK;
+}
+
+sta_status sta_strata_writer_add_node(sta_strata_writer *w, sta_strata_encoder *enc,
+                                      sta_strata_key key, const void *columns, size_t count,
+                                      sta_strata_payload *out_payload, sta_error *err)
+{
+    memset(out_payload, 0, sizeof(*out_payload));
+    out_payload->checksum = sta_strata_checksum(NULL, 0);
+    if (count == 0) {
+        return STA_OK;
+    }
+    const uint8_t *stored = NULL;
+    int32_t lo[3], hi[3];
+    sta_status s = pack(w, enc, key, columns, count, &stored, out_payload, lo, hi, err);
+    if (s != STA_OK) {
+        return s;
+    }
+    return append(w, stored, out_payload->stored_size, 1, lo, hi, &out_payload->offset, err);
+}
+
+sta_status sta_strata_writer_pack_node(sta_strata_writer *w, sta_strata_encoder *enc,
+                                       sta_strata_key key, const void *columns, size_t count,
+                                       sta_strata_batch *batch, sta_strata_payload *out_payload,
+                                       sta_error *err)
+{
+    memset(out_payload, 0, sizeof(*out_payload));
+    out_payload->checksum = sta_strata_checksum(NULL, 0);
+    if (count == 0) {
+        return STA_OK;
+    }
+    const uint8_t *stored = NULL;
+    int32_t lo[3], hi[3];
+    sta_status s = pack(w, enc, key, columns, count, &stored, out_payload, lo, hi, err);
+    if (s != STA_OK) {
+        return s;
+    }
+    // Aligned inside the batch, so aligned in the file once the batch starts aligned.
+    uint64_t at = sta_strata_align(batch->size, STA_STRATA_ALIGNMENT);
+    uint64_t end = at + out_payload->stored_size;
+    if (end > SIZE_MAX || !reserve_batch(batch, (size_t)end)) {
+        return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for a batch of %" PRIu64 " bytes",
+                        w->path, end);
+    }
+    memset(batch->bytes + batch->size, 0, (size_t)(at - batch->size));
+    memcpy(batch->bytes + at, stored, out_payload->stored_size);
+    batch->size = (size_t)end;
+    batch->payload_count++;
+    for (int a = 0; a < 3; a++) {
+        batch->lo[a] = !batch->has_points || lo[a] < batch->lo[a] ? lo[a] : batch->lo[a];
+        batch->hi[a] = !batch->has_points || hi[a] > batch->hi[a] ? hi[a] : batch->hi[a];
+    }
+    batch->has_points = true;
+    out_payload->offset = at;
+    return STA_OK;
+}
+
+sta_status sta_strata_writer_add_batch(sta_strata_writer *w, const sta_strata_batch *batch,
+                                       uint64_t *out_offset, sta_error *err)
+{
+    *out_offset = 0;
+    if (batch->payload_count == 0) {
+        return STA_OK;
+    }
+    return append(w, batch->bytes, batch->size, batch->payload_count, batch->lo, batch->hi,
+                  out_offset, err);
+}
+
+void sta_strata_batch_release(sta_strata_batch *batch)
+{
+    sta_free(batch->bytes);
+    memset(batch, 0, sizeof(*batch));
 }
 
 sta_status sta_strata_writer_add_points(sta_strata_writer *w, sta_strata_encoder *enc,
@@ -545,6 +693,17 @@ sta_status sta_strata_writer_finish(sta_strata_writer *w, const sta_strata_node 
     if (s != STA_OK) {
         goto out_free;
     }
+    if (!w->is_named) {
+        // Give the unnamed file its temporary name, then rename it like a named one.
+        char proc_path[64];
+        snprintf(proc_path, sizeof(proc_path), "/proc/self/fd/%d", w->fd);
+        if (linkat(AT_FDCWD, proc_path, AT_FDCWD, w->temp_path, AT_SYMLINK_FOLLOW) != 0) {
+            s = sta_fail(err, STA_ERR_IO, "%s: cannot link the temporary file as %s: %s", w->path,
+                         w->temp_path, strerror(errno));
+            goto out_free;
+        }
+        w->is_named = true;
+    }
     int fd = w->fd;
     w->fd = -1;
     if (close(fd) != 0) {
@@ -571,6 +730,11 @@ const char *sta_strata_writer_temp_path(const sta_strata_writer *w)
     return w->temp_path;
 }
 
+bool sta_strata_writer_is_unnamed(const sta_strata_writer *w)
+{
+    return !w->is_named;
+}
+
 void sta_strata_writer_destroy(sta_strata_writer *w)
 {
     if (!w) {
@@ -579,7 +743,7 @@ void sta_strata_writer_destroy(sta_strata_writer *w)
     if (w->fd >= 0) {
         close(w->fd);
     }
-    if (!w->finished) {
+    if (!w->finished && w->is_named) {
         unlink(w->temp_path);
     }
     pthread_mutex_destroy(&w->lock);

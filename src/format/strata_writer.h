@@ -22,6 +22,7 @@
 #ifndef STA_FORMAT_STRATA_WRITER_H
 #define STA_FORMAT_STRATA_WRITER_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -72,6 +73,37 @@ sta_status sta_strata_writer_add_node(sta_strata_writer *writer, sta_strata_enco
                                       sta_strata_key key, const void *columns, size_t count,
                                       sta_strata_payload *out_payload, sta_error *err);
 
+/* Payloads packed in memory to be appended together, so that the file's layout can
+ * follow an order of the caller's choosing (the converter's output does not depend
+ * on which thread finished first). Zero-initialize; release with
+ * sta_strata_batch_release. */
+typedef struct sta_strata_batch {
+    uint8_t *bytes;         /* owned; payloads at aligned offsets from 0 */
+    size_t size;            /* bytes used */
+    size_t capacity;        /* bytes allocated */
+    uint64_t payload_count; /* non-empty payloads packed */
+    bool has_points;        /* lo/hi valid */
+    int32_t lo[3];          /* tight bounds of the packed points */
+    int32_t hi[3];
+} sta_strata_batch;
+
+/* As sta_strata_writer_add_node, but the stored bytes go to the end of `batch`
+ * (owned by the calling thread) instead of the file: out_payload->offset is relative
+ * to the batch's start until sta_strata_writer_add_batch gives the batch its place.
+ * Thread-safe like add_node (different batches and encoders). */
+sta_status sta_strata_writer_pack_node(sta_strata_writer *writer, sta_strata_encoder *encoder,
+                                       sta_strata_key key, const void *columns, size_t count,
+                                       sta_strata_batch *batch, sta_strata_payload *out_payload,
+                                       sta_error *err);
+
+/* Writes `batch` at the next aligned offset of the file (*out_offset: add it to the
+ * offsets pack_node returned; 0 for an empty batch). Thread-safe. */
+sta_status sta_strata_writer_add_batch(sta_strata_writer *writer, const sta_strata_batch *batch,
+                                       uint64_t *out_offset, sta_error *err);
+
+/* Frees a batch's buffer and zeroes it. */
+void sta_strata_batch_release(sta_strata_batch *batch);
+
 /* As sta_strata_writer_add_node from an array of points (absolute grid integers)
  * and their extra bytes (layout extra_size bytes per point, NULL when 0). */
 sta_status sta_strata_writer_add_points(sta_strata_writer *writer, sta_strata_encoder *encoder,
@@ -89,8 +121,14 @@ sta_status sta_strata_writer_add_points(sta_strata_writer *writer, sta_strata_en
 sta_status sta_strata_writer_finish(sta_strata_writer *writer, const sta_strata_node *nodes,
                                     size_t node_count, sta_error *err);
 
-/* The temporary file's path (valid until destroy), for tests and messages. */
+/* The temporary file's path (valid until destroy), for tests and messages. While
+ * sta_strata_writer_is_unnamed, nothing exists there yet: the file has no name
+ * (O_TMPFILE) until finish links it there and renames it. */
 const char *sta_strata_writer_temp_path(const sta_strata_writer *writer);
+
+/* True while the temporary file has no name in the folder (O_TMPFILE), so a killed
+ * process leaves nothing behind; false where the file system cannot do that. */
+bool sta_strata_writer_is_unnamed(const sta_strata_writer *writer);
 
 /* Frees the writer; if finish has not succeeded, closes and removes the temporary
  * file (abort). NULL is a no-op. */

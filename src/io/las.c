@@ -12,7 +12,10 @@
  *   the count, the bytes needed and the complete records present. With
  *   sta_read_options.salvage_truncated the complete records are read, point_count is
  *   their number and skipped_point_count the missing ones (a warning is printed).
- * - Point data running into the EVLRs (or the 1.3 waveform record) is an error.
+ * - Point data running into the EVLRs is an error. A LAS 1.3 waveform record that
+ *   cannot be where start_of_waveform_data says only warns (as in 1.4).
+ * - A VLR count that overshoots the VLR area is an error; salvaging keeps the whole
+ *   VLRs and reads the points (they start at offset_to_point_data regardless).
  * - The LAS 1.0 start signature (0xDDCC) before the points is skipped with any other
  *   bytes between the VLRs and offset_to_point_data.
  * See las_header.c, las_vlr.c and las_extra.c for their own decisions.
@@ -164,7 +167,7 @@ sta_status sta_las_open_map(const sta_file_map *map, const sta_read_options *opt
     if (status != STA_OK) {
         goto out_close;
     }
-    status = sta_las_read_vlrs(reader, &header, err);
+    status = sta_las_read_vlrs(reader, &header, options, err);
     if (status != STA_OK) {
         goto out_close;
     }

@@ -113,8 +113,9 @@ static bool decode_descriptor(const sta_cloud_info *info, const uint8_t *p, size
         return true;
     }
     if (dim->data_type > 30) {
+        char name[STA_LAS_PRINTABLE_SIZE];
         sta_log_warn("%s: Extra Bytes field %zu ('%s') has reserved data type %u", info->path,
-                     index, dim->name, dim->data_type);
+                     index, sta_las_printable(name, dim->name), dim->data_type);
         return false;
     }
     if (dim->data_type > 20) {
@@ -175,17 +176,19 @@ sta_status sta_las_read_extra_bytes(sta_las_reader *reader, sta_error *err)
             sta_log_warn("%s: ignoring Extra Bytes fields from %zu on", map->path, i);
             break;
         }
+        char name[STA_LAS_PRINTABLE_SIZE];
+        sta_las_printable(name, dim->name);
         if (dim->size_bytes == 0) {
             sta_log_warn("%s: Extra Bytes field %zu ('%s') has size 0; ignoring it", map->path, i,
-                         dim->name);
+                         name);
             continue;
         }
         if (dim->size_bytes > extra_size - used) {
             sta_log_warn("%s: Extra Bytes field %zu ('%s', %s, %zu bytes at extra byte %zu) does "
                          "not fit the %zu extra bytes of each record (record length %u, point "
                          "format %d uses %u); ignoring it and the fields after it",
-                         map->path, i, dim->name, sta_extra_type_name(dim->data_type),
-                         dim->size_bytes, used, extra_size, info->record_length, info->point_format,
+                         map->path, i, name, sta_extra_type_name(dim->data_type), dim->size_bytes,
+                         used, extra_size, info->record_length, info->point_format,
                          sta_las_format_record_size(info->point_format));
             break;
         }

@@ -60,6 +60,27 @@ void sta_las_copy_text(char *out, const uint8_t *field, size_t size)
     out[length] = '\0';
 }
 
+const char *sta_las_printable(char *out, const char *text)
+{
+    // Text fields come from the file: a byte that is not printable ASCII (control
+    // characters, invalid UTF-8) is shown as \xNN so it never reaches a terminal raw.
+    static const char hex[] = "0123456789abcdef";
+    size_t n = 0;
+    for (size_t i = 0; text[i] != '\0' && n + 5 <= STA_LAS_PRINTABLE_SIZE; i++) {
+        unsigned char c = (unsigned char)text[i];
+        if (c >= 0x20 && c < 0x7f && c != '\\') {
+            out[n++] = (char)c;
+        } else {
+            out[n++] = '\\';
+            out[n++] = 'x';
+            out[n++] = hex[c >> 4];
+            out[n++] = hex[c & 15];
+        }
+    }
+    out[n] = '\0';
+    return out;
+}
+
 static unsigned minimum_header_size(int version_minor)
 {
     if (version_minor >= 4) {

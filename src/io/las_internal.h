@@ -61,8 +61,11 @@ typedef struct sta_las_reader {
 sta_status sta_las_parse_header(sta_las_reader *reader, sta_las_header *out_header, sta_error *err);
 
 /* Walks the VLRs between the header and the point data into info.vlrs. Refuses a
- * LASzip VLR (STA_ERR_UNSUPPORTED). */
-sta_status sta_las_read_vlrs(sta_las_reader *reader, const sta_las_header *header, sta_error *err);
+ * LASzip VLR (STA_ERR_UNSUPPORTED). A VLR count or length that overshoots
+ * offset_to_point_data is an error; with options->salvage_truncated the whole VLRs
+ * before it are kept with a warning (the points start at offset_to_point_data). */
+sta_status sta_las_read_vlrs(sta_las_reader *reader, const sta_las_header *header,
+                             const sta_read_options *options, sta_error *err);
 
 /* Walks the EVLRs (LAS 1.4) or the waveform data packet record (LAS 1.3), which must
  * start at or after `point_data_end`, appending them to info.vlrs. When salvaging a
@@ -87,6 +90,16 @@ uint32_t sta_las_format_attributes(int point_format);
 /* Copies at most `size` bytes of a fixed-width, possibly unterminated text field
  * into `out` (capacity size + 1), without trailing spaces, and NUL-terminates it. */
 void sta_las_copy_text(char *out, const uint8_t *field, size_t size);
+
+enum {
+    /* Capacity for sta_las_printable of a text field of up to 32 bytes. */
+    STA_LAS_PRINTABLE_SIZE = 4 * 32 + 1,
+};
+
+/* Writes `text` (a field copied from a file) into `out` (capacity
+ * STA_LAS_PRINTABLE_SIZE) for messages: printable ASCII as is, every other byte and
+ * the backslash as \xNN. Returns `out`. */
+const char *sta_las_printable(char *out, const char *text);
 
 /* ---- LAZ hook (laz_reader.c) ---- */
 

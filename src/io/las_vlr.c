@@ -74,15 +74,32 @@ static sta_status append_records(sta_las_reader *reader, uint64_t pos, uint64_t 
     return STA_OK;
 }
 
-sta_status sta_las_read_vlrs(sta_las_reader *reader, const sta_las_header *header, sta_error *err)
+// A VLR that does not fit before the points: an error, or when salvaging a warning
+// that keeps the `whole` records before it.
+static sta_status vlr_overshoot(const sta_las_reader *reader, const sta_read_options *options,
+                                const char *what, uint64_t whole, sta_error *err)
+{
+    const sta_file_map *map = reader->map;
+    if (options->salvage_truncated) {
+        sta_log_warn("%s: %s; salvaging: keeping the %llu whole VLRs before it, points from "
+                     "offset_to_point_data",
+                     map->path, what, (unsigned long long)whole);
+        return STA_OK;
+    }
+    return sta_fail(err, STA_ERR_FORMAT, "%s: %s", map->path, what);
+}
+
+sta_status sta_las_read_vlrs(sta_las_reader *reader, const sta_las_header *header,
+                             const sta_read_options *options, sta_error *err)
 {
     const sta_file_map *map = reader->map;
     sta_cloud_info *info = &reader->info;
     uint64_t end = info->offset_to_point_data;
     uint64_t room = end - info->header_size; // header_size <= offset_to_point_data
     uint64_t count = header->number_of_vlrs;
+    char what[320];
 
-    if (count * STA_LAS_VLR_HEADER_SIZE > room) {
+    if (count * STA_LAS_VLR_HEADER_SIZE > room && !options->salvage_truncated) {
         return sta_fail(err, STA_ERR_FORMAT,
                         "%s: number of VLRs %llu cannot be right: their headers alone need %llu "
                         "bytes but only %llu lie between header_size %u and "
@@ -93,23 +110,27 @@ sta_status sta_las_read_vlrs(sta_las_reader *reader, const sta_las_header *heade
     }
     // Walk first, allocate after: a lying count costs no memory.
     uint64_t pos = info->header_size;
-    for (uint64_t i = 0; i < count; i++) {
+    uint64_t whole = 0;
+    for (; whole < count; whole++) {
         if (end - pos < STA_LAS_VLR_HEADER_SIZE) {
-            return sta_fail(err, STA_ERR_FORMAT,
-                            "%s: VLR %llu of %llu (number of VLRs) starts at byte %llu and runs "
-                            "past offset_to_point_data %u",
-                            map->path, (unsigned long long)i, (unsigned long long)count,
-                            (unsigned long long)pos, info->offset_to_point_data);
+            snprintf(what, sizeof(what),
+                     "VLR %llu of %llu (number of VLRs) starts at byte %llu and runs past "
+                     "offset_to_point_data %u",
+                     (unsigned long long)whole, (unsigned long long)count, (unsigned long long)pos,
+                     info->offset_to_point_data);
+            break;
         }
         sta_vlr_info vlr;
         decode_record_header(map, pos, false, &vlr);
         if (vlr.length > end - vlr.data_offset) {
-            return sta_fail(err, STA_ERR_FORMAT,
-                            "%s: VLR %llu (%s/%u) record length after header %llu at byte %llu "
-                            "runs past offset_to_point_data %u",
-                            map->path, (unsigned long long)i, vlr.user_id, vlr.record_id,
-                            (unsigned long long)vlr.length, (unsigned long long)vlr.data_offset,
-                            info->offset_to_point_data);
+            char user_id[STA_LAS_PRINTABLE_SIZE];
+            snprintf(what, sizeof(what),
+                     "VLR %llu (%s/%u) record length after header %llu at byte %llu runs past "
+                     "offset_to_point_data %u",
+                     (unsigned long long)whole, sta_las_printable(user_id, vlr.user_id),
+                     vlr.record_id, (unsigned long long)vlr.length,
+                     (unsigned long long)vlr.data_offset, info->offset_to_point_data);
+            break;
         }
         // LAZ hook: the LASzip VLR belongs with a compression bit in the format byte.
         if (has_user_id(&vlr, "laszip encoded", 22204) && !header->is_compressed) {
@@ -121,7 +142,13 @@ sta_status sta_las_read_vlrs(sta_las_reader *reader, const sta_las_header *heade
         }
         pos = vlr.data_offset + vlr.length;
     }
-    return append_records(reader, info->header_size, count, false, err);
+    if (whole < count) {
+        sta_status status = vlr_overshoot(reader, options, what, whole, err);
+        if (status != STA_OK) {
+            return status;
+        }
+    }
+    return append_records(reader, info->header_size, whole, false, err);
 }
 
 // Records past the end: an error, or when salvaging a truncated file a warning.
@@ -146,13 +173,24 @@ sta_status sta_las_read_evlrs(sta_las_reader *reader, const sta_las_header *head
     uint64_t start = header->start_of_first_evlr;
     uint64_t count = header->number_of_evlrs;
     const char *start_field = "start_of_first_evlr";
-    char what[256];
+    char what[320];
 
     if (info->version_minor == 3 && header->start_of_waveform_data != 0) {
-        // LAS 1.3 has exactly one extended record: the waveform data packet record.
+        // LAS 1.3 has exactly one extended record: the waveform data packet record. A
+        // pointer that cannot hold it (past the end, or inside the points) is only
+        // warned about, as in 1.4: the points do not depend on it.
         start = header->start_of_waveform_data;
         count = 1;
         start_field = "start_of_waveform_data";
+        if (start < point_data_end || start > map->size ||
+            map->size - start < STA_LAS_EVLR_HEADER_SIZE) {
+            sta_log_warn("%s: start_of_waveform_data %llu leaves no room for the waveform data "
+                         "packet record (point data ends at byte %llu, the file has %zu bytes); "
+                         "ignoring it",
+                         map->path, (unsigned long long)start, (unsigned long long)point_data_end,
+                         map->size);
+            return STA_OK;
+        }
     }
     if (info->version_minor >= 4 && info->waveform_data_start > map->size) {
         sta_log_warn("%s: start_of_waveform_data %llu is past the end of the file (%zu bytes)",
@@ -194,12 +232,13 @@ sta_status sta_las_read_evlrs(sta_las_reader *reader, const sta_las_header *head
         sta_vlr_info vlr;
         decode_record_header(map, pos, true, &vlr);
         if (vlr.length > map->size - vlr.data_offset) {
+            char user_id[STA_LAS_PRINTABLE_SIZE];
             snprintf(what, sizeof(what),
                      "EVLR %llu (%s/%u) record length after header %llu at byte %llu runs past "
                      "the end of the file (%zu bytes)",
-                     (unsigned long long)whole, vlr.user_id, vlr.record_id,
-                     (unsigned long long)vlr.length, (unsigned long long)vlr.data_offset,
-                     map->size);
+                     (unsigned long long)whole, sta_las_printable(user_id, vlr.user_id),
+                     vlr.record_id, (unsigned long long)vlr.length,
+                     (unsigned long long)vlr.data_offset, map->size);
             break;
         }
         pos = vlr.data_offset + vlr.length;
