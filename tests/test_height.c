@@ -23,26 +23,6 @@
 #include "stream/ground.h"
 #include "stream/lod_tree.h"
 
-static sta_gl_headless gl;
-
-static int setup(void **state)
-{
-    (void)state;
-    sta_error err = { 0 };
-    if (sta_gl_headless_create(&gl, &err) != STA_OK) {
-        fprintf(stderr, "%s\n", err.message);
-        return -1;
-    }
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    sta_gl_headless_destroy(&gl);
-    return 0;
-}
-
 enum {
     W = 320,
     H = 200
@@ -212,7 +192,8 @@ static void height_colours_follow_the_ground_model(void **state)
 }
 
 static const struct CMUnitTest tests[] = {
-    cmocka_unit_test_setup_teardown(height_colours_follow_the_ground_model, setup, teardown),
+    cmocka_unit_test_setup_teardown(height_colours_follow_the_ground_model, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
 };
 
 STA_TEST_MAIN(tests)

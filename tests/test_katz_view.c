@@ -18,26 +18,6 @@
 #include "render/gl.h"
 #include "render/scene.h"
 
-static sta_gl_headless gl;
-
-static int setup(void **state)
-{
-    (void)state;
-    sta_error err = { 0 };
-    if (sta_gl_headless_create(&gl, &err) != STA_OK) {
-        fprintf(stderr, "%s\n", err.message);
-        return -1;
-    }
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    sta_gl_headless_destroy(&gl);
-    return 0;
-}
-
 enum {
     POINTS = 30000,
     W = 320,
@@ -185,7 +165,8 @@ static void katz_set_matches_analytic_visibility(void **state)
 }
 
 static const struct CMUnitTest tests[] = {
-    cmocka_unit_test_setup_teardown(katz_set_matches_analytic_visibility, setup, teardown),
+    cmocka_unit_test_setup_teardown(katz_set_matches_analytic_visibility, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
 };
 
 STA_TEST_MAIN(tests)

@@ -23,26 +23,6 @@
 #include "render/scene.h"
 #include "stream/gpu_points.h"
 
-static sta_gl_headless gl;
-
-static int setup(void **state)
-{
-    (void)state;
-    sta_error err = { 0 };
-    if (sta_gl_headless_create(&gl, &err) != STA_OK) {
-        fprintf(stderr, "%s\n", err.message);
-        return -1;
-    }
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    sta_gl_headless_destroy(&gl);
-    return 0;
-}
-
 enum {
     W = 96,
     H = 64,
@@ -509,15 +489,24 @@ static void both_rasterisers_render_a_scene_alike(void **state)
 }
 
 static const struct CMUnitTest tests[] = {
-    cmocka_unit_test_setup_teardown(twin_matches_on_random_nodes, setup, teardown),
-    cmocka_unit_test_setup_teardown(nearest_point_wins_in_any_draw_order, setup, teardown),
-    cmocka_unit_test_setup_teardown(equal_depths_keep_the_first_drawn, setup, teardown),
-    cmocka_unit_test_setup_teardown(points_outside_the_frustum_are_not_drawn, setup, teardown),
-    cmocka_unit_test_setup_teardown(empty_nodes_are_skipped, setup, teardown),
-    cmocka_unit_test_setup_teardown(node_larger_than_a_batch, setup, teardown),
-    cmocka_unit_test_setup_teardown(arena_repack_keeps_every_node, setup, teardown),
-    cmocka_unit_test_setup_teardown(fallback_without_64bit_atomics, setup, teardown),
-    cmocka_unit_test_setup_teardown(both_rasterisers_render_a_scene_alike, setup, teardown),
+    cmocka_unit_test_setup_teardown(twin_matches_on_random_nodes, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(nearest_point_wins_in_any_draw_order, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(equal_depths_keep_the_first_drawn, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(points_outside_the_frustum_are_not_drawn, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(empty_nodes_are_skipped, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(node_larger_than_a_batch, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(arena_repack_keeps_every_node, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(fallback_without_64bit_atomics, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(both_rasterisers_render_a_scene_alike, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
 };
 
 STA_TEST_MAIN(tests)

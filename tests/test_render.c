@@ -20,26 +20,6 @@
 #include "render/scene.h"
 #include "stream/gpu_points.h"
 
-static sta_gl_headless gl;
-
-static int setup(void **state)
-{
-    (void)state;
-    sta_error err = { 0 };
-    if (sta_gl_headless_create(&gl, &err) != STA_OK) {
-        fprintf(stderr, "%s\n", err.message);
-        return -1;
-    }
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    sta_gl_headless_destroy(&gl);
-    return 0;
-}
-
 enum {
     POINTS = 30000,
     W = 320,
@@ -403,11 +383,16 @@ static void no_z_fighting_at_one_kilometre(void **state)
 }
 
 static const struct CMUnitTest tests[] = {
-    cmocka_unit_test_setup_teardown(no_z_fighting_at_one_kilometre, setup, teardown),
-    cmocka_unit_test_setup_teardown(geometry_pass_matches_cpu_projection, setup, teardown),
-    cmocka_unit_test_setup_teardown(same_image_at_origin_utm_and_ecef, setup, teardown),
-    cmocka_unit_test_setup_teardown(budget_and_gpu_cap_hold, setup, teardown),
-    cmocka_unit_test_setup_teardown(corrupt_node_is_skipped_not_drawn, setup, teardown),
+    cmocka_unit_test_setup_teardown(no_z_fighting_at_one_kilometre, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(geometry_pass_matches_cpu_projection, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(same_image_at_origin_utm_and_ecef, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(budget_and_gpu_cap_hold, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(corrupt_node_is_skipped_not_drawn, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
 };
 
 STA_TEST_MAIN(tests)

@@ -62,10 +62,8 @@ void sta_pass_geometry_release(sta_pass_geometry *p)
     memset(p, 0, sizeof(*p));
 }
 
-static void draw_points(const sta_pass_geometry *p, const sta_camera *camera,
-                        const sta_geometry_colours *colours, const sta_gpu_cache *cache,
-                        const sta_gpu_node_frame *frames, const uint32_t *draw, size_t count,
-                        sta_render_target *target)
+void sta_pass_geometry_begin_points(const sta_pass_geometry *p, const sta_camera *camera,
+                                    const sta_geometry_colours *colours, sta_render_target *target)
 {
     static const float background[3] = { 0.0f, 0.0f, 0.0f };
     sta_render_target_begin(target, background);
@@ -86,6 +84,14 @@ static void draw_points(const sta_pass_geometry *p, const sta_camera *camera,
                 (float)(1.0 / (span > 0 ? span : 1.0)));
     glUniform1f(p->u_intensity_scale, colours->intensity_scale);
     sta_ground_texture_use(colours->ground, p->program, camera);
+}
+
+static void draw_points(const sta_pass_geometry *p, const sta_camera *camera,
+                        const sta_geometry_colours *colours, const sta_gpu_cache *cache,
+                        const sta_gpu_node_frame *frames, const uint32_t *draw, size_t count,
+                        sta_render_target *target)
+{
+    sta_pass_geometry_begin_points(p, camera, colours, target);
     if (cache->buffer) {
         glVertexArrayVertexBuffer(p->vao, 0, cache->buffer, 0, STA_GPU_POINT_SIZE);
     }

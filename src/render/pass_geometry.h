@@ -69,6 +69,12 @@ typedef struct sta_pass_geometry {
 sta_status sta_pass_geometry_init(sta_pass_geometry *pass, const sta_geometry_options *options,
                                   sta_error *err);
 
+/* GL_POINTS path: clears `target`, sets the depth test and the program's view and colour
+ * uniforms, and binds the program and its vertex array, ready for per-node draws (the
+ * live Katz pass draws its own buffer this way). */
+void sta_pass_geometry_begin_points(const sta_pass_geometry *pass, const sta_camera *camera,
+                                    const sta_geometry_colours *colours, sta_render_target *target);
+
 /* A zeroed pass is a no-op. */
 void sta_pass_geometry_release(sta_pass_geometry *pass);
 

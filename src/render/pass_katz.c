@@ -307,25 +307,7 @@ static void draw(const sta_pass_katz *p, const sta_camera *camera,
                  sta_render_target *target)
 {
     const sta_pass_geometry *g = &p->geometry;
-    static const float background[3] = { 0.0f, 0.0f, 0.0f };
-    sta_render_target_begin(target, background);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER); // reverse-Z, as the geometry pass
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glEnable(GL_PROGRAM_POINT_SIZE);
-    glUseProgram(g->program);
-    glBindVertexArray(g->vao);
-    float view[16], projection[16];
-    sta_camera_view_rotation(camera, view);
-    sta_camera_projection(camera, projection);
-    glUniformMatrix4fv(g->u_view_rotation, 1, GL_FALSE, view);
-    glUniformMatrix4fv(g->u_projection, 1, GL_FALSE, projection);
-    glUniform1i(g->u_colour_mode, colours->mode);
-    double span = colours->elevation_span;
-    glUniform2f(g->u_elevation, (float)(camera->position[2] - colours->elevation_min),
-                (float)(1.0 / (span > 0 ? span : 1.0)));
-    glUniform1f(g->u_intensity_scale, colours->intensity_scale);
-    sta_ground_texture_use(colours->ground, g->program, camera);
+    sta_pass_geometry_begin_points(g, camera, colours, target);
     for (size_t i = 0; i < p->range_count; i++) {
         const struct sta_katz_range *r = &p->ranges[i];
         const sta_gpu_node_frame *f = &frames[r->node];

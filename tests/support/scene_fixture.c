@@ -11,6 +11,7 @@
 
 #include "convert.h"
 #include "core/bytes.h"
+#include "render/gl.h"
 
 /* A test scene: a sphere in front of a wall, points on a 2^-10 m lattice so every
  * coordinate is exact in double at any offset. Colour encodes the point's index. */
@@ -113,4 +114,24 @@ sta_camera sta_fixture_camera(const double offset[3], int width_px, int height_p
     c.width_px = width_px;
     c.height_px = height_px;
     return c;
+}
+
+static sta_gl_headless fixture_gl;
+
+int sta_fixture_gl_setup(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    if (sta_gl_headless_create(&fixture_gl, &err) != STA_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return -1;
+    }
+    return 0;
+}
+
+int sta_fixture_gl_teardown(void **state)
+{
+    (void)state;
+    sta_gl_headless_destroy(&fixture_gl);
+    return 0;
 }
