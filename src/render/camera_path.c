@@ -9,8 +9,8 @@
 
 #include "core/alloc.h"
 #include "core/array.h"
-#include "core/file_map.h"
 #include "core/json_out.h"
+#include "render/json_file.h"
 
 static const double pi = 3.14159265358979323846;
 
@@ -47,15 +47,10 @@ static double number_of(const cJSON *object, const char *key, bool *ok)
 sta_status sta_camera_path_load(const char *path, sta_camera_path *out, sta_error *err)
 {
     memset(out, 0, sizeof(*out));
-    sta_file_map map = { 0 };
-    sta_status status = sta_file_map_open(path, &map, err);
+    cJSON *root = NULL;
+    sta_status status = sta_json_file_load(path, &root, err);
     if (status != STA_OK) {
         return status;
-    }
-    cJSON *root = cJSON_ParseWithLength((const char *)map.data, map.size);
-    sta_file_map_close(&map);
-    if (!root) {
-        return sta_fail(err, STA_ERR_FORMAT, "%s: not valid JSON", path);
     }
     const cJSON *keys = cJSON_GetObjectItemCaseSensitive(root, "keyframes");
     if (!cJSON_IsArray(keys) || cJSON_GetArraySize(keys) < 1) {

@@ -10,8 +10,8 @@
 #include <unistd.h>
 
 #include "core/alloc.h"
-#include "core/file_map.h"
 #include "core/json_out.h"
+#include "render/json_file.h"
 
 // Opens "<path>.tmp-<pid>" for writing; the caller renames it.
 static FILE *open_temporary(const char *path, char *tmp, size_t size, sta_error *err)
@@ -162,15 +162,10 @@ static sta_status load_items(const cJSON *items, const char *path, sta_measure_l
 
 sta_status sta_measure_load_json(const char *path, sta_measure_list *list, sta_error *err)
 {
-    sta_file_map map = { 0 };
-    sta_status status = sta_file_map_open(path, &map, err);
+    cJSON *root = NULL;
+    sta_status status = sta_json_file_load(path, &root, err);
     if (status != STA_OK) {
         return status;
-    }
-    cJSON *root = cJSON_ParseWithLength((const char *)map.data, map.size);
-    sta_file_map_close(&map);
-    if (!root) {
-        return sta_fail(err, STA_ERR_FORMAT, "%s: not valid JSON", path);
     }
     const cJSON *items = cJSON_GetObjectItemCaseSensitive(root, "measurements");
     if (!cJSON_IsArray(items)) {
