@@ -11,7 +11,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "convert.h"
 #include "core/bytes.h"
@@ -103,16 +102,7 @@ static void check_raster(const char *strata, int raster, const sta_ground *groun
                           .width_px = W,
                           .height_px = H };
     sta_render_target target = { 0 };
-    sta_frame_stats stats;
-    for (int frame = 0; frame < 2000; frame++) {
-        assert_int_equal(sta_scene_render(scene, &camera, &target, &stats, &err), STA_OK);
-        if (stats.complete) {
-            break;
-        }
-        struct timespec nap = { 0, 2000000 };
-        nanosleep(&nap, NULL);
-    }
-    assert_true(stats.complete);
+    sta_fixture_render_complete(scene, &camera, &target);
     uint8_t *rgba = malloc((size_t)W * H * 4);
     uint32_t *ids = malloc((size_t)W * H * 2 * sizeof(uint32_t));
     assert_true(rgba && ids);

@@ -12,7 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "render/bindings.h"
 #include "render/gl.h"
@@ -23,26 +22,6 @@ enum {
     W = 320,
     H = 240
 };
-
-// Renders until the view is loaded (and, in the Katz mode, its set is current).
-static sta_frame_stats render_complete(sta_scene *scene, const sta_camera *camera,
-                                       sta_render_target *target)
-{
-    sta_frame_stats stats;
-    sta_error err = { 0 };
-    for (int frame = 0; frame < 5000; frame++) {
-        if (sta_scene_render(scene, camera, target, &stats, &err) != STA_OK) {
-            fail_msg("%s", err.message);
-        }
-        if (stats.complete) {
-            return stats;
-        }
-        struct timespec nap = { 0, 2000000 };
-        nanosleep(&nap, NULL);
-    }
-    fail_msg("the view never finished");
-    return stats;
-}
 
 // Analytic visibility from `eye`: sphere (radius 5 at (0, 10, 0)) points facing the eye;
 // wall (y = 20) points whose ray from the eye misses the sphere. Points within 2 cm of
@@ -84,7 +63,7 @@ static void katz_set_matches_analytic_visibility(void **state)
     }
     sta_scene_set_colour_mode(scene, STA_COLOUR_RGB);
     sta_render_target target = { 0 };
-    sta_frame_stats plain = render_complete(scene, &camera, &target);
+    sta_frame_stats plain = sta_fixture_render_complete(scene, &camera, &target);
     assert_int_equal(plain.katz.generation, 0);
     uint8_t *before = malloc((size_t)W * H * 4);
     uint8_t *rgba = malloc((size_t)W * H * 4);
@@ -93,7 +72,7 @@ static void katz_set_matches_analytic_visibility(void **state)
 
     sta_katz_view_options katz = { .enabled = true, .sample_points = 12000 };
     sta_scene_set_katz(scene, &katz);
-    sta_frame_stats stats = render_complete(scene, &camera, &target);
+    sta_frame_stats stats = sta_fixture_render_complete(scene, &camera, &target);
     assert_true(stats.katz.current);
     assert_true(stats.katz.generation >= 1);
     const sta_pass_katz *pass = sta_scene_katz(scene);
@@ -148,13 +127,13 @@ static void katz_set_matches_analytic_visibility(void **state)
     if (again.katz.generation == stats.katz.generation) {
         assert_false(again.katz.current);
     }
-    sta_frame_stats after_move = render_complete(scene, &moved, &target);
+    sta_frame_stats after_move = sta_fixture_render_complete(scene, &moved, &target);
     assert_true(after_move.katz.generation > stats.katz.generation);
 
     // Off: the ordinary picture again, pixel for pixel.
     katz.enabled = false;
     sta_scene_set_katz(scene, &katz);
-    render_complete(scene, &camera, &target);
+    sta_fixture_render_complete(scene, &camera, &target);
     sta_render_target_read_rgba(&target, rgba);
     assert_memory_equal(rgba, before, (size_t)W * H * 4);
 

@@ -10,7 +10,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "render/bindings.h"
 #include "render/gl.h"
@@ -59,18 +58,7 @@ static uint8_t *render_mode(int mode, int normals, const sta_camera *camera,
     // Elevation colours never come near the HPR label colours (pure red, dark green).
     sta_scene_set_colour_mode(scene, STA_COLOUR_ELEVATION);
     sta_render_target target = { 0 };
-    sta_frame_stats stats;
-    for (int frame = 0; frame < 2000; frame++) {
-        if (sta_scene_render(scene, camera, &target, &stats, &err) != STA_OK) {
-            fail_msg("%s", err.message);
-        }
-        if (stats.complete) {
-            break;
-        }
-        struct timespec nap = { 0, 2000000 };
-        nanosleep(&nap, NULL);
-    }
-    assert_true(stats.complete);
+    sta_frame_stats stats = sta_fixture_render_complete(scene, camera, &target);
     uint8_t *rgba = malloc((size_t)W * H * 4);
     assert_non_null(rgba);
     sta_render_target_read_rgba(&target, rgba);

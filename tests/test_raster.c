@@ -12,7 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "core/camera.h"
 #include "render/bindings.h"
@@ -438,18 +437,7 @@ static void render_scene(const char *path, int raster, uint8_t *rgba, uint32_t *
     const double origin[3] = { 0, 0, 0 };
     sta_camera camera = sta_fixture_camera(origin, 320, 240);
     sta_render_target target = { 0 };
-    sta_frame_stats stats;
-    for (int frame = 0; frame < 2000; frame++) {
-        if (sta_scene_render(scene, &camera, &target, &stats, &err) != STA_OK) {
-            fail_msg("%s", err.message);
-        }
-        if (stats.complete) {
-            break;
-        }
-        struct timespec nap = { 0, 2000000 };
-        nanosleep(&nap, NULL);
-    }
-    assert_true(stats.complete);
+    sta_fixture_render_complete(scene, &camera, &target);
     assert_int_equal(sta_scene_raster_choice(scene)->raster, raster);
     sta_render_target_read_rgba(&target, rgba);
     sta_render_target_read_ids(&target, ids);

@@ -36,26 +36,6 @@ static sta_camera test_camera(const double offset[3])
     return sta_fixture_camera(offset, W, H);
 }
 
-// Renders until every wanted node is resident; returns the last frame's stats.
-static sta_frame_stats render_complete(sta_scene *scene, const sta_camera *camera,
-                                       sta_render_target *target)
-{
-    sta_frame_stats stats;
-    sta_error err = { 0 };
-    for (int frame = 0; frame < 2000; frame++) {
-        if (sta_scene_render(scene, camera, target, &stats, &err) != STA_OK) {
-            fail_msg("%s", err.message);
-        }
-        if (stats.complete) {
-            return stats;
-        }
-        struct timespec nap = { 0, 2000000 };
-        nanosleep(&nap, NULL);
-    }
-    fail_msg("the view never finished loading");
-    return stats;
-}
-
 static uint8_t *render_image(const char *path, const sta_camera *camera, sta_frame_stats *stats)
 {
     sta_scene *scene = NULL;
@@ -66,7 +46,7 @@ static uint8_t *render_image(const char *path, const sta_camera *camera, sta_fra
     }
     sta_scene_set_colour_mode(scene, STA_COLOUR_RGB);
     sta_render_target target = { 0 };
-    *stats = render_complete(scene, camera, &target);
+    *stats = sta_fixture_render_complete(scene, camera, &target);
     uint8_t *rgba = malloc((size_t)W * H * 4);
     assert_non_null(rgba);
     sta_render_target_read_rgba(&target, rgba);
@@ -254,7 +234,7 @@ static void budget_and_gpu_cap_hold(void **state)
     sta_scene_close(scene);
     sta_scene_options open = { 0 };
     assert_int_equal(sta_scene_open(path, &open, &scene, &err), STA_OK);
-    stats = render_complete(scene, &camera, &target);
+    stats = sta_fixture_render_complete(scene, &camera, &target);
     assert_int_equal(stats.points_drawn, POINTS);
     assert_int_equal(stats.nodes_resident, sta_scene_info(scene)->node_count);
     sta_render_target_release(&target);
@@ -289,7 +269,7 @@ static void corrupt_node_is_skipped_not_drawn(void **state)
     assert_int_equal(sta_scene_open(path, &options, &scene, &err), STA_OK);
     sta_camera camera = test_camera(origin);
     sta_render_target target = { 0 };
-    sta_frame_stats stats = render_complete(scene, &camera, &target);
+    sta_frame_stats stats = sta_fixture_render_complete(scene, &camera, &target);
     assert_int_equal(stats.bad_nodes, 1);
     assert_int_equal(stats.points_drawn, POINTS - victim_points);
     // It is not asked for again: more frames keep the count at one.
@@ -357,7 +337,7 @@ static void no_z_fighting_at_one_kilometre(void **state)
     assert_int_equal(sta_scene_open(strata, &options, &scene, &err), STA_OK);
     sta_scene_set_colour_mode(scene, STA_COLOUR_RGB);
     sta_render_target target = { 0 };
-    sta_frame_stats stats = render_complete(scene, &down, &target);
+    sta_frame_stats stats = sta_fixture_render_complete(scene, &down, &target);
     assert_true(stats.points_drawn >= 2 * GRID * GRID);
     uint8_t *rgba = malloc(160 * 160 * 4);
     assert_non_null(rgba);
@@ -373,7 +353,7 @@ static void no_z_fighting_at_one_kilometre(void **state)
 
     // The point 50 km away along +x at the camera's height is drawn at the centre.
     sta_camera ahead = { { 0.0, 0.0, 1000.0 }, 0.0, 0.0, 0.5, 0.01, 65, 65, STA_CAMERA_UP_Z };
-    stats = render_complete(scene, &ahead, &target);
+    stats = sta_fixture_render_complete(scene, &ahead, &target);
     sta_render_target_read_rgba(&target, rgba);
     const uint8_t *centre = rgba + 4 * (32 * 65 + 32);
     assert_true(centre[1] > 200);

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "convert.h"
 #include "core/bytes.h"
@@ -134,4 +135,24 @@ int sta_fixture_gl_teardown(void **state)
     (void)state;
     sta_gl_headless_destroy(&fixture_gl);
     return 0;
+}
+
+sta_frame_stats sta_fixture_render_complete(sta_scene *scene, const sta_camera *camera,
+                                            sta_render_target *target)
+{
+    sta_frame_stats stats;
+    memset(&stats, 0, sizeof(stats));
+    sta_error err = { 0 };
+    for (int frame = 0; frame < 5000; frame++) {
+        if (sta_scene_render(scene, camera, target, &stats, &err) != STA_OK) {
+            fail_msg("%s", err.message);
+        }
+        if (stats.complete) {
+            return stats;
+        }
+        struct timespec nap = { 0, 2000000 };
+        nanosleep(&nap, NULL);
+    }
+    fail_msg("the view never finished loading");
+    return stats;
 }

@@ -10,6 +10,7 @@
 #include <stddef.h>
 
 #include "core/camera.h"
+#include "render/scene.h"
 
 /* Builds `<tmpdir>/<name>.strata` from `points` points placed at `offset`; the path
  * goes to out_path. Fails the test on error. */
@@ -18,6 +19,12 @@ void sta_fixture_build_scene(const char *name, size_t points, const double offse
 
 /* A camera 12 m in front of the sphere (plus `offset`), looking at it. */
 sta_camera sta_fixture_camera(const double offset[3], int width_px, int height_px);
+
+/* Renders `camera` into `target` frame after frame until the view is complete (every
+ * wanted node resident or refused, and in the live Katz mode its set current); returns
+ * the last frame's stats. Fails the test on an error or after 5000 frames. */
+sta_frame_stats sta_fixture_render_complete(sta_scene *scene, const sta_camera *camera,
+                                            sta_render_target *target);
 
 /* cmocka group setup and teardown for GL tests: a headless EGL context (llvmpipe)
  * made current for the group's cases, and destroyed after. */
