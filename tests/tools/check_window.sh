@@ -10,77 +10,25 @@
 set -euo pipefail
 bin=$1 work=$2
 mkdir -p "$work"
-for tool in Xvfb xdotool xwd; do
-    command -v $tool >/dev/null || { echo "$tool is missing (scripts/install-deps.sh installs it)" >&2; exit 1; }
-done
-display=:$((90 + RANDOM % 400))
-Xvfb "$display" -screen 0 1280x1024x24 -nolisten tcp >/dev/null 2>&1 &
-xvfb=$!
-viewer=
-cleanup() {
-    [ -n "$viewer" ] && kill "$viewer" 2>/dev/null || true
-    kill "$xvfb" 2>/dev/null || true
-}
-trap cleanup EXIT
-export DISPLAY=$display
-sleep 1
+# shellcheck source=window_session.sh
+source "$(dirname "$0")/window_session.sh"
+window_session_start 90
 "$bin/src/strata-synth" street --points 300000 --seed 2 -o "$work/street.las" --quiet
 "$bin/preprocess/strata-convert" "$work/street.las" -o "$work/street.strata" --force -q
 camera=650235,5401873.6,105.5,180,-8,70
-
-# Pixels of the window (xwd without its header and colour map), in a file.
-pixels() {
-    xwd -id "$1" -silent >"$work/shot.xwd"
-    python3 - "$work/shot.xwd" "$2" <<'PY'
-import struct, sys
-d = open(sys.argv[1], "rb").read()
-f = struct.unpack(">25I", d[:100])
-start = f[0] + f[19] * 12  # header size + colour map entries
-open(sys.argv[2], "wb").write(d[start:start + f[12] * f[5]])
-PY
-}
-
-# Waits until the window's picture is the same three times in a row, 1 s apart (a busy
-# machine can pause the loader for a second).
-settle() {
-    local previous="" same=0 i
-    for i in $(seq 1 120); do
-        sleep 1
-        pixels "$1" "$work/now.raw"
-        local sum
-        sum=$(sha256sum <"$work/now.raw")
-        if [ "$sum" = "$previous" ]; then
-            same=$((same + 1))
-            [ $same -ge 2 ] && return 0
-        else
-            same=0
-        fi
-        previous=$sum
-    done
-    echo "the window never settled" >&2
-    exit 1
-}
 
 start_viewer() { # WxH
     # No readout: its frames-per-second figure differs from window to window.
     "$bin/src/strata-view" "$work/street.strata" --camera=$camera --size "$1" --pipeline raw \
         --no-readout >"$work/viewer.log" 2>&1 &
     viewer=$!
-    local i
-    for i in $(seq 1 60); do
-        win=$(xdotool search --pid "$viewer" 2>/dev/null | head -1 || true)
-        [ -n "$win" ] && return 0
-        sleep 0.5
-    done
-    echo "no window appeared" >&2
-    cat "$work/viewer.log" >&2
-    exit 1
+    find_window
 }
 
 start_viewer 640x360
-settle "$win"
+settle
 xdotool windowsize "$win" 800 600
-settle "$win"
+settle
 cp "$work/now.raw" "$work/resized.raw"
 
 # Idle: CPU seconds used over 3 s of nothing happening.
@@ -106,7 +54,7 @@ kill "$viewer"
 wait "$viewer" 2>/dev/null || true
 
 start_viewer 800x600
-settle "$win"
+settle
 cp "$work/now.raw" "$work/fresh.raw"
 kill "$viewer"
 wait "$viewer" 2>/dev/null || true

@@ -9,20 +9,9 @@
 set -euo pipefail
 bin=$(cd "$1" && pwd) work=$2
 mkdir -p "$work"
-for tool in Xvfb xdotool xwd; do
-    command -v $tool >/dev/null || { echo "$tool is missing (scripts/install-deps.sh installs it)" >&2; exit 1; }
-done
-display=:$((500 + RANDOM % 400))
-Xvfb "$display" -screen 0 1280x1024x24 -nolisten tcp >/dev/null 2>&1 &
-xvfb=$!
-viewer=
-cleanup() {
-    [ -n "$viewer" ] && kill "$viewer" 2>/dev/null || true
-    kill "$xvfb" 2>/dev/null || true
-}
-trap cleanup EXIT
-export DISPLAY=$display
-sleep 1
+# shellcheck source=window_session.sh
+source "$(dirname "$0")/window_session.sh"
+window_session_start 500
 "$bin/src/strata-synth" street --points 300000 --seed 1 -o "$work/street.las" --quiet
 "$bin/preprocess/strata-convert" "$work/street.las" -o "$work/street.strata" --force -q
 camera=650235,5401873.6,105.5,180,-8,70
@@ -32,32 +21,8 @@ start_viewer() { # extra options
     (cd "$work" && exec "$bin/src/strata-view" "$work/street.strata" --camera=$camera --size 640x360 \
         --pipeline raw --colour class "$@" >"$work/viewer.log" 2>&1) &
     viewer=$!
-    for _ in $(seq 1 60); do
-        win=$(xdotool search --pid "$viewer" 2>/dev/null | head -1 || true)
-        [ -n "$win" ] && settle && return 0
-        sleep 0.5
-    done
-    echo "no window appeared" >&2
-    exit 1
-}
-
-# Waits until the window's picture is the same twice in a row, 1 s apart (loaded;
-# slow under the sanitizers).
-settle() { # the same picture three times in a row, 1 s apart
-    local previous="" now same=0
-    for _ in $(seq 1 180); do
-        sleep 1
-        now=$(xwd -id "$win" -silent | sha256sum)
-        if [ "$now" = "$previous" ]; then
-            same=$((same + 1))
-            [ $same -ge 2 ] && return 0
-        else
-            same=0
-        fi
-        previous=$now
-    done
-    echo "the window never settled" >&2
-    exit 1
+    find_window
+    settle
 }
 
 # The top-left 300x60 pixels of the window (where the readout goes).
