@@ -57,6 +57,7 @@ typedef struct sta_point {
     uint16_t nir;                    /* as stored */
     double gps_time;                 /* as stored, may be NaN in broken files */
     float normal[3];                 /* unit normal from PLY nx/ny/nz, else 0 */
+    float radius;                    /* splat radius in metres (strata-convert --normals), else 0 */
     uint8_t wave_descriptor_index;   /* wave packet descriptor index */
     uint64_t wave_byte_offset;       /* byte offset to waveform data */
     uint32_t wave_packet_size;       /* bytes */

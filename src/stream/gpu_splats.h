@@ -1,0 +1,38 @@
+/* SPDX-License-Identifier: MIT
+ * The GPU layout of a point's splat attributes (issue 12): 8 bytes per point, kept in
+ * a second section after a node's 16-byte points (stream/gpu_points.h) when the scene
+ * was converted with `--normals`.
+ *
+ * bytes 0..3  uint16 u, v: the unit normal, octahedral (x, y of the octahedron map,
+ *             each as snorm16: GLSL unpackSnorm2x16 of the first word)
+ * bytes 4..5  binary16 radius in metres (GLSL unpackHalf2x16(second word).x); 0 = none
+ * bytes 6..7  reserved (0)
+ */
+#ifndef STA_STREAM_GPU_SPLATS_H
+#define STA_STREAM_GPU_SPLATS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+enum {
+    STA_GPU_SPLAT_SIZE = 8
+};
+
+/* Octahedral map of a unit vector to two snorm16 values; a zero or non-finite normal
+ * encodes as +Z. Decoding gives a unit vector within about 0.003 degrees. */
+void sta_octahedral_encode(const float normal[3], uint16_t out[2]);
+void sta_octahedral_decode(const uint16_t in[2], float normal[3]);
+
+/* IEEE binary16 of a non-negative radius (round to nearest; NaN and negative -> 0,
+ * above the largest finite half -> the largest finite half) and back. */
+uint16_t sta_half_from_float(float value);
+float sta_half_to_float(uint16_t half);
+
+/* Writes one 8-byte record per point into `out` (count * STA_GPU_SPLAT_SIZE bytes). */
+void sta_gpu_splats_encode(const float (*normals)[3], const float *radii, size_t count,
+                           uint8_t *out);
+
+/* Reads record `i` back (for CPU twins and tests). */
+void sta_gpu_splat_decode(const uint8_t *record, float normal[3], float *radius);
+
+#endif
