@@ -36,12 +36,18 @@ void keep_footprint(vec3 relative, float spacing, uint index)
     if (!footprint_of(clip, spacing, u_size, f)) {
         return;
     }
-    for (int oy = -f.reach; oy <= f.reach; oy++) {
-        for (int ox = -f.reach; ox <= f.reach; ox++) {
-            ivec2 p = f.centre + ivec2(ox, oy);
-            if (p.x < 0 || p.y < 0 || p.x >= u_size.x || p.y >= u_size.y) {
-                continue;
-            }
+    // Only the pixels whose centres can lie in the disk, |p * 2^bits + 2^(bits-1) - s| <=
+    // r per axis (arithmetic shifts floor), and the centre pixel, inside the target: the
+    // same pixels as the twin's wider loop finds, fewer tested.
+    const int half_pixel = 1 << (STA_RASTER_SUBPIXEL_BITS - 1);
+    int r = int(sqrt(float(f.r2)) + 0.5); // f.r2 is a square: its root exactly
+    ivec2 lo = -((ivec2(half_pixel + r) - f.snapped) >> STA_RASTER_SUBPIXEL_BITS);
+    ivec2 hi = (f.snapped + r - half_pixel) >> STA_RASTER_SUBPIXEL_BITS;
+    lo = max(min(lo, f.centre), ivec2(0));
+    hi = min(max(hi, f.centre), u_size - 1);
+    for (int y = lo.y; y <= hi.y; y++) {
+        for (int x = lo.x; x <= hi.x; x++) {
+            ivec2 p = ivec2(x, y);
             float depth = footprint_depth(f, p);
             if (depth >= 0.0) {
                 keep(uint(p.y) * uint(u_size.x) + uint(p.x), floatBitsToUint(depth), index);
