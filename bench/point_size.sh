@@ -9,7 +9,7 @@
 # run the median of REPEAT frames of the loaded view; the table gives the median over
 # the rounds and the ratio to one pixel with the same rasteriser.
 # usage: bench/point_size.sh   (SIZES="1 2 3 5 adaptive" ROUNDS=3 REPEAT=5 STREET=4
-#                               SIZE=960x540)
+#                               SIZE=960x540; ERRORS=0 skips part 1)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${BIN:-build/release}
@@ -30,6 +30,7 @@ if [ ! -f "$scene" ]; then
 fi
 
 # Part 1: errors (and strata-bench's own times, not interleaved) per size.
+if [ "${ERRORS:-1}" != 0 ]; then
 list=$(echo "$sizes" | tr ' ' ',')
 $bin/src/bench/strata-bench "$scene" --street "$street" --size "$size" --pipelines raw \
     --point-sizes "$list" --repeat "$repeat" --no-image-error --quiet --out "$work/point_size" >/dev/null
@@ -44,6 +45,7 @@ for setting in dict.fromkeys(r["setting"] for r in rows):
           mean("surface_see_through"), mean("surface_bleed"), statistics.median(float(r["geometry_ms"]) for r in rs)))
 print("(means over %d street views; geometry_ms: median over the views, not interleaved)" % len({r["camera"] for r in rows}))
 PY
+fi
 
 # Part 2: interleaved geometry-pass times.
 run() {

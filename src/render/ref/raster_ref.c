@@ -45,8 +45,9 @@ static bool clip_of(const sta_raster_ref_view *v, const float relative[3], float
     transform(v->view, position, eye);
     transform(v->projection, eye, clip);
     float w = clip[3];
-    return w > 0.0f && fabsf(clip[0]) <= w && fabsf(clip[1]) <= w && clip[2] >= 0.0f &&
-           clip[2] <= w;
+    // Written as the shaders reject, so that a NaN behaves alike.
+    return !(!(w > 0.0f) || fabsf(clip[0]) > w || fabsf(clip[1]) > w || clip[2] < 0.0f ||
+             clip[2] > w);
 }
 
 long sta_raster_ref_project(const sta_raster_ref_view *v, const float relative[3], float *out_depth)
