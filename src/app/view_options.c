@@ -570,5 +570,12 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
         return sta_cli_usage_error(&cli, "--point-size-min %g is larger than --point-size-max %g",
                                    a->point_size.min_px, a->point_size.max_px);
     }
+    if (!sta_point_size_is_one_pixel(&a->point_size) && a->pipeline != STA_PIPELINE_RAW &&
+        a->pipeline != STA_PIPELINE_EDL) {
+        fprintf(stderr,
+                "strata-view: note: --point-size applies to the raw and edl pipelines; "
+                "the %s pipeline draws one pixel per point\n",
+                sta_pipeline_mode_name(a->pipeline));
+    }
     return 0;
 }
