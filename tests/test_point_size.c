@@ -75,9 +75,14 @@ static void steps_and_labels(void **state)
     s.size_px = 7.0;
     sta_point_size_step(&s, -1);
     assert_true(s.size_px == 6.0);
-    s.size_px = STA_POINT_SIZE_LIMIT_PX;
+    s.size_px = 16.0; // the keys' largest step
+    sta_point_size_step(&s, +1);
+    assert_true(s.size_px == 16.0);
+    s.size_px = STA_POINT_SIZE_LIMIT_PX; // from the command line: kept going up, stepped down
     sta_point_size_step(&s, +1);
     assert_true(s.size_px == STA_POINT_SIZE_LIMIT_PX);
+    sta_point_size_step(&s, -1);
+    assert_true(s.size_px == 16.0);
     s.mode = STA_POINT_SIZE_ADAPTIVE;
     s.min_px = 2;
     s.max_px = 6;

@@ -58,7 +58,8 @@ sta_status sta_point_size_parse(const char *text, sta_point_size *out, sta_error
 void sta_point_size_describe(const sta_point_size *size, char *out_text, size_t text_size);
 
 /* The next fixed size up (+1) or down (-1) from the current one (the window's keys):
- * 1, 2, 3, 4, 5, 6, 8, 10, 12, 16, 24, 32, 48, 64 pixels; leaves adaptive mode. */
+ * 1, 2, 3, 4, 5, 6, 8, 10, 12, 16 pixels (a size above 16, from --point-size, stays
+ * until stepped down); leaves adaptive mode. */
 void sta_point_size_step(sta_point_size *size, int direction);
 
 #endif
