@@ -41,38 +41,40 @@ typedef struct sta_bench_options {
                                   <stem>.truth.json), one per scene, or NULL entries */
     size_t truth_count;
     sta_bench_camera_kind cameras;
-    int camera_count;                               /* orbit / street views; 0: 8 */
-    const char *path_file;                          /* STA_BENCH_PATH */
-    int width_px, height_px;                        /* 0: 1920 x 1080 */
-    double fov_deg;                                 /* 0: 60 */
-    uint64_t budgets[STA_BENCH_MAX_LIST];           /* points per frame; 0 = all points */
-    int budget_count;                               /* 0: one budget of STA_DEFAULT_BUDGET_POINTS */
-    int modes[STA_BENCH_MAX_LIST];                  /* sta_pipeline_mode */
-    int mode_count;                                 /* 0: shaded */
-    int normals[STA_BENCH_MAX_LIST];                /* sta_normal_method */
-    int normal_count;                               /* 0: pyramid */
-    int samples[STA_BENCH_MAX_LIST];                /* LD/PD/PC/TI schemes */
-    int sample_count;                               /* 0: 9 */
-    sta_point_size point_sizes[STA_BENCH_MAX_LIST]; /* raw and edl modes */
-    int point_size_count;                           /* 0: one pixel */
-    double adaptive_px[2];    /* adaptive entries' smallest, largest diameter; 0: their own */
-    bool hpr_variants[2];     /* HPR variants: [0] pyramid, [1] exhaustive;
-                                 neither set: pyramid only */
-    bool smooth;              /* normal smoothing pass */
-    int hpr_radius_px;        /* exhaustive radius; 0: the pipeline's 8 */
-    float hpr_threshold;      /* 0: the pipeline's 0.1 */
-    double s0_m;              /* 0: the scene's estimate */
-    int repeat;               /* timed frames per setting; 0: 5 */
-    double tolerance_s0;      /* truth tolerance in s0; 0: 3 */
-    double timeout_s;         /* per view loading; 0: 300 */
-    bool katz;                /* run the Katz reference */
-    double katz_perturbation; /* Braga's perturbation for --katz and the live
-                                 mode (0: none); > 0 also times the plain hull
-                                 on the same input, interleaved */
-    bool katz_live;           /* the live Katz mode as a method (its own row) */
-    uint64_t katz_points;     /* live mode's points per hull; 0: its default */
-    bool no_image_error;      /* skip the unbudgeted reference renders */
-    bool progress;            /* progress line on stderr (a terminal only) */
+    int camera_count;                     /* orbit / street views; 0: 8 */
+    const char *path_file;                /* STA_BENCH_PATH */
+    int width_px, height_px;              /* 0: 1920 x 1080 */
+    double fov_deg;                       /* 0: 60 */
+    uint64_t budgets[STA_BENCH_MAX_LIST]; /* points per frame; 0 = all points */
+    int budget_count;                     /* 0: one budget of STA_DEFAULT_BUDGET_POINTS */
+    int modes[STA_BENCH_MAX_LIST];        /* sta_pipeline_mode */
+    int mode_count;                       /* 0: shaded */
+    int normals[STA_BENCH_MAX_LIST];      /* sta_normal_method */
+    int normal_count;                     /* 0: pyramid */
+    int samples[STA_BENCH_MAX_LIST];      /* LD/PD/PC/TI schemes */
+    int sample_count;                     /* 0: 9 */
+    bool hpr_variants[2];                 /* HPR variants: [0] pyramid, [1] exhaustive;
+                                             neither set: pyramid only */
+    bool smooth;                          /* normal smoothing pass */
+    int hpr_radius_px;                    /* exhaustive radius; 0: the pipeline's 8 */
+    float hpr_threshold;                  /* 0: the pipeline's 0.1 */
+    double s0_m;                          /* 0: the scene's estimate */
+    int repeat;                           /* timed frames per setting; 0: 5 */
+    double tolerance_s0;                  /* truth tolerance in s0; 0: 3 */
+    double timeout_s;                     /* per view loading; 0: 300 */
+    bool katz;                            /* run the Katz reference */
+    double katz_perturbation;             /* Braga's perturbation for --katz and the live
+                                             mode (0: none); > 0 also times the plain hull
+                                             on the same input, interleaved */
+    bool katz_live;                       /* the live Katz mode as a method (its own row) */
+    uint64_t katz_points;                 /* live mode's points per hull; 0: its default */
+    bool no_image_error;                  /* skip the unbudgeted reference renders */
+    bool progress;                        /* progress line on stderr (a terminal only) */
+
+    /* Point sizes, for the raw and edl modes only (render/point_size.h). */
+    sta_point_size point_sizes[STA_BENCH_MAX_LIST]; /* none: one pixel */
+    int point_size_count;
+    double adaptive_px[2]; /* adaptive entries' smallest, largest diameter; 0: their own */
 } sta_bench_options;
 
 /* One pipeline setting of a sweep. */
@@ -140,12 +142,12 @@ typedef struct sta_bench_results {
 void sta_bench_options_defaults(sta_bench_options *options);
 
 /* Expands the sweep lists into settings (modes x HPR variants x normal methods x
- * samples x point sizes, each only where the mode uses it). *out is owned by the caller (sta_free).
- */
+ * samples x point sizes, each only where the mode uses it). *out is owned by the
+ * caller (sta_free). */
 sta_status sta_bench_settings(const sta_bench_options *options, sta_bench_setting **out,
                               size_t *out_count, sta_error *err);
 
-/* A short label of a setting ("raw", "raw/3px", "edl/adaptive", "hpr/exh",
+/* A short label of a setting ("raw", "raw/3px", "edl/adaptive1-8", "hpr/exh",
  * "shaded/pd9/pyr"). */
 void sta_bench_setting_label(const sta_bench_setting *setting, char *out, size_t size);
 
