@@ -325,6 +325,65 @@ static void settings_expand(void **state)
     free(s);
 }
 
+// Point sizes multiply the raw and edl settings only; labels name the size.
+static void settings_expand_point_sizes(void **state)
+{
+    (void)state;
+    sta_bench_options o = { .mode_count = 3,
+                            .modes = { STA_PIPELINE_RAW, STA_PIPELINE_SHADED, STA_PIPELINE_EDL },
+                            .point_size_count = 3,
+                            .adaptive_px = { 2, 6 } };
+    sta_point_size_defaults(&o.point_sizes[0]);
+    sta_error err = { 0 };
+    assert_int_equal(sta_point_size_parse("3", &o.point_sizes[1], &err), STA_OK);
+    o.point_sizes[2] = o.point_sizes[0];
+    assert_int_equal(sta_point_size_parse("adaptive", &o.point_sizes[2], &err), STA_OK);
+    sta_bench_options_defaults(&o);
+    sta_bench_setting *s = NULL;
+    size_t n = 0;
+    assert_int_equal(sta_bench_settings(&o, &s, &n, &err), STA_OK);
+    assert_int_equal(n, 3 + 1 + 3);
+    const char *expected[] = { "raw", "raw/3px", "raw/adaptive2-6", "shaded/pyramid/hpr-pyr",
+                               "edl", "edl/3px", "edl/adaptive2-6" };
+    for (size_t i = 0; i < n; i++) {
+        char label[64];
+        sta_bench_setting_label(&s[i], label, sizeof(label));
+        assert_string_equal(label, expected[i]);
+    }
+    assert_true(s[2].point_size.min_px == 2 && s[2].point_size.max_px == 6);
+    assert_true(sta_point_size_is_one_pixel(&s[3].point_size)); // shaded: one pixel
+    free(s);
+}
+
+// The surface score of a 2x2 view: truth rows from the bottom, depth rows from the top.
+static void eval_surface_hand_made(void **state)
+{
+    (void)state;
+    const double near = 0.1;
+    sta_camera camera = { .near_m = near, .width_px = 2, .height_px = 2 };
+    // Truth: the bottom row at 2 m, nothing in the top row.
+    float truth[4] = { 2.0f, 2.0f, NAN, NAN };
+    sta_view_truth v = { .width = 2, .height = 2, .depth_m = truth };
+    // Read-back order: top row first. Top right drawn at 1 m (no true surface: bleed);
+    // bottom left at 2.01 m (within the tolerance), bottom right empty (a hole).
+    float depth[4] = { 0.0f, (float)(near / 1.0), (float)(near / 2.01), 0.0f };
+    sta_surface_error e;
+    sta_eval_surface(&v, &camera, depth, 0.05, &e);
+    assert_int_equal(e.pixels, 3);
+    assert_near(e.hole, 1.0 / 3.0, 1e-12);
+    assert_near(e.bleed, 1.0 / 3.0, 1e-12);
+    assert_near(e.see_through, 0.0, 1e-12);
+    assert_near(e.error, 2.0 / 3.0, 1e-12);
+    // Bottom left behind the surface (3 m): see-through; in front (1.5 m): bleed.
+    depth[2] = (float)(near / 3.0);
+    sta_eval_surface(&v, &camera, depth, 0.05, &e);
+    assert_near(e.see_through, 1.0 / 3.0, 1e-12);
+    depth[2] = (float)(near / 1.5);
+    sta_eval_surface(&v, &camera, depth, 0.05, &e);
+    assert_near(e.bleed, 2.0 / 3.0, 1e-12);
+    assert_near(e.error, 1.0, 1e-12);
+}
+
 // The sidecar of a mesh scene stores the mesh path relative to its own folder, and the
 // bench finds the mesh from any working directory.
 static void truth_mesh_path_is_relative_to_the_sidecar(void **state)
@@ -466,6 +525,76 @@ static void core_end_to_end_sphere(void **state)
 // perturbation (--katz-perturbation): one extra row per view, with the latency from the
 // camera to its set, the hull's CPU time and F1 of the set's points against the truth;
 // the reference rows carry the perturbed and the plain hull's times on the same input.
+// A converted synthetic sphere of `points` points at the test's temporary `name`.strata.
+static void sphere_scene(const char *name, uint64_t points, char *strata, size_t size)
+{
+    sta_error err = { 0 };
+    char las[4096], file[256];
+    snprintf(file, sizeof(file), "%s.las", name);
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path(file));
+    snprintf(file, sizeof(file), "%s.strata", name);
+    snprintf(strata, size, "%s", sta_test_tmp_path(file));
+    sta_synth_params p = { .kind = STA_SYNTH_SPHERE, .seed = 3, .point_count = points };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    const char *inputs[] = { las };
+    sta_convert_options co = {
+        .inputs = inputs, .input_count = 1, .output = strata, .force = true, .compress_level = 1
+    };
+    assert_int_equal(sta_convert(&co, NULL, &err), STA_OK);
+}
+
+// Raw points of 1 and 4 px and adaptive on a sparse sphere against its truth: larger
+// points leave fewer holes, and every sized row is scored.
+static void point_sizes_sphere(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    sta_gl_headless gl = { 0 };
+    if (sta_gl_headless_create(&gl, &err) != STA_OK) {
+        fail_msg("no GL context: %s", err.message);
+    }
+    char strata[4096];
+    sphere_scene("sized_sphere", 3000, strata, sizeof(strata));
+    const char *scenes[] = { strata };
+    sta_bench_options o = { .scenes = scenes,
+                            .scene_count = 1,
+                            .camera_count = 1,
+                            .width_px = 192,
+                            .height_px = 144,
+                            .modes = { STA_PIPELINE_RAW },
+                            .mode_count = 1,
+                            .point_size_count = 3,
+                            .repeat = 1,
+                            .no_image_error = true };
+    sta_point_size_defaults(&o.point_sizes[0]);
+    o.point_sizes[1] = o.point_sizes[2] = o.point_sizes[0];
+    o.point_sizes[1].size_px = 4;
+    o.point_sizes[2].mode = STA_POINT_SIZE_ADAPTIVE;
+    sta_bench_results r = { 0 };
+    if (sta_bench_run(&o, &r, &err) != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    assert_int_equal(r.count, 3);
+    for (size_t i = 0; i < r.count; i++) {
+        const sta_bench_row *row = &r.rows[i];
+        print_message("%s (%s): %llu pixels, error %.3f = hole %.3f + see-through %.3f + bleed "
+                      "%.3f, geometry %.2f ms\n",
+                      row->setting, row->point_size, (unsigned long long)row->surface_pixels,
+                      row->surface_error, row->surface_hole, row->surface_see_through,
+                      row->surface_bleed, row->geometry_ms);
+        assert_true(row->surface_pixels > 1000);
+        assert_near(row->surface_error,
+                    row->surface_hole + row->surface_see_through + row->surface_bleed, 1e-12);
+    }
+    assert_string_equal(r.rows[1].setting, "raw/4px");
+    assert_string_equal(r.rows[1].point_size, "4 px");
+    assert_true(r.rows[0].surface_hole > 0.5);                          // 3000 points: sparse
+    assert_true(r.rows[1].surface_hole < 0.5 * r.rows[0].surface_hole); // 4 px fill most
+    assert_true(r.rows[2].surface_hole < r.rows[0].surface_hole);
+    sta_bench_results_release(&r);
+    sta_gl_headless_destroy(&gl);
+}
+
 static void live_katz_method_sphere(void **state)
 {
     (void)state;
@@ -541,6 +670,9 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(metrics_ssim),
     cmocka_unit_test(eval_buffers_hand_made),
     cmocka_unit_test(settings_expand),
+    cmocka_unit_test(settings_expand_point_sizes),
+    cmocka_unit_test(eval_surface_hand_made),
+    cmocka_unit_test(point_sizes_sphere),
     cmocka_unit_test(truth_mesh_path_is_relative_to_the_sidecar),
     cmocka_unit_test(core_end_to_end_sphere),
 };

@@ -4,7 +4,9 @@
  * kept per pixel and its depth bits. Depth order, ties, points outside the frustum,
  * empty nodes, a node larger than one workgroup's batch, the arena after repacking;
  * both rasterisers on a converted scene through sta_scene; the choice of the atomics
- * path (the 32-bit fallback when 64-bit atomics are absent or switched off). */
+ * path (the 32-bit fallback when 64-bit atomics are absent or switched off). Points
+ * wider than a pixel (render/point_size.h), fixed and adaptive, the same way; the
+ * footprint's shape and paraboloid depth on the twin. */
 #include "scene_fixture.h"
 #include "test_support.h"
 
@@ -18,6 +20,7 @@
 #include "render/gl.h"
 #include "render/gpu_cache.h"
 #include "render/pass_geometry.h"
+#include "render/point_size.h"
 #include "render/ref/raster_ref.h"
 #include "render/scene.h"
 #include "stream/gpu_points.h"
@@ -33,6 +36,7 @@ enum {
 typedef struct test_node {
     double corner[3];
     double step;
+    double spacing; /* metres, for the adaptive size */
     uint8_t *points;
     uint32_t count;
 } test_node;
@@ -113,9 +117,13 @@ typedef struct raster_out {
     size_t drawn;            /* pixels with a point */
 } raster_out;
 
-static void twin(const test_set *set, const sta_camera *camera, raster_out *out)
+static void twin(const test_set *set, const sta_camera *camera, const sta_point_size *size,
+                 raster_out *out)
 {
     sta_raster_ref_view view = { .width_px = W, .height_px = H };
+    if (size) {
+        sta_point_size_footprint(size, camera, &view.footprint);
+    }
     sta_camera_view_rotation(camera, view.view);
     sta_camera_projection(camera, view.projection);
     glGetIntegerv(GL_SUBPIXEL_BITS, &view.subpixel_bits);
@@ -129,6 +137,7 @@ static void twin(const test_set *set, const sta_camera *camera, raster_out *out)
         nodes[k].points = n->points;
         nodes[k].count = n->count;
         nodes[k].slot = set->draw[k];
+        nodes[k].spacing = (float)n->spacing;
     }
     sta_raster_ref_draw(&view, nodes, set->draw_count, out->depth, out->ids);
     out->drawn = 0;
@@ -158,6 +167,7 @@ static void frames_of(const test_set *set, sta_gpu_node_frame *frames)
             frames[i].corner[a] = set->nodes[i].corner[a];
             frames[i].step[a] = set->nodes[i].step;
         }
+        frames[i].spacing = set->nodes[i].spacing;
     }
 }
 
@@ -173,11 +183,12 @@ static void flip_rows(void *data, size_t row_bytes)
 }
 
 static void gpu(const test_set *set, const sta_gpu_cache *cache, const sta_camera *camera,
-                const sta_geometry_options *options, raster_out *out)
+                const sta_geometry_options *options, const sta_point_size *size, raster_out *out)
 {
     sta_error err = { 0 };
     sta_pass_geometry pass;
     assert_int_equal(sta_pass_geometry_init(&pass, options, &err), STA_OK);
+    sta_pass_geometry_set_point_size(&pass, size);
     sta_gpu_node_frame frames[MAX_NODES];
     frames_of(set, frames);
     sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL };
@@ -200,19 +211,19 @@ static void gpu(const test_set *set, const sta_gpu_cache *cache, const sta_camer
     }
 }
 
-// Both rasterisers equal the twin, id for id and depth bit for bit; returns the pixels
-// drawn.
-static size_t check_set(const test_set *set)
+// Both rasterisers equal the twin with points of `size` (NULL: one pixel), id for id
+// and depth bit for bit; returns the pixels drawn.
+static size_t check_set_sized(const test_set *set, const sta_point_size *size)
 {
     sta_camera camera = test_camera();
     static raster_out expected, got;
-    twin(set, &camera, &expected);
+    twin(set, &camera, size, &expected);
     sta_gpu_cache cache;
     upload(&cache, set);
     const int methods[2] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     for (int m = 0; m < 2; m++) {
         sta_geometry_options options = { .raster = methods[m] };
-        gpu(set, &cache, &camera, &options, &got);
+        gpu(set, &cache, &camera, &options, size, &got);
         size_t id_differ = 0, depth_differ = 0;
         for (int i = 0; i < W * H; i++) {
             id_differ += memcmp(&expected.ids[2 * i], &got.ids[2 * i], 8) != 0;
@@ -226,6 +237,11 @@ static size_t check_set(const test_set *set)
     }
     sta_gpu_cache_release(&cache);
     return expected.drawn;
+}
+
+static size_t check_set(const test_set *set)
+{
+    return check_set_sized(set, NULL);
 }
 
 static void twin_matches_on_random_nodes(void **state)
@@ -266,7 +282,7 @@ static void nearest_point_wins_in_any_draw_order(void **state)
     // The near node really hides part of the far one in the twin.
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, &out);
+    twin(&set, &camera, NULL, &out);
     size_t near_pixels = 0;
     for (int i = 0; i < W * H; i++) {
         near_pixels += out.ids[2 * i] == 1;
@@ -292,7 +308,7 @@ static void equal_depths_keep_the_first_drawn(void **state)
     check_set(&set);
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, &out);
+    twin(&set, &camera, NULL, &out);
     for (int i = 0; i < W * H; i++) {
         if (out.ids[2 * i] != STA_TARGET_NO_POINT) {
             assert_int_equal(out.ids[2 * i], 2);    // the first node drawn
@@ -346,7 +362,7 @@ static void node_larger_than_a_batch(void **state)
     // Points of the last batch of the big node are kept too.
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, &out);
+    twin(&set, &camera, NULL, &out);
     size_t last_batch = 0;
     for (int i = 0; i < W * H; i++) {
         last_batch += out.ids[2 * i] == 1 && out.ids[2 * i + 1] >= 3 * STA_RASTER_BATCH_POINTS;
@@ -386,9 +402,9 @@ static void arena_repack_keeps_every_node(void **state)
     assert_int_equal(cache.live, 6 * 20000);
     sta_camera camera = test_camera();
     static raster_out expected, got;
-    twin(&set, &camera, &expected);
+    twin(&set, &camera, NULL, &expected);
     sta_geometry_options options = { .raster = STA_RASTER_COMPUTE };
-    gpu(&set, &cache, &camera, &options, &got);
+    gpu(&set, &cache, &camera, &options, NULL, &got);
     assert_memory_equal(expected.ids, got.ids, sizeof(got.ids));
     sta_gpu_cache_release(&cache);
     free_set(&set);
@@ -476,6 +492,113 @@ static void both_rasterisers_render_a_scene_alike(void **state)
     }
 }
 
+static sta_point_size fixed_size(double px)
+{
+    sta_point_size size;
+    sta_point_size_defaults(&size);
+    size.size_px = px;
+    return size;
+}
+
+static void wide_points_match_the_twin(void **state)
+{
+    (void)state;
+    test_set set = { 0 };
+    // Sparse nodes (so that disks overlap without hiding everything), one straddling the
+    // left edge of the view: footprints are cut at the border, not dropped.
+    for (int k = 0; k < 6; k++) {
+        add_node(&set, 3.0 + 6.0 * k, -2.0 + 0.4 * k, -2.0 + 0.3 * k, 150, 4096);
+    }
+    add_node(&set, 4.0, 0.0, -1.0, 300, 8192);
+    size_t one = check_set(&set), previous = one;
+    const double sizes[] = { 2.0, 3.0, 5.5, 9.0 };
+    for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); s++) {
+        sta_point_size size = fixed_size(sizes[s]);
+        size_t drawn = check_set_sized(&set, &size);
+        printf("%g px: %zu pixels drawn (1 px: %zu)\n", sizes[s], drawn, one);
+        assert_true(drawn > previous); // larger points cover more
+        previous = drawn;
+    }
+    free_set(&set);
+}
+
+static void adaptive_points_match_the_twin(void **state)
+{
+    (void)state;
+    test_set set = { 0 };
+    // The same spacing near and far: near points get larger disks than far ones, within
+    // [min, max].
+    add_node(&set, 3.0, -1.0, -1.0, 200, 2048)->spacing = 0.05;
+    add_node(&set, 30.0, -8.0, -6.0, 200, 16384)->spacing = 0.05;
+    add_node(&set, 8.0, -2.0, -2.0, 200, 4096)->spacing = 0.0; // no spacing: the minimum
+    sta_point_size size;
+    sta_point_size_defaults(&size);
+    size.mode = STA_POINT_SIZE_ADAPTIVE;
+    size.min_px = 1.5;
+    size.max_px = 6.0;
+    size_t adaptive = check_set_sized(&set, &size);
+    size_t one = check_set(&set);
+    printf("adaptive: %zu pixels drawn (1 px: %zu)\n", adaptive, one);
+    assert_true(adaptive > one);
+    free_set(&set);
+}
+
+// One point 10 m ahead on the axis in the twin: the pixels it covers with a diameter
+// of 9 px form a disk (area near pi 4.5^2, symmetric), the nearest depth in the middle,
+// the point's own depth at the rim.
+static void wide_point_is_a_disk_with_a_paraboloid(void **state)
+{
+    (void)state;
+    sta_camera camera = test_camera();
+    sta_raster_ref_view view = { .width_px = W, .height_px = H, .subpixel_bits = 8 };
+    sta_camera_view_rotation(&camera, view.view);
+    sta_camera_projection(&camera, view.projection);
+    sta_point_size size = fixed_size(9.0);
+    sta_point_size_footprint(&size, &camera, &view.footprint);
+    uint8_t point[STA_GPU_POINT_SIZE] = { 0 };
+    put_point(point, 0, 0, 0, 0xFFFFFF);
+    sta_raster_ref_node node = {
+        .origin = { 10.0f, 0.0f, 0.0f }, .step = { 1.0f, 1.0f, 1.0f }, .points = point, .count = 1
+    };
+    static float depth[W * H];
+    static uint32_t ids[2 * W * H];
+    sta_raster_ref_draw(&view, &node, 1, depth, ids);
+    float centre_depth = 0;
+    long centre = sta_raster_ref_project(&view, node.origin, &centre_depth);
+    assert_true(centre >= 0);
+    int covered = 0, x0 = W, x1 = -1, y0 = H, y1 = -1;
+    float nearest = 0, farthest = 1;
+    for (int y = 0; y < H; y++) {
+        for (int x = 0; x < W; x++) {
+            float d = depth[x + y * W];
+            if (d > 0) {
+                covered++;
+                x0 = x < x0 ? x : x0;
+                x1 = x > x1 ? x : x1;
+                y0 = y < y0 ? y : y0;
+                y1 = y > y1 ? y : y1;
+                nearest = fmaxf(nearest, d);
+                farthest = fminf(farthest, d);
+            }
+        }
+    }
+    printf("9 px disk: %d pixels, x %d..%d, y %d..%d, depth %g..%g (centre %g)\n", covered, x0, x1,
+           y0, y1, (double)farthest, (double)nearest, (double)centre_depth);
+    // pi * 4.5^2 = 63.6; the point sits on a pixel corner, so pixel centres lie at
+    // half-pixel offsets and the disk spans 8 of them (9 or 10 elsewhere).
+    assert_in_range(covered, 57, 73);
+    assert_in_range(x1 - x0 + 1, 8, 10);
+    assert_in_range(y1 - y0 + 1, 8, 10);
+    assert_int_equal(x1 - x0, y1 - y0);
+    // The rim is the point's depth (within the sub-pixel distance of the outermost
+    // pixel centre to the rim); the middle is nearer by the radius in metres: at 10 m
+    // a 4.5 px radius is 10 * 4.5 * 2 tan(30 deg) / 64 = 0.81 m, depth = near / 9.19.
+    assert_true(farthest >= centre_depth && farthest < centre_depth * 1.02f);
+    float expected_middle = (float)(camera.near_m / (10.0 - 10.0 * 4.5 * 2.0 * tan(M_PI / 6) / H));
+    assert_float_equal(depth[centre], expected_middle, expected_middle * 0.01f);
+    assert_true(nearest == depth[centre]);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(twin_matches_on_random_nodes, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
@@ -495,6 +618,11 @@ static const struct CMUnitTest tests[] = {
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(both_rasterisers_render_a_scene_alike, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(wide_points_match_the_twin, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(adaptive_points_match_the_twin, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test(wide_point_is_a_disk_with_a_paraboloid),
 };
 
 STA_TEST_MAIN(tests)

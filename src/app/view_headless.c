@@ -337,8 +337,9 @@ static sta_status survey_outputs(const sta_view_args *args, const sta_scene *sce
     }
     sta_pipeline_options pipeline;
     sta_view_pipeline_options(args, &pipeline);
-    sta_view_readout_fill(readout, stats, 0.0, args->budget_points,
-                          sta_pipeline_mode_name(pipeline.mode),
+    char label[96];
+    sta_view_pipeline_label(pipeline.mode, &args->point_size, label, sizeof(label));
+    sta_view_readout_fill(readout, stats, 0.0, args->budget_points, label,
                           args->has_pick && status == STA_OK ? &pick : NULL, &measures);
     if (status == STA_OK && args->hud) {
         readout->marks = sta_alloc_array(STA_VIEW_MAX_MARKS, sizeof(*readout->marks));
@@ -388,6 +389,7 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_geometry_options raster = { .raster = args->raster,
                                         .force_32bit_atomics = args->raster_32bit };
         sta_scene_set_raster(scene, &raster);
+        sta_scene_set_point_size(scene, &args->point_size);
         sta_frame_stats stats = { 0 };
         if (args->path_file) {
             status = play_path(args, scene, &camera, &target, &err);

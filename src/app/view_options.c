@@ -101,6 +101,30 @@ static void show_size(const sta_cli_option *option, char *out_text, size_t size)
     snprintf(out_text, size, "%dx%d", a->width_px, a->height_px);
 }
 
+// --point-size N|adaptive (dest: sta_point_size).
+static sta_status parse_point_size(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_point_size size = *(const sta_point_size *)option->dest;
+    if (sta_point_size_parse(value, &size, err) != STA_OK) {
+        char expected[96];
+        snprintf(expected, sizeof(expected), "'adaptive' or a diameter in pixels from 1 to %g",
+                 STA_POINT_SIZE_LIMIT_PX);
+        return sta_cli_fail_value(err, option, value, expected);
+    }
+    *(sta_point_size *)option->dest = size;
+    return STA_OK;
+}
+
+static void show_point_size(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_point_size *p = option->dest;
+    if (p->mode == STA_POINT_SIZE_ADAPTIVE) {
+        snprintf(out_text, size, "adaptive");
+    } else {
+        snprintf(out_text, size, "%g", p->size_px);
+    }
+}
+
 // --camera and --look X,Y,Z,YAW,PITCH[,FOV] (dest: sta_view_args).
 static sta_status parse_camera(const sta_cli_option *option, const char *value, sta_error *err)
 {
@@ -199,6 +223,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     a->hpr_threshold = (double)STA_HPR_DEFAULT_THRESHOLD;
     sta_katz_view_options_defaults(&a->katz);
     a->raster = STA_RASTER_DEFAULT; // resolved (and so named in the log) by render/
+    sta_point_size_defaults(&a->point_size);
     static const char *const raster_names[] = { "compute", "points", NULL };
     static const int raster_values[] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     int hpr = 0; // index into hpr_names
@@ -411,6 +436,29 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .dest = &a->raster_32bit,
           .help = "compute rasteriser: two passes with 32-bit atomics even where 64-bit "
                   "ones exist" },
+        { .name = "point-size",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &a->point_size,
+          .metavar = "PX|adaptive",
+          .parse = parse_point_size,
+          .show = show_point_size,
+          .help = "raw and edl pipelines: point diameter in pixels (round, with a depth per "
+                  "pixel), or adaptive: the node's point spacing on screen, within "
+                  "--point-size-min and --point-size-max (keys + - and Z in the window)" },
+        { .name = "point-size-min",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->point_size.min_px,
+          .metavar = "PX",
+          .real_min = 1.0,
+          .real_max = STA_POINT_SIZE_LIMIT_PX,
+          .help = "adaptive point size: smallest diameter" },
+        { .name = "point-size-max",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->point_size.max_px,
+          .metavar = "PX",
+          .real_min = 1.0,
+          .real_max = STA_POINT_SIZE_LIMIT_PX,
+          .help = "adaptive point size: largest diameter" },
         { .heading = "screen-space pipeline (after the one-pixel-per-point geometry pass):",
           .name = "pipeline",
           .kind = STA_CLI_CHOICE,
@@ -517,6 +565,17 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
         !a->has_pick && !a->measure_file) {
         return sta_cli_usage_error(
             &cli, "--headless needs --out, --exr, --frames-out, --stats, --pick or --measure");
+    }
+    if (a->point_size.min_px > a->point_size.max_px) {
+        return sta_cli_usage_error(&cli, "--point-size-min %g is larger than --point-size-max %g",
+                                   a->point_size.min_px, a->point_size.max_px);
+    }
+    if (!sta_point_size_is_one_pixel(&a->point_size) && a->pipeline != STA_PIPELINE_RAW &&
+        a->pipeline != STA_PIPELINE_EDL) {
+        fprintf(stderr,
+                "strata-view: note: --point-size applies to the raw and edl pipelines; "
+                "the %s pipeline draws one pixel per point\n",
+                sta_pipeline_mode_name(a->pipeline));
     }
     return 0;
 }

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "core/camera.h"
+#include "render/point_size.h"
 #include "stream/clip.h"
 
 typedef struct sta_view_args {
@@ -54,6 +55,7 @@ typedef struct sta_view_args {
     double intensity_max;      /* --intensity-max (0: the scene's) */
     int raster;                /* --raster (sta_raster_method) */
     bool raster_32bit;         /* --raster-32bit: the two-pass compute path always */
+    sta_point_size point_size; /* --point-size, --point-size-min/max (raw and EDL modes) */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

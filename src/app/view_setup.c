@@ -129,3 +129,15 @@ void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *
     out->hpr_threshold = (float)args->hpr_threshold;
     out->s0_m = (float)args->s0_m;
 }
+
+void sta_view_pipeline_label(int mode, const sta_point_size *size, char *out_text, size_t text_size)
+{
+    bool sized = mode == STA_PIPELINE_RAW || mode == STA_PIPELINE_EDL;
+    if (!sized || sta_point_size_is_one_pixel(size)) {
+        snprintf(out_text, text_size, "%s", sta_pipeline_mode_name(mode));
+        return;
+    }
+    char points[64];
+    sta_point_size_describe(size, points, sizeof(points));
+    snprintf(out_text, text_size, "%s, points %s", sta_pipeline_mode_name(mode), points);
+}

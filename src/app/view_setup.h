@@ -34,6 +34,11 @@ double sta_view_default_yaw(const sta_camera *camera, const double *points, size
 /* The screen-space pipeline options the arguments ask for. */
 void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *out);
 
+/* The pipeline's name for the readout and title, with the point size where it applies
+ * and is not one pixel: "shaded", "edl, points 3 px". */
+void sta_view_pipeline_label(int mode, const sta_point_size *size, char *out_text,
+                             size_t text_size);
+
 /* The colour mode asked for, or the best default for the scene's attributes. */
 int sta_view_initial_colour(const sta_view_args *args, const sta_strata_info *info);
 

@@ -48,6 +48,7 @@ typedef struct view_state {
     sta_camera_path recorded;      /* P adds keyframes */
     sta_pipeline_options pipeline; /* M, N, H, G change it */
     sta_katz_view_options katz;    /* K turns it on and off */
+    sta_point_size point_size;     /* + - and Z change it */
     double record_start_s;
     int colour_mode;
     double orbit_pitch[2]; /* radians: the camera's elevation above the pivot, min and max */
@@ -240,6 +241,29 @@ static bool filter_key(view_state *s, int key)
     return true;
 }
 
+// + and - step the point diameter, Z toggles the adaptive size. True when `key` was one.
+static bool point_size_key(view_state *s, int key)
+{
+    if (key == GLFW_KEY_EQUAL || key == GLFW_KEY_KP_ADD) {
+        sta_point_size_step(&s->point_size, +1);
+    } else if (key == GLFW_KEY_MINUS || key == GLFW_KEY_KP_SUBTRACT) {
+        sta_point_size_step(&s->point_size, -1);
+    } else if (key == GLFW_KEY_Z) {
+        s->point_size.mode = s->point_size.mode == STA_POINT_SIZE_ADAPTIVE
+                                 ? STA_POINT_SIZE_FIXED
+                                 : STA_POINT_SIZE_ADAPTIVE;
+    } else {
+        return false;
+    }
+    sta_scene_set_point_size(s->scene, &s->point_size);
+    char text[64];
+    sta_point_size_describe(&s->point_size, text, sizeof(text));
+    bool sized = s->pipeline.mode == STA_PIPELINE_RAW || s->pipeline.mode == STA_PIPELINE_EDL;
+    fprintf(stderr, "point size %s%s\n", text,
+            sized ? "" : " (drawn in the raw and edl pipelines: M cycles them)");
+    return true;
+}
+
 // T, Enter, Backspace, J and C: the measuring tools' keys. True when `key` was one.
 static bool survey_key(view_state *s, int key)
 {
@@ -355,7 +379,7 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
     }
     view_state *s = glfwGetWindowUserPointer(window);
     s->redraw = true;
-    if (survey_key(s, key) || filter_key(s, key)) {
+    if (survey_key(s, key) || filter_key(s, key) || point_size_key(s, key)) {
         return;
     }
     if (key == GLFW_KEY_ESCAPE) {
@@ -454,13 +478,14 @@ static bool fly(view_state *s, GLFWwindow *window, double dt)
 }
 
 static void update_title(GLFWwindow *window, const sta_frame_stats *stats, double fps,
-                         uint64_t budget, bool fly_mode)
+                         uint64_t budget, const view_state *s)
 {
-    char title[256];
+    char title[320], label[96];
+    sta_view_pipeline_label(s->pipeline.mode, &s->point_size, label, sizeof(label));
     snprintf(title, sizeof(title),
-             "strata-view  [%s]  %.0f fps  %.1f / %.1f M points  %u nodes resident, %zu "
+             "strata-view  [%s]  [%s]  %.0f fps  %.1f / %.1f M points  %u nodes resident, %zu "
              "loading  %.0f MiB GPU",
-             fly_mode ? "fly: WASD QE, drag to look" : "orbit", fps,
+             s->fly ? "fly: WASD QE, drag to look" : "orbit", label, fps,
              (double)stats->points_drawn * 1e-6, (double)budget * 1e-6, stats->nodes_resident,
              stats->loader_backlog, (double)stats->gpu_bytes / 1048576.0);
     if (stats->katz.generation > 0) {
@@ -478,7 +503,9 @@ static void draw_readout(view_state *s, sta_hud_overlay *hud, const sta_frame_st
 {
     sta_view_readout readout;
     uint64_t budget = args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS;
-    sta_view_readout_fill(&readout, stats, fps, budget, sta_pipeline_mode_name(s->pipeline.mode),
+    char label[96];
+    sta_view_pipeline_label(s->pipeline.mode, &s->point_size, label, sizeof(label));
+    sta_view_readout_fill(&readout, stats, fps, budget, label,
                           s->tools.has_pick ? &s->tools.last_pick : NULL, &s->tools.list);
     if (readout.count < STA_VIEW_HUD_MAX_LINES) {
         sta_view_tools_status(&s->tools, readout.lines[readout.count], sizeof(readout.lines[0]));
@@ -561,6 +588,8 @@ int sta_view_run_window(const sta_view_args *args)
     sta_geometry_options raster = { .raster = args->raster,
                                     .force_32bit_atomics = args->raster_32bit };
     sta_scene_set_raster(s.scene, &raster);
+    s.point_size = args->point_size;
+    sta_scene_set_point_size(s.scene, &s.point_size);
     s.orbit_pitch[0] = args->orbit_pitch_deg[0] * M_PI / 180.0;
     s.orbit_pitch[1] = args->orbit_pitch_deg[1] * M_PI / 180.0;
     for (int a = 0; a < 3; a++) {
@@ -652,8 +681,7 @@ int sta_view_run_window(const sta_view_args *args)
         if (drawn_s > 0.5 || was_idle || (stats.complete && !was_complete)) {
             fps = frames_since_title / drawn_s;
             update_title(window, &stats, frames_since_title / drawn_s,
-                         args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS,
-                         s.fly);
+                         args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS, &s);
             if (args->stats) {
                 printf("%.1f fps, %" PRIu64 " points; ms: geometry %.2f",
                        frames_since_title / drawn_s, stats.points_drawn, stats.geometry_ms);

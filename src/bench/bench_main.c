@@ -97,6 +97,14 @@ static bool parse_samples(const char *item, void *out, int i)
     return v == 5 || v == 9 || v == 17 || v == 25;
 }
 
+static bool parse_point_size_item(const char *item, void *out, int i)
+{
+    sta_point_size *size = &((sta_point_size *)out)[i];
+    sta_point_size_defaults(size);
+    sta_error ignored = { 0 };
+    return sta_point_size_parse(item, size, &ignored) == STA_OK;
+}
+
 static bool parse_hpr(const char *item, void *out, int i)
 {
     (void)i;
@@ -152,6 +160,52 @@ static sta_status parse_sample_list(const sta_cli_option *option, const char *va
     sta_bench_options *o = option->dest;
     return parse_list_option(option, value, parse_samples, o->samples, &o->sample_count,
                              "sample counts (5,9,17,25)", err);
+}
+
+static sta_status parse_point_sizes(const sta_cli_option *option, const char *value, sta_error *err)
+{
+    sta_bench_options *o = option->dest;
+    return parse_list_option(
+        option, value, parse_point_size_item, o->point_sizes, &o->point_size_count,
+        "point diameters in pixels (1 to 64) or 'adaptive' (e.g. 1,2,3,adaptive)", err);
+}
+
+// --point-size-range MIN,MAX: the adaptive entries' clamp.
+static sta_status parse_point_size_range(const sta_cli_option *option, const char *value,
+                                         sta_error *err)
+{
+    sta_bench_options *o = option->dest;
+    double lo = 0, hi = 0;
+    char tail = 0;
+    if (sscanf(value, "%lf,%lf%c", &lo, &hi, &tail) != 2 || !(lo >= 1.0) || !(hi >= lo) ||
+        hi > STA_POINT_SIZE_LIMIT_PX) {
+        return sta_cli_fail_value(err, option, value, "MIN,MAX pixels, 1 <= MIN <= MAX <= 64");
+    }
+    o->adaptive_px[0] = lo;
+    o->adaptive_px[1] = hi;
+    return STA_OK;
+}
+
+static void show_point_size_range(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_bench_options *o = option->dest;
+    bool given = o->adaptive_px[0] > 0;
+    snprintf(out_text, size, "%g,%g", given ? o->adaptive_px[0] : STA_POINT_SIZE_DEFAULT_MIN_PX,
+             given ? o->adaptive_px[1] : STA_POINT_SIZE_DEFAULT_MAX_PX);
+}
+
+static void show_point_sizes(const sta_cli_option *option, char *out_text, size_t size)
+{
+    const sta_bench_options *o = option->dest;
+    size_t used = 0;
+    out_text[0] = '\0';
+    for (int i = 0; i < o->point_size_count && used < size; i++) {
+        const sta_point_size *p = &o->point_sizes[i];
+        int n = p->mode == STA_POINT_SIZE_ADAPTIVE
+                    ? snprintf(out_text + used, size - used, "%sadaptive", i ? "," : "")
+                    : snprintf(out_text + used, size - used, "%s%g", i ? "," : "", p->size_px);
+        used += n > 0 ? (size_t)n : 0;
+    }
 }
 
 // --hpr: the variants of every --hpr given add up; the first replaces the default.
@@ -386,6 +440,21 @@ int main(int argc, char **argv)
           .parse = parse_normals,
           .show = show_normals,
           .help = "pyramid,ld,pd,pc,ti" },
+        { .name = "point-sizes",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &o,
+          .metavar = "LIST",
+          .parse = parse_point_sizes,
+          .show = show_point_sizes,
+          .help = "raw and edl pipelines: point diameters in pixels and/or adaptive, e.g. "
+                  "1,2,3,5,adaptive (image error against the truth: surface_* columns)" },
+        { .name = "point-size-range",
+          .kind = STA_CLI_CALLBACK,
+          .dest = &o,
+          .metavar = "MIN,MAX",
+          .parse = parse_point_size_range,
+          .show = show_point_size_range,
+          .help = "adaptive point size: smallest and largest diameter, pixels" },
         { .name = "samples",
           .kind = STA_CLI_CALLBACK,
           .dest = &o,

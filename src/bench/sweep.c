@@ -51,6 +51,10 @@ void sta_bench_options_defaults(sta_bench_options *o)
         o->samples[0] = 9;
         o->sample_count = 1;
     }
+    if (!o->point_size_count) {
+        sta_point_size_defaults(&o->point_sizes[0]);
+        o->point_size_count = 1;
+    }
     if (!o->hpr_variants[0] && !o->hpr_variants[1]) {
         o->hpr_variants[0] = true;
     }
@@ -63,6 +67,11 @@ void sta_bench_options_defaults(sta_bench_options *o)
     if (!(o->timeout_s > 0)) {
         o->timeout_s = 300.0;
     }
+}
+
+static bool mode_draws_sized(int mode)
+{
+    return mode == STA_PIPELINE_RAW || mode == STA_PIPELINE_EDL;
 }
 
 static bool mode_runs_hpr(int mode)
@@ -83,7 +92,8 @@ static bool mode_runs_normals(int mode)
 sta_status sta_bench_settings(const sta_bench_options *o, sta_bench_setting **out,
                               size_t *out_count, sta_error *err)
 {
-    size_t max = (size_t)o->mode_count * 2 * (size_t)o->normal_count * (size_t)o->sample_count;
+    size_t max = (size_t)o->mode_count * 2 * (size_t)o->normal_count * (size_t)o->sample_count *
+                 (size_t)(o->point_size_count > 0 ? o->point_size_count : 1);
     sta_bench_setting *s = sta_alloc_array(max ? max : 1, sizeof(*s));
     if (!s) {
         return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu settings", max);
@@ -102,8 +112,23 @@ sta_status sta_bench_settings(const sta_bench_options *o, sta_bench_setting **ou
                 const bool sampled = mode_runs_normals(mode) && method != STA_NORMAL_PYRAMID &&
                                      method != STA_NORMAL_LD;
                 for (int j = 0; j < (sampled ? o->sample_count : 1); j++) {
-                    s[n++] = (sta_bench_setting){ mode, method, sampled ? o->samples[j] : 0,
-                                                  mode_runs_hpr(mode) && h == 1 };
+                    // Point sizes only where the picture is the points (raw, edl).
+                    int sizes = mode_draws_sized(mode) ? o->point_size_count : 0;
+                    for (int z = 0; z < (sizes > 0 ? sizes : 1); z++) {
+                        sta_bench_setting *t = &s[n++];
+                        *t = (sta_bench_setting){ .mode = mode,
+                                                  .normals = method,
+                                                  .samples = sampled ? o->samples[j] : 0,
+                                                  .hpr_exhaustive = mode_runs_hpr(mode) && h == 1 };
+                        if (sizes > 0) {
+                            t->point_size = o->point_sizes[z];
+                            if (t->point_size.mode == STA_POINT_SIZE_ADAPTIVE &&
+                                o->adaptive_px[0] > 0) {
+                                t->point_size.min_px = o->adaptive_px[0];
+                                t->point_size.max_px = o->adaptive_px[1];
+                            }
+                        }
+                    }
                 }
             }
         }
@@ -124,8 +149,18 @@ void sta_bench_setting_label(const sta_bench_setting *s, char *out, size_t size)
                      s->samples);
         }
     }
-    snprintf(out, size, "%s%s%s", sta_pipeline_mode_name(s->mode), normals,
-             mode_runs_hpr(s->mode) ? (s->hpr_exhaustive ? "/hpr-exh" : "/hpr-pyr") : "");
+    char points[48] = "";
+    if (mode_draws_sized(s->mode) && !sta_point_size_is_one_pixel(&s->point_size)) {
+        sta_point_size r;
+        sta_point_size_resolve(&s->point_size, &r);
+        if (r.mode == STA_POINT_SIZE_ADAPTIVE) {
+            snprintf(points, sizeof(points), "/adaptive%g-%g", r.min_px, r.max_px);
+        } else {
+            snprintf(points, sizeof(points), "/%gpx", r.size_px);
+        }
+    }
+    snprintf(out, size, "%s%s%s%s", sta_pipeline_mode_name(s->mode), normals,
+             mode_runs_hpr(s->mode) ? (s->hpr_exhaustive ? "/hpr-exh" : "/hpr-pyr") : "", points);
 }
 
 void sta_bench_results_release(sta_bench_results *r)
@@ -242,6 +277,7 @@ static void set_pipeline(const scene_run *run, sta_scene *scene, const sta_bench
                                .hpr_threshold = o->hpr_threshold,
                                .s0_m = (float)o->s0_m };
     sta_scene_set_pipeline(scene, &p);
+    sta_scene_set_point_size(scene, &st->point_size);
 }
 
 static int compare_doubles(const void *a, const void *b)
@@ -389,6 +425,8 @@ static void clear_errors(sta_bench_row *row)
     row->normal_mean_deg = row->normal_median_deg = row->normal_p95_deg = (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
     row->psnr_db = row->ssim = (double)NAN;
+    row->surface_hole = row->surface_see_through = row->surface_bleed = row->surface_error =
+        (double)NAN;
     row->katz_ms = row->katz_radius_m = row->katz_hull_ms = row->katz_plain_hull_ms =
         row->katz_plain_f1 = row->katz_live_latency_ms = row->katz_live_hull_cpu_ms =
             row->katz_live_plain_hull_ms = row->katz_precision = row->katz_recall = row->katz_f1 =
@@ -641,12 +679,25 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         if (mode_runs_hpr(st->mode)) {
             snprintf(row.hpr, sizeof(row.hpr), "%s", st->hpr_exhaustive ? "exhaustive" : "pyramid");
         }
+        if (mode_draws_sized(st->mode)) {
+            sta_point_size_describe(&st->point_size, row.point_size, sizeof(row.point_size));
+        }
         progress(run, cam_index + 1, run->camera_count, row.setting);
         set_pipeline(run, scene, st);
         s = timed_frames(run, scene, camera, &row, err);
         if (s == STA_OK) {
             sta_render_target_read_rgba(&run->target, run->rgba);
             s = score_buffers(run, scene, st, view_truth, &points, &row, err);
+        }
+        if (s == STA_OK && run->has_truth && mode_draws_sized(st->mode)) {
+            sta_render_target_read_depth(&run->target, run->depth);
+            sta_surface_error e;
+            sta_eval_surface(view_truth, camera, run->depth, tolerance_m, &e);
+            row.surface_pixels = e.pixels;
+            row.surface_hole = e.hole;
+            row.surface_see_through = e.see_through;
+            row.surface_bleed = e.bleed;
+            row.surface_error = e.error;
         }
         if (s == STA_OK && run->reference) {
             const uint8_t *reference = NULL;

@@ -20,6 +20,7 @@
 
 #include "core/status.h"
 #include "render/pipeline.h"
+#include "render/point_size.h"
 #include "stream/select.h"
 
 typedef enum sta_bench_camera_kind {
@@ -69,12 +70,18 @@ typedef struct sta_bench_options {
     uint64_t katz_points;                 /* live mode's points per hull; 0: its default */
     bool no_image_error;                  /* skip the unbudgeted reference renders */
     bool progress;                        /* progress line on stderr (a terminal only) */
+
+    /* Point sizes, for the raw and edl modes only (render/point_size.h). */
+    sta_point_size point_sizes[STA_BENCH_MAX_LIST]; /* none: one pixel */
+    int point_size_count;
+    double adaptive_px[2]; /* adaptive entries' smallest, largest diameter; 0: their own */
 } sta_bench_options;
 
 /* One pipeline setting of a sweep. */
 typedef struct sta_bench_setting {
     int mode, normals, samples; /* normals/samples only where the mode estimates normals */
     bool hpr_exhaustive;        /* only where the mode runs HPR */
+    sta_point_size point_size;  /* raw and edl; zero: one pixel */
 } sta_bench_setting;
 
 /* One result. Times in milliseconds (medians over `repeat` frames), errors NaN where
@@ -108,6 +115,9 @@ typedef struct sta_bench_row {
     double normal_mean_deg, normal_median_deg, normal_p95_deg;
     uint64_t depth_count;
     double depth_rel_mean, depth_rel_median, depth_rel_p95;
+    char point_size[24];     /* "1 px", "3 px", "adaptive 1-8 px" (raw and edl) */
+    uint64_t surface_pixels; /* raw and edl with truth: sta_eval_surface */
+    double surface_hole, surface_see_through, surface_bleed, surface_error;
     double psnr_db; /* +inf for identical images */
     double ssim;
     double katz_ms;
@@ -132,11 +142,13 @@ typedef struct sta_bench_results {
 void sta_bench_options_defaults(sta_bench_options *options);
 
 /* Expands the sweep lists into settings (modes x HPR variants x normal methods x
- * samples, each only where the mode uses it). *out is owned by the caller (sta_free). */
+ * samples x point sizes, each only where the mode uses it). *out is owned by the
+ * caller (sta_free). */
 sta_status sta_bench_settings(const sta_bench_options *options, sta_bench_setting **out,
                               size_t *out_count, sta_error *err);
 
-/* A short label of a setting ("raw", "hpr/exh", "shaded/pd9/pyr"). */
+/* A short label of a setting ("raw", "raw/3px", "edl/adaptive1-8", "hpr/exh",
+ * "shaded/pd9/pyr"). */
 void sta_bench_setting_label(const sta_bench_setting *setting, char *out, size_t size);
 
 /* Runs the whole sweep, appending rows to `results` (zero-initialise it). Needs a

@@ -192,3 +192,38 @@ sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, sta_
     sta_free(values);
     return STA_OK;
 }
+
+void sta_eval_surface(const sta_view_truth *v, const sta_camera *camera, const float *depth,
+                      double tolerance_m, sta_surface_error *out)
+{
+    memset(out, 0, sizeof(*out));
+    uint64_t hole = 0, see_through = 0, bleed = 0;
+    const int w = v->width, h = v->height;
+    for (int row = 0; row < h; row++) {
+        const int y = h - 1 - row; // read-back rows run top first, the truth's from the bottom
+        for (int x = 0; x < w; x++) {
+            float d = depth[(size_t)row * (size_t)w + (size_t)x];
+            double truth = (double)v->depth_m[(size_t)y * (size_t)w + (size_t)x];
+            bool drawn = d > 0.0f, hit = !isnan(truth) && truth > 0.0;
+            if (!drawn && !hit) {
+                continue;
+            }
+            out->pixels++;
+            if (!drawn) {
+                hole++;
+                continue;
+            }
+            double distance = camera->near_m / (double)d; // along the view axis, as the truth
+            if (!hit || distance < truth - tolerance_m) {
+                bleed++;
+            } else if (distance > truth + tolerance_m) {
+                see_through++;
+            }
+        }
+    }
+    double n = out->pixels ? (double)out->pixels : 1.0;
+    out->hole = (double)hole / n;
+    out->see_through = (double)see_through / n;
+    out->bleed = (double)bleed / n;
+    out->error = (double)(hole + see_through + bleed) / n;
+}

@@ -30,6 +30,23 @@ sta_status sta_view_truth_compute(sta_bench_truth *truth, const sta_camera *came
                                   sta_view_truth *out, sta_error *err);
 void sta_view_truth_release(sta_view_truth *view_truth);
 
+/* Per pixel agreement of the geometry pass's depth with the true surface: the image
+ * error of raw points of any size (render/point_size.h). Fractions of `pixels`, the
+ * pixels where the truth or the picture has a surface. */
+typedef struct sta_surface_error {
+    uint64_t pixels;
+    double hole;        /* the truth has a surface, nothing is drawn */
+    double see_through; /* drawn behind the true surface by more than the tolerance */
+    double bleed;       /* drawn where the truth has none, or in front of it by more than the
+                           tolerance (points wider than the surface they sample) */
+    double error;       /* hole + see_through + bleed */
+} sta_surface_error;
+
+/* Compares `depth` (reverse-Z, rows top first as sta_render_target_read_depth gives
+ * them, 0 where empty) of `camera`'s viewport with the view's true depths. */
+void sta_eval_surface(const sta_view_truth *view_truth, const sta_camera *camera,
+                      const float *depth, double tolerance_m, sta_surface_error *out);
+
 /* The points of a view: one per pixel the geometry pass drew, at the pixel centre and
  * the depth buffer's depth (unprojected in double). */
 typedef struct sta_view_points {

@@ -2,6 +2,7 @@
  * Geometry pass: the chosen rasteriser; GL_POINTS (one pixel per point) drawn here. */
 #include "render/pass_geometry.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "core/log.h"
@@ -37,6 +38,35 @@ static sta_status init_points(sta_pass_geometry *p, sta_error *err)
     return sta_gl_check("creating the geometry pass", err);
 }
 
+static sta_status init_wide(sta_pass_geometry *p, sta_error *err)
+{
+    // The footprint snaps as the rasteriser does, to the driver's sub-pixel precision.
+    GLint subpixel_bits = 8;
+    glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
+    char defines[64];
+    snprintf(defines, sizeof(defines), "#define STA_RASTER_SUBPIXEL_BITS %d\n", (int)subpixel_bits);
+    const char *names[] = { "geometry_colour.glsl", "point_footprint.glsl", "geometry_wide.vert",
+                            "geometry_wide.frag" };
+    sta_status status = sta_gl_program_create(names, 4, defines, &p->wide_program, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    GLuint w = p->wide_program;
+    p->w_node_origin = glGetUniformLocation(w, "u_node_origin");
+    p->w_step = glGetUniformLocation(w, "u_step");
+    p->w_spacing = glGetUniformLocation(w, "u_spacing");
+    p->w_view_rotation = glGetUniformLocation(w, "u_view_rotation");
+    p->w_projection = glGetUniformLocation(w, "u_projection");
+    p->w_size = glGetUniformLocation(w, "u_size");
+    p->w_colour_mode = glGetUniformLocation(w, "u_colour_mode");
+    p->w_elevation = glGetUniformLocation(w, "u_elevation");
+    p->w_intensity_scale = glGetUniformLocation(w, "u_intensity_scale");
+    p->w_node_slot = glGetUniformLocation(w, "u_node_slot");
+    p->w_arena_offset = glGetUniformLocation(w, "u_arena_offset");
+    sta_footprint_uniforms_locate(&p->w_footprint, w);
+    return sta_gl_check("creating the wide-point program", err);
+}
+
 sta_status sta_pass_geometry_init(sta_pass_geometry *p, const sta_geometry_options *options,
                                   sta_error *err)
 {
@@ -46,6 +76,9 @@ sta_status sta_pass_geometry_init(sta_pass_geometry *p, const sta_geometry_optio
     sta_status status = p->choice.raster == STA_RASTER_COMPUTE
                             ? sta_raster_compute_init(&p->compute, p->choice.packed, err)
                             : init_points(p, err);
+    if (status == STA_OK && p->choice.raster != STA_RASTER_COMPUTE) {
+        status = init_wide(p, err);
+    }
     if (status != STA_OK) {
         sta_pass_geometry_release(p);
     }
@@ -57,6 +90,9 @@ void sta_pass_geometry_release(sta_pass_geometry *p)
     if (p->program) {
         glDeleteProgram(p->program);
         glDeleteVertexArrays(1, &p->vao);
+    }
+    if (p->wide_program) {
+        glDeleteProgram(p->wide_program);
     }
     sta_raster_compute_release(&p->compute);
     memset(p, 0, sizeof(*p));
@@ -86,12 +122,48 @@ void sta_pass_geometry_begin_points(const sta_pass_geometry *p, const sta_camera
     sta_ground_texture_use(colours->ground, p->program, camera);
 }
 
+void sta_pass_geometry_set_point_size(sta_pass_geometry *p, const sta_point_size *size)
+{
+    if (size) {
+        p->point_size = *size;
+    } else {
+        sta_point_size_defaults(&p->point_size);
+    }
+}
+
+// The wide program in place of the one-pixel one: the same view and colours, plus the
+// target size and the footprint.
+static void begin_wide(const sta_pass_geometry *p, const sta_camera *camera,
+                       const sta_geometry_colours *colours,
+                       const sta_raster_ref_footprint *footprint, sta_render_target *target)
+{
+    glUseProgram(p->wide_program);
+    float view[16], projection[16];
+    sta_camera_view_rotation(camera, view);
+    sta_camera_projection(camera, projection);
+    glUniformMatrix4fv(p->w_view_rotation, 1, GL_FALSE, view);
+    glUniformMatrix4fv(p->w_projection, 1, GL_FALSE, projection);
+    glUniform2i(p->w_size, target->width_px, target->height_px);
+    glUniform1i(p->w_colour_mode, colours->mode);
+    double span = colours->elevation_span;
+    glUniform2f(p->w_elevation, (float)(camera->position[2] - colours->elevation_min),
+                (float)(1.0 / (span > 0 ? span : 1.0)));
+    glUniform1f(p->w_intensity_scale, colours->intensity_scale);
+    sta_ground_texture_use(colours->ground, p->wide_program, camera);
+    sta_footprint_uniforms_set(&p->w_footprint, footprint);
+}
+
 static void draw_points(const sta_pass_geometry *p, const sta_camera *camera,
-                        const sta_geometry_colours *colours, const sta_gpu_cache *cache,
+                        const sta_geometry_colours *colours,
+                        const sta_raster_ref_footprint *footprint, const sta_gpu_cache *cache,
                         const sta_gpu_node_frame *frames, const uint32_t *draw, size_t count,
                         sta_render_target *target)
 {
     sta_pass_geometry_begin_points(p, camera, colours, target);
+    bool wide = footprint->wide != 0;
+    if (wide) {
+        begin_wide(p, camera, colours, footprint, target);
+    }
     if (cache->buffer) {
         glVertexArrayVertexBuffer(p->vao, 0, cache->buffer, 0, STA_GPU_POINT_SIZE);
     }
@@ -103,12 +175,17 @@ static void draw_points(const sta_pass_geometry *p, const sta_camera *camera,
         }
         // Node corner relative to the camera in double, then float: exact enough
         // wherever the scene sits on Earth.
-        glUniform3f(p->u_node_origin, (float)(f->corner[0] - camera->position[0]),
+        glUniform3f(wide ? p->w_node_origin : p->u_node_origin,
+                    (float)(f->corner[0] - camera->position[0]),
                     (float)(f->corner[1] - camera->position[1]),
                     (float)(f->corner[2] - camera->position[2]));
-        glUniform3f(p->u_step, (float)f->step[0], (float)f->step[1], (float)f->step[2]);
-        glUniform1ui(p->u_node_slot, draw[i]);
-        glUniform1ui(p->u_arena_offset, e->offset);
+        glUniform3f(wide ? p->w_step : p->u_step, (float)f->step[0], (float)f->step[1],
+                    (float)f->step[2]);
+        glUniform1ui(wide ? p->w_node_slot : p->u_node_slot, draw[i]);
+        glUniform1ui(wide ? p->w_arena_offset : p->u_arena_offset, e->offset);
+        if (wide) {
+            glUniform1f(p->w_spacing, (float)f->spacing);
+        }
         glDrawArrays(GL_POINTS, (GLint)e->offset, (GLsizei)e->count);
     }
     glBindVertexArray(0);
@@ -119,10 +196,12 @@ sta_status sta_pass_geometry_draw(sta_pass_geometry *p, const sta_camera *camera
                                   const sta_gpu_node_frame *frames, const uint32_t *draw,
                                   size_t count, sta_render_target *target, sta_error *err)
 {
+    sta_raster_ref_footprint footprint;
+    sta_point_size_footprint(&p->point_size, camera, &footprint);
     if (p->choice.raster == STA_RASTER_COMPUTE) {
-        return sta_raster_compute_draw(&p->compute, camera, colours, cache, frames, draw, count,
-                                       target, err);
+        return sta_raster_compute_draw(&p->compute, camera, colours, &footprint, cache, frames,
+                                       draw, count, target, err);
     }
-    draw_points(p, camera, colours, cache, frames, draw, count, target);
+    draw_points(p, camera, colours, &footprint, cache, frames, draw, count, target);
     return STA_OK;
 }

@@ -5,7 +5,9 @@
  * rasteriser (render/raster_compute.h), 2-4x faster on llvmpipe.
  * Positions arrive node-relative (16-bit) and are placed relative to the camera with
  * the node corner minus the camera position computed in double, so the GPU only sees
- * small numbers wherever the scene sits on Earth. Main thread (GL) only.
+ * small numbers wherever the scene sits on Earth. Points may be wider than a pixel
+ * (render/point_size.h): round, with a depth per fragment, in both rasterisers (GL_POINTS
+ * through a second program, geometry_wide.*). Main thread (GL) only.
  */
 #ifndef STA_RENDER_PASS_GEOMETRY_H
 #define STA_RENDER_PASS_GEOMETRY_H
@@ -15,8 +17,10 @@
 
 #include "core/camera.h"
 #include "core/status.h"
+#include "render/footprint_uniforms.h"
 #include "render/geometry_colours.h"
 #include "render/gpu_cache.h"
+#include "render/point_size.h"
 #include "render/raster_compute.h"
 #include "render/target.h"
 #include "stream/gpu_points.h"
@@ -62,6 +66,12 @@ typedef struct sta_pass_geometry {
     GLint u_node_origin, u_step, u_view_rotation, u_projection, u_colour_mode, u_elevation,
         u_intensity_scale, u_node_slot, u_arena_offset;
     sta_raster_compute compute; /* when choice.raster is STA_RASTER_COMPUTE */
+    /* GL_POINTS for points wider than a pixel (geometry_wide.*). */
+    GLuint wide_program;
+    GLint w_node_origin, w_step, w_spacing, w_view_rotation, w_projection, w_size, w_colour_mode,
+        w_elevation, w_intensity_scale, w_node_slot, w_arena_offset;
+    sta_footprint_uniforms w_footprint;
+    sta_point_size point_size; /* one pixel until set */
 } sta_pass_geometry;
 
 /* Builds the chosen rasteriser (`options` may be NULL: defaults) and logs the choice and
@@ -74,6 +84,9 @@ sta_status sta_pass_geometry_init(sta_pass_geometry *pass, const sta_geometry_op
  * live Katz pass draws its own buffer this way). */
 void sta_pass_geometry_begin_points(const sta_pass_geometry *pass, const sta_camera *camera,
                                     const sta_geometry_colours *colours, sta_render_target *target);
+
+/* Sets the size of the points drawn from the next draw on (`size` NULL: one pixel). */
+void sta_pass_geometry_set_point_size(sta_pass_geometry *pass, const sta_point_size *size);
 
 /* A zeroed pass is a no-op. */
 void sta_pass_geometry_release(sta_pass_geometry *pass);

@@ -26,6 +26,12 @@ static void uniforms(sta_raster_compute *r, int slot, GLuint program)
     r->u_size[slot] = glGetUniformLocation(program, "u_size");
 }
 
+static void footprint_uniforms(sta_raster_compute *r, int slot, GLuint program)
+{
+    sta_footprint_uniforms_locate(&r->footprint[slot], program);
+    r->u_point_wide[slot] = glGetUniformLocation(program, "u_point_wide");
+}
+
 sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error *err)
 {
     memset(r, 0, sizeof(*r));
@@ -38,7 +44,7 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
     const char *extensions = packed ? "#extension GL_ARB_gpu_shader_int64 : require\n"
                                       "#extension GL_ARB_shader_atomic_int64 : require\n"
                                     : "";
-    const char *points[] = { "raster_common.glsl", "raster_points.comp" };
+    const char *points[] = { "raster_common.glsl", "point_footprint.glsl", "raster_points.comp" };
     int steps[2] = { packed ? STA_RASTER_STEP_PACKED : STA_RASTER_STEP_DEPTH,
                      STA_RASTER_STEP_PAYLOAD };
     sta_status status = STA_OK;
@@ -47,9 +53,10 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
                  "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n"
                  "#define STA_RASTER_STEP %d\n",
                  extensions, packed ? 1 : 0, (int)subpixel_bits, steps[i]);
-        status = sta_gl_program_create(points, 2, defines, &r->points_program[i], err);
+        status = sta_gl_program_create(points, 3, defines, &r->points_program[i], err);
         if (status == STA_OK) {
             uniforms(r, i, r->points_program[i]);
+            footprint_uniforms(r, i, r->points_program[i]);
         }
     }
     if (status == STA_OK) {
@@ -158,7 +165,8 @@ static sta_status build_tables(sta_raster_compute *r, const sta_camera *camera,
             n->origin[axis] = (float)(f->corner[axis] - camera->position[axis]);
             n->step[axis] = (float)f->step[axis];
         }
-        n->origin[3] = n->step[3] = 0.0f;
+        n->origin[3] = (float)f->spacing; // the adaptive point size reads it
+        n->step[3] = 0.0f;
         n->info[0] = e->offset;
         n->info[1] = points;
         n->info[2] = (uint32_t)batches;
@@ -192,9 +200,11 @@ static void set_view(const sta_raster_compute *r, int slot, const float view[16]
 }
 
 sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *camera,
-                                   const sta_geometry_colours *colours, const sta_gpu_cache *cache,
-                                   const sta_gpu_node_frame *frames, const uint32_t *draw,
-                                   size_t count, sta_render_target *target, sta_error *err)
+                                   const sta_geometry_colours *colours,
+                                   const sta_raster_ref_footprint *footprint,
+                                   const sta_gpu_cache *cache, const sta_gpu_node_frame *frames,
+                                   const uint32_t *draw, size_t count, sta_render_target *target,
+                                   sta_error *err)
 {
     static const float background[3] = { 0.0f, 0.0f, 0.0f };
     if (cache->capacity > (uint32_t)r->max_texels) {
@@ -244,6 +254,8 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     for (int step = 0; step < (r->is_packed ? 1 : 2); step++) {
         glUseProgram(r->points_program[step]);
         set_view(r, step, view, projection, w, h);
+        glUniform1i(r->u_point_wide[step], footprint->wide);
+        sta_footprint_uniforms_set(&r->footprint[step], footprint);
         glDispatchComputeIndirect(0);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }

@@ -32,6 +32,7 @@
 
 #include "core/camera.h"
 #include "core/status.h"
+#include "render/footprint_uniforms.h"
 #include "render/geometry_colours.h"
 #include "render/gpu_cache.h"
 #include "render/target.h"
@@ -55,6 +56,8 @@ typedef struct sta_raster_compute {
     size_t batch_table_capacity;                          /* batches */
     GLint u_view_rotation[3], u_projection[3], u_size[3]; /* per program (steps, resolve) */
     GLint u_colour_mode, u_elevation, u_intensity_scale, u_background;
+    sta_footprint_uniforms footprint[2]; /* per step program */
+    GLint u_point_wide[2];
 } sta_raster_compute;
 
 /* Builds the programs: the packed one-pass variant when `packed` (needs
@@ -64,12 +67,15 @@ sta_status sta_raster_compute_init(sta_raster_compute *raster, bool packed, sta_
 /* A zeroed rasteriser is a no-op. */
 void sta_raster_compute_release(sta_raster_compute *raster);
 
-/* Rasterises nodes `draw[0..count)` into `target` (cleared first); same contract as
+/* Rasterises nodes `draw[0..count)` into `target` (cleared first) with `footprint`
+ * (render/point_size.h; all zero: one pixel per point); same contract as
  * sta_pass_geometry_draw. Errors: out of memory, an arena larger than a texture buffer
  * can show. */
 sta_status sta_raster_compute_draw(sta_raster_compute *raster, const sta_camera *camera,
-                                   const sta_geometry_colours *colours, const sta_gpu_cache *cache,
-                                   const sta_gpu_node_frame *frames, const uint32_t *draw,
-                                   size_t count, sta_render_target *target, sta_error *err);
+                                   const sta_geometry_colours *colours,
+                                   const sta_raster_ref_footprint *footprint,
+                                   const sta_gpu_cache *cache, const sta_gpu_node_frame *frames,
+                                   const uint32_t *draw, size_t count, sta_render_target *target,
+                                   sta_error *err);
 
 #endif

@@ -28,6 +28,7 @@ struct sta_scene {
     bool timing;        /* drain and time each pass */
     sta_pass_katz katz; /* live Katz mode */
     double ramp[3];     /* elevation ramp min, max (metres), largest intensity; 0: from the scene */
+    sta_point_size point_size; /* raw and EDL modes; zero: one pixel */
 };
 
 sta_status sta_scene_open(const char *path, const sta_scene_options *options, sta_scene **out_scene,
@@ -110,6 +111,15 @@ void sta_scene_robust_bounds(const sta_scene *s, double out_min[3], double out_m
 void sta_scene_set_pipeline(sta_scene *s, const sta_pipeline_options *options)
 {
     s->pipeline_options = *options;
+}
+
+void sta_scene_set_point_size(sta_scene *s, const sta_point_size *size)
+{
+    if (size) {
+        s->point_size = *size;
+    } else {
+        sta_point_size_defaults(&s->point_size);
+    }
 }
 
 void sta_scene_set_raster(sta_scene *s, const sta_geometry_options *options)
@@ -240,6 +250,11 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
             return status;
         }
     } else {
+        // Wide points only where the picture is the points themselves: the screen-space
+        // reconstruction (HPR, pull-push, normals) assumes one pixel per point.
+        int mode = s->pipeline_options.mode;
+        bool sized = mode == STA_PIPELINE_RAW || mode == STA_PIPELINE_EDL;
+        sta_pass_geometry_set_point_size(&s->geometry, sized ? &s->point_size : NULL);
         status = sta_pass_geometry_draw(&s->geometry, camera, &colours, &s->cache, s->frames,
                                         frame.draw, frame.draw_count, target, err);
         if (status != STA_OK) {

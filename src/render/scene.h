@@ -74,6 +74,10 @@ void sta_scene_set_pipeline(sta_scene *scene, const sta_pipeline_options *option
  * logged, at the next render. */
 void sta_scene_set_raster(sta_scene *scene, const sta_geometry_options *options);
 
+/* Sets the size of the points (render/point_size.h; NULL: one pixel, the default) in the
+ * raw and EDL modes; the other modes, and the live Katz mode, draw one pixel per point. */
+void sta_scene_set_point_size(sta_scene *scene, const sta_point_size *size);
+
 /* The rasteriser the geometry pass runs and why; NULL before the first render. */
 const sta_geometry_choice *sta_scene_raster_choice(const sta_scene *scene);
 

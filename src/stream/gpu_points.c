@@ -18,6 +18,7 @@ void sta_gpu_node_frame_init(sta_gpu_node_frame *frame, const sta_strata_geometr
         frame->corner[a] = (double)corner[a] * geometry->grid.scale[a] + geometry->grid.offset[a];
         frame->step[a] = (double)((int64_t)1 << frame->shift[a]) * geometry->grid.scale[a];
     }
+    frame->spacing = sta_strata_node_spacing(geometry, key.level);
 }
 
 void sta_gpu_points_encode(const sta_gpu_node_frame *frame, const sta_point *points, size_t count,

@@ -30,6 +30,7 @@ typedef struct sta_gpu_node_frame {
     double corner[3];       /* real-world corner of the node, metres */
     double step[3];         /* metres per quantisation step */
     int shift[3];           /* grid units per step = 2^shift */
+    double spacing;         /* metres between the node's points (sta_strata_node_spacing) */
 } sta_gpu_node_frame;
 
 /* The frame of node `key` in a scene. */

@@ -31,6 +31,9 @@ cases=(
     "points_rgb --pipeline raw --colour rgb --raster points"
     "points_class --pipeline raw --colour class --raster points"
     "points_shaded --pipeline shaded --raster points"
+    "raw_3px --pipeline raw --point-size 3"
+    "edl_adaptive --pipeline edl --point-size adaptive"
+    "points_3px --pipeline raw --point-size 3 --raster points"
 )
 actual="$work/renders.sha256"
 : >"$actual"

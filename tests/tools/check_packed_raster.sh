@@ -23,7 +23,8 @@ preamble() {
     echo "#define STA_RASTER_SUBPIXEL_BITS 8"
     echo "#define STA_RASTER_STEP STA_RASTER_STEP_PACKED"
 }
-{ preamble; cat "$shaders/raster_common.glsl" "$shaders/raster_points.comp"; } >"$work/packed.comp"
+{ preamble; cat "$shaders/raster_common.glsl" "$shaders/point_footprint.glsl" \
+    "$shaders/raster_points.comp"; } >"$work/packed.comp"
 { preamble; cat "$shaders/geometry_colour.glsl" "$shaders/raster_common.glsl" \
     "$shaders/raster_resolve.frag"; } >"$work/packed.frag"
 { preamble; cat "$shaders/geometry_colour.glsl" "$shaders/raster_common.glsl" \

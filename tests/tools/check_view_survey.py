@@ -5,42 +5,15 @@
 # drawn under the pixel (its class colour is the pixel's), --measure lists values,
 # --hud changes only the readout's corner.
 # usage: check_view_survey.py BUILD-DIR
-import os, struct, subprocess, sys, tempfile, zlib
+import os, subprocess, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from png_rows import png  # noqa: E402
 
 build = sys.argv[1]
 synth = os.path.join(build, "src", "strata-synth")
 convert = os.path.join(build, "preprocess", "strata-convert")
 view = os.path.join(build, "src", "strata-view")
-
-def png(path):
-    """RGB(A) rows of an 8-bit PNG, decoded here (no libraries)."""
-    b = open(path, "rb").read()
-    i, data, w, h, ct = 8, b"", 0, 0, 6
-    while i < len(b):
-        n, = struct.unpack(">I", b[i:i + 4])
-        t, c = b[i + 4:i + 8], b[i + 8:i + 8 + n]
-        if t == b"IHDR":
-            w, h, _, ct = struct.unpack(">IIBB", c[:10])
-        elif t == b"IDAT":
-            data += c
-        i += 12 + n
-    raw, bpp = zlib.decompress(data), 4 if ct == 6 else 3
-    stride, rows, prev = w * bpp, [], bytearray(w * bpp)
-    for y in range(h):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for x in range(stride):
-            a = line[x - bpp] if x >= bpp else 0
-            up, c = prev[x], (prev[x - bpp] if x >= bpp else 0)
-            if f == 1: line[x] = (line[x] + a) & 255
-            elif f == 2: line[x] = (line[x] + up) & 255
-            elif f == 3: line[x] = (line[x] + (a + up) // 2) & 255
-            elif f == 4:
-                p = a + up - c
-                pa, pb, pc = abs(p - a), abs(p - up), abs(p - c)
-                line[x] = (line[x] + (a if pa <= pb and pa <= pc else up if pb <= pc else c)) & 255
-        rows.append(bytes(line))
-        prev = line
-    return w, h, [[tuple(r[x * bpp:x * bpp + 3]) for x in range(w)] for r in rows]
 
 def colour(r, g, b):  # shaders/geometry.vert's class colours, 8-bit
     return tuple(int(v * 255 + 0.5) for v in (r, g, b))

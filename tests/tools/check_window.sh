@@ -5,7 +5,8 @@
 #     window shows (same camera, fully loaded);
 #  2. once everything is loaded and nothing moves, the viewer sleeps: under 5 % of one
 #     core over 3 s (it redrew at about 5 fps, ~170 % CPU, before);
-#  3. a key press wakes it up again (the title switches to fly mode).
+#  3. a key press wakes it up again (the title switches to fly mode);
+#  4. + and Z change the point size, shown in the title, and the picture.
 # usage: check_window.sh BUILD_DIR WORK_DIR
 set -euo pipefail
 bin=$1 work=$2
@@ -50,6 +51,25 @@ for i in $(seq 1 30); do
 done
 echo "title after F: $title"
 [[ $title == *"[fly"* ]] || { echo "the title does not show fly mode" >&2; exit 1; }
+
+# Point size (raw pipeline): + widens the points, Z makes them adaptive; the title says
+# so and the picture changes (the camera has not moved since the resize).
+wait_title() { # TEXT
+    for i in $(seq 1 30); do
+        title=$(xdotool getwindowname "$win")
+        [[ $title == *"$1"* ]] && return 0
+        sleep 0.5
+    done
+    echo "the title does not show '$1': $title" >&2
+    exit 1
+}
+xdotool key --window "$win" equal
+wait_title "[raw, points 2 px]"
+settle
+cmp -s "$work/now.raw" "$work/resized.raw" && { echo "2 px points look like 1 px ones" >&2; exit 1; }
+xdotool key --window "$win" z
+wait_title "[raw, points adaptive 1-8 px]"
+echo "title after + and Z: $title"
 kill "$viewer"
 wait "$viewer" 2>/dev/null || true
 

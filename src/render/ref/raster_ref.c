@@ -3,6 +3,7 @@
 #include "render/ref/raster_ref.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <string.h>
 
 // column-major m * v, summed as the shader's matrix product: column 0 first.
@@ -17,39 +18,112 @@ static void transform(const float m[16], const float v[4], float out[4])
     }
 }
 
-// Pixel of one axis: window position snapped, then ceil - 1; -1 when outside.
-static long pixel_of(float ndc, int size, int subpixel_bits)
+// Window position of one axis snapped to 1 / 2^bits pixel.
+static long snapped_of(float ndc, int size, int subpixel_bits)
 {
     float half = (float)size * 0.5f;
     // llvmpipe's fused viewport transform, computed as the shader does (in double: the
     // product is exact, the sum rounds once, then the float).
     float window = (float)((double)ndc * (double)half + (double)half);
     float scale = (float)(1 << subpixel_bits);
-    long snapped = (long)floorf(window * scale + 0.5f);
-    // floor((snapped - 1) / 2^bits) for negative values too.
-    long p = (snapped - 1) >= 0 ? (snapped - 1) >> subpixel_bits
-                                : -((-(snapped - 1) + (1L << subpixel_bits) - 1) >> subpixel_bits);
-    return p >= 0 && p < size ? p : -1;
+    return (long)floorf(window * scale + 0.5f);
 }
 
-long sta_raster_ref_project(const sta_raster_ref_view *v, const float relative[3], float *out_depth)
+// Pixel whose centre lies in [x - 0.5, x + 0.5): floor((snapped - 1) / 2^bits), also
+// for negative values.
+static long centre_pixel(long snapped, int subpixel_bits)
 {
-    float eye[4], clip[4];
+    long s = snapped - 1;
+    return s >= 0 ? s >> subpixel_bits : -((-s + (1L << subpixel_bits) - 1) >> subpixel_bits);
+}
+
+// Clip position of a camera-relative point, or false when outside the clip volume.
+static bool clip_of(const sta_raster_ref_view *v, const float relative[3], float clip[4])
+{
+    float eye[4];
     const float position[4] = { relative[0], relative[1], relative[2], 1.0f };
     transform(v->view, position, eye);
     transform(v->projection, eye, clip);
     float w = clip[3];
-    if (!(w > 0.0f) || fabsf(clip[0]) > w || fabsf(clip[1]) > w || clip[2] < 0.0f || clip[2] > w) {
+    // Written as the shaders reject, so that a NaN behaves alike.
+    return !(!(w > 0.0f) || fabsf(clip[0]) > w || fabsf(clip[1]) > w || clip[2] < 0.0f ||
+             clip[2] > w);
+}
+
+long sta_raster_ref_project(const sta_raster_ref_view *v, const float relative[3], float *out_depth)
+{
+    float clip[4];
+    if (!clip_of(v, relative, clip)) {
         return -1;
     }
-    float inverse = 1.0f / w;
-    long x = pixel_of(clip[0] * inverse, v->width_px, v->subpixel_bits);
-    long y = pixel_of(clip[1] * inverse, v->height_px, v->subpixel_bits);
-    if (x < 0 || y < 0) {
+    float inverse = 1.0f / clip[3];
+    long x = centre_pixel(snapped_of(clip[0] * inverse, v->width_px, v->subpixel_bits),
+                          v->subpixel_bits);
+    long y = centre_pixel(snapped_of(clip[1] * inverse, v->height_px, v->subpixel_bits),
+                          v->subpixel_bits);
+    if (x < 0 || y < 0 || x >= v->width_px || y >= v->height_px) {
         return -1;
     }
     *out_depth = clip[2] * inverse;
     return x + y * (long)v->width_px;
+}
+
+typedef struct raster_out {
+    float *depth;
+    uint32_t *ids;
+} raster_out;
+
+// Strictly greater: an equal depth keeps the earlier point (GL_GREATER).
+static void keep(raster_out *out, long pixel, float depth, uint32_t slot, uint32_t index)
+{
+    if (depth > out->depth[pixel]) {
+        out->depth[pixel] = depth;
+        out->ids[2 * pixel] = slot;
+        out->ids[2 * pixel + 1] = index;
+    }
+}
+
+// The disk of one point (the rule in the header), as shaders/point_footprint.glsl.
+static void draw_wide(const sta_raster_ref_view *v, const sta_raster_ref_node *node,
+                      const float relative[3], uint32_t index, raster_out *out)
+{
+    const sta_raster_ref_footprint *f = &v->footprint;
+    float clip[4];
+    if (!clip_of(v, relative, clip)) {
+        return;
+    }
+    int bits = v->subpixel_bits;
+    float inverse = 1.0f / clip[3];
+    float depth = clip[2] * inverse;
+    long s[2] = { snapped_of(clip[0] * inverse, v->width_px, bits),
+                  snapped_of(clip[1] * inverse, v->height_px, bits) };
+    long c[2] = { centre_pixel(s[0], bits), centre_pixel(s[1], bits) };
+    float radius = f->radius_px;
+    if (f->adaptive) {
+        radius = fminf(fmaxf(node->spacing * f->spacing_to_px * inverse, f->min_radius_px),
+                       f->max_radius_px);
+    }
+    long r = (long)(radius * (float)(1 << bits));
+    long r2 = r * r;
+    long n = (long)radius + 1;
+    float k = radius * f->depth_per_px;
+    for (long oy = -n; oy <= n; oy++) {
+        for (long ox = -n; ox <= n; ox++) {
+            long px = c[0] + ox, py = c[1] + oy;
+            if (px < 0 || py < 0 || px >= v->width_px || py >= v->height_px) {
+                continue;
+            }
+            long dx = px * (1L << bits) + (1L << (bits - 1)) - s[0];
+            long dy = py * (1L << bits) + (1L << (bits - 1)) - s[1];
+            long d2 = dx * dx + dy * dy;
+            if (d2 > r2 && (ox != 0 || oy != 0)) {
+                continue;
+            }
+            float t = r2 > 0 ? 1.0f - fminf((float)d2 * (1.0f / (float)r2), 1.0f) : 0.0f;
+            float scale = 1.0f / (1.0f - k * t);
+            keep(out, px + py * (long)v->width_px, depth * scale, node->slot, index);
+        }
+    }
 }
 
 void sta_raster_ref_draw(const sta_raster_ref_view *v, const sta_raster_ref_node *nodes,
@@ -58,6 +132,7 @@ void sta_raster_ref_draw(const sta_raster_ref_view *v, const sta_raster_ref_node
     size_t pixels = (size_t)v->width_px * (size_t)v->height_px;
     memset(depth, 0, pixels * sizeof(float));
     memset(ids, 0xFF, pixels * 2 * sizeof(uint32_t));
+    raster_out out = { depth, ids };
     for (size_t n = 0; n < node_count; n++) {
         const sta_raster_ref_node *node = &nodes[n];
         for (uint32_t i = 0; i < node->count; i++) {
@@ -67,13 +142,14 @@ void sta_raster_ref_draw(const sta_raster_ref_view *v, const sta_raster_ref_node
                 float q = (float)((uint32_t)p[2 * axis] | (uint32_t)p[2 * axis + 1] << 8);
                 relative[axis] = node->origin[axis] + q * node->step[axis];
             }
+            if (v->footprint.wide) {
+                draw_wide(v, node, relative, i, &out);
+                continue;
+            }
             float d;
             long pixel = sta_raster_ref_project(v, relative, &d);
-            // Strictly greater: an equal depth keeps the earlier point (GL_GREATER).
-            if (pixel >= 0 && d > depth[pixel]) {
-                depth[pixel] = d;
-                ids[2 * pixel] = node->slot;
-                ids[2 * pixel + 1] = i;
+            if (pixel >= 0) {
+                keep(&out, pixel, d, node->slot, i);
             }
         }
     }

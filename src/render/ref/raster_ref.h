@@ -10,12 +10,33 @@
  * snapped to 1 / 2^subpixel_bits pixel (round half up); the
  * point lands in pixel ceil(snapped) - 1 on each axis. The largest reverse-Z depth wins;
  * at equal depth the first point in draw order (nodes in the given order, then points).
+ *
+ * Wider points (render/point_size.h; sta_raster_ref_footprint): the same clip test on
+ * the point's centre and the same snapped window position s (in 1 / 2^bits pixel);
+ * the centre pixel c = ceil(s) - 1 as above (it may lie outside the target now); the
+ * radius R in pixels, fixed or from the node's spacing (spacing * spacing_to_px / w,
+ * clamped to [min, max]); r = (int)(R * 2^bits). The point covers c and every pixel p
+ * with |p - c| <= (int)R + 1 per axis, inside the target, whose centre lies within r of
+ * s: dx^2 + dy^2 <= r^2 with d = p * 2^bits + 2^(bits-1) - s in integers. Its depth
+ * there is a paraboloid towards the camera: depth * (1 / (1 - R * depth_per_px * t)),
+ * t = 1 - min(d^2 * (1 / r^2), 1) (t = 0 when r = 0), that is the eye distance made
+ * shorter by the radius in metres at the centre and by nothing at the rim.
  */
 #ifndef STA_RENDER_REF_RASTER_REF_H
 #define STA_RENDER_REF_RASTER_REF_H
 
 #include <stddef.h>
 #include <stdint.h>
+
+/* How wide a point is; all zero: one pixel. */
+typedef struct sta_raster_ref_footprint {
+    int wide;                           /* 0: one pixel; 1: the disk described above */
+    int adaptive;                       /* radius from the node's spacing, else radius_px */
+    float radius_px;                    /* fixed radius, pixels */
+    float spacing_to_px;                /* adaptive: radius = spacing * spacing_to_px * (1 / w) */
+    float min_radius_px, max_radius_px; /* adaptive clamp */
+    float depth_per_px; /* eye-distance offset per pixel of radius, relative: 2 / (height P11) */
+} sta_raster_ref_footprint;
 
 /* One drawn node. */
 typedef struct sta_raster_ref_node {
@@ -24,6 +45,7 @@ typedef struct sta_raster_ref_node {
     const uint8_t *points; /* count records of 16 bytes (stream/gpu_points.h layout) */
     uint32_t count;
     uint32_t slot; /* node id reported per pixel */
+    float spacing; /* metres between the node's points (adaptive footprint) */
 } sta_raster_ref_node;
 
 typedef struct sta_raster_ref_view {
@@ -31,6 +53,7 @@ typedef struct sta_raster_ref_view {
     float projection[16]; /* column-major, reverse-Z */
     int width_px, height_px;
     int subpixel_bits; /* the driver's GL_SUBPIXEL_BITS */
+    sta_raster_ref_footprint footprint;
 } sta_raster_ref_view;
 
 /* Rasterises the nodes. Outputs per pixel, rows from the bottom (GL order): `depth`
