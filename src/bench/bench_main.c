@@ -457,6 +457,11 @@ int main(int argc, char **argv)
           .kind = STA_CLI_FLAG,
           .dest = &o.katz,
           .help = "Katz et al. HPR (Qhull) on the drawn points as reference" },
+        { .name = "katz-drawn",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.katz_drawn,
+          .help = "--katz on the drawn points' own positions (from the point id target), "
+                  "truth there too, instead of pixel centres at the depth buffer's depth" },
         { .name = "katz-live",
           .kind = STA_CLI_FLAG,
           .dest = &o.katz_live,
