@@ -152,7 +152,12 @@ static void few_points_and_empty_views(void **state)
     };
     uint64_t tags[5] = { 10, 11, 12, 13, 14 };
     sta_katz_cells cells = { 0 };
-    size_t n = 5;
+    size_t n = 0; // nothing, before any scratch exists
+    assert_int_equal(sta_katz_cells_select(&cells, &camera, origin, 100, points, tags, &n, NULL),
+                     STA_OK);
+    assert_int_equal(n, 0);
+    assert_int_equal(cells.in_view, 0);
+    n = 5;
     assert_int_equal(sta_katz_cells_select(&cells, &camera, origin, 100, points, tags, &n, NULL),
                      STA_OK);
     assert_int_equal(cells.in_view, 3);

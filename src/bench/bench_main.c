@@ -14,6 +14,7 @@
 #include "core/alloc.h"
 #include "core/cli.h"
 #include "render/gl.h"
+#include "render/pass_katz.h"
 #include "render/ref/hpr_ref.h"
 #include "stream/point_sample.h"
 
@@ -310,7 +311,9 @@ int main(int argc, char **argv)
 {
     // The defaults, shown by --help from here: the sweep's own (resolving them twice is
     // harmless), a local copy of the threshold the pipeline uses for 0.
-    sta_bench_options o = { .progress = true, .katz_points = STA_DEFAULT_KATZ_SAMPLE_POINTS };
+    sta_bench_options o = { .progress = true,
+                            .katz_points = STA_DEFAULT_KATZ_SAMPLE_POINTS,
+                            .katz_oversample = STA_KATZ_VIEW_OVERSAMPLE };
     sta_bench_options_defaults(&o);
     o.hpr_radius_px = 8;
     double hpr_threshold = (double)STA_HPR_DEFAULT_THRESHOLD;
@@ -474,6 +477,14 @@ int main(int argc, char **argv)
           .count_max = 100000000,
           .flags = STA_CLI_SUFFIX,
           .help = "live Katz: points per hull" },
+        { .name = "katz-oversample",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &o.katz_oversample,
+          .metavar = "K",
+          .real_min = 1.0,
+          .real_max = 1000.0,
+          .help = "live Katz: candidates gathered per hull point (the nearest of each screen "
+                  "cell is kept)" },
         { .name = "katz-perturbation",
           .kind = STA_CLI_DOUBLE,
           .dest = &o.katz_perturbation,

@@ -529,6 +529,7 @@ static sta_status run_katz_live(scene_run *run, sta_scene *scene, const sta_came
     set_pipeline(run, scene, &(sta_bench_setting){ .mode = STA_PIPELINE_RAW });
     sta_katz_view_options k = { .enabled = true,
                                 .sample_points = o->katz_points,
+                                .oversample = o->katz_oversample,
                                 .perturbation = o->katz_perturbation,
                                 .compare_plain = o->katz_perturbation > 0.0 };
     sta_scene_set_katz(scene, &k);

@@ -69,6 +69,7 @@ typedef struct sta_bench_options {
                                              on the same input, interleaved */
     bool katz_live;                       /* the live Katz mode as a method (its own row) */
     uint64_t katz_points;                 /* live mode's points per hull; 0: its default */
+    double katz_oversample;               /* live mode's candidates per hull point; 0: default */
     bool no_image_error;                  /* skip the unbudgeted reference renders */
     bool progress;                        /* progress line on stderr (a terminal only) */
 } sta_bench_options;

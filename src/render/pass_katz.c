@@ -20,6 +20,9 @@ void sta_katz_view_options_defaults(sta_katz_view_options *o)
     if (o->tolerance == 0.0) {
         o->tolerance = STA_KATZ_VIEW_DEFAULT_TOLERANCE;
     }
+    if (o->oversample == 0.0) {
+        o->oversample = STA_KATZ_VIEW_OVERSAMPLE;
+    }
 }
 
 void sta_pass_katz_init(sta_pass_katz *p, uint32_t node_count, const double origin[3],
@@ -36,7 +39,8 @@ void sta_pass_katz_init(sta_pass_katz *p, uint32_t node_count, const double orig
 // about sample_points (katz_cells.h).
 static size_t candidate_points(const sta_katz_view_options *o)
 {
-    return (size_t)((double)o->sample_points * STA_KATZ_VIEW_OVERSAMPLE);
+    double n = ceil((double)o->sample_points * (o->oversample >= 1.0 ? o->oversample : 1.0));
+    return (size_t)n;
 }
 
 // The subsample and the gather scratch for options.sample_points at a draw list of
@@ -108,7 +112,7 @@ void sta_pass_katz_set_options(sta_pass_katz *p, const sta_katz_view_options *op
     sta_katz_view_options_defaults(&o);
     bool restart = p->options.threads != o.threads || p->options.perturbation != o.perturbation ||
                    p->options.compare_plain != o.compare_plain;
-    if (o.sample_points != p->options.sample_points) {
+    if (o.sample_points != p->options.sample_points || o.oversample != p->options.oversample) {
         sta_point_sample_destroy(p->sample); // remade (and refilled) on the next frame
         p->sample = NULL;
     }

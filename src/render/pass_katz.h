@@ -48,6 +48,7 @@ typedef struct sta_katz_view_options {
     int threads;            /* hull threads; 0: STA_KATZ_WORKER_DEFAULT_THREADS */
     double perturbation;    /* Braga's perturbation (sta_katz_params); 0: none */
     double tolerance;       /* R's depth tolerance in the scene's spacing s0; 0: default */
+    double oversample;      /* candidates per hull point; 0: STA_KATZ_VIEW_OVERSAMPLE */
     bool compare_plain;     /* also time the plain hull on each input (with perturbation) */
 } sta_katz_view_options;
 

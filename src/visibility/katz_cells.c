@@ -95,11 +95,16 @@ sta_status sta_katz_cells_select(sta_katz_cells *cells, const sta_camera *camera
     if (count > INT32_MAX) {
         return sta_fail(err, STA_ERR_ARG, "katz cells: %zu points, at most %d", count, INT32_MAX);
     }
+    cells->in_view = 0;
+    cells->cell_px = 1.0;
+    if (count == 0) {
+        return STA_OK;
+    }
     // The finest grid used is one cell per pixel.
     const size_t most_cells = (size_t)camera->width_px * (size_t)camera->height_px;
     if (cells->screen_capacity < count) {
         sta_free(cells->screen);
-        cells->screen = sta_alloc_array(count ? count : 1, 3 * sizeof(float));
+        cells->screen = sta_alloc_array(count, 3 * sizeof(float));
         cells->screen_capacity = cells->screen ? count : 0;
     }
     if (cells->cell_capacity < most_cells) {
