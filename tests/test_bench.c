@@ -11,6 +11,7 @@
 
 #include "bench/bench_truth.h"
 #include "bench/drawn_points.h"
+#include "bench/katz_local.h"
 #include "bench/metrics.h"
 #include "bench/report.h"
 #include "bench/sweep.h"
@@ -661,10 +662,90 @@ static void katz_on_drawn_points_sphere(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
+// --katz-local: a sparse surface (a point every 4th pixel both ways) with a surface 0.6 m
+// behind seen through its holes, beside a dense surface. With the view's R the far points
+// in the holes stay on the hull; with R per region they are hidden, and both near
+// surfaces stay visible.
+static void katz_local_hides_points_behind_sparse_holes(void **state)
+{
+    (void)state;
+    enum {
+        W = 96,
+        H = 48
+    };
+    const double a = 2e-3; // radians per pixel
+    double(*p)[3] = malloc(sizeof(*p) * W * H);
+    uint32_t *pixel = malloc(sizeof(*pixel) * W * H);
+    uint8_t *kind = malloc(W * H); // 0 sparse near, 1 behind the holes, 2 dense near
+    uint8_t *plain = malloc(W * H), *local = malloc(W * H);
+    assert_true(p && pixel && kind && plain && local);
+    size_t n = 0;
+    for (int y = 0; y < H; y++) {
+        for (int x = 0; x < W; x++) {
+            int k = x >= W / 2                   ? 2
+                    : (x % 4 == 0 && y % 4 == 0) ? 0
+                    : (x % 4 == 2 && y % 4 == 2) ? 1
+                                                 : -1;
+            if (k < 0) {
+                continue;
+            }
+            const double z = k == 1 ? 10.6 : 10.0;
+            p[n][0] = ((x + 0.5) - W / 2.0) * a * z;
+            p[n][1] = ((y + 0.5) - H / 2.0) * a * z;
+            p[n][2] = z;
+            pixel[n] = (uint32_t)(y * W + x);
+            kind[n++] = (uint8_t)k;
+        }
+    }
+    sta_error err = { 0 };
+    const sta_katz_params params = { .radius_m = sta_katz_view_radius(0.25, a) };
+    sta_katz_stats stats;
+    const double eye[3] = { 0.0, 0.0, 0.0 };
+    assert_int_equal(sta_katz_visible((const double(*)[3])p, n, eye, &params, plain, &stats, &err),
+                     STA_OK);
+    size_t sparse = 0;
+    assert_int_equal(sta_katz_local_visible((const double(*)[3])p, pixel, n, W, H, &params, local,
+                                            &sparse, &stats, &err),
+                     STA_OK);
+    size_t count[3] = { 0 }, seen_plain[3] = { 0 }, seen_local[3] = { 0 };
+    size_t inner = 0, inner_local = 0; // behind the holes, a whole hole from any edge
+    for (size_t i = 0; i < n; i++) {
+        count[kind[i]]++;
+        seen_plain[kind[i]] += plain[i];
+        seen_local[kind[i]] += local[i];
+        const int x = (int)(pixel[i] % W), y = (int)(pixel[i] / W);
+        if (kind[i] == 1 && x > 4 && x < W / 2 - 4 && y > 4 && y < H - 4) {
+            inner++;
+            inner_local += local[i];
+        }
+    }
+    print_message(
+        "visible with one R / R per region: sparse near %zu / %zu of %zu, behind "
+        "the holes %zu / %zu of %zu (inside: %zu of %zu), dense near %zu / %zu of %zu; %zu "
+        "points sparse\n",
+        seen_plain[0], seen_local[0], count[0], seen_plain[1], seen_local[1], count[1], inner_local,
+        inner, seen_plain[2], seen_local[2], count[2], sparse);
+    assert_true(sparse >= count[0] + count[1] - 2 * H && sparse < count[0] + count[1] + 4 * H);
+    assert_true(seen_plain[1] > count[1] / 2);             // one R: the far points show through
+    assert_true(inner > count[1] / 2 && inner_local == 0); // R per region: hidden
+    assert_true(seen_local[0] > count[0] * 95 / 100 && seen_local[2] > count[2] * 95 / 100);
+    pixel[0] = W * H; // outside the view
+    assert_int_equal(sta_katz_local_visible((const double(*)[3])p, pixel, n, W, H, &params, local,
+                                            &sparse, &stats, &err),
+                     STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "96x48"));
+    free(p);
+    free(pixel);
+    free(kind);
+    free(plain);
+    free(local);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(truth_sphere_near_visible_far_hidden),
     cmocka_unit_test(live_katz_method_sphere),
     cmocka_unit_test(drawn_points_follow_the_ids),
+    cmocka_unit_test(katz_local_hides_points_behind_sparse_holes),
     cmocka_unit_test(katz_on_drawn_points_sphere),
     cmocka_unit_test(truth_sphere_ray_depth_and_normal),
     cmocka_unit_test(truth_sidecar_rebuilds_scene),

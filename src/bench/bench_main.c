@@ -460,6 +460,11 @@ int main(int argc, char **argv)
           .kind = STA_CLI_FLAG,
           .dest = &o.katz,
           .help = "Katz et al. HPR (Qhull) on the drawn points as reference" },
+        { .name = "katz-local",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.katz_local,
+          .help = "--katz with R per region: a smaller R where the drawn points are sparse "
+                  "(docs/KATZ.md)" },
         { .name = "katz-drawn",
           .kind = STA_CLI_FLAG,
           .dest = &o.katz_drawn,

@@ -12,6 +12,7 @@
 #include "bench/bench_cameras.h"
 #include "bench/bench_truth.h"
 #include "bench/drawn_points.h"
+#include "bench/katz_local.h"
 #include "bench/metrics.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
@@ -411,6 +412,21 @@ static void katz_score(const uint8_t *visible, const uint8_t *truth, size_t coun
     *out_f1 = sta_confusion_f1(&c);
 }
 
+// Katz's flags of the view's points: one R, or with --katz-local R per region.
+static sta_status katz_flags(const scene_run *run, const sta_camera *camera,
+                             const sta_view_points *points, const double (*relative)[3],
+                             const sta_katz_params *params, uint8_t *visible, sta_katz_stats *stats,
+                             sta_error *err)
+{
+    const double origin[3] = { 0.0, 0.0, 0.0 };
+    if (!run->o->katz_local) {
+        return sta_katz_visible(relative, points->count, origin, params, visible, stats, err);
+    }
+    size_t sparse;
+    return sta_katz_local_visible(relative, points->pixel, points->count, camera->width_px,
+                                  camera->height_px, params, visible, &sparse, stats, err);
+}
+
 // Katz's operator on the view's points (relative to the eye, for precision). R follows
 // the view's pixel pitch and the same depth tolerance as the truth (sta_katz_view_radius,
 // docs/KATZ.md "Choosing R"). With a perturbation, the perturbed and the plain hull run
@@ -440,18 +456,17 @@ static sta_status run_katz(const scene_run *run, const sta_camera *camera,
             relative[i][a] = points->world[i][a] - camera->position[a];
         }
     }
-    const double origin[3] = { 0.0, 0.0, 0.0 };
     const double radius_m = sta_katz_view_radius(tolerance_m, camera->fov_y / camera->height_px);
     const sta_katz_params params = { .radius_m = radius_m, .perturbation = o->katz_perturbation };
     const sta_katz_params exact = { .radius_m = radius_m };
     sta_katz_stats stats = { 0 }, plain_stats;
     for (int r = 0; r < repeat && s == STA_OK; r++) {
-        s = sta_katz_visible((const double(*)[3])relative, points->count, origin, &params, visible,
-                             &stats, err);
+        s = katz_flags(run, camera, points, (const double(*)[3])relative, &params, visible, &stats,
+                       err);
         times[r] = stats.hull_ms;
         if (s == STA_OK && compare) {
-            s = sta_katz_visible((const double(*)[3])relative, points->count, origin, &exact, plain,
-                                 &plain_stats, err);
+            s = katz_flags(run, camera, points, (const double(*)[3])relative, &exact, plain,
+                           &plain_stats, err);
             times[repeat + r] = plain_stats.hull_ms;
         }
     }

@@ -62,6 +62,7 @@ typedef struct sta_bench_options {
     double tolerance_s0;                  /* truth tolerance in s0; 0: 3 */
     double timeout_s;                     /* per view loading; 0: 300 */
     bool katz;                            /* run the Katz reference */
+    bool katz_local;                      /* R per region of the view (bench/katz_local.h) */
     bool katz_drawn;                      /* feed it the drawn points' own positions (the id
                                              target), not pixel centres */
     double katz_perturbation;             /* Braga's perturbation for --katz and the live
