@@ -29,5 +29,5 @@ done
 
 echo "== tsan: live Katz worker hand-over, streamer and loader threads"
 cmake --preset tsan >/dev/null
-cmake --build build/tsan -j "$jobs" --target test_katz_worker test_stream test_clip
-TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -R '^(katz_worker|stream|clip)\.'
+cmake --build build/tsan -j "$jobs" --target test_katz_worker test_katz_cells test_stream test_clip
+TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -R '^(katz_worker|katz_cells|stream|clip)\.'

@@ -10,13 +10,17 @@
 #include <unistd.h>
 
 #include "bench/bench_truth.h"
+#include "bench/drawn_points.h"
+#include "bench/katz_local.h"
 #include "bench/metrics.h"
 #include "bench/report.h"
 #include "bench/sweep.h"
 #include "bench/view_eval.h"
 #include "convert.h"
+#include "format/strata_reader.h"
 #include "render/gl.h"
 #include "render/ref/screen_space.h"
+#include "stream/gpu_points.h"
 #include "test_support.h"
 
 // |a - b| <= eps in double (cmocka's assert_float_equal works in float).
@@ -659,9 +663,219 @@ static void live_katz_method_sphere(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
+// A small sphere scene converted to .strata at `strata` (its LAS beside it).
+static void make_sphere_strata(const char *stem, int points, char *strata, size_t size)
+{
+    sta_error err = { 0 };
+    char las[4096], name[256];
+    snprintf(name, sizeof(name), "%s.las", stem);
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path(name));
+    snprintf(name, sizeof(name), "%s.strata", stem);
+    snprintf(strata, size, "%s", sta_test_tmp_path(name));
+    sta_synth_params p = { .kind = STA_SYNTH_SPHERE, .seed = 3, .point_count = (uint64_t)points };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    const char *inputs[] = { las };
+    sta_convert_options co = {
+        .inputs = inputs, .input_count = 1, .output = strata, .force = true, .compress_level = 1
+    };
+    assert_int_equal(sta_convert(&co, NULL, &err), STA_OK);
+}
+
+// sta_drawn_points_apply: a pixel's id leads to the point of the file drawn there (moved to
+// its GPU position); ids of no point, or of a point that is not in that pixel, are refused
+// with the file's name.
+static void drawn_points_follow_the_ids(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    char strata[4096];
+    make_sphere_strata("drawn_points", 3000, strata, sizeof(strata));
+    sta_strata_reader *reader = NULL;
+    sta_strata_decoder *decoder = NULL;
+    assert_int_equal(sta_strata_open(strata, NULL, &reader, &err), STA_OK);
+    assert_int_equal(sta_strata_decoder_create(&decoder, &err), STA_OK);
+    const sta_strata_info *info = sta_strata_reader_info(reader);
+    sta_strata_points pts;
+    assert_int_equal(sta_strata_decode_node(reader, 0, decoder, &pts, &err), STA_OK);
+    assert_true(pts.count > 1);
+    sta_gpu_node_frame frame;
+    sta_gpu_node_frame_init(&frame, &info->geometry, sta_strata_reader_node(reader, 0)->key);
+    uint8_t gpu[STA_GPU_POINT_SIZE];
+    sta_gpu_points_encode(&frame, &pts.points[1], 1, 0, gpu);
+    double target[3];
+    sta_gpu_point_position(&frame, gpu, target);
+    // A camera 10 m away along -X looking at point 1 of node 0: it lies in the middle pixel.
+    enum {
+        W = 33,
+        H = 21
+    };
+    sta_camera camera = { .position = { target[0] - 10.0, target[1], target[2] },
+                          .fov_y = 0.5,
+                          .near_m = 0.1,
+                          .width_px = W,
+                          .height_px = H };
+    double px, py, depth;
+    assert_true(sta_camera_project(&camera, target, &px, &py, &depth));
+    const int x = (int)px, row = (int)py; // row from the top
+    uint32_t ids[W * H * 2];
+    for (int i = 0; i < W * H * 2; i++) {
+        ids[i] = 0xFFFFFFFFu;
+    }
+    uint32_t pixel = (uint32_t)((H - 1 - row) * W + x);
+    double world[1][3] = { { 0.0, 0.0, 0.0 } };
+    uint8_t visible[1] = { 0 };
+    sta_view_points points = { .count = 1, .pixel = &pixel, .world = world, .visible = visible };
+    ids[2 * (row * W + x)] = 0;
+    ids[2 * (row * W + x) + 1] = 1;
+    assert_int_equal(sta_drawn_points_apply(reader, strata, &camera, ids, &points, &err), STA_OK);
+    for (int a = 0; a < 3; a++) {
+        assert_true(world[0][a] == target[a]);
+    }
+    ids[2 * (row * W + x) + 1] = (uint32_t)pts.count; // no such point in the node
+    assert_int_equal(sta_drawn_points_apply(reader, strata, &camera, ids, &points, &err),
+                     STA_ERR_FORMAT);
+    assert_non_null(strstr(err.message, strata));
+    ids[2 * (row * W + x)] = info->node_count; // no such node
+    assert_int_equal(sta_drawn_points_apply(reader, strata, &camera, ids, &points, &err),
+                     STA_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "nodes"));
+    ids[2 * (row * W + x)] = 0; // point 0 is elsewhere on the sphere: not in this pixel
+    ids[2 * (row * W + x) + 1] = 0;
+    assert_int_equal(sta_drawn_points_apply(reader, strata, &camera, ids, &points, &err),
+                     STA_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "not of this view"));
+    sta_strata_decoder_destroy(decoder);
+    sta_strata_close(reader);
+}
+
+// --katz-drawn: the reference on the drawn points' own positions scores like the pixel
+// centres' on a sphere (both near 1), on the same points.
+static void katz_on_drawn_points_sphere(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    sta_gl_headless gl = { 0 };
+    if (sta_gl_headless_create(&gl, &err) != STA_OK) {
+        fail_msg("no GL context: %s", err.message);
+    }
+    char strata[4096];
+    make_sphere_strata("katz_drawn", 20000, strata, sizeof(strata));
+    const char *scenes[] = { strata };
+    double f1[2];
+    uint64_t count[2];
+    for (int drawn = 0; drawn < 2; drawn++) {
+        sta_bench_options o = { .scenes = scenes,
+                                .scene_count = 1,
+                                .camera_count = 1,
+                                .width_px = 192,
+                                .height_px = 144,
+                                .modes = { STA_PIPELINE_HPR },
+                                .mode_count = 1,
+                                .repeat = 1,
+                                .no_image_error = true,
+                                .katz = true,
+                                .katz_drawn = drawn };
+        sta_bench_results r = { 0 };
+        if (sta_bench_run(&o, &r, &err) != STA_OK) {
+            fail_msg("%s", err.message);
+        }
+        assert_int_equal(r.count, 1);
+        f1[drawn] = r.rows[0].katz_f1;
+        count[drawn] = r.rows[0].katz_points;
+        sta_bench_results_release(&r);
+    }
+    print_message("Katz F1: pixel centres %.4f, drawn points %.4f (%llu points)\n", f1[0], f1[1],
+                  (unsigned long long)count[1]);
+    assert_true(count[0] == count[1] && count[0] > 1000);
+    assert_true(f1[0] > 0.95 && f1[1] > 0.95);
+    sta_gl_headless_destroy(&gl);
+}
+
+// --katz-local: a sparse surface (a point every 4th pixel both ways) with a surface 0.6 m
+// behind seen through its holes, beside a dense surface. With the view's R the far points
+// in the holes stay on the hull; with R per region they are hidden, and both near
+// surfaces stay visible.
+static void katz_local_hides_points_behind_sparse_holes(void **state)
+{
+    (void)state;
+    enum {
+        W = 96,
+        H = 48
+    };
+    const double a = 2e-3; // radians per pixel
+    double(*p)[3] = malloc(sizeof(*p) * W * H);
+    uint32_t *pixel = malloc(sizeof(*pixel) * W * H);
+    uint8_t *kind = malloc(W * H); // 0 sparse near, 1 behind the holes, 2 dense near
+    uint8_t *plain = malloc(W * H), *local = malloc(W * H);
+    assert_true(p && pixel && kind && plain && local);
+    size_t n = 0;
+    for (int y = 0; y < H; y++) {
+        for (int x = 0; x < W; x++) {
+            int k = x >= W / 2                   ? 2
+                    : (x % 4 == 0 && y % 4 == 0) ? 0
+                    : (x % 4 == 2 && y % 4 == 2) ? 1
+                                                 : -1;
+            if (k < 0) {
+                continue;
+            }
+            const double z = k == 1 ? 10.6 : 10.0;
+            p[n][0] = ((x + 0.5) - W / 2.0) * a * z;
+            p[n][1] = ((y + 0.5) - H / 2.0) * a * z;
+            p[n][2] = z;
+            pixel[n] = (uint32_t)(y * W + x);
+            kind[n++] = (uint8_t)k;
+        }
+    }
+    sta_error err = { 0 };
+    const sta_katz_params params = { .radius_m = sta_katz_view_radius(0.25, a) };
+    sta_katz_stats stats;
+    const double eye[3] = { 0.0, 0.0, 0.0 };
+    assert_int_equal(sta_katz_visible((const double(*)[3])p, n, eye, &params, plain, &stats, &err),
+                     STA_OK);
+    size_t sparse = 0;
+    assert_int_equal(sta_katz_local_visible((const double(*)[3])p, pixel, n, W, H, &params, local,
+                                            &sparse, &stats, &err),
+                     STA_OK);
+    size_t count[3] = { 0 }, seen_plain[3] = { 0 }, seen_local[3] = { 0 };
+    size_t inner = 0, inner_local = 0; // behind the holes, a whole hole from any edge
+    for (size_t i = 0; i < n; i++) {
+        count[kind[i]]++;
+        seen_plain[kind[i]] += plain[i];
+        seen_local[kind[i]] += local[i];
+        const int x = (int)(pixel[i] % W), y = (int)(pixel[i] / W);
+        if (kind[i] == 1 && x > 4 && x < W / 2 - 4 && y > 4 && y < H - 4) {
+            inner++;
+            inner_local += local[i];
+        }
+    }
+    print_message(
+        "visible with one R / R per region: sparse near %zu / %zu of %zu, behind "
+        "the holes %zu / %zu of %zu (inside: %zu of %zu), dense near %zu / %zu of %zu; %zu "
+        "points sparse\n",
+        seen_plain[0], seen_local[0], count[0], seen_plain[1], seen_local[1], count[1], inner_local,
+        inner, seen_plain[2], seen_local[2], count[2], sparse);
+    assert_true(sparse >= count[0] + count[1] - 2 * H && sparse < count[0] + count[1] + 4 * H);
+    assert_true(seen_plain[1] > count[1] / 2);             // one R: the far points show through
+    assert_true(inner > count[1] / 2 && inner_local == 0); // R per region: hidden
+    assert_true(seen_local[0] > count[0] * 95 / 100 && seen_local[2] > count[2] * 95 / 100);
+    pixel[0] = W * H; // outside the view
+    assert_int_equal(sta_katz_local_visible((const double(*)[3])p, pixel, n, W, H, &params, local,
+                                            &sparse, &stats, &err),
+                     STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "96x48"));
+    free(p);
+    free(pixel);
+    free(kind);
+    free(plain);
+    free(local);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(truth_sphere_near_visible_far_hidden),
     cmocka_unit_test(live_katz_method_sphere),
+    cmocka_unit_test(drawn_points_follow_the_ids),
+    cmocka_unit_test(katz_local_hides_points_behind_sparse_holes),
+    cmocka_unit_test(katz_on_drawn_points_sphere),
     cmocka_unit_test(truth_sphere_ray_depth_and_normal),
     cmocka_unit_test(truth_sidecar_rebuilds_scene),
     cmocka_unit_test(metrics_confusion_counts),

@@ -14,6 +14,7 @@
 #include "core/alloc.h"
 #include "core/cli.h"
 #include "render/gl.h"
+#include "render/pass_katz.h"
 #include "render/ref/hpr_ref.h"
 #include "stream/point_sample.h"
 
@@ -364,7 +365,9 @@ int main(int argc, char **argv)
 {
     // The defaults, shown by --help from here: the sweep's own (resolving them twice is
     // harmless), a local copy of the threshold the pipeline uses for 0.
-    sta_bench_options o = { .progress = true, .katz_points = STA_DEFAULT_KATZ_SAMPLE_POINTS };
+    sta_bench_options o = { .progress = true,
+                            .katz_points = STA_DEFAULT_KATZ_SAMPLE_POINTS,
+                            .katz_oversample = STA_KATZ_VIEW_OVERSAMPLE };
     sta_bench_options_defaults(&o);
     o.hpr_radius_px = 8;
     double hpr_threshold = (double)STA_HPR_DEFAULT_THRESHOLD;
@@ -526,6 +529,16 @@ int main(int argc, char **argv)
           .kind = STA_CLI_FLAG,
           .dest = &o.katz,
           .help = "Katz et al. HPR (Qhull) on the drawn points as reference" },
+        { .name = "katz-local",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.katz_local,
+          .help = "--katz with R per region: a smaller R where the drawn points are sparse "
+                  "(docs/KATZ.md)" },
+        { .name = "katz-drawn",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.katz_drawn,
+          .help = "--katz on the drawn points' own positions (from the point id target), "
+                  "truth there too, instead of pixel centres at the depth buffer's depth" },
         { .name = "katz-live",
           .kind = STA_CLI_FLAG,
           .dest = &o.katz_live,
@@ -538,6 +551,14 @@ int main(int argc, char **argv)
           .count_max = 100000000,
           .flags = STA_CLI_SUFFIX,
           .help = "live Katz: points per hull" },
+        { .name = "katz-oversample",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &o.katz_oversample,
+          .metavar = "K",
+          .real_min = 1.0,
+          .real_max = 1000.0,
+          .help = "live Katz: candidates gathered per hull point (the nearest of each screen "
+                  "cell is kept)" },
         { .name = "katz-perturbation",
           .kind = STA_CLI_DOUBLE,
           .dest = &o.katz_perturbation,

@@ -11,6 +11,8 @@
 
 #include "bench/bench_cameras.h"
 #include "bench/bench_truth.h"
+#include "bench/drawn_points.h"
+#include "bench/katz_local.h"
 #include "bench/metrics.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
@@ -223,6 +225,7 @@ typedef struct scene_run {
     uint8_t *reference_rgba; /* one view per setting */
     bool *has_reference;     /* per setting, this camera */
     float *depth;            /* one view */
+    uint32_t *ids;           /* one view: node, index per pixel (the id target) */
     uint64_t point_count;
     int camera_count;
 } scene_run;
@@ -447,6 +450,21 @@ static void katz_score(const uint8_t *visible, const uint8_t *truth, size_t coun
     *out_f1 = sta_confusion_f1(&c);
 }
 
+// Katz's flags of the view's points: one R, or with --katz-local R per region.
+static sta_status katz_flags(const scene_run *run, const sta_camera *camera,
+                             const sta_view_points *points, const double (*relative)[3],
+                             const sta_katz_params *params, uint8_t *visible, sta_katz_stats *stats,
+                             sta_error *err)
+{
+    const double origin[3] = { 0.0, 0.0, 0.0 };
+    if (!run->o->katz_local) {
+        return sta_katz_visible(relative, points->count, origin, params, visible, stats, err);
+    }
+    size_t sparse;
+    return sta_katz_local_visible(relative, points->pixel, points->count, camera->width_px,
+                                  camera->height_px, params, visible, &sparse, stats, err);
+}
+
 // Katz's operator on the view's points (relative to the eye, for precision). R follows
 // the view's pixel pitch and the same depth tolerance as the truth (sta_katz_view_radius,
 // docs/KATZ.md "Choosing R"). With a perturbation, the perturbed and the plain hull run
@@ -476,18 +494,17 @@ static sta_status run_katz(const scene_run *run, const sta_camera *camera,
             relative[i][a] = points->world[i][a] - camera->position[a];
         }
     }
-    const double origin[3] = { 0.0, 0.0, 0.0 };
     const double radius_m = sta_katz_view_radius(tolerance_m, camera->fov_y / camera->height_px);
     const sta_katz_params params = { .radius_m = radius_m, .perturbation = o->katz_perturbation };
     const sta_katz_params exact = { .radius_m = radius_m };
     sta_katz_stats stats = { 0 }, plain_stats;
     for (int r = 0; r < repeat && s == STA_OK; r++) {
-        s = sta_katz_visible((const double(*)[3])relative, points->count, origin, &params, visible,
-                             &stats, err);
+        s = katz_flags(run, camera, points, (const double(*)[3])relative, &params, visible, &stats,
+                       err);
         times[r] = stats.hull_ms;
         if (s == STA_OK && compare) {
-            s = sta_katz_visible((const double(*)[3])relative, points->count, origin, &exact, plain,
-                                 &plain_stats, err);
+            s = katz_flags(run, camera, points, (const double(*)[3])relative, &exact, plain,
+                           &plain_stats, err);
             times[repeat + r] = plain_stats.hull_ms;
         }
     }
@@ -517,6 +534,38 @@ out_free:
     return s;
 }
 
+// --katz-drawn: the Katz reference on the points the view drew (one per pixel, at their own
+// positions, from the id target read with `points`' depth), their truth at those positions
+// (docs/KATZ.md, "Which points are fed": pixel centres score better).
+static sta_status katz_on_drawn_points(scene_run *run, sta_scene *scene, const sta_camera *camera,
+                                       const sta_view_points *points, double tolerance_m,
+                                       sta_bench_row *katz, sta_error *err)
+{
+    const size_t n = points->count ? points->count : 1;
+    sta_view_points drawn = { .count = points->count,
+                              .pixel = points->pixel,
+                              .world = sta_alloc_array(n, sizeof(*drawn.world)),
+                              .visible = sta_calloc(n, 1) };
+    sta_status s = STA_OK;
+    if (!drawn.world || !drawn.visible) {
+        s = sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu drawn points", points->count);
+    }
+    if (s == STA_OK) {
+        memcpy(drawn.world, points->world, points->count * sizeof(*drawn.world));
+        s = sta_drawn_points_apply(sta_streamer_reader(sta_scene_streamer(scene)), run->path,
+                                   camera, run->ids, &drawn, err);
+    }
+    if (s == STA_OK && run->has_truth) {
+        sta_view_points_classify(&run->truth, camera, tolerance_m, &drawn);
+    }
+    if (s == STA_OK) {
+        s = run_katz(run, camera, &drawn, tolerance_m, katz, err);
+    }
+    sta_free(drawn.world);
+    sta_free(drawn.visible);
+    return s;
+}
+
 // The live Katz mode (render/pass_katz.h) as a method, one row: the camera is set, frames
 // are drawn until the set of this view is shown (latency), then timed frames; the set's
 // points are scored against the truth (P / R / F1 in the hpr_* columns, its hull time in
@@ -533,6 +582,7 @@ static sta_status run_katz_live(scene_run *run, sta_scene *scene, const sta_came
     set_pipeline(run, scene, &(sta_bench_setting){ .mode = STA_PIPELINE_RAW });
     sta_katz_view_options k = { .enabled = true,
                                 .sample_points = o->katz_points,
+                                .oversample = o->katz_oversample,
                                 .perturbation = o->katz_perturbation,
                                 .compare_plain = o->katz_perturbation > 0.0 };
     sta_scene_set_katz(scene, &k);
@@ -645,6 +695,9 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
     sta_view_points points = { 0 };
     if (s == STA_OK && (run->has_truth || o->katz)) {
         sta_render_target_read_depth(&run->target, run->depth);
+        if (o->katz_drawn) {
+            sta_render_target_read_ids(&run->target, run->ids);
+        }
         s = sta_view_points_from_depth(camera, run->depth, &points, err);
     }
     double tolerance_m = 0.0;
@@ -664,7 +717,9 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
     }
     if (s == STA_OK && o->katz) {
         progress(run, cam_index + 1, run->camera_count, "Katz HPR");
-        s = run_katz(run, camera, &points, tolerance_m, &base, err);
+        s = o->katz_drawn
+                ? katz_on_drawn_points(run, scene, camera, &points, tolerance_m, &base, err)
+                : run_katz(run, camera, &points, tolerance_m, &base, err);
     }
     const size_t view = (size_t)camera->width_px * (size_t)camera->height_px;
     for (size_t k = 0; k < run->setting_count && s == STA_OK; k++) {
@@ -767,6 +822,7 @@ static void close_run(scene_run *run)
     sta_free(run->reference_rgba);
     sta_free(run->has_reference);
     sta_free(run->depth);
+    sta_free(run->ids);
     if (run->has_truth) {
         sta_bench_truth_release(&run->truth);
     }
@@ -841,9 +897,10 @@ static sta_status run_scene(const sta_bench_options *o, size_t index, sta_bench_
     if (s == STA_OK) {
         run.rgba = sta_alloc_array(view, 4);
         run.depth = sta_alloc_array(view, sizeof(float));
+        run.ids = sta_alloc_array(view, 2 * sizeof(uint32_t));
         run.has_reference = sta_calloc(run.setting_count ? run.setting_count : 1, sizeof(bool));
         run.reference_rgba = sta_alloc_array(run.setting_count ? run.setting_count : 1, view * 4);
-        if (!run.rgba || !run.depth || !run.has_reference || !run.reference_rgba) {
+        if (!run.rgba || !run.depth || !run.ids || !run.has_reference || !run.reference_rgba) {
             s = sta_fail(err, STA_ERR_NOMEM, "%s: out of memory for %zu settings at %dx%d",
                          run.path, run.setting_count, o->width_px, o->height_px);
         }

@@ -63,11 +63,15 @@ typedef struct sta_bench_options {
     double tolerance_s0;                  /* truth tolerance in s0; 0: 3 */
     double timeout_s;                     /* per view loading; 0: 300 */
     bool katz;                            /* run the Katz reference */
+    bool katz_local;                      /* R per region of the view (bench/katz_local.h) */
+    bool katz_drawn;                      /* feed it the drawn points' own positions (the id
+                                             target), not pixel centres */
     double katz_perturbation;             /* Braga's perturbation for --katz and the live
                                              mode (0: none); > 0 also times the plain hull
                                              on the same input, interleaved */
     bool katz_live;                       /* the live Katz mode as a method (its own row) */
     uint64_t katz_points;                 /* live mode's points per hull; 0: its default */
+    double katz_oversample;               /* live mode's candidates per hull point; 0: default */
     bool no_image_error;                  /* skip the unbudgeted reference renders */
     bool progress;                        /* progress line on stderr (a terminal only) */
 

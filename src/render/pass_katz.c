@@ -20,6 +20,9 @@ void sta_katz_view_options_defaults(sta_katz_view_options *o)
     if (o->tolerance == 0.0) {
         o->tolerance = STA_KATZ_VIEW_DEFAULT_TOLERANCE;
     }
+    if (o->oversample == 0.0) {
+        o->oversample = STA_KATZ_VIEW_OVERSAMPLE;
+    }
 }
 
 void sta_pass_katz_init(sta_pass_katz *p, uint32_t node_count, const double origin[3],
@@ -32,6 +35,14 @@ void sta_pass_katz_init(sta_pass_katz *p, uint32_t node_count, const double orig
     p->node_count = node_count;
 }
 
+// The subsample's candidates per submission: the screen cells keep the nearest of them,
+// about sample_points (katz_cells.h).
+static size_t candidate_points(const sta_katz_view_options *o)
+{
+    double n = ceil((double)o->sample_points * (o->oversample >= 1.0 ? o->oversample : 1.0));
+    return (size_t)n;
+}
+
 // The subsample and the gather scratch for options.sample_points at a draw list of
 // `drawn_points`, filled from the nodes resident now (read back from the GPU cache once) and kept
 // in step by sta_pass_katz_apply.
@@ -42,14 +53,14 @@ static sta_status make_sample(sta_pass_katz *p, const sta_gpu_cache *cache, uint
     p->sample = NULL;
     sta_free(p->points);
     sta_free(p->tags);
-    p->capacity = (size_t)p->options.sample_points;
+    p->capacity = candidate_points(&p->options);
     p->points = sta_alloc_array(p->capacity, sizeof(*p->points));
     p->tags = sta_alloc_array(p->capacity, sizeof(*p->tags));
     if (!p->points || !p->tags) {
         return sta_fail(err, STA_ERR_NOMEM, "katz view: out of memory for %zu points", p->capacity);
     }
-    sta_status s = sta_point_sample_create(p->node_count, p->options.sample_points, drawn_points,
-                                           &p->sample, err);
+    sta_status s =
+        sta_point_sample_create(p->node_count, p->capacity, drawn_points, &p->sample, err);
     uint8_t *scratch = NULL;
     size_t scratch_count = 0;
     for (uint32_t node = 0; node < cache->node_count && s == STA_OK; node++) {
@@ -101,7 +112,7 @@ void sta_pass_katz_set_options(sta_pass_katz *p, const sta_katz_view_options *op
     sta_katz_view_options_defaults(&o);
     bool restart = p->options.threads != o.threads || p->options.perturbation != o.perturbation ||
                    p->options.compare_plain != o.compare_plain;
-    if (o.sample_points != p->options.sample_points) {
+    if (o.sample_points != p->options.sample_points || o.oversample != p->options.oversample) {
         sta_point_sample_destroy(p->sample); // remade (and refilled) on the next frame
         p->sample = NULL;
     }
@@ -129,12 +140,12 @@ static sta_status start(sta_pass_katz *p, const sta_gpu_cache *cache, uint64_t d
 {
     // Remade when the draw list outgrew or shrank far from what the stride was made for
     // (4x: hysteresis), so that a submission has about sample_points points.
-    uint64_t wanted =
-        drawn_points > p->options.sample_points ? drawn_points : p->options.sample_points;
+    const uint64_t candidates = candidate_points(&p->options);
+    uint64_t wanted = drawn_points > candidates ? drawn_points : candidates;
     if (p->sample && drawn_points > 0) {
         uint64_t kept = drawn_points / sta_point_sample_stride(p->sample);
-        if ((kept < p->options.sample_points / 4 && sta_point_sample_stride(p->sample) > 1) ||
-            kept > 4 * p->options.sample_points) {
+        if ((kept < candidates / 4 && sta_point_sample_stride(p->sample) > 1) ||
+            kept > 4 * candidates) {
             sta_point_sample_destroy(p->sample);
             p->sample = NULL;
         }
@@ -187,62 +198,19 @@ static bool same_camera(const sta_camera *a, const sta_camera *b)
            a->height_px == b->height_px;
 }
 
-// Cells across the view's longer side for the coverage estimate of sample_radius.
-#define COVERAGE_CELLS 64
-
-// Katz's R for the subsample (sta_katz_view_radius). Its angular pitch: the solid angle
-// the points cover (the cells of a COVERAGE_CELLS grid over the view that hold a point)
-// over their count, never finer than a pixel. Its spacing on surfaces: s0 times
-// sqrt(stride) (every stride-th point kept).
-static double sample_radius(const sta_pass_katz *p, const sta_camera *camera, size_t count,
-                            double s0_m)
-{
-    double pitch = camera->fov_y / (double)camera->height_px;
-    int cells_x = COVERAGE_CELLS, cells_y = COVERAGE_CELLS;
-    if (camera->width_px >= camera->height_px) {
-        cells_y = (int)ceil(COVERAGE_CELLS * (double)camera->height_px / camera->width_px);
-    } else {
-        cells_x = (int)ceil(COVERAGE_CELLS * (double)camera->width_px / camera->height_px);
-    }
-    uint8_t covered[COVERAGE_CELLS * COVERAGE_CELLS] = { 0 };
-    size_t covered_count = 0;
-    for (size_t i = 0; i < count; i++) {
-        double world[3], x, y, depth;
-        for (int a = 0; a < 3; a++) {
-            world[a] = (double)p->points[i][a] + p->origin[a];
-        }
-        if (!sta_camera_project(camera, world, &x, &y, &depth) || x < 0 || y < 0 ||
-            x >= camera->width_px || y >= camera->height_px) {
-            continue;
-        }
-        int cell = (int)(y * cells_y / camera->height_px) * cells_x +
-                   (int)(x * cells_x / camera->width_px);
-        covered_count += !covered[cell];
-        covered[cell] = 1;
-    }
-    if (count > 0 && covered_count > 0) {
-        double aspect = (double)camera->width_px / (double)camera->height_px;
-        double fov_x = 2.0 * atan(tan(0.5 * camera->fov_y) * aspect);
-        double solid = fov_x * camera->fov_y * (double)covered_count / (cells_x * cells_y);
-        pitch = fmax(pitch, sqrt(solid / (double)count));
-    }
-    double spacing = s0_m * sqrt((double)sta_point_sample_stride(p->sample));
-    return sta_katz_view_radius(p->options.tolerance * spacing, pitch);
-}
-
 static sta_status submit(sta_pass_katz *p, const sta_camera *camera,
                          const sta_gpu_node_frame *frames, const sta_stream_frame *frame,
                          double s0_m, sta_error *err)
 {
     size_t n = sta_point_sample_gather(p->sample, frames, frame->draw, frame->draw_count, p->origin,
                                        p->points, p->tags, p->capacity);
-    double eye[3];
-    for (int a = 0; a < 3; a++) {
-        eye[a] = camera->position[a] - p->origin[a];
-    }
-    double radius_m = sample_radius(p, camera, n, s0_m);
-    sta_status s = sta_katz_worker_submit(p->worker, (const float(*)[3])p->points, p->tags, n, eye,
-                                          radius_m, p->frame, err);
+    // The cells give the hull about one point per cell; R stays the one-point-per-pixel
+    // rule's (docs/KATZ.md, "Live mode": it measured better than R for the cell's pitch).
+    double radius_m = sta_katz_view_radius(p->options.tolerance * s0_m,
+                                           camera->fov_y / (double)camera->height_px);
+    sta_status s =
+        sta_katz_worker_submit_view(p->worker, (const float(*)[3])p->points, p->tags, n, camera,
+                                    p->origin, p->options.sample_points, radius_m, p->frame, err);
     if (s != STA_OK) {
         return s;
     }

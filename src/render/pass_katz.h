@@ -7,9 +7,12 @@
  * age in frames is reported. Main thread (GL) only.
  *
  * Design: the subsample (every stride-th GPU record, stride = ceil(points drawn /
- * sample points)) is made on the first enabled frame from the nodes then resident, read back from
- * the GPU cache once, and from then on kept in step with every frame's uploads and
- * evictions, on or off; no reload is needed to turn the mode on.
+ * (sample points x STA_KATZ_VIEW_OVERSAMPLE))) is made on the first enabled frame from the
+ * nodes then resident, read back from the GPU cache once, and from then on kept in step
+ * with every frame's uploads and evictions, on or off; no reload is needed to turn the
+ * mode on. A submission hands these candidates with the camera to the worker, whose
+ * thread keeps the nearest in each screen cell, about sample points of them
+ * (visibility/katz_cells.h), before the hull; R is the one-point-per-pixel rule's.
  * A new submission is made when the camera or the draw list changed since the last one;
  * a newer submission replaces one that no thread has started. When a new set arrives,
  * its visible records are copied (grouped by node) into one vertex buffer, so nodes
@@ -33,16 +36,19 @@
 #include "stream/streamer.h"
 #include "visibility/katz_worker.h"
 
-/* Default depth tolerance of Katz's radius rule, in units of the subsample's spacing. */
+/* Default depth tolerance of Katz's radius rule, in units of the scene's spacing s0. */
 #define STA_KATZ_VIEW_DEFAULT_TOLERANCE 3.0
+/* Candidates gathered per point handed to the hull: the screen cells keep the nearest. */
+#define STA_KATZ_VIEW_OVERSAMPLE        8.0
 
 /* Options. Zero means default (sta_katz_view_options_defaults). */
 typedef struct sta_katz_view_options {
     bool enabled;           /* draw the live Katz set instead of the whole draw list */
-    uint64_t sample_points; /* points per submission; 0: STA_DEFAULT_KATZ_SAMPLE_POINTS */
+    uint64_t sample_points; /* points per hull (screen cells); 0: STA_DEFAULT_KATZ_SAMPLE_POINTS */
     int threads;            /* hull threads; 0: STA_KATZ_WORKER_DEFAULT_THREADS */
     double perturbation;    /* Braga's perturbation (sta_katz_params); 0: none */
-    double tolerance;       /* R's depth tolerance in the subsample's spacing; 0: default */
+    double tolerance;       /* R's depth tolerance in the scene's spacing s0; 0: default */
+    double oversample;      /* candidates per hull point; 0: STA_KATZ_VIEW_OVERSAMPLE */
     bool compare_plain;     /* also time the plain hull on each input (with perturbation) */
 } sta_katz_view_options;
 

@@ -16,7 +16,7 @@
 #include "stream/streamer.h"
 
 /* Default points the live Katz mode hands to the hull per submission. */
-#define STA_DEFAULT_KATZ_SAMPLE_POINTS 50000
+#define STA_DEFAULT_KATZ_SAMPLE_POINTS 25000
 
 typedef struct sta_point_sample sta_point_sample;
 

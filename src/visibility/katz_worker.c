@@ -19,7 +19,9 @@ typedef struct request {
     uint64_t *tags; // NULL when the submission had none
     size_t count, capacity;
     double viewpoint[3];
-    double radius_m; // 0: the configured R
+    double radius_m;   // 0: the configured R
+    sta_camera camera; // cell_cap > 0: the view, its position relative to the points' origin
+    size_t cell_cap;   // 0: all points go to the hull; else one per screen cell, at most this
     uint64_t frame;
     uint64_t seq; // submission number, 0: empty
 } request;
@@ -33,6 +35,7 @@ typedef struct hull_thread {
     sta_katz_set *back; // this thread's only until published
     double (*xyz)[3];   // the work's points in double, this thread's only
     size_t xyz_capacity;
+    sta_katz_cells cells; // this thread's only
 } hull_thread;
 
 struct sta_katz_worker {
@@ -128,9 +131,19 @@ static sta_status request_reserve(request *r, size_t count, sta_error *err)
 static sta_status compute(hull_thread *t, sta_error *err)
 {
     const sta_katz_worker *w = t->worker;
-    const request *r = t->work;
+    request *r = t->work;
     sta_katz_set *set = t->back;
-    sta_status s = set_reserve(set, r->count, err);
+    const size_t candidates = r->count;
+    sta_status s = STA_OK;
+    if (r->cell_cap > 0) {
+        const double origin[3] = { 0.0, 0.0, 0.0 };
+        s = sta_katz_cells_select(&t->cells, &r->camera, origin, r->cell_cap, r->points, r->tags,
+                                  &r->count, err);
+        if (s != STA_OK) {
+            return s;
+        }
+    }
+    s = set_reserve(set, r->count, err);
     if (s == STA_OK && t->xyz_capacity < r->count) {
         sta_free(t->xyz);
         t->xyz = sta_alloc_array(r->count, sizeof(*t->xyz));
@@ -174,6 +187,8 @@ static sta_status compute(hull_thread *t, sta_error *err)
         memcpy(set->tags, r->tags, r->count * sizeof(*r->tags));
     }
     set->count = r->count;
+    set->candidates = candidates;
+    set->cell_px = r->cell_cap > 0 ? t->cells.cell_px : 0.0;
     set->visible_count = r->count > 0 ? set->stats.visible_count : 0;
     memcpy(set->viewpoint, r->viewpoint, sizeof(set->viewpoint));
     set->generation = r->seq;
@@ -299,6 +314,7 @@ void sta_katz_worker_destroy(sta_katz_worker *worker)
         request_free(t->work);
         set_free(t->back);
         sta_free(t->xyz);
+        sta_katz_cells_release(&t->cells);
     }
     request_free(worker->staging);
     request_free(worker->pending);
@@ -309,9 +325,10 @@ void sta_katz_worker_destroy(sta_katz_worker *worker)
     sta_free(worker);
 }
 
-sta_status sta_katz_worker_submit(sta_katz_worker *worker, const float (*points)[3],
-                                  const uint64_t *tags, size_t count, const double viewpoint[3],
-                                  double radius_m, uint64_t frame, sta_error *err)
+// Checks and copies a submission into the staging buffer, then makes it the pending one.
+static sta_status submit(sta_katz_worker *worker, const float (*points)[3], const uint64_t *tags,
+                         size_t count, const double viewpoint[3], const sta_camera *camera,
+                         size_t cell_cap, double radius_m, uint64_t frame, sta_error *err)
 {
     if (!worker || !viewpoint || (count > 0 && !points)) {
         return sta_fail(err, STA_ERR_ARG, "katz worker: NULL argument to submit");
@@ -342,6 +359,11 @@ sta_status sta_katz_worker_submit(sta_katz_worker *worker, const float (*points)
     }
     r->count = count;
     memcpy(r->viewpoint, viewpoint, sizeof(r->viewpoint));
+    r->cell_cap = cell_cap;
+    if (cell_cap > 0) {
+        r->camera = *camera;
+        memcpy(r->camera.position, viewpoint, sizeof(r->camera.position));
+    }
     r->radius_m = radius_m;
     r->frame = frame;
     pthread_mutex_lock(&worker->lock);
@@ -355,6 +377,34 @@ sta_status sta_katz_worker_submit(sta_katz_worker *worker, const float (*points)
     pthread_cond_signal(&worker->wake);
     pthread_mutex_unlock(&worker->lock);
     return STA_OK;
+}
+
+sta_status sta_katz_worker_submit(sta_katz_worker *worker, const float (*points)[3],
+                                  const uint64_t *tags, size_t count, const double viewpoint[3],
+                                  double radius_m, uint64_t frame, sta_error *err)
+{
+    return submit(worker, points, tags, count, viewpoint, NULL, 0, radius_m, frame, err);
+}
+
+sta_status sta_katz_worker_submit_view(sta_katz_worker *worker, const float (*points)[3],
+                                       const uint64_t *tags, size_t count, const sta_camera *camera,
+                                       const double origin[3], size_t cell_cap, double radius_m,
+                                       uint64_t frame, sta_error *err)
+{
+    if (!camera || !origin || cell_cap == 0) {
+        return sta_fail(err, STA_ERR_ARG,
+                        "katz worker: submit_view needs a camera, an origin "
+                        "and a cell cap above 0");
+    }
+    if (!(camera->width_px > 0 && camera->height_px > 0 && camera->fov_y > 0.0 &&
+          camera->fov_y < 3.14159 && camera->near_m > 0.0)) {
+        return sta_fail(err, STA_ERR_ARG,
+                        "katz worker: camera %dx%d px, fov %g rad, near %g m is not a view",
+                        camera->width_px, camera->height_px, camera->fov_y, camera->near_m);
+    }
+    const double viewpoint[3] = { camera->position[0] - origin[0], camera->position[1] - origin[1],
+                                  camera->position[2] - origin[2] };
+    return submit(worker, points, tags, count, viewpoint, camera, cell_cap, radius_m, frame, err);
 }
 
 bool sta_katz_worker_acquire(sta_katz_worker *worker, const sta_katz_set **out)

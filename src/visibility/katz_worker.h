@@ -27,7 +27,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/camera.h"
 #include "core/status.h"
+#include "visibility/katz_cells.h"
 #include "visibility/katz_hpr.h"
 
 /* Default number of hull threads. */
@@ -48,8 +50,10 @@ typedef struct sta_katz_worker_config {
 typedef struct sta_katz_set {
     uint64_t generation;      /* the request's submission number (1, 2, ...); 0: no set yet */
     uint64_t frame;           /* the caller's frame number given with the request */
-    size_t count;             /* points of the request */
-    float (*points)[3];       /* count positions as submitted */
+    size_t count;             /* points of the request (after the cells, when used) */
+    size_t candidates;        /* points submitted (before the cells) */
+    double cell_px;           /* sta_katz_worker_submit_view: the cells' side; else 0 */
+    float (*points)[3];       /* count positions as submitted (those the cells kept) */
     uint64_t *tags;           /* count tags as submitted (the index when none were given) */
     uint8_t *visible;         /* count flags: 1 visible */
     size_t visible_count;     /* flags set */
@@ -95,6 +99,16 @@ void sta_katz_worker_destroy(sta_katz_worker *worker);
 sta_status sta_katz_worker_submit(sta_katz_worker *worker, const float (*points)[3],
                                   const uint64_t *tags, size_t count, const double viewpoint[3],
                                   double radius_m, uint64_t frame, sta_error *err);
+
+/* As sta_katz_worker_submit for the points of a view: `camera` in world coordinates,
+ * points relative to `origin`; the thread first keeps the nearest point of each screen
+ * cell, at most `cell_cap` (> 0) of them (katz_cells.h), then runs the hull on those, so
+ * the caller's frame does not pay for the selection. STA_ERR_ARG also for a camera that is
+ * no view (size, fov in (0, pi), near > 0). */
+sta_status sta_katz_worker_submit_view(sta_katz_worker *worker, const float (*points)[3],
+                                       const uint64_t *tags, size_t count, const sta_camera *camera,
+                                       const double origin[3], size_t cell_cap, double radius_m,
+                                       uint64_t frame, sta_error *err);
 
 /* The newest complete set: *out points to the caller's front set, valid until the next
  * acquire or destroy; generation 0 until the first result. Returns true when the set is
