@@ -106,6 +106,9 @@ typedef struct sta_bench_row {
     double hpr_precision, hpr_recall, hpr_f1;
     uint64_t normal_count;
     double normal_mean_deg, normal_median_deg, normal_p95_deg;
+    uint64_t normal_sampled_count; /* the same over pixels whose true surface the drawn
+                                      points sample (sta_view_truth_sampled) */
+    double normal_sampled_mean_deg, normal_sampled_median_deg, normal_sampled_p95_deg;
     uint64_t depth_count;
     double depth_rel_mean, depth_rel_median, depth_rel_p95;
     double psnr_db; /* +inf for identical images */

@@ -53,10 +53,25 @@ void sta_view_points_release(sta_view_points *points);
  * STA_LABEL_VISIBLE counts as labelled visible, any other label as hidden. */
 void sta_eval_hpr(const sta_view_points *points, const sta_image *label, sta_confusion *out);
 
+/* Farthest pixel offset sta_view_truth_sampled searches. */
+#define STA_VIEW_SAMPLED_MAX_PX 16
+
+/* Marks (1, else 0; one byte per pixel, texture order) the pixels whose true surface
+ * the drawn points sample: some view point lies within radius_m (3D) of the point the
+ * pixel's ray truly hits. Searched among the pixels within radius_m of the hit on the
+ * screen (radius_m * pixels per metre at its depth, 1 .. STA_VIEW_SAMPLED_MAX_PX), the
+ * nearest rings first. A scanner leaves some surfaces unsampled (a profiler sees the
+ * faces across its driving direction edge-on): no estimator can know their normals.
+ * Errors: STA_ERR_NOMEM. */
+sta_status sta_view_truth_sampled(const sta_view_truth *view_truth, const sta_camera *camera,
+                                  const sta_view_points *points, double radius_m,
+                                  uint8_t *out_sampled, sta_error *err);
+
 /* Angle (degrees) between the normal buffer (RGBA32F, w > 0.5 valid) and the true
- * normal, over pixels with a valid normal whose ray hits the scene. */
+ * normal, over pixels with a valid normal whose ray hits the scene and, when `sampled`
+ * is not NULL, whose byte in it is 1 (sta_view_truth_sampled). */
 sta_status sta_eval_normals(const sta_view_truth *view_truth, const sta_image *normal,
-                            sta_error_summary *out, sta_error *err);
+                            const uint8_t *sampled, sta_error_summary *out, sta_error *err);
 
 /* Relative depth error |d - d_true| / d_true of the filled buffer (RGBA32F, camera
  * space xyz, w > 0 covered; d = -z), over covered pixels whose ray hits the scene. */
