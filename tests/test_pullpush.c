@@ -1008,6 +1008,9 @@ static void normal_defaults_fill_only_zero_fields(void **state)
     params.jump_ratio = NAN;
     sta_normals_pyramid_params_defaults(&params);
     assert_true(params.jump_ratio == STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO);
+    params.jump_ratio = 0.5f; // below 1 both neighbours could count as jumps
+    sta_normals_pyramid_params_defaults(&params);
+    assert_true(params.jump_ratio == STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO);
 }
 
 static const struct CMUnitTest tests[] = {

@@ -16,7 +16,7 @@ void sta_normals_pyramid_params_defaults(sta_normals_pyramid_params *config)
     if (!(config->radius_s0 > 0.0f)) {
         config->radius_s0 = STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0;
     }
-    if (!(config->jump_ratio > 0.0f)) {
+    if (!(config->jump_ratio >= 1.0f)) { // below 1 both neighbours could be dropped
         config->jump_ratio = STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO;
     }
     if (!(config->plane_tolerance > 0.0f)) {

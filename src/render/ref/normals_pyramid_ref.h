@@ -48,7 +48,7 @@ typedef struct sta_normals_pyramid_params {
     float plane_tolerance; /* step 3, in texel footprints; <= 0 (or NaN):
                               STA_NORMALS_PYRAMID_DEFAULT_PLANE_TOLERANCE; +INFINITY turns
                               the test off (the estimator before issue 15) */
-    float jump_ratio;      /* step 1; <= 0 (or NaN): STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO;
+    float jump_ratio;      /* step 1; below 1 (or NaN): STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO;
                               +INFINITY: no jump test (before issue 15) */
 } sta_normals_pyramid_params;
 
