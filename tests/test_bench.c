@@ -371,6 +371,54 @@ static void eval_buffers_hand_made(void **state)
     sta_image_release(&img);
 }
 
+/* The border metric: a 40x40 view whose rays all hit but the sky at the top-right
+ * corner; the fill leaves 10 band pixels on a surface and 20 sky pixels empty, and 5
+ * interior pixels (outside the band). */
+static void border_metric_counts_band_surface_pixels(void **state)
+{
+    (void)state;
+    enum {
+        W = 40,
+        H = 40
+    };
+    static float depth[W * H], normal[3 * W * H];
+    sta_view_truth v = { .width = W, .height = H, .depth_m = depth, .normal = normal };
+    sta_image filled = { 0 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(&filled, W, H, 4, &err), STA_OK);
+    int sky = 0;
+    for (int i = 0; i < W * H; i++) {
+        int x = i % W, y = i / W;
+        bool is_sky = x >= W - 4 && y >= H - 5; // 20 pixels, all in the band
+        depth[i] = is_sky ? NAN : 5.0f;
+        sky += is_sky;
+        filled.data[4 * i + 3] = is_sky ? 0.0f : 1.0f;
+    }
+    for (int k = 0; k < 10; k++) {
+        filled.data[4 * (k * W) + 3] = 0.0f; // the left column, band
+    }
+    for (int k = 0; k < 5; k++) {
+        filled.data[4 * ((18 + k) * W + 20) + 3] = 0.0f; // the interior (16..23)
+    }
+    uint64_t count = 0;
+    double share = 0.0;
+    assert_int_equal(sta_eval_border(&v, &filled, &count, &share, &err), STA_OK);
+    const int band = W * H - (W - 2 * STA_BORDER_BAND_PX) * (H - 2 * STA_BORDER_BAND_PX);
+    assert_int_equal(count, band - sky);
+    assert_near(share, 10.0 / (double)(band - sky), 1e-12);
+    // All sky: nothing to count.
+    for (int i = 0; i < W * H; i++) {
+        depth[i] = NAN;
+    }
+    assert_int_equal(sta_eval_border(&v, &filled, &count, &share, &err), STA_OK);
+    assert_int_equal(count, 0);
+    assert_true(isnan(share));
+    // A size mismatch is an error naming the buffer.
+    v.width = W - 1;
+    assert_int_equal(sta_eval_border(&v, &filled, &count, &share, &err), STA_ERR_ARG);
+    sta_image_release(&filled);
+}
+
 static void settings_expand(void **state)
 {
     (void)state;
@@ -618,6 +666,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(metrics_ssim),
     cmocka_unit_test(eval_buffers_hand_made),
     cmocka_unit_test(sampled_pixels_need_a_point_near_the_hit),
+    cmocka_unit_test(border_metric_counts_band_surface_pixels),
     cmocka_unit_test(settings_expand),
     cmocka_unit_test(truth_mesh_path_is_relative_to_the_sidecar),
     cmocka_unit_test(core_end_to_end_sphere),

@@ -96,6 +96,8 @@ static const column columns[] = {
     COL(depth_rel_mean, COL_F64),
     COL(depth_rel_median, COL_F64),
     COL(depth_rel_p95, COL_F64),
+    COL(border_count, COL_U64),
+    COL(border_empty, COL_F64),
     COL(psnr_db, COL_F64),
     COL(ssim, COL_F64),
     COL(katz_ms, COL_F64),

@@ -363,6 +363,7 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
             row->depth_rel_mean = e.mean;
             row->depth_rel_median = e.median;
             row->depth_rel_p95 = e.p95;
+            s = sta_eval_border(view_truth, &image, &row->border_count, &row->border_empty, err);
         }
         sta_image_release(&image);
     }
@@ -397,6 +398,7 @@ static void clear_errors(sta_bench_row *row)
     row->normal_sampled_mean_deg = row->normal_sampled_median_deg = row->normal_sampled_p95_deg =
         (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
+    row->border_empty = (double)NAN;
     row->psnr_db = row->ssim = (double)NAN;
     row->katz_ms = row->katz_radius_m = row->katz_hull_ms = row->katz_plain_hull_ms =
         row->katz_plain_f1 = row->katz_live_latency_ms = row->katz_live_hull_cpu_ms =

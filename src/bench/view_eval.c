@@ -257,3 +257,28 @@ sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, sta_
     sta_free(values);
     return STA_OK;
 }
+
+sta_status sta_eval_border(const sta_view_truth *v, const sta_image *filled, uint64_t *out_count,
+                           double *out_share, sta_error *err)
+{
+    sta_status s = check_size(v, filled, "filled", err);
+    if (s != STA_OK) {
+        return s;
+    }
+    uint64_t count = 0, empty = 0;
+    for (int y = 0; y < v->height; y++) {
+        for (int x = 0; x < v->width; x++) {
+            bool band = x < STA_BORDER_BAND_PX || y < STA_BORDER_BAND_PX ||
+                        x >= v->width - STA_BORDER_BAND_PX || y >= v->height - STA_BORDER_BAND_PX;
+            size_t i = (size_t)y * (size_t)v->width + (size_t)x;
+            if (!band || isnan(v->depth_m[i])) {
+                continue;
+            }
+            count++;
+            empty += !(filled->data[4 * i + 3] > 0.0f);
+        }
+    }
+    *out_count = count;
+    *out_share = count ? (double)empty / (double)count : (double)NAN;
+    return STA_OK;
+}

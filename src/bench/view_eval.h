@@ -78,4 +78,14 @@ sta_status sta_eval_normals(const sta_view_truth *view_truth, const sta_image *n
 sta_status sta_eval_depth(const sta_view_truth *view_truth, const sta_image *filled,
                           sta_error_summary *out, sta_error *err);
 
+/* Width of the image border band of sta_eval_border, pixels (issue 15's edge metric). */
+#define STA_BORDER_BAND_PX 16
+
+/* Surfaces filled to the image edge: over the pixels of the STA_BORDER_BAND_PX-wide band
+ * along the image border whose ray hits the scene, the count (*out_count) and the share
+ * left empty by the filled buffer (RGBA32F, w > 0 covered; *out_share, NAN for none).
+ * Pixels whose ray misses (sky) are not counted: empty is right there. */
+sta_status sta_eval_border(const sta_view_truth *view_truth, const sta_image *filled,
+                           uint64_t *out_count, double *out_share, sta_error *err);
+
 #endif
