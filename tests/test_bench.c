@@ -196,6 +196,17 @@ static void sampled_pixels_need_a_point_near_the_hit(void **state)
     assert_true(only.count < all.count);
     assert_true(all.max > 45.0);
     assert_true(only.max < 1e-3);
+    // Depth likewise: a filled depth 50 % off on the unsampled pixel.
+    for (int i = 0; i < W * H; i++) {
+        float *e = img.data + 4 * i;
+        e[2] = -v.depth_m[i]; // misses stay NAN and are skipped
+    }
+    wrong[2] *= 1.5f;
+    assert_int_equal(sta_eval_depth(&v, &img, NULL, &all, &err), STA_OK);
+    assert_int_equal(sta_eval_depth(&v, &img, sampled, &only, &err), STA_OK);
+    assert_true(only.count < all.count);
+    assert_near(all.max, 0.5, 1e-6);
+    assert_true(only.max < 1e-6);
     sta_image_release(&img);
     free(xyz);
     sta_view_truth_release(&v);
@@ -352,7 +363,7 @@ static void eval_buffers_hand_made(void **state)
     p = sta_image_at(&img, 0, 0);
     p[0] = p[1] = 0.0f;
     p[2] = -2.2f;
-    assert_int_equal(sta_eval_depth(&v, &img, &s, &err), STA_OK);
+    assert_int_equal(sta_eval_depth(&v, &img, NULL, &s, &err), STA_OK);
     assert_int_equal(s.count, 1);
     assert_near(s.mean, 0.1, 1e-6);
     sta_image_release(&img);
@@ -402,20 +413,28 @@ static void border_metric_counts_band_surface_pixels(void **state)
     }
     uint64_t count = 0;
     double share = 0.0;
-    assert_int_equal(sta_eval_border(&v, &filled, &count, &share, &err), STA_OK);
+    assert_int_equal(sta_eval_border(&v, &filled, NULL, &count, &share, &err), STA_OK);
     const int band = W * H - (W - 2 * STA_BORDER_BAND_PX) * (H - 2 * STA_BORDER_BAND_PX);
     assert_int_equal(count, band - sky);
     assert_near(share, 10.0 / (double)(band - sky), 1e-12);
+    // With a sampled mask: the unsampled left column's empty pixels do not count.
+    static uint8_t sampled[W * H];
+    for (int i = 0; i < W * H; i++) {
+        sampled[i] = i % W != 0 && !isnan(depth[i]);
+    }
+    assert_int_equal(sta_eval_border(&v, &filled, sampled, &count, &share, &err), STA_OK);
+    assert_int_equal(count, band - sky - H);
+    assert_true(share == 0.0);
     // All sky: nothing to count.
     for (int i = 0; i < W * H; i++) {
         depth[i] = NAN;
     }
-    assert_int_equal(sta_eval_border(&v, &filled, &count, &share, &err), STA_OK);
+    assert_int_equal(sta_eval_border(&v, &filled, NULL, &count, &share, &err), STA_OK);
     assert_int_equal(count, 0);
     assert_true(isnan(share));
     // A size mismatch is an error naming the buffer.
     v.width = W - 1;
-    assert_int_equal(sta_eval_border(&v, &filled, &count, &share, &err), STA_ERR_ARG);
+    assert_int_equal(sta_eval_border(&v, &filled, NULL, &count, &share, &err), STA_ERR_ARG);
     sta_image_release(&filled);
 }
 

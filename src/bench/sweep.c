@@ -356,14 +356,24 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
         s = sta_gl_texture_to_image(p->filled_position, 0, 4, &image, err);
         sta_error_summary e;
         if (s == STA_OK) {
-            s = sta_eval_depth(view_truth, &image, &e, err);
+            s = sta_eval_depth(view_truth, &image, NULL, &e, err);
         }
         if (s == STA_OK) {
             row->depth_count = e.count;
             row->depth_rel_mean = e.mean;
             row->depth_rel_median = e.median;
             row->depth_rel_p95 = e.p95;
-            s = sta_eval_border(view_truth, &image, &row->border_count, &row->border_empty, err);
+            s = sta_eval_border(view_truth, &image, sampled, &row->border_count, &row->border_empty,
+                                err);
+        }
+        if (s == STA_OK) {
+            s = sta_eval_depth(view_truth, &image, sampled, &e, err);
+        }
+        if (s == STA_OK) {
+            row->depth_sampled_count = e.count;
+            row->depth_sampled_rel_mean = e.mean;
+            row->depth_sampled_rel_median = e.median;
+            row->depth_sampled_rel_p95 = e.p95;
         }
         sta_image_release(&image);
     }
@@ -398,6 +408,8 @@ static void clear_errors(sta_bench_row *row)
     row->normal_sampled_mean_deg = row->normal_sampled_median_deg = row->normal_sampled_p95_deg =
         (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
+    row->depth_sampled_rel_mean = row->depth_sampled_rel_median = row->depth_sampled_rel_p95 =
+        (double)NAN;
     row->border_empty = (double)NAN;
     row->psnr_db = row->ssim = (double)NAN;
     row->katz_ms = row->katz_radius_m = row->katz_hull_ms = row->katz_plain_hull_ms =

@@ -111,6 +111,8 @@ typedef struct sta_bench_row {
     double normal_sampled_mean_deg, normal_sampled_median_deg, normal_sampled_p95_deg;
     uint64_t depth_count;
     double depth_rel_mean, depth_rel_median, depth_rel_p95;
+    uint64_t depth_sampled_count; /* the same over sampled pixels (sta_view_truth_sampled) */
+    double depth_sampled_rel_mean, depth_sampled_rel_median, depth_sampled_rel_p95;
     uint64_t border_count; /* sta_eval_border: band pixels whose ray hits the scene */
     double border_empty;   /* the share of them the fill leaves empty */
     double psnr_db;        /* +inf for identical images */

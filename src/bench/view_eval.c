@@ -229,8 +229,8 @@ sta_status sta_eval_normals(const sta_view_truth *v, const sta_image *normal,
     return STA_OK;
 }
 
-sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, sta_error_summary *out,
-                          sta_error *err)
+sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, const uint8_t *sampled,
+                          sta_error_summary *out, sta_error *err)
 {
     sta_status s = check_size(v, filled, "filled", err);
     if (s != STA_OK) {
@@ -245,7 +245,7 @@ sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, sta_
     for (size_t i = 0; i < n; i++) {
         const float *p = filled->data + 4 * i;
         double truth = (double)v->depth_m[i];
-        if (!(p[3] > 0.0f) || isnan(truth) || !(truth > 0.0)) {
+        if (!(p[3] > 0.0f) || isnan(truth) || !(truth > 0.0) || (sampled && !sampled[i])) {
             continue;
         }
         double d = -(double)p[2];
@@ -258,8 +258,8 @@ sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, sta_
     return STA_OK;
 }
 
-sta_status sta_eval_border(const sta_view_truth *v, const sta_image *filled, uint64_t *out_count,
-                           double *out_share, sta_error *err)
+sta_status sta_eval_border(const sta_view_truth *v, const sta_image *filled, const uint8_t *sampled,
+                           uint64_t *out_count, double *out_share, sta_error *err)
 {
     sta_status s = check_size(v, filled, "filled", err);
     if (s != STA_OK) {
@@ -271,7 +271,7 @@ sta_status sta_eval_border(const sta_view_truth *v, const sta_image *filled, uin
             bool band = x < STA_BORDER_BAND_PX || y < STA_BORDER_BAND_PX ||
                         x >= v->width - STA_BORDER_BAND_PX || y >= v->height - STA_BORDER_BAND_PX;
             size_t i = (size_t)y * (size_t)v->width + (size_t)x;
-            if (!band || isnan(v->depth_m[i])) {
+            if (!band || isnan(v->depth_m[i]) || (sampled && !sampled[i])) {
                 continue;
             }
             count++;

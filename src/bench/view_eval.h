@@ -74,18 +74,22 @@ sta_status sta_eval_normals(const sta_view_truth *view_truth, const sta_image *n
                             const uint8_t *sampled, sta_error_summary *out, sta_error *err);
 
 /* Relative depth error |d - d_true| / d_true of the filled buffer (RGBA32F, camera
- * space xyz, w > 0 covered; d = -z), over covered pixels whose ray hits the scene. */
+ * space xyz, w > 0 covered; d = -z), over covered pixels whose ray hits the scene and,
+ * when `sampled` is not NULL, whose byte in it is 1 (sta_view_truth_sampled). */
 sta_status sta_eval_depth(const sta_view_truth *view_truth, const sta_image *filled,
-                          sta_error_summary *out, sta_error *err);
+                          const uint8_t *sampled, sta_error_summary *out, sta_error *err);
 
 /* Width of the image border band of sta_eval_border, pixels (issue 15's edge metric). */
 #define STA_BORDER_BAND_PX 16
 
 /* Surfaces filled to the image edge: over the pixels of the STA_BORDER_BAND_PX-wide band
- * along the image border whose ray hits the scene, the count (*out_count) and the share
- * left empty by the filled buffer (RGBA32F, w > 0 covered; *out_share, NAN for none).
- * Pixels whose ray misses (sky) are not counted: empty is right there. */
+ * along the image border whose ray hits the scene and, when `sampled` is not NULL, whose
+ * true surface the drawn points sample (sta_view_truth_sampled), the count (*out_count)
+ * and the share left empty by the filled buffer (RGBA32F, w > 0 covered; *out_share,
+ * NAN for none). Sky (the ray misses) is not counted: empty is right there; nor, with
+ * `sampled`, surfaces the data does not reach (beyond the end of a scan). */
 sta_status sta_eval_border(const sta_view_truth *view_truth, const sta_image *filled,
-                           uint64_t *out_count, double *out_share, sta_error *err);
+                           const uint8_t *sampled, uint64_t *out_count, double *out_share,
+                           sta_error *err);
 
 #endif
