@@ -4,11 +4,14 @@
 // interpolation inside the two nearest levels and linear interpolation between them.
 // Levels >= 1 come from the normal atlas; level 0 is computed here from the filled
 // points (u_points, the pull-push output), since bilinear interpolation at a pixel
-// centre of level 0 reads that one texel. Twin: src/render/ref/normals_pyramid_ref.c.
+// centre of level 0 reads that one texel. A texel of level >= 1 counts only where its
+// tangent plane passes within u_plane_tolerance_m * 2^l * depth of the pixel's point
+// (no mixing across depth discontinuities); where neither level has one, the next finer
+// level that does. Twin: src/render/ref/normals_pyramid_ref.c.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL, rgba32f)
     writeonly uniform image2D u_normal;
-// normals of levels >= 1
+// normals of levels >= 1 (xyz, zero where none) and their plane offsets dot(n, p) (w)
 layout(binding = STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS, rgba32f) readonly uniform image2D u_atlas;
 uniform ivec2 u_size;
 uniform int u_level_count;
@@ -16,13 +19,16 @@ uniform ivec2 u_level_offset[16]; // STA_PULLPUSH_MAX_LEVELS
 uniform ivec2 u_level_size[16];
 uniform float u_radius_px_m; // r_n * H / (2 tan(fov_y / 2)): r_px = u_radius_px_m / depth
 uniform float u_near;
+uniform float u_plane_tolerance_m; // per texel footprint at unit depth
+uniform float u_jump2;             // squared jump ratio (pn_difference)
+uniform float u_texel_m;           // a level-0 texel's footprint per metre of depth
 
-bool level_normal(int l, ivec2 q, out vec3 n)
+bool level_normal(int l, ivec2 q, vec3 p, float tolerance_m, out vec3 n)
 {
     vec3 acc = vec3(0.0);
     if (l == 0) {
         vec3 m;
-        if (pn_point_normal(q, u_size, m)) {
+        if (pn_point_normal(q, u_size, u_jump2, u_texel_m, m)) {
             acc += 1.0 * m; // the twin's bilinear weights at a level-0 centre: 1, 0, 0, 0
         }
     } else {
@@ -35,7 +41,7 @@ bool level_normal(int l, ivec2 q, out vec3 n)
             for (int a = 0; a < 2; a++) {
                 ivec2 t = clamp(i0 + ivec2(a, b), ivec2(0), u_level_size[l] - 1);
                 vec4 m = imageLoad(u_atlas, u_level_offset[l] + t);
-                if (m.w > 0.0) {
+                if (dot(m.xyz, m.xyz) > 0.5 && abs(dot(m.xyz, p) - m.w) <= tolerance_m) {
                     float bw = (a == 1 ? f.x : 1.0 - f.x) * (b == 1 ? f.y : 1.0 - f.y);
                     acc += bw * m.xyz;
                 }
@@ -67,8 +73,10 @@ void main()
         int lb = min(la + 1, u_level_count - 1);
         float t = lambda - float(la);
         vec3 na, nb, n = vec3(0.0);
-        bool va = level_normal(la, q, na);
-        bool vb = level_normal(lb, q, nb);
+        float ta = u_plane_tolerance_m * float(1 << la) * depth;
+        float tb = u_plane_tolerance_m * float(1 << lb) * depth;
+        bool va = level_normal(la, q, p.xyz, ta, na);
+        bool vb = level_normal(lb, q, p.xyz, tb, nb);
         bool ok = true;
         if (va && vb) {
             n = (1.0 - t) * na + t * nb;
@@ -77,7 +85,13 @@ void main()
         } else if (vb) {
             n = nb;
         } else {
+            // Both levels straddle a discontinuity here: the next finer level that has
+            // a texel on the pixel's side.
             ok = false;
+            for (int l = la - 1; l >= 0 && !ok; l--) {
+                float tl = u_plane_tolerance_m * float(1 << l) * depth;
+                ok = level_normal(l, q, p.xyz, tl, n);
+            }
         }
         float n2 = dot(n, n);
         if (ok && n2 > 1e-12) {

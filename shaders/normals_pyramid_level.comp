@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 // Pyramidal normals (Bouchiba et al. 2018, 3.3), step 1: the normal of every texel of
 // one pyramid level l >= 1 (pn_point_normal in pullpush_normals.glsl), written into the
-// level's block of the normal atlas (w = 1 valid, 0 none).
+// level's block of the normal atlas: xyz the unit normal (zero where none), w its
+// tangent plane's offset dot(n, p) for the gather's plane test.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS, rgba32f) writeonly uniform image2D u_atlas;
 uniform ivec2 u_size;   // level size
 uniform ivec2 u_offset; // the level's origin in the atlas
+uniform float u_jump2;   // squared jump ratio (pn_difference)
+uniform float u_texel_m; // the texel's footprint per metre of depth
 
 void main()
 {
@@ -14,6 +17,7 @@ void main()
         return;
     }
     vec3 n;
-    bool valid = pn_point_normal(q, u_size, n);
-    imageStore(u_atlas, u_offset + q, valid ? vec4(n, 1.0) : vec4(0.0));
+    bool valid = pn_point_normal(q, u_size, u_jump2, u_texel_m, n);
+    vec3 p = imageLoad(u_points, q).xyz;
+    imageStore(u_atlas, u_offset + q, valid ? vec4(n, dot(n, p)) : vec4(0.0));
 }

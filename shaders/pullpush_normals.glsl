@@ -14,15 +14,24 @@ vec4 pn_point_at(ivec2 q, ivec2 size)
 }
 
 // The difference along one axis: central where both neighbours exist, one-sided
-// where one does, none otherwise.
-bool pn_difference(vec4 next, vec4 prev, vec3 p, out vec3 d)
+// where one does, none otherwise. A neighbour more than sqrt(jump2) times as far from p
+// as the other one and as the texel's footprint (floor2 = its square) lies across a
+// depth discontinuity: then the near side alone.
+bool pn_difference(vec4 next, vec4 prev, vec3 p, float jump2, float floor2, out vec3 d)
 {
     d = vec3(0.0);
-    if (next.w > 0.0 && prev.w > 0.0) {
+    bool has_next = next.w > 0.0, has_prev = prev.w > 0.0;
+    if (has_next && has_prev) {
+        vec3 fa = next.xyz - p, fb = p - prev.xyz;
+        float la = dot(fa, fa), lb = dot(fb, fb);
+        has_next = !(la > jump2 * max(lb, floor2));
+        has_prev = !(lb > jump2 * max(la, floor2));
+    }
+    if (has_next && has_prev) {
         d = next.xyz - prev.xyz;
-    } else if (next.w > 0.0) {
+    } else if (has_next) {
         d = next.xyz - p;
-    } else if (prev.w > 0.0) {
+    } else if (has_prev) {
         d = p - prev.xyz;
     } else {
         return false;
@@ -31,17 +40,20 @@ bool pn_difference(vec4 next, vec4 prev, vec3 p, out vec3 d)
 }
 
 // cross(dx, dy) normalised and turned towards the camera; false where the texel has
-// no point or the differences give no reliable normal.
-bool pn_point_normal(ivec2 q, ivec2 size, out vec3 n)
+// no point or the differences give no reliable normal (pn_difference; texel_m: the
+// texel's footprint per metre of depth).
+bool pn_point_normal(ivec2 q, ivec2 size, float jump2, float texel_m, out vec3 n)
 {
     n = vec3(0.0);
     vec4 p = imageLoad(u_points, q);
     vec3 dx, dy;
+    float footprint = texel_m * -p.z;
+    float floor2 = footprint * footprint;
     if (!(p.w > 0.0) ||
         !pn_difference(pn_point_at(q + ivec2(1, 0), size), pn_point_at(q - ivec2(1, 0), size),
-                       p.xyz, dx) ||
+                       p.xyz, jump2, floor2, dx) ||
         !pn_difference(pn_point_at(q + ivec2(0, 1), size), pn_point_at(q - ivec2(0, 1), size),
-                       p.xyz, dy)) {
+                       p.xyz, jump2, floor2, dy)) {
         return false;
     }
     vec3 c = vec3(dx.y * dy.z - dy.y * dx.z, dx.z * dy.x - dy.z * dx.x, dx.x * dy.y - dy.x * dx.y);

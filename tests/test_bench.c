@@ -129,6 +129,94 @@ static void truth_sphere_ray_depth_and_normal(void **state)
     sta_bench_truth_release(&t);
 }
 
+/* A pixel is "sampled" when a drawn point lies within the radius of its true hit:
+ * points on the left half of a sphere view, one pushed 0.5 m behind its hit. */
+static void sampled_pixels_need_a_point_near_the_hit(void **state)
+{
+    (void)state;
+    sta_bench_truth t;
+    sphere_truth(&t);
+    enum {
+        W = 32,
+        H = 32
+    };
+    sta_camera c = { .fov_y = 60.0 * M_PI / 180.0, .near_m = 0.1, .width_px = W, .height_px = H };
+    world((double[3]){ -30, 0, 0 }, c.position);
+    sta_view_truth v;
+    sta_error err = { 0 };
+    assert_int_equal(sta_view_truth_compute(&t, &c, &v, &err), STA_OK);
+    uint32_t pixel[W * H];
+    double(*xyz)[3] = calloc(W * H, sizeof(*xyz));
+    assert_non_null(xyz);
+    sta_view_points pts = { .pixel = pixel, .world = xyz };
+    for (int y = 0; y < H; y++) {
+        for (int x = 0; x < W / 2; x++) {
+            size_t i = (size_t)(y * W + x);
+            if (isnan(v.depth_m[i])) {
+                continue;
+            }
+            double dir[3], cosine;
+            sta_bench_pixel_ray(&c, x, y, dir, &cosine);
+            double t_hit = (double)v.depth_m[i] / cosine + (x == 8 && y == 16 ? 0.5 : 0.0);
+            for (int a = 0; a < 3; a++) {
+                xyz[pts.count][a] = c.position[a] + t_hit * dir[a];
+            }
+            pixel[pts.count++] = (uint32_t)i;
+        }
+    }
+    uint8_t sampled[W * H];
+    // Radius 0.05 m, far below the 0.72 m between neighbouring hits: the pixel's own
+    // point only.
+    assert_int_equal(sta_view_truth_sampled(&v, &c, &pts, 0.05, sampled, &err), STA_OK);
+    for (int y = 0; y < H; y++) {
+        for (int x = 0; x < W; x++) {
+            size_t i = (size_t)(y * W + x);
+            bool expect = !isnan(v.depth_m[i]) && x < W / 2 && !(x == 8 && y == 16);
+            assert_int_equal(sampled[i], expect);
+        }
+    }
+    // Radius 1 m: the neighbours' points reach one column to the right and the
+    // pushed-back pixel, not three columns.
+    assert_int_equal(sta_view_truth_sampled(&v, &c, &pts, 1.0, sampled, &err), STA_OK);
+    assert_int_equal(sampled[16 * W + 8], 1);
+    assert_int_equal(sampled[16 * W + W / 2], 1);
+    assert_int_equal(sampled[16 * W + W / 2 + 2], 0);
+    assert_int_equal(sampled[0], 0); // a miss
+    // The normal error over sampled pixels only: a wrong normal on an unsampled pixel
+    // does not count there, but does over all pixels.
+    sta_image img = { 0 };
+    assert_int_equal(sta_image_init(&img, W, H, 4, &err), STA_OK);
+    for (int i = 0; i < W * H; i++) {
+        float *e = img.data + 4 * i;
+        memcpy(e, v.normal + 3 * i, 3 * sizeof(float));
+        e[3] = 1.0f;
+    }
+    float *wrong = sta_image_at(&img, W / 2 + 4, 16);
+    wrong[0] = 1.0f;
+    wrong[1] = wrong[2] = 0.0f;
+    sta_error_summary all, only;
+    assert_int_equal(sta_eval_normals(&v, &img, NULL, &all, &err), STA_OK);
+    assert_int_equal(sta_eval_normals(&v, &img, sampled, &only, &err), STA_OK);
+    assert_true(only.count < all.count);
+    assert_true(all.max > 45.0);
+    assert_true(only.max < 1e-3);
+    // Depth likewise: a filled depth 50 % off on the unsampled pixel.
+    for (int i = 0; i < W * H; i++) {
+        float *e = img.data + 4 * i;
+        e[2] = -v.depth_m[i]; // misses stay NAN and are skipped
+    }
+    wrong[2] *= 1.5f;
+    assert_int_equal(sta_eval_depth(&v, &img, NULL, &all, &err), STA_OK);
+    assert_int_equal(sta_eval_depth(&v, &img, sampled, &only, &err), STA_OK);
+    assert_true(only.count < all.count);
+    assert_near(all.max, 0.5, 1e-6);
+    assert_true(only.max < 1e-6);
+    sta_image_release(&img);
+    free(xyz);
+    sta_view_truth_release(&v);
+    sta_bench_truth_release(&t);
+}
+
 static void truth_sidecar_rebuilds_scene(void **state)
 {
     (void)state;
@@ -272,14 +360,14 @@ static void eval_buffers_hand_made(void **state)
     p = sta_image_at(&img, 1, 0);
     p[2] = p[3] = 1.0f;
     sta_error_summary s;
-    assert_int_equal(sta_eval_normals(&v, &img, &s, &err), STA_OK);
+    assert_int_equal(sta_eval_normals(&v, &img, NULL, &s, &err), STA_OK);
     assert_int_equal(s.count, 1);
     assert_near(s.mean, 60.0, 1e-4);
     // Filled depth 2.2 at pixel 0: relative error 0.1.
     p = sta_image_at(&img, 0, 0);
     p[0] = p[1] = 0.0f;
     p[2] = -2.2f;
-    assert_int_equal(sta_eval_depth(&v, &img, &s, &err), STA_OK);
+    assert_int_equal(sta_eval_depth(&v, &img, NULL, &s, &err), STA_OK);
     assert_int_equal(s.count, 1);
     assert_near(s.mean, 0.1, 1e-6);
     sta_image_release(&img);
@@ -296,6 +384,62 @@ static void eval_buffers_hand_made(void **state)
     assert_int_equal(c.fn, 1);
     assert_int_equal(c.fp + c.tn, 0);
     sta_image_release(&img);
+}
+
+/* The border metric: a 40x40 view whose rays all hit but the sky at the top-right
+ * corner; the fill leaves 10 band pixels on a surface and 20 sky pixels empty, and 5
+ * interior pixels (outside the band). */
+static void border_metric_counts_band_surface_pixels(void **state)
+{
+    (void)state;
+    enum {
+        W = 40,
+        H = 40
+    };
+    static float depth[W * H], normal[3 * W * H];
+    sta_view_truth v = { .width = W, .height = H, .depth_m = depth, .normal = normal };
+    sta_image filled = { 0 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(&filled, W, H, 4, &err), STA_OK);
+    int sky = 0;
+    for (int i = 0; i < W * H; i++) {
+        int x = i % W, y = i / W;
+        bool is_sky = x >= W - 4 && y >= H - 5; // 20 pixels, all in the band
+        depth[i] = is_sky ? NAN : 5.0f;
+        sky += is_sky;
+        filled.data[4 * i + 3] = is_sky ? 0.0f : 1.0f;
+    }
+    for (int k = 0; k < 10; k++) {
+        filled.data[4 * (k * W) + 3] = 0.0f; // the left column, band
+    }
+    for (int k = 0; k < 5; k++) {
+        filled.data[4 * ((18 + k) * W + 20) + 3] = 0.0f; // the interior (16..23)
+    }
+    uint64_t count = 0;
+    double share = 0.0;
+    assert_int_equal(sta_eval_border(&v, &filled, NULL, &count, &share, &err), STA_OK);
+    const int band = W * H - (W - 2 * STA_BORDER_BAND_PX) * (H - 2 * STA_BORDER_BAND_PX);
+    assert_int_equal(count, band - sky);
+    assert_near(share, 10.0 / (double)(band - sky), 1e-12);
+    // With a sampled mask: the unsampled left column's empty pixels do not count.
+    static uint8_t sampled[W * H];
+    for (int i = 0; i < W * H; i++) {
+        sampled[i] = i % W != 0 && !isnan(depth[i]);
+    }
+    assert_int_equal(sta_eval_border(&v, &filled, sampled, &count, &share, &err), STA_OK);
+    assert_int_equal(count, band - sky - H);
+    assert_true(share == 0.0);
+    // All sky: nothing to count.
+    for (int i = 0; i < W * H; i++) {
+        depth[i] = NAN;
+    }
+    assert_int_equal(sta_eval_border(&v, &filled, NULL, &count, &share, &err), STA_OK);
+    assert_int_equal(count, 0);
+    assert_true(isnan(share));
+    // A size mismatch is an error naming the buffer.
+    v.width = W - 1;
+    assert_int_equal(sta_eval_border(&v, &filled, NULL, &count, &share, &err), STA_ERR_ARG);
+    sta_image_release(&filled);
 }
 
 static void settings_expand(void **state)
@@ -883,6 +1027,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(metrics_psnr),
     cmocka_unit_test(metrics_ssim),
     cmocka_unit_test(eval_buffers_hand_made),
+    cmocka_unit_test(sampled_pixels_need_a_point_near_the_hit),
+    cmocka_unit_test(border_metric_counts_band_surface_pixels),
     cmocka_unit_test(settings_expand),
     cmocka_unit_test(settings_expand_point_sizes),
     cmocka_unit_test(eval_surface_hand_made),

@@ -416,7 +416,7 @@ static void passes_follow_view_size_changes(void **state)
     sta_normals_pyramid_pass np;
     init_passes(&pp, &np);
     const int sizes[][2] = { { 37, 23 }, { 64, 17 }, { 64, 17 }, { 5, 40 } };
-    sta_normals_pyramid_params params = { 1.5f };
+    sta_normals_pyramid_params params = { .radius_s0 = 1.5f };
     for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
         frame f;
         frame_init(&f, sizes[i][0], sizes[i][1]);
@@ -905,15 +905,112 @@ static void twin_rejects_mismatched_sizes(void **state)
     frame_release(&f);
 }
 
+/* A tilted patch at 2 m in front of a tilted wall at 8 m, every pixel a point (no
+ * fill): the normals within 12 pixels of the depth edge, with the issue-15 estimator
+ * (one-sided differences at a jump, the plane test) against the one before it (both
+ * off). Shader and twin agree either way. */
+typedef struct step_errors {
+    double p95, worst; /* degrees, edge band */
+    int count;
+} step_errors;
+
+static bool in_patch(int x, int y)
+{
+    return x >= 40 && x < 88 && y >= 32 && y < 64;
+}
+
+static int step_edge_distance(int x, int y)
+{
+    int ex, ey;
+    if (in_patch(x, y)) {
+        ex = x - 40 < 87 - x ? x - 40 : 87 - x;
+        ey = y - 32 < 63 - y ? y - 32 : 63 - y;
+        return 1 + (ex < ey ? ex : ey);
+    }
+    ex = x < 40 ? 40 - x : (x > 87 ? x - 87 : 0);
+    ey = y < 32 ? 32 - y : (y > 63 ? y - 63 : 0);
+    return ex > ey ? ex : ey;
+}
+
+static step_errors measure_step(const sta_normals_pyramid_params *params)
+{
+    const int w = 128, h = 96;
+    frame f;
+    frame_init(&f, w, h);
+    f.view.s0 = 0.07f; // r_px about 10 at the patch: levels 3 and 4
+    const float na[3] = { 0.3f / 1.063f, 0.2f / 1.063f, 1.0f / 1.063f };
+    const float nb[3] = { -0.4f / 1.082f, 0.1f / 1.082f, 1.0f / 1.082f };
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            float r[3];
+            pixel_ray(&f.view, x, y, r);
+            const float *n = in_patch(x, y) ? na : nb;
+            float c = in_patch(x, y) ? -2.0f : -8.0f; // the plane through (0, 0, c)
+            set_point(&f, x, y, n[2] * c / (n[0] * r[0] + n[1] * r[1] + n[2] * r[2]),
+                      STA_LABEL_VISIBLE);
+        }
+    }
+    result ref, got;
+    check_gl_matches_twin(&f, params, &ref, &got);
+    double *angles = calloc((size_t)w * (size_t)h, sizeof(double));
+    assert_non_null(angles);
+    step_errors e = { 0 };
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            const float *n = sta_image_at(&got.normal, x, y);
+            if (step_edge_distance(x, y) > 12) {
+                continue;
+            }
+            assert_true(n[3] > 0.0f);
+            angles[e.count] = angle_deg(n, in_patch(x, y) ? na : nb);
+            e.worst = fmax(e.worst, angles[e.count++]);
+        }
+    }
+    qsort(angles, (size_t)e.count, sizeof(double), compare_double);
+    e.p95 = angles[(size_t)e.count * 95 / 100];
+    free(angles);
+    result_release(&ref);
+    result_release(&got);
+    frame_release(&f);
+    return e;
+}
+
+static void normals_do_not_mix_across_a_step(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    sta_normals_pyramid_params before = { .plane_tolerance = INFINITY, .jump_ratio = INFINITY };
+    step_errors old = measure_step(&before), now = measure_step(NULL);
+    printf("step edge band (%d pixels): p95 %.2f worst %.2f degrees; before issue 15 p95 %.2f "
+           "worst %.2f\n",
+           now.count, now.p95, now.worst, old.p95, old.worst);
+    assert_true(now.count == old.count);
+    assert_true(old.p95 > 60.0); // the band mixes both planes without the tests
+    assert_true(now.p95 < 35.0);
+    assert_true(now.worst < 60.0);
+    sta_gl_headless_destroy(&gl);
+}
+
 static void normal_defaults_fill_only_zero_fields(void **state)
 {
     (void)state;
     sta_normals_pyramid_params params = { 0 };
     sta_normals_pyramid_params_defaults(&params);
     assert_true(params.radius_s0 == STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0);
-    params.radius_s0 = 1.5f;
+    assert_true(params.plane_tolerance == STA_NORMALS_PYRAMID_DEFAULT_PLANE_TOLERANCE);
+    assert_true(params.jump_ratio == STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO);
+    params = (sta_normals_pyramid_params){ .radius_s0 = 1.5f, .plane_tolerance = INFINITY };
     sta_normals_pyramid_params_defaults(&params);
     assert_true(params.radius_s0 == 1.5f);
+    assert_true(params.plane_tolerance == INFINITY);
+    assert_true(params.jump_ratio == STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO);
+    params.jump_ratio = NAN;
+    sta_normals_pyramid_params_defaults(&params);
+    assert_true(params.jump_ratio == STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO);
+    params.jump_ratio = 0.5f; // below 1 both neighbours could count as jumps
+    sta_normals_pyramid_params_defaults(&params);
+    assert_true(params.jump_ratio == STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO);
 }
 
 static const struct CMUnitTest tests[] = {
@@ -930,6 +1027,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(depth_discontinuity_stays_bounded),
     cmocka_unit_test(near_plane_and_far_points),
     cmocka_unit_test(twin_rejects_mismatched_sizes),
+    cmocka_unit_test(normals_do_not_mix_across_a_step),
     cmocka_unit_test(normal_defaults_fill_only_zero_fields),
 };
 

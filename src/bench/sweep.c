@@ -368,7 +368,7 @@ out_free:
 // Reads one pipeline texture and scores it.
 static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_bench_setting *st,
                                 const sta_view_truth *view_truth, const sta_view_points *points,
-                                sta_bench_row *row, sta_error *err)
+                                const uint8_t *sampled, sta_bench_row *row, sta_error *err)
 {
     const sta_pipeline *p = sta_scene_pipeline(scene);
     if (!p || !run->has_truth) {
@@ -395,13 +395,24 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
         s = sta_gl_texture_to_image(p->filled_position, 0, 4, &image, err);
         sta_error_summary e;
         if (s == STA_OK) {
-            s = sta_eval_depth(view_truth, &image, &e, err);
+            s = sta_eval_depth(view_truth, &image, NULL, &e, err);
         }
         if (s == STA_OK) {
             row->depth_count = e.count;
             row->depth_rel_mean = e.mean;
             row->depth_rel_median = e.median;
             row->depth_rel_p95 = e.p95;
+            s = sta_eval_border(view_truth, &image, sampled, &row->border_count, &row->border_empty,
+                                err);
+        }
+        if (s == STA_OK) {
+            s = sta_eval_depth(view_truth, &image, sampled, &e, err);
+        }
+        if (s == STA_OK) {
+            row->depth_sampled_count = e.count;
+            row->depth_sampled_rel_mean = e.mean;
+            row->depth_sampled_rel_median = e.median;
+            row->depth_sampled_rel_p95 = e.p95;
         }
         sta_image_release(&image);
     }
@@ -409,13 +420,20 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
         s = sta_gl_texture_to_image(p->normal, 0, 4, &image, err);
         sta_error_summary e;
         if (s == STA_OK) {
-            s = sta_eval_normals(view_truth, &image, &e, err);
+            s = sta_eval_normals(view_truth, &image, NULL, &e, err);
         }
         if (s == STA_OK) {
             row->normal_count = e.count;
             row->normal_mean_deg = e.mean;
             row->normal_median_deg = e.median;
             row->normal_p95_deg = e.p95;
+            s = sta_eval_normals(view_truth, &image, sampled, &e, err);
+        }
+        if (s == STA_OK) {
+            row->normal_sampled_count = e.count;
+            row->normal_sampled_mean_deg = e.mean;
+            row->normal_sampled_median_deg = e.median;
+            row->normal_sampled_p95_deg = e.p95;
         }
         sta_image_release(&image);
     }
@@ -426,7 +444,12 @@ static void clear_errors(sta_bench_row *row)
 {
     row->hpr_precision = row->hpr_recall = row->hpr_f1 = (double)NAN;
     row->normal_mean_deg = row->normal_median_deg = row->normal_p95_deg = (double)NAN;
+    row->normal_sampled_mean_deg = row->normal_sampled_median_deg = row->normal_sampled_p95_deg =
+        (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
+    row->depth_sampled_rel_mean = row->depth_sampled_rel_median = row->depth_sampled_rel_p95 =
+        (double)NAN;
+    row->border_empty = (double)NAN;
     row->psnr_db = row->ssim = (double)NAN;
     row->surface_hole = row->surface_see_through = row->surface_bleed = row->surface_error =
         (double)NAN;
@@ -708,6 +731,13 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         double s0 = o->s0_m > 0 ? o->s0_m : (double)stats.s0_m;
         tolerance_m = o->tolerance_s0 * s0 + (run->has_truth ? 3.0 * run->truth.noise_m : 0.0);
     }
+    uint8_t *sampled = NULL;
+    if (s == STA_OK && run->has_truth) {
+        sampled = sta_alloc_array(
+            view_truth->width ? (size_t)view_truth->width * (size_t)view_truth->height : 1, 1);
+        s = sampled ? sta_view_truth_sampled(view_truth, camera, &points, tolerance_m, sampled, err)
+                    : sta_fail(err, STA_ERR_NOMEM, "out of memory for the sampled pixels");
+    }
     if (s == STA_OK && run->has_truth) {
         sta_view_points_classify(&run->truth, camera, tolerance_m, &points);
         base.truth_points = points.count;
@@ -742,7 +772,7 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         s = timed_frames(run, scene, camera, &row, err);
         if (s == STA_OK) {
             sta_render_target_read_rgba(&run->target, run->rgba);
-            s = score_buffers(run, scene, st, view_truth, &points, &row, err);
+            s = score_buffers(run, scene, st, view_truth, &points, sampled, &row, err);
         }
         if (s == STA_OK && run->has_truth && mode_draws_sized(st->mode)) {
             sta_render_target_read_depth(&run->target, run->depth);
@@ -772,6 +802,7 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         s = run_katz_live(run, scene, camera, tolerance_m, &base, results, err);
     }
     sta_view_points_release(&points);
+    sta_free(sampled);
     return s;
 }
 

@@ -117,12 +117,19 @@ typedef struct sta_bench_row {
     double hpr_precision, hpr_recall, hpr_f1;
     uint64_t normal_count;
     double normal_mean_deg, normal_median_deg, normal_p95_deg;
+    uint64_t normal_sampled_count; /* the same over pixels whose true surface the drawn
+                                      points sample (sta_view_truth_sampled) */
+    double normal_sampled_mean_deg, normal_sampled_median_deg, normal_sampled_p95_deg;
     uint64_t depth_count;
     double depth_rel_mean, depth_rel_median, depth_rel_p95;
     char point_size[24];     /* "1 px", "3 px", "adaptive 1-8 px" (raw and edl) */
     uint64_t surface_pixels; /* raw and edl with truth: sta_eval_surface */
     double surface_hole, surface_see_through, surface_bleed, surface_error;
-    double psnr_db; /* +inf for identical images */
+    uint64_t depth_sampled_count; /* the same over sampled pixels (sta_view_truth_sampled) */
+    double depth_sampled_rel_mean, depth_sampled_rel_median, depth_sampled_rel_p95;
+    uint64_t border_count; /* sta_eval_border: band pixels whose ray hits the scene */
+    double border_empty;   /* the share of them the fill leaves empty */
+    double psnr_db;        /* +inf for identical images */
     double ssim;
     double katz_ms;
     double katz_radius_m;         /* Katz's sphere radius R used (sta_katz_view_radius) */

@@ -3,6 +3,7 @@
 #include "bench/view_eval.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <string.h>
 
 #include "core/alloc.h"
@@ -133,8 +134,72 @@ static sta_status check_size(const sta_view_truth *v, const sta_image *image, co
     return STA_OK;
 }
 
+sta_status sta_view_truth_sampled(const sta_view_truth *v, const sta_camera *camera,
+                                  const sta_view_points *points, double radius_m,
+                                  uint8_t *out_sampled, sta_error *err)
+{
+    const int w = v->width, h = v->height;
+    const size_t n = (size_t)w * (size_t)h;
+    memset(out_sampled, 0, n);
+    int32_t *at = sta_alloc_array(n ? n : 1, sizeof(int32_t)); // pixel -> view point
+    if (!at) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for the sampled pixels of %dx%d", w, h);
+    }
+    for (size_t i = 0; i < n; i++) {
+        at[i] = -1;
+    }
+    for (size_t k = 0; k < points->count; k++) {
+        at[points->pixel[k]] = (int32_t)k;
+    }
+    const double px_per_m = (double)h / (2.0 * tan(0.5 * camera->fov_y)); // at depth 1
+    const double r2 = radius_m * radius_m;
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            double depth = (double)v->depth_m[i];
+            if (!(depth > 0.0)) {
+                continue;
+            }
+            double dir[3], cosine, hit[3];
+            sta_bench_pixel_ray(camera, x, y, dir, &cosine);
+            for (int a = 0; a < 3; a++) {
+                hit[a] = camera->position[a] + dir[a] * (depth / cosine);
+            }
+            double reach = ceil(radius_m * px_per_m / depth);
+            int r_px = reach < 1.0 ? 1
+                                   : (reach > STA_VIEW_SAMPLED_MAX_PX ? STA_VIEW_SAMPLED_MAX_PX
+                                                                      : (int)reach);
+            bool found = false;
+            for (int ring = 0; ring <= r_px && !found; ring++) {
+                for (int dy = -ring; dy <= ring && !found; dy++) {
+                    int step = (dy == -ring || dy == ring) ? 1 : 2 * ring; // the ring only
+                    for (int dx = -ring; dx <= ring && !found; dx += step > 0 ? step : 1) {
+                        int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) {
+                            continue;
+                        }
+                        int32_t k = at[(size_t)yy * (size_t)w + (size_t)xx];
+                        if (k < 0) {
+                            continue;
+                        }
+                        double d2 = 0.0;
+                        for (int a = 0; a < 3; a++) {
+                            double d = points->world[k][a] - hit[a];
+                            d2 += d * d;
+                        }
+                        found = d2 <= r2;
+                    }
+                }
+            }
+            out_sampled[i] = found;
+        }
+    }
+    sta_free(at);
+    return STA_OK;
+}
+
 sta_status sta_eval_normals(const sta_view_truth *v, const sta_image *normal,
-                            sta_error_summary *out, sta_error *err)
+                            const uint8_t *sampled, sta_error_summary *out, sta_error *err)
 {
     sta_status s = check_size(v, normal, "normal", err);
     if (s != STA_OK) {
@@ -148,7 +213,7 @@ sta_status sta_eval_normals(const sta_view_truth *v, const sta_image *normal,
     size_t count = 0;
     for (size_t i = 0; i < n; i++) {
         const float *e = normal->data + 4 * i;
-        if (!(e[3] > 0.5f) || isnan(v->depth_m[i])) {
+        if (!(e[3] > 0.5f) || isnan(v->depth_m[i]) || (sampled && !sampled[i])) {
             continue;
         }
         const double estimated[3] = { (double)e[0], (double)e[1], (double)e[2] };
@@ -164,8 +229,8 @@ sta_status sta_eval_normals(const sta_view_truth *v, const sta_image *normal,
     return STA_OK;
 }
 
-sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, sta_error_summary *out,
-                          sta_error *err)
+sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, const uint8_t *sampled,
+                          sta_error_summary *out, sta_error *err)
 {
     sta_status s = check_size(v, filled, "filled", err);
     if (s != STA_OK) {
@@ -180,7 +245,7 @@ sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, sta_
     for (size_t i = 0; i < n; i++) {
         const float *p = filled->data + 4 * i;
         double truth = (double)v->depth_m[i];
-        if (!(p[3] > 0.0f) || isnan(truth) || !(truth > 0.0)) {
+        if (!(p[3] > 0.0f) || isnan(truth) || !(truth > 0.0) || (sampled && !sampled[i])) {
             continue;
         }
         double d = -(double)p[2];
@@ -226,4 +291,29 @@ void sta_eval_surface(const sta_view_truth *v, const sta_camera *camera, const f
     out->see_through = (double)see_through / n;
     out->bleed = (double)bleed / n;
     out->error = (double)(hole + see_through + bleed) / n;
+}
+
+sta_status sta_eval_border(const sta_view_truth *v, const sta_image *filled, const uint8_t *sampled,
+                           uint64_t *out_count, double *out_share, sta_error *err)
+{
+    sta_status s = check_size(v, filled, "filled", err);
+    if (s != STA_OK) {
+        return s;
+    }
+    uint64_t count = 0, empty = 0;
+    for (int y = 0; y < v->height; y++) {
+        for (int x = 0; x < v->width; x++) {
+            bool band = x < STA_BORDER_BAND_PX || y < STA_BORDER_BAND_PX ||
+                        x >= v->width - STA_BORDER_BAND_PX || y >= v->height - STA_BORDER_BAND_PX;
+            size_t i = (size_t)y * (size_t)v->width + (size_t)x;
+            if (!band || isnan(v->depth_m[i]) || (sampled && !sampled[i])) {
+                continue;
+            }
+            count++;
+            empty += !(filled->data[4 * i + 3] > 0.0f);
+        }
+    }
+    *out_count = count;
+    *out_share = count ? (double)empty / (double)count : (double)NAN;
+    return STA_OK;
 }

@@ -70,14 +70,43 @@ void sta_view_points_release(sta_view_points *points);
  * STA_LABEL_VISIBLE counts as labelled visible, any other label as hidden. */
 void sta_eval_hpr(const sta_view_points *points, const sta_image *label, sta_confusion *out);
 
+/* Farthest pixel offset sta_view_truth_sampled searches. */
+#define STA_VIEW_SAMPLED_MAX_PX 16
+
+/* Marks (1, else 0; one byte per pixel, texture order) the pixels whose true surface
+ * the drawn points sample: some view point lies within radius_m (3D) of the point the
+ * pixel's ray truly hits. Searched among the pixels within radius_m of the hit on the
+ * screen (radius_m * pixels per metre at its depth, 1 .. STA_VIEW_SAMPLED_MAX_PX), the
+ * nearest rings first. A scanner leaves some surfaces unsampled (a profiler sees the
+ * faces across its driving direction edge-on): no estimator can know their normals.
+ * Errors: STA_ERR_NOMEM. */
+sta_status sta_view_truth_sampled(const sta_view_truth *view_truth, const sta_camera *camera,
+                                  const sta_view_points *points, double radius_m,
+                                  uint8_t *out_sampled, sta_error *err);
+
 /* Angle (degrees) between the normal buffer (RGBA32F, w > 0.5 valid) and the true
- * normal, over pixels with a valid normal whose ray hits the scene. */
+ * normal, over pixels with a valid normal whose ray hits the scene and, when `sampled`
+ * is not NULL, whose byte in it is 1 (sta_view_truth_sampled). */
 sta_status sta_eval_normals(const sta_view_truth *view_truth, const sta_image *normal,
-                            sta_error_summary *out, sta_error *err);
+                            const uint8_t *sampled, sta_error_summary *out, sta_error *err);
 
 /* Relative depth error |d - d_true| / d_true of the filled buffer (RGBA32F, camera
- * space xyz, w > 0 covered; d = -z), over covered pixels whose ray hits the scene. */
+ * space xyz, w > 0 covered; d = -z), over covered pixels whose ray hits the scene and,
+ * when `sampled` is not NULL, whose byte in it is 1 (sta_view_truth_sampled). */
 sta_status sta_eval_depth(const sta_view_truth *view_truth, const sta_image *filled,
-                          sta_error_summary *out, sta_error *err);
+                          const uint8_t *sampled, sta_error_summary *out, sta_error *err);
+
+/* Width of the image border band of sta_eval_border, pixels (issue 15's edge metric). */
+#define STA_BORDER_BAND_PX 16
+
+/* Surfaces filled to the image edge: over the pixels of the STA_BORDER_BAND_PX-wide band
+ * along the image border whose ray hits the scene and, when `sampled` is not NULL, whose
+ * true surface the drawn points sample (sta_view_truth_sampled), the count (*out_count)
+ * and the share left empty by the filled buffer (RGBA32F, w > 0 covered; *out_share,
+ * NAN for none). Sky (the ray misses) is not counted: empty is right there; nor, with
+ * `sampled`, surfaces the data does not reach (beyond the end of a scan). */
+sta_status sta_eval_border(const sta_view_truth *view_truth, const sta_image *filled,
+                           const uint8_t *sampled, uint64_t *out_count, double *out_share,
+                           sta_error *err);
 
 #endif

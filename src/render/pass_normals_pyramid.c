@@ -24,6 +24,8 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
     }
     pass->level_size = glGetUniformLocation(pass->level_program, "u_size");
     pass->level_offset = glGetUniformLocation(pass->level_program, "u_offset");
+    pass->level_jump2 = glGetUniformLocation(pass->level_program, "u_jump2");
+    pass->level_texel_m = glGetUniformLocation(pass->level_program, "u_texel_m");
     GLuint g = pass->gather_program;
     pass->gather_size = glGetUniformLocation(g, "u_size");
     pass->gather_level_count = glGetUniformLocation(g, "u_level_count");
@@ -31,6 +33,9 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
     pass->gather_level_size = glGetUniformLocation(g, "u_level_size");
     pass->gather_radius_px_m = glGetUniformLocation(g, "u_radius_px_m");
     pass->gather_near = glGetUniformLocation(g, "u_near");
+    pass->gather_plane_tolerance_m = glGetUniformLocation(g, "u_plane_tolerance_m");
+    pass->gather_jump2 = glGetUniformLocation(g, "u_jump2");
+    pass->gather_texel_m = glGetUniformLocation(g, "u_texel_m");
     return STA_OK;
 }
 
@@ -117,8 +122,10 @@ sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const st
         sizes[2 * l] = pyramid->width_px[l];
         sizes[2 * l + 1] = pyramid->height_px[l];
     }
+    float jump2 = p.jump_ratio * p.jump_ratio;
     GLuint lp = pass->level_program;
     glUseProgram(lp);
+    glProgramUniform1f(lp, pass->level_jump2, jump2);
     glBindImageTexture(STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS, pass->atlas, 0, GL_FALSE, 0,
                        GL_WRITE_ONLY, GL_RGBA32F);
     for (int l = 1; l < count; l++) {
@@ -126,6 +133,7 @@ sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const st
                            GL_READ_ONLY, GL_RGBA32F);
         glProgramUniform2i(lp, pass->level_size, sizes[2 * l], sizes[2 * l + 1]);
         glProgramUniform2i(lp, pass->level_offset, offsets[2 * l], offsets[2 * l + 1]);
+        glProgramUniform1f(lp, pass->level_texel_m, sta_normals_pyramid_texel_m(view, l));
         sta_gl_dispatch_2d(sizes[2 * l], sizes[2 * l + 1]);
     }
 
@@ -137,6 +145,10 @@ sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const st
     glProgramUniform2iv(gp, pass->gather_level_size, count, sizes);
     glProgramUniform1f(gp, pass->gather_radius_px_m, sta_normals_pyramid_radius_px_m(view, &p));
     glProgramUniform1f(gp, pass->gather_near, view->near_m);
+    glProgramUniform1f(gp, pass->gather_jump2, jump2);
+    glProgramUniform1f(gp, pass->gather_texel_m, sta_normals_pyramid_texel_m(view, 0));
+    glProgramUniform1f(gp, pass->gather_plane_tolerance_m,
+                       sta_normals_pyramid_plane_tolerance_m(view, &p));
     glBindImageTexture(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL, out_normal_tex, 0, GL_FALSE, 0,
                        GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_NORMALS_PYRAMID_IMAGE_POINTS, filled_position_tex, 0, GL_FALSE, 0,

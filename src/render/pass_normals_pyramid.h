@@ -20,9 +20,9 @@
 
 typedef struct sta_normals_pyramid_pass {
     GLuint level_program, gather_program;
-    GLint level_size, level_offset;
+    GLint level_size, level_offset, level_jump2, level_texel_m;
     GLint gather_size, gather_level_count, gather_level_offset, gather_level_size;
-    GLint gather_radius_px_m, gather_near;
+    GLint gather_radius_px_m, gather_near, gather_plane_tolerance_m, gather_jump2, gather_texel_m;
     GLuint atlas; /* owned, RGBA32F */
     int atlas_width_px, atlas_height_px;
     int view_width_px, view_height_px;     /* the size the atlas was made for */

@@ -7,6 +7,7 @@
  */
 #include "render/ref/normals_pyramid_ref.h"
 
+#include <math.h>
 #include <stdbool.h>
 #include <string.h>
 
@@ -14,6 +15,12 @@ void sta_normals_pyramid_params_defaults(sta_normals_pyramid_params *config)
 {
     if (!(config->radius_s0 > 0.0f)) {
         config->radius_s0 = STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0;
+    }
+    if (!(config->jump_ratio >= 1.0f)) { // below 1 both neighbours could be dropped
+        config->jump_ratio = STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO;
+    }
+    if (!(config->plane_tolerance > 0.0f)) {
+        config->plane_tolerance = STA_NORMALS_PYRAMID_DEFAULT_PLANE_TOLERANCE;
     }
 }
 
@@ -28,19 +35,36 @@ static float dot3(const float a[3], const float b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-// d = a - b, the difference along one axis: central, one-sided or none.
-static bool difference(const sta_image *points, int x, int y, int dx, int dy, float d[3])
+// d = a - b, the difference along one axis: central, one-sided or none. A neighbour
+// more than sqrt(jump2) times as far from the point as the other one and as the
+// texel's footprint (floor2 = its square) lies across a depth discontinuity: then the
+// near side alone.
+static bool difference(const sta_image *points, int x, int y, int dx, int dy, float jump2,
+                       float floor2, float d[3])
 {
     bool next = has_point(points, x + dx, y + dy), prev = has_point(points, x - dx, y - dy);
+    const float *p = sta_image_at(points, x, y);
+    if (next && prev) {
+        const float *a = sta_image_at(points, x + dx, y + dy);
+        const float *b = sta_image_at(points, x - dx, y - dy);
+        float fa[3], fb[3];
+        for (int k = 0; k < 3; k++) {
+            fa[k] = a[k] - p[k];
+            fb[k] = p[k] - b[k];
+        }
+        float la = dot3(fa, fa), lb = dot3(fb, fb);
+        next = !(la > jump2 * fmaxf(lb, floor2));
+        prev = !(lb > jump2 * fmaxf(la, floor2));
+    }
     const float *a, *b;
     if (next && prev) {
         a = sta_image_at(points, x + dx, y + dy);
         b = sta_image_at(points, x - dx, y - dy);
     } else if (next) {
         a = sta_image_at(points, x + dx, y + dy);
-        b = sta_image_at(points, x, y);
+        b = p;
     } else if (prev) {
-        a = sta_image_at(points, x, y);
+        a = p;
         b = sta_image_at(points, x - dx, y - dy);
     } else {
         return false;
@@ -51,16 +75,20 @@ static bool difference(const sta_image *points, int x, int y, int dx, int dy, fl
     return true;
 }
 
-void sta_normals_pyramid_level_ref(const sta_image *points, sta_image *out)
+void sta_normals_pyramid_level_ref(const sta_image *points, float jump_ratio, float texel_m,
+                                   sta_image *out)
 {
+    float jump2 = jump_ratio * jump_ratio;
     for (int y = 0; y < points->height; y++) {
         for (int x = 0; x < points->width; x++) {
             const float *p = sta_image_at(points, x, y);
             float *o = sta_image_at(out, x, y);
             o[0] = o[1] = o[2] = o[3] = 0.0f;
             float dx[3], dy[3];
-            if (!(p[3] > 0.0f) || !difference(points, x, y, 1, 0, dx) ||
-                !difference(points, x, y, 0, 1, dy)) {
+            float footprint = texel_m * -p[2];
+            float floor2 = footprint * footprint;
+            if (!(p[3] > 0.0f) || !difference(points, x, y, 1, 0, jump2, floor2, dx) ||
+                !difference(points, x, y, 0, 1, jump2, floor2, dy)) {
                 continue;
             }
             // cross(dx, dy), in GLSL's order of terms.
@@ -88,9 +116,12 @@ static int clamp_int(int v, int lo, int hi)
     return v < lo ? lo : (v > hi ? hi : v);
 }
 
-// Bilinear interpolation of level `normals` (scale 2^level) at level-0 pixel centre
-// (x + 0.5, y + 0.5), invalid texels skipped; false when nothing is left.
-static bool level_normal(const sta_image *normals, int level, int x, int y, float n[3])
+// Bilinear interpolation of level `normals` (scale 2^level, points `points`) at level-0
+// pixel centre (x + 0.5, y + 0.5), skipping invalid texels and, at levels >= 1, texels
+// whose tangent plane misses the pixel's point p by more than `tolerance_m` (step 3 of
+// the header); false when nothing is left.
+static bool level_normal(const sta_image *normals, const sta_image *points, int level, int x, int y,
+                         const float p[3], float tolerance_m, float n[3])
 {
     float s = (float)(1 << level);
     float u = ((float)x + 0.5f) / s - 0.5f, v = ((float)y + 0.5f) / s - 0.5f;
@@ -103,11 +134,19 @@ static bool level_normal(const sta_image *normals, int level, int x, int y, floa
             int i = clamp_int(i0 + a, 0, normals->width - 1);
             int j = clamp_int(j0 + b, 0, normals->height - 1);
             const float *m = sta_image_at(normals, i, j);
-            if (m[3] > 0.0f) {
-                float bw = (a == 1 ? fu : 1.0f - fu) * (b == 1 ? fv : 1.0f - fv);
-                for (int k = 0; k < 3; k++) {
-                    acc[k] += bw * m[k];
+            if (!(m[3] > 0.0f)) {
+                continue;
+            }
+            if (level > 0) {
+                const float *q = sta_image_at(points, i, j);
+                float off = dot3(m, p) - dot3(m, q);
+                if (!(fabsf(off) <= tolerance_m)) {
+                    continue;
                 }
+            }
+            float bw = (a == 1 ? fu : 1.0f - fu) * (b == 1 ? fv : 1.0f - fv);
+            for (int k = 0; k < 3; k++) {
+                acc[k] += bw * m[k];
             }
         }
     }
@@ -142,6 +181,7 @@ sta_status sta_normals_pyramid_ref(const sta_view_params *view,
     sta_normals_pyramid_params p = params ? *params : (sta_normals_pyramid_params){ 0 };
     sta_normals_pyramid_params_defaults(&p);
     float radius_px_m = sta_normals_pyramid_radius_px_m(view, &p);
+    float tolerance_m = sta_normals_pyramid_plane_tolerance_m(view, &p);
 
     sta_image normals[STA_PULLPUSH_MAX_LEVELS];
     memset(normals, 0, sizeof(normals));
@@ -150,7 +190,8 @@ sta_status sta_normals_pyramid_ref(const sta_view_params *view,
         const sta_image *points = l == 0 ? filled_position : &levels->position[l];
         status = sta_image_init(&normals[l], points->width, points->height, 4, err);
         if (status == STA_OK) {
-            sta_normals_pyramid_level_ref(points, &normals[l]);
+            sta_normals_pyramid_level_ref(points, p.jump_ratio,
+                                          sta_normals_pyramid_texel_m(view, l), &normals[l]);
         }
     }
     for (int y = 0; y < h && status == STA_OK; y++) {
@@ -168,8 +209,12 @@ sta_status sta_normals_pyramid_ref(const sta_view_params *view,
             int lb = la + 1 < count ? la + 1 : la;
             float t = lambda - (float)la;
             float na[3], nb[3], n[3];
-            bool va = level_normal(&normals[la], la, x, y, na);
-            bool vb = level_normal(&normals[lb], lb, x, y, nb);
+            const sta_image *pa = la == 0 ? filled_position : &levels->position[la];
+            const sta_image *pb = lb == 0 ? filled_position : &levels->position[lb];
+            float ta = tolerance_m * (float)(1 << la) * depth;
+            float tb = tolerance_m * (float)(1 << lb) * depth;
+            bool va = level_normal(&normals[la], pa, la, x, y, pt, ta, na);
+            bool vb = level_normal(&normals[lb], pb, lb, x, y, pt, tb, nb);
             if (va && vb) {
                 for (int k = 0; k < 3; k++) {
                     n[k] = (1.0f - t) * na[k] + t * nb[k];
@@ -177,7 +222,17 @@ sta_status sta_normals_pyramid_ref(const sta_view_params *view,
             } else if (va || vb) {
                 memcpy(n, va ? na : nb, sizeof(n));
             } else {
-                continue;
+                // Both levels straddle a discontinuity here: the next finer level that
+                // has a texel on the pixel's side.
+                bool found = false;
+                for (int l = la - 1; l >= 0 && !found; l--) {
+                    const sta_image *pl = l == 0 ? filled_position : &levels->position[l];
+                    float tl = tolerance_m * (float)(1 << l) * depth;
+                    found = level_normal(&normals[l], pl, l, x, y, pt, tl, n);
+                }
+                if (!found) {
+                    continue;
+                }
             }
             float n2 = dot3(n, n);
             if (!(n2 > 1e-12f)) {

@@ -9,13 +9,21 @@
  * 1. On every level of the filled pull-push pyramid (level 0: the filled output), a
  *    normal per texel from the cross product of the differences between neighbouring
  *    points: central differences where both neighbours exist, one-sided otherwise,
- *    oriented towards the camera.
+ *    oriented towards the camera. A neighbour more than jump_ratio times as far from
+ *    the point as the other neighbour and as the texel's footprint (2^l * depth /
+ *    pixels per metre at unit depth) lies across a depth discontinuity: the near side
+ *    alone is used (one-sided).
  * 2. Per target pixel with a filled point p (w > 0): radius r_px = r_n * pixels per
  *    metre at depth -p.z, r_n = radius_s0 * s0; fractional level
  *    lambda = clamp(log2(max(r_px, 1)), 0, count - 1); bilinear interpolation inside
  *    levels floor(lambda) and floor(lambda) + 1 (clamped), each normalised, then
  *    linear interpolation between them by the fraction of lambda; normalised and
  *    oriented towards the camera.
+ * 3. No mixing across depth discontinuities: a texel of level l >= 1 takes part only
+ *    when p lies within plane_tolerance texel footprints (2^l * depth / pixels per
+ *    metre at unit depth) of the texel's tangent plane (its normal through its point).
+ *    Where no texel of the two levels passes, the next finer level that has one is
+ *    used, down to level 0 (the pixel's own normal, whose plane holds p).
  */
 #ifndef STA_RENDER_REF_NORMALS_PYRAMID_REF_H
 #define STA_RENDER_REF_NORMALS_PYRAMID_REF_H
@@ -26,12 +34,22 @@
 #include "render/ref/screen_space.h"
 
 /* Default metric radius r_n, in units of the view's s0 (sta_normals_pyramid_params_defaults). */
-#define STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0 3.0f
+#define STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0       3.0f
+/* Default plane test: a texel's tangent plane may miss the pixel's point by this many
+ * texel footprints (step 3 above). */
+#define STA_NORMALS_PYRAMID_DEFAULT_PLANE_TOLERANCE 0.5f
+/* Default jump ratio of step 1. */
+#define STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO      2.5f
 
 /* Zero (or negative) fields mean their defaults. */
 typedef struct sta_normals_pyramid_params {
-    float radius_s0; /* metric radius r_n in units of the view's s0; <= 0 (or NaN):
-                        STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0 */
+    float radius_s0;       /* metric radius r_n in units of the view's s0; <= 0 (or NaN):
+                              STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0 */
+    float plane_tolerance; /* step 3, in texel footprints; <= 0 (or NaN):
+                              STA_NORMALS_PYRAMID_DEFAULT_PLANE_TOLERANCE; +INFINITY turns
+                              the test off (the estimator before issue 15) */
+    float jump_ratio;      /* step 1; below 1 (or NaN): STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO;
+                              +INFINITY: no jump test (before issue 15) */
 } sta_normals_pyramid_params;
 
 /* Fills the zero (or negative, or NaN) fields of `config` with the defaults above, in
@@ -48,10 +66,29 @@ static inline float sta_normals_pyramid_radius_px_m(const sta_view_params *view,
     return params->radius_s0 * view->s0 * ppm_scale;
 }
 
+/* A level-l texel's footprint per metre of depth: 2^l / (H / (2 tan(fov_y / 2))). The GL
+ * pass passes exactly this float to its shaders. */
+static inline float sta_normals_pyramid_texel_m(const sta_view_params *view, int level)
+{
+    float ppm_scale = (float)view->height_px / (2.0f * tanf(0.5f * view->fov_y));
+    return (float)(1 << level) / ppm_scale;
+}
+
+/* plane_tolerance / (H / (2 tan(fov_y / 2))): a level-l texel's tolerance in metres is
+ * result * 2^l * depth. The GL pass passes exactly this float to its shader. */
+static inline float sta_normals_pyramid_plane_tolerance_m(const sta_view_params *view,
+                                                          const sta_normals_pyramid_params *params)
+{
+    float ppm_scale = (float)view->height_px / (2.0f * tanf(0.5f * view->fov_y));
+    return params->plane_tolerance / ppm_scale;
+}
+
 /* Normals of one level from its points (4 channels, w > 0 where a point is): `out` is
  * an initialised 4-channel image of the same size, receiving xyz unit normals facing
- * the camera with w = 1, or zeros where none can be made. */
-void sta_normals_pyramid_level_ref(const sta_image *points, sta_image *out);
+ * the camera with w = 1, or zeros where none can be made. jump_ratio (INFINITY: no
+ * jump test) and texel_m (sta_normals_pyramid_texel_m): step 1. */
+void sta_normals_pyramid_level_ref(const sta_image *points, float jump_ratio, float texel_m,
+                                   sta_image *out);
 
 /* The whole estimator. params: NULL for the defaults. levels: the pull-push pyramid
  * of the same view (levels 1..count-1); filled_position: the pull-push output (level
