@@ -48,3 +48,27 @@ void sta_mirror_set_release(sta_mirror_set *set)
     set->mirrors = NULL;
     set->count = 0;
 }
+
+sta_status sta_mirror_set_translated(const sta_mirror_set *set, const double offset[3],
+                                     sta_mirror_set *out, sta_error *err)
+{
+    *out = (sta_mirror_set){ .tolerance_m = set->tolerance_m,
+                             .behind_m = set->behind_m,
+                             .max_incidence_deg = set->max_incidence_deg };
+    for (size_t k = 0; k < set->count; k++) {
+        const sta_mirror *m = &set->mirrors[k];
+        double v[STA_MIRROR_MAX_VERTICES][3];
+        for (size_t i = 0; i < m->vertex_count; i++) {
+            for (int a = 0; a < 3; a++) {
+                v[i][a] = m->vertices[i][a] + offset[a];
+            }
+        }
+        sta_status s =
+            sta_mirror_set_add(out, m->name, (const double(*)[3])v, m->vertex_count, err);
+        if (s != STA_OK) {
+            sta_mirror_set_release(out);
+            return s;
+        }
+    }
+    return STA_OK;
+}

@@ -34,6 +34,10 @@ void sta_mirror_set_defaults(sta_mirror_set *set);
 sta_status sta_mirror_set_add(sta_mirror_set *set, const char *name, const double (*vertices)[3],
                               size_t count, sta_error *err);
 
+/* `out` = `set` moved by `offset` (e.g. scene-local to world coordinates). */
+sta_status sta_mirror_set_translated(const sta_mirror_set *set, const double offset[3],
+                                     sta_mirror_set *out, sta_error *err);
+
 /* Frees the mirrors; the set is empty afterwards (settings kept). */
 void sta_mirror_set_release(sta_mirror_set *set);
 
