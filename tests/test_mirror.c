@@ -9,7 +9,10 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "convert.h"
+#include "format/strata_reader.h"
 #include "mirror/mirror_set.h"
 #include "synth/mirror_eval.h"
 #include "synth/synth.h"
@@ -340,6 +343,81 @@ static void ghosts_match_the_synthetic_truth(void **state)
     sta_mirror_set_release(&file);
 }
 
+/* strata-convert --mirrors: every point kept, the MIRROR attribute stored (after the
+ * other columns) and matching the truth on the wall mirrors; a bad mirror file fails
+ * the conversion with the file and mirror named and leaves no output. */
+static void convert_flags_ghosts_and_keeps_every_point(void **state)
+{
+    (void)state;
+    sta_synth_params p = { .kind = STA_SYNTH_MIRROR, .point_count = 150000, .seed = 3 };
+    char las[4096], mirrors[4096], out[4096];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("conv.las"));
+    snprintf(mirrors, sizeof(mirrors), "%s", sta_test_tmp_path("conv.mirrors.json"));
+    snprintf(out, sizeof(out), "%s", sta_test_tmp_path("conv.strata"));
+    sta_error err = { 0 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    const char *inputs[] = { las };
+    sta_convert_options o = {
+        .inputs = inputs,
+        .input_count = 1,
+        .output = out,
+        .threads = 2,
+        .force = true,
+        .mirrors = mirrors,
+    };
+    if (sta_convert(&o, NULL, &err) != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    sta_strata_reader *r = NULL;
+    sta_strata_decoder *dec = NULL;
+    assert_int_equal(sta_strata_open(out, NULL, &r, &err), STA_OK);
+    assert_int_equal(sta_strata_decoder_create(&dec, &err), STA_OK);
+    const sta_strata_info *info = sta_strata_reader_info(r);
+    assert_int_equal(info->version_minor, 3);
+    assert_true(info->layout.attributes & STA_STRATA_ATTR_MIRROR);
+    assert_int_equal(info->layout.attr_size[15], 1);
+    uint64_t points = 0, truth = 0, flagged = 0;
+    sta_ghost_score wall = { 0 };
+    for (uint32_t n = 0; n < info->node_count; n++) {
+        sta_strata_points pts;
+        if (sta_strata_decode_node(r, n, dec, &pts, &err) != STA_OK) {
+            fail_msg("%s", err.message);
+        }
+        for (size_t i = 0; i < pts.count; i++) {
+            const sta_point *q = &pts.points[i];
+            points++;
+            truth += q->user_data != 0;
+            flagged += q->mirror != 0;
+            assert_true(q->mirror <= 3);
+            bool t = q->user_data == 1 || q->user_data == 2, f = q->mirror == 1 || q->mirror == 2;
+            wall.true_positive += t && f && q->user_data == q->mirror;
+            wall.false_positive += f && !t;
+            wall.false_negative += t && !f;
+        }
+    }
+    assert_int_equal(points, 150000);
+    assert_true(truth > 3000 && flagged >= truth);
+    printf("stored: %llu flagged, %llu truth ghosts; wall mirrors precision %.5f recall %.5f\n",
+           (unsigned long long)flagged, (unsigned long long)truth, sta_ghost_precision(&wall),
+           sta_ghost_recall(&wall));
+    assert_true(sta_ghost_precision(&wall) >= 0.99 && sta_ghost_recall(&wall) >= 0.99);
+    sta_strata_decoder_destroy(dec);
+    sta_strata_close(r);
+    // A bad mirror file: the conversion fails naming it and the mirror; no output.
+    char bad[4096];
+    snprintf(bad, sizeof(bad), "%s", sta_test_tmp_path("bad.mirrors.json"));
+    const char text[] = "{\"format\": \"strata-mirrors\", \"version\": 1, \"mirrors\": "
+                        "[{\"name\": \"w\", \"polygon\": [[0,0,0],[1,0,0]]}]}";
+    sta_test_write_file(bad, text, sizeof(text) - 1);
+    char bad_out[4096];
+    snprintf(bad_out, sizeof(bad_out), "%s", sta_test_tmp_path("bad.strata"));
+    o.output = bad_out;
+    o.mirrors = bad;
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "bad.mirrors.json: mirror 1 'w': 2 vertices"));
+    assert_int_equal(access(bad_out, F_OK), -1);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(reflection_is_exact_far_from_the_origin),
     cmocka_unit_test(axis_plane_reflects_to_the_millimetre_grid),
@@ -349,6 +427,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(bad_files_name_file_and_mirror),
     cmocka_unit_test(ghost_models_by_hand),
     cmocka_unit_test(ghosts_match_the_synthetic_truth),
+    cmocka_unit_test(convert_flags_ghosts_and_keeps_every_point),
 };
 
 STA_TEST_MAIN(tests)
