@@ -17,12 +17,17 @@ uniform float u_intensity_scale; // 1 / largest intensity
 
 uniform uint u_node_slot;       // node drawn, for the id target
 uniform uint u_arena_offset;    // its first point in the arena (glDrawArrays' first)
+uniform uint u_hide_flags;      // points with any of these flags (byte 14) are not drawn
 
 flat out vec3 v_colour;
 flat out uvec2 v_id;
 
 void main()
 {
+    if ((a_returns.z & u_hide_flags) != 0u) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the clip volume: not drawn
+        return;
+    }
     vec3 relative = u_node_origin + vec3(a_position_intensity.xyz) * u_step;
     gl_Position = u_projection * (u_view_rotation * vec4(relative, 1.0));
     gl_PointSize = 1.0;

@@ -13,6 +13,9 @@ void main()
     uint end = min(node.info.y, batch.y + uint(STA_RASTER_BATCH_POINTS));
     for (uint i = batch.y + gl_LocalInvocationID.x; i < end; i += uint(STA_RASTER_WORKGROUP_SIZE)) {
         uvec4 t = texelFetch(u_points, int(node.info.x + i));
+        if ((((t.w >> 16) & 0xFFu) & u_hide_flags) != 0u) {
+            continue;
+        }
         vec3 q = vec3(uvec3(t.x & 0xFFFFu, t.x >> 16, t.y & 0xFFFFu));
         vec3 relative = node.origin.xyz + q * node.step.xyz;
         uint pixel;

@@ -180,7 +180,7 @@ static void gpu(const test_set *set, const sta_gpu_cache *cache, const sta_camer
     assert_int_equal(sta_pass_geometry_init(&pass, options, &err), STA_OK);
     sta_gpu_node_frame frames[MAX_NODES];
     frames_of(set, frames);
-    sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL };
+    sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL, 0 };
     sta_render_target target = { 0 };
     assert_int_equal(sta_render_target_resize(&target, W, H, &err), STA_OK);
     if (sta_pass_geometry_draw(&pass, camera, &colours, cache, frames, set->draw, set->draw_count,

@@ -54,6 +54,8 @@ typedef struct sta_view_args {
     double intensity_max;      /* --intensity-max (0: the scene's) */
     int raster;                /* --raster (sta_raster_method) */
     bool raster_32bit;         /* --raster-32bit: the two-pass compute path always */
+    const char *mirrors_file;  /* --mirrors: classify ghosts at load (files without MIRROR) */
+    bool show_ghosts;          /* --show-ghosts: draw mirror ghosts (hidden by default) */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

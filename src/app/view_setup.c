@@ -129,3 +129,27 @@ void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *
     out->hpr_threshold = (float)args->hpr_threshold;
     out->s0_m = (float)args->s0_m;
 }
+
+sta_status sta_view_open_scene(const sta_view_args *args, sta_mirror_set *mirrors,
+                               sta_scene **out_scene, sta_error *err)
+{
+    *out_scene = NULL;
+    memset(mirrors, 0, sizeof(*mirrors));
+    if (args->mirrors_file) {
+        sta_status status = sta_mirror_set_load(args->mirrors_file, mirrors, err);
+        if (status != STA_OK) {
+            return status;
+        }
+    }
+    sta_scene_options options = { .budget_points = args->budget_points,
+                                  .gpu_bytes_cap = args->gpu_mem_mib << 20,
+                                  .clip = args->clip,
+                                  .min_spacing_px = args->min_spacing_px,
+                                  .mirrors = args->mirrors_file ? mirrors : NULL };
+    sta_status status = sta_scene_open(args->scene, &options, out_scene, err);
+    if (status == STA_OK) {
+        sta_scene_set_hide_flags(*out_scene,
+                                 args->show_ghosts ? 0u : (unsigned)STA_SCENE_DEFAULT_HIDE_FLAGS);
+    }
+    return status;
+}

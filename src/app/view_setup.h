@@ -7,7 +7,9 @@
 #include "app/view_options.h"
 #include "core/camera.h"
 #include "format/strata.h"
+#include "mirror/mirror_set.h"
 #include "render/pipeline.h"
+#include "render/scene.h"
 
 #define STA_VIEW_DEFAULT_YAW_DEG   45.0  /* default view from the south-west */
 #define STA_VIEW_DEFAULT_PITCH_DEG -30.0 /* 30 degrees from above */
@@ -33,6 +35,12 @@ double sta_view_default_yaw(const sta_camera *camera, const double *points, size
 
 /* The screen-space pipeline options the arguments ask for. */
 void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *out);
+
+/* Opens the scene with the command line's streamer options; --mirrors is loaded into
+ * `mirrors` (which must outlive the scene) and classifies ghosts at load; ghosts are
+ * hidden unless --show-ghosts. Errors name the file. */
+sta_status sta_view_open_scene(const sta_view_args *args, sta_mirror_set *mirrors,
+                               sta_scene **out_scene, sta_error *err);
 
 /* The colour mode asked for, or the best default for the scene's attributes. */
 int sta_view_initial_colour(const sta_view_args *args, const sta_strata_info *info);

@@ -60,6 +60,7 @@ typedef struct view_state {
     const char *save_json; /* J writes the measurements here */
     const char *save_csv;  /* C exports them here */
     sta_clip clip;         /* F1-F12, L, Shift+Ctrl+click, X change it */
+    bool show_ghosts;      /* V: mirror ghosts drawn */
     double clip_corner[3]; /* first corner of a clip box being drawn */
     bool has_clip_corner;
     sta_hud_rect *marks; /* STA_VIEW_MAX_MARKS: the measurements' markers, each frame */
@@ -389,6 +390,10 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
         fprintf(stderr, "pipeline %s, normals %s%s, hpr %s\n", sta_pipeline_mode_name(o->mode),
                 sta_normal_method_name(o->normals), o->smooth ? " smoothed" : "",
                 o->hpr_exhaustive ? "exhaustive" : "pyramid");
+    } else if (key == GLFW_KEY_V) {
+        s->show_ghosts = !s->show_ghosts;
+        sta_scene_set_hide_flags(s->scene, s->show_ghosts ? 0u : STA_SCENE_DEFAULT_HIDE_FLAGS);
+        fprintf(stderr, "mirror ghosts %s\n", s->show_ghosts ? "shown" : "hidden");
     } else if (key == GLFW_KEY_K) {
         s->katz.enabled = !s->katz.enabled;
         sta_scene_set_katz(s->scene, &s->katz);
@@ -525,12 +530,9 @@ int sta_view_run_window(const sta_view_args *args)
     view_state s;
     memset(&s, 0, sizeof(s));
     sta_error err = { 0 };
-    sta_scene_options options = { .budget_points = args->budget_points,
-                                  .gpu_bytes_cap = args->gpu_mem_mib << 20,
-                                  .clip = args->clip,
-                                  .min_spacing_px = args->min_spacing_px };
     sta_camera_path playback = { 0 };
-    sta_status status = sta_scene_open(args->scene, &options, &s.scene, &err);
+    sta_mirror_set mirrors = { 0 };
+    sta_status status = sta_view_open_scene(args, &mirrors, &s.scene, &err);
     if (status == STA_OK && args->path_file) {
         status = sta_camera_path_load(args->path_file, &playback, &err);
         if (status == STA_OK && args->path_speed_mps > 0) {
@@ -540,6 +542,7 @@ int sta_view_run_window(const sta_view_args *args)
     if (status != STA_OK) {
         fprintf(stderr, "strata-view: %s\n", err.message);
         sta_scene_close(s.scene);
+        sta_mirror_set_release(&mirrors);
         glfwDestroyWindow(window);
         glfwTerminate();
         return 1;
@@ -553,6 +556,7 @@ int sta_view_run_window(const sta_view_args *args)
     sta_view_pipeline_options(args, &s.pipeline);
     sta_scene_set_pipeline(s.scene, &s.pipeline);
     s.katz = args->katz;
+    s.show_ghosts = args->show_ghosts;
     sta_scene_set_katz(s.scene, &s.katz);
     sta_scene_set_timing(s.scene, args->stats);
     sta_scene_set_colour_mode(s.scene, s.colour_mode);
@@ -695,6 +699,7 @@ int sta_view_run_window(const sta_view_args *args)
     sta_view_tools_release(&s.tools);
     sta_render_target_release(&s.target);
     sta_scene_close(s.scene);
+    sta_mirror_set_release(&mirrors);
     glfwDestroyWindow(window);
     glfwTerminate();
     return status == STA_OK ? 0 : 1;

@@ -13,6 +13,7 @@ typedef struct sta_geometry_colours {
     double elevation_span;            /* metres: height of the elevation ramp (> 0) */
     float intensity_scale;            /* 1 / largest intensity */
     const sta_ground_texture *ground; /* for STA_COLOUR_HEIGHT; NULL: none yet */
+    unsigned hide_flags;              /* points with any of these STA_GPU_FLAG_* are not drawn */
 } sta_geometry_colours;
 
 #endif

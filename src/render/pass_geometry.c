@@ -24,6 +24,7 @@ static sta_status init_points(sta_pass_geometry *p, sta_error *err)
     p->u_intensity_scale = glGetUniformLocation(p->program, "u_intensity_scale");
     p->u_node_slot = glGetUniformLocation(p->program, "u_node_slot");
     p->u_arena_offset = glGetUniformLocation(p->program, "u_arena_offset");
+    p->u_hide_flags = glGetUniformLocation(p->program, "u_hide_flags");
     glCreateVertexArrays(1, &p->vao);
     glVertexArrayAttribIFormat(p->vao, STA_ATTRIB_POSITION_INTENSITY, 4, GL_UNSIGNED_SHORT, 0);
     glVertexArrayAttribIFormat(p->vao, STA_ATTRIB_COLOUR_CLASS, 4, GL_UNSIGNED_BYTE, 8);
@@ -83,6 +84,7 @@ void sta_pass_geometry_begin_points(const sta_pass_geometry *p, const sta_camera
     glUniform2f(p->u_elevation, (float)(camera->position[2] - colours->elevation_min),
                 (float)(1.0 / (span > 0 ? span : 1.0)));
     glUniform1f(p->u_intensity_scale, colours->intensity_scale);
+    glUniform1ui(p->u_hide_flags, colours->hide_flags);
     sta_ground_texture_use(colours->ground, p->program, camera);
 }
 

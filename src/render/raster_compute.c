@@ -24,6 +24,9 @@ static void uniforms(sta_raster_compute *r, int slot, GLuint program)
     r->u_view_rotation[slot] = glGetUniformLocation(program, "u_view_rotation");
     r->u_projection[slot] = glGetUniformLocation(program, "u_projection");
     r->u_size[slot] = glGetUniformLocation(program, "u_size");
+    if (slot < 2) {
+        r->u_hide_flags[slot] = glGetUniformLocation(program, "u_hide_flags");
+    }
 }
 
 sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error *err)
@@ -244,6 +247,7 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     for (int step = 0; step < (r->is_packed ? 1 : 2); step++) {
         glUseProgram(r->points_program[step]);
         set_view(r, step, view, projection, w, h);
+        glUniform1ui(r->u_hide_flags[step], colours->hide_flags);
         glDispatchComputeIndirect(0);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }

@@ -21,6 +21,7 @@ struct sta_scene {
     bool has_geometry;
     sta_geometry_options raster; /* rasteriser of the geometry pass */
     int colour_mode;
+    unsigned hide_flags; /* STA_GPU_FLAG_* not drawn */
     sta_ground_texture ground; /* built the first time the height mode is drawn */
     sta_pipeline pipeline;     /* initialised on first use */
     bool has_pipeline;
@@ -35,6 +36,9 @@ sta_status sta_scene_open(const char *path, const sta_scene_options *options, st
 {
     *out_scene = NULL;
     sta_scene *s = sta_calloc(1, sizeof(*s));
+    if (s) {
+        s->hide_flags = STA_SCENE_DEFAULT_HIDE_FLAGS;
+    }
     if (!s) {
         return sta_fail(err, STA_ERR_NOMEM, "out of memory");
     }
@@ -151,6 +155,11 @@ const sta_pass_katz *sta_scene_katz(const sta_scene *s)
     return &s->katz;
 }
 
+void sta_scene_set_hide_flags(sta_scene *s, unsigned flags)
+{
+    s->hide_flags = flags;
+}
+
 void sta_scene_set_colour_mode(sta_scene *s, int mode)
 {
     s->colour_mode = mode >= 0 && mode < STA_COLOUR_MODE_COUNT ? mode : STA_COLOUR_RGB;
@@ -223,7 +232,8 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     }
     sta_geometry_colours colours = { s->colour_mode, info->bounds_min[2],
                                      info->bounds_max[2] - info->bounds_min[2],
-                                     sta_streamer_intensity_scale(s->streamer), &s->ground };
+                                     sta_streamer_intensity_scale(s->streamer), &s->ground,
+                                     s->hide_flags };
     if (s->ramp[1] > s->ramp[0]) { // --elevation-range
         colours.elevation_min = s->ramp[0];
         colours.elevation_span = s->ramp[1] - s->ramp[0];

@@ -17,6 +17,7 @@
 #include "render/pass_katz.h"
 #include "render/pipeline.h"
 #include "render/target.h"
+#include "stream/gpu_points.h"
 #include "stream/streamer.h"
 
 typedef struct sta_scene sta_scene;
@@ -79,6 +80,11 @@ const sta_geometry_choice *sta_scene_raster_choice(const sta_scene *scene);
 
 /* Turns per-pass timing on (times in sta_frame_stats; drains the GPU around each pass). */
 void sta_scene_set_timing(sta_scene *scene, bool on);
+
+/* Points whose GPU flags (stream/gpu_points.h) have any of `flags` are not drawn;
+ * STA_SCENE_DEFAULT_HIDE_FLAGS (mirror ghosts hidden) until set. */
+#define STA_SCENE_DEFAULT_HIDE_FLAGS STA_GPU_FLAG_MIRROR_GHOST
+void sta_scene_set_hide_flags(sta_scene *scene, unsigned flags);
 
 /* Sets the colour mode (STA_COLOUR_* of render/bindings.h). */
 void sta_scene_set_colour_mode(sta_scene *scene, int mode);

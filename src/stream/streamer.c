@@ -118,6 +118,9 @@ static sta_status start(sta_streamer *s, const sta_streamer_options *options, st
     if (s->reader && sta_clip_filters_points(&s->options.clip)) {
         s->strata_source.clip = &s->options.clip; // before any worker starts
     }
+    if (s->reader) {
+        s->strata_source.mirrors = s->options.mirrors;
+    }
     sta_loader_options lo = { .threads = s->options.loader_threads };
     return sta_loader_create(s->source, &lo, &s->loader, err);
 }

@@ -25,6 +25,7 @@
 #include "core/camera.h"
 #include "core/status.h"
 #include "format/strata_reader.h"
+#include "mirror/mirror_set.h"
 #include "stream/clip.h"
 #include "stream/lod_tree.h"
 #include "stream/node_source.h"
@@ -45,6 +46,9 @@ typedef struct sta_streamer_options {
                                         selected nor loaded, and loaded nodes keep only
                                         the points that pass (its polygon is borrowed
                                         and must outlive the streamer) */
+    const sta_mirror_set *mirrors;   /* NULL, or mirrors whose ghosts are flagged at load in
+                                        files without a MIRROR attribute (borrowed, must
+                                        outlive the streamer) */
 } sta_streamer_options;
 
 /* Fills the zero fields of `options` with their defaults. */

@@ -62,6 +62,9 @@ void sta_raster_ref_draw(const sta_raster_ref_view *v, const sta_raster_ref_node
         const sta_raster_ref_node *node = &nodes[n];
         for (uint32_t i = 0; i < node->count; i++) {
             const uint8_t *p = node->points + (size_t)i * 16;
+            if (p[14] & v->hide_flags) {
+                continue;
+            }
             float relative[3];
             for (int axis = 0; axis < 3; axis++) {
                 float q = (float)((uint32_t)p[2 * axis] | (uint32_t)p[2 * axis + 1] << 8);
