@@ -45,6 +45,7 @@ typedef struct test_set {
 } test_set;
 
 static uint32_t rng_state = 12345;
+static uint8_t hide_flags; /* GPU point flags not drawn (mirror ghosts), both sides */
 
 static uint32_t rng(void)
 {
@@ -115,7 +116,7 @@ typedef struct raster_out {
 
 static void twin(const test_set *set, const sta_camera *camera, raster_out *out)
 {
-    sta_raster_ref_view view = { .width_px = W, .height_px = H };
+    sta_raster_ref_view view = { .width_px = W, .height_px = H, .hide_flags = hide_flags };
     sta_camera_view_rotation(camera, view.view);
     sta_camera_projection(camera, view.projection);
     glGetIntegerv(GL_SUBPIXEL_BITS, &view.subpixel_bits);
@@ -180,7 +181,7 @@ static void gpu(const test_set *set, const sta_gpu_cache *cache, const sta_camer
     assert_int_equal(sta_pass_geometry_init(&pass, options, &err), STA_OK);
     sta_gpu_node_frame frames[MAX_NODES];
     frames_of(set, frames);
-    sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL, 0 };
+    sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL, hide_flags };
     sta_render_target target = { 0 };
     assert_int_equal(sta_render_target_resize(&target, W, H, &err), STA_OK);
     if (sta_pass_geometry_draw(&pass, camera, &colours, cache, frames, set->draw, set->draw_count,
@@ -238,6 +239,36 @@ static void twin_matches_on_random_nodes(void **state)
     }
     size_t drawn = check_set(&set);
     assert_true(drawn > W * H / 4);
+    free_set(&set);
+}
+
+/* Mirror ghosts (flags byte bit 0) are not drawn by either rasteriser when hidden: the
+ * points behind them show instead, as in the twin; shown, they are drawn again. */
+static void flagged_points_are_hidden(void **state)
+{
+    (void)state;
+    test_set set = { 0 };
+    for (int k = 0; k < 6; k++) {
+        test_node *n = add_node(&set, 3.0 + 4.0 * k, -2.0, -2.0 + 0.3 * k, 4000, 4096);
+        for (uint32_t i = 0; i < n->count; i += 3) {
+            n->points[(size_t)i * STA_GPU_POINT_SIZE + STA_GPU_POINT_FLAGS_BYTE] =
+                STA_GPU_FLAG_MIRROR_GHOST;
+        }
+    }
+    hide_flags = STA_GPU_FLAG_MIRROR_GHOST;
+    size_t hidden = check_set(&set);
+    sta_camera camera = test_camera();
+    static raster_out out;
+    twin(&set, &camera, &out);
+    for (int i = 0; i < W * H; i++) {
+        if (out.ids[2 * i] != STA_TARGET_NO_POINT) {
+            assert_true(out.ids[2 * i + 1] % 3 != 0); // never a flagged point
+        }
+    }
+    hide_flags = 0;
+    size_t shown = check_set(&set);
+    printf("pixels drawn: %zu with ghosts hidden, %zu shown\n", hidden, shown);
+    assert_true(hidden > W * H / 8 && shown > hidden);
     free_set(&set);
 }
 
@@ -478,6 +509,8 @@ static void both_rasterisers_render_a_scene_alike(void **state)
 
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(twin_matches_on_random_nodes, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(flagged_points_are_hidden, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(nearest_point_wins_in_any_draw_order, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

@@ -21,7 +21,7 @@ struct sta_scene {
     bool has_geometry;
     sta_geometry_options raster; /* rasteriser of the geometry pass */
     int colour_mode;
-    unsigned hide_flags; /* STA_GPU_FLAG_* not drawn */
+    unsigned hide_flags;       /* STA_GPU_FLAG_* not drawn */
     sta_ground_texture ground; /* built the first time the height mode is drawn */
     sta_pipeline pipeline;     /* initialised on first use */
     bool has_pipeline;
@@ -230,9 +230,11 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
             return status;
         }
     }
-    sta_geometry_colours colours = { s->colour_mode, info->bounds_min[2],
+    sta_geometry_colours colours = { s->colour_mode,
+                                     info->bounds_min[2],
                                      info->bounds_max[2] - info->bounds_min[2],
-                                     sta_streamer_intensity_scale(s->streamer), &s->ground,
+                                     sta_streamer_intensity_scale(s->streamer),
+                                     &s->ground,
                                      s->hide_flags };
     if (s->ramp[1] > s->ramp[0]) { // --elevation-range
         colours.elevation_min = s->ramp[0];
