@@ -39,6 +39,8 @@ static const char keys_text[] =
     "  K              live Katz HPR on/off (drawn subsample, hull on worker threads)\n"
     "  R              reset to the whole scene            P       add path keyframe\n"
     "  V              show / hide mirror ghost points (docs/MIRRORS.md)\n"
+    "  O              mirror tool on/off: Ctrl+click vertices, Enter closes and saves to\n"
+    "                 --mirrors FILE (default mirrors.json), Backspace undoes\n"
     "  Esc            quit\n";
 
 static const char *const colour_names[] = { "rgb",     "intensity", "elevation", "class",
