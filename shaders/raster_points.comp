@@ -18,6 +18,9 @@ void main()
         }
         vec3 q = vec3(uvec3(t.x & 0xFFFFu, t.x >> 16, t.y & 0xFFFFu));
         vec3 relative = node.origin.xyz + q * node.step.xyz;
+        if (dot(u_clip_plane.xyz, relative) + u_clip_plane.w < 0.0) {
+            continue;
+        }
         uint pixel;
         float depth;
         if (!project_point(relative, pixel, depth)) {

@@ -45,7 +45,8 @@ typedef struct test_set {
 } test_set;
 
 static uint32_t rng_state = 12345;
-static uint8_t hide_flags; /* GPU point flags not drawn (mirror ghosts), both sides */
+static uint8_t hide_flags;  /* GPU point flags not drawn (mirror ghosts), both sides */
+static float clip_plane[4]; /* camera-relative clip plane (mirror pass), both sides */
 
 static uint32_t rng(void)
 {
@@ -117,6 +118,7 @@ typedef struct raster_out {
 static void twin(const test_set *set, const sta_camera *camera, raster_out *out)
 {
     sta_raster_ref_view view = { .width_px = W, .height_px = H, .hide_flags = hide_flags };
+    memcpy(view.clip_plane, clip_plane, sizeof(clip_plane));
     sta_camera_view_rotation(camera, view.view);
     sta_camera_projection(camera, view.projection);
     glGetIntegerv(GL_SUBPIXEL_BITS, &view.subpixel_bits);
@@ -181,7 +183,8 @@ static void gpu(const test_set *set, const sta_gpu_cache *cache, const sta_camer
     assert_int_equal(sta_pass_geometry_init(&pass, options, &err), STA_OK);
     sta_gpu_node_frame frames[MAX_NODES];
     frames_of(set, frames);
-    sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL, hide_flags };
+    sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL, hide_flags, { 0 } };
+    memcpy(colours.clip_plane, clip_plane, sizeof(clip_plane));
     sta_render_target target = { 0 };
     assert_int_equal(sta_render_target_resize(&target, W, H, &err), STA_OK);
     if (sta_pass_geometry_draw(&pass, camera, &colours, cache, frames, set->draw, set->draw_count,
@@ -269,6 +272,27 @@ static void flagged_points_are_hidden(void **state)
     size_t shown = check_set(&set);
     printf("pixels drawn: %zu with ghosts hidden, %zu shown\n", hidden, shown);
     assert_true(hidden > W * H / 8 && shown > hidden);
+    free_set(&set);
+}
+
+/* The mirror pass's clip plane: points on its negative side are not drawn, by either
+ * rasteriser, as in the twin. */
+static void clip_plane_cuts_like_the_twin(void **state)
+{
+    (void)state;
+    test_set set = { 0 };
+    for (int k = 0; k < 6; k++) {
+        add_node(&set, 3.0 + 4.0 * k, -2.0, -2.0 + 0.3 * k, 4000, 4096);
+    }
+    size_t whole = check_set(&set);
+    // Keep x + 0.25 y >= 12.3 (camera-relative): the nearer nodes go, partly or wholly.
+    clip_plane[0] = 1.0f;
+    clip_plane[1] = 0.25f;
+    clip_plane[3] = -12.3f;
+    size_t cut = check_set(&set);
+    memset(clip_plane, 0, sizeof(clip_plane));
+    printf("pixels drawn: %zu whole, %zu behind the plane\n", whole, cut);
+    assert_true(cut > 100 && cut < whole);
     free_set(&set);
 }
 
@@ -511,6 +535,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(twin_matches_on_random_nodes, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(flagged_points_are_hidden, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(clip_plane_cuts_like_the_twin, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(nearest_point_wins_in_any_draw_order, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

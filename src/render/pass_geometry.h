@@ -60,7 +60,7 @@ typedef struct sta_pass_geometry {
     GLuint program;
     GLuint vao;
     GLint u_node_origin, u_step, u_view_rotation, u_projection, u_colour_mode, u_elevation,
-        u_intensity_scale, u_node_slot, u_arena_offset, u_hide_flags;
+        u_intensity_scale, u_node_slot, u_arena_offset, u_hide_flags, u_clip_plane;
     sta_raster_compute compute; /* when choice.raster is STA_RASTER_COMPUTE */
 } sta_pass_geometry;
 

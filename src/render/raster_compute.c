@@ -26,6 +26,7 @@ static void uniforms(sta_raster_compute *r, int slot, GLuint program)
     r->u_size[slot] = glGetUniformLocation(program, "u_size");
     if (slot < 2) {
         r->u_hide_flags[slot] = glGetUniformLocation(program, "u_hide_flags");
+        r->u_clip_plane[slot] = glGetUniformLocation(program, "u_clip_plane");
     }
 }
 
@@ -248,6 +249,7 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
         glUseProgram(r->points_program[step]);
         set_view(r, step, view, projection, w, h);
         glUniform1ui(r->u_hide_flags[step], colours->hide_flags);
+        glUniform4fv(r->u_clip_plane[step], 1, colours->clip_plane);
         glDispatchComputeIndirect(0);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }

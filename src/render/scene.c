@@ -235,7 +235,8 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
                                      info->bounds_max[2] - info->bounds_min[2],
                                      sta_streamer_intensity_scale(s->streamer),
                                      &s->ground,
-                                     s->hide_flags };
+                                     s->hide_flags,
+                                     { 0 } };
     if (s->ramp[1] > s->ramp[0]) { // --elevation-range
         colours.elevation_min = s->ramp[0];
         colours.elevation_span = s->ramp[1] - s->ramp[0];

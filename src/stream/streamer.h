@@ -99,6 +99,10 @@ sta_status sta_streamer_create(const sta_lod_tree *tree, const sta_node_source *
 void sta_streamer_close(sta_streamer *streamer);
 
 /* One frame's decisions for `camera` (see Design). */
+/* Further views the next cuts must serve as well (mirror reflections: render/pass_mirror.h);
+ * copied, at most STA_SELECT_MAX_EXTRA_VIEWS; count 0 for none. */
+void sta_streamer_set_extra_views(sta_streamer *streamer, const sta_camera *views, size_t count);
+
 sta_status sta_streamer_update(sta_streamer *streamer, const sta_camera *camera,
                                sta_stream_frame *out_frame, sta_error *err);
 

@@ -70,6 +70,10 @@ void sta_raster_ref_draw(const sta_raster_ref_view *v, const sta_raster_ref_node
                 float q = (float)((uint32_t)p[2 * axis] | (uint32_t)p[2 * axis + 1] << 8);
                 relative[axis] = node->origin[axis] + q * node->step[axis];
             }
+            const float *c = v->clip_plane;
+            if (c[0] * relative[0] + c[1] * relative[1] + c[2] * relative[2] + c[3] < 0.0f) {
+                continue;
+            }
             float d;
             long pixel = sta_raster_ref_project(v, relative, &d);
             // Strictly greater: an equal depth keeps the earlier point (GL_GREATER).
