@@ -13,6 +13,7 @@
 
 #include "convert.h"
 #include "format/strata_reader.h"
+#include "mirror/mirror_camera.h"
 #include "mirror/mirror_set.h"
 #include "synth/mirror_eval.h"
 #include "synth/synth.h"
@@ -418,6 +419,62 @@ static void convert_flags_ghosts_and_keeps_every_point(void **state)
     assert_int_equal(access(bad_out, F_OK), -1);
 }
 
+/* The reflected camera: a point x seen in the mirror (its image R(x) through the real
+ * camera) lands on the reflected view's pixel W - x, same row, in double, for a vertical
+ * mirror 5.4e6 m from the origin; tilted mirrors and cameras behind are refused. */
+static void reflected_camera_sees_the_mirror_image(void **state)
+{
+    (void)state;
+    const double x0 = 650010.25, y0 = 5400000.5;
+    // The wall x = x0 facing -x (counter-clockwise seen from -x).
+    const double wall[4][3] = {
+        { x0, y0 + 2, 100 }, { x0, y0, 100 }, { x0, y0, 102 }, { x0, y0 + 2, 102 }
+    };
+    sta_mirror m;
+    assert_int_equal(sta_mirror_init(&m, "w", wall, 4, 1e-6, NULL), STA_OK);
+    assert_true(m.normal[0] < -0.999);
+    sta_camera c = { .position = { x0 - 6.0, y0 + 0.3, 101.2 },
+                     .yaw = 0.35,
+                     .pitch = -0.1,
+                     .fov_y = 1.0,
+                     .near_m = 0.1,
+                     .width_px = 640,
+                     .height_px = 400 };
+    sta_camera r;
+    assert_true(sta_mirror_reflect_camera(&m, &c, &r));
+    assert_true(fabs(r.position[0] - (x0 + 6.0)) < 1e-9);
+    const double points[3][3] = { { x0 - 3.0, y0 + 1.0, 100.4 },
+                                  { x0 - 9.0, y0 - 2.5, 101.0 }, // behind the camera
+                                  { x0 - 0.5, y0 + 1.9, 101.9 } };
+    for (int i = 0; i < 3; i++) {
+        double image[3], px, py, depth, rx, ry, rdepth;
+        sta_mirror_reflect_point(&m, points[i], image);
+        bool seen = sta_camera_project(&c, image, &px, &py, &depth);
+        bool seen_r = sta_camera_project(&r, points[i], &rx, &ry, &rdepth);
+        assert_int_equal(seen, seen_r);
+        if (!seen) {
+            continue;
+        }
+        assert_true(fabs(rx - (640.0 - px)) < 1e-6);
+        assert_true(fabs(ry - py) < 1e-6);
+        assert_true(fabs(rdepth - depth) < 1e-6);
+    }
+    // Behind the mirror, or a tilted mirror: no reflected camera.
+    sta_camera behind = c;
+    behind.position[0] = x0 + 1.0;
+    assert_false(sta_mirror_reflect_camera(&m, &behind, &r));
+    const double tilted[3][3] = { { x0, y0, 100 }, { x0, y0 + 2, 100 }, { x0 - 0.4, y0 + 1, 102 } };
+    sta_mirror t;
+    assert_int_equal(sta_mirror_init(&t, "t", tilted, 3, 1e-6, NULL), STA_OK);
+    if (sta_mirror_signed_distance(&t, c.position) < 0) {
+        const double flipped[3][3] = { { x0, y0 + 2, 100 },
+                                       { x0, y0, 100 },
+                                       { x0 - 0.4, y0 + 1, 102 } };
+        assert_int_equal(sta_mirror_init(&t, "t", flipped, 3, 1e-6, NULL), STA_OK);
+    }
+    assert_false(sta_mirror_reflect_camera(&t, &c, &r));
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(reflection_is_exact_far_from_the_origin),
     cmocka_unit_test(axis_plane_reflects_to_the_millimetre_grid),
@@ -426,6 +483,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(file_round_trips_bit_exactly),
     cmocka_unit_test(bad_files_name_file_and_mirror),
     cmocka_unit_test(ghost_models_by_hand),
+    cmocka_unit_test(reflected_camera_sees_the_mirror_image),
     cmocka_unit_test(ghosts_match_the_synthetic_truth),
     cmocka_unit_test(convert_flags_ghosts_and_keeps_every_point),
 };

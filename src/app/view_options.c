@@ -307,8 +307,13 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .kind = STA_CLI_STRING,
           .dest = &a->mirrors_file,
           .metavar = "FILE",
-          .help = "mirror file (docs/MIRRORS.md): flag the ghost points behind its mirrors at "
-                  "load, for scenes converted without strata-convert --mirrors" },
+          .help = "mirror file (docs/MIRRORS.md): draw its mirrors by reflection, and flag the "
+                  "ghost points behind them at load in scenes converted without "
+                  "strata-convert --mirrors" },
+        { .name = "no-reflections",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->no_reflections,
+          .help = "do not draw the --mirrors mirrors by reflection (one extra pass each)" },
         { .name = "show-ghosts",
           .kind = STA_CLI_FLAG,
           .dest = &a->show_ghosts,

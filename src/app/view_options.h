@@ -56,6 +56,7 @@ typedef struct sta_view_args {
     bool raster_32bit;         /* --raster-32bit: the two-pass compute path always */
     const char *mirrors_file;  /* --mirrors: classify ghosts at load (files without MIRROR) */
     bool show_ghosts;          /* --show-ghosts: draw mirror ghosts (hidden by default) */
+    bool no_reflections;       /* --no-reflections: --mirrors without the mirror pass */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

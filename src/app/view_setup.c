@@ -150,6 +150,7 @@ sta_status sta_view_open_scene(const sta_view_args *args, sta_mirror_set *mirror
     if (status == STA_OK) {
         sta_scene_set_hide_flags(*out_scene,
                                  args->show_ghosts ? 0u : (unsigned)STA_SCENE_DEFAULT_HIDE_FLAGS);
+        sta_scene_set_mirrors(*out_scene, mirrors, args->mirrors_file && !args->no_reflections);
     }
     return status;
 }
