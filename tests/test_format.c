@@ -1127,7 +1127,8 @@ static void up_axis_round_trips(void **state)
     size_t size;
     uint8_t *data = sta_test_read_file(sc.path, &size);
     assert_int_equal(data[STA_STRATA_H_UP_AXIS_OFF], STA_STRATA_UP_Y);
-    assert_int_equal(sta_load_u16le(data + STA_STRATA_H_VERSION_MINOR_OFF), STA_STRATA_VERSION_MINOR);
+    assert_int_equal(sta_load_u16le(data + STA_STRATA_H_VERSION_MINOR_OFF),
+                     STA_STRATA_VERSION_MINOR);
     const uint8_t values[] = { STA_STRATA_UP_Y, STA_STRATA_UP_Z, 7 };
     const uint8_t expected[] = { STA_STRATA_UP_Y, STA_STRATA_UP_Z, STA_STRATA_UP_Z };
     for (int i = 0; i < 3; i++) {

@@ -15,8 +15,7 @@
 #define STA_STRATA_MAGIC           "STRATA\r\n" /* 8 bytes, no NUL */
 #define STA_STRATA_MAGIC_SIZE      8
 #define STA_STRATA_VERSION_MAJOR   1
-#define STA_STRATA_VERSION_MINOR   3      /* 1.1: compression 2; 1.2: up axis, LAS source;
-                                                1.3: MIRROR attribute */
+#define STA_STRATA_VERSION_MINOR   3      /* 1.1 compression 2; 1.2 up axis; 1.3 MIRROR */
 #define STA_STRATA_HEADER_SIZE     384u   /* fixed header of version 1.0 */
 #define STA_STRATA_HEADER_SIZE_MAX 65536u /* readers refuse larger headers */
 #define STA_STRATA_EXTRA_DIM_SIZE  128u   /* one extra-dimension descriptor */
