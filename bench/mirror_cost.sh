@@ -19,8 +19,8 @@ repeat=${REPEAT:-9}
 size=${SIZE:-1920x1080}
 scene=$work/room$points.strata
 if [ ! -f "$scene" ]; then
-    $bin/src/strata-synth mirror --points "$points" --origin utm -o "$work/room$points.las" --quiet
-    $bin/preprocess/strata-convert "$work/room$points.las" -o "$scene" --force -q \
+    "$bin"/src/strata-synth mirror --points "$points" --origin utm -o "$work/room$points.las" --quiet
+    "$bin"/preprocess/strata-convert "$work/room$points.las" -o "$scene" --force -q \
         --mirrors "$work/room$points.mirrors.json"
     rm -f "$work/room$points.las"
 fi
@@ -29,7 +29,7 @@ mirrors=$work/room$points.mirrors.json
 camera=650246.375,5401877.625,104.85,0,0,75
 
 run() { # PIPELINE [options] -> frame ms (median of REPEAT)
-    $bin/src/strata-view --headless "$scene" --mirrors "$mirrors" --camera=$camera \
+    "$bin"/src/strata-view --headless "$scene" --mirrors "$mirrors" --camera=$camera \
         --size "$size" --pipeline "$1" --repeat "$repeat" --out "$work/mirror_cost.png" "${@:2}" |
         sed -n 's/^median of [0-9]* frames: frame \([0-9.]*\) ms.*/\1/p'
 }

@@ -30,7 +30,7 @@ run() { # name, then convert options
     end=$EPOCHREALTIME
     echo "$1 $(awk "BEGIN { print $end - $start }")"
 }
-for i in $(seq "$repeats"); do
+for _ in $(seq "$repeats"); do
     run plain
     run mirrors --mirrors "$work/room.mirrors.json"
 done | tee "$work/times"

@@ -13,7 +13,7 @@ mkdir -p "$work"
     --mirrors "$work/room.mirrors.json"
 "$bin/preprocess/strata-convert" "$work/room.las" -o "$work/plain.strata" --force -q
 # 5 m into the room, towards the east-wall mirror (ECEF origin of strata-synth).
-view=(--headless --camera=4201350.125,171238.5,4780125.35,0,0,75 --size 320x200)
+view=(--headless "--camera=4201350.125,171238.5,4780125.35,0,0,75" --size 320x200)
 png() { # NAME SCENE [options]
     "$bin/src/strata-view" "${view[@]}" "$work/$2.strata" --out "$work/$1.png" "${@:3}"
 }
