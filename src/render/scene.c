@@ -174,15 +174,37 @@ void sta_scene_set_mirrors(sta_scene *s, const sta_mirror_set *mirrors, bool ref
     s->reflect_mirrors = reflect && mirrors && mirrors->count > 0;
 }
 
-// The mirrors drawn this frame and their reflected cameras; returns how many.
+// Whether every vertex of the outline lies outside one plane of the frustum (then the
+// mirror cannot show on screen).
+static bool mirror_outside(const sta_mirror *m, const sta_frustum *frustum)
+{
+    for (int p = 0; p < 6; p++) {
+        const double *plane = frustum->planes[p];
+        size_t outside = 0;
+        for (size_t i = 0; i < m->vertex_count; i++) {
+            const double *v = m->vertices[i];
+            outside += plane[0] * v[0] + plane[1] * v[1] + plane[2] * v[2] + plane[3] < 0.0;
+        }
+        if (outside == m->vertex_count) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// The mirrors drawn this frame (in view, seen from the front, vertical) and their
+// reflected cameras; returns how many.
 static size_t mirror_views(const sta_scene *s, const sta_camera *camera,
                            const sta_mirror *out_mirrors[STA_SELECT_MAX_EXTRA_VIEWS],
                            sta_camera out_views[STA_SELECT_MAX_EXTRA_VIEWS])
 {
     size_t n = 0;
+    sta_frustum frustum;
+    sta_camera_frustum(camera, 1e300, &frustum);
     for (size_t k = 0; s->reflect_mirrors && k < s->mirrors->count; k++) {
         const sta_mirror *m = &s->mirrors->mirrors[k];
-        if (n < STA_SELECT_MAX_EXTRA_VIEWS && sta_mirror_reflect_camera(m, camera, &out_views[n])) {
+        if (n < STA_SELECT_MAX_EXTRA_VIEWS && !mirror_outside(m, &frustum) &&
+            sta_mirror_reflect_camera(m, camera, &out_views[n])) {
             out_mirrors[n++] = m;
         }
     }
