@@ -66,7 +66,8 @@ void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size
         if (!(layout->attributes & attribute_columns[i].bit)) {
             continue;
         }
-        if (attribute_columns[i].bit == STA_ATTR_MIRROR) {
+        // Bits from 14 up (MIRROR, 15) are stored after the extra dimensions (bit 13).
+        if (attribute_columns[i].bit >= (1u << 14) && layout->columns_before_extra < 0) {
             layout->columns_before_extra = layout->column_count;
         }
         for (int c = 0; attribute_columns[i].sizes[c] != 0; c++) {
