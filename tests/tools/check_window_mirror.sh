@@ -22,19 +22,22 @@ viewer=$!
 find_window
 settle
 xdotool key --window "$win" o
-picks=0
+picks() { grep -c '^pick: x ' "$work/viewer.log" || true; }
 for point in "395 160" "455 160" "455 240" "300 330"; do
-    # A loaded machine may still be drawing the cut: click again until a point is hit.
-    for _ in $(seq 1 15); do
+    # A loaded machine may still be drawing the cut, or be slow to answer: wait up to
+    # 5 s for each click's pick, and click again only when none came (a miss).
+    before=$(picks)
+    for _ in $(seq 1 10); do
         # shellcheck disable=SC2086
         xdotool mousemove --window "$win" $point
         xdotool keydown ctrl click 1 keyup ctrl
-        sleep 1
-        [ "$(grep -c '^pick: x ' "$work/viewer.log" || true)" -gt $picks ] && break
-        sleep 1
+        for _ in $(seq 1 10); do
+            sleep 0.5
+            [ "$(picks)" -gt "$before" ] && break 2
+        done
     done
-    picks=$((picks + 1))
 done
+[ "$(picks)" = 4 ] || { cat "$work/viewer.log" >&2; exit 1; }
 xdotool key --window "$win" BackSpace
 sleep 0.5
 xdotool key --window "$win" Return
@@ -47,6 +50,7 @@ window_pixels "$work/shown.rgb"
 kill "$viewer"; wait "$viewer" 2>/dev/null || true; viewer=
 grep -q "mirror ghosts shown" "$work/viewer.log" || { cat "$work/viewer.log" >&2; exit 1; }
 cmp -s "$work/hidden.rgb" "$work/shown.rgb" && { echo "V changed nothing" >&2; exit 1; }
+[ -f "$work/mirrors.json" ] || { cat "$work/viewer.log" >&2; exit 1; }
 python3 - "$work/mirrors.json" <<'PY'
 import json, sys
 f = json.load(open(sys.argv[1]))
