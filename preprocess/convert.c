@@ -541,6 +541,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     pthread_mutex_init(&job.spill_lock, NULL);
     char *tmp_dir = NULL;
     sta_strata_extra_dim *extra_dims = NULL;
+    sta_mirror_set mirrors = { 0 };
     sta_status status = STA_OK;
 
     int grid_cells = options->grid_cells;
@@ -573,6 +574,16 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
                              options->keep_extra, &job.inputs, err);
     if (status != STA_OK) {
         goto out;
+    }
+    if (options->mirrors) {
+        status = sta_mirror_set_load(options->mirrors, &mirrors, err);
+        if (status != STA_OK) {
+            goto out;
+        }
+        // Every point gets the MIRROR byte (0 real); distribute classifies them.
+        job.inputs.mirrors = &mirrors;
+        job.inputs.attributes |= STA_ATTR_MIRROR;
+        sta_record_layout_init(&job.inputs.layout, job.inputs.attributes, job.inputs.extra_size);
     }
     job.chunk_capacity = plan_chunk_capacity(job.inputs.point_count);
     if (options->chunk_points) {
@@ -731,6 +742,7 @@ out:
     }
     sta_chunk_plan_release(&job.plan);
     sta_inputs_close(&job.inputs);
+    sta_mirror_set_release(&mirrors);
     sta_free(job.spilled);
     sta_free(job.chunk_order);
     sta_free(extra_dims);

@@ -45,6 +45,8 @@ typedef struct sta_convert_options {
     bool keep_extra;      /* keep LAS extra dimensions (--attributes extra) */
     bool salvage;         /* read what is complete of truncated inputs */
     bool progress;        /* draw a progress line (only on a terminal) */
+    const char *mirrors;  /* mirror file: flag ghost points in the MIRROR attribute (keeps
+                             every point; docs/MIRRORS.md), or NULL */
     atomic_bool *cancel;  /* set from a signal handler to stop; may be NULL */
 } sta_convert_options;
 

@@ -99,6 +99,12 @@ int main(int argc, char **argv)
           .metavar = "extra",
           .choices = attribute_names,
           .help = "also keep LAS extra dimensions (extra bytes)" },
+        { .name = "mirrors",
+          .kind = STA_CLI_STRING,
+          .dest = &options.mirrors,
+          .metavar = "FILE",
+          .help = "mirror file (docs/MIRRORS.md): flag the ghost points behind its mirrors in "
+                  "the MIRROR attribute; every point is kept" },
         { .name = "salvage",
           .kind = STA_CLI_FLAG,
           .dest = &options.salvage,

@@ -575,6 +575,12 @@ static sta_status distribute_batch(range_task *t, size_t input, sta_point_batch 
             return sta_fail(&t->err, STA_ERR_FORMAT, "%s: point %llu changed since it was counted",
                             info->path, (unsigned long long)(batch->first_index + i));
         }
+        if (t->set->mirrors) {
+            const double world[3] = { sta_grid_apply(&t->set->grid, 0, p->X),
+                                      sta_grid_apply(&t->set->grid, 1, p->Y),
+                                      sta_grid_apply(&t->set->grid, 2, p->Z) };
+            p->mirror = sta_mirror_ghost_in_volume(t->set->mirrors, world);
+        }
         size_t c = (size_t)plan->chunk_of_cell[cell];
         chunk_buffer *b = &t->buffers[c];
         const uint8_t *extra = t->set->extra_size ? batch->extra + i * batch->extra_size : NULL;

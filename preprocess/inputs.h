@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "io/cloud.h"
+#include "mirror/mirror_set.h"
 #include "output_grid.h"
 #include "record.h"
 
@@ -25,6 +26,7 @@ typedef struct sta_input_set {
     size_t extra_size;                  /* extra bytes kept per point (0 unless all agree) */
     const sta_cloud_info *extra_source; /* input whose extra dims describe them */
     sta_record_layout layout;           /* packed record for the temporary files */
+    const sta_mirror_set *mirrors;      /* classify ghosts into sta_point.mirror, or NULL */
     int64_t header_min[3];              /* declared bounds on the output grid (a guess only) */
     int64_t header_max[3];
 } sta_input_set;

@@ -23,6 +23,7 @@ static const struct {
     { STA_ATTR_WAVE_PACKET, 29 },
     { STA_ATTR_NORMAL, 12 },
     { STA_ATTR_SCANNER_CHANNEL, 1 },
+    { STA_ATTR_MIRROR, 1 },
 };
 
 // The values of each attribute in pack order, as .strata columns (same order: both
@@ -44,6 +45,7 @@ static const struct {
     { STA_ATTR_WAVE_PACKET, { 1, 8, 4, 4, 4, 4, 4 } },
     { STA_ATTR_NORMAL, { 4, 4, 4 } },
     { STA_ATTR_SCANNER_CHANNEL, { 1 } },
+    { STA_ATTR_MIRROR, { 1 } },
 };
 
 void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size_t extra_size)
@@ -59,9 +61,14 @@ void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size
     }
     size_t offset = 12;
     layout->column_count = 0;
+    layout->columns_before_extra = -1;
     for (size_t i = 0; i < sizeof(attribute_columns) / sizeof(attribute_columns[0]); i++) {
         if (!(layout->attributes & attribute_columns[i].bit)) {
             continue;
+        }
+        // Bits from 14 up (MIRROR, 15) are stored after the extra dimensions (bit 13).
+        if (attribute_columns[i].bit >= (1u << 14) && layout->columns_before_extra < 0) {
+            layout->columns_before_extra = layout->column_count;
         }
         for (int c = 0; attribute_columns[i].sizes[c] != 0; c++) {
             size_t size = attribute_columns[i].sizes[c];
@@ -75,6 +82,37 @@ void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size
             offset += size;
         }
     }
+    if (layout->columns_before_extra < 0) {
+        layout->columns_before_extra = layout->column_count;
+    }
+}
+
+/* Writes column `c` of `count` records at `pos`; returns the position after it. */
+static uint8_t *encode_column(const sta_record_layout *layout, int c, const uint8_t *records,
+                              size_t count, uint8_t *pos)
+{
+    const size_t rec = layout->size;
+    const sta_record_column *col = &layout->columns[c];
+    const uint8_t *src = records + col->offset;
+    if (col->bit >= 0) {
+        for (size_t i = 0; i < count; i++) {
+            pos[i] = (uint8_t)((src[i * rec] >> col->bit) & 1u);
+        }
+    } else if (col->size == 1) {
+        for (size_t i = 0; i < count; i++) {
+            pos[i] = src[i * rec];
+        }
+    } else if (col->size == 2) {
+        for (size_t i = 0; i < count; i++) {
+            memcpy(pos + 2 * i, src + i * rec, 2);
+        }
+    } else {
+        for (size_t i = 0; i < count; i++) {
+            memcpy(pos + col->size * i, src + i * rec, col->size);
+        }
+    }
+    pos += col->size * count;
+    return pos;
 }
 
 bool sta_record_encode_columns(const sta_record_layout *layout, const uint8_t *records,
@@ -97,27 +135,8 @@ bool sta_record_encode_columns(const sta_record_layout *layout, const uint8_t *r
         }
         pos += 4 * count;
     }
-    for (int c = 0; c < layout->column_count; c++) {
-        const sta_record_column *col = &layout->columns[c];
-        const uint8_t *src = records + col->offset;
-        if (col->bit >= 0) {
-            for (size_t i = 0; i < count; i++) {
-                pos[i] = (uint8_t)((src[i * rec] >> col->bit) & 1u);
-            }
-        } else if (col->size == 1) {
-            for (size_t i = 0; i < count; i++) {
-                pos[i] = src[i * rec];
-            }
-        } else if (col->size == 2) {
-            for (size_t i = 0; i < count; i++) {
-                memcpy(pos + 2 * i, src + i * rec, 2);
-            }
-        } else {
-            for (size_t i = 0; i < count; i++) {
-                memcpy(pos + col->size * i, src + i * rec, col->size);
-            }
-        }
-        pos += col->size * count;
+    for (int c = 0; c < layout->columns_before_extra; c++) {
+        pos = encode_column(layout, c, records, count, pos);
     }
     size_t at = rec - layout->extra_size;
     for (uint32_t d = 0; d < extra_dim_count; d++) {
@@ -127,6 +146,9 @@ bool sta_record_encode_columns(const sta_record_layout *layout, const uint8_t *r
         }
         pos += count * size;
         at += size;
+    }
+    for (int c = layout->columns_before_extra; c < layout->column_count; c++) {
+        pos = encode_column(layout, c, records, count, pos); // MIRROR (bit 15) after EXTRA (13)
     }
     return true;
 }
@@ -201,6 +223,9 @@ void sta_record_pack(const sta_record_layout *layout, const sta_point *p, const 
     if (a & STA_ATTR_SCANNER_CHANNEL) {
         PUT(p->scanner_channel);
     }
+    if (a & STA_ATTR_MIRROR) {
+        PUT(p->mirror);
+    }
     if (layout->extra_size) {
         memcpy(out, extra, layout->extra_size);
     }
@@ -265,6 +290,9 @@ void sta_record_unpack(const sta_record_layout *layout, const uint8_t *in, sta_p
     }
     if (a & STA_ATTR_SCANNER_CHANNEL) {
         GET(p->scanner_channel);
+    }
+    if (a & STA_ATTR_MIRROR) {
+        GET(p->mirror);
     }
     if (layout->extra_size && extra) {
         memcpy(extra, in, layout->extra_size);

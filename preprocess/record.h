@@ -34,6 +34,7 @@ typedef struct sta_record_layout {
     size_t size;                                       /* bytes per record */
     sta_record_column columns[STA_RECORD_MAX_COLUMNS]; /* attribute columns in .strata order */
     int column_count;
+    int columns_before_extra; /* .strata puts the extra dimensions' columns here (bit 13) */
 } sta_record_layout;
 
 /* Computes the layout for the given attributes and extra bytes per point. */

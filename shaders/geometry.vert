@@ -17,14 +17,23 @@ uniform float u_intensity_scale; // 1 / largest intensity
 
 uniform uint u_node_slot;       // node drawn, for the id target
 uniform uint u_arena_offset;    // its first point in the arena (glDrawArrays' first)
+uniform uint u_hide_flags;      // points with any of these flags (byte 14) are not drawn
+uniform vec4 u_clip_plane;      // camera-relative; GL_CLIP_DISTANCE0 on only when set
+
+out float gl_ClipDistance[1];
 
 flat out vec3 v_colour;
 flat out uvec2 v_id;
 
 void main()
 {
+    if ((a_returns.z & u_hide_flags) != 0u) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the clip volume: not drawn
+        return;
+    }
     vec3 relative = u_node_origin + vec3(a_position_intensity.xyz) * u_step;
     gl_Position = u_projection * (u_view_rotation * vec4(relative, 1.0));
+    gl_ClipDistance[0] = dot(u_clip_plane.xyz, relative) + u_clip_plane.w;
     gl_PointSize = 1.0;
     v_colour = point_colour(a_position_intensity, a_colour_class, a_returns, relative,
                             u_colour_mode, u_elevation, u_intensity_scale);

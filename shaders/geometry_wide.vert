@@ -18,6 +18,10 @@ uniform float u_intensity_scale; // 1 / largest intensity
 
 uniform uint u_node_slot;    // node drawn, for the id target
 uniform uint u_arena_offset; // its first point in the arena (glDrawArrays' first)
+uniform uint u_hide_flags;   // as geometry.vert: flagged points (byte 14) are not drawn
+uniform vec4 u_clip_plane;   // as geometry.vert: the point is cut when its centre is behind
+
+out float gl_ClipDistance[1];
 
 flat out vec3 v_colour;
 flat out uvec2 v_id;
@@ -27,9 +31,14 @@ flat out vec2 v_depth;     // depth, paraboloid factor
 
 void main()
 {
+    if ((a_returns.z & u_hide_flags) != 0u) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the clip volume: not drawn
+        return;
+    }
     vec3 relative = u_node_origin + vec3(a_position_intensity.xyz) * u_step;
     vec4 clip = u_projection * (u_view_rotation * vec4(relative, 1.0));
     gl_Position = clip;
+    gl_ClipDistance[0] = dot(u_clip_plane.xyz, relative) + u_clip_plane.w;
     point_footprint f;
     // Outside the clip volume GL drops the point itself.
     gl_PointSize = footprint_of(clip, u_spacing, u_size, f) ? float(2 * f.reach + 3) : 1.0;

@@ -39,6 +39,8 @@ layout(binding = STA_RASTER_SAMPLER_POINTS) uniform usamplerBuffer u_points;
 uniform mat4 u_view_rotation; // world directions -> camera space
 uniform mat4 u_projection;    // reverse-Z, infinite far
 uniform ivec2 u_size;         // target, pixels
+uniform uint u_hide_flags;    // points with any of these flags (byte 14) are not drawn
+uniform vec4 u_clip_plane;    // camera-relative plane; points with a negative distance are not drawn
 
 // The point's attributes as the vertex stage reads them (geometry.vert).
 void unpack_point(uvec4 t, out uvec4 position_intensity, out uvec4 colour_class,

@@ -63,8 +63,14 @@ void main()
     uint end = min(node.info.y, batch.y + uint(STA_RASTER_BATCH_POINTS));
     for (uint i = batch.y + gl_LocalInvocationID.x; i < end; i += uint(STA_RASTER_WORKGROUP_SIZE)) {
         uvec4 t = texelFetch(u_points, int(node.info.x + i));
+        if ((((t.w >> 16) & 0xFFu) & u_hide_flags) != 0u) {
+            continue;
+        }
         vec3 q = vec3(uvec3(t.x & 0xFFFFu, t.x >> 16, t.y & 0xFFFFu));
         vec3 relative = node.origin.xyz + q * node.step.xyz;
+        if (dot(u_clip_plane.xyz, relative) + u_clip_plane.w < 0.0) {
+            continue;
+        }
         // Draw-order index with gaps: batch number, then the point within the batch, so
         // that the resolve finds the point through the batch list without a search.
         uint index = gl_WorkGroupID.x * uint(STA_RASTER_BATCH_POINTS) + (i - batch.y);

@@ -71,6 +71,7 @@ static sta_point random_point(const int32_t lo[3], uint32_t extent)
     p.scan_direction_flag = (uint8_t)rng();
     p.edge_of_flight_line = (uint8_t)rng();
     p.user_data = (uint8_t)rng();
+    p.mirror = (uint8_t)(p.user_data * 7u + 1u); // no rng draw: the seeds stay as they are
     p.scan_angle = (int16_t)rng();
     p.point_source_id = (uint16_t)rng();
     p.red = (uint16_t)rng();
@@ -423,6 +424,9 @@ static sta_point expected_point(uint32_t attributes, const sta_point *in)
     if (attributes & STA_STRATA_ATTR_SCANNER_CHANNEL) {
         p.scanner_channel = in->scanner_channel;
     }
+    if (attributes & STA_STRATA_ATTR_MIRROR) {
+        p.mirror = in->mirror;
+    }
     return p;
 }
 
@@ -629,6 +633,13 @@ static void round_trip_all_layouts(void **state)
           .depth_cap = 6,
           .grid_cells = 16,
           .seed = 11 },
+        // MIRROR (bit 15, 1.3) is stored after the extra dimensions' columns (bit 13).
+        { .attributes = STA_STRATA_ATTR_MIRROR | STA_STRATA_ATTR_USER_DATA,
+          .extra_dims = 2,
+          .points = 700,
+          .depth_cap = 4,
+          .grid_cells = 8,
+          .seed = 17 },
         { .attributes = STA_STRATA_ATTR_NORMAL,
           .extra_dims = 1,
           .points = 1,
@@ -973,7 +984,7 @@ static void inconsistent_tables_are_named(void **state)
     expect_open_error(&sc, data, size, overflow_with_children, STA_ERR_FORMAT,
                       "overflow node must be a leaf");
     expect_open_error(&sc, data, size, future_major_version, STA_ERR_UNSUPPORTED,
-                      "format version 2.2 is not supported");
+                      "format version 2.3 is not supported");
     expect_open_error(&sc, data, size, unknown_feature_flag, STA_ERR_UNSUPPORTED, "features");
     expect_open_error(&sc, data, size, root_outside_int32, STA_ERR_FORMAT, "int32");
     expect_open_error(&sc, data, size, bad_extra_dimension, STA_ERR_FORMAT,
@@ -1116,7 +1127,8 @@ static void up_axis_round_trips(void **state)
     size_t size;
     uint8_t *data = sta_test_read_file(sc.path, &size);
     assert_int_equal(data[STA_STRATA_H_UP_AXIS_OFF], STA_STRATA_UP_Y);
-    assert_int_equal(sta_load_u16le(data + STA_STRATA_H_VERSION_MINOR_OFF), 2);
+    assert_int_equal(sta_load_u16le(data + STA_STRATA_H_VERSION_MINOR_OFF),
+                     STA_STRATA_VERSION_MINOR);
     const uint8_t values[] = { STA_STRATA_UP_Y, STA_STRATA_UP_Z, 7 };
     const uint8_t expected[] = { STA_STRATA_UP_Y, STA_STRATA_UP_Z, STA_STRATA_UP_Z };
     for (int i = 0; i < 3; i++) {

@@ -49,6 +49,8 @@ typedef struct test_set {
 } test_set;
 
 static uint32_t rng_state = 12345;
+static uint8_t hide_flags;  /* GPU point flags not drawn (mirror ghosts), both sides */
+static float clip_plane[4]; /* camera-relative clip plane (mirror pass), both sides */
 
 static uint32_t rng(void)
 {
@@ -120,7 +122,8 @@ typedef struct raster_out {
 static void twin(const test_set *set, const sta_camera *camera, const sta_point_size *size,
                  raster_out *out)
 {
-    sta_raster_ref_view view = { .width_px = W, .height_px = H };
+    sta_raster_ref_view view = { .width_px = W, .height_px = H, .hide_flags = hide_flags };
+    memcpy(view.clip_plane, clip_plane, sizeof(clip_plane));
     if (size) {
         sta_point_size_footprint(size, camera, &view.footprint);
     }
@@ -191,7 +194,8 @@ static void gpu(const test_set *set, const sta_gpu_cache *cache, const sta_camer
     sta_pass_geometry_set_point_size(&pass, size);
     sta_gpu_node_frame frames[MAX_NODES];
     frames_of(set, frames);
-    sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL };
+    sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL, hide_flags, { 0 } };
+    memcpy(colours.clip_plane, clip_plane, sizeof(clip_plane));
     sta_render_target target = { 0 };
     assert_int_equal(sta_render_target_resize(&target, W, H, &err), STA_OK);
     if (sta_pass_geometry_draw(&pass, camera, &colours, cache, frames, set->draw, set->draw_count,
@@ -254,6 +258,73 @@ static void twin_matches_on_random_nodes(void **state)
     }
     size_t drawn = check_set(&set);
     assert_true(drawn > W * H / 4);
+    free_set(&set);
+}
+
+static sta_point_size fixed_size(double px)
+{
+    sta_point_size size;
+    sta_point_size_defaults(&size);
+    size.size_px = px;
+    return size;
+}
+
+/* Mirror ghosts (flags byte bit 0) are not drawn by either rasteriser when hidden: the
+ * points behind them show instead, as in the twin; shown, they are drawn again. */
+static void flagged_points_are_hidden(void **state)
+{
+    (void)state;
+    test_set set = { 0 };
+    for (int k = 0; k < 6; k++) {
+        test_node *n = add_node(&set, 3.0 + 4.0 * k, -2.0, -2.0 + 0.3 * k, 4000, 4096);
+        for (uint32_t i = 0; i < n->count; i += 3) {
+            n->points[(size_t)i * STA_GPU_POINT_SIZE + STA_GPU_POINT_FLAGS_BYTE] =
+                STA_GPU_FLAG_MIRROR_GHOST;
+        }
+    }
+    hide_flags = STA_GPU_FLAG_MIRROR_GHOST;
+    size_t hidden = check_set(&set);
+    sta_camera camera = test_camera();
+    static raster_out out;
+    twin(&set, &camera, NULL, &out);
+    for (int i = 0; i < W * H; i++) {
+        if (out.ids[2 * i] != STA_TARGET_NO_POINT) {
+            assert_true(out.ids[2 * i + 1] % 3 != 0); // never a flagged point
+        }
+    }
+    sta_point_size wide = fixed_size(3.0); // the wide paths hide them too
+    size_t hidden_wide = check_set_sized(&set, &wide);
+    hide_flags = 0;
+    size_t shown_wide = check_set_sized(&set, &wide);
+    assert_true(shown_wide > hidden_wide);
+    size_t shown = check_set(&set);
+    printf("pixels drawn: %zu with ghosts hidden, %zu shown\n", hidden, shown);
+    assert_true(hidden > W * H / 8 && shown > hidden);
+    free_set(&set);
+}
+
+/* The mirror pass's clip plane: points on its negative side are not drawn, by either
+ * rasteriser, as in the twin. */
+static void clip_plane_cuts_like_the_twin(void **state)
+{
+    (void)state;
+    test_set set = { 0 };
+    for (int k = 0; k < 6; k++) {
+        add_node(&set, 3.0 + 4.0 * k, -2.0, -2.0 + 0.3 * k, 4000, 4096);
+    }
+    size_t whole = check_set(&set);
+    // Keep x + 0.25 y >= 12.3 (camera-relative): the nearer nodes go, partly or wholly.
+    clip_plane[0] = 1.0f;
+    clip_plane[1] = 0.25f;
+    clip_plane[3] = -12.3f;
+    size_t cut = check_set(&set);
+    sta_point_size wide = fixed_size(3.0); // the wide paths cut by the plane too
+    size_t cut_wide = check_set_sized(&set, &wide);
+    memset(clip_plane, 0, sizeof(clip_plane));
+    size_t whole_wide = check_set_sized(&set, &wide);
+    assert_true(cut_wide > 100 && cut_wide < whole_wide);
+    printf("pixels drawn: %zu whole, %zu behind the plane\n", whole, cut);
+    assert_true(cut > 100 && cut < whole);
     free_set(&set);
 }
 
@@ -492,14 +563,6 @@ static void both_rasterisers_render_a_scene_alike(void **state)
     }
 }
 
-static sta_point_size fixed_size(double px)
-{
-    sta_point_size size;
-    sta_point_size_defaults(&size);
-    size.size_px = px;
-    return size;
-}
-
 static void wide_points_match_the_twin(void **state)
 {
     (void)state;
@@ -601,6 +664,10 @@ static void wide_point_is_a_disk_with_a_paraboloid(void **state)
 
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(twin_matches_on_random_nodes, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(flagged_points_are_hidden, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(clip_plane_cuts_like_the_twin, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(nearest_point_wins_in_any_draw_order, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

@@ -359,14 +359,11 @@ int sta_view_run_headless(const sta_view_args *args)
     sta_error err = { 0 };
     sta_gl_headless gl = { 0 };
     sta_scene *scene = NULL;
+    sta_mirror_set mirrors = { 0 };
     sta_render_target target = { 0 };
     sta_status status = sta_gl_headless_create(&gl, &err);
     if (status == STA_OK) {
-        sta_scene_options options = { .budget_points = args->budget_points,
-                                      .gpu_bytes_cap = args->gpu_mem_mib << 20,
-                                      .clip = args->clip,
-                                      .min_spacing_px = args->min_spacing_px };
-        status = sta_scene_open(args->scene, &options, &scene, &err);
+        status = sta_view_open_scene(args, &mirrors, &scene, &err);
     }
     if (status == STA_OK) {
         const sta_strata_info *info = sta_scene_info(scene);
@@ -411,6 +408,7 @@ int sta_view_run_headless(const sta_view_args *args)
     }
     sta_render_target_release(&target);
     sta_scene_close(scene);
+    sta_mirror_set_release(&mirrors);
     sta_gl_headless_destroy(&gl);
     if (status != STA_OK) {
         fprintf(stderr, "strata-view: %s\n", err.message);

@@ -38,6 +38,9 @@ static const char keys_text[] =
     "  H              pyramidal / exhaustive HPR     G    normal smoothing on/off\n"
     "  K              live Katz HPR on/off (drawn subsample, hull on worker threads)\n"
     "  R              reset to the whole scene            P       add path keyframe\n"
+    "  V              show / hide mirror ghost points (docs/MIRRORS.md)\n"
+    "  O              mirror tool on/off: Ctrl+click vertices, Enter closes and saves to\n"
+    "                 --mirrors FILE (default mirrors.json), Backspace undoes\n"
     "  Esc            quit\n";
 
 static const char *const colour_names[] = { "rgb",     "intensity", "elevation", "class",
@@ -325,6 +328,21 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .dest = &a->measure_csv,
           .metavar = "FILE.csv",
           .help = "write the measurements as CSV (headless: those of --measure)" },
+        { .name = "mirrors",
+          .kind = STA_CLI_STRING,
+          .dest = &a->mirrors_file,
+          .metavar = "FILE",
+          .help = "mirror file (docs/MIRRORS.md): draw its mirrors by reflection, and flag the "
+                  "ghost points behind them at load in scenes converted without "
+                  "strata-convert --mirrors" },
+        { .name = "no-reflections",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->no_reflections,
+          .help = "do not draw the --mirrors mirrors by reflection (one extra pass each)" },
+        { .name = "show-ghosts",
+          .kind = STA_CLI_FLAG,
+          .dest = &a->show_ghosts,
+          .help = "draw mirror ghost points (hidden by default; window: V toggles)" },
         { .name = "no-readout",
           .kind = STA_CLI_FLAG,
           .dest = &a->no_readout,

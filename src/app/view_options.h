@@ -56,6 +56,9 @@ typedef struct sta_view_args {
     int raster;                /* --raster (sta_raster_method) */
     bool raster_32bit;         /* --raster-32bit: the two-pass compute path always */
     sta_point_size point_size; /* --point-size, --point-size-min/max (raw and EDL modes) */
+    const char *mirrors_file;  /* --mirrors: classify ghosts at load (files without MIRROR) */
+    bool show_ghosts;          /* --show-ghosts: draw mirror ghosts (hidden by default) */
+    bool no_reflections;       /* --no-reflections: --mirrors without the mirror pass */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

@@ -141,3 +141,28 @@ void sta_view_pipeline_label(int mode, const sta_point_size *size, char *out_tex
     sta_point_size_describe(size, points, sizeof(points));
     snprintf(out_text, text_size, "%s, points %s", sta_pipeline_mode_name(mode), points);
 }
+
+sta_status sta_view_open_scene(const sta_view_args *args, sta_mirror_set *mirrors,
+                               sta_scene **out_scene, sta_error *err)
+{
+    *out_scene = NULL;
+    memset(mirrors, 0, sizeof(*mirrors));
+    if (args->mirrors_file) {
+        sta_status status = sta_mirror_set_load(args->mirrors_file, mirrors, err);
+        if (status != STA_OK) {
+            return status;
+        }
+    }
+    sta_scene_options options = { .budget_points = args->budget_points,
+                                  .gpu_bytes_cap = args->gpu_mem_mib << 20,
+                                  .clip = args->clip,
+                                  .min_spacing_px = args->min_spacing_px,
+                                  .mirrors = args->mirrors_file ? mirrors : NULL };
+    sta_status status = sta_scene_open(args->scene, &options, out_scene, err);
+    if (status == STA_OK) {
+        sta_scene_set_hide_flags(*out_scene,
+                                 args->show_ghosts ? 0u : (unsigned)STA_SCENE_DEFAULT_HIDE_FLAGS);
+        sta_scene_set_mirrors(*out_scene, mirrors, args->mirrors_file && !args->no_reflections);
+    }
+    return status;
+}

@@ -7,7 +7,9 @@
 #include "app/view_options.h"
 #include "core/camera.h"
 #include "format/strata.h"
+#include "mirror/mirror_set.h"
 #include "render/pipeline.h"
+#include "render/scene.h"
 
 #define STA_VIEW_DEFAULT_YAW_DEG   45.0  /* default view from the south-west */
 #define STA_VIEW_DEFAULT_PITCH_DEG -30.0 /* 30 degrees from above */
@@ -38,6 +40,12 @@ void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *
  * and is not one pixel: "shaded", "edl, points 3 px". */
 void sta_view_pipeline_label(int mode, const sta_point_size *size, char *out_text,
                              size_t text_size);
+
+/* Opens the scene with the command line's streamer options; --mirrors is loaded into
+ * `mirrors` (which must outlive the scene) and classifies ghosts at load; ghosts are
+ * hidden unless --show-ghosts. Errors name the file. */
+sta_status sta_view_open_scene(const sta_view_args *args, sta_mirror_set *mirrors,
+                               sta_scene **out_scene, sta_error *err);
 
 /* The colour mode asked for, or the best default for the scene's attributes. */
 int sta_view_initial_colour(const sta_view_args *args, const sta_strata_info *info);

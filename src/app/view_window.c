@@ -20,6 +20,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "app/view_mirror_tool.h"
 #include "app/view_setup.h"
 #include "app/view_survey.h"
 #include "app/view_tools.h"
@@ -56,12 +57,14 @@ typedef struct view_state {
     bool animating;        /* a double-click's eased move is under way */
     sta_camera anim_from, anim_to;
     double anim_start_s;
-    bool redraw;           /* something changed that the last frame does not show */
-    sta_view_tools tools;  /* picking and measuring (Ctrl+click, T, Enter, ...) */
-    const char *save_json; /* J writes the measurements here */
-    const char *save_csv;  /* C exports them here */
-    sta_clip clip;         /* F1-F12, L, Shift+Ctrl+click, X change it */
-    double clip_corner[3]; /* first corner of a clip box being drawn */
+    bool redraw;                      /* something changed that the last frame does not show */
+    sta_view_tools tools;             /* picking and measuring (Ctrl+click, T, Enter, ...) */
+    const char *save_json;            /* J writes the measurements here */
+    const char *save_csv;             /* C exports them here */
+    sta_clip clip;                    /* F1-F12, L, Shift+Ctrl+click, X change it */
+    bool show_ghosts;                 /* V: mirror ghosts drawn */
+    sta_view_mirror_tool mirror_tool; /* O: mark mirrors (docs/MIRRORS.md) */
+    double clip_corner[3];            /* first corner of a clip box being drawn */
     bool has_clip_corner;
     sta_hud_rect *marks; /* STA_VIEW_MAX_MARKS: the measurements' markers, each frame */
 } view_state;
@@ -156,7 +159,9 @@ static void survey_click(view_state *s, double x, double y)
     sta_pick_result pick;
     bool finished = false;
     sta_status status = sta_view_pick(s->scene, &s->camera, x, y, &pick, &err);
-    if (status == STA_OK) {
+    if (status == STA_OK && s->mirror_tool.active) {
+        status = sta_view_mirror_tool_click(&s->mirror_tool, &pick, &err);
+    } else if (status == STA_OK) {
         status = sta_view_tools_click(&s->tools, &pick, &finished, &err);
     }
     char line[512];
@@ -261,6 +266,31 @@ static bool point_size_key(view_state *s, int key)
     bool sized = s->pipeline.mode == STA_PIPELINE_RAW || s->pipeline.mode == STA_PIPELINE_EDL;
     fprintf(stderr, "point size %s%s\n", text,
             sized ? "" : " (drawn in the raw and edl pipelines: M cycles them)");
+    return true;
+}
+
+// O toggles the mirror tool; while it is on, Enter closes the outline (and saves the
+// file) and Backspace undoes. True when `key` was one of these.
+static bool mirror_key(view_state *s, int key)
+{
+    sta_error err = { 0 };
+    sta_status status = STA_OK;
+    sta_view_mirror_tool *t = &s->mirror_tool;
+    if (key == GLFW_KEY_O) {
+        t->active = !t->active;
+    } else if (t->active && (key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER)) {
+        status = sta_view_mirror_tool_close(t, s->camera.position, &err);
+    } else if (t->active && key == GLFW_KEY_BACKSPACE) {
+        status = sta_view_mirror_tool_undo(t, &err);
+    } else {
+        return false;
+    }
+    char line[320];
+    sta_view_mirror_tool_status(t, line, sizeof(line));
+    fprintf(stderr, "%s%s\n", t->active ? "" : "(off) ", line);
+    if (status != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+    }
     return true;
 }
 
@@ -379,7 +409,7 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
     }
     view_state *s = glfwGetWindowUserPointer(window);
     s->redraw = true;
-    if (survey_key(s, key) || filter_key(s, key) || point_size_key(s, key)) {
+    if (mirror_key(s, key) || survey_key(s, key) || filter_key(s, key) || point_size_key(s, key)) {
         return;
     }
     if (key == GLFW_KEY_ESCAPE) {
@@ -413,6 +443,10 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
         fprintf(stderr, "pipeline %s, normals %s%s, hpr %s\n", sta_pipeline_mode_name(o->mode),
                 sta_normal_method_name(o->normals), o->smooth ? " smoothed" : "",
                 o->hpr_exhaustive ? "exhaustive" : "pyramid");
+    } else if (key == GLFW_KEY_V) {
+        s->show_ghosts = !s->show_ghosts;
+        sta_scene_set_hide_flags(s->scene, s->show_ghosts ? 0u : STA_SCENE_DEFAULT_HIDE_FLAGS);
+        fprintf(stderr, "mirror ghosts %s\n", s->show_ghosts ? "shown" : "hidden");
     } else if (key == GLFW_KEY_K) {
         s->katz.enabled = !s->katz.enabled;
         sta_scene_set_katz(s->scene, &s->katz);
@@ -507,13 +541,20 @@ static void draw_readout(view_state *s, sta_hud_overlay *hud, const sta_frame_st
     sta_view_pipeline_label(s->pipeline.mode, &s->point_size, label, sizeof(label));
     sta_view_readout_fill(&readout, stats, fps, budget, label,
                           s->tools.has_pick ? &s->tools.last_pick : NULL, &s->tools.list);
+    const sta_view_mirror_tool *mt = &s->mirror_tool;
     if (readout.count < STA_VIEW_HUD_MAX_LINES) {
-        sta_view_tools_status(&s->tools, readout.lines[readout.count], sizeof(readout.lines[0]));
+        if (mt->active) {
+            sta_view_mirror_tool_status(mt, readout.lines[readout.count], sizeof(readout.lines[0]));
+        } else {
+            sta_view_tools_status(&s->tools, readout.lines[readout.count],
+                                  sizeof(readout.lines[0]));
+        }
         readout.count++;
     }
-    readout.mark_count =
-        sta_view_measure_marks(&s->camera, &s->tools.list, (const double(*)[3])s->tools.pending,
-                               s->tools.pending_count, s->marks, STA_VIEW_MAX_MARKS);
+    readout.mark_count = sta_view_measure_marks(
+        &s->camera, &s->tools.list,
+        mt->active ? (const double(*)[3])mt->pending : (const double(*)[3])s->tools.pending,
+        mt->active ? mt->pending_count : s->tools.pending_count, s->marks, STA_VIEW_MAX_MARKS);
     sta_hud_overlay_fill_rects(s->marks, readout.mark_count, s->camera.height_px);
     const char *lines[STA_VIEW_HUD_MAX_LINES];
     sta_view_readout_pointers(&readout, lines);
@@ -552,12 +593,9 @@ int sta_view_run_window(const sta_view_args *args)
     view_state s;
     memset(&s, 0, sizeof(s));
     sta_error err = { 0 };
-    sta_scene_options options = { .budget_points = args->budget_points,
-                                  .gpu_bytes_cap = args->gpu_mem_mib << 20,
-                                  .clip = args->clip,
-                                  .min_spacing_px = args->min_spacing_px };
     sta_camera_path playback = { 0 };
-    sta_status status = sta_scene_open(args->scene, &options, &s.scene, &err);
+    sta_mirror_set mirrors = { 0 };
+    sta_status status = sta_view_open_scene(args, &mirrors, &s.scene, &err);
     if (status == STA_OK && args->path_file) {
         status = sta_camera_path_load(args->path_file, &playback, &err);
         if (status == STA_OK && args->path_speed_mps > 0) {
@@ -567,6 +605,7 @@ int sta_view_run_window(const sta_view_args *args)
     if (status != STA_OK) {
         fprintf(stderr, "strata-view: %s\n", err.message);
         sta_scene_close(s.scene);
+        sta_mirror_set_release(&mirrors);
         glfwDestroyWindow(window);
         glfwTerminate();
         return 1;
@@ -580,6 +619,7 @@ int sta_view_run_window(const sta_view_args *args)
     sta_view_pipeline_options(args, &s.pipeline);
     sta_scene_set_pipeline(s.scene, &s.pipeline);
     s.katz = args->katz;
+    s.show_ghosts = args->show_ghosts;
     sta_scene_set_katz(s.scene, &s.katz);
     sta_scene_set_timing(s.scene, args->stats);
     sta_scene_set_colour_mode(s.scene, s.colour_mode);
@@ -597,6 +637,9 @@ int sta_view_run_window(const sta_view_args *args)
         s.scene_size = fmax(s.scene_size, s.info->bounds_max[a] - s.info->bounds_min[a]);
     }
     sta_view_tools_init(&s.tools);
+    if (sta_view_mirror_tool_init(&s.mirror_tool, args->mirrors_file, &err) != STA_OK) {
+        fprintf(stderr, "strata-view: %s\n", err.message);
+    }
     s.clip = args->clip;
     s.save_json = args->measure_file ? args->measure_file : "measurements.json";
     s.save_csv = args->measure_csv ? args->measure_csv : "measurements.csv";
@@ -721,8 +764,10 @@ int sta_view_run_window(const sta_view_args *args)
     sta_hud_overlay_release(&hud);
     sta_free(s.marks);
     sta_view_tools_release(&s.tools);
+    sta_view_mirror_tool_release(&s.mirror_tool);
     sta_render_target_release(&s.target);
     sta_scene_close(s.scene);
+    sta_mirror_set_release(&mirrors);
     glfwDestroyWindow(window);
     glfwTerminate();
     return status == STA_OK ? 0 : 1;

@@ -67,6 +67,8 @@ const char *sta_attr_name(uint32_t bit)
         return "normal";
     case STA_ATTR_SCANNER_CHANNEL:
         return "scanner_channel";
+    case STA_ATTR_MIRROR:
+        return "mirror";
     }
     return NULL;
 }

@@ -67,6 +67,7 @@ static const component components[] = {
     { STA_STRATA_ATTR_NORMAL, offsetof(sta_point, normal) + 1 * sizeof(float), 4 },
     { STA_STRATA_ATTR_NORMAL, offsetof(sta_point, normal) + 2 * sizeof(float), 4 },
     COMPONENT(STA_STRATA_ATTR_SCANNER_CHANNEL, scanner_channel, 1),
+    COMPONENT(STA_STRATA_ATTR_MIRROR, mirror, 1),
 };
 #define COMPONENT_COUNT (sizeof(components) / sizeof(components[0]))
 
@@ -88,6 +89,7 @@ static const struct {
     { STA_ATTR_WAVE_PACKET, STA_STRATA_ATTR_WAVE_PACKET },
     { STA_ATTR_NORMAL, STA_STRATA_ATTR_NORMAL },
     { STA_ATTR_SCANNER_CHANNEL, STA_STRATA_ATTR_SCANNER_CHANNEL },
+    { STA_ATTR_MIRROR, STA_STRATA_ATTR_MIRROR },
 };
 
 uint32_t sta_strata_attributes_from_sta_attr(uint32_t sta_attr_mask)
@@ -377,7 +379,7 @@ sta_status sta_strata_encode_points(const sta_strata_layout *layout, const sta_p
         pos += count * 4;
     }
     for (size_t c = 0; c < COMPONENT_COUNT; c++) {
-        if (layout->attributes & components[c].bit) {
+        if ((layout->attributes & components[c].bit) && components[c].bit < STA_STRATA_ATTR_EXTRA) {
             store_column(pos, points, count, components[c].field_offset, components[c].size);
             pos += count * components[c].size;
         }
@@ -391,6 +393,12 @@ sta_status sta_strata_encode_points(const sta_strata_layout *layout, const sta_p
             }
             pos += count * size;
             at += size;
+        }
+    }
+    for (size_t c = 0; c < COMPONENT_COUNT; c++) { // bits above EXTRA follow its columns
+        if ((layout->attributes & components[c].bit) && components[c].bit > STA_STRATA_ATTR_EXTRA) {
+            store_column(pos, points, count, components[c].field_offset, components[c].size);
+            pos += count * components[c].size;
         }
     }
     return STA_OK;

@@ -114,6 +114,13 @@
 #define STA_SHADE_IMAGE_NORMAL   2
 #define STA_SHADE_IMAGE_OUT      3 /* RGBA8 out */
 
+/* Mirror composite (render/pass_mirror.c, shaders/mirror_composite.comp). */
+#define STA_MIRROR_IMAGE_OUT               0  /* RGBA8 frame colour, read and written */
+#define STA_MIRROR_SAMPLER_DEPTH           0  /* the frame's depth */
+#define STA_MIRROR_SAMPLER_REFLECTED       1  /* the reflected view's colour */
+#define STA_MIRROR_SAMPLER_REFLECTED_DEPTH 2  /* its depth (0: nothing drawn) */
+#define STA_MIRROR_OUTLINE_MAX             64 /* = STA_MIRROR_MAX_VERTICES */
+
 /* Eye-dome lighting (edl.comp). */
 #define STA_EDL_IMAGE_POSITION 0
 #define STA_EDL_IMAGE_COLOUR   1
@@ -186,6 +193,11 @@
  X(STA_SHADE_IMAGE_COLOUR)                                                                         \
  X(STA_SHADE_IMAGE_NORMAL)                                                                         \
  X(STA_SHADE_IMAGE_OUT)                                                                            \
+ X(STA_MIRROR_IMAGE_OUT)                                                                           \
+ X(STA_MIRROR_SAMPLER_DEPTH)                                                                       \
+ X(STA_MIRROR_SAMPLER_REFLECTED)                                                                   \
+ X(STA_MIRROR_SAMPLER_REFLECTED_DEPTH)                                                             \
+ X(STA_MIRROR_OUTLINE_MAX)                                                                         \
  X(STA_EDL_IMAGE_POSITION)                                                                         \
  X(STA_EDL_IMAGE_COLOUR)                                                                           \
  X(STA_EDL_IMAGE_OUT)

@@ -13,6 +13,9 @@ typedef struct sta_geometry_colours {
     double elevation_span;            /* metres: height of the elevation ramp (> 0) */
     float intensity_scale;            /* 1 / largest intensity */
     const sta_ground_texture *ground; /* for STA_COLOUR_HEIGHT; NULL: none yet */
+    unsigned hide_flags;              /* points with any of these STA_GPU_FLAG_* are not drawn */
+    float clip_plane[4]; /* camera-relative a x + b y + c z + d >= 0 kept; zero: no clipping
+                            (the mirror pass's reflected view, render/pass_mirror.h) */
 } sta_geometry_colours;
 
 #endif

@@ -25,6 +25,8 @@ static sta_status init_points(sta_pass_geometry *p, sta_error *err)
     p->u_intensity_scale = glGetUniformLocation(p->program, "u_intensity_scale");
     p->u_node_slot = glGetUniformLocation(p->program, "u_node_slot");
     p->u_arena_offset = glGetUniformLocation(p->program, "u_arena_offset");
+    p->u_hide_flags = glGetUniformLocation(p->program, "u_hide_flags");
+    p->u_clip_plane = glGetUniformLocation(p->program, "u_clip_plane");
     glCreateVertexArrays(1, &p->vao);
     glVertexArrayAttribIFormat(p->vao, STA_ATTRIB_POSITION_INTENSITY, 4, GL_UNSIGNED_SHORT, 0);
     glVertexArrayAttribIFormat(p->vao, STA_ATTRIB_COLOUR_CLASS, 4, GL_UNSIGNED_BYTE, 8);
@@ -63,6 +65,8 @@ static sta_status init_wide(sta_pass_geometry *p, sta_error *err)
     p->w_intensity_scale = glGetUniformLocation(w, "u_intensity_scale");
     p->w_node_slot = glGetUniformLocation(w, "u_node_slot");
     p->w_arena_offset = glGetUniformLocation(w, "u_arena_offset");
+    p->w_hide_flags = glGetUniformLocation(w, "u_hide_flags");
+    p->w_clip_plane = glGetUniformLocation(w, "u_clip_plane");
     sta_footprint_uniforms_locate(&p->w_footprint, w);
     return sta_gl_check("creating the wide-point program", err);
 }
@@ -119,6 +123,14 @@ void sta_pass_geometry_begin_points(const sta_pass_geometry *p, const sta_camera
     glUniform2f(p->u_elevation, (float)(camera->position[2] - colours->elevation_min),
                 (float)(1.0 / (span > 0 ? span : 1.0)));
     glUniform1f(p->u_intensity_scale, colours->intensity_scale);
+    glUniform1ui(p->u_hide_flags, colours->hide_flags);
+    const float *plane = colours->clip_plane;
+    glUniform4fv(p->u_clip_plane, 1, plane);
+    if (plane[0] != 0.0f || plane[1] != 0.0f || plane[2] != 0.0f || plane[3] != 0.0f) {
+        glEnable(GL_CLIP_DISTANCE0);
+    } else {
+        glDisable(GL_CLIP_DISTANCE0);
+    }
     sta_ground_texture_use(colours->ground, p->program, camera);
 }
 
@@ -149,6 +161,8 @@ static void begin_wide(const sta_pass_geometry *p, const sta_camera *camera,
     glUniform2f(p->w_elevation, (float)(camera->position[2] - colours->elevation_min),
                 (float)(1.0 / (span > 0 ? span : 1.0)));
     glUniform1f(p->w_intensity_scale, colours->intensity_scale);
+    glUniform1ui(p->w_hide_flags, colours->hide_flags);
+    glUniform4fv(p->w_clip_plane, 1, colours->clip_plane); // GL_CLIP_DISTANCE0 as begin set it
     sta_ground_texture_use(colours->ground, p->wide_program, camera);
     sta_footprint_uniforms_set(&p->w_footprint, footprint);
 }
@@ -189,6 +203,7 @@ static void draw_points(const sta_pass_geometry *p, const sta_camera *camera,
         glDrawArrays(GL_POINTS, (GLint)e->offset, (GLsizei)e->count);
     }
     glBindVertexArray(0);
+    glDisable(GL_CLIP_DISTANCE0);
 }
 
 sta_status sta_pass_geometry_draw(sta_pass_geometry *p, const sta_camera *camera,

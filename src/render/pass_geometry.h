@@ -64,12 +64,12 @@ typedef struct sta_pass_geometry {
     GLuint program;
     GLuint vao;
     GLint u_node_origin, u_step, u_view_rotation, u_projection, u_colour_mode, u_elevation,
-        u_intensity_scale, u_node_slot, u_arena_offset;
+        u_intensity_scale, u_node_slot, u_arena_offset, u_hide_flags, u_clip_plane;
     sta_raster_compute compute; /* when choice.raster is STA_RASTER_COMPUTE */
     /* GL_POINTS for points wider than a pixel (geometry_wide.*). */
     GLuint wide_program;
     GLint w_node_origin, w_step, w_spacing, w_view_rotation, w_projection, w_size, w_colour_mode,
-        w_elevation, w_intensity_scale, w_node_slot, w_arena_offset;
+        w_elevation, w_intensity_scale, w_node_slot, w_arena_offset, w_hide_flags, w_clip_plane;
     sta_footprint_uniforms w_footprint;
     sta_point_size point_size; /* one pixel until set */
 } sta_pass_geometry;

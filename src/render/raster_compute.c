@@ -24,6 +24,10 @@ static void uniforms(sta_raster_compute *r, int slot, GLuint program)
     r->u_view_rotation[slot] = glGetUniformLocation(program, "u_view_rotation");
     r->u_projection[slot] = glGetUniformLocation(program, "u_projection");
     r->u_size[slot] = glGetUniformLocation(program, "u_size");
+    if (slot < 2) {
+        r->u_hide_flags[slot] = glGetUniformLocation(program, "u_hide_flags");
+        r->u_clip_plane[slot] = glGetUniformLocation(program, "u_clip_plane");
+    }
 }
 
 static void footprint_uniforms(sta_raster_compute *r, int slot, GLuint program)
@@ -256,6 +260,8 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
         set_view(r, step, view, projection, w, h);
         glUniform1i(r->u_point_wide[step], footprint->wide);
         sta_footprint_uniforms_set(&r->footprint[step], footprint);
+        glUniform1ui(r->u_hide_flags[step], colours->hide_flags);
+        glUniform4fv(r->u_clip_plane[step], 1, colours->clip_plane);
         glDispatchComputeIndirect(0);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }

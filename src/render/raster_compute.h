@@ -55,6 +55,7 @@ typedef struct sta_raster_compute {
     uint32_t *batch_table;                                /* 2 per batch */
     size_t batch_table_capacity;                          /* batches */
     GLint u_view_rotation[3], u_projection[3], u_size[3]; /* per program (steps, resolve) */
+    GLint u_hide_flags[2], u_clip_plane[2];               /* per step program */
     GLint u_colour_mode, u_elevation, u_intensity_scale, u_background;
     sta_footprint_uniforms footprint[2]; /* per step program */
     GLint u_point_wide[2];

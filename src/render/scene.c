@@ -7,6 +7,7 @@
 #include "core/alloc.h"
 #include "core/clock.h"
 #include "core/log.h"
+#include "mirror/mirror_camera.h"
 #include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gpu_cache.h"
@@ -21,6 +22,7 @@ struct sta_scene {
     bool has_geometry;
     sta_geometry_options raster; /* rasteriser of the geometry pass */
     int colour_mode;
+    unsigned hide_flags;       /* STA_GPU_FLAG_* not drawn */
     sta_ground_texture ground; /* built the first time the height mode is drawn */
     sta_pipeline pipeline;     /* initialised on first use */
     bool has_pipeline;
@@ -28,7 +30,11 @@ struct sta_scene {
     bool timing;        /* drain and time each pass */
     sta_pass_katz katz; /* live Katz mode */
     double ramp[3];     /* elevation ramp min, max (metres), largest intensity; 0: from the scene */
-    sta_point_size point_size; /* raw and EDL modes; zero: one pixel */
+    sta_point_size point_size;     /* raw and EDL modes; zero: one pixel */
+    const sta_mirror_set *mirrors; /* drawn by reflection when reflect_mirrors */
+    bool reflect_mirrors;
+    sta_pass_mirror mirror_pass; /* built at the first frame with a mirror */
+    bool has_mirror_pass;
 };
 
 sta_status sta_scene_open(const char *path, const sta_scene_options *options, sta_scene **out_scene,
@@ -36,6 +42,9 @@ sta_status sta_scene_open(const char *path, const sta_scene_options *options, st
 {
     *out_scene = NULL;
     sta_scene *s = sta_calloc(1, sizeof(*s));
+    if (s) {
+        s->hide_flags = STA_SCENE_DEFAULT_HIDE_FLAGS;
+    }
     if (!s) {
         return sta_fail(err, STA_ERR_NOMEM, "out of memory");
     }
@@ -77,6 +86,9 @@ void sta_scene_close(sta_scene *s)
         return;
     }
     sta_pass_katz_release(&s->katz);
+    if (s->has_mirror_pass) {
+        sta_pass_mirror_release(&s->mirror_pass);
+    }
     sta_pass_geometry_release(&s->geometry);
     if (s->has_pipeline) {
         sta_pipeline_release(&s->pipeline);
@@ -161,6 +173,54 @@ const sta_pass_katz *sta_scene_katz(const sta_scene *s)
     return &s->katz;
 }
 
+void sta_scene_set_hide_flags(sta_scene *s, unsigned flags)
+{
+    s->hide_flags = flags;
+}
+
+void sta_scene_set_mirrors(sta_scene *s, const sta_mirror_set *mirrors, bool reflect)
+{
+    s->mirrors = mirrors;
+    s->reflect_mirrors = reflect && mirrors && mirrors->count > 0;
+}
+
+// Whether every vertex of the outline lies outside one plane of the frustum (then the
+// mirror cannot show on screen).
+static bool mirror_outside(const sta_mirror *m, const sta_frustum *frustum)
+{
+    for (int p = 0; p < 6; p++) {
+        const double *plane = frustum->planes[p];
+        size_t outside = 0;
+        for (size_t i = 0; i < m->vertex_count; i++) {
+            const double *v = m->vertices[i];
+            outside += plane[0] * v[0] + plane[1] * v[1] + plane[2] * v[2] + plane[3] < 0.0;
+        }
+        if (outside == m->vertex_count) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// The mirrors drawn this frame (in view, seen from the front, vertical) and their
+// reflected cameras; returns how many.
+static size_t mirror_views(const sta_scene *s, const sta_camera *camera,
+                           const sta_mirror *out_mirrors[STA_SELECT_MAX_EXTRA_VIEWS],
+                           sta_camera out_views[STA_SELECT_MAX_EXTRA_VIEWS])
+{
+    size_t n = 0;
+    sta_frustum frustum;
+    sta_camera_frustum(camera, 1e300, &frustum);
+    for (size_t k = 0; s->reflect_mirrors && k < s->mirrors->count; k++) {
+        const sta_mirror *m = &s->mirrors->mirrors[k];
+        if (n < STA_SELECT_MAX_EXTRA_VIEWS && !mirror_outside(m, &frustum) &&
+            sta_mirror_reflect_camera(m, camera, &out_views[n])) {
+            out_mirrors[n++] = m;
+        }
+    }
+    return n;
+}
+
 void sta_scene_set_colour_mode(sta_scene *s, int mode)
 {
     s->colour_mode = mode >= 0 && mode < STA_COLOUR_MODE_COUNT ? mode : STA_COLOUR_RGB;
@@ -202,6 +262,10 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     if (status != STA_OK) {
         return status;
     }
+    const sta_mirror *mirrors[STA_SELECT_MAX_EXTRA_VIEWS];
+    sta_camera reflected[STA_SELECT_MAX_EXTRA_VIEWS];
+    size_t mirror_count = mirror_views(s, camera, mirrors, reflected);
+    sta_streamer_set_extra_views(s->streamer, reflected, mirror_count);
     sta_stream_frame frame;
     status = sta_streamer_update(s->streamer, camera, &frame, err);
     if (status != STA_OK) {
@@ -231,9 +295,13 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
             return status;
         }
     }
-    sta_geometry_colours colours = { s->colour_mode, info->bounds_min[2],
+    sta_geometry_colours colours = { s->colour_mode,
+                                     info->bounds_min[2],
                                      info->bounds_max[2] - info->bounds_min[2],
-                                     sta_streamer_intensity_scale(s->streamer), &s->ground };
+                                     sta_streamer_intensity_scale(s->streamer),
+                                     &s->ground,
+                                     s->hide_flags,
+                                     { 0 } };
     if (s->ramp[1] > s->ramp[0]) { // --elevation-range
         colours.elevation_min = s->ramp[0];
         colours.elevation_span = s->ramp[1] - s->ramp[0];
@@ -277,6 +345,21 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
                                    (float)camera->near_m, stats->s0_m > 0 ? stats->s0_m : 0.01f };
         status = sta_pipeline_run(&s->pipeline, &s->pipeline_options, &screen, target->depth,
                                   target->colour, s->timing ? &stats->timing : NULL, err);
+        if (status != STA_OK) {
+            return status;
+        }
+    }
+    if (mirror_count > 0 && !s->has_mirror_pass) {
+        status = sta_pass_mirror_init(&s->mirror_pass, err);
+        if (status != STA_OK) {
+            return status;
+        }
+        s->has_mirror_pass = true;
+    }
+    for (size_t i = 0; i < mirror_count; i++) {
+        status = sta_pass_mirror_draw(&s->mirror_pass, mirrors[i], camera, &reflected[i], &colours,
+                                      &s->geometry, &s->cache, s->frames, frame.draw,
+                                      frame.draw_count, target, err);
         if (status != STA_OK) {
             return status;
         }

@@ -15,8 +15,10 @@
 #include "format/strata_reader.h"
 #include "render/pass_geometry.h"
 #include "render/pass_katz.h"
+#include "render/pass_mirror.h"
 #include "render/pipeline.h"
 #include "render/target.h"
+#include "stream/gpu_points.h"
 #include "stream/streamer.h"
 
 typedef struct sta_scene sta_scene;
@@ -83,6 +85,16 @@ const sta_geometry_choice *sta_scene_raster_choice(const sta_scene *scene);
 
 /* Turns per-pass timing on (times in sta_frame_stats; drains the GPU around each pass). */
 void sta_scene_set_timing(sta_scene *scene, bool on);
+
+/* Points whose GPU flags (stream/gpu_points.h) have any of `flags` are not drawn;
+ * STA_SCENE_DEFAULT_HIDE_FLAGS (mirror ghosts hidden) until set. */
+#define STA_SCENE_DEFAULT_HIDE_FLAGS STA_GPU_FLAG_MIRROR_GHOST
+void sta_scene_set_hide_flags(sta_scene *scene, unsigned flags);
+
+/* Mirrors to draw by reflection (render/pass_mirror.h), borrowed until set again or
+ * close; NULL or `reflect` false: none. Only vertical mirrors seen from the front are
+ * drawn, at most STA_SELECT_MAX_EXTRA_VIEWS per frame (docs/MIRRORS.md). */
+void sta_scene_set_mirrors(sta_scene *scene, const sta_mirror_set *mirrors, bool reflect);
 
 /* Sets the colour mode (STA_COLOUR_* of render/bindings.h). */
 void sta_scene_set_colour_mode(sta_scene *scene, int mode);

@@ -41,7 +41,7 @@ void sta_gpu_points_encode(const sta_gpu_node_frame *frame, const sta_point *poi
         o[11] = p->classification;
         o[12] = p->return_number;
         o[13] = p->number_of_returns;
-        o[14] = 0;
+        o[STA_GPU_POINT_FLAGS_BYTE] = p->mirror ? STA_GPU_FLAG_MIRROR_GHOST : 0;
         o[15] = 0;
     }
 }

@@ -8,7 +8,9 @@
  * bytes  8..10  uint8 red, green, blue (16-bit colour scaled down by the scene's depth)
  * byte   11     uint8 classification
  * byte   12     uint8 return number, byte 13 number of returns
- * bytes 14..15  reserved (0)
+ * byte   14     uint8 flags: bit 0 STA_GPU_FLAG_MIRROR_GHOST (the viewer hides these
+ *               unless asked: docs/MIRRORS.md)
+ * byte   15     reserved (0)
  */
 #ifndef STA_STREAM_GPU_POINTS_H
 #define STA_STREAM_GPU_POINTS_H
@@ -20,7 +22,9 @@
 #include "format/strata.h"
 
 enum {
-    STA_GPU_POINT_SIZE = 16
+    STA_GPU_POINT_SIZE = 16,
+    STA_GPU_POINT_FLAGS_BYTE = 14,
+    STA_GPU_FLAG_MIRROR_GHOST = 1u << 0, /* a ghost seen through a mirror */
 };
 
 /* Per-axis dequantisation of one node: real position relative to the node corner is

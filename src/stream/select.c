@@ -41,13 +41,23 @@ double sta_select_node_priority(const sta_lod_node *node, const sta_camera *came
 
 // A node's priority, 0 when the clip rejects it (nor can its children pass: their
 // boxes lie inside its box, their levels are deeper, their spacing smaller).
-static double clipped_priority(const sta_lod_node *node, const sta_camera *camera,
-                               const sta_frustum *frustum, const sta_clip *clip)
+typedef struct views {
+    const sta_camera *cameras[1 + STA_SELECT_MAX_EXTRA_VIEWS];
+    sta_frustum frusta[1 + STA_SELECT_MAX_EXTRA_VIEWS];
+    size_t count;
+} views;
+
+static double clipped_priority(const sta_lod_node *node, const views *v, const sta_clip *clip)
 {
     if (clip && !sta_clip_keeps_node(clip, node->level, node->spacing, node->min, node->max)) {
         return 0.0;
     }
-    return sta_select_node_priority(node, camera, frustum);
+    double best = 0.0;
+    for (size_t i = 0; i < v->count; i++) {
+        double p = sta_select_node_priority(node, v->cameras[i], &v->frusta[i]);
+        best = p > best ? p : best;
+    }
+    return best;
 }
 
 static sta_status reserve(uint32_t **nodes, double **keys, size_t *capacity, size_t needed,
@@ -132,13 +142,18 @@ sta_status sta_select(const sta_lod_tree *tree, const sta_camera *camera,
     if (tree->count == 0) {
         return STA_OK;
     }
-    sta_frustum frustum;
-    sta_camera_frustum(camera, 1e300, &frustum);
+    views v = { .cameras = { camera }, .count = 1 };
+    sta_camera_frustum(camera, 1e300, &v.frusta[0]);
+    for (size_t i = 0; i < resolved.extra_view_count && i < STA_SELECT_MAX_EXTRA_VIEWS; i++) {
+        v.cameras[v.count] = &resolved.extra_views[i];
+        sta_camera_frustum(&resolved.extra_views[i], 1e300, &v.frusta[v.count]);
+        v.count++;
+    }
     sta_status status = reserve(&s->heap_nodes, &s->heap_keys, &s->heap_capacity, 8, err);
     if (status != STA_OK) {
         return status;
     }
-    double root = clipped_priority(&tree->nodes[0], camera, &frustum, params->clip);
+    double root = clipped_priority(&tree->nodes[0], &v, resolved.clip);
     if (root > 0) {
         heap_push(s, 0, root);
     }
@@ -171,7 +186,7 @@ sta_status sta_select(const sta_lod_tree *tree, const sta_camera *camera,
                 continue;
             }
             if (child < tree->count) {
-                double p = clipped_priority(&tree->nodes[child], camera, &frustum, params->clip);
+                double p = clipped_priority(&tree->nodes[child], &v, resolved.clip);
                 if (p > 0) {
                     heap_push(s, child, p);
                 }

@@ -26,11 +26,17 @@
 /* On-screen spacing below which a node is not refined when none is given, pixels. */
 #define STA_DEFAULT_MIN_SPACING_PX 0.75
 
+#define STA_SELECT_MAX_EXTRA_VIEWS 8 /* further cameras a cut may serve (mirror reflections) */
+
 typedef struct sta_select_params {
-    uint64_t budget_points; /* 0: STA_DEFAULT_BUDGET_POINTS */
-    double min_spacing_px;  /* 0: STA_DEFAULT_MIN_SPACING_PX; stop refining below this */
-    const sta_clip *clip;   /* borrowed or NULL: nodes it rejects are not selected, so
-                               the budget goes to the nodes that can show points */
+    uint64_t budget_points;        /* 0: STA_DEFAULT_BUDGET_POINTS */
+    double min_spacing_px;         /* 0: STA_DEFAULT_MIN_SPACING_PX; stop refining below this */
+    const sta_clip *clip;          /* borrowed or NULL: nodes it rejects are not selected, so
+                                      the budget goes to the nodes that can show points */
+    const sta_camera *extra_views; /* borrowed: the cut serves these too (a node's priority
+                                      is its largest over all views); up to
+                                      STA_SELECT_MAX_EXTRA_VIEWS are used */
+    size_t extra_view_count;
 } sta_select_params;
 
 /* Fills the zero fields of `params` with their defaults. */

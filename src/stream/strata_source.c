@@ -20,6 +20,25 @@ static void worker_end(void *context, void *worker)
     sta_strata_decoder_destroy(worker);
 }
 
+/* The viewer's mirror file, for files converted without --mirrors: flags the ghosts
+ * of `count` points encoded at `gpu` (the stored attribute wins when present). */
+static void flag_ghosts(const sta_strata_source *s, const sta_strata_info *info,
+                        const sta_point *points, size_t count, uint8_t *gpu)
+{
+    if (!s->mirrors || (info->layout.attributes & STA_STRATA_ATTR_MIRROR)) {
+        return;
+    }
+    const sta_grid *grid = &info->geometry.grid;
+    for (size_t i = 0; i < count; i++) {
+        const double world[3] = { sta_grid_apply(grid, 0, points[i].X),
+                                  sta_grid_apply(grid, 1, points[i].Y),
+                                  sta_grid_apply(grid, 2, points[i].Z) };
+        if (sta_mirror_ghost_in_volume(s->mirrors, world)) {
+            gpu[i * STA_GPU_POINT_SIZE + STA_GPU_POINT_FLAGS_BYTE] |= STA_GPU_FLAG_MIRROR_GHOST;
+        }
+    }
+}
+
 static sta_status load(void *context, void *worker, uint32_t node, uint8_t **out_gpu,
                        size_t *out_count, sta_error *err)
 {
@@ -40,6 +59,7 @@ static sta_status load(void *context, void *worker, uint32_t node, uint8_t **out
     sta_gpu_node_frame_init(&frame, &info->geometry, sta_strata_reader_node(s->reader, node)->key);
     if (!s->clip) {
         sta_gpu_points_encode(&frame, points.points, points.count, s->colour_shift, gpu);
+        flag_ghosts(s, info, points.points, points.count, gpu);
         *out_gpu = gpu;
         *out_count = points.count;
         return STA_OK;
@@ -56,6 +76,7 @@ static sta_status load(void *context, void *worker, uint32_t node, uint8_t **out
         if (end > i) {
             sta_gpu_points_encode(&frame, points.points + i, end - i, s->colour_shift,
                                   gpu + kept * STA_GPU_POINT_SIZE);
+            flag_ghosts(s, info, points.points + i, end - i, gpu + kept * STA_GPU_POINT_SIZE);
             kept += end - i;
         }
         i = end + 1; // points[end] was refused (or end is the count)
@@ -75,6 +96,7 @@ void sta_strata_source_init(sta_strata_source *source, const sta_strata_reader *
     source->reader = reader;
     source->colour_shift = colour_shift;
     source->clip = NULL;
+    source->mirrors = NULL;
     source->source = (sta_node_source){ .context = source,
                                         .node_count = sta_strata_reader_info(reader)->node_count,
                                         .worker_begin = worker_begin,

@@ -6,6 +6,7 @@
 #define STA_STREAM_STRATA_SOURCE_H
 
 #include "format/strata_reader.h"
+#include "mirror/mirror_set.h"
 #include "stream/clip.h"
 #include "stream/node_source.h"
 
@@ -15,6 +16,8 @@ typedef struct sta_strata_source {
     int colour_shift;                /* 8 for 16-bit colour, 0 for 8-bit */
     const sta_clip *clip;            /* borrowed or NULL; set before loading starts:
                                         only the points it keeps are loaded */
+    const sta_mirror_set *mirrors;   /* borrowed or NULL; set before loading starts:
+                                        flags ghosts when the file has no MIRROR bit */
 } sta_strata_source;
 
 /* Fills `source` (caller-owned, must stay in place while used) for `reader`. */

@@ -20,8 +20,10 @@ typedef struct s0_sample {
 } s0_sample;
 
 struct sta_streamer {
-    sta_streamer_options options; /* defaults resolved */
-    sta_strata_reader *reader;    /* owned; NULL over another source */
+    sta_streamer_options options;                       /* defaults resolved */
+    sta_camera extra_views[STA_SELECT_MAX_EXTRA_VIEWS]; /* sta_streamer_set_extra_views */
+    size_t extra_view_count;
+    sta_strata_reader *reader; /* owned; NULL over another source */
     sta_strata_source strata_source;
     const sta_node_source *source; /* &strata_source.source or borrowed */
     sta_lod_tree tree;             /* owned copy */
@@ -117,6 +119,9 @@ static sta_status start(sta_streamer *s, const sta_streamer_options *options, st
     }
     if (s->reader && sta_clip_filters_points(&s->options.clip)) {
         s->strata_source.clip = &s->options.clip; // before any worker starts
+    }
+    if (s->reader) {
+        s->strata_source.mirrors = s->options.mirrors;
     }
     sta_loader_options lo = { .threads = s->options.loader_threads };
     return sta_loader_create(s->source, &lo, &s->loader, err);
@@ -242,6 +247,14 @@ static void take_finished(sta_streamer *s, sta_stream_frame *f)
     }
 }
 
+void sta_streamer_set_extra_views(sta_streamer *s, const sta_camera *views, size_t count)
+{
+    s->extra_view_count = count < STA_SELECT_MAX_EXTRA_VIEWS ? count : STA_SELECT_MAX_EXTRA_VIEWS;
+    for (size_t i = 0; i < s->extra_view_count; i++) {
+        s->extra_views[i] = views[i];
+    }
+}
+
 sta_status sta_streamer_update(sta_streamer *s, const sta_camera *camera, sta_stream_frame *f,
                                sta_error *err)
 {
@@ -254,7 +267,8 @@ sta_status sta_streamer_update(sta_streamer *s, const sta_camera *camera, sta_st
     uint64_t cache_points = s->options.gpu_bytes_cap / STA_GPU_POINT_SIZE;
     sta_select_params params = { s->options.budget_points < cache_points ? s->options.budget_points
                                                                          : cache_points,
-                                 s->options.min_spacing_px, &s->options.clip };
+                                 s->options.min_spacing_px, &s->options.clip, s->extra_views,
+                                 s->extra_view_count };
     sta_status status = sta_select(&s->tree, camera, &params, &s->selection, err);
     if (status != STA_OK) {
         return status;

@@ -25,6 +25,7 @@
 #include "core/camera.h"
 #include "core/status.h"
 #include "format/strata_reader.h"
+#include "mirror/mirror_set.h"
 #include "stream/clip.h"
 #include "stream/lod_tree.h"
 #include "stream/node_source.h"
@@ -45,6 +46,9 @@ typedef struct sta_streamer_options {
                                         selected nor loaded, and loaded nodes keep only
                                         the points that pass (its polygon is borrowed
                                         and must outlive the streamer) */
+    const sta_mirror_set *mirrors;   /* NULL, or mirrors whose ghosts are flagged at load in
+                                        files without a MIRROR attribute (borrowed, must
+                                        outlive the streamer) */
 } sta_streamer_options;
 
 /* Fills the zero fields of `options` with their defaults. */
@@ -95,6 +99,10 @@ sta_status sta_streamer_create(const sta_lod_tree *tree, const sta_node_source *
 void sta_streamer_close(sta_streamer *streamer);
 
 /* One frame's decisions for `camera` (see Design). */
+/* Further views the next cuts must serve as well (mirror reflections: render/pass_mirror.h);
+ * copied, at most STA_SELECT_MAX_EXTRA_VIEWS; count 0 for none. */
+void sta_streamer_set_extra_views(sta_streamer *streamer, const sta_camera *views, size_t count);
+
 sta_status sta_streamer_update(sta_streamer *streamer, const sta_camera *camera,
                                sta_stream_frame *out_frame, sta_error *err);
 

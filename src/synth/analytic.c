@@ -170,7 +170,8 @@ sta_status sta_synth_analytic_init(sta_synth_scene *scene, sta_error *err)
     case STA_SYNTH_MESH:
         return init_mesh(an, scene->params.mesh_path, err);
     case STA_SYNTH_STREET:
-        return sta_fail(err, STA_ERR_ARG, "street is not an analytic scene");
+    case STA_SYNTH_MIRROR:
+        return sta_fail(err, STA_ERR_ARG, "scene kind %d is not analytic", (int)scene->params.kind);
     }
     split_counts(an, scene->params.point_count);
     return STA_OK;

@@ -31,6 +31,10 @@ sta_status sta_synth_source_init(synth_source *src, sta_synth_scene *scene,
         sta_rng_seed(&src->rng, sta_hash2(scene->params.seed, KEY_SCAN));
         return sta_street_source_init(src, err);
     }
+    if (scene->room) {
+        sta_rng_seed(&src->rng, sta_hash2(scene->params.seed, KEY_SCAN));
+        return STA_OK;
+    }
     sta_rng_seed(&src->rng, sta_hash2(scene->params.seed, KEY_SAMPLE));
     src->primitive = 0;
     src->primitive_left = scene->analytic.counts[0];
@@ -49,12 +53,16 @@ void sta_synth_source_fill(synth_source *src, sta_point *out, size_t count)
 {
     if (src->scene->street) {
         sta_street_source_fill(src, out, count);
+    } else if (src->scene->room) {
+        sta_room_source_fill(src, out, count);
     } else {
         sta_analytic_source_fill(src, out, count);
     }
 }
 
-sta_status sta_synth_truth_path(const char *las_path, char **out_path, sta_error *err)
+/* las_path with ".las" (any case) replaced by `suffix`, or `suffix` appended. */
+static sta_status sidecar_path(const char *las_path, const char *suffix, char **out_path,
+                               sta_error *err)
 {
     *out_path = NULL;
     size_t n = strlen(las_path);
@@ -64,15 +72,43 @@ sta_status sta_synth_truth_path(const char *las_path, char **out_path, sta_error
         tolower((unsigned char)las_path[n - 1]) == 's') {
         stem = n - 4;
     }
-    static const char suffix[] = ".truth.json";
-    char *path = sta_malloc(stem + sizeof(suffix));
+    size_t suffix_size = strlen(suffix) + 1;
+    char *path = sta_malloc(stem + suffix_size);
     if (!path) {
         return sta_fail(err, STA_ERR_NOMEM, "%s: out of memory", las_path);
     }
     memcpy(path, las_path, stem);
-    memcpy(path + stem, suffix, sizeof(suffix));
+    memcpy(path + stem, suffix, suffix_size);
     *out_path = path;
     return STA_OK;
+}
+
+sta_status sta_synth_truth_path(const char *las_path, char **out_path, sta_error *err)
+{
+    return sidecar_path(las_path, ".truth.json", out_path, err);
+}
+
+sta_status sta_synth_mirrors_path(const char *las_path, char **out_path, sta_error *err)
+{
+    return sidecar_path(las_path, ".mirrors.json", out_path, err);
+}
+
+/* The mirror scene's mirror file, in world coordinates (local + georef origin). */
+static sta_status write_mirror_file(const sta_synth_scene *scene, const sta_synth_georef *georef,
+                                    const char *las_path, sta_error *err)
+{
+    const sta_mirror_set *local = sta_synth_scene_mirrors(scene);
+    if (!local) {
+        return STA_OK;
+    }
+    char *path = NULL;
+    sta_mirror_set world = { 0 };
+    sta_status s = sta_synth_mirrors_path(las_path, &path, err);
+    s = s == STA_OK ? sta_mirror_set_translated(local, georef->origin, &world, err) : s;
+    s = s == STA_OK ? sta_mirror_set_save(path, &world, err) : s;
+    sta_mirror_set_release(&world);
+    sta_free(path);
+    return s;
 }
 
 sta_status sta_synth_generate(const sta_synth_params *params, const char *las_path,
@@ -144,6 +180,12 @@ sta_status sta_synth_generate(const sta_synth_params *params, const char *las_pa
         goto out;
     }
     status = sta_synth_truth_write(truth_path, &src, err);
+    if (status == STA_OK) {
+        status = write_mirror_file(scene, &georef, las_path, err);
+        if (status != STA_OK) {
+            remove(truth_path);
+        }
+    }
     if (status != STA_OK) {
         remove(las_path); // no LAS without its truth
     }

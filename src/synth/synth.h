@@ -25,6 +25,7 @@
 
 #include "core/point.h"
 #include "core/status.h"
+#include "mirror/mirror_set.h"
 
 #define STA_SYNTH_STREET_VERSION 1 /* bump when the street generator's output changes */
 
@@ -34,6 +35,7 @@ typedef enum sta_synth_kind {
     STA_SYNTH_PLANES,     /* 5 stacked, staggered 10 m squares at depth gaps 1 cm .. 10 m */
     STA_SYNTH_NESTED,     /* a sphere inside a closed box (hidden from outside) */
     STA_SYNTH_MESH,       /* uniform-by-area samples of a PLY triangle mesh */
+    STA_SYNTH_MIRROR,     /* a room with mirrors: ghost points behind them (truth labelled) */
 } sta_synth_kind;
 
 typedef enum sta_synth_origin {
@@ -104,7 +106,16 @@ typedef struct sta_synth_hit {
 
 typedef struct sta_synth_scene sta_synth_scene;
 
-/* The scene kind for a name ("street", "sphere", "planes", "nested", "mesh"). */
+/* Mirror scene only: its mirrors in scene-local coordinates (else NULL). Valid until
+ * destroy. Add the georef origin for world coordinates. */
+const sta_mirror_set *sta_synth_scene_mirrors(const sta_synth_scene *scene);
+
+/* The mirror file's path of a LAS path: "x.las" -> "x.mirrors.json" (as
+ * sta_synth_truth_path). The mirror scene writes it beside its sidecar, in world
+ * coordinates. *out_path is owned by the caller (sta_free). */
+sta_status sta_synth_mirrors_path(const char *las_path, char **out_path, sta_error *err);
+
+/* The scene kind for a name ("street", "sphere", "planes", "nested", "mesh", "mirror"). */
 bool sta_synth_kind_from_name(const char *name, sta_synth_kind *out_kind);
 
 /* The name of a kind ("?" when unknown). Never NULL. */
@@ -139,8 +150,8 @@ bool sta_synth_scene_raycast(sta_synth_scene *scene, const double origin[3], con
 bool sta_synth_scene_raycast_ex(sta_synth_scene *scene, const double origin[3], const double dir[3],
                                 double min_t, double max_t, unsigned flags, sta_synth_hit *out_hit);
 
-/* Street only: the scanner's position (local metres) at GPS time `gps_time`.
- * STA_ERR_ARG for other scenes. */
+/* Street and mirror scenes: the scanner's position (local metres) at GPS time
+ * `gps_time`. STA_ERR_ARG for other scenes. */
 sta_status sta_synth_scene_scanner_position(const sta_synth_scene *scene, double gps_time,
                                             double out_position[3], sta_error *err);
 

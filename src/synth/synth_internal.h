@@ -11,6 +11,7 @@
 
 #include "io/ply.h"
 #include "synth/mesh_bvh.h"
+#include "synth/mirror_room.h"
 #include "synth/street.h"
 #include "synth/synth.h"
 #include "synth/synth_rng.h"
@@ -65,6 +66,7 @@ struct sta_synth_scene {
     sta_street *street;      /* street scene, else NULL */
     street_scan_config scan; /* street scene */
     synth_analytic analytic; /* other scenes */
+    synth_room *room;        /* mirror scene, else NULL */
 };
 
 /* Scanner settings for `point_count` points. */
@@ -120,6 +122,7 @@ typedef struct synth_source {
     uint64_t pulse_count;          /* pulses cast */
     double last_s_m;               /* run position of the last pulse */
     double last_gps_time;          /* of the last pulse */
+    uint64_t room_ray;             /* mirror scene: next pulse */
     // Analytic sampler state.
     int primitive;           /* current rect/sphere index */
     uint64_t primitive_left; /* points left on it */
@@ -138,6 +141,7 @@ void sta_synth_source_fill(synth_source *src, sta_point *out, size_t count);
 sta_status sta_street_source_init(synth_source *src, sta_error *err);
 void sta_street_source_fill(synth_source *src, sta_point *out, size_t count);
 void sta_analytic_source_fill(synth_source *src, sta_point *out, size_t count);
+void sta_room_source_fill(synth_source *src, sta_point *out, size_t count);
 
 /* Writes the truth sidecar for a finished run to `path` (temporary + rename). */
 sta_status sta_synth_truth_write(const char *path, const synth_source *src, sta_error *err);

@@ -26,7 +26,9 @@ static const char usage_text[] =
     "  sphere   points uniformly on a sphere of radius 10 m\n"
     "  planes   five stacked 10 m squares at depth gaps of 1 cm, 10 cm, 1 m, 10 m\n"
     "  nested   a sphere (radius 3 m) inside a closed box (10 m), hidden from outside\n"
-    "  mesh     uniform samples on the triangles of a PLY (--mesh FILE.ply)\n";
+    "  mesh     uniform samples on the triangles of a PLY (--mesh FILE.ply)\n"
+    "  mirror   a room with three mirrors scanned from three stations: ghost points behind\n"
+    "           the mirrors (user_data = 1 + mirror index), the mirrors in OUT.mirrors.json\n";
 
 typedef struct synth_args {
     sta_synth_params params;
@@ -95,7 +97,7 @@ static int parse(int argc, char **argv, synth_args *c)
           .real_min = 0.0,
           .real_max = 10.0,
           .help = "Gaussian noise sigma in metres",
-          .default_text = "street 0.015, others 0" },
+          .default_text = "street 0.015, mirror 0.003, others 0" },
         { .name = "quiet",
           .short_name = 'q',
           .kind = STA_CLI_FLAG,
@@ -123,11 +125,12 @@ static int parse(int argc, char **argv, synth_args *c)
     }
     const char *scene = r.positional_count ? r.positional[0] : NULL;
     if (!scene) {
-        return sta_cli_usage_error(&cli, "no scene given (street, sphere, planes, nested, mesh)");
+        return sta_cli_usage_error(&cli,
+                                   "no scene given (street, sphere, planes, nested, mesh, mirror)");
     }
     if (!sta_synth_kind_from_name(scene, &c->params.kind)) {
         return sta_cli_usage_error(
-            &cli, "unknown scene '%s' (street, sphere, planes, nested, mesh)", scene);
+            &cli, "unknown scene '%s' (street, sphere, planes, nested, mesh, mirror)", scene);
     }
     if (!c->output) {
         return sta_cli_usage_error(&cli, "no output given (-o OUT.las)");

@@ -8,11 +8,12 @@
 #include "core/alloc.h"
 #include "synth/synth_internal.h"
 
-static const char *const kind_names[] = { "?", "street", "sphere", "planes", "nested", "mesh" };
+static const char *const kind_names[] = { "?",      "street", "sphere", "planes",
+                                          "nested", "mesh",   "mirror" };
 
 bool sta_synth_kind_from_name(const char *name, sta_synth_kind *out_kind)
 {
-    for (int k = STA_SYNTH_STREET; k <= STA_SYNTH_MESH; k++) {
+    for (int k = STA_SYNTH_STREET; k <= STA_SYNTH_MIRROR; k++) {
         if (strcmp(name, kind_names[k]) == 0) {
             *out_kind = (sta_synth_kind)k;
             return true;
@@ -23,7 +24,7 @@ bool sta_synth_kind_from_name(const char *name, sta_synth_kind *out_kind)
 
 const char *sta_synth_kind_name(sta_synth_kind kind)
 {
-    if (kind < STA_SYNTH_STREET || kind > STA_SYNTH_MESH) {
+    if (kind < STA_SYNTH_STREET || kind > STA_SYNTH_MIRROR) {
         return kind_names[0];
     }
     return kind_names[kind];
@@ -31,7 +32,7 @@ const char *sta_synth_kind_name(sta_synth_kind kind)
 
 static sta_status check_params(const sta_synth_params *p, sta_error *err)
 {
-    if (p->kind < STA_SYNTH_STREET || p->kind > STA_SYNTH_MESH) {
+    if (p->kind < STA_SYNTH_STREET || p->kind > STA_SYNTH_MIRROR) {
         return sta_fail(err, STA_ERR_ARG, "unknown scene kind %d", (int)p->kind);
     }
     if (p->point_count == 0) {
@@ -88,7 +89,11 @@ sta_status sta_synth_scene_create(const sta_synth_params *params, sta_synth_scen
         scene->params.mesh_path = scene->mesh_path_copy;
     }
     bool street = params->kind == STA_SYNTH_STREET;
-    scene->noise_m = params->has_noise ? params->noise_m : (street ? 0.015 : 0.0);
+    bool room = params->kind == STA_SYNTH_MIRROR;
+    scene->noise_m = params->has_noise ? params->noise_m
+                     : street          ? 0.015
+                     : room            ? ROOM_DEFAULT_NOISE_M
+                                       : 0.0;
     scene->params.has_noise = true;
     scene->params.noise_m = scene->noise_m;
     if (street) {
@@ -100,6 +105,10 @@ sta_status sta_synth_scene_create(const sta_synth_params *params, sta_synth_scen
         scene->params.street_length_m = length;
         status =
             sta_street_create(params->seed, scene->scan.start_s_m + length, &scene->street, err);
+    } else if (room) {
+        scene->room = sta_calloc(1, sizeof(*scene->room));
+        status = scene->room ? sta_room_init(scene->room, params->point_count, err)
+                             : sta_fail(err, STA_ERR_NOMEM, "out of memory for a scene");
     } else {
         status = sta_synth_analytic_init(scene, err);
     }
@@ -119,6 +128,10 @@ void sta_synth_scene_destroy(sta_synth_scene *scene)
         return;
     }
     sta_street_destroy(scene->street);
+    if (scene->room) {
+        sta_room_release(scene->room);
+        sta_free(scene->room);
+    }
     sta_synth_analytic_release(&scene->analytic);
     sta_free(scene->mesh_path_copy);
     sta_free(scene);
@@ -137,6 +150,16 @@ bool sta_synth_scene_raycast_ex(sta_synth_scene *scene, const double origin[3], 
         return sta_street_trace(st, st->first_block, st->last_block, origin, dir, min_t, max_t,
                                 flags, out_hit);
     }
+    if (scene->room) {
+        sta_synth_hit h = { .material = STA_SYNTH_MAT_SURFACE, .classification = 1 };
+        int surface = 0;
+        if (!sta_room_raycast(scene->room, origin, dir, min_t, max_t, &h.t, h.normal, &surface)) {
+            return false;
+        }
+        h.primitive_id = (uint64_t)surface;
+        *out_hit = h;
+        return true;
+    }
     return sta_synth_analytic_raycast(&scene->analytic, origin, dir, min_t, max_t, out_hit);
 }
 
@@ -149,6 +172,15 @@ bool sta_synth_scene_raycast(sta_synth_scene *scene, const double origin[3], con
 sta_status sta_synth_scene_scanner_position(const sta_synth_scene *scene, double gps_time,
                                             double out_position[3], sta_error *err)
 {
+    if (scene->room) {
+        double ray = floor((gps_time - ROOM_GPS_START) / ROOM_RAY_PERIOD_S + 0.5);
+        if (!(ray >= 0.0 && ray < 1e18)) {
+            return sta_fail(err, STA_ERR_ARG, "GPS time %.17g is not one of the scan's", gps_time);
+        }
+        int station = sta_room_station_of(scene->room, (uint64_t)ray);
+        memcpy(out_position, scene->room->stations[station], 3 * sizeof(double));
+        return STA_OK;
+    }
     if (!scene->street) {
         return sta_fail(err, STA_ERR_ARG, "%s scene has no scanner",
                         sta_synth_kind_name(scene->params.kind));
@@ -159,4 +191,9 @@ sta_status sta_synth_scene_scanner_position(const sta_synth_scene *scene, double
     double w = -cfg->cross_slope * fabs(scan->lane_u_m) + scan->height_m;
     sta_street_point(cfg, s, scan->lane_u_m, w, out_position);
     return STA_OK;
+}
+
+const sta_mirror_set *sta_synth_scene_mirrors(const sta_synth_scene *scene)
+{
+    return scene->room ? &scene->room->mirrors : NULL;
 }

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "core/alloc.h"
+#include "core/json_out.h"
 #include "synth/synth_internal.h"
 
 #define PI 3.14159265358979323846
@@ -206,6 +207,44 @@ static void put_analytic(FILE *f, const sta_synth_scene *scene, const char *side
     fputs("  ],\n", f);
 }
 
+/* The mirror scene: stations, ghost labels and counts, the mirrors in world
+ * coordinates as the mirror file holds them. */
+static void put_room(FILE *f, const synth_source *src, const char *sidecar)
+{
+    const synth_room *room = src->scene->room;
+    const sta_synth_georef *g = src->georef;
+    fputs("  \"mirror\": {\n    \"stations_local\": [", f);
+    for (int i = 0; i < ROOM_STATIONS; i++) {
+        fputs(i ? ", " : "", f);
+        put_vec(f, room->stations[i], 3);
+    }
+    fprintf(f, "],\n    \"rays_per_station\": %llu,\n", (unsigned long long)room->rays_per_station);
+    put_key_number(f, "    ", "ray_period_s", ROOM_RAY_PERIOD_S, true);
+    put_key_number(f, "    ", "gps_time_start", ROOM_GPS_START, true);
+    fprintf(f, "    \"pulses\": %llu,\n    \"max_bounces\": %d,\n",
+            (unsigned long long)src->room_ray, ROOM_MAX_BOUNCES);
+    fputs("    \"ghost_label\": \"user_data: 0 real point, k > 0 ghost seen through mirror k-1 "
+          "(the first on its path)\",\n",
+          f);
+    fprintf(f, "    \"real_count\": %llu,\n    \"ghost_counts\": [",
+            (unsigned long long)room->ghost_counts[0]);
+    for (size_t k = 0; k < room->mirrors.count; k++) {
+        fprintf(f, "%s%llu", k ? ", " : "", (unsigned long long)room->ghost_counts[k + 1]);
+    }
+    (void)sidecar;
+    fputs("],\n    \"mirrors\": ", f);
+    sta_mirror_set world = { 0 };
+    if (sta_mirror_set_translated(&room->mirrors, g->origin, &world, NULL) == STA_OK) {
+        sta_json_out json;
+        sta_json_init(&json, f, false);
+        sta_mirror_set_write_json(&json, &world);
+    } else {
+        fputs("null", f);
+    }
+    sta_mirror_set_release(&world);
+    fputs("\n  },\n", f);
+}
+
 static void put_classes(FILE *f, bool street, bool legacy)
 {
     fputs("  \"classes\": {", f);
@@ -260,16 +299,25 @@ static void put_document(FILE *f, const synth_source *src, const char *sidecar)
     fprintf(f, "    \"axes\": \"%s\"\n  },\n",
             p->origin == STA_SYNTH_ORIGIN_ECEF ? "local axes parallel to ECEF X, Y, Z"
                                                : "x east, y north, z up");
-    put_classes(f, street, p->point_format == 3);
+    if (scene->room) {
+        fputs("  \"classes\": {\"1\": \"furniture, mirror back\", \"2\": \"floor\", "
+              "\"6\": \"walls, ceiling\"},\n",
+              f);
+    } else {
+        put_classes(f, street, p->point_format == 3);
+    }
     if (street) {
         put_street(f, src);
+    } else if (scene->room) {
+        put_room(f, src, sidecar);
     } else {
         put_analytic(f, scene, sidecar);
     }
     fputs("  \"normals\": \"", f);
-    fputs(street ? "from sta_synth_scene_raycast (hit.normal)"
-                 : "analytic: sphere (p - centre) / radius, rectangle normal, mesh triangle "
-                   "winding; colour of each point encodes it as rgb = (n + 1) / 2",
+    fputs(street || scene->room
+              ? "from sta_synth_scene_raycast (hit.normal)"
+              : "analytic: sphere (p - centre) / radius, rectangle normal, mesh triangle "
+                "winding; colour of each point encodes it as rgb = (n + 1) / 2",
           f);
     fputs("\"\n}\n", f);
 }

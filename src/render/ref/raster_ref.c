@@ -137,10 +137,17 @@ void sta_raster_ref_draw(const sta_raster_ref_view *v, const sta_raster_ref_node
         const sta_raster_ref_node *node = &nodes[n];
         for (uint32_t i = 0; i < node->count; i++) {
             const uint8_t *p = node->points + (size_t)i * 16;
+            if (p[14] & v->hide_flags) {
+                continue;
+            }
             float relative[3];
             for (int axis = 0; axis < 3; axis++) {
                 float q = (float)((uint32_t)p[2 * axis] | (uint32_t)p[2 * axis + 1] << 8);
                 relative[axis] = node->origin[axis] + q * node->step[axis];
+            }
+            const float *c = v->clip_plane;
+            if (c[0] * relative[0] + c[1] * relative[1] + c[2] * relative[2] + c[3] < 0.0f) {
+                continue;
             }
             if (v->footprint.wide) {
                 draw_wide(v, node, relative, i, &out);

@@ -52,7 +52,9 @@ typedef struct sta_raster_ref_view {
     float view[16];       /* column-major, world directions -> camera space */
     float projection[16]; /* column-major, reverse-Z */
     int width_px, height_px;
-    int subpixel_bits; /* the driver's GL_SUBPIXEL_BITS */
+    int subpixel_bits;   /* the driver's GL_SUBPIXEL_BITS */
+    uint8_t hide_flags;  /* points whose flags byte (14) has any of these are not drawn */
+    float clip_plane[4]; /* camera-relative; points with a negative distance are not drawn */
     sta_raster_ref_footprint footprint;
 } sta_raster_ref_view;
 
