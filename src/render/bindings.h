@@ -20,6 +20,7 @@
 #define STA_ATTRIB_POSITION_INTENSITY 0 /* uvec4: qx, qy, qz, intensity */
 #define STA_ATTRIB_COLOUR_CLASS       1 /* uvec4: r, g, b, classification */
 #define STA_ATTRIB_RETURNS            2 /* uvec4: return number, number of returns, 0, 0 */
+#define STA_ATTRIB_SPLAT              3 /* uvec2: octahedral normal, half radius (splats) */
 
 #define STA_WORKGROUP_SIZE_X 8
 #define STA_WORKGROUP_SIZE_Y 8
@@ -124,6 +125,7 @@
  X(STA_ATTRIB_POSITION_INTENSITY)                                                                  \
  X(STA_ATTRIB_COLOUR_CLASS)                                                                        \
  X(STA_ATTRIB_RETURNS)                                                                             \
+ X(STA_ATTRIB_SPLAT)                                                                               \
  X(STA_WORKGROUP_SIZE_X)                                                                           \
  X(STA_WORKGROUP_SIZE_Y)                                                                           \
  X(STA_COLOUR_RGB)                                                                                 \

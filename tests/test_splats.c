@@ -1,0 +1,512 @@
+/* SPDX-License-Identifier: MIT
+ * The splat pass (render/pass_splats.h), both ways of drawing (instanced quads and the
+ * geometry shader), against the C twin render/ref/splat_ref.h on small hand-made sets
+ * with analytic normals: ids, depth and shaded colour per pixel; disks crossing each
+ * other cut along their intersection (per-fragment depth); a sphere of splats closes
+ * without holes where the same points at a third of the radius do not; the runtime
+ * scale; the smallest on-screen size; splats kept beside their points when the arena
+ * is repacked. */
+#include "scene_fixture.h"
+#include "test_support.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/camera.h"
+#include "render/bindings.h"
+#include "render/gl.h"
+#include "render/gpu_cache.h"
+#include "render/pass_splats.h"
+#include "render/ref/shade_ref.h"
+#include "render/ref/splat_ref.h"
+#include "stream/gpu_points.h"
+#include "stream/gpu_splats.h"
+
+enum {
+    W = 96,
+    H = 64,
+    MAX_POINTS = 80000
+};
+#define STEP_M (1.0 / 1024.0)
+
+/* One node of splats: points (GPU layout) followed by their splat records, as a node
+ * source hands them over; the camera sits at the origin looking along +X. */
+typedef struct splat_node {
+    double corner[3];
+    uint32_t count;
+    uint8_t *bytes; /* count * 16 bytes of points, then count * 8 of splats */
+    float (*normals)[3];
+    float *radii;
+    float (*colours)[3];
+} splat_node;
+
+static void node_init(splat_node *n, double x, double y, double z)
+{
+    memset(n, 0, sizeof(*n));
+    n->corner[0] = x, n->corner[1] = y, n->corner[2] = z;
+    n->bytes = calloc(MAX_POINTS, STA_GPU_POINT_SIZE + STA_GPU_SPLAT_SIZE);
+    n->normals = calloc(MAX_POINTS, sizeof(*n->normals));
+    n->radii = calloc(MAX_POINTS, sizeof(*n->radii));
+    n->colours = calloc(MAX_POINTS, sizeof(*n->colours));
+    assert_true(n->bytes && n->normals && n->radii && n->colours);
+}
+
+static void node_free(splat_node *n)
+{
+    free(n->bytes);
+    free(n->normals);
+    free(n->radii);
+    free(n->colours);
+}
+
+// Adds a splat at world position p (metres, camera at the origin), on the node's lattice.
+static void add_splat(splat_node *n, const double p[3], const double normal[3], double radius,
+                      uint32_t rgb)
+{
+    assert_true(n->count < MAX_POINTS);
+    uint8_t *r = n->bytes + (size_t)n->count * STA_GPU_POINT_SIZE;
+    for (int a = 0; a < 3; a++) {
+        long q = lround((p[a] - n->corner[a]) / STEP_M);
+        assert_true(q >= 0 && q <= 65535);
+        r[2 * a] = (uint8_t)(q & 0xFF);
+        r[2 * a + 1] = (uint8_t)(q >> 8);
+        n->normals[n->count][a] = (float)normal[a];
+    }
+    r[8] = (uint8_t)(rgb >> 16);
+    r[9] = (uint8_t)(rgb >> 8);
+    r[10] = (uint8_t)rgb;
+    r[12] = r[13] = 1;
+    n->radii[n->count] = (float)radius;
+    for (int c = 0; c < 3; c++) {
+        n->colours[n->count][c] = (float)r[8 + c] / 255.0f;
+    }
+    n->count++;
+}
+
+// Moves the splat records right after the points, as the node source lays them out.
+static void node_finish(splat_node *n)
+{
+    sta_gpu_splats_encode((const float(*)[3])n->normals, n->radii, n->count,
+                          n->bytes + (size_t)n->count * STA_GPU_POINT_SIZE);
+}
+
+static sta_camera test_camera(void)
+{
+    sta_camera c = { .fov_y = 60.0 * M_PI / 180.0, .near_m = 0.5, .width_px = W, .height_px = H };
+    return c;
+}
+
+typedef struct splat_out {
+    float depth[W * H];      /* GL order: rows from the bottom */
+    uint32_t ids[2 * W * H]; /* GL order */
+    float rgb[3 * W * H];    /* 0..1 */
+    size_t drawn;
+} splat_out;
+
+static size_t count_drawn(const splat_out *out)
+{
+    size_t drawn = 0;
+    for (int i = 0; i < W * H; i++) {
+        drawn += out->ids[2 * i] != STA_TARGET_NO_POINT;
+    }
+    return drawn;
+}
+
+static void twin(const splat_node *n, uint32_t slot, const sta_splat_options *options,
+                 splat_out *out)
+{
+    sta_camera camera = test_camera();
+    sta_splat_options o = *options;
+    sta_splat_options_defaults(&o);
+    sta_splat_ref_params p = { .width_px = W,
+                               .height_px = H,
+                               .scale = o.scale,
+                               .default_radius_m = 0.05f,
+                               .min_radius_px = o.min_radius_px,
+                               .light = { STA_SHADE_DEFAULT_AMBIENT, STA_SHADE_DEFAULT_DIFFUSE,
+                                          STA_SHADE_DEFAULT_SPECULAR, STA_SHADE_DEFAULT_SHININESS },
+                               .lit = !o.unlit };
+    sta_camera_view_rotation(&camera, p.view);
+    sta_camera_projection(&camera, p.projection);
+    sta_splat_ref_point *points = calloc(n->count ? n->count : 1, sizeof(*points));
+    assert_non_null(points);
+    for (uint32_t i = 0; i < n->count; i++) {
+        const uint8_t *r = n->bytes + (size_t)i * STA_GPU_POINT_SIZE;
+        float radius;
+        for (int a = 0; a < 3; a++) {
+            unsigned q = (unsigned)r[2 * a] | (unsigned)r[2 * a + 1] << 8;
+            points[i].relative[a] = (float)(n->corner[a] + q * STEP_M);
+            points[i].colour[a] = n->colours[i][a];
+        }
+        // The normal and radius as the GPU sees them: through the record.
+        sta_gpu_splat_decode(n->bytes + (size_t)n->count * STA_GPU_POINT_SIZE +
+                                 (size_t)i * STA_GPU_SPLAT_SIZE,
+                             points[i].normal, &radius);
+        points[i].radius = radius;
+        points[i].id[0] = slot;
+        points[i].id[1] = i;
+    }
+    sta_splat_ref_draw(&p, points, n->count, out->depth, out->ids, out->rgb);
+    free(points);
+    out->drawn = count_drawn(out);
+}
+
+static void upload(sta_gpu_cache *cache, const splat_node *n)
+{
+    sta_error err = { 0 };
+    assert_int_equal(sta_gpu_cache_init(cache, 1, &err), STA_OK);
+    sta_gpu_cache_enable_splats(cache);
+    sta_stream_upload u = { 0, n->count, n->bytes };
+    sta_stream_frame frame = { .upload = &u, .upload_count = 1 };
+    assert_int_equal(sta_gpu_cache_apply(cache, &frame, &err), STA_OK);
+    assert_true(cache->splat_buffer != 0);
+}
+
+static void flip_rows(void *data, size_t row_bytes)
+{
+    uint8_t *bytes = data, row[3 * W * sizeof(float)];
+    assert_true(row_bytes <= sizeof(row));
+    for (int y = 0; y < H / 2; y++) {
+        memcpy(row, bytes + y * row_bytes, row_bytes);
+        memcpy(bytes + y * row_bytes, bytes + (H - 1 - y) * row_bytes, row_bytes);
+        memcpy(bytes + (H - 1 - y) * row_bytes, row, row_bytes);
+    }
+}
+
+// Draws nodes `draw` of `cache` (frames from `nodes`, indexed by slot) with `options`.
+static void gpu(const sta_gpu_cache *cache, const splat_node *nodes, const uint32_t *draw,
+                size_t draw_count, const sta_splat_options *options, splat_out *out)
+{
+    sta_error err = { 0 };
+    sta_pass_splats pass;
+    if (sta_pass_splats_init(&pass, options->method, &err) != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    sta_gpu_node_frame frames[4];
+    memset(frames, 0, sizeof(frames));
+    for (uint32_t i = 0; i < cache->node_count && i < 4; i++) {
+        for (int a = 0; a < 3; a++) {
+            frames[i].corner[a] = nodes[i].corner[a];
+            frames[i].step[a] = STEP_M;
+        }
+    }
+    sta_camera camera = test_camera();
+    sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL };
+    sta_render_target target = { 0 };
+    assert_int_equal(sta_render_target_resize(&target, W, H, &err), STA_OK);
+    if (sta_pass_splats_draw(&pass, options, &camera, &colours, cache, frames, draw, draw_count,
+                             0.05f, &target, &err) != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    static uint8_t rgba[4 * W * H];
+    sta_render_target_read_depth(&target, out->depth);
+    sta_render_target_read_ids(&target, out->ids);
+    sta_render_target_read_rgba(&target, rgba);
+    flip_rows(out->depth, W * sizeof(float));
+    flip_rows(out->ids, 2 * W * sizeof(uint32_t));
+    for (int y = 0; y < H; y++) { // rgba is top row first
+        for (int x = 0; x < W; x++) {
+            for (int c = 0; c < 3; c++) {
+                out->rgb[3 * ((H - 1 - y) * W + x) + c] = rgba[4 * (y * W + x) + c] / 255.0f;
+            }
+        }
+    }
+    sta_render_target_release(&target);
+    sta_pass_splats_release(&pass);
+    out->drawn = count_drawn(out);
+}
+
+// The GPU equals the twin up to rounding at disk rims: ids differ on at most
+// `max_rim_fraction` of the drawn pixels; where the ids agree depth agrees to 1e-5
+// (relative) and colour to 2/255. Returns the pixels drawn.
+static size_t check_against_twin(const splat_node *n, const sta_splat_options *options,
+                                 double max_rim_fraction)
+{
+    static splat_out expected, got;
+    twin(n, 0, options, &expected);
+    sta_gpu_cache cache;
+    upload(&cache, n);
+    const uint32_t draw[1] = { 0 };
+    gpu(&cache, n, draw, 1, options, &got);
+    size_t id_differ = 0, depth_differ = 0, colour_differ = 0;
+    for (int i = 0; i < W * H; i++) {
+        if (memcmp(&expected.ids[2 * i], &got.ids[2 * i], 8) != 0) {
+            id_differ++;
+            continue;
+        }
+        if (fabsf(expected.depth[i] - got.depth[i]) > 1e-5f * expected.depth[i]) {
+            depth_differ++;
+        }
+        for (int c = 0; c < 3; c++) {
+            if (fabsf(expected.rgb[3 * i + c] - got.rgb[3 * i + c]) > 2.0f / 255.0f) {
+                colour_differ++;
+                break;
+            }
+        }
+    }
+    printf("%s: %zu pixels drawn (twin %zu), %zu ids, %zu depths, %zu colours differ\n",
+           sta_splat_method_name(options->method), got.drawn, expected.drawn, id_differ,
+           depth_differ, colour_differ);
+    assert_true(expected.drawn > 0);
+    assert_true((double)id_differ <= max_rim_fraction * (double)expected.drawn);
+    assert_int_equal(depth_differ, 0);
+    assert_int_equal(colour_differ, 0);
+    sta_gpu_cache_release(&cache);
+    return got.drawn;
+}
+
+static const int methods[2] = { STA_SPLAT_INSTANCED, STA_SPLAT_GEOMETRY };
+
+// Seven large disks at different depths and tilts, overlapping on screen.
+static void twin_matches_overlapping_disks(void **state)
+{
+    (void)state;
+    splat_node n;
+    node_init(&n, 2.0, -10.0, -10.0);
+    for (int k = 0; k < 7; k++) {
+        double tilt = 0.3 * (k - 3);
+        double p[3] = { 6.0 + 1.5 * k, -2.4 + 0.8 * k, -1.0 + 0.3 * (k % 3) };
+        double normal[3] = { -cos(tilt), sin(tilt) * 0.6, sin(tilt) * 0.8 };
+        add_splat(&n, p, normal, 1.5 + 0.1 * k, 0x204080u + 0x181008u * (uint32_t)k);
+    }
+    node_finish(&n);
+    for (int m = 0; m < 2; m++) {
+        sta_splat_options o = { .method = methods[m] };
+        size_t drawn = check_against_twin(&n, &o, 0.02);
+        assert_true(drawn > W * H / 8);
+    }
+    node_free(&n);
+}
+
+// Two disks with the same centre, turned +-40 degrees about the vertical: each is the
+// nearer on one side of the centre, so each must win there. Fat points (one depth per
+// splat) would show one disk everywhere.
+static void crossing_disks_cut_each_other(void **state)
+{
+    (void)state;
+    splat_node n;
+    node_init(&n, 2.0, -10.0, -10.0);
+    const double centre[3] = { 8.0, 0.0, 0.0 }, a = 40.0 * M_PI / 180.0;
+    const double left[3] = { -cos(a), sin(a), 0.0 }, right[3] = { -cos(a), -sin(a), 0.0 };
+    add_splat(&n, centre, left, 2.0, 0xFF0000u);
+    add_splat(&n, centre, right, 2.0, 0x0000FFu);
+    node_finish(&n);
+    for (int m = 0; m < 2; m++) {
+        sta_splat_options o = { .method = methods[m] };
+        check_against_twin(&n, &o, 0.02);
+        static splat_out got;
+        sta_gpu_cache cache;
+        upload(&cache, &n);
+        const uint32_t draw[1] = { 0 };
+        gpu(&cache, &n, draw, 1, &o, &got);
+        // Middle row: to the left of the centre column one disk, to the right the other
+        // (+Y is left in this view).
+        int y = H / 2;
+        uint32_t left_id = got.ids[2 * (y * W + W / 2 - 8) + 1];
+        uint32_t right_id = got.ids[2 * (y * W + W / 2 + 8) + 1];
+        assert_true(left_id <= 1 && right_id <= 1);
+        assert_int_not_equal(left_id, right_id);
+        sta_gpu_cache_release(&cache);
+    }
+    node_free(&n);
+}
+
+// A sphere of radius 3 m, 12 m ahead, splats on a Fibonacci lattice with analytic
+// normals and the lattice spacing as radius.
+static void sphere(splat_node *n, int count)
+{
+    node_init(n, 2.0, -10.0, -10.0);
+    const double centre[3] = { 12.0, 0.0, 0.0 }, radius = 3.0;
+    double spacing = radius * sqrt(4.0 * M_PI / count);
+    for (int i = 0; i < count; i++) {
+        double z = 1.0 - (2.0 * i + 1.0) / count, r = sqrt(1.0 - z * z);
+        double phi = i * M_PI * (3.0 - sqrt(5.0));
+        double normal[3] = { r * cos(phi), r * sin(phi), z };
+        double p[3];
+        for (int a = 0; a < 3; a++) {
+            p[a] = centre[a] + radius * normal[a];
+        }
+        add_splat(n, p, normal, spacing, 0xC0C0C0u);
+    }
+    node_finish(n);
+}
+
+// Pixels inside the sphere's silhouette (shrunk by two pixels) left empty.
+static size_t holes(const splat_out *out)
+{
+    sta_camera camera = test_camera();
+    double f = 1.0 / tan(camera.fov_y / 2), angle = asin(3.0 / 12.0);
+    double silhouette_px = tan(angle) * f * H / 2 - 2.0;
+    size_t empty = 0;
+    for (int y = 0; y < H; y++) {
+        for (int x = 0; x < W; x++) {
+            double dx = x + 0.5 - W / 2.0, dy = y + 0.5 - H / 2.0;
+            if (dx * dx + dy * dy < silhouette_px * silhouette_px &&
+                out->ids[2 * (y * W + x)] == STA_TARGET_NO_POINT) {
+                empty++;
+            }
+        }
+    }
+    return empty;
+}
+
+static void sphere_closes_and_is_shaded(void **state)
+{
+    (void)state;
+    splat_node n;
+    sphere(&n, 300);
+    sta_gpu_cache cache;
+    upload(&cache, &n);
+    const uint32_t draw[1] = { 0 };
+    static splat_out full, thin;
+    for (int m = 0; m < 2; m++) {
+        sta_splat_options o = { .method = methods[m] };
+        check_against_twin(&n, &o, 0.03);
+        gpu(&cache, &n, draw, 1, &o, &full);
+        sta_splat_options small = { .method = methods[m], .scale = 0.3f };
+        gpu(&cache, &n, draw, 1, &small, &thin);
+        printf("%s: holes at scale 1: %zu, at 0.3: %zu\n", sta_splat_method_name(methods[m]),
+               holes(&full), holes(&thin));
+        assert_int_equal(holes(&full), 0);
+        assert_true(holes(&thin) > 50);
+        // Headlight: the middle (facing us) is brighter than near the rim.
+        double f = 1.0 / tan(test_camera().fov_y / 2), rim = tan(asin(3.0 / 12.0)) * f * H / 2;
+        int centre = (H / 2) * W + W / 2, near_rim = (H / 2) * W + W / 2 + (int)(rim - 2.0);
+        assert_true(full.rgb[3 * centre] > full.rgb[3 * near_rim] + 0.1f);
+    }
+    sta_gpu_cache_release(&cache);
+    node_free(&n);
+}
+
+// Both paths make the same squares: the same pixels and ids, depths equal up to float
+// rounding (the two programs compile the same arithmetic differently).
+static void instanced_and_geometry_paths_agree(void **state)
+{
+    (void)state;
+    splat_node n;
+    sphere(&n, 300);
+    sta_gpu_cache cache;
+    upload(&cache, &n);
+    const uint32_t draw[1] = { 0 };
+    static splat_out a, b;
+    gpu(&cache, &n, draw, 1, &(sta_splat_options){ .method = STA_SPLAT_INSTANCED }, &a);
+    gpu(&cache, &n, draw, 1, &(sta_splat_options){ .method = STA_SPLAT_GEOMETRY }, &b);
+    size_t differ = 0;
+    for (int i = 0; i < W * H; i++) {
+        differ += memcmp(&a.ids[2 * i], &b.ids[2 * i], 8) != 0 ||
+                  fabsf(a.depth[i] - b.depth[i]) > 1e-5f * a.depth[i];
+    }
+    printf("instanced %zu pixels, geometry %zu, %zu differ\n", a.drawn, b.drawn, differ);
+    assert_true(a.drawn > 0);
+    assert_int_equal(differ, 0);
+    sta_gpu_cache_release(&cache);
+    node_free(&n);
+}
+
+// The runtime scale grows the disk's area with its square; a tiny splat far away still
+// covers a pixel (the smallest on-screen radius).
+static void scale_and_smallest_size(void **state)
+{
+    (void)state;
+    splat_node n;
+    node_init(&n, 2.0, -10.0, -10.0);
+    const double p[3] = { 10.0, 0.0, 0.0 }, facing[3] = { -1.0, 0.0, 0.0 };
+    add_splat(&n, p, facing, 1.0, 0xFFFFFFu);
+    node_finish(&n);
+    sta_gpu_cache cache;
+    upload(&cache, &n);
+    const uint32_t draw[1] = { 0 };
+    static splat_out one, two;
+    gpu(&cache, &n, draw, 1, &(sta_splat_options){ .scale = 1.0f }, &one);
+    gpu(&cache, &n, draw, 1, &(sta_splat_options){ .scale = 2.0f }, &two);
+    double ratio = (double)two.drawn / (double)one.drawn;
+    printf("scale 1: %zu pixels, scale 2: %zu (x%.2f)\n", one.drawn, two.drawn, ratio);
+    assert_true(ratio > 3.6 && ratio < 4.4);
+    sta_gpu_cache_release(&cache);
+    node_free(&n);
+
+    node_init(&n, 40.0, -10.0, -10.0);
+    const double far[3] = { 50.0, 0.0, 0.0 };
+    add_splat(&n, far, facing, 0.0005, 0xFFFFFFu);
+    node_finish(&n);
+    upload(&cache, &n);
+    gpu(&cache, &n, draw, 1, &(sta_splat_options){ 0 }, &one);
+    assert_true(one.drawn >= 1);
+    sta_gpu_cache_release(&cache);
+    node_free(&n);
+}
+
+// A node uploaded, then one large enough to force a repack: the first node's splats
+// move with its points (drawn alone it still equals the twin).
+static void arena_repack_keeps_splats_with_points(void **state)
+{
+    (void)state;
+    static splat_node nodes[2];
+    sphere(&nodes[0], 1000);
+    node_init(&nodes[1], 2.0, -10.0, -10.0);
+    for (uint32_t i = 0; i < STA_GPU_CACHE_MIN_POINTS + 100; i++) {
+        double p[3] = { 30.0, -8.0 + (i % 256) * 0.05, -8.0 + (i / 256) * 0.05 };
+        const double normal[3] = { 0.0, 0.0, 1.0 }; // edge-on: draws nothing visible
+        add_splat(&nodes[1], p, normal, 0.01, 0x00FF00u);
+    }
+    node_finish(&nodes[1]);
+    sta_error err = { 0 };
+    sta_gpu_cache cache;
+    assert_int_equal(sta_gpu_cache_init(&cache, 2, &err), STA_OK);
+    sta_gpu_cache_enable_splats(&cache);
+    for (uint32_t k = 0; k < 2; k++) {
+        sta_stream_upload u = { k, nodes[k].count, nodes[k].bytes };
+        sta_stream_frame frame = { .upload = &u, .upload_count = 1 };
+        assert_int_equal(sta_gpu_cache_apply(&cache, &frame, &err), STA_OK);
+    }
+    assert_true(cache.compactions >= 1);
+    static splat_out expected, got;
+    sta_splat_options o = { .method = STA_SPLAT_INSTANCED };
+    twin(&nodes[0], 0, &o, &expected);
+    const uint32_t draw[1] = { 0 };
+    gpu(&cache, nodes, draw, 1, &o, &got);
+    size_t differ = 0;
+    for (int i = 0; i < W * H; i++) {
+        differ += memcmp(&expected.ids[2 * i], &got.ids[2 * i], 8) != 0;
+    }
+    assert_true(expected.drawn > 500);
+    assert_true(differ <= expected.drawn / 30);
+    sta_gpu_cache_release(&cache);
+    node_free(&nodes[0]);
+    node_free(&nodes[1]);
+}
+
+static void options_and_names(void **state)
+{
+    (void)state;
+    sta_splat_options o = { 0 };
+    sta_splat_options_defaults(&o);
+    assert_int_equal(o.method, STA_SPLAT_DEFAULT_METHOD);
+    assert_float_equal(o.scale, STA_SPLAT_DEFAULT_SCALE, 0);
+    assert_float_equal(o.min_radius_px, STA_SPLAT_DEFAULT_MIN_RADIUS_PX, 0);
+    assert_int_equal(sta_splat_method_from_name("instanced"), STA_SPLAT_INSTANCED);
+    assert_int_equal(sta_splat_method_from_name("geometry"), STA_SPLAT_GEOMETRY);
+    assert_int_equal(sta_splat_method_from_name("default"), -1);
+    assert_int_equal(sta_splat_method_from_name("quads"), -1);
+    assert_string_equal(sta_splat_method_name(STA_SPLAT_GEOMETRY), "geometry");
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test_setup_teardown(twin_matches_overlapping_disks, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(crossing_disks_cut_each_other, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(sphere_closes_and_is_shaded, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(instanced_and_geometry_paths_agree, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(scale_and_smallest_size, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(arena_repack_keeps_splats_with_points, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test(options_and_names),
+};
+
+STA_TEST_MAIN(tests)
