@@ -10,6 +10,7 @@
 #include "test_support.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,6 +22,7 @@
 #include "render/pass_splats.h"
 #include "render/ref/shade_ref.h"
 #include "render/ref/splat_ref.h"
+#include "render/scene.h"
 #include "stream/gpu_points.h"
 #include "stream/gpu_splats.h"
 
@@ -478,6 +480,49 @@ static void arena_repack_keeps_splats_with_points(void **state)
     node_free(&nodes[1]);
 }
 
+// Renders the fixture scene (no normals) fully loaded in `mode`; RGBA, caller frees.
+static uint8_t *render_fixture(const char *path, int mode, bool *out_has_splats)
+{
+    sta_scene *scene = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_scene_open(path, NULL, &scene, &err), STA_OK);
+    *out_has_splats = sta_scene_has_splats(scene);
+    sta_scene_set_pipeline(scene, &(sta_pipeline_options){ .mode = mode });
+    sta_scene_set_splats(scene, &(sta_splat_options){ .scale = 2.0f });
+    const double origin[3] = { 0, 0, 0 };
+    sta_camera camera = sta_fixture_camera(origin, W, H);
+    sta_render_target target = { 0 };
+    sta_fixture_render_complete(scene, &camera, &target);
+    uint8_t *rgba = malloc((size_t)W * H * 4);
+    assert_non_null(rgba);
+    sta_render_target_read_rgba(&target, rgba);
+    sta_render_target_release(&target);
+    sta_scene_close(scene);
+    return rgba;
+}
+
+// The documented fallback: a scene without normals in the splats mode draws exactly
+// the shaded pipeline (and the log says why).
+static void scene_without_normals_falls_back_to_shaded(void **state)
+{
+    (void)state;
+    char path[4096];
+    const double origin[3] = { 0, 0, 0 };
+    sta_fixture_build_scene("splats_fallback", 5000, origin, path, sizeof(path));
+    bool has_splats = true;
+    uint8_t *splats = render_fixture(path, STA_PIPELINE_SPLATS, &has_splats);
+    assert_false(has_splats);
+    uint8_t *shaded = render_fixture(path, STA_PIPELINE_SHADED, &has_splats);
+    size_t lit = 0;
+    for (size_t i = 0; i < (size_t)W * H; i++) {
+        lit += shaded[4 * i] + shaded[4 * i + 1] + shaded[4 * i + 2] > 0;
+    }
+    assert_true(lit > 100);
+    assert_memory_equal(splats, shaded, (size_t)W * H * 4);
+    free(splats);
+    free(shaded);
+}
+
 static void options_and_names(void **state)
 {
     (void)state;
@@ -506,6 +551,8 @@ static const struct CMUnitTest tests[] = {
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(arena_repack_keeps_splats_with_points, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(scene_without_normals_falls_back_to_shaded,
+                                    sta_fixture_gl_setup, sta_fixture_gl_teardown),
     cmocka_unit_test(options_and_names),
 };
 

@@ -379,6 +379,9 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_pipeline_options pipeline;
         sta_view_pipeline_options(args, &pipeline);
         sta_scene_set_pipeline(scene, &pipeline);
+        sta_splat_options splats;
+        sta_view_splat_options(args, &splats);
+        sta_scene_set_splats(scene, &splats);
         sta_scene_set_katz(scene, &args->katz);
         sta_scene_set_timing(scene, args->stats);
         if (args->stats) {

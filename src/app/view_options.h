@@ -54,6 +54,8 @@ typedef struct sta_view_args {
     double intensity_max;      /* --intensity-max (0: the scene's) */
     int raster;                /* --raster (sta_raster_method) */
     bool raster_32bit;         /* --raster-32bit: the two-pass compute path always */
+    double splat_scale;        /* --splat-scale: factor on the splat radii ([ and ] keys) */
+    int splat_method;          /* --splat-method (sta_splat_method) */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

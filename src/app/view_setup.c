@@ -129,3 +129,10 @@ void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *
     out->hpr_threshold = (float)args->hpr_threshold;
     out->s0_m = (float)args->s0_m;
 }
+
+void sta_view_splat_options(const sta_view_args *args, sta_splat_options *out)
+{
+    memset(out, 0, sizeof(*out));
+    out->method = args->splat_method;
+    out->scale = (float)args->splat_scale;
+}

@@ -7,6 +7,7 @@
 #include "app/view_options.h"
 #include "core/camera.h"
 #include "format/strata.h"
+#include "render/pass_splats.h"
 #include "render/pipeline.h"
 
 #define STA_VIEW_DEFAULT_YAW_DEG   45.0  /* default view from the south-west */
@@ -33,6 +34,12 @@ double sta_view_default_yaw(const sta_camera *camera, const double *points, size
 
 /* The screen-space pipeline options the arguments ask for. */
 void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *out);
+
+/* Factor of one [ or ] press on the splat radius. */
+#define STA_VIEW_SPLAT_SCALE_STEP 1.25f
+
+/* The splat pass's options from the command line. */
+void sta_view_splat_options(const sta_view_args *args, sta_splat_options *out);
 
 /* The colour mode asked for, or the best default for the scene's attributes. */
 int sta_view_initial_colour(const sta_view_args *args, const sta_strata_info *info);

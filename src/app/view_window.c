@@ -48,6 +48,8 @@ typedef struct view_state {
     sta_camera_path recorded;      /* P adds keyframes */
     sta_pipeline_options pipeline; /* M, N, H, G change it */
     sta_katz_view_options katz;    /* K turns it on and off */
+    sta_splat_options splats;      /* [ and ] change the scale */
+    int non_splat_mode;            /* the pipeline mode O returns to */
     double record_start_s;
     int colour_mode;
     double orbit_pitch[2]; /* radians: the camera's elevation above the pivot, min and max */
@@ -346,6 +348,27 @@ static void on_scroll(GLFWwindow *window, double dx, double dy)
     memcpy(s->pivot, hit, sizeof(hit));
 }
 
+// O: splats on and off (back to the last other mode); [ and ]: the splat radius factor.
+static void splat_key(view_state *s, int key)
+{
+    if (key == GLFW_KEY_O) {
+        if (s->pipeline.mode == STA_PIPELINE_SPLATS) {
+            s->pipeline.mode = s->non_splat_mode;
+        } else {
+            s->non_splat_mode = s->pipeline.mode;
+            s->pipeline.mode = STA_PIPELINE_SPLATS;
+        }
+        sta_scene_set_pipeline(s->scene, &s->pipeline);
+        fprintf(stderr, "pipeline %s\n", sta_pipeline_mode_name(s->pipeline.mode));
+        return;
+    }
+    float factor = key == GLFW_KEY_RIGHT_BRACKET ? STA_VIEW_SPLAT_SCALE_STEP
+                                                 : 1.0f / STA_VIEW_SPLAT_SCALE_STEP;
+    s->splats.scale *= factor;
+    sta_scene_set_splats(s->scene, &s->splats);
+    fprintf(stderr, "splat scale %.3g\n", (double)s->splats.scale);
+}
+
 static void on_key(GLFWwindow *window, int key, int scancode, int action, int mods)
 {
     (void)scancode;
@@ -389,6 +412,8 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
         fprintf(stderr, "pipeline %s, normals %s%s, hpr %s\n", sta_pipeline_mode_name(o->mode),
                 sta_normal_method_name(o->normals), o->smooth ? " smoothed" : "",
                 o->hpr_exhaustive ? "exhaustive" : "pyramid");
+    } else if (key == GLFW_KEY_O || key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET) {
+        splat_key(s, key);
     } else if (key == GLFW_KEY_K) {
         s->katz.enabled = !s->katz.enabled;
         sta_scene_set_katz(s->scene, &s->katz);
@@ -552,6 +577,9 @@ int sta_view_run_window(const sta_view_args *args)
     s.colour_mode = sta_view_initial_colour(args, s.info);
     sta_view_pipeline_options(args, &s.pipeline);
     sta_scene_set_pipeline(s.scene, &s.pipeline);
+    sta_view_splat_options(args, &s.splats);
+    sta_scene_set_splats(s.scene, &s.splats);
+    s.non_splat_mode = args->pipeline == STA_PIPELINE_SPLATS ? STA_PIPELINE_SHADED : args->pipeline;
     s.katz = args->katz;
     sta_scene_set_katz(s.scene, &s.katz);
     sta_scene_set_timing(s.scene, args->stats);
