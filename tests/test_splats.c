@@ -23,6 +23,7 @@
 #include "render/ref/shade_ref.h"
 #include "render/ref/splat_ref.h"
 #include "render/scene.h"
+#include "render/splat_normals.h"
 #include "stream/gpu_points.h"
 #include "stream/gpu_splats.h"
 
@@ -480,6 +481,73 @@ static void arena_repack_keeps_splats_with_points(void **state)
     node_free(&nodes[1]);
 }
 
+// The benchmark's readback: each drawn pixel's normal is its splat's (by id), in camera
+// space, facing the camera.
+static void normal_image_follows_the_ids(void **state)
+{
+    (void)state;
+    splat_node n;
+    sphere(&n, 300);
+    sta_gpu_cache cache;
+    upload(&cache, &n);
+    sta_error err = { 0 };
+    sta_pass_splats pass;
+    assert_int_equal(sta_pass_splats_init(&pass, 0, &err), STA_OK);
+    sta_gpu_node_frame frame = { .corner = { n.corner[0], n.corner[1], n.corner[2] },
+                                 .step = { STEP_M, STEP_M, STEP_M } };
+    sta_camera camera = test_camera();
+    sta_geometry_colours colours = { STA_COLOUR_RGB, 0, 1, 1.0f, NULL };
+    sta_render_target target = { 0 };
+    assert_int_equal(sta_render_target_resize(&target, W, H, &err), STA_OK);
+    const uint32_t draw[1] = { 0 };
+    assert_int_equal(sta_pass_splats_draw(&pass, &(sta_splat_options){ 0 }, &camera, &colours,
+                                          &cache, &frame, draw, 1, 0.05f, &target, &err),
+                     STA_OK);
+    static uint32_t ids[2 * W * H];
+    sta_render_target_read_ids(&target, ids);
+    sta_image normals = { 0 };
+    assert_int_equal(sta_splat_normal_image(&cache, &target, &camera, &normals, &err), STA_OK);
+    float view[16];
+    sta_camera_view_rotation(&camera, view);
+    size_t drawn = 0, flipped = 0;
+    for (int y = 0; y < H; y++) {
+        for (int x = 0; x < W; x++) {
+            const uint32_t *id = ids + 2 * ((H - 1 - y) * W + x);
+            const float *got = normals.data + 4 * (y * W + x);
+            if (id[0] == STA_TARGET_NO_POINT) {
+                assert_float_equal(got[3], 0.0f, 0);
+                continue;
+            }
+            drawn++;
+            assert_float_equal(got[3], 1.0f, 0);
+            const float *world = n.normals[id[1]];
+            float want[3];
+            for (int i = 0; i < 3; i++) {
+                want[i] = view[i] * world[0] + view[4 + i] * world[1] + view[8 + i] * world[2];
+            }
+            // The record's normal, or its opposite (at the limb a disk can be seen from
+            // behind), and then against the eye ray through the pixel.
+            const float t = (float)tan(0.5 * camera.fov_y);
+            float ray[3] = { ((x + 0.5f) * 2.0f / W - 1.0f) * t * ((float)W / H),
+                             ((y + 0.5f) * 2.0f / H - 1.0f) * t, -1.0f };
+            float sign = got[0] * want[0] + got[1] * want[1] + got[2] * want[2] < 0 ? -1.0f : 1.0f;
+            for (int i = 0; i < 3; i++) {
+                assert_float_equal(got[i], sign * want[i], 1e-3);
+            }
+            assert_true(got[0] * ray[0] + got[1] * ray[1] + got[2] * ray[2] <= 0.0f);
+            flipped += sign < 0;
+        }
+    }
+    printf("%zu pixels, %zu seen from behind (at the limb)\n", drawn, flipped);
+    assert_true(drawn > 500);
+    assert_true(flipped < drawn / 10);
+    sta_image_release(&normals);
+    sta_render_target_release(&target);
+    sta_pass_splats_release(&pass);
+    sta_gpu_cache_release(&cache);
+    node_free(&n);
+}
+
 // Renders the fixture scene (no normals) fully loaded in `mode`; RGBA, caller frees.
 static uint8_t *render_fixture(const char *path, int mode, bool *out_has_splats)
 {
@@ -550,6 +618,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(scale_and_smallest_size, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(arena_repack_keeps_splats_with_points, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(normal_image_follows_the_ids, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(scene_without_normals_falls_back_to_shaded,
                                     sta_fixture_gl_setup, sta_fixture_gl_teardown),

@@ -141,6 +141,11 @@ void sta_scene_set_splats(sta_scene *s, const sta_splat_options *options)
     s->splat_options = *options;
 }
 
+const sta_gpu_cache *sta_scene_gpu_cache(const sta_scene *s)
+{
+    return &s->cache;
+}
+
 bool sta_scene_has_splats(const sta_scene *s)
 {
     return sta_streamer_has_splats(s->streamer);

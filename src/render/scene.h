@@ -87,6 +87,9 @@ void sta_scene_set_splats(sta_scene *scene, const sta_splat_options *options);
  * once in the log. */
 bool sta_scene_has_splats(const sta_scene *scene);
 
+/* The GPU cache (resident nodes' arenas), for reading back what was drawn. */
+const sta_gpu_cache *sta_scene_gpu_cache(const sta_scene *scene);
+
 /* Turns per-pass timing on (times in sta_frame_stats; drains the GPU around each pass). */
 void sta_scene_set_timing(sta_scene *scene, bool on);
 
