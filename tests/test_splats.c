@@ -260,7 +260,7 @@ static size_t check_against_twin(const splat_node *n, const sta_splat_options *o
     return got.drawn;
 }
 
-static const int methods[2] = { STA_SPLAT_INSTANCED, STA_SPLAT_GEOMETRY };
+static const int methods[3] = { STA_SPLAT_INSTANCED, STA_SPLAT_GEOMETRY, STA_SPLAT_PULLED };
 
 // Seven large disks at different depths and tilts, overlapping on screen.
 static void twin_matches_overlapping_disks(void **state)
@@ -275,7 +275,7 @@ static void twin_matches_overlapping_disks(void **state)
         add_splat(&n, p, normal, 1.5 + 0.1 * k, 0x204080u + 0x181008u * (uint32_t)k);
     }
     node_finish(&n);
-    for (int m = 0; m < 2; m++) {
+    for (int m = 0; m < 3; m++) {
         sta_splat_options o = { .method = methods[m] };
         size_t drawn = check_against_twin(&n, &o, 0.02);
         assert_true(drawn > W * H / 8);
@@ -296,7 +296,7 @@ static void crossing_disks_cut_each_other(void **state)
     add_splat(&n, centre, left, 2.0, 0xFF0000u);
     add_splat(&n, centre, right, 2.0, 0x0000FFu);
     node_finish(&n);
-    for (int m = 0; m < 2; m++) {
+    for (int m = 0; m < 3; m++) {
         sta_splat_options o = { .method = methods[m] };
         check_against_twin(&n, &o, 0.02);
         static splat_out got;
@@ -364,7 +364,7 @@ static void sphere_closes_and_is_shaded(void **state)
     upload(&cache, &n);
     const uint32_t draw[1] = { 0 };
     static splat_out full, thin;
-    for (int m = 0; m < 2; m++) {
+    for (int m = 0; m < 3; m++) {
         sta_splat_options o = { .method = methods[m] };
         check_against_twin(&n, &o, 0.03);
         gpu(&cache, &n, draw, 1, &o, &full);
@@ -383,9 +383,9 @@ static void sphere_closes_and_is_shaded(void **state)
     node_free(&n);
 }
 
-// Both paths make the same squares: the same pixels and ids, depths equal up to float
-// rounding (the two programs compile the same arithmetic differently).
-static void instanced_and_geometry_paths_agree(void **state)
+// The three paths make the same squares: the same pixels and ids, depths equal up to
+// float rounding (the programs compile the same arithmetic differently).
+static void the_three_paths_agree(void **state)
 {
     (void)state;
     splat_node n;
@@ -395,15 +395,18 @@ static void instanced_and_geometry_paths_agree(void **state)
     const uint32_t draw[1] = { 0 };
     static splat_out a, b;
     gpu(&cache, &n, draw, 1, &(sta_splat_options){ .method = STA_SPLAT_INSTANCED }, &a);
-    gpu(&cache, &n, draw, 1, &(sta_splat_options){ .method = STA_SPLAT_GEOMETRY }, &b);
-    size_t differ = 0;
-    for (int i = 0; i < W * H; i++) {
-        differ += memcmp(&a.ids[2 * i], &b.ids[2 * i], 8) != 0 ||
-                  fabsf(a.depth[i] - b.depth[i]) > 1e-5f * a.depth[i];
-    }
-    printf("instanced %zu pixels, geometry %zu, %zu differ\n", a.drawn, b.drawn, differ);
     assert_true(a.drawn > 0);
-    assert_int_equal(differ, 0);
+    for (int m = STA_SPLAT_GEOMETRY; m <= STA_SPLAT_PULLED; m++) {
+        gpu(&cache, &n, draw, 1, &(sta_splat_options){ .method = m }, &b);
+        size_t differ = 0;
+        for (int i = 0; i < W * H; i++) {
+            differ += memcmp(&a.ids[2 * i], &b.ids[2 * i], 8) != 0 ||
+                      fabsf(a.depth[i] - b.depth[i]) > 1e-5f * a.depth[i];
+        }
+        printf("instanced %zu pixels, %s %zu, %zu differ\n", a.drawn, sta_splat_method_name(m),
+               b.drawn, differ);
+        assert_int_equal(differ, 0);
+    }
     sta_gpu_cache_release(&cache);
     node_free(&n);
 }
@@ -466,16 +469,18 @@ static void arena_repack_keeps_splats_with_points(void **state)
     }
     assert_true(cache.compactions >= 1);
     static splat_out expected, got;
-    sta_splat_options o = { .method = STA_SPLAT_INSTANCED };
-    twin(&nodes[0], 0, &o, &expected);
-    const uint32_t draw[1] = { 0 };
-    gpu(&cache, nodes, draw, 1, &o, &got);
-    size_t differ = 0;
-    for (int i = 0; i < W * H; i++) {
-        differ += memcmp(&expected.ids[2 * i], &got.ids[2 * i], 8) != 0;
+    for (int m = 0; m < 3; m++) {
+        sta_splat_options o = { .method = methods[m] };
+        twin(&nodes[0], 0, &o, &expected);
+        const uint32_t draw[1] = { 0 };
+        gpu(&cache, nodes, draw, 1, &o, &got);
+        size_t differ = 0;
+        for (int i = 0; i < W * H; i++) {
+            differ += memcmp(&expected.ids[2 * i], &got.ids[2 * i], 8) != 0;
+        }
+        assert_true(expected.drawn > 500);
+        assert_true(differ <= expected.drawn / 30);
     }
-    assert_true(expected.drawn > 500);
-    assert_true(differ <= expected.drawn / 30);
     sta_gpu_cache_release(&cache);
     node_free(&nodes[0]);
     node_free(&nodes[1]);
@@ -601,6 +606,7 @@ static void options_and_names(void **state)
     assert_float_equal(o.min_radius_px, STA_SPLAT_DEFAULT_MIN_RADIUS_PX, 0);
     assert_int_equal(sta_splat_method_from_name("instanced"), STA_SPLAT_INSTANCED);
     assert_int_equal(sta_splat_method_from_name("geometry"), STA_SPLAT_GEOMETRY);
+    assert_int_equal(sta_splat_method_from_name("pulled"), STA_SPLAT_PULLED);
     assert_int_equal(sta_splat_method_from_name("default"), -1);
     assert_int_equal(sta_splat_method_from_name("quads"), -1);
     assert_string_equal(sta_splat_method_name(STA_SPLAT_GEOMETRY), "geometry");
@@ -613,7 +619,7 @@ static const struct CMUnitTest tests[] = {
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(sphere_closes_and_is_shaded, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
-    cmocka_unit_test_setup_teardown(instanced_and_geometry_paths_agree, sta_fixture_gl_setup,
+    cmocka_unit_test_setup_teardown(the_three_paths_agree, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(scale_and_smallest_size, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

@@ -203,8 +203,9 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     a->raster = STA_RASTER_DEFAULT; // resolved (and so named in the log) by render/
     a->splat_scale = STA_SPLAT_DEFAULT_SCALE;
     a->splat_method = STA_SPLAT_DEFAULT;
-    static const char *const splat_method_names[] = { "instanced", "geometry", NULL };
-    static const int splat_method_values[] = { STA_SPLAT_INSTANCED, STA_SPLAT_GEOMETRY };
+    static const char *const splat_method_names[] = { "instanced", "geometry", "pulled", NULL };
+    static const int splat_method_values[] = { STA_SPLAT_INSTANCED, STA_SPLAT_GEOMETRY,
+                                               STA_SPLAT_PULLED };
     static const char *const raster_names[] = { "compute", "points", NULL };
     static const int raster_values[] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     int hpr = 0; // index into hpr_names
@@ -441,7 +442,8 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .metavar = "METHOD",
           .choices = splat_method_names,
           .choice_values = splat_method_values,
-          .help = "splats: instanced (quads) or geometry (a geometry shader on points)",
+          .help = "splats: instanced (quads), geometry (a geometry shader on points) or pulled "
+                  "(quads reading the arenas, no instancing)",
           .default_text = sta_splat_method_name(STA_SPLAT_DEFAULT_METHOD) },
         { .name = "normals",
           .kind = STA_CLI_CHOICE,

@@ -11,7 +11,7 @@
 #include "stream/gpu_splats.h"
 
 static const char *const method_names[STA_SPLAT_METHOD_COUNT] = { "default", "instanced",
-                                                                  "geometry" };
+                                                                  "geometry", "pulled" };
 
 void sta_splat_options_defaults(sta_splat_options *o)
 {
@@ -51,9 +51,13 @@ sta_status sta_pass_splats_init(sta_pass_splats *p, int method, sta_error *err)
                                 "splat_disk.frag" };
     const char *geometry[] = { "geometry_colour.glsl", "splat_common.glsl", "splat_point.vert",
                                "splat_disk.geom", "splat_disk.frag" };
+    const char *pulled[] = { "geometry_colour.glsl", "splat_common.glsl", "splat_pulled.vert",
+                             "splat_disk.frag" };
     sta_status status = p->method == STA_SPLAT_INSTANCED
                             ? sta_gl_program_create(instanced, 4, NULL, &p->program, err)
-                            : sta_gl_program_create(geometry, 5, NULL, &p->program, err);
+                        : p->method == STA_SPLAT_GEOMETRY
+                            ? sta_gl_program_create(geometry, 5, NULL, &p->program, err)
+                            : sta_gl_program_create(pulled, 4, NULL, &p->program, err);
     if (status != STA_OK) {
         return status;
     }
@@ -90,6 +94,10 @@ sta_status sta_pass_splats_init(sta_pass_splats *p, int method, sta_error *err)
     GLuint divisor = p->method == STA_SPLAT_INSTANCED ? 1 : 0;
     glVertexArrayBindingDivisor(p->vao, 0, divisor);
     glVertexArrayBindingDivisor(p->vao, 1, divisor);
+    if (p->method == STA_SPLAT_PULLED) {
+        glCreateTextures(GL_TEXTURE_BUFFER, 1, &p->points_texture);
+        glCreateTextures(GL_TEXTURE_BUFFER, 1, &p->splats_texture);
+    }
     status = sta_gl_check("creating the splat pass", err);
     if (status != STA_OK) {
         sta_pass_splats_release(p);
@@ -102,6 +110,10 @@ void sta_pass_splats_release(sta_pass_splats *p)
     if (p->program) {
         glDeleteProgram(p->program);
         glDeleteVertexArrays(1, &p->vao);
+    }
+    if (p->points_texture) {
+        glDeleteTextures(1, &p->points_texture);
+        glDeleteTextures(1, &p->splats_texture);
     }
     memset(p, 0, sizeof(*p));
 }
@@ -130,6 +142,21 @@ static void set_uniforms(const sta_pass_splats *p, const sta_splat_options *o,
     glUniform1i(p->u_lit, o->unlit ? 0 : 1);
 }
 
+// The pulled path reads the arenas through texture buffers; a repack makes new ones.
+static void view_arenas(sta_pass_splats *p, const sta_gpu_cache *cache)
+{
+    if (p->points_viewed != cache->buffer) {
+        glTextureBuffer(p->points_texture, GL_RGBA32UI, cache->buffer);
+        p->points_viewed = cache->buffer;
+    }
+    if (p->splats_viewed != cache->splat_buffer) {
+        glTextureBuffer(p->splats_texture, GL_RG32UI, cache->splat_buffer);
+        p->splats_viewed = cache->splat_buffer;
+    }
+    glBindTextureUnit(STA_SPLAT_SAMPLER_POINTS, p->points_texture);
+    glBindTextureUnit(STA_SPLAT_SAMPLER_SPLATS, p->splats_texture);
+}
+
 sta_status sta_pass_splats_draw(sta_pass_splats *p, const sta_splat_options *options,
                                 const sta_camera *camera, const sta_geometry_colours *colours,
                                 const sta_gpu_cache *cache, const sta_gpu_node_frame *frames,
@@ -149,6 +176,9 @@ sta_status sta_pass_splats_draw(sta_pass_splats *p, const sta_splat_options *opt
     if (cache->buffer && cache->splat_buffer) {
         glVertexArrayVertexBuffer(p->vao, 0, cache->buffer, 0, STA_GPU_POINT_SIZE);
         glVertexArrayVertexBuffer(p->vao, 1, cache->splat_buffer, 0, STA_GPU_SPLAT_SIZE);
+        if (p->method == STA_SPLAT_PULLED) {
+            view_arenas(p, cache);
+        }
         for (size_t i = 0; i < count; i++) {
             const sta_gpu_cache_entry *e = &cache->entries[draw[i]];
             const sta_gpu_node_frame *f = &frames[draw[i]];
@@ -165,8 +195,11 @@ sta_status sta_pass_splats_draw(sta_pass_splats *p, const sta_splat_options *opt
             if (p->method == STA_SPLAT_INSTANCED) {
                 glDrawArraysInstancedBaseInstance(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)e->count,
                                                   e->offset);
-            } else {
+            } else if (p->method == STA_SPLAT_GEOMETRY) {
                 glDrawArrays(GL_POINTS, (GLint)e->offset, (GLsizei)e->count);
+            } else {
+                glDrawArrays(GL_TRIANGLES, (GLint)(6 * (uint64_t)e->offset),
+                             (GLsizei)(6 * (uint64_t)e->count));
             }
         }
     }

@@ -8,8 +8,9 @@
  * (headlight Blinn-Phong, the screen-space pipeline's light), so no screen-space pass
  * runs after it. Two ways to make the squares, measured on llvmpipe
  * (docs/BENCHMARKS.md): instanced quads (four vertices per point, attributes per
- * instance) and a geometry shader on GL_POINTS. render/ref/splat_ref.h is the CPU twin.
- * Main thread (GL) only.
+ * instance), a geometry shader on GL_POINTS, and pulled quads (six vertices per point
+ * in a plain draw, reading the arenas through texture buffers). render/ref/splat_ref.h is the CPU
+ * twin. Main thread (GL) only.
  */
 #ifndef STA_RENDER_PASS_SPLATS_H
 #define STA_RENDER_PASS_SPLATS_H
@@ -29,6 +30,8 @@ typedef enum sta_splat_method {
     STA_SPLAT_DEFAULT = 0, /* resolved to STA_SPLAT_DEFAULT_METHOD */
     STA_SPLAT_INSTANCED,   /* a triangle strip of 4 vertices per instance (point) */
     STA_SPLAT_GEOMETRY,    /* GL_POINTS, a geometry shader emits the square */
+    STA_SPLAT_PULLED,      /* 6 vertices per point in one plain draw, each reading its
+                              point from the arenas (texture buffers): no instancing */
     STA_SPLAT_METHOD_COUNT
 } sta_splat_method;
 
@@ -44,7 +47,7 @@ typedef struct sta_splat_options {
 
 void sta_splat_options_defaults(sta_splat_options *options);
 
-/* "instanced", "geometry"; -1 when unknown; and back. */
+/* "instanced", "geometry", "pulled"; -1 when unknown; and back. */
 int sta_splat_method_from_name(const char *name);
 const char *sta_splat_method_name(int method);
 
@@ -55,6 +58,8 @@ typedef struct sta_pass_splats {
     GLint u_node_origin, u_step, u_view_rotation, u_projection, u_colour_mode, u_elevation,
         u_intensity_scale, u_node_slot, u_arena_offset, u_splat_scale, u_default_radius,
         u_min_radius_px, u_pixel_angle, u_light, u_lit;
+    GLuint points_texture, splats_texture; /* pulled: views of the arenas */
+    GLuint points_viewed, splats_viewed;   /* the arena buffers they view */
 } sta_pass_splats;
 
 /* Builds the program of `method` (0: the default). */
