@@ -2,3 +2,12 @@
 # against its C twin on headless EGL + llvmpipe; the splat arena beside the points.
 sta_add_test(splats SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_splats.c
              LIBS sta_render sta_test_scene LABELS gl)
+# strata-splat-probe (bench/splat_methods.sh) runs all three methods on a tiny case and
+# answers --help.
+add_test(NAME splats.probe_times_the_three_methods
+         COMMAND strata-splat-probe --points 5000 --width 64 --height 48 --rounds 1 --repeat 1)
+set_tests_properties(splats.probe_times_the_three_methods PROPERTIES LABELS gl
+    PASS_REGULAR_EXPRESSION "instanced [0-9.]+ ms, geometry [0-9.]+ ms, pulled [0-9.]+ ms")
+add_test(NAME splats.probe_help COMMAND strata-splat-probe --help)
+set_tests_properties(splats.probe_help PROPERTIES LABELS unit
+    PASS_REGULAR_EXPRESSION "usage: strata-splat-probe")
