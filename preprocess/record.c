@@ -5,6 +5,8 @@
 
 #include <string.h>
 
+#include "core/octahedral.h"
+
 // Bytes each attribute adds to a record, in storage order.
 static const struct {
     uint32_t bit;
@@ -23,6 +25,7 @@ static const struct {
     { STA_ATTR_WAVE_PACKET, 29 },
     { STA_ATTR_NORMAL, 12 },
     { STA_ATTR_SCANNER_CHANNEL, 1 },
+    { STA_ATTR_SPLAT, 6 },
 };
 
 // The values of each attribute in pack order, as .strata columns (same order: both
@@ -44,6 +47,7 @@ static const struct {
     { STA_ATTR_WAVE_PACKET, { 1, 8, 4, 4, 4, 4, 4 } },
     { STA_ATTR_NORMAL, { 4, 4, 4 } },
     { STA_ATTR_SCANNER_CHANNEL, { 1 } },
+    { STA_ATTR_SPLAT, { 2, 2, 2 } }, /* after the extra dimensions in .strata (bit 14) */
 };
 
 void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size_t extra_size)
@@ -59,9 +63,14 @@ void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size
     }
     size_t offset = 12;
     layout->column_count = 0;
+    layout->splat_column = -1;
     for (size_t i = 0; i < sizeof(attribute_columns) / sizeof(attribute_columns[0]); i++) {
         if (!(layout->attributes & attribute_columns[i].bit)) {
             continue;
+        }
+        if (attribute_columns[i].bit == STA_ATTR_SPLAT) {
+            layout->splat_column = layout->column_count;
+            layout->splat_offset = offset;
         }
         for (int c = 0; attribute_columns[i].sizes[c] != 0; c++) {
             size_t size = attribute_columns[i].sizes[c];
@@ -75,6 +84,24 @@ void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size
             offset += size;
         }
     }
+}
+
+// Writes the extra-dimension columns of `count` records at `pos`; returns the end.
+static uint8_t *encode_extra(const sta_record_layout *layout, const uint8_t *records, size_t count,
+                             const uint16_t *extra_dim_sizes, uint32_t extra_dim_count,
+                             uint8_t *pos)
+{
+    const size_t rec = layout->size;
+    size_t at = rec - layout->extra_size;
+    for (uint32_t d = 0; d < extra_dim_count; d++) {
+        size_t size = extra_dim_sizes[d];
+        for (size_t i = 0; i < count; i++) {
+            memcpy(pos + i * size, records + i * rec + at, size);
+        }
+        pos += count * size;
+        at += size;
+    }
+    return pos;
 }
 
 bool sta_record_encode_columns(const sta_record_layout *layout, const uint8_t *records,
@@ -97,7 +124,13 @@ bool sta_record_encode_columns(const sta_record_layout *layout, const uint8_t *r
         }
         pos += 4 * count;
     }
+    // Columns in .strata bit order: the SPLAT columns (bit 14) come after the extra
+    // dimensions (bit 13), although the record keeps them before its extra bytes.
+    const int splat = layout->splat_column >= 0 ? layout->splat_column : layout->column_count;
     for (int c = 0; c < layout->column_count; c++) {
+        if (c == splat) {
+            pos = encode_extra(layout, records, count, extra_dim_sizes, extra_dim_count, pos);
+        }
         const sta_record_column *col = &layout->columns[c];
         const uint8_t *src = records + col->offset;
         if (col->bit >= 0) {
@@ -119,14 +152,8 @@ bool sta_record_encode_columns(const sta_record_layout *layout, const uint8_t *r
         }
         pos += col->size * count;
     }
-    size_t at = rec - layout->extra_size;
-    for (uint32_t d = 0; d < extra_dim_count; d++) {
-        size_t size = extra_dim_sizes[d];
-        for (size_t i = 0; i < count; i++) {
-            memcpy(pos + i * size, records + i * rec + at, size);
-        }
-        pos += count * size;
-        at += size;
+    if (splat == layout->column_count) {
+        encode_extra(layout, records, count, extra_dim_sizes, extra_dim_count, pos);
     }
     return true;
 }
@@ -201,6 +228,11 @@ void sta_record_pack(const sta_record_layout *layout, const sta_point *p, const 
     if (a & STA_ATTR_SCANNER_CHANNEL) {
         PUT(p->scanner_channel);
     }
+    if (a & STA_ATTR_SPLAT) {
+        uint16_t splat[3];
+        sta_splat_pack(p->normal, p->radius, splat);
+        PUT(splat);
+    }
     if (layout->extra_size) {
         memcpy(out, extra, layout->extra_size);
     }
@@ -265,6 +297,11 @@ void sta_record_unpack(const sta_record_layout *layout, const uint8_t *in, sta_p
     }
     if (a & STA_ATTR_SCANNER_CHANNEL) {
         GET(p->scanner_channel);
+    }
+    if (a & STA_ATTR_SPLAT) {
+        uint16_t splat[3];
+        GET(splat);
+        sta_splat_unpack(splat, p->normal, &p->radius);
     }
     if (layout->extra_size && extra) {
         memcpy(extra, in, layout->extra_size);

@@ -34,6 +34,8 @@ typedef struct sta_record_layout {
     size_t size;                                       /* bytes per record */
     sta_record_column columns[STA_RECORD_MAX_COLUMNS]; /* attribute columns in .strata order */
     int column_count;
+    int splat_column;    /* first SPLAT column, -1 when none (written after the extras) */
+    size_t splat_offset; /* byte offset of the SPLAT u16[3] in the record, when present */
 } sta_record_layout;
 
 /* Computes the layout for the given attributes and extra bytes per point. */

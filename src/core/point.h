@@ -17,19 +17,20 @@
 
 /* Attribute bits: which fields of sta_point a source really has. */
 typedef enum sta_attr {
-    STA_ATTR_INTENSITY = 1u << 0,       /* intensity */
-    STA_ATTR_RETURNS = 1u << 1,         /* return_number, number_of_returns */
-    STA_ATTR_CLASSIFICATION = 1u << 2,  /* classification, classification_flags */
-    STA_ATTR_SCAN_ANGLE = 1u << 3,      /* scan_angle */
-    STA_ATTR_USER_DATA = 1u << 4,       /* user_data */
-    STA_ATTR_POINT_SOURCE_ID = 1u << 5, /* point_source_id */
-    STA_ATTR_SCAN_FLAGS = 1u << 6,      /* scan_direction_flag, edge_of_flight_line */
-    STA_ATTR_GPS_TIME = 1u << 7,        /* gps_time */
-    STA_ATTR_RGB = 1u << 8,             /* red, green, blue */
-    STA_ATTR_NIR = 1u << 9,             /* nir */
-    STA_ATTR_WAVE_PACKET = 1u << 10,    /* wave_* fields */
-    STA_ATTR_NORMAL = 1u << 11,         /* normal[3] (PLY) */
-    STA_ATTR_SCANNER_CHANNEL = 1u << 12 /* scanner_channel (LAS 1.4 formats 6-10) */
+    STA_ATTR_INTENSITY = 1u << 0,        /* intensity */
+    STA_ATTR_RETURNS = 1u << 1,          /* return_number, number_of_returns */
+    STA_ATTR_CLASSIFICATION = 1u << 2,   /* classification, classification_flags */
+    STA_ATTR_SCAN_ANGLE = 1u << 3,       /* scan_angle */
+    STA_ATTR_USER_DATA = 1u << 4,        /* user_data */
+    STA_ATTR_POINT_SOURCE_ID = 1u << 5,  /* point_source_id */
+    STA_ATTR_SCAN_FLAGS = 1u << 6,       /* scan_direction_flag, edge_of_flight_line */
+    STA_ATTR_GPS_TIME = 1u << 7,         /* gps_time */
+    STA_ATTR_RGB = 1u << 8,              /* red, green, blue */
+    STA_ATTR_NIR = 1u << 9,              /* nir */
+    STA_ATTR_WAVE_PACKET = 1u << 10,     /* wave_* fields */
+    STA_ATTR_NORMAL = 1u << 11,          /* normal[3] (PLY) */
+    STA_ATTR_SCANNER_CHANNEL = 1u << 12, /* scanner_channel (LAS 1.4 formats 6-10) */
+    STA_ATTR_SPLAT = 1u << 13            /* normal[3] and radius from strata-convert --normals */
 } sta_attr;
 
 /* The integer grid of a source: real = integer * scale + offset, per axis. */
