@@ -35,8 +35,9 @@ typedef enum sta_splat_method {
     STA_SPLAT_METHOD_COUNT
 } sta_splat_method;
 
-/* Instanced quads: faster than the geometry shader on llvmpipe (docs/BENCHMARKS.md). */
-#define STA_SPLAT_DEFAULT_METHOD STA_SPLAT_INSTANCED
+/* The geometry shader: the fastest of the three on llvmpipe, instanced quads 1.3-1.5x
+ * and pulled quads 1.1-1.4x slower at 0.2-4 M splats, 1080p (docs/BENCHMARKS.md). */
+#define STA_SPLAT_DEFAULT_METHOD STA_SPLAT_GEOMETRY
 
 typedef struct sta_splat_options {
     int method;          /* sta_splat_method (0: STA_SPLAT_DEFAULT_METHOD) */
