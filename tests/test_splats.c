@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "convert.h"
 #include "core/camera.h"
 #include "render/bindings.h"
 #include "render/gl.h"
@@ -596,6 +597,107 @@ static void scene_without_normals_falls_back_to_shaded(void **state)
     free(shaded);
 }
 
+// End to end on a converted scene (strata-convert --normals of the fixture's sphere and
+// wall): the scene has splats, the splat frame closes the sphere's silhouette where the
+// points leave gaps, every drawn pixel names a resident point, and the normals drawn on
+// the sphere are its analytic normals (converter, loader, arena, pass and readback).
+static void converted_scene_draws_splats_with_its_normals(void **state)
+{
+    (void)state;
+    char plain[4096], path[4096];
+    const double origin[3] = { 0, 0, 0 };
+    sta_fixture_build_scene("splats_e2e", 20000, origin, plain, sizeof(plain));
+    char ply[4096];
+    snprintf(ply, sizeof(ply), "%s/splats_e2e.ply", sta_test_tmpdir());
+    snprintf(path, sizeof(path), "%s/splats_e2e_normals.strata", sta_test_tmpdir());
+    const char *inputs[] = { ply };
+    sta_convert_options co = { .inputs = inputs,
+                               .input_count = 1,
+                               .output = path,
+                               .force = true,
+                               .normals = true,
+                               .leaf_capacity = 2000,
+                               .compress_level = 1 };
+    sta_error err = { 0 };
+    if (sta_convert(&co, NULL, &err) != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+    enum {
+        SW = 240,
+        SH = 180
+    };
+    sta_camera camera = sta_fixture_camera(origin, SW, SH);
+    size_t covered[2] = { 0, 0 };
+    static uint32_t ids[2 * SW * SH];
+    static float depth[SW * SH];
+    for (int k = 0; k < 2; k++) {
+        sta_scene *scene = NULL;
+        assert_int_equal(sta_scene_open(path, NULL, &scene, &err), STA_OK);
+        assert_true(sta_scene_has_splats(scene));
+        int mode = k == 0 ? STA_PIPELINE_RAW : STA_PIPELINE_SPLATS;
+        sta_scene_set_pipeline(scene, &(sta_pipeline_options){ .mode = mode });
+        sta_render_target target = { 0 };
+        sta_fixture_render_complete(scene, &camera, &target);
+        sta_render_target_read_ids(&target, ids);
+        for (int i = 0; i < SW * SH; i++) {
+            covered[k] += ids[2 * i] != STA_TARGET_NO_POINT;
+        }
+        if (k == 1) {
+            const sta_gpu_cache *cache = sta_scene_gpu_cache(scene);
+            sta_image normals = { 0 };
+            assert_int_equal(sta_splat_normal_image(cache, &target, &camera, &normals, &err),
+                             STA_OK);
+            sta_render_target_read_depth(&target, depth);
+            double forward[3], right[3], up[3];
+            sta_camera_basis(&camera, forward, right, up);
+            double t = tan(0.5 * camera.fov_y), aspect = (double)SW / SH;
+            size_t on_sphere = 0, within_5deg = 0;
+            for (int y = 0; y < SH; y++) { // depth and ids: top row first
+                for (int x = 0; x < SW; x++) {
+                    int i = y * SW + x;
+                    if (ids[2 * i] == STA_TARGET_NO_POINT) {
+                        continue;
+                    }
+                    const sta_gpu_cache_entry *e = &cache->entries[ids[2 * i]];
+                    assert_true(e->is_resident && ids[2 * i + 1] < e->count);
+                    double nx = (x + 0.5) * 2.0 / SW - 1.0, ny = 1.0 - (y + 0.5) * 2.0 / SH;
+                    double along = camera.near_m / (double)depth[i], p[3], d[3];
+                    for (int a = 0; a < 3; a++) {
+                        p[a] = camera.position[a] +
+                               along * (forward[a] + nx * t * aspect * right[a] + ny * t * up[a]);
+                    }
+                    d[0] = p[0], d[1] = p[1] - 10.0, d[2] = p[2];
+                    double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                    if (fabs(r - 5.0) > 0.05) {
+                        continue; // the wall, or a rim splat reaching past the sphere
+                    }
+                    // The analytic normal in camera space (facing us: the visible side).
+                    const float *got = normals.data + 4 * ((SH - 1 - y) * SW + x);
+                    double cam[3] = { 0, 0, 0 };
+                    for (int a = 0; a < 3; a++) {
+                        cam[0] += right[a] * d[a] / r;
+                        cam[1] += up[a] * d[a] / r;
+                        cam[2] -= forward[a] * d[a] / r;
+                    }
+                    double dot =
+                        cam[0] * (double)got[0] + cam[1] * (double)got[1] + cam[2] * (double)got[2];
+                    on_sphere++;
+                    within_5deg += dot > cos(5.0 * M_PI / 180.0);
+                }
+            }
+            printf("%zu sphere pixels, %zu with the normal within 5 degrees\n", on_sphere,
+                   within_5deg);
+            assert_true(on_sphere > 2000);
+            assert_true(within_5deg > on_sphere * 9 / 10);
+            sta_image_release(&normals);
+        }
+        sta_render_target_release(&target);
+        sta_scene_close(scene);
+    }
+    printf("covered: points %zu, splats %zu pixels\n", covered[0], covered[1]);
+    assert_true(covered[1] > covered[0] * 3 / 2);
+}
+
 static void options_and_names(void **state)
 {
     (void)state;
@@ -627,6 +729,8 @@ static const struct CMUnitTest tests[] = {
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(normal_image_follows_the_ids, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(converted_scene_draws_splats_with_its_normals,
+                                    sta_fixture_gl_setup, sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(scene_without_normals_falls_back_to_shaded,
                                     sta_fixture_gl_setup, sta_fixture_gl_teardown),
     cmocka_unit_test(options_and_names),
