@@ -20,3 +20,23 @@ for n in ${SIZES:-200000 1000000 4000000}; do
         --height "${HEIGHT:-1080}" --rounds "${ROUNDS:-3}" --repeat "${REPEAT:-3}" | tee -a "$log"
 done
 echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)" | tee -a "$log"
+
+# The same on a converted scan: the 2 M-point street of bench/pictures.sh with --normals,
+# the demo camera at 1920x1080, strata-view --pipeline splats, methods alternating
+# (ROUNDS rounds), each run the median of REPEAT frames of the loaded view.
+scene=$work/street2m_normals.strata
+if [ ! -f "$scene" ]; then
+    $bin/src/strata-synth street --points 2000000 --seed 1 -o "$work/street2m.las" --quiet
+    $bin/preprocess/strata-convert "$work/street2m.las" -o "$scene" --normals --force -q
+fi
+camera=650235,5401873.6,105.5,180,-8,70
+echo "== street2m_normals $(date -u +%FT%TZ) load $(cut -d' ' -f1-3 /proc/loadavg)" | tee -a "$log"
+for ((r = 0; r < ${ROUNDS:-3}; r++)); do
+    for method in geometry instanced pulled; do
+        line=$($bin/src/strata-view --headless "$scene" --camera=$camera --size 1920x1080 \
+            --pipeline splats --splat-method $method --repeat "${REPEAT:-3}" --stats |
+            grep '^median')
+        echo "$method $line" | tee -a "$log"
+    done
+done
+echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)" | tee -a "$log"
