@@ -171,7 +171,10 @@ static bool account(const sta_synth_params *params, sta_synth_scene *scene,
     }
     const double n[3] = { normal[0], normal[1], normal[2] };
     double c = dot3(n, truth);
-    double e = acos(fmin(1.0, fabs(c))) * DEG;
+    // atan2 of cross and dot: acos near 1 would floor the error at ~0.03 degrees.
+    double x[3] = { n[1] * truth[2] - n[2] * truth[1], n[2] * truth[0] - n[0] * truth[2],
+                    n[0] * truth[1] - n[1] * truth[0] };
+    double e = atan2(sqrt(dot3(x, x)), fabs(c)) * DEG;
     gr->err[gr->n] = (float)e;
     gr->radius[gr->n] = radius;
     gr->n++;
