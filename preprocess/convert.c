@@ -86,6 +86,7 @@ typedef struct convert_job {
     int halo_fd;
     sta_temp_runs halo_runs;   /* --normals: halo positions, one list per chunk */
     sta_normals_stats normals; /* summed over workers (guard: spill_lock) */
+    sta_trajectory trajectory; /* --normals: the scanner's path from GPS time */
 } convert_job;
 
 // Creates a temporary file "<dir>/.<base>.<tag>.XXXXXX" and unlinks it at once: it
@@ -204,6 +205,7 @@ static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index
     sta_normals_chunk frame;
     sta_halo_chunk_frame(&job->plan, &job->inputs.grid, chunk_index, job->options->knn, &frame);
     frame.up_axis = job->up_axis == STA_STRATA_UP_Y ? 1 : 2;
+    frame.trajectory = job->trajectory.usable ? &job->trajectory : NULL;
     sta_normals_stats stats = { 0 };
     if (status == STA_OK) {
         status = sta_normals_compute(&frame, &job->inputs.layout, records, count, halo, halo_count,
@@ -734,14 +736,15 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
             job.halo_runs.usage = &job.temp_usage;
         }
         if (status == STA_OK) {
-            status =
-                sta_halo_collect(&job.plan, &job.inputs.grid, &job.inputs.layout, &job.runs,
-                                 &job.halo_runs, options->knn, index_threads, options->cancel, err);
+            status = sta_halo_collect(&job.plan, &job.inputs.grid, &job.inputs.layout, &job.runs,
+                                      &job.halo_runs, &job.trajectory, options->knn, index_threads,
+                                      options->cancel, err);
         }
         if (status != STA_OK) {
             goto out;
         }
         report->seconds_halo = sta_clock_s() - t0;
+        report->normals_trajectory = job.trajectory.usable;
     }
     job.codecs = sta_calloc((size_t)job.threads, sizeof(*job.codecs));
     if (!job.codecs) {
@@ -804,6 +807,7 @@ out:
     sta_temp_runs_release(&job.runs);
     sta_temp_runs_release(&job.spill_runs);
     sta_temp_runs_release(&job.halo_runs);
+    sta_trajectory_release(&job.trajectory);
     remove_temp(&job.chunk_path, &job.chunk_fd);
     remove_temp(&job.halo_path, &job.halo_fd);
     remove_temp(&job.spill_path, &job.spill_fd);

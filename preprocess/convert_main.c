@@ -197,9 +197,12 @@ int main(int argc, char **argv)
         if (options.normals) {
             fprintf(stderr,
                     "  normals: K = %d, halo pass %.2f s; %" PRIu64
-                    " fallback (degenerate), %" PRIu64 " neighbourhoods wider than the halo\n",
+                    " fallback (degenerate), %" PRIu64
+                    " neighbourhoods wider than the halo; walls face %s\n",
                     options.knn, report.seconds_halo, report.normals_degenerate,
-                    report.normals_beyond_halo);
+                    report.normals_beyond_halo,
+                    report.normals_trajectory ? "the scanner path (GPS time)"
+                                              : "away from the scene's vertical centre line");
         }
     }
     return 0;

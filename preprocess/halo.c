@@ -36,6 +36,7 @@ typedef struct halo_job {
     const sta_record_layout *layout;
     sta_temp_runs *runs;
     sta_temp_runs *halo;
+    sta_trajectory *trajectory; /* NULL: none wanted (guard: lock) */
     int k;
     atomic_bool *cancel;
     int64_t (*grown)[2][3]; /* per chunk: box grown by its margin, grid units [min, max) */
@@ -83,7 +84,7 @@ static sta_status flush(halo_job *job, sta_run_codec *codec, size_t source, halo
 }
 
 static sta_status one_chunk(halo_job *job, sta_run_codec *codec, size_t s, uint8_t **records,
-                            size_t *capacity, sta_error *err)
+                            size_t *capacity, sta_trajectory *path, sta_error *err)
 {
     const sta_chunk_plan *plan = job->plan;
     const sta_chunk *chunk = &plan->chunks[s];
@@ -106,7 +107,8 @@ static sta_status one_chunk(halo_job *job, sta_run_codec *codec, size_t s, uint8
         }
     }
     sta_status status = STA_OK;
-    if (out_count > 0 && count > 0) {
+    bool timed = path && (job->layout->attributes & STA_ATTR_GPS_TIME);
+    if ((out_count > 0 || timed) && count > 0) {
         if (count > *capacity) {
             sta_free(*records);
             *records = sta_alloc_array(count, rec);
@@ -116,9 +118,14 @@ static sta_status one_chunk(halo_job *job, sta_run_codec *codec, size_t s, uint8
                      ? sta_temp_runs_read(job->runs, codec, chunk->list, *records, err)
                      : sta_fail(err, STA_ERR_NOMEM, "halo: out of memory for %zu points", count);
     }
-    for (size_t i = 0; status == STA_OK && out_count > 0 && i < count; i++) {
+    for (size_t i = 0; status == STA_OK && (out_count > 0 || timed) && i < count; i++) {
         int32_t p[3];
         sta_record_position(*records + i * rec, p);
+        if (timed) {
+            double t;
+            memcpy(&t, *records + i * rec + job->layout->gps_offset, sizeof(t));
+            status = sta_trajectory_add(path, t, p, err);
+        }
         for (size_t o = 0; o < out_count; o++) {
             halo_out *out = &outs[o];
             if (!inside(job->grown[out->chunk], p)) {
@@ -154,18 +161,26 @@ static void *halo_worker(void *argument)
     size_t capacity = 0;
     sta_error err = { 0 };
     sta_status status = STA_OK;
+    sta_trajectory path = { 0 };
     while (status == STA_OK && !atomic_load(&job->failed)) {
         size_t s = atomic_fetch_add(&job->next, 1);
         if (s >= job->plan->chunk_count) {
             break;
         }
-        status = one_chunk(job, &codec, s, &records, &capacity, &err);
+        status =
+            one_chunk(job, &codec, s, &records, &capacity, job->trajectory ? &path : NULL, &err);
         if (status == STA_OK && job->cancel && atomic_load(job->cancel)) {
             status = sta_fail(&err, STA_ERR_CANCELLED, "cancelled");
         }
     }
     sta_free(records);
     sta_run_codec_release(&codec);
+    if (status == STA_OK && job->trajectory) { // integer sums: any merge order
+        pthread_mutex_lock(&job->lock);
+        status = sta_trajectory_merge(job->trajectory, &path, &err);
+        pthread_mutex_unlock(&job->lock);
+    }
+    sta_trajectory_release(&path);
     if (status != STA_OK) {
         pthread_mutex_lock(&job->lock);
         if (!atomic_load(&job->failed)) {
@@ -179,10 +194,11 @@ static void *halo_worker(void *argument)
 
 sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
                             const sta_record_layout *layout, sta_temp_runs *runs,
-                            sta_temp_runs *halo, int k, int threads, atomic_bool *cancel,
-                            sta_error *err)
+                            sta_temp_runs *halo, sta_trajectory *trajectory, int k, int threads,
+                            atomic_bool *cancel, sta_error *err)
 {
     halo_job job = { .plan = plan,
+                     .trajectory = trajectory,
                      .grid = grid,
                      .layout = layout,
                      .runs = runs,
@@ -228,6 +244,9 @@ sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
     }
     for (size_t c = 0; c < plan->chunk_count; c++) {
         sta_temp_runs_sort(halo, c);
+    }
+    if (trajectory) {
+        sta_trajectory_finish(trajectory, plan->actual_min, plan->actual_max);
     }
     return STA_OK;
 }

@@ -20,6 +20,7 @@
 #include "knn_normals.h"
 #include "record.h"
 #include "temp_runs.h"
+#include "trajectory.h"
 
 /* Halo margin in spacings per sqrt(K): K = 10 gives ~9.5 spacings, the 10th neighbour
  * lies at ~1.8 on a surface. */
@@ -31,10 +32,12 @@ void sta_halo_chunk_frame(const sta_chunk_plan *plan, const sta_grid *grid, size
                           sta_normals_chunk *out);
 
 /* Fills `halo` (record size 12, one list per chunk, initialised by the caller) from the
- * chunk runs of `runs`, on `threads` threads. `cancel` may be NULL. */
+ * chunk runs of `runs`, on `threads` threads. When `trajectory` is not NULL (and the
+ * records have GPS time) every point is also added to it (trajectory.h) and
+ * sta_trajectory_finish decides whether it is usable. `cancel` may be NULL. */
 sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
                             const sta_record_layout *layout, sta_temp_runs *runs,
-                            sta_temp_runs *halo, int k, int threads, atomic_bool *cancel,
-                            sta_error *err);
+                            sta_temp_runs *halo, sta_trajectory *trajectory, int k, int threads,
+                            atomic_bool *cancel, sta_error *err);
 
 #endif

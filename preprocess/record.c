@@ -68,6 +68,9 @@ void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size
         if (!(layout->attributes & attribute_columns[i].bit)) {
             continue;
         }
+        if (attribute_columns[i].bit == STA_ATTR_GPS_TIME) {
+            layout->gps_offset = offset;
+        }
         if (attribute_columns[i].bit == STA_ATTR_SPLAT) {
             layout->splat_column = layout->column_count;
             layout->splat_offset = offset;

@@ -36,6 +36,7 @@ typedef struct sta_record_layout {
     int column_count;
     int splat_column;    /* first SPLAT column, -1 when none (written after the extras) */
     size_t splat_offset; /* byte offset of the SPLAT u16[3] in the record, when present */
+    size_t gps_offset;   /* byte offset of the f64 GPS time, when present */
 } sta_record_layout;
 
 /* Computes the layout for the given attributes and extra bytes per point. */
