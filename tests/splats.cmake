@@ -11,3 +11,8 @@ set_tests_properties(splats.probe_times_the_three_methods PROPERTIES LABELS gl
 add_test(NAME splats.probe_help COMMAND strata-splat-probe --help)
 set_tests_properties(splats.probe_help PROPERTIES LABELS unit
     PASS_REGULAR_EXPRESSION "usage: strata-splat-probe")
+# The window keys (O, [ and ]) under Xvfb, driven with xdotool.
+add_test(NAME splats.window_keys
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tools/check_window_splats.sh ${PROJECT_BINARY_DIR}
+                 ${CMAKE_CURRENT_BINARY_DIR}/window_splats)
+set_tests_properties(splats.window_keys PROPERTIES LABELS gl)
