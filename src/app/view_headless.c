@@ -346,9 +346,11 @@ static sta_status survey_outputs(const sta_view_args *args, const sta_scene *sce
     }
     sta_pipeline_options pipeline;
     sta_view_pipeline_options(args, &pipeline);
-    sta_view_readout_fill(readout, stats, 0.0, args->budget_points,
-                          sta_pipeline_mode_name(pipeline.mode),
-                          args->has_pick && status == STA_OK ? &pick : NULL, &measures);
+    char label[32];
+    sta_view_readout_fill(
+        readout, stats, 0.0, args->budget_points,
+        sta_view_pipeline_label(pipeline.mode, (float)args->splat_scale, label, sizeof(label)),
+        args->has_pick && status == STA_OK ? &pick : NULL, &measures);
     if (status == STA_OK && args->hud) {
         readout->marks = sta_alloc_array(STA_VIEW_MAX_MARKS, sizeof(*readout->marks));
         if (!readout->marks) {

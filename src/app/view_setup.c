@@ -130,6 +130,16 @@ void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *
     out->s0_m = (float)args->s0_m;
 }
 
+const char *sta_view_pipeline_label(int mode, float splat_scale, char *buf, size_t size)
+{
+    if (mode == STA_PIPELINE_SPLATS && splat_scale != 1.0f) {
+        snprintf(buf, size, "%s x%.3g", sta_pipeline_mode_name(mode), (double)splat_scale);
+    } else {
+        snprintf(buf, size, "%s", sta_pipeline_mode_name(mode));
+    }
+    return buf;
+}
+
 void sta_view_splat_options(const sta_view_args *args, sta_splat_options *out)
 {
     memset(out, 0, sizeof(*out));

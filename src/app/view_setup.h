@@ -38,6 +38,10 @@ void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *
 /* Factor of one [ or ] press on the splat radius. */
 #define STA_VIEW_SPLAT_SCALE_STEP 1.25f
 
+/* The pipeline's name for the readout: the mode, and the splat scale when splats are
+ * drawn at another scale than 1 ("splats x1.25"); written into `buf`. */
+const char *sta_view_pipeline_label(int mode, float splat_scale, char *buf, size_t size);
+
 /* The splat pass's options from the command line. */
 void sta_view_splat_options(const sta_view_args *args, sta_splat_options *out);
 

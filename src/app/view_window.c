@@ -503,8 +503,11 @@ static void draw_readout(view_state *s, sta_hud_overlay *hud, const sta_frame_st
 {
     sta_view_readout readout;
     uint64_t budget = args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS;
-    sta_view_readout_fill(&readout, stats, fps, budget, sta_pipeline_mode_name(s->pipeline.mode),
-                          s->tools.has_pick ? &s->tools.last_pick : NULL, &s->tools.list);
+    char pipeline[32];
+    sta_view_readout_fill(
+        &readout, stats, fps, budget,
+        sta_view_pipeline_label(s->pipeline.mode, s->splats.scale, pipeline, sizeof(pipeline)),
+        s->tools.has_pick ? &s->tools.last_pick : NULL, &s->tools.list);
     if (readout.count < STA_VIEW_HUD_MAX_LINES) {
         sta_view_tools_status(&s->tools, readout.lines[readout.count], sizeof(readout.lines[0]));
         readout.count++;
