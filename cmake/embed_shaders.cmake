@@ -3,7 +3,7 @@
 # programs do not depend on where the source tree is. Run by the build (see
 # src/CMakeLists.txt) whenever a shader changes.
 file(GLOB shaders RELATIVE ${SHADER_DIR} ${SHADER_DIR}/*.vert ${SHADER_DIR}/*.frag
-     ${SHADER_DIR}/*.comp ${SHADER_DIR}/*.glsl)
+     ${SHADER_DIR}/*.comp ${SHADER_DIR}/*.geom ${SHADER_DIR}/*.glsl)
 list(SORT shaders)
 set(body "/* Generated from shaders/ by cmake/embed_shaders.cmake. Do not edit. */\n")
 string(APPEND body "#include \"render/shader_source.h\"\n\n")

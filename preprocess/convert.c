@@ -27,8 +27,10 @@
 #include "core/log.h"
 #include "distribute.h"
 #include "format/strata_writer.h"
+#include "halo.h"
 #include "index.h"
 #include "inputs.h"
+#include "knn_normals.h"
 #include "las_source.h"
 #include "node_writer.h"
 #include "path_checks.h"
@@ -75,10 +77,16 @@ typedef struct convert_job {
     size_t spilled_capacity;
     sta_strata_writer *writer;
     sta_node_writer node_writer;
+    int up_axis;               /* STA_STRATA_UP_* of the header (orients the normals) */
     _Atomic size_t next_chunk; /* atomic: next chunk to index */
     size_t *chunk_order;       /* chunk indices, largest first */
     atomic_bool failed;        /* atomic: a worker failed; others stop */
     sta_error worker_error;    /* first worker error (guard: spill_lock) */
+    char *halo_path;           /* --normals: temporary file of the chunks' halos */
+    int halo_fd;
+    sta_temp_runs halo_runs;   /* --normals: halo positions, one list per chunk */
+    sta_normals_stats normals; /* summed over workers (guard: spill_lock) */
+    sta_trajectory trajectory; /* --normals: the scanner's path from GPS time */
 } convert_job;
 
 // Creates a temporary file "<dir>/.<base>.<tag>.XXXXXX" and unlinks it at once: it
@@ -180,6 +188,39 @@ static sta_status unspill(convert_job *job, const spilled_node *s, uint8_t *reco
     return status;
 }
 
+// --normals: reads the chunk's halo (and frees its disk), then fills the records'
+// SPLAT bytes.
+static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index, uint8_t *records,
+                                size_t count, sta_error *err)
+{
+    const sta_chunk *chunk = &job->plan.chunks[chunk_index];
+    size_t halo_count = (size_t)job->halo_runs.lists[chunk_index].record_count;
+    int32_t *halo = sta_alloc_array(halo_count ? halo_count : 1, 3 * sizeof(int32_t));
+    if (!halo) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for a halo of %zu points", halo_count);
+    }
+    sta_status status = sta_temp_runs_read(&job->halo_runs, &job->codecs[worker], chunk_index,
+                                           (uint8_t *)halo, err);
+    sta_temp_runs_discard(&job->halo_runs, chunk_index);
+    sta_normals_chunk frame;
+    sta_halo_chunk_frame(&job->plan, &job->inputs.grid, chunk_index, job->options->knn, &frame);
+    frame.up_axis = job->up_axis == STA_STRATA_UP_Y ? 1 : 2;
+    frame.trajectory = job->trajectory.usable ? &job->trajectory : NULL;
+    sta_normals_stats stats = { 0 };
+    if (status == STA_OK) {
+        status = sta_normals_compute(&frame, &job->inputs.layout, records, count, halo, halo_count,
+                                     &stats, err);
+    }
+    sta_free(halo);
+    (void)chunk;
+    pthread_mutex_lock(&job->spill_lock);
+    job->normals.points += stats.points;
+    job->normals.degenerate += stats.degenerate;
+    job->normals.beyond_halo += stats.beyond_halo;
+    pthread_mutex_unlock(&job->spill_lock);
+    return status;
+}
+
 typedef struct worker_args {
     convert_job *job;
     int index;
@@ -219,6 +260,9 @@ static void *index_worker(void *argument)
             status = sta_temp_runs_read(&job->runs, &job->codecs[args->index], chunk->list, records,
                                         &err);
             sta_temp_runs_discard(&job->runs, chunk->list); // read once: free its disk
+        }
+        if (status == STA_OK && job->options->normals) {
+            status = chunk_normals(job, args->index, job->chunk_order[i], records, count, &err);
         }
         sta_pending_node root = { 0 };
         if (status == STA_OK) {
@@ -481,8 +525,13 @@ static size_t plan_chunk_capacity(uint64_t point_count)
 // Bytes one index worker needs for a chunk of `cap` points: records, index arrays,
 // the node buffers of its largest node (at most a full grid) and the chunk's packed
 // payloads held until their turn (at most the raw records).
-static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2)
+static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2, bool normals)
 {
+    if (normals) { // the kNN grid over the chunk and a halo of up to half as many points
+        size_t with_halo = cap + cap / 2;
+        return worker_bytes(cap, record_size, grid_log2, false) +
+               sta_normals_memory_bytes(with_halo) + (cap / 2) * 3 * sizeof(int32_t);
+    }
     size_t grid_cells = (size_t)1 << (3 * grid_log2);
     size_t per_point = record_size + 2 * sizeof(sta_index_item) + 1; // records, items, labels
     size_t per_node_point = record_size + sizeof(sta_point) + 2 * record_size; // node buffers
@@ -493,12 +542,12 @@ static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2)
 // How many chunks are indexed at once within the budget (see docs/CONVERTER.md):
 // the fixed overhead, an eighth for the distribution buffers, the rest for workers.
 static int plan_index_threads(size_t memory_mib, int threads, size_t cap, size_t record_size,
-                              int grid_log2, size_t *out_buffer_bytes)
+                              int grid_log2, bool normals, size_t *out_buffer_bytes)
 {
     size_t budget = memory_mib > FIXED_OVERHEAD_MIB ? (memory_mib - FIXED_OVERHEAD_MIB) << 20
                                                     : (size_t)32 << 20;
     *out_buffer_bytes = budget / 8;
-    size_t need = worker_bytes(cap, record_size, grid_log2);
+    size_t need = worker_bytes(cap, record_size, grid_log2, normals);
     size_t fit = (budget - budget / 8) / need;
     if (fit == 0) {
         sta_log_warn("--memory %zu MiB is less than one chunk of %zu points needs: the run "
@@ -520,6 +569,7 @@ void sta_convert_options_defaults(sta_convert_options *o)
     o->grid_cells = o->grid_cells ? o->grid_cells : (int)STA_STRATA_DEFAULT_CELLS;
     o->leaf_capacity = o->leaf_capacity ? o->leaf_capacity : STA_CONVERT_DEFAULT_LEAF_CAPACITY;
     o->compress_level = o->compress_level ? o->compress_level : STA_STRATA_DEFAULT_ZSTD_LEVEL;
+    o->knn = o->knn ? o->knn : STA_NORMALS_DEFAULT_K;
 }
 
 sta_status sta_convert(const sta_convert_options *options, sta_convert_report *report,
@@ -537,7 +587,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     convert_job job;
     memset(&job, 0, sizeof(job));
     job.options = options;
-    job.chunk_fd = job.spill_fd = -1;
+    job.chunk_fd = job.spill_fd = job.halo_fd = -1;
     pthread_mutex_init(&job.spill_lock, NULL);
     char *tmp_dir = NULL;
     sta_strata_extra_dim *extra_dims = NULL;
@@ -551,6 +601,11 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
                           "grid cells must be a power of two from 16 to 1024, "
                           "got %d",
                           grid_cells);
+        goto out;
+    }
+    if (options->normals && (options->knn < 3 || options->knn > STA_NORMALS_MAX_K)) {
+        status = sta_fail(err, STA_ERR_ARG, "--knn must be 3 to %d, got %d", STA_NORMALS_MAX_K,
+                          options->knn);
         goto out;
     }
     job.threads = options->threads > 256 ? 256 : options->threads;
@@ -590,8 +645,14 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         job.chunk_capacity = options->chunk_points;
     }
     size_t buffer_bytes = 0;
-    int index_threads = plan_index_threads(memory_mib, job.threads, job.chunk_capacity,
-                                           job.inputs.layout.size, grid_log2, &buffer_bytes);
+    if (options->normals) { // computed normals replace PLY ones (one normal per point)
+        job.inputs.attributes =
+            (job.inputs.attributes & ~(uint32_t)STA_ATTR_NORMAL) | STA_ATTR_SPLAT;
+        sta_record_layout_init(&job.inputs.layout, job.inputs.attributes, job.inputs.extra_size);
+    }
+    int index_threads =
+        plan_index_threads(memory_mib, job.threads, job.chunk_capacity, job.inputs.layout.size,
+                           grid_log2, options->normals, &buffer_bytes);
 
     // 2. count and plan
     job.progress.enabled = options->progress;
@@ -621,6 +682,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     wopt.generator = "strata-convert 0.1";
     wopt.up_axis = sta_inputs_up_axis(&job.inputs, report->up_why, sizeof(report->up_why));
     report->up_axis = wopt.up_axis;
+    job.up_axis = wopt.up_axis;
     sta_las_source_keep las_source;
     status = sta_las_source_collect(&job.inputs, &las_source, err);
     if (status != STA_OK) {
@@ -675,6 +737,26 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     report->seconds_distribute = sta_clock_s() - t0;
+    if (options->normals && job.plan.chunk_count > 0) {
+        t0 = sta_clock_s();
+        status = make_temp(tmp_dir, options->output, "halo", &job.halo_path, &job.halo_fd, err);
+        if (status == STA_OK) {
+            status =
+                sta_temp_runs_init(&job.halo_runs, job.halo_fd, job.halo_path, 3 * sizeof(int32_t),
+                                   job.plan.chunk_count, STA_TEMP_RUNS_PAGE_ALIGNMENT, err);
+            job.halo_runs.usage = &job.temp_usage;
+        }
+        if (status == STA_OK) {
+            status = sta_halo_collect(&job.plan, &job.inputs.grid, &job.inputs.layout, &job.runs,
+                                      &job.halo_runs, &job.trajectory, options->knn, index_threads,
+                                      options->cancel, err);
+        }
+        if (status != STA_OK) {
+            goto out;
+        }
+        report->seconds_halo = sta_clock_s() - t0;
+        report->normals_trajectory = job.trajectory.usable;
+    }
     job.codecs = sta_calloc((size_t)job.threads, sizeof(*job.codecs));
     if (!job.codecs) {
         status = sta_fail(err, STA_ERR_NOMEM, "out of memory");
@@ -694,6 +776,11 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     }
     report->seconds_index = sta_clock_s() - t0;
     remove_temp(&job.chunk_path, &job.chunk_fd); // free the disk before the merge
+    if (job.halo_fd >= 0) {
+        remove_temp(&job.halo_path, &job.halo_fd);
+    }
+    report->normals_degenerate = job.normals.degenerate;
+    report->normals_beyond_halo = job.normals.beyond_halo;
 
     // 5. merge the top of the tree, then write table and header
     t0 = sta_clock_s();
@@ -730,7 +817,10 @@ out:
     sta_free(job.codecs);
     sta_temp_runs_release(&job.runs);
     sta_temp_runs_release(&job.spill_runs);
+    sta_temp_runs_release(&job.halo_runs);
+    sta_trajectory_release(&job.trajectory);
     remove_temp(&job.chunk_path, &job.chunk_fd);
+    remove_temp(&job.halo_path, &job.halo_fd);
     remove_temp(&job.spill_path, &job.spill_fd);
     sta_node_writer_release(&job.node_writer);
     sta_strata_writer_destroy(job.writer); // removes the temporary output unless finished

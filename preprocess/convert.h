@@ -44,6 +44,8 @@ typedef struct sta_convert_options {
     bool force;           /* overwrite an existing output */
     bool keep_extra;      /* keep LAS extra dimensions (--attributes extra) */
     bool salvage;         /* read what is complete of truncated inputs */
+    bool normals;         /* compute a normal and splat radius per point (SPLAT attribute) */
+    int knn;              /* 0: STA_NORMALS_DEFAULT_K neighbours for --normals */
     bool progress;        /* draw a progress line (only on a terminal) */
     const char *mirrors;  /* mirror file: flag ghost points in the MIRROR attribute (keeps
                              every point; docs/MIRRORS.md), or NULL */
@@ -69,8 +71,12 @@ typedef struct sta_convert_report {
     double seconds_merge;
     double seconds_finish;
     double seconds_total;
-    int up_axis;      /* STA_STRATA_UP_* written to the header */
-    char up_why[256]; /* how it was decided (sta_inputs_up_axis) */
+    double seconds_halo;          /* --normals: the halo pass (inside seconds_distribute's phase) */
+    uint64_t normals_degenerate;  /* --normals: points given the fallback normal */
+    uint64_t normals_beyond_halo; /* --normals: neighbourhoods wider than the halo */
+    bool normals_trajectory;      /* --normals: walls faced the scanner path (GPS time) */
+    int up_axis;                  /* STA_STRATA_UP_* written to the header */
+    char up_why[256];             /* how it was decided (sta_inputs_up_axis) */
 } sta_convert_report;
 
 /* Runs the whole conversion. On any failure no output and no temporary file is left

@@ -13,6 +13,7 @@
 #include "core/log.h"
 #include "format/layout.h"
 #include "format/strata_writer.h"
+#include "knn_normals.h"
 
 static atomic_bool cancel_requested;
 
@@ -41,6 +42,7 @@ int main(int argc, char **argv)
                                     .progress = true };
     int memory_mib = STA_CONVERT_DEFAULT_MEMORY_MIB;
     int leaf_capacity = STA_CONVERT_DEFAULT_LEAF_CAPACITY;
+    options.knn = STA_NORMALS_DEFAULT_K;
     int attributes = -1; // index into attribute_names
     bool quiet = false;
     static const char *const attribute_names[] = { "extra", NULL };
@@ -105,6 +107,17 @@ int main(int argc, char **argv)
           .metavar = "FILE",
           .help = "mirror file (docs/MIRRORS.md): flag the ghost points behind its mirrors in "
                   "the MIRROR attribute; every point is kept" },
+        { .name = "normals",
+          .kind = STA_CLI_FLAG,
+          .dest = &options.normals,
+          .help = "compute a normal and a splat radius per point (kNN plane fit)" },
+        { .name = "knn",
+          .kind = STA_CLI_INT,
+          .dest = &options.knn,
+          .metavar = "K",
+          .int_min = 3,
+          .int_max = STA_NORMALS_MAX_K,
+          .help = "neighbours of each point for --normals" },
         { .name = "salvage",
           .kind = STA_CLI_FLAG,
           .dest = &options.salvage,
@@ -187,6 +200,16 @@ int main(int argc, char **argv)
                 report.seconds_merge, report.seconds_finish, report.chunk_count,
                 (double)report.temp_bytes / 1048576.0);
         fprintf(stderr, "  up axis: %s\n", report.up_why);
+        if (options.normals) {
+            fprintf(stderr,
+                    "  normals: K = %d, halo pass %.2f s; %" PRIu64
+                    " fallback (degenerate), %" PRIu64
+                    " neighbourhoods wider than the halo; walls face %s\n",
+                    options.knn, report.seconds_halo, report.normals_degenerate,
+                    report.normals_beyond_halo,
+                    report.normals_trajectory ? "the scanner path (GPS time)"
+                                              : "away from the scene's vertical centre line");
+        }
     }
     return 0;
 }

@@ -5,6 +5,8 @@
 
 #include <string.h>
 
+#include "core/octahedral.h"
+
 // Bytes each attribute adds to a record, in storage order.
 static const struct {
     uint32_t bit;
@@ -23,6 +25,7 @@ static const struct {
     { STA_ATTR_WAVE_PACKET, 29 },
     { STA_ATTR_NORMAL, 12 },
     { STA_ATTR_SCANNER_CHANNEL, 1 },
+    { STA_ATTR_SPLAT, 6 },
     { STA_ATTR_MIRROR, 1 },
 };
 
@@ -45,6 +48,7 @@ static const struct {
     { STA_ATTR_WAVE_PACKET, { 1, 8, 4, 4, 4, 4, 4 } },
     { STA_ATTR_NORMAL, { 4, 4, 4 } },
     { STA_ATTR_SCANNER_CHANNEL, { 1 } },
+    { STA_ATTR_SPLAT, { 2, 2, 2 } }, /* after the extra dimensions in .strata (bit 14) */
     { STA_ATTR_MIRROR, { 1 } },
 };
 
@@ -62,12 +66,20 @@ void sta_record_layout_init(sta_record_layout *layout, uint32_t attributes, size
     size_t offset = 12;
     layout->column_count = 0;
     layout->columns_before_extra = -1;
+    layout->splat_column = -1;
     for (size_t i = 0; i < sizeof(attribute_columns) / sizeof(attribute_columns[0]); i++) {
         if (!(layout->attributes & attribute_columns[i].bit)) {
             continue;
         }
-        // Bits from 14 up (MIRROR, 15) are stored after the extra dimensions (bit 13).
-        if (attribute_columns[i].bit >= (1u << 14) && layout->columns_before_extra < 0) {
+        if (attribute_columns[i].bit == STA_ATTR_GPS_TIME) {
+            layout->gps_offset = offset;
+        }
+        if (attribute_columns[i].bit == STA_ATTR_SPLAT) {
+            layout->splat_column = layout->column_count;
+            layout->splat_offset = offset;
+        }
+        // SPLAT and MIRROR (.strata bits 14, 15) are stored after the extra dimensions (13).
+        if (attribute_columns[i].bit >= STA_ATTR_SPLAT && layout->columns_before_extra < 0) {
             layout->columns_before_extra = layout->column_count;
         }
         for (int c = 0; attribute_columns[i].sizes[c] != 0; c++) {
@@ -148,7 +160,8 @@ bool sta_record_encode_columns(const sta_record_layout *layout, const uint8_t *r
         at += size;
     }
     for (int c = layout->columns_before_extra; c < layout->column_count; c++) {
-        pos = encode_column(layout, c, records, count, pos); // MIRROR (bit 15) after EXTRA (13)
+        pos = encode_column(layout, c, records, count,
+                            pos); // SPLAT, MIRROR (14, 15) after EXTRA (13)
     }
     return true;
 }
@@ -223,6 +236,11 @@ void sta_record_pack(const sta_record_layout *layout, const sta_point *p, const 
     if (a & STA_ATTR_SCANNER_CHANNEL) {
         PUT(p->scanner_channel);
     }
+    if (a & STA_ATTR_SPLAT) {
+        uint16_t splat[3];
+        sta_splat_pack(p->normal, p->radius, splat);
+        PUT(splat);
+    }
     if (a & STA_ATTR_MIRROR) {
         PUT(p->mirror);
     }
@@ -290,6 +308,11 @@ void sta_record_unpack(const sta_record_layout *layout, const uint8_t *in, sta_p
     }
     if (a & STA_ATTR_SCANNER_CHANNEL) {
         GET(p->scanner_channel);
+    }
+    if (a & STA_ATTR_SPLAT) {
+        uint16_t splat[3];
+        GET(splat);
+        sta_splat_unpack(splat, p->normal, &p->radius);
     }
     if (a & STA_ATTR_MIRROR) {
         GET(p->mirror);

@@ -35,6 +35,9 @@ typedef struct sta_record_layout {
     sta_record_column columns[STA_RECORD_MAX_COLUMNS]; /* attribute columns in .strata order */
     int column_count;
     int columns_before_extra; /* .strata puts the extra dimensions' columns here (bit 13) */
+    int splat_column;         /* first SPLAT column, -1 when none (written after the extras) */
+    size_t splat_offset;      /* byte offset of the SPLAT u16[3] in the record, when present */
+    size_t gps_offset;        /* byte offset of the f64 GPS time, when present */
 } sta_record_layout;
 
 /* Computes the layout for the given attributes and extra bytes per point. */

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT
- * The symmetric 3x3 eigen solver (src/render/ref/eigen3.c, shaders/eigen3.glsl)
+ * The symmetric 3x3 eigen solver (src/core/eigen3.c, shaders/eigen3.glsl)
  * against LAPACK's dsyev on families of hard matrices.
  *
  * Tolerances (norm = spectral norm max|lambda| of the LAPACK result):
@@ -22,8 +22,8 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/eigen3.h"
 #include "render/gl.h"
-#include "render/ref/eigen3.h"
 #include "render/shader_source.h"
 
 typedef struct rng {

@@ -558,7 +558,8 @@ static void check_scene_file(const scene *sc)
 }
 
 static const scene_params full_params = {
-    .attributes = STA_STRATA_ATTR_KNOWN & ~STA_STRATA_ATTR_EXTRA,
+    .attributes = STA_STRATA_ATTR_KNOWN & ~STA_STRATA_ATTR_EXTRA &
+                  ~STA_STRATA_ATTR_SPLAT, // SPLAT quantises normal[]: test_knn_normals
     .extra_dims = 2,
     .zstd_level = 3,
     .points = 600,

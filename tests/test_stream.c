@@ -14,6 +14,7 @@
 
 #include "core/alloc.h"
 #include "stream/gpu_points.h"
+#include "stream/gpu_splats.h"
 #include "stream/ground.h"
 #include "stream/residency.h"
 #include "stream/select.h"
@@ -37,7 +38,18 @@ typedef struct fake_source {
     uint32_t calls[NODE_COUNT]; /* loads per node */
     uint32_t order[NODE_COUNT * 4];
     size_t order_count;
+    bool splats; /* loads carry a splat section (set before the streamer starts) */
 } fake_source;
+
+// The fake splat of point i of `node`: a normal turning with i, a radius from the node.
+static void fake_splat(uint32_t node, size_t i, float normal[3], float *radius)
+{
+    double angle = 0.001 * (double)i;
+    normal[0] = (float)(0.6 * cos(angle));
+    normal[1] = (float)(0.6 * sin(angle));
+    normal[2] = 0.8f;
+    *radius = 0.01f * (float)(node % 97 + 1);
+}
 
 static sta_status fake_load(void *context, void *worker, uint32_t node, uint8_t **out_gpu,
                             size_t *out_count, sta_error *err)
@@ -58,13 +70,20 @@ static sta_status fake_load(void *context, void *worker, uint32_t node, uint8_t 
         return sta_fail(err, STA_ERR_FORMAT, "fake: node %u checksum mismatch", node);
     }
     size_t count = f->tree.nodes[node].point_count;
-    uint8_t *gpu = sta_alloc_array(count, STA_GPU_POINT_SIZE);
+    size_t point_bytes = STA_GPU_POINT_SIZE + (f->splats ? STA_GPU_SPLAT_SIZE : 0);
+    uint8_t *gpu = sta_alloc_array(count, point_bytes);
     if (!gpu) {
         return sta_fail(err, STA_ERR_NOMEM, "fake: out of memory");
     }
-    memset(gpu, 0, count * STA_GPU_POINT_SIZE);
+    memset(gpu, 0, count * point_bytes);
     for (size_t i = 0; i < count; i++) {
         memcpy(gpu + i * STA_GPU_POINT_SIZE, &node, sizeof(node)); // whose bytes these are
+        if (f->splats) {
+            float normal[3], radius;
+            fake_splat(node, i, normal, &radius);
+            sta_gpu_splats_encode((const float(*)[3])normal, &radius, 1,
+                                  gpu + count * STA_GPU_POINT_SIZE + i * STA_GPU_SPLAT_SIZE);
+        }
     }
     *out_gpu = gpu;
     *out_count = count;
@@ -145,15 +164,31 @@ typedef struct sim_gpu {
     uint64_t bytes;
     uint64_t bytes_cap;
     uint64_t budget;
+    uint64_t point_bytes; /* 16, or 24 with the splat section */
     size_t evictions, uploads;
 } sim_gpu;
+
+// The upload's splat section: every record decodes to the fake's splat of that point.
+static void check_splats(const sta_stream_upload *u)
+{
+    const uint8_t *section = u->gpu + (size_t)u->count * STA_GPU_POINT_SIZE;
+    for (uint32_t i = 0; i < u->count; i++) {
+        float want[3], want_radius, got[3], got_radius;
+        fake_splat(u->node, i, want, &want_radius);
+        sta_gpu_splat_decode(section + (size_t)i * STA_GPU_SPLAT_SIZE, got, &got_radius);
+        assert_float_equal(got_radius, sta_half_to_float(sta_half_from_float(want_radius)), 0);
+        for (int a = 0; a < 3; a++) {
+            assert_float_equal(got[a], want[a], 1e-4);
+        }
+    }
+}
 
 // Carries out one frame and checks every rule the streamer promises.
 static void apply_and_check(sim_gpu *gpu, const sta_stream_frame *f, const sta_camera *camera,
                             const sta_lod_tree *tree)
 {
     assert_true(f->points_selected <= gpu->budget);
-    assert_true(f->points_selected <= gpu->bytes_cap / STA_GPU_POINT_SIZE);
+    assert_true(f->points_selected <= gpu->bytes_cap / gpu->point_bytes);
     assert_true(f->points_drawn <= f->points_selected);
     bool drawn[NODE_COUNT] = { false };
     for (size_t i = 0; i < f->draw_count; i++) {
@@ -164,7 +199,7 @@ static void apply_and_check(sim_gpu *gpu, const sta_stream_frame *f, const sta_c
         assert_true(gpu->resident[node]);
         assert_false(drawn[node]); // nothing drawn this frame is evicted
         gpu->resident[node] = false;
-        gpu->bytes -= (uint64_t)gpu->count[node] * STA_GPU_POINT_SIZE;
+        gpu->bytes -= (uint64_t)gpu->count[node] * gpu->point_bytes;
         gpu->evictions++;
     }
     for (size_t i = 0; i < f->upload_count; i++) {
@@ -173,9 +208,12 @@ static void apply_and_check(sim_gpu *gpu, const sta_stream_frame *f, const sta_c
         uint32_t owner;
         memcpy(&owner, u->gpu, sizeof(owner));
         assert_int_equal(owner, u->node); // the bytes are that node's
+        if (gpu->point_bytes > STA_GPU_POINT_SIZE) {
+            check_splats(u);
+        }
         gpu->resident[u->node] = true;
         gpu->count[u->node] = u->count;
-        gpu->bytes += (uint64_t)u->count * STA_GPU_POINT_SIZE;
+        gpu->bytes += (uint64_t)u->count * gpu->point_bytes;
         assert_true(gpu->bytes <= gpu->bytes_cap);
         gpu->uploads++;
     }
@@ -229,6 +267,7 @@ static sta_streamer *open_streamer(fake_source *f, const sta_streamer_options *o
     memset(gpu, 0, sizeof(*gpu));
     gpu->bytes_cap = sta_streamer_options_used(s)->gpu_bytes_cap;
     gpu->budget = sta_streamer_options_used(s)->budget_points;
+    gpu->point_bytes = STA_GPU_POINT_SIZE + (sta_streamer_has_splats(s) ? STA_GPU_SPLAT_SIZE : 0);
     return s;
 }
 
@@ -282,6 +321,37 @@ static void gpu_cap_holds_with_evictions(void **state)
     }
     assert_true(gpu.evictions > 0);
     assert_int_equal(gpu.evictions, last.evictions);
+    sta_streamer_close(s);
+    fake_release(&f);
+}
+
+// Issue 12: a source with splats hands the whole buffer (points, then splat records)
+// through the loader and the upload list, and the splat bytes count against the GPU cap.
+static void splat_sections_travel_and_count_against_the_cap(void **state)
+{
+    (void)state;
+    fake_source f;
+    fake_init(&f);
+    f.splats = true;
+    f.source.has_splats = 1;
+    // The cap that holds 12 nodes of points alone holds 8 with their splats.
+    sta_streamer_options o = { .gpu_bytes_cap = 12 * POINTS_PER_NODE * STA_GPU_POINT_SIZE,
+                               .loader_threads = 2 };
+    sim_gpu gpu;
+    sta_streamer *s = open_streamer(&f, &o, &gpu);
+    assert_true(sta_streamer_has_splats(s));
+    assert_int_equal(gpu.point_bytes, STA_GPU_POINT_SIZE + STA_GPU_SPLAT_SIZE);
+    sta_stream_frame last;
+    for (int step = 0; step < 4; step++) {
+        sta_camera c = camera_at(50 + 60 * cos(step * M_PI / 2 + M_PI),
+                                 50 + 60 * sin(step * M_PI / 2 + M_PI), 50, 0);
+        c.yaw = step * M_PI / 2;
+        run_until_complete(s, &gpu, &c, &f.tree, &last);
+        assert_true(last.points_selected <= 8 * POINTS_PER_NODE);
+        assert_true(last.points_selected >= POINTS_PER_NODE);
+        assert_true(last.resident_bytes <= o.gpu_bytes_cap);
+    }
+    assert_true(gpu.uploads > 0);
     sta_streamer_close(s);
     fake_release(&f);
 }
@@ -580,6 +650,7 @@ static void ground_without_classes_removes_roofs_and_trees(void **state)
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(budget_is_never_exceeded),
     cmocka_unit_test(gpu_cap_holds_with_evictions),
+    cmocka_unit_test(splat_sections_travel_and_count_against_the_cap),
     cmocka_unit_test(parent_stands_in_for_missing_children),
     cmocka_unit_test(loads_follow_priority_order),
     cmocka_unit_test(corrupt_node_is_skipped_and_reported_once),

@@ -277,11 +277,12 @@ static void csv_double(FILE *out, double value)
     fputs(sta_format_double(value, text, sizeof(text)), out);
 }
 
-void sta_info_print_points_header(FILE *out)
+void sta_info_print_points_header(FILE *out, uint32_t attr)
 {
     fputs("x,y,z,intensity,return_number,number_of_returns,classification,gps_time,red,green,"
-          "blue\n",
+          "blue",
           out);
+    fputs(attr & STA_ATTR_SPLAT ? ",nx,ny,nz,radius\n" : "\n", out);
 }
 
 void sta_info_print_point_row(FILE *out, const sta_grid *grid, uint32_t attr, const sta_point *p)
@@ -315,6 +316,10 @@ void sta_info_print_point_row(FILE *out, const sta_grid *grid, uint32_t attr, co
     } else {
         fputs(",,", out);
     }
+    if (attr & STA_ATTR_SPLAT) { // strata-convert --normals: the decoded normal and radius
+        fprintf(out, ",%.5f,%.5f,%.5f,%.5g", (double)p->normal[0], (double)p->normal[1],
+                (double)p->normal[2], (double)p->radius);
+    }
     fputc('\n', out);
 }
 
@@ -322,7 +327,7 @@ sta_status sta_info_print_points(FILE *out, sta_cloud_reader *reader, uint64_t s
                                  uint64_t count, sta_error *err)
 {
     const sta_cloud_info *info = sta_cloud_reader_info(reader);
-    sta_info_print_points_header(out);
+    sta_info_print_points_header(out, info->attributes);
     if (start >= info->point_count || count == 0) {
         return STA_OK;
     }

@@ -16,7 +16,8 @@ void sta_info_print_text(FILE *out, const sta_cloud_info *info, const sta_cloud_
 void sta_info_print_json(FILE *out, const sta_cloud_info *info, const sta_cloud_stats *stats);
 
 /* The CSV header line of --points. */
-void sta_info_print_points_header(FILE *out);
+void sta_info_print_points_header(FILE *out,
+                                  uint32_t attr); /* sta_attr: SPLAT adds nx,ny,nz,radius */
 
 /* One CSV row of --points: real-world coordinates (shortest exact decimals) and the
  * fields of `attr` (sta_attr bits); the others are left empty. */

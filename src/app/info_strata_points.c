@@ -18,9 +18,9 @@ sta_status sta_info_strata_points(FILE *out, const char *path, uint64_t start, u
         sta_strata_close(reader);
         return status;
     }
-    sta_info_print_points_header(out);
     const sta_strata_info *info = sta_strata_reader_info(reader);
     const uint32_t attributes = sta_strata_attributes_to_sta_attr(info->layout.attributes);
+    sta_info_print_points_header(out, attributes);
     uint64_t first = 0; // file index of the current node's first point
     for (uint32_t n = 0; n < info->node_count && count > 0 && status == STA_OK; n++) {
         const sta_strata_node *node = sta_strata_reader_node(reader, n);

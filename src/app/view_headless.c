@@ -22,6 +22,7 @@
 #include "render/image_io.h"
 #include "render/measure_file.h"
 #include "render/scene.h"
+#include "render/splat_normals.h"
 
 static void print_stats(int frame, const sta_frame_stats *s, double ms)
 {
@@ -135,18 +136,26 @@ static sta_status time_repeats(const sta_view_args *args, sta_scene *scene,
     return STA_OK;
 }
 
-// The pipeline's normals (camera space) as three planes, top row first; false when the
-// pipeline did not compute them this frame.
-static bool read_normals(const sta_scene *scene, const sta_render_target *target, float *out_planes,
-                         sta_error *err)
+// The frame's normals (camera space) as three planes, top row first: the pipeline's, or
+// the splats' (their stored normals, render/splat_normals.h); false when the frame has
+// none.
+static bool read_normals(const sta_scene *scene, const sta_camera *camera,
+                         const sta_render_target *target, float *out_planes, sta_error *err)
 {
     const sta_pipeline *pipeline = sta_scene_pipeline(scene);
-    int mode = pipeline ? sta_scene_pipeline_mode(scene) : STA_PIPELINE_RAW;
-    if (!pipeline || (mode != STA_PIPELINE_NORMALS && mode != STA_PIPELINE_SHADED)) {
-        return false;
+    int mode = sta_scene_pipeline_mode(scene);
+    bool splats = mode == STA_PIPELINE_SPLATS && sta_scene_has_splats(scene);
+    if (mode == STA_PIPELINE_SPLATS && !splats) {
+        mode = STA_PIPELINE_SHADED; // the fallback ran the shaded pipeline
     }
     sta_image normals;
-    if (sta_gl_texture_to_image(pipeline->normal, 0, 4, &normals, err) != STA_OK) {
+    if (splats) {
+        if (sta_splat_normal_image(sta_scene_gpu_cache(scene), target, camera, &normals, err) !=
+            STA_OK) {
+            return false;
+        }
+    } else if (!pipeline || (mode != STA_PIPELINE_NORMALS && mode != STA_PIPELINE_SHADED) ||
+               sta_gl_texture_to_image(pipeline->normal, 0, 4, &normals, err) != STA_OK) {
         return false;
     }
     size_t pixels = (size_t)target->width_px * (size_t)target->height_px;
@@ -213,7 +222,7 @@ static sta_status write_outputs(const sta_view_args *args, const sta_scene *scen
             z[i] = depth[i] > 0.0f ? (float)(camera->near_m / (double)depth[i]) : INFINITY;
         }
         float *n = planes + 4 * pixels;
-        bool has_normals = read_normals(scene, target, n, err);
+        bool has_normals = read_normals(scene, camera, target, n, err);
         const sta_exr_channel channels[7] = { { "R", r },
                                               { "G", g },
                                               { "B", b },
@@ -338,7 +347,8 @@ static sta_status survey_outputs(const sta_view_args *args, const sta_scene *sce
     sta_pipeline_options pipeline;
     sta_view_pipeline_options(args, &pipeline);
     char label[96];
-    sta_view_pipeline_label(pipeline.mode, &args->point_size, label, sizeof(label));
+    sta_view_pipeline_label(pipeline.mode, &args->point_size, (float)args->splat_scale, label,
+                            sizeof(label));
     sta_view_readout_fill(readout, stats, 0.0, args->budget_points, label,
                           args->has_pick && status == STA_OK ? &pick : NULL, &measures);
     if (status == STA_OK && args->hud) {
@@ -377,6 +387,9 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_pipeline_options pipeline;
         sta_view_pipeline_options(args, &pipeline);
         sta_scene_set_pipeline(scene, &pipeline);
+        sta_splat_options splats;
+        sta_view_splat_options(args, &splats);
+        sta_scene_set_splats(scene, &splats);
         sta_scene_set_katz(scene, &args->katz);
         sta_scene_set_timing(scene, args->stats);
         if (args->stats) {

@@ -12,6 +12,7 @@
 #include "core/navigation.h"
 #include "render/bindings.h"
 #include "render/pass_geometry.h"
+#include "render/pass_splats.h"
 #include "render/pipeline.h"
 #include "render/ref/hpr_ref.h"
 #include "render/ref/normals_screen_ref.h"
@@ -37,6 +38,7 @@ static const char keys_text[] =
     "  M / N          next pipeline mode / next normal method\n"
     "  H              pyramidal / exhaustive HPR     G    normal smoothing on/off\n"
     "  K              live Katz HPR on/off (drawn subsample, hull on worker threads)\n"
+    "  O              splats on/off (--pipeline splats)   [ / ]   splat radius / 1.25, x 1.25\n"
     "  R              reset to the whole scene            P       add path keyframe\n"
     "  V              show / hide mirror ghost points (docs/MIRRORS.md)\n"
     "  O              mirror tool on/off: Ctrl+click vertices, Enter closes and saves to\n"
@@ -227,6 +229,11 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     sta_katz_view_options_defaults(&a->katz);
     a->raster = STA_RASTER_DEFAULT; // resolved (and so named in the log) by render/
     sta_point_size_defaults(&a->point_size);
+    a->splat_scale = STA_SPLAT_DEFAULT_SCALE;
+    a->splat_method = STA_SPLAT_DEFAULT;
+    static const char *const splat_method_names[] = { "instanced", "geometry", "pulled", NULL };
+    static const int splat_method_values[] = { STA_SPLAT_INSTANCED, STA_SPLAT_GEOMETRY,
+                                               STA_SPLAT_PULLED };
     static const char *const raster_names[] = { "compute", "points", NULL };
     static const int raster_values[] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     int hpr = 0; // index into hpr_names
@@ -484,7 +491,26 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .metavar = "MODE",
           .choices = pipeline_names,
           .help = "raw: points only; hpr: hidden point removal labels; fill: pull-push; "
-                  "normals; shaded; edl: eye-dome lighting" },
+                  "normals; shaded; edl: eye-dome lighting; splats: oriented round splats "
+                  "from the scene's normals and radii (strata-convert --normals; without "
+                  "them: shaded)" },
+        { .name = "splat-scale",
+          .kind = STA_CLI_DOUBLE,
+          .dest = &a->splat_scale,
+          .metavar = "F",
+          .real_min = 0.0,
+          .real_max = 1e3,
+          .flags = STA_CLI_ABOVE_MIN,
+          .help = "splats: factor on the stored radii (window keys [ and ] change it)" },
+        { .name = "splat-method",
+          .kind = STA_CLI_CHOICE,
+          .dest = &a->splat_method,
+          .metavar = "METHOD",
+          .choices = splat_method_names,
+          .choice_values = splat_method_values,
+          .help = "splats: instanced (quads), geometry (a geometry shader on points) or pulled "
+                  "(quads reading the arenas, no instancing)",
+          .default_text = sta_splat_method_name(STA_SPLAT_DEFAULT_METHOD) },
         { .name = "normals",
           .kind = STA_CLI_CHOICE,
           .dest = &a->normals,

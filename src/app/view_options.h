@@ -59,6 +59,8 @@ typedef struct sta_view_args {
     const char *mirrors_file;  /* --mirrors: classify ghosts at load (files without MIRROR) */
     bool show_ghosts;          /* --show-ghosts: draw mirror ghosts (hidden by default) */
     bool no_reflections;       /* --no-reflections: --mirrors without the mirror pass */
+    double splat_scale;        /* --splat-scale: factor on the splat radii ([ and ] keys) */
+    int splat_method;          /* --splat-method (sta_splat_method) */
 } sta_view_args;
 
 /* Sets the defaults, then parses argv (core/cli.h; argv's pointers are reordered); prints

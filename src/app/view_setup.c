@@ -130,16 +130,27 @@ void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *
     out->s0_m = (float)args->s0_m;
 }
 
-void sta_view_pipeline_label(int mode, const sta_point_size *size, char *out_text, size_t text_size)
+void sta_view_pipeline_label(int mode, const sta_point_size *size, float splat_scale,
+                             char *out_text, size_t text_size)
 {
     bool sized = mode == STA_PIPELINE_RAW || mode == STA_PIPELINE_EDL;
-    if (!sized || sta_point_size_is_one_pixel(size)) {
+    if (sized && !sta_point_size_is_one_pixel(size)) {
+        char points[64];
+        sta_point_size_describe(size, points, sizeof(points));
+        snprintf(out_text, text_size, "%s, points %s", sta_pipeline_mode_name(mode), points);
+    } else if (mode == STA_PIPELINE_SPLATS && splat_scale != 1.0f) {
+        snprintf(out_text, text_size, "%s x%.3g", sta_pipeline_mode_name(mode),
+                 (double)splat_scale);
+    } else {
         snprintf(out_text, text_size, "%s", sta_pipeline_mode_name(mode));
-        return;
     }
-    char points[64];
-    sta_point_size_describe(size, points, sizeof(points));
-    snprintf(out_text, text_size, "%s, points %s", sta_pipeline_mode_name(mode), points);
+}
+
+void sta_view_splat_options(const sta_view_args *args, sta_splat_options *out)
+{
+    memset(out, 0, sizeof(*out));
+    out->method = args->splat_method;
+    out->scale = (float)args->splat_scale;
 }
 
 sta_status sta_view_open_scene(const sta_view_args *args, sta_mirror_set *mirrors,

@@ -8,6 +8,7 @@
 #include "core/camera.h"
 #include "format/strata.h"
 #include "mirror/mirror_set.h"
+#include "render/pass_splats.h"
 #include "render/pipeline.h"
 #include "render/scene.h"
 
@@ -36,10 +37,17 @@ double sta_view_default_yaw(const sta_camera *camera, const double *points, size
 /* The screen-space pipeline options the arguments ask for. */
 void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *out);
 
+/* Factor of one [ or ] press on the splat radius. */
+#define STA_VIEW_SPLAT_SCALE_STEP 1.25f
+
 /* The pipeline's name for the readout and title, with the point size where it applies
- * and is not one pixel: "shaded", "edl, points 3 px". */
-void sta_view_pipeline_label(int mode, const sta_point_size *size, char *out_text,
-                             size_t text_size);
+ * and is not one pixel, and the splat scale when splats are drawn at another scale than
+ * 1: "shaded", "edl, points 3 px", "splats x1.25". */
+void sta_view_pipeline_label(int mode, const sta_point_size *size, float splat_scale,
+                             char *out_text, size_t text_size);
+
+/* The splat pass's options from the command line. */
+void sta_view_splat_options(const sta_view_args *args, sta_splat_options *out);
 
 /* Opens the scene with the command line's streamer options; --mirrors is loaded into
  * `mirrors` (which must outlive the scene) and classifies ghosts at load; ghosts are

@@ -50,6 +50,8 @@ typedef struct view_state {
     sta_pipeline_options pipeline; /* M, N, H, G change it */
     sta_katz_view_options katz;    /* K turns it on and off */
     sta_point_size point_size;     /* + - and Z change it */
+    sta_splat_options splats;      /* [ and ] change the scale */
+    int non_splat_mode;            /* the pipeline mode O returns to */
     double record_start_s;
     int colour_mode;
     double orbit_pitch[2]; /* radians: the camera's elevation above the pivot, min and max */
@@ -269,14 +271,14 @@ static bool point_size_key(view_state *s, int key)
     return true;
 }
 
-// O toggles the mirror tool; while it is on, Enter closes the outline (and saves the
+// B toggles the mirror tool; while it is on, Enter closes the outline (and saves the
 // file) and Backspace undoes. True when `key` was one of these.
 static bool mirror_key(view_state *s, int key)
 {
     sta_error err = { 0 };
     sta_status status = STA_OK;
     sta_view_mirror_tool *t = &s->mirror_tool;
-    if (key == GLFW_KEY_O) {
+    if (key == GLFW_KEY_B) {
         t->active = !t->active;
     } else if (t->active && (key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER)) {
         status = sta_view_mirror_tool_close(t, s->camera.position, &err);
@@ -400,6 +402,27 @@ static void on_scroll(GLFWwindow *window, double dx, double dy)
     memcpy(s->pivot, hit, sizeof(hit));
 }
 
+// O: splats on and off (back to the last other mode); [ and ]: the splat radius factor.
+static void splat_key(view_state *s, int key)
+{
+    if (key == GLFW_KEY_O) {
+        if (s->pipeline.mode == STA_PIPELINE_SPLATS) {
+            s->pipeline.mode = s->non_splat_mode;
+        } else {
+            s->non_splat_mode = s->pipeline.mode;
+            s->pipeline.mode = STA_PIPELINE_SPLATS;
+        }
+        sta_scene_set_pipeline(s->scene, &s->pipeline);
+        fprintf(stderr, "pipeline %s\n", sta_pipeline_mode_name(s->pipeline.mode));
+        return;
+    }
+    float factor = key == GLFW_KEY_RIGHT_BRACKET ? STA_VIEW_SPLAT_SCALE_STEP
+                                                 : 1.0f / STA_VIEW_SPLAT_SCALE_STEP;
+    s->splats.scale *= factor;
+    sta_scene_set_splats(s->scene, &s->splats);
+    fprintf(stderr, "splat scale %.3g\n", (double)s->splats.scale);
+}
+
 static void on_key(GLFWwindow *window, int key, int scancode, int action, int mods)
 {
     (void)scancode;
@@ -447,6 +470,8 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
         s->show_ghosts = !s->show_ghosts;
         sta_scene_set_hide_flags(s->scene, s->show_ghosts ? 0u : STA_SCENE_DEFAULT_HIDE_FLAGS);
         fprintf(stderr, "mirror ghosts %s\n", s->show_ghosts ? "shown" : "hidden");
+    } else if (key == GLFW_KEY_O || key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET) {
+        splat_key(s, key);
     } else if (key == GLFW_KEY_K) {
         s->katz.enabled = !s->katz.enabled;
         sta_scene_set_katz(s->scene, &s->katz);
@@ -515,7 +540,8 @@ static void update_title(GLFWwindow *window, const sta_frame_stats *stats, doubl
                          uint64_t budget, const view_state *s)
 {
     char title[320], label[96];
-    sta_view_pipeline_label(s->pipeline.mode, &s->point_size, label, sizeof(label));
+    sta_view_pipeline_label(s->pipeline.mode, &s->point_size, s->splats.scale, label,
+                            sizeof(label));
     snprintf(title, sizeof(title),
              "strata-view  [%s]  [%s]  %.0f fps  %.1f / %.1f M points  %u nodes resident, %zu "
              "loading  %.0f MiB GPU",
@@ -538,7 +564,8 @@ static void draw_readout(view_state *s, sta_hud_overlay *hud, const sta_frame_st
     sta_view_readout readout;
     uint64_t budget = args->budget_points ? args->budget_points : STA_DEFAULT_BUDGET_POINTS;
     char label[96];
-    sta_view_pipeline_label(s->pipeline.mode, &s->point_size, label, sizeof(label));
+    sta_view_pipeline_label(s->pipeline.mode, &s->point_size, s->splats.scale, label,
+                            sizeof(label));
     sta_view_readout_fill(&readout, stats, fps, budget, label,
                           s->tools.has_pick ? &s->tools.last_pick : NULL, &s->tools.list);
     const sta_view_mirror_tool *mt = &s->mirror_tool;
@@ -618,6 +645,9 @@ int sta_view_run_window(const sta_view_args *args)
     s.colour_mode = sta_view_initial_colour(args, s.info);
     sta_view_pipeline_options(args, &s.pipeline);
     sta_scene_set_pipeline(s.scene, &s.pipeline);
+    sta_view_splat_options(args, &s.splats);
+    sta_scene_set_splats(s.scene, &s.splats);
+    s.non_splat_mode = args->pipeline == STA_PIPELINE_SPLATS ? STA_PIPELINE_SHADED : args->pipeline;
     s.katz = args->katz;
     s.show_ghosts = args->show_ghosts;
     sta_scene_set_katz(s.scene, &s.katz);

@@ -146,7 +146,7 @@ static sta_status parse_modes(const sta_cli_option *option, const char *value, s
 {
     sta_bench_options *o = option->dest;
     return parse_list_option(option, value, parse_mode, o->modes, &o->mode_count,
-                             "pipeline modes (raw,hpr,fill,normals,shaded,edl)", err);
+                             "pipeline modes (raw,hpr,fill,normals,shaded,edl,splats)", err);
 }
 
 static sta_status parse_normals(const sta_cli_option *option, const char *value, sta_error *err)
@@ -435,7 +435,7 @@ int main(int argc, char **argv)
           .metavar = "LIST",
           .parse = parse_modes,
           .show = show_modes,
-          .help = "raw,hpr,fill,normals,shaded,edl" },
+          .help = "raw,hpr,fill,normals,shaded,edl,splats" },
         { .name = "normals",
           .kind = STA_CLI_CALLBACK,
           .dest = &o,

@@ -14,6 +14,7 @@
 #include "bench/drawn_points.h"
 #include "bench/katz_local.h"
 #include "bench/metrics.h"
+#include "bench/splat_score.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
 #include "core/array.h"
@@ -78,7 +79,7 @@ static bool mode_draws_sized(int mode)
 
 static bool mode_runs_hpr(int mode)
 {
-    return mode != STA_PIPELINE_RAW && mode != STA_PIPELINE_EDL;
+    return mode != STA_PIPELINE_RAW && mode != STA_PIPELINE_EDL && mode != STA_PIPELINE_SPLATS;
 }
 
 static bool mode_runs_fill(int mode)
@@ -367,9 +368,26 @@ out_free:
 
 // Reads one pipeline texture and scores it.
 static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_bench_setting *st,
-                                const sta_view_truth *view_truth, const sta_view_points *points,
-                                const uint8_t *sampled, sta_bench_row *row, sta_error *err)
+                                const sta_camera *camera, const sta_view_truth *view_truth,
+                                const sta_view_points *points, const uint8_t *sampled,
+                                sta_bench_row *row, sta_error *err)
 {
+    if (st->mode == STA_PIPELINE_SPLATS && run->has_truth) {
+        sta_error_summary depth, normal;
+        sta_status s =
+            sta_bench_score_splats(scene, &run->target, camera, view_truth, &depth, &normal, err);
+        if (s == STA_OK) {
+            row->depth_count = depth.count;
+            row->depth_rel_mean = depth.mean;
+            row->depth_rel_median = depth.median;
+            row->depth_rel_p95 = depth.p95;
+            row->normal_count = normal.count;
+            row->normal_mean_deg = normal.mean;
+            row->normal_median_deg = normal.median;
+            row->normal_p95_deg = normal.p95;
+        }
+        return s;
+    }
     const sta_pipeline *p = sta_scene_pipeline(scene);
     if (!p || !run->has_truth) {
         return STA_OK;
@@ -754,6 +772,9 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
     const size_t view = (size_t)camera->width_px * (size_t)camera->height_px;
     for (size_t k = 0; k < run->setting_count && s == STA_OK; k++) {
         const sta_bench_setting *st = &run->settings[k];
+        if (st->mode == STA_PIPELINE_SPLATS && !sta_scene_has_splats(scene)) {
+            continue; // no normals: said once by the scene; not a row of the method
+        }
         sta_bench_row row = base;
         sta_bench_setting_label(st, row.setting, sizeof(row.setting));
         snprintf(row.pipeline, sizeof(row.pipeline), "%s", sta_pipeline_mode_name(st->mode));
@@ -772,7 +793,7 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         s = timed_frames(run, scene, camera, &row, err);
         if (s == STA_OK) {
             sta_render_target_read_rgba(&run->target, run->rgba);
-            s = score_buffers(run, scene, st, view_truth, &points, sampled, &row, err);
+            s = score_buffers(run, scene, st, camera, view_truth, &points, sampled, &row, err);
         }
         if (s == STA_OK && run->has_truth && mode_draws_sized(st->mode)) {
             sta_render_target_read_depth(&run->target, run->depth);

@@ -63,6 +63,8 @@ const char *sta_attr_name(uint32_t bit)
         return "nir";
     case STA_ATTR_WAVE_PACKET:
         return "wave_packet";
+    case STA_ATTR_SPLAT:
+        return "splat";
     case STA_ATTR_NORMAL:
         return "normal";
     case STA_ATTR_SCANNER_CHANNEL:

@@ -30,6 +30,7 @@ typedef enum sta_attr {
     STA_ATTR_WAVE_PACKET = 1u << 10,     /* wave_* fields */
     STA_ATTR_NORMAL = 1u << 11,          /* normal[3] (PLY) */
     STA_ATTR_SCANNER_CHANNEL = 1u << 12, /* scanner_channel (LAS 1.4 formats 6-10) */
+    STA_ATTR_SPLAT = 1u << 13,           /* normal[3] and radius from strata-convert --normals */
     STA_ATTR_MIRROR = 1u << 15           /* mirror (strata-convert --mirrors) */
 } sta_attr;
 

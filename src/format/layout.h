@@ -12,10 +12,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define STA_STRATA_MAGIC           "STRATA\r\n" /* 8 bytes, no NUL */
-#define STA_STRATA_MAGIC_SIZE      8
-#define STA_STRATA_VERSION_MAJOR   1
-#define STA_STRATA_VERSION_MINOR   3      /* 1.1 compression 2; 1.2 up axis; 1.3 MIRROR */
+#define STA_STRATA_MAGIC         "STRATA\r\n" /* 8 bytes, no NUL */
+#define STA_STRATA_MAGIC_SIZE    8
+#define STA_STRATA_VERSION_MAJOR 1
+#define STA_STRATA_VERSION_MINOR                                                                   \
+ 3 /* 1.1: compression 2; 1.2: up axis, LAS source; 1.3: SPLAT, MIRROR */
 #define STA_STRATA_HEADER_SIZE     384u   /* fixed header of version 1.0 */
 #define STA_STRATA_HEADER_SIZE_MAX 65536u /* readers refuse larger headers */
 #define STA_STRATA_EXTRA_DIM_SIZE  128u   /* one extra-dimension descriptor */
@@ -56,8 +57,9 @@
 #define STA_STRATA_ATTR_NORMAL          (1u << 11) /* f32 nx, f32 ny, f32 nz */
 #define STA_STRATA_ATTR_SCANNER_CHANNEL (1u << 12) /* u8 scanner_channel */
 #define STA_STRATA_ATTR_EXTRA           (1u << 13) /* extra dimensions, one column each */
+#define STA_STRATA_ATTR_SPLAT           (1u << 14) /* (1.3) u16 oct u, u16 oct v, u16 half radius */
 #define STA_STRATA_ATTR_MIRROR          (1u << 15) /* u8 0 real, k ghost via mirror k-1 (1.3) */
-#define STA_STRATA_ATTR_KNOWN           (((1u << 14) - 1u) | STA_STRATA_ATTR_MIRROR)
+#define STA_STRATA_ATTR_KNOWN           ((1u << 16) - 1u)
 
 /* Fixed header, 384 bytes at file offset 0. */
 typedef struct sta_strata_header_disk {

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "core/bytes.h"
+#include "core/octahedral.h"
 #include "format/strata.h"
 
 /* One column of a known attribute: which sta_point field, how many bytes. */
@@ -23,6 +24,7 @@ typedef struct component {
     uint8_t size;        // bytes per value: 1, 2, 4 or 8
 } component;
 
+#define SPLAT_FIELD   SIZE_MAX
 #define FIELD_SIZE(f) sizeof(((sta_point *)0)->f)
 #define COMPONENT(bit, f, n)                                                                       \
  {                                                                                                 \
@@ -67,6 +69,11 @@ static const component components[] = {
     { STA_STRATA_ATTR_NORMAL, offsetof(sta_point, normal) + 1 * sizeof(float), 4 },
     { STA_STRATA_ATTR_NORMAL, offsetof(sta_point, normal) + 2 * sizeof(float), 4 },
     COMPONENT(STA_STRATA_ATTR_SCANNER_CHANNEL, scanner_channel, 1),
+    // SPLAT (1.3): octahedral u, v and binary16 radius, converted from normal[] and radius
+    // (core/octahedral.h) rather than copied; SPLAT_FIELD marks them.
+    { STA_STRATA_ATTR_SPLAT, SPLAT_FIELD, 2 },
+    { STA_STRATA_ATTR_SPLAT, SPLAT_FIELD, 2 },
+    { STA_STRATA_ATTR_SPLAT, SPLAT_FIELD, 2 },
     COMPONENT(STA_STRATA_ATTR_MIRROR, mirror, 1),
 };
 #define COMPONENT_COUNT (sizeof(components) / sizeof(components[0]))
@@ -89,6 +96,7 @@ static const struct {
     { STA_ATTR_WAVE_PACKET, STA_STRATA_ATTR_WAVE_PACKET },
     { STA_ATTR_NORMAL, STA_STRATA_ATTR_NORMAL },
     { STA_ATTR_SCANNER_CHANNEL, STA_STRATA_ATTR_SCANNER_CHANNEL },
+    { STA_ATTR_SPLAT, STA_STRATA_ATTR_SPLAT },
     { STA_ATTR_MIRROR, STA_STRATA_ATTR_MIRROR },
 };
 
@@ -354,6 +362,29 @@ static void load_column(sta_point *points, const uint8_t *in, size_t count, size
     }
 }
 
+// The SPLAT attribute's three u16 columns from / into normal[] and radius.
+static void store_splat(uint8_t *out, const sta_point *points, size_t count)
+{
+    for (size_t i = 0; i < count; i++) {
+        uint16_t v[3];
+        sta_splat_pack(points[i].normal, points[i].radius, v);
+        for (int k = 0; k < 3; k++) {
+            sta_store_u16le(out + (size_t)k * 2 * count + 2 * i, v[k]);
+        }
+    }
+}
+
+static void load_splat(sta_point *points, const uint8_t *in, size_t count)
+{
+    for (size_t i = 0; i < count; i++) {
+        uint16_t v[3];
+        for (int k = 0; k < 3; k++) {
+            v[k] = sta_load_u16le(in + (size_t)k * 2 * count + 2 * i);
+        }
+        sta_splat_unpack(v, points[i].normal, &points[i].radius);
+    }
+}
+
 static int32_t coordinate(const sta_point *p, int axis)
 {
     return axis == 0 ? p->X : axis == 1 ? p->Y : p->Z;
@@ -396,10 +427,18 @@ sta_status sta_strata_encode_points(const sta_strata_layout *layout, const sta_p
         }
     }
     for (size_t c = 0; c < COMPONENT_COUNT; c++) { // bits above EXTRA follow its columns
-        if ((layout->attributes & components[c].bit) && components[c].bit > STA_STRATA_ATTR_EXTRA) {
-            store_column(pos, points, count, components[c].field_offset, components[c].size);
-            pos += count * components[c].size;
+        if (!(layout->attributes & components[c].bit) ||
+            components[c].bit < STA_STRATA_ATTR_EXTRA) {
+            continue;
         }
+        if (components[c].field_offset == SPLAT_FIELD) { // three columns from one conversion
+            store_splat(pos, points, count);
+            pos += count * 6;
+            c += 2;
+            continue;
+        }
+        store_column(pos, points, count, components[c].field_offset, components[c].size);
+        pos += count * components[c].size;
     }
     return STA_OK;
 }
@@ -449,6 +488,11 @@ sta_status sta_strata_decode_points(const sta_strata_layout *layout, const uint8
             continue;
         }
         for (size_t c = 0; c < COMPONENT_COUNT; c++) {
+            if (components[c].bit == bit && components[c].field_offset == SPLAT_FIELD) {
+                load_splat(out_points, pos, count);
+                pos += count * 6;
+                break;
+            }
             if (components[c].bit == bit) {
                 load_column(out_points, pos, count, components[c].field_offset, components[c].size);
                 pos += count * components[c].size;

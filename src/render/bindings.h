@@ -20,6 +20,7 @@
 #define STA_ATTRIB_POSITION_INTENSITY 0 /* uvec4: qx, qy, qz, intensity */
 #define STA_ATTRIB_COLOUR_CLASS       1 /* uvec4: r, g, b, classification */
 #define STA_ATTRIB_RETURNS            2 /* uvec4: return number, number of returns, 0, 0 */
+#define STA_ATTRIB_SPLAT              3 /* uvec2: octahedral normal, half radius (splats) */
 
 #define STA_WORKGROUP_SIZE_X 8
 #define STA_WORKGROUP_SIZE_Y 8
@@ -39,6 +40,8 @@
 #define STA_GEOMETRY_OUT_ID         1 /* RG32UI: node slot, point index */
 /* The ground model for STA_COLOUR_HEIGHT (geometry_colour.glsl; unit 0 is the raster's). */
 #define STA_GEOMETRY_SAMPLER_GROUND 1 /* R32F: ground height per cell */
+#define STA_SPLAT_SAMPLER_POINTS    0 /* pulled splats: usamplerBuffer RGBA32UI, points */
+#define STA_SPLAT_SAMPLER_SPLATS    2 /* pulled splats: usamplerBuffer RG32UI, splats */
 
 /* Compute rasteriser (raster_common.glsl, raster_points.comp, raster_resolve.*). */
 #define STA_RASTER_SAMPLER_POINTS 0 /* usamplerBuffer RGBA32UI: the node arena */
@@ -131,6 +134,7 @@
  X(STA_ATTRIB_POSITION_INTENSITY)                                                                  \
  X(STA_ATTRIB_COLOUR_CLASS)                                                                        \
  X(STA_ATTRIB_RETURNS)                                                                             \
+ X(STA_ATTRIB_SPLAT)                                                                               \
  X(STA_WORKGROUP_SIZE_X)                                                                           \
  X(STA_WORKGROUP_SIZE_Y)                                                                           \
  X(STA_COLOUR_RGB)                                                                                 \
@@ -141,6 +145,8 @@
  X(STA_COLOUR_HEIGHT)                                                                              \
  X(STA_GEOMETRY_OUT_COLOUR)                                                                        \
  X(STA_GEOMETRY_OUT_ID)                                                                            \
+ X(STA_SPLAT_SAMPLER_POINTS)                                                                       \
+ X(STA_SPLAT_SAMPLER_SPLATS)                                                                       \
  X(STA_GEOMETRY_SAMPLER_GROUND)                                                                    \
  X(STA_RASTER_SAMPLER_POINTS)                                                                      \
  X(STA_RASTER_BUFFER_BATCHES)                                                                      \

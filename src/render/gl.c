@@ -93,6 +93,9 @@ static GLenum stage_of(const char *name)
     if (dot && strcmp(dot, ".comp") == 0) {
         return GL_COMPUTE_SHADER;
     }
+    if (dot && strcmp(dot, ".geom") == 0) {
+        return GL_GEOMETRY_SHADER;
+    }
     return 0;
 }
 

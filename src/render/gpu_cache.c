@@ -6,6 +6,7 @@
 
 #include "core/alloc.h"
 #include "stream/gpu_points.h"
+#include "stream/gpu_splats.h"
 
 sta_status sta_gpu_cache_init(sta_gpu_cache *cache, uint32_t node_count, sta_error *err)
 {
@@ -18,10 +19,18 @@ sta_status sta_gpu_cache_init(sta_gpu_cache *cache, uint32_t node_count, sta_err
     return STA_OK;
 }
 
+void sta_gpu_cache_enable_splats(sta_gpu_cache *cache)
+{
+    cache->has_splats = true;
+}
+
 void sta_gpu_cache_release(sta_gpu_cache *cache)
 {
     if (cache->buffer) {
         glDeleteBuffers(1, &cache->buffer);
+    }
+    if (cache->splat_buffer) {
+        glDeleteBuffers(1, &cache->splat_buffer);
     }
     sta_free(cache->entries);
     memset(cache, 0, sizeof(*cache));
@@ -51,10 +60,15 @@ static sta_status repack(sta_gpu_cache *cache, uint32_t extra, sta_error *err)
         return sta_fail(err, STA_ERR_NOMEM, "GPU arena: %llu points exceed 2^32",
                         (unsigned long long)need);
     }
-    GLuint buffer = 0;
+    GLuint buffer = 0, splats = 0;
     glCreateBuffers(1, &buffer);
     glNamedBufferStorage(buffer, (GLsizeiptr)(capacity * STA_GPU_POINT_SIZE), NULL,
                          GL_DYNAMIC_STORAGE_BIT);
+    if (cache->has_splats) {
+        glCreateBuffers(1, &splats);
+        glNamedBufferStorage(splats, (GLsizeiptr)(capacity * STA_GPU_SPLAT_SIZE), NULL,
+                             GL_DYNAMIC_STORAGE_BIT);
+    }
     uint32_t end = 0;
     for (uint32_t i = 0; i < cache->node_count; i++) {
         sta_gpu_cache_entry *e = &cache->entries[i];
@@ -66,6 +80,12 @@ static sta_status repack(sta_gpu_cache *cache, uint32_t extra, sta_error *err)
                                      (GLintptr)((uint64_t)e->offset * STA_GPU_POINT_SIZE),
                                      (GLintptr)((uint64_t)end * STA_GPU_POINT_SIZE),
                                      (GLsizeiptr)((uint64_t)e->count * STA_GPU_POINT_SIZE));
+            if (splats) {
+                glCopyNamedBufferSubData(cache->splat_buffer, splats,
+                                         (GLintptr)((uint64_t)e->offset * STA_GPU_SPLAT_SIZE),
+                                         (GLintptr)((uint64_t)end * STA_GPU_SPLAT_SIZE),
+                                         (GLsizeiptr)((uint64_t)e->count * STA_GPU_SPLAT_SIZE));
+            }
         }
         e->offset = end;
         end += e->count;
@@ -74,7 +94,11 @@ static sta_status repack(sta_gpu_cache *cache, uint32_t extra, sta_error *err)
         glDeleteBuffers(1, &cache->buffer);
         cache->compactions++;
     }
+    if (cache->splat_buffer) {
+        glDeleteBuffers(1, &cache->splat_buffer);
+    }
     cache->buffer = buffer;
+    cache->splat_buffer = splats;
     cache->capacity = (uint32_t)capacity;
     cache->end = end;
     return STA_OK;
@@ -102,6 +126,12 @@ sta_status sta_gpu_cache_apply(sta_gpu_cache *cache, const sta_stream_frame *fra
             glNamedBufferSubData(cache->buffer,
                                  (GLintptr)((uint64_t)e->offset * STA_GPU_POINT_SIZE),
                                  (GLsizeiptr)((uint64_t)u->count * STA_GPU_POINT_SIZE), u->gpu);
+            if (cache->has_splats) { // the section after the node's points
+                glNamedBufferSubData(cache->splat_buffer,
+                                     (GLintptr)((uint64_t)e->offset * STA_GPU_SPLAT_SIZE),
+                                     (GLsizeiptr)((uint64_t)u->count * STA_GPU_SPLAT_SIZE),
+                                     u->gpu + (size_t)u->count * STA_GPU_POINT_SIZE);
+            }
         }
         cache->end += u->count;
         cache->live += u->count;

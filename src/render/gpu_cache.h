@@ -8,6 +8,9 @@
  * reached the live nodes are copied, packed, into a new buffer (GPU to GPU) of 1.5x
  * what they need with the new node, so the arena briefly holds two copies. Node
  * offsets change then; readers take them from the entries every frame.
+ * Splats (issue 12): a scene whose nodes carry splat records (stream/gpu_splats.h) gets
+ * a second arena, `splat_buffer`, parallel to the first (8 bytes per point, same slots),
+ * packed and grown with it; scenes without splats never allocate it.
  * GL calls: main thread only.
  */
 #ifndef STA_RENDER_GPU_CACHE_H
@@ -37,9 +40,15 @@ typedef struct sta_gpu_cache {
     uint32_t end;         /* first free point after the last upload */
     uint64_t live;        /* points of resident nodes */
     uint32_t compactions; /* times the arena was repacked (for tests and stats) */
+    bool has_splats;      /* uploads carry a splat section (sta_gpu_cache_enable_splats) */
+    GLuint splat_buffer;  /* the splat arena, point i's record at i * 8; 0 without splats */
 } sta_gpu_cache;
 
 sta_status sta_gpu_cache_init(sta_gpu_cache *cache, uint32_t node_count, sta_error *err);
+
+/* Uploads from now on carry a splat section after their points (sta_stream_upload);
+ * call before the first apply. */
+void sta_gpu_cache_enable_splats(sta_gpu_cache *cache);
 
 /* Frees the arena (needs the GL context current); a zeroed cache is a no-op. */
 void sta_gpu_cache_release(sta_gpu_cache *cache);

@@ -10,7 +10,8 @@
 #include "render/gl_image.h"
 
 static const char *const mode_names[STA_PIPELINE_MODE_COUNT] = { "raw",     "hpr",    "fill",
-                                                                 "normals", "shaded", "edl" };
+                                                                 "normals", "shaded", "edl",
+                                                                 "splats" };
 static const char *const normal_names[STA_NORMAL_METHOD_COUNT] = { "pyramid", "ld", "pd", "pc",
                                                                    "ti" };
 static const char *const pass_names[STA_PASS_COUNT] = { "unproject", "hpr",    "pullpush",
@@ -232,8 +233,8 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     if (t) {
         memset(t, 0, sizeof(*t));
     }
-    if (o->mode == STA_PIPELINE_RAW) {
-        return STA_OK;
+    if (o->mode == STA_PIPELINE_RAW || o->mode == STA_PIPELINE_SPLATS) {
+        return STA_OK; // splats are shaded in their own pass (render/pass_splats.h)
     }
     const int w = view->width_px, h = view->height_px;
     sta_status s = resize(p, w, h, err);

@@ -28,6 +28,9 @@ typedef enum sta_pipeline_mode {
     STA_PIPELINE_NORMALS, /* estimated normals as colours */
     STA_PIPELINE_SHADED,  /* deferred Blinn-Phong on the filled surface */
     STA_PIPELINE_EDL,     /* eye-dome lighting on the raw points */
+    STA_PIPELINE_SPLATS,  /* oriented round splats instead of points (render/pass_splats.h,
+                             drawn and shaded by sta_scene; sta_pipeline_run does nothing);
+                             a scene without normals falls back to shaded */
     STA_PIPELINE_MODE_COUNT
 } sta_pipeline_mode;
 
@@ -97,7 +100,7 @@ sta_status sta_pipeline_run(sta_pipeline *pipeline, const sta_pipeline_options *
                             const sta_view_params *view, GLuint depth, GLuint colour_rgba8,
                             sta_pipeline_timing *timing, sta_error *err);
 
-/* Names for command lines: "raw", "hpr", "fill", "normals", "shaded", "edl" and
+/* Names for command lines: "raw", "hpr", "fill", "normals", "shaded", "edl", "splats" and
  * "pyramid", "ld", "pd", "pc", "ti"; -1 when unknown. */
 int sta_pipeline_mode_from_name(const char *name);
 int sta_normal_method_from_name(const char *name);

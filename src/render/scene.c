@@ -35,6 +35,9 @@ struct sta_scene {
     bool reflect_mirrors;
     sta_pass_mirror mirror_pass; /* built at the first frame with a mirror */
     bool has_mirror_pass;
+    sta_pass_splats splats; /* the splats mode's pass, built at its first frame */
+    sta_splat_options splat_options;
+    bool warned_no_splats; /* the splats mode on a scene without normals, said once */
 };
 
 sta_status sta_scene_open(const char *path, const sta_scene_options *options, sta_scene **out_scene,
@@ -64,6 +67,9 @@ sta_status sta_scene_open(const char *path, const sta_scene_options *options, st
                                     sta_strata_reader_node(reader, i)->key);
         }
         status = sta_gpu_cache_init(&s->cache, info->node_count, err);
+        if (sta_streamer_has_splats(s->streamer)) {
+            sta_gpu_cache_enable_splats(&s->cache);
+        }
     }
     if (status == STA_OK) {
         double centre[3];
@@ -90,6 +96,7 @@ void sta_scene_close(sta_scene *s)
         sta_pass_mirror_release(&s->mirror_pass);
     }
     sta_pass_geometry_release(&s->geometry);
+    sta_pass_splats_release(&s->splats);
     if (s->has_pipeline) {
         sta_pipeline_release(&s->pipeline);
     }
@@ -146,6 +153,44 @@ void sta_scene_set_raster(sta_scene *s, const sta_geometry_options *options)
 const sta_geometry_choice *sta_scene_raster_choice(const sta_scene *s)
 {
     return s->has_geometry ? &s->geometry.choice : NULL;
+}
+
+void sta_scene_set_splats(sta_scene *s, const sta_splat_options *options)
+{
+    if (options->method != s->splat_options.method) {
+        sta_pass_splats_release(&s->splats); // zeroed: rebuilt at the next splat frame
+    }
+    s->splat_options = *options;
+}
+
+const sta_gpu_cache *sta_scene_gpu_cache(const sta_scene *s)
+{
+    return &s->cache;
+}
+
+bool sta_scene_has_splats(const sta_scene *s)
+{
+    return sta_streamer_has_splats(s->streamer);
+}
+
+// The splats mode: splats where the scene has them; else the documented fallback, the
+// shaded pipeline, said once.
+static bool draws_splats(sta_scene *s, sta_pipeline_options *pipeline)
+{
+    if (pipeline->mode != STA_PIPELINE_SPLATS) {
+        return false;
+    }
+    if (sta_scene_has_splats(s)) {
+        return true;
+    }
+    if (!s->warned_no_splats) {
+        sta_log_warn("%s has no normals and radii (convert it with strata-convert --normals): "
+                     "splats fall back to the shaded pipeline",
+                     sta_streamer_name(s->streamer));
+        s->warned_no_splats = true;
+    }
+    pipeline->mode = STA_PIPELINE_SHADED;
+    return false;
 }
 
 void sta_scene_set_timing(sta_scene *s, bool on)
@@ -311,7 +356,22 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     }
     stats->s0_m = s->pipeline_options.s0_m > 0 ? s->pipeline_options.s0_m
                                                : (float)sta_streamer_surface_spacing(s->streamer);
-    if (s->katz.options.enabled) {
+    sta_pipeline_options pipeline = s->pipeline_options;
+    bool splats = draws_splats(s, &pipeline) && !s->katz.options.enabled;
+    if (splats && !s->splats.program) {
+        status = sta_pass_splats_init(&s->splats, s->splat_options.method, err);
+    }
+    if (status != STA_OK) {
+        return status;
+    }
+    if (splats) {
+        status =
+            sta_pass_splats_draw(&s->splats, &s->splat_options, camera, &colours, &s->cache,
+                                 s->frames, frame.draw, frame.draw_count, stats->s0_m, target, err);
+        if (status != STA_OK) {
+            return status;
+        }
+    } else if (s->katz.options.enabled) {
         status = sta_pass_katz_frame(&s->katz, camera, &colours, s->frames, &frame, &s->cache,
                                      stats->s0_m, target, &stats->katz, err);
         if (status != STA_OK) {
@@ -333,7 +393,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         glFinish();
         stats->geometry_ms = sta_clock_ms() - geometry_start;
     }
-    if (s->pipeline_options.mode != STA_PIPELINE_RAW) {
+    if (pipeline.mode != STA_PIPELINE_RAW && pipeline.mode != STA_PIPELINE_SPLATS) {
         if (!s->has_pipeline) {
             status = sta_pipeline_init(&s->pipeline, err);
             if (status != STA_OK) {
@@ -343,8 +403,8 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         }
         sta_view_params screen = { camera->width_px, camera->height_px, (float)camera->fov_y,
                                    (float)camera->near_m, stats->s0_m > 0 ? stats->s0_m : 0.01f };
-        status = sta_pipeline_run(&s->pipeline, &s->pipeline_options, &screen, target->depth,
-                                  target->colour, s->timing ? &stats->timing : NULL, err);
+        status = sta_pipeline_run(&s->pipeline, &pipeline, &screen, target->depth, target->colour,
+                                  s->timing ? &stats->timing : NULL, err);
         if (status != STA_OK) {
             return status;
         }

@@ -16,6 +16,7 @@
 #include "render/pass_geometry.h"
 #include "render/pass_katz.h"
 #include "render/pass_mirror.h"
+#include "render/pass_splats.h"
 #include "render/pipeline.h"
 #include "render/target.h"
 #include "stream/gpu_points.h"
@@ -82,6 +83,18 @@ void sta_scene_set_point_size(sta_scene *scene, const sta_point_size *size);
 
 /* The rasteriser the geometry pass runs and why; NULL before the first render. */
 const sta_geometry_choice *sta_scene_raster_choice(const sta_scene *scene);
+
+/* Sets the splat pass's options (method, scale; render/pass_splats.h), used in the
+ * splats pipeline mode; a new method is built at the next render. */
+void sta_scene_set_splats(sta_scene *scene, const sta_splat_options *options);
+
+/* Whether the scene's nodes carry normals and radii (converted with --normals). The
+ * splats mode of a scene without them draws the shaded pipeline instead and says so
+ * once in the log. */
+bool sta_scene_has_splats(const sta_scene *scene);
+
+/* The GPU cache (resident nodes' arenas), for reading back what was drawn. */
+const sta_gpu_cache *sta_scene_gpu_cache(const sta_scene *scene);
 
 /* Turns per-pass timing on (times in sta_frame_stats; drains the GPU around each pass). */
 void sta_scene_set_timing(sta_scene *scene, bool on);

@@ -14,19 +14,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/octahedral.h" /* sta_octahedral_*, sta_half_* */
+
 enum {
     STA_GPU_SPLAT_SIZE = 8
 };
-
-/* Octahedral map of a unit vector to two snorm16 values; a zero or non-finite normal
- * encodes as +Z. Decoding gives a unit vector within about 0.003 degrees. */
-void sta_octahedral_encode(const float normal[3], uint16_t out[2]);
-void sta_octahedral_decode(const uint16_t in[2], float normal[3]);
-
-/* IEEE binary16 of a non-negative radius (round to nearest; NaN and negative -> 0,
- * above the largest finite half -> the largest finite half) and back. */
-uint16_t sta_half_from_float(float value);
-float sta_half_to_float(uint16_t half);
 
 /* Writes one 8-byte record per point into `out` (count * STA_GPU_SPLAT_SIZE bytes). */
 void sta_gpu_splats_encode(const float (*normals)[3], const float *radii, size_t count,

@@ -110,7 +110,7 @@ static void *worker_main(void *argument)
         }
         l->state[index] = item->node.status == STA_OK ? STATE_READY : STATE_FAILED;
         l->points_done += item->node.count;
-        l->ready_bytes += item->node.count * STA_GPU_POINT_SIZE;
+        l->ready_bytes += item->node.count * l->options.point_bytes;
         if (l->ready_tail) {
             l->ready_tail->next = item;
         } else {
@@ -129,6 +129,9 @@ void sta_loader_options_defaults(sta_loader_options *o)
 {
     o->threads = o->threads > 0 ? o->threads : 1;
     o->threads = o->threads > MAX_THREADS ? MAX_THREADS : o->threads;
+    if (!o->point_bytes) {
+        o->point_bytes = STA_GPU_POINT_SIZE;
+    }
     if (!o->ready_bytes_cap) {
         o->ready_bytes_cap = (size_t)256 << 20;
     }
@@ -215,7 +218,7 @@ bool sta_loader_take(sta_loader *l, sta_loaded_node *out)
         if (!l->ready_head) {
             l->ready_tail = NULL;
         }
-        l->ready_bytes -= item->node.count * STA_GPU_POINT_SIZE;
+        l->ready_bytes -= item->node.count * l->options.point_bytes;
         // A failed node stays FAILED so it is never loaded again.
         if (l->state[item->node.node] == STATE_READY) {
             l->state[item->node.node] = STATE_IDLE;

@@ -27,12 +27,15 @@ typedef struct sta_loader sta_loader;
 typedef struct sta_loader_options {
     int threads;            /* 0: 1 */
     size_t ready_bytes_cap; /* 0: 256 MiB of finished nodes waiting for upload */
+    size_t point_bytes;     /* bytes per finished point; 0: STA_GPU_POINT_SIZE (the
+                               source's splat section adds STA_GPU_SPLAT_SIZE) */
 } sta_loader_options;
 
 /* Fills the zero fields of `options` with their defaults. */
 void sta_loader_options_defaults(sta_loader_options *options);
 
-/* A finished node. `gpu` (count * STA_GPU_POINT_SIZE bytes) is owned by the taker
+/* A finished node. `gpu` (count * point_bytes: the points, then a splat section when
+ * the source has one) is owned by the taker
  * and freed with sta_loaded_node_release. */
 typedef struct sta_loaded_node {
     uint32_t node;

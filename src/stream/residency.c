@@ -20,6 +20,7 @@ sta_status sta_residency_init(sta_residency *r, uint32_t node_count, uint64_t by
     }
     r->node_count = node_count;
     r->bytes_cap = bytes_cap;
+    r->point_bytes = STA_GPU_POINT_SIZE;
     r->frame = 1;
     return STA_OK;
 }
@@ -39,7 +40,7 @@ void sta_residency_begin_frame(sta_residency *r)
 static void evict_at(sta_residency *r, uint32_t slot)
 {
     sta_residency_entry *e = &r->entries[r->resident[slot]];
-    r->bytes_used -= (uint64_t)e->count * STA_GPU_POINT_SIZE;
+    r->bytes_used -= (uint64_t)e->count * r->point_bytes;
     e->is_resident = false;
     e->count = 0;
     r->resident[slot] = r->resident[--r->resident_count];
@@ -57,7 +58,7 @@ void sta_residency_evict_all(sta_residency *r, uint32_t *evicted, size_t *evicte
 bool sta_residency_admit(sta_residency *r, uint32_t node, uint32_t count, uint32_t *evicted,
                          size_t *evicted_count)
 {
-    uint64_t bytes = (uint64_t)count * STA_GPU_POINT_SIZE;
+    uint64_t bytes = (uint64_t)count * r->point_bytes;
     if (bytes > r->bytes_cap || r->entries[node].is_resident) {
         return false;
     }

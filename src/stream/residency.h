@@ -30,8 +30,10 @@ typedef struct sta_residency {
     uint32_t resident_count;
     uint64_t bytes_used; /* <= bytes_cap */
     uint64_t bytes_cap;
-    uint64_t frame;     /* current frame number, from 1 */
-    uint64_t evictions; /* total so far */
+    uint32_t point_bytes; /* GPU bytes per point: STA_GPU_POINT_SIZE, plus
+                             STA_GPU_SPLAT_SIZE when the scene has splats (set after init) */
+    uint64_t frame;       /* current frame number, from 1 */
+    uint64_t evictions;   /* total so far */
 } sta_residency;
 
 sta_status sta_residency_init(sta_residency *residency, uint32_t node_count, uint64_t bytes_cap,

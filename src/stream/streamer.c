@@ -10,6 +10,7 @@
 #include "core/alloc.h"
 #include "core/log.h"
 #include "stream/gpu_points.h"
+#include "stream/gpu_splats.h"
 #include "stream/loader.h"
 #include "stream/residency.h"
 #include "stream/strata_source.h"
@@ -90,6 +91,17 @@ static int detect_colour_shift(const sta_strata_reader *reader, float *out_inten
     return shift;
 }
 
+bool sta_streamer_has_splats(const sta_streamer *s)
+{
+    return s->source && s->source->has_splats;
+}
+
+// GPU bytes per point: the splat section, when there is one, counts against the cap.
+static uint32_t bytes_per_point(const sta_streamer *s)
+{
+    return STA_GPU_POINT_SIZE + (sta_streamer_has_splats(s) ? STA_GPU_SPLAT_SIZE : 0);
+}
+
 // Everything but the source and the tree, which the two constructors provide.
 static sta_status start(sta_streamer *s, const sta_streamer_options *options, sta_error *err)
 {
@@ -117,13 +129,15 @@ static sta_status start(sta_streamer *s, const sta_streamer_options *options, st
     if (status != STA_OK) {
         return status;
     }
+    s->residency.point_bytes = bytes_per_point(s);
     if (s->reader && sta_clip_filters_points(&s->options.clip)) {
         s->strata_source.clip = &s->options.clip; // before any worker starts
     }
     if (s->reader) {
         s->strata_source.mirrors = s->options.mirrors;
     }
-    sta_loader_options lo = { .threads = s->options.loader_threads };
+    sta_loader_options lo = { .threads = s->options.loader_threads,
+                              .point_bytes = bytes_per_point(s) };
     return sta_loader_create(s->source, &lo, &s->loader, err);
 }
 
@@ -236,7 +250,7 @@ static void take_finished(sta_streamer *s, sta_stream_frame *f)
             sta_loaded_node_release(&done);
         } else if (sta_residency_admit(&s->residency, done.node, (uint32_t)done.count, s->evict,
                                        &f->evict_count)) {
-            uploaded += done.count * STA_GPU_POINT_SIZE;
+            uploaded += done.count * s->residency.point_bytes;
             s->upload[f->upload_count] =
                 (sta_stream_upload){ done.node, (uint32_t)done.count, done.gpu };
             f->upload_count++;
@@ -264,7 +278,7 @@ sta_status sta_streamer_update(sta_streamer *s, const sta_camera *camera, sta_st
     s->pending_evict = 0;
     sta_residency_begin_frame(&s->residency);
     // The budget can never ask for more than the GPU holds.
-    uint64_t cache_points = s->options.gpu_bytes_cap / STA_GPU_POINT_SIZE;
+    uint64_t cache_points = s->options.gpu_bytes_cap / s->residency.point_bytes;
     sta_select_params params = { s->options.budget_points < cache_points ? s->options.budget_points
                                                                          : cache_points,
                                  s->options.min_spacing_px, &s->options.clip, s->extra_views,
@@ -342,7 +356,8 @@ sta_status sta_streamer_set_clip(sta_streamer *s, const sta_clip *clip, sta_erro
     s->strata_source.clip = s->reader && sta_clip_filters_points(clip) ? &s->options.clip : NULL;
     // Resident nodes hold the old clip's points: all go, and are loaded again as wanted.
     sta_residency_evict_all(&s->residency, s->evict, &s->pending_evict);
-    sta_loader_options lo = { .threads = s->options.loader_threads };
+    sta_loader_options lo = { .threads = s->options.loader_threads,
+                              .point_bytes = bytes_per_point(s) };
     return sta_loader_create(s->source, &lo, &s->loader, err);
 }
 

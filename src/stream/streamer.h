@@ -6,7 +6,7 @@
  * (gpu_cache.c, pass_geometry.c) carries that out.
  *
  * Design: sta_streamer_update (1) starts a residency frame, (2) selects the LOD cut within
- * min(budget, GPU cap / 16 bytes) points, (3) marks the cut's resident nodes used so the
+ * min(budget, GPU cap / bytes per point) points, (3) marks the cut's resident nodes used so the
  * frame's own uploads cannot evict them, (4) takes finished nodes from the loader up to
  * the per-frame upload bytes, admitting each into the residency model (evicting least
  * recently used nodes of earlier frames) or, for a node that failed, recording it as bad
@@ -54,8 +54,10 @@ typedef struct sta_streamer_options {
 /* Fills the zero fields of `options` with their defaults. */
 void sta_streamer_options_defaults(sta_streamer_options *options);
 
-/* A finished node to upload this frame: `gpu` holds count points of the GPU layout and
- * stays valid until the next sta_streamer_update or close. */
+/* A finished node to upload this frame: `gpu` holds count points of the GPU layout
+ * (stream/gpu_points.h), followed, when the scene has splats (sta_streamer_has_splats),
+ * by count splat records (stream/gpu_splats.h); it stays valid until the next
+ * sta_streamer_update or close. */
 typedef struct sta_stream_upload {
     uint32_t node;
     uint32_t count;
@@ -73,11 +75,13 @@ typedef struct sta_stream_frame {
     size_t draw_count;
     const uint32_t *new_bad; /* nodes refused for the first time this frame (logged) */
     size_t new_bad_count;
-    uint64_t points_selected; /* the cut's points, <= budget and <= GPU cap / 16 */
+    uint64_t points_selected; /* the cut's points, <= budget and <= GPU cap / bytes per
+                                 point (16, or 24 with splats) */
     uint64_t points_drawn;    /* points of the draw list */
     uint32_t nodes_selected;
     uint32_t nodes_resident;
-    uint64_t resident_bytes; /* GPU bytes of resident nodes after this frame, <= cap */
+    uint64_t resident_bytes; /* GPU bytes of resident nodes after this frame, <= cap
+                                (splat sections included) */
     size_t loader_backlog;   /* nodes wanted but not finished */
     uint32_t bad_nodes;      /* nodes refused so far */
     uint64_t evictions;      /* nodes evicted so far */
@@ -124,6 +128,11 @@ const sta_clip *sta_streamer_clip(const sta_streamer *streamer);
  * thread, after the last frame's lists were carried out. Errors: STA_ERR_NOMEM (the
  * loader could not restart; the streamer then must be closed). */
 sta_status sta_streamer_set_clip(sta_streamer *streamer, const sta_clip *clip, sta_error *err);
+
+/* Whether the source's nodes carry a splat section (normals and radii, issue 12): then
+ * the GPU cap, the upload bytes per frame and the loader's queue count 24 bytes per
+ * point instead of 16, so splats cost budget the way the points do. */
+bool sta_streamer_has_splats(const sta_streamer *streamer);
 
 /* The .strata reader (owned by the streamer), or NULL for a streamer over another source. */
 const sta_strata_reader *sta_streamer_reader(const sta_streamer *streamer);

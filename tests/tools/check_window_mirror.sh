@@ -21,7 +21,7 @@ rm -f "$work/mirrors.json"
 viewer=$!
 find_window
 settle
-xdotool key --window "$win" o
+xdotool key --window "$win" b
 picks() { grep -c '^pick: x ' "$work/viewer.log" || true; }
 for point in "395 160" "455 160" "455 240" "300 330"; do
     # A loaded machine may still be drawing the cut, or be slow to answer: wait up to

@@ -12,7 +12,7 @@
 #include <stdbool.h>
 #include <stdlib.h>
 
-#include "render/ref/eigen3.h"
+#include "core/eigen3.h"
 
 /* The sampling schemes (docs/NORMALS.md): sample 0 is the centre, then groups of four
  * (two opposite pairs through the centre, the second pair a quarter turn

@@ -9,8 +9,8 @@
  * result cannot be trusted, in which case an iterative method (here cyclic Jacobi)
  * takes over. docs/NORMALS.md describes the exact variant and its tolerances.
  */
-#ifndef STA_RENDER_REF_EIGEN3_H
-#define STA_RENDER_REF_EIGEN3_H
+#ifndef STA_CORE_EIGEN3_H
+#define STA_CORE_EIGEN3_H
 
 /* Which way a decomposition went. */
 typedef enum sta_eigen3_path {

@@ -27,7 +27,7 @@
  */
 #ifndef EIGEN3_REAL
 
-# include "render/ref/eigen3.h"
+# include "core/eigen3.h"
 
 # include <float.h>
 # include <math.h>
@@ -44,7 +44,7 @@ enum {
 # define FABS          fabsf
 # define ATAN2         atan2f
 # define COS           cosf
-# include "render/ref/eigen3.c"
+# include "core/eigen3.c"
 # undef EIGEN3_REAL
 # undef EIGEN3_SUFFIX
 # undef EIGEN3_EPS
@@ -62,7 +62,7 @@ enum {
 # define FABS          fabs
 # define ATAN2         atan2
 # define COS           cos
-# include "render/ref/eigen3.c"
+# include "core/eigen3.c"
 
 #else /* the generic body */
 

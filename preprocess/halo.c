@@ -1,0 +1,252 @@
+/* SPDX-License-Identifier: MIT
+ * Halo collection: chunk runs read once more, border points copied to their neighbours. */
+#include "halo.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "octree.h"
+
+void sta_halo_chunk_frame(const sta_chunk_plan *plan, const sta_grid *grid, size_t chunk, int k,
+                          sta_normals_chunk *out)
+{
+    memset(out, 0, sizeof(*out));
+    const sta_chunk *c = &plan->chunks[chunk];
+    double edge = 0.0;
+    for (int a = 0; a < 3; a++) {
+        out->scale[a] = grid->scale[a];
+        out->box_min[a] = sta_node_min(&plan->space, &c->key, a);
+        out->box_max[a] =
+            out->box_min[a] + ((int64_t)1 << sta_node_side_log2(&plan->space, c->key.level, a));
+        out->scene_min[a] = plan->actual_min[a];
+        out->scene_max[a] = plan->actual_max[a];
+        out->scene_centre[a] = 0.5 * ((double)plan->actual_min[a] + (double)plan->actual_max[a]);
+        edge = fmax(edge, (double)(out->box_max[a] - out->box_min[a]) * grid->scale[a]);
+    }
+    double spacing = edge / sqrt(fmax(1.0, (double)c->count));
+    out->margin = fmin(edge, STA_HALO_SPACINGS_PER_SQRT_K * sqrt((double)k) * spacing);
+    out->k = k;
+}
+
+typedef struct halo_job {
+    const sta_chunk_plan *plan;
+    const sta_grid *grid;
+    const sta_record_layout *layout;
+    sta_temp_runs *runs;
+    sta_temp_runs *halo;
+    sta_trajectory *trajectory; /* NULL: none wanted (guard: lock) */
+    int k;
+    atomic_bool *cancel;
+    int64_t (*grown)[2][3]; /* per chunk: box grown by its margin, grid units [min, max) */
+    atomic_size_t next;
+    atomic_bool failed;
+    pthread_mutex_t lock;
+    sta_error error; /* first failure (guard: lock) */
+} halo_job;
+
+typedef struct halo_out {
+    size_t chunk;
+    int32_t *xyz;
+    size_t count, capacity;
+} halo_out;
+
+static bool inside(int64_t box[2][3], const int32_t p[3])
+{
+    return p[0] >= box[0][0] && p[0] < box[1][0] && p[1] >= box[0][1] && p[1] < box[1][1] &&
+           p[2] >= box[0][2] && p[2] < box[1][2];
+}
+
+static bool overlaps(int64_t a[2][3], int64_t b[2][3])
+{
+    for (int i = 0; i < 3; i++) {
+        if (a[1][i] <= b[0][i] || b[1][i] <= a[0][i]) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// Appends one chunk's halo points for `out->chunk`, in blocks ordered after `source`.
+static sta_status flush(halo_job *job, sta_run_codec *codec, size_t source, halo_out *out,
+                        sta_error *err)
+{
+    const size_t per_block = STA_TEMP_RUNS_MAX_BLOCK_BYTES / (3 * sizeof(int32_t));
+    sta_status status = STA_OK;
+    uint64_t seq = 0;
+    for (size_t at = 0; at < out->count && status == STA_OK; at += per_block, seq++) {
+        size_t n = out->count - at < per_block ? out->count - at : per_block;
+        status = sta_temp_runs_append(job->halo, codec, out->chunk, ((uint64_t)source << 32) | seq,
+                                      (const uint8_t *)(out->xyz + 3 * at), n, err);
+    }
+    return status;
+}
+
+static sta_status one_chunk(halo_job *job, sta_run_codec *codec, size_t s, uint8_t **records,
+                            size_t *capacity, sta_trajectory *path, sta_error *err)
+{
+    const sta_chunk_plan *plan = job->plan;
+    const sta_chunk *chunk = &plan->chunks[s];
+    size_t count = (size_t)chunk->count, rec = job->layout->size;
+    sta_normals_chunk frame;
+    sta_halo_chunk_frame(plan, job->grid, s, job->k, &frame);
+    int64_t own[2][3] = { { frame.box_min[0], frame.box_min[1], frame.box_min[2] },
+                          { frame.box_max[0], frame.box_max[1], frame.box_max[2] } };
+    halo_out *outs = NULL;
+    size_t out_count = 0;
+    for (size_t c = 0; c < plan->chunk_count; c++) {
+        if (c != s && plan->chunks[c].count > 0 && overlaps(job->grown[c], own)) {
+            halo_out *grown = sta_realloc_array(outs, out_count + 1, sizeof(*outs));
+            if (!grown) {
+                sta_free(outs);
+                return sta_fail(err, STA_ERR_NOMEM, "halo: out of memory");
+            }
+            outs = grown;
+            outs[out_count++] = (halo_out){ c, NULL, 0, 0 };
+        }
+    }
+    sta_status status = STA_OK;
+    bool timed = path && (job->layout->attributes & STA_ATTR_GPS_TIME);
+    if ((out_count > 0 || timed) && count > 0) {
+        if (count > *capacity) {
+            sta_free(*records);
+            *records = sta_alloc_array(count, rec);
+            *capacity = *records ? count : 0;
+        }
+        status = *records
+                     ? sta_temp_runs_read(job->runs, codec, chunk->list, *records, err)
+                     : sta_fail(err, STA_ERR_NOMEM, "halo: out of memory for %zu points", count);
+    }
+    for (size_t i = 0; status == STA_OK && (out_count > 0 || timed) && i < count; i++) {
+        int32_t p[3];
+        sta_record_position(*records + i * rec, p);
+        if (timed) {
+            double t;
+            memcpy(&t, *records + i * rec + job->layout->gps_offset, sizeof(t));
+            status = sta_trajectory_add(path, t, p, err);
+        }
+        for (size_t o = 0; o < out_count; o++) {
+            halo_out *out = &outs[o];
+            if (!inside(job->grown[out->chunk], p)) {
+                continue;
+            }
+            if (out->count == out->capacity) {
+                size_t cap = out->capacity ? 2 * out->capacity : 4096;
+                int32_t *xyz = sta_realloc_array(out->xyz, cap, 3 * sizeof(int32_t));
+                if (!xyz) {
+                    status = sta_fail(err, STA_ERR_NOMEM, "halo: out of memory");
+                    break;
+                }
+                out->xyz = xyz, out->capacity = cap;
+            }
+            memcpy(out->xyz + 3 * out->count++, p, sizeof(p));
+        }
+    }
+    for (size_t o = 0; o < out_count; o++) {
+        if (status == STA_OK) {
+            status = flush(job, codec, s, &outs[o], err);
+        }
+        sta_free(outs[o].xyz);
+    }
+    sta_free(outs);
+    return status;
+}
+
+static void *halo_worker(void *argument)
+{
+    halo_job *job = argument;
+    sta_run_codec codec = { 0 };
+    uint8_t *records = NULL;
+    size_t capacity = 0;
+    sta_error err = { 0 };
+    sta_status status = STA_OK;
+    sta_trajectory path = { 0 };
+    while (status == STA_OK && !atomic_load(&job->failed)) {
+        size_t s = atomic_fetch_add(&job->next, 1);
+        if (s >= job->plan->chunk_count) {
+            break;
+        }
+        status =
+            one_chunk(job, &codec, s, &records, &capacity, job->trajectory ? &path : NULL, &err);
+        if (status == STA_OK && job->cancel && atomic_load(job->cancel)) {
+            status = sta_fail(&err, STA_ERR_CANCELLED, "cancelled");
+        }
+    }
+    sta_free(records);
+    sta_run_codec_release(&codec);
+    if (status == STA_OK && job->trajectory) { // integer sums: any merge order
+        pthread_mutex_lock(&job->lock);
+        status = sta_trajectory_merge(job->trajectory, &path, &err);
+        pthread_mutex_unlock(&job->lock);
+    }
+    sta_trajectory_release(&path);
+    if (status != STA_OK) {
+        pthread_mutex_lock(&job->lock);
+        if (!atomic_load(&job->failed)) {
+            job->error = err;
+            atomic_store(&job->failed, true);
+        }
+        pthread_mutex_unlock(&job->lock);
+    }
+    return NULL;
+}
+
+sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
+                            const sta_record_layout *layout, sta_temp_runs *runs,
+                            sta_temp_runs *halo, sta_trajectory *trajectory, int k, int threads,
+                            atomic_bool *cancel, sta_error *err)
+{
+    halo_job job = { .plan = plan,
+                     .trajectory = trajectory,
+                     .grid = grid,
+                     .layout = layout,
+                     .runs = runs,
+                     .halo = halo,
+                     .k = k,
+                     .cancel = cancel };
+    job.grown = sta_alloc_array(plan->chunk_count ? plan->chunk_count : 1, sizeof(*job.grown));
+    if (!job.grown) {
+        return sta_fail(err, STA_ERR_NOMEM, "halo: out of memory");
+    }
+    for (size_t c = 0; c < plan->chunk_count; c++) {
+        sta_normals_chunk frame;
+        sta_halo_chunk_frame(plan, grid, c, k, &frame);
+        for (int a = 0; a < 3; a++) {
+            int64_t m = (int64_t)ceil(frame.margin / grid->scale[a]);
+            job.grown[c][0][a] = frame.box_min[a] - m;
+            job.grown[c][1][a] = frame.box_max[a] + m;
+        }
+    }
+    atomic_init(&job.next, 0);
+    atomic_init(&job.failed, false);
+    pthread_mutex_init(&job.lock, NULL);
+    threads = threads < 1 ? 1 : threads > 256 ? 256 : threads;
+    pthread_t ids[256];
+    int started = 0;
+    for (int t = 0; t < threads; t++) {
+        if (pthread_create(&ids[t], NULL, halo_worker, &job) != 0) {
+            break;
+        }
+        started++;
+    }
+    if (started == 0) {
+        halo_worker(&job);
+    }
+    for (int t = 0; t < started; t++) {
+        pthread_join(ids[t], NULL);
+    }
+    pthread_mutex_destroy(&job.lock);
+    sta_free(job.grown);
+    if (atomic_load(&job.failed)) {
+        *err = job.error;
+        return job.error.code;
+    }
+    for (size_t c = 0; c < plan->chunk_count; c++) {
+        sta_temp_runs_sort(halo, c);
+    }
+    if (trajectory) {
+        sta_trajectory_finish(trajectory, plan->actual_min, plan->actual_max);
+    }
+    return STA_OK;
+}

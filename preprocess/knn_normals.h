@@ -1,0 +1,63 @@
+/* SPDX-License-Identifier: MIT
+ * Normals and splat radii of one chunk's points (strata-convert --normals).
+ *
+ * Design: the chunk's points and its halo (points of neighbouring chunks within a
+ * margin, preprocess/halo.h) go into one uniform grid, hashed by cell; the cell edge is
+ * adapted until about 4 points share an occupied cell. A point's K nearest neighbours
+ * are searched in growing shells of cells until the K-th distance is within the shells
+ * (exact). The normal is the eigenvector of the smallest eigenvalue of the
+ * neighbourhood's covariance (Kopp's hybrid solver, core/eigen3.h), oriented by the
+ * rule of docs/CONVERTER.md ("Normals").
+ * Degenerate neighbourhoods (fewer than 3 distinct points, collinear)
+ * get the up axis. The radius is the mean distance to the nearest STA_NORMALS_RADIUS_K
+ * neighbours (the splatting notes' 8-10) whatever K. Results go into each record's
+ * SPLAT bytes.
+ */
+#ifndef STA_PREPROCESS_KNN_NORMALS_H
+#define STA_PREPROCESS_KNN_NORMALS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/status.h"
+#include "record.h"
+#include "trajectory.h"
+
+#define STA_NORMALS_DEFAULT_K 10 /* neighbours (issue 12: "8-10 nearest") */
+#define STA_NORMALS_MAX_K     64
+#define STA_NORMALS_RADIUS_K  10 /* the splat radius: mean distance to this many neighbours */
+
+/* Where one chunk's normals are computed; grid units are the output grid's integers. */
+typedef struct sta_normals_chunk {
+    int k;                            /* neighbours, 3..STA_NORMALS_MAX_K */
+    double scale[3];                  /* metres per grid unit */
+    int64_t box_min[3];               /* the chunk's box, grid units, inclusive */
+    int64_t box_max[3];               /* exclusive */
+    int64_t scene_min[3];             /* tight bounds of all points (nothing lies beyond) */
+    int64_t scene_max[3];             /* inclusive */
+    double margin;                    /* halo margin around the box, metres */
+    int up_axis;                      /* 2: +Z, 1: +Y */
+    double scene_centre[3];           /* grid units: vertical surfaces face away from its up-axis
+                                         line when there is no trajectory */
+    const sta_trajectory *trajectory; /* usable scanner path, or NULL: vertical surfaces
+                                         face the centroid of their GPS-time bin */
+} sta_normals_chunk;
+
+/* What happened, summed over chunks. */
+typedef struct sta_normals_stats {
+    uint64_t points;      /* normals computed */
+    uint64_t degenerate;  /* fallback normal (fewer than 3 distinct points, collinear) */
+    uint64_t beyond_halo; /* neighbourhood wider than the halo: may miss a neighbour */
+} sta_normals_stats;
+
+/* Computes a normal and radius for each of the `count` records (layout with
+ * STA_ATTR_SPLAT) from them and the `halo_count` halo positions (3 x int32 each) and
+ * stores them in the records' SPLAT bytes. Adds to `stats`. */
+sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                               uint8_t *records, size_t count, const int32_t *halo,
+                               size_t halo_count, sta_normals_stats *stats, sta_error *err);
+
+/* Bytes of scratch memory sta_normals_compute needs for `points` points (own + halo). */
+size_t sta_normals_memory_bytes(size_t points);
+
+#endif

@@ -1,0 +1,178 @@
+/* SPDX-License-Identifier: MIT
+ * GPS-time bins of point centroids: a hash of bins, merged across threads. */
+#include "trajectory.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "core/alloc.h"
+
+static size_t slot_of(int64_t key, size_t mask)
+{
+    uint64_t h = (uint64_t)key * 0x9e3779b97f4a7c15ull;
+    return (size_t)(h >> 17) & mask;
+}
+
+static sta_trajectory_bin *find(const sta_trajectory *t, int64_t key)
+{
+    if (t->capacity == 0) {
+        return NULL;
+    }
+    size_t mask = t->capacity - 1;
+    for (size_t s = slot_of(key, mask);; s = (s + 1) & mask) {
+        if (t->bins[s].key == key || t->bins[s].key == INT64_MIN) {
+            return &t->bins[s];
+        }
+    }
+}
+
+static sta_status grow(sta_trajectory *t, sta_error *err)
+{
+    size_t capacity = t->capacity ? 2 * t->capacity : 1024;
+    sta_trajectory_bin *old = t->bins;
+    size_t old_capacity = t->capacity;
+    t->bins = sta_alloc_array(capacity, sizeof(*t->bins));
+    if (!t->bins) {
+        t->bins = old;
+        return sta_fail(err, STA_ERR_NOMEM, "trajectory: out of memory");
+    }
+    t->capacity = capacity;
+    for (size_t s = 0; s < capacity; s++) {
+        t->bins[s].key = INT64_MIN;
+    }
+    for (size_t s = 0; s < old_capacity; s++) {
+        if (old[s].key != INT64_MIN) {
+            *find(t, old[s].key) = old[s];
+        }
+    }
+    sta_free(old);
+    return STA_OK;
+}
+
+// The bin of `key`, created empty when new.
+static sta_trajectory_bin *bin_for(sta_trajectory *t, int64_t key, sta_error *err)
+{
+    if (2 * (t->count + 1) > t->capacity && grow(t, err) != STA_OK) {
+        return NULL;
+    }
+    sta_trajectory_bin *b = find(t, key);
+    if (b->key == INT64_MIN) {
+        *b = (sta_trajectory_bin){ .key = key,
+                                   .min = { INT32_MAX, INT32_MAX, INT32_MAX },
+                                   .max = { INT32_MIN, INT32_MIN, INT32_MIN } };
+        t->count++;
+    }
+    return b;
+}
+
+static bool key_of(double gps_time, int64_t *key)
+{
+    double k = floor(gps_time / STA_TRAJECTORY_BIN_S);
+    if (!(fabs(k) < 9e18)) {
+        return false; // NaN, infinite or absurd times carry no path
+    }
+    *key = (int64_t)k;
+    return true;
+}
+
+sta_status sta_trajectory_add(sta_trajectory *t, double gps_time, const int32_t xyz[3],
+                              sta_error *err)
+{
+    int64_t key;
+    if (!key_of(gps_time, &key)) {
+        return STA_OK;
+    }
+    sta_trajectory_bin *b = bin_for(t, key, err);
+    if (!b) {
+        return STA_ERR_NOMEM;
+    }
+    for (int a = 0; a < 3; a++) {
+        b->sum[a] += xyz[a];
+        b->min[a] = xyz[a] < b->min[a] ? xyz[a] : b->min[a];
+        b->max[a] = xyz[a] > b->max[a] ? xyz[a] : b->max[a];
+    }
+    b->count++;
+    return STA_OK;
+}
+
+sta_status sta_trajectory_merge(sta_trajectory *into, const sta_trajectory *from, sta_error *err)
+{
+    for (size_t s = 0; s < from->capacity; s++) {
+        const sta_trajectory_bin *f = &from->bins[s];
+        if (f->key == INT64_MIN) {
+            continue;
+        }
+        sta_trajectory_bin *b = bin_for(into, f->key, err);
+        if (!b) {
+            return STA_ERR_NOMEM;
+        }
+        for (int a = 0; a < 3; a++) {
+            b->sum[a] += f->sum[a];
+            b->min[a] = f->min[a] < b->min[a] ? f->min[a] : b->min[a];
+            b->max[a] = f->max[a] > b->max[a] ? f->max[a] : b->max[a];
+        }
+        b->count += f->count;
+    }
+    return STA_OK;
+}
+
+static int compare_i64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+void sta_trajectory_finish(sta_trajectory *t, const int64_t scene_min[3],
+                           const int64_t scene_max[3])
+{
+    t->usable = false;
+    if (t->count == 0) {
+        return;
+    }
+    int64_t *extent = sta_alloc_array(t->count, sizeof(int64_t));
+    if (!extent) {
+        return; // no path: the fallback rule orients
+    }
+    size_t n = 0;
+    for (size_t s = 0; s < t->capacity; s++) {
+        const sta_trajectory_bin *b = &t->bins[s];
+        if (b->key != INT64_MIN) {
+            int64_t e = 0;
+            for (int a = 0; a < 3; a++) {
+                int64_t d = (int64_t)b->max[a] - b->min[a];
+                e = d > e ? d : e;
+            }
+            extent[n++] = e;
+        }
+    }
+    qsort(extent, n, sizeof(int64_t), compare_i64);
+    int64_t scene = 0;
+    for (int a = 0; a < 3; a++) {
+        scene = scene_max[a] - scene_min[a] > scene ? scene_max[a] - scene_min[a] : scene;
+    }
+    t->usable = n >= 2 && (double)extent[n / 2] < STA_TRAJECTORY_COMPACT_FACTOR * (double)scene;
+    sta_free(extent);
+}
+
+bool sta_trajectory_at(const sta_trajectory *t, double gps_time, double out[3])
+{
+    int64_t key;
+    if (!key_of(gps_time, &key)) {
+        return false;
+    }
+    const sta_trajectory_bin *b = find(t, key);
+    if (!b || b->key != key || b->count == 0) {
+        return false;
+    }
+    for (int a = 0; a < 3; a++) {
+        out[a] = (double)b->sum[a] / (double)b->count;
+    }
+    return true;
+}
+
+void sta_trajectory_release(sta_trajectory *t)
+{
+    sta_free(t->bins);
+    t->bins = NULL;
+    t->capacity = t->count = 0;
+}

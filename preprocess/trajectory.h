@@ -1,0 +1,54 @@
+/* SPDX-License-Identifier: MIT
+ * The scanner's path as far as the points tell it (strata-convert --normals): the
+ * centroid of the points measured in each short GPS-time bin. A mobile or airborne
+ * scanner sweeps profiles around itself, so the centroid of one bin lies on the side
+ * of a wall the scanner saw it from; vertical surfaces are oriented towards it.
+ *
+ * Usable only when bins are compact (a scan pattern): the median bin extent is below a
+ * fraction of the scene's extent. Points sampled in no scan order (strata-synth's
+ * analytic scenes number their points in random places) fail that test. Sums are
+ * integers and extents min/max, so the result does not depend on the order points are
+ * added in (deterministic output with any number of threads).
+ */
+#ifndef STA_PREPROCESS_TRAJECTORY_H
+#define STA_PREPROCESS_TRAJECTORY_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/status.h"
+
+#define STA_TRAJECTORY_BIN_S          0.05 /* 10 profiles of a 200 Hz scanner */
+#define STA_TRAJECTORY_COMPACT_FACTOR 0.25 /* median bin extent / scene extent below */
+
+typedef struct sta_trajectory_bin {
+    int64_t key;    /* floor(gps_time / bin); INT64_MIN: empty slot */
+    int64_t sum[3]; /* grid integers */
+    uint64_t count;
+    int32_t min[3], max[3];
+} sta_trajectory_bin;
+
+typedef struct sta_trajectory {
+    sta_trajectory_bin *bins; /* open addressing, power-of-two capacity */
+    size_t capacity, count;
+    bool usable; /* set by sta_trajectory_finish */
+} sta_trajectory;
+
+/* Adds a point measured at `gps_time` (non-finite times are ignored). */
+sta_status sta_trajectory_add(sta_trajectory *t, double gps_time, const int32_t xyz[3],
+                              sta_error *err);
+
+/* Adds all of `from`'s bins to `into`. */
+sta_status sta_trajectory_merge(sta_trajectory *into, const sta_trajectory *from, sta_error *err);
+
+/* Decides `usable` from the bins' extents against the scene's (grid units per axis). */
+void sta_trajectory_finish(sta_trajectory *t, const int64_t scene_min[3],
+                           const int64_t scene_max[3]);
+
+/* The centroid (grid units) of the bin of `gps_time`; false when none. */
+bool sta_trajectory_at(const sta_trajectory *t, double gps_time, double out[3]);
+
+void sta_trajectory_release(sta_trajectory *t);
+
+#endif

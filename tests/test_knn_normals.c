@@ -1,0 +1,440 @@
+/* SPDX-License-Identifier: MIT
+ * strata-convert --normals (preprocess/knn_normals.c, halo.c): degenerate fallbacks,
+ * normals against analytic truth (strata-synth sphere and planes), no seam at chunk
+ * borders, deterministic output, and the SPLAT attribute read back through the format
+ * and the node source. */
+#include "test_support.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "convert.h"
+#include "core/alloc.h"
+#include "core/octahedral.h"
+#include "format/strata_reader.h"
+#include "knn_normals.h"
+#include "record.h"
+#include "stream/gpu_points.h"
+#include "stream/gpu_splats.h"
+#include "stream/strata_source.h"
+#include "synth/synth.h"
+
+#define DEG (180.0 / 3.14159265358979323846)
+
+// A chunk frame of 1 mm grid units over [0, 2^20) with no halo.
+static sta_normals_chunk unit_frame(void)
+{
+    sta_normals_chunk f;
+    memset(&f, 0, sizeof(f));
+    f.k = 10;
+    for (int a = 0; a < 3; a++) {
+        f.scale[a] = 0.001;
+        f.box_max[a] = f.scene_max[a] = 1 << 20;
+    }
+    f.up_axis = 2;
+    return f;
+}
+
+static void compute(const int32_t (*xyz)[3], size_t n, float (*normals)[3], float *radii,
+                    sta_normals_stats *stats)
+{
+    sta_record_layout layout;
+    sta_record_layout_init(&layout, STA_ATTR_SPLAT, 0);
+    uint8_t *records = sta_calloc(n, layout.size);
+    assert_non_null(records);
+    for (size_t i = 0; i < n; i++) {
+        memcpy(records + i * layout.size, xyz[i], 12);
+    }
+    sta_normals_chunk f = unit_frame();
+    sta_error err = { 0 };
+    assert_int_equal(sta_normals_compute(&f, &layout, records, n, NULL, 0, stats, &err), STA_OK);
+    for (size_t i = 0; i < n; i++) {
+        uint16_t v[3];
+        memcpy(v, records + i * layout.size + layout.splat_offset, sizeof(v));
+        sta_splat_unpack(v, normals[i], &radii[i]);
+    }
+    sta_free(records);
+}
+
+static void degenerate_neighbourhoods_fall_back_to_up(void **state)
+{
+    (void)state;
+    const int32_t line[6][3] = { { 0, 0, 0 },    { 10, 20, 30 },  { 20, 40, 60 },
+                                 { 30, 60, 90 }, { 40, 80, 120 }, { 50, 100, 150 } };
+    const int32_t same[5][3] = { { 7, 7, 7 }, { 7, 7, 7 }, { 7, 7, 7 }, { 7, 7, 7 }, { 7, 7, 7 } };
+    const int32_t pair[2][3] = { { 0, 0, 0 }, { 100, 0, 0 } };
+    const struct {
+        const int32_t (*xyz)[3];
+        size_t n;
+    } cases[] = { { line, 6 }, { same, 5 }, { pair, 2 }, { pair, 1 } };
+    for (size_t c = 0; c < sizeof(cases) / sizeof(cases[0]); c++) {
+        float normals[6][3], radii[6];
+        sta_normals_stats stats = { 0 };
+        compute(cases[c].xyz, cases[c].n, normals, radii, &stats);
+        assert_int_equal(stats.degenerate, cases[c].n);
+        for (size_t i = 0; i < cases[c].n; i++) {
+            assert_true(isfinite(radii[i]) && radii[i] >= 0.0f);
+            assert_true(normals[i][2] > 0.9999f);
+        }
+    }
+}
+
+static void tilted_plane_gets_its_normal_oriented_up(void **state)
+{
+    (void)state;
+    enum {
+        N = 30
+    };
+    static int32_t xyz[N * N][3];
+    for (int i = 0; i < N; i++) {
+        for (int j = 0; j < N; j++) { // z = 0.5 x - 0.25 y, 50 mm steps
+            xyz[i * N + j][0] = 1000 + 50 * i;
+            xyz[i * N + j][1] = 1000 + 50 * j;
+            xyz[i * N + j][2] = 100000 + 25 * i - (50 * j) / 4;
+        }
+    }
+    static float normals[N * N][3], radii[N * N];
+    sta_normals_stats stats = { 0 };
+    compute((const int32_t(*)[3])xyz, N * N, normals, radii, &stats);
+    assert_int_equal(stats.degenerate, 0);
+    double t[3] = { -0.5, 0.25, 1.0 };
+    double len = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (int i = 0; i < N * N; i++) {
+        double dot = ((double)normals[i][0] * t[0] + (double)normals[i][1] * t[1] +
+                      (double)normals[i][2] * t[2]) /
+                     len;
+        assert_true(dot > cos(0.2 / DEG)); // grid rounding of y/4 only
+        // 10 neighbours on a 50 mm grid (plane spacing ~ 56 mm): 56 .. 112 mm apart
+        assert_true(radii[i] > 0.05f && radii[i] < 0.12f);
+    }
+}
+
+typedef struct cloud {
+    sta_point *points;
+    size_t count;
+    uint32_t attributes;
+    uint16_t minor;
+} cloud;
+
+// All points of a .strata file, sorted by GPS time (the synth's point index).
+static int by_time(const void *a, const void *b)
+{
+    double x = ((const sta_point *)a)->gps_time, y = ((const sta_point *)b)->gps_time;
+    return x < y ? -1 : x > y;
+}
+
+static cloud read_cloud(const char *path)
+{
+    cloud c = { 0 };
+    sta_error err = { 0 };
+    sta_strata_reader *reader = NULL;
+    assert_int_equal(sta_strata_open(path, NULL, &reader, &err), STA_OK);
+    const sta_strata_info *info = sta_strata_reader_info(reader);
+    c.attributes = info->layout.attributes;
+    c.minor = info->version_minor;
+    c.points = sta_alloc_array(info->point_count, sizeof(sta_point));
+    assert_non_null(c.points);
+    sta_strata_decoder *decoder = NULL;
+    assert_int_equal(sta_strata_decoder_create(&decoder, &err), STA_OK);
+    for (uint32_t n = 0; n < info->node_count; n++) {
+        sta_strata_points pts;
+        assert_int_equal(sta_strata_decode_node(reader, n, decoder, &pts, &err), STA_OK);
+        memcpy(c.points + c.count, pts.points, pts.count * sizeof(sta_point));
+        c.count += pts.count;
+    }
+    sta_strata_decoder_destroy(decoder);
+    sta_strata_close(reader);
+    qsort(c.points, c.count, sizeof(sta_point), by_time);
+    return c;
+}
+
+static void synth(sta_synth_kind kind, uint64_t points, const char *las)
+{
+    sta_synth_params p = {
+        .kind = kind, .seed = 7, .point_count = points, .origin = STA_SYNTH_ORIGIN_ZERO
+    };
+    sta_error err = { 0 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+}
+
+static void convert(const char *las, const char *out, size_t chunk_points, int threads,
+                    sta_convert_report *report)
+{
+    const char *in[] = { las };
+    sta_convert_options o = { .inputs = in,
+                              .input_count = 1,
+                              .output = out,
+                              .threads = threads,
+                              .chunk_points = chunk_points,
+                              .force = true,
+                              .normals = true };
+    sta_error err = { 0 };
+    sta_status status = sta_convert(&o, report, &err);
+    if (status != STA_OK) {
+        fail_msg("%s", err.message);
+    }
+}
+
+static int compare_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double quantile(double *v, size_t n, double q)
+{
+    qsort(v, n, sizeof(double), compare_double);
+    return v[(size_t)(q * (double)(n - 1))];
+}
+
+// Angle (degrees) between a and b, from atan2 of the cross and dot products: acos of a
+// dot product near 1 would read 0.03 degrees for two equal float unit vectors.
+static double oriented_angle(const double a[3], const double b[3])
+{
+    double c[3] = { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0] };
+    double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), d) * DEG;
+}
+
+// Unoriented angle (degrees) between a stored normal and the truth.
+static double angle(const float n[3], const double t[3])
+{
+    const double a[3] = { n[0], n[1], n[2] };
+    double e = oriented_angle(a, t);
+    return e > 90.0 ? 180.0 - e : e;
+}
+
+static void sphere_matches_truth_without_chunk_seams(void **state)
+{
+    (void)state;
+    char las[512], one[512], many[512];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("sphere.las"));
+    snprintf(one, sizeof(one), "%s", sta_test_tmp_path("sphere_one.strata"));
+    snprintf(many, sizeof(many), "%s", sta_test_tmp_path("sphere_many.strata"));
+    synth(STA_SYNTH_SPHERE, 60000, las);
+    sta_convert_report r1, r2;
+    convert(las, one, 1 << 20, 2, &r1);
+    convert(las, many, 4000, 2, &r2);
+    assert_int_equal(r1.chunk_count, 1);
+    assert_true(r2.chunk_count >= 8);
+    assert_int_equal(r2.normals_beyond_halo, 0);
+    assert_int_equal(r2.normals_degenerate, 0);
+    cloud a = read_cloud(one), b = read_cloud(many);
+    assert_int_equal(a.count, 60000);
+    assert_int_equal(b.count, 60000);
+    assert_true(b.attributes & STA_STRATA_ATTR_SPLAT);
+    assert_int_equal(b.minor, 3);
+    double *err = sta_alloc_array(a.count, sizeof(double));
+    double *rad = sta_alloc_array(a.count, sizeof(double));
+    double *seam = sta_alloc_array(a.count, sizeof(double));
+    size_t outward_top = 0, top = 0;
+    for (size_t i = 0; i < a.count; i++) {
+        const sta_point *p = &a.points[i], *q = &b.points[i];
+        assert_true(p->gps_time == q->gps_time && p->X == q->X && p->Y == q->Y && p->Z == q->Z);
+        double t[3] = { p->X, p->Y, p->Z };
+        double len = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+        for (int k = 0; k < 3; k++) {
+            t[k] /= len;
+        }
+        err[i] = angle(q->normal, t);
+        rad[i] = q->radius;
+        double qn[3] = { q->normal[0], q->normal[1], q->normal[2] };
+        seam[i] = angle(p->normal, qn);
+        assert_true(p->radius == q->radius);
+        if (t[2] > 0.5) { // the upper cap: up is outward
+            top++;
+            outward_top += qn[0] * t[0] + qn[1] * t[1] + qn[2] * t[2] > 0.0;
+        }
+    }
+    double median = quantile(err, a.count, 0.5), p95 = quantile(err, a.count, 0.95);
+    double seam999 = quantile(seam, a.count, 0.999), seam_max = seam[a.count - 1];
+    print_message("sphere 60k, %zu chunks: median %.3f deg, p95 %.3f deg; against one chunk: "
+                  "p99.9 %.4f deg, max %.4f deg\n",
+                  r2.chunk_count, median, p95, seam999, seam_max);
+    assert_true(median <= 1.0);
+    assert_true(p95 <= 5.0);
+    // The halo makes chunk borders invisible: the same normals as without borders (the
+    // neighbourhoods are the same points; coordinates are taken from the scene's corner,
+    // so even the rounding is the same).
+    assert_true(seam_max == 0.0);
+    (void)seam999;
+    sta_free(seam);
+    assert_int_equal(outward_top, top);
+    // Radius against the spacing: 60k points on 1257 m^2, mean of 10 neighbours ~1.1 .. 2 s.
+    double spacing = sqrt(4.0 * 3.14159265 * 100.0 / 60000.0);
+    double rmed = quantile(rad, a.count, 0.5);
+    assert_true(rmed > 0.8 * spacing && rmed < 2.5 * spacing);
+    sta_free(err);
+    sta_free(rad);
+    sta_free(a.points);
+    sta_free(b.points);
+}
+
+static void planes_match_truth_oriented_up(void **state)
+{
+    (void)state;
+    char las[512], out[512];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("planes.las"));
+    snprintf(out, sizeof(out), "%s", sta_test_tmp_path("planes.strata"));
+    synth(STA_SYNTH_PLANES, 400000, las); // spacing 3.5 cm: the 10 cm gap stays apart
+    convert(las, out, 40000, 2, NULL);
+    cloud c = read_cloud(out);
+    double *err = sta_alloc_array(c.count, sizeof(double));
+    double *apart = sta_alloc_array(c.count, sizeof(double));
+    size_t n_apart = 0;
+    for (size_t i = 0; i < c.count; i++) {
+        const double n[3] = { c.points[i].normal[0], c.points[i].normal[1], c.points[i].normal[2] };
+        const double up[3] = { 0.0, 0.0, 1.0 }; // oriented: up is the truth
+        err[i] = oriented_angle(n, up);
+        if (c.points[i].Z < -1000) { // squares 3 and 4: 1 m and 10 m from the others
+            apart[n_apart++] = err[i];
+        }
+    }
+    double median = quantile(err, c.count, 0.5), p95 = quantile(err, c.count, 0.95);
+    double median_apart = quantile(apart, n_apart, 0.5), p95_apart = quantile(apart, n_apart, 0.95);
+    print_message("planes 400k: all median %.3f deg, p95 %.3f deg; squares 1 m+ apart: median "
+                  "%.3f, p95 %.3f (oriented)\n",
+                  median, p95, median_apart, p95_apart);
+    assert_true(median <= 1.0);
+    // Squares 1 cm and 10 cm apart share neighbourhoods where they overlap (the plane fit
+    // tilts there, docs/CONVERTER.md); the squares apart meet the target.
+    assert_true(median_apart <= 1.0);
+    assert_true(p95_apart <= 5.0);
+    sta_free(apart);
+    sta_free(err);
+    sta_free(c.points);
+}
+
+static void normals_output_is_deterministic(void **state)
+{
+    (void)state;
+    char las[512], a[512], b[512];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("det.las"));
+    snprintf(a, sizeof(a), "%s", sta_test_tmp_path("det_a.strata"));
+    snprintf(b, sizeof(b), "%s", sta_test_tmp_path("det_b.strata"));
+    synth(STA_SYNTH_NESTED, 30000, las);
+    convert(las, a, 3000, 1, NULL);
+    convert(las, b, 3000, 3, NULL);
+    size_t na = 0, nb = 0;
+    uint8_t *da = sta_test_read_file(a, &na), *db = sta_test_read_file(b, &nb);
+    assert_int_equal(na, nb);
+    assert_memory_equal(da, db, na);
+    free(da);
+    free(db);
+}
+
+static void street_walls_face_the_scanner(void **state)
+{
+    (void)state;
+    char las[512], out[512];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("street.las"));
+    snprintf(out, sizeof(out), "%s", sta_test_tmp_path("street.strata"));
+    sta_synth_params p = {
+        .kind = STA_SYNTH_STREET, .seed = 3, .point_count = 150000, .origin = STA_SYNTH_ORIGIN_ZERO
+    };
+    sta_error err = { 0 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    sta_convert_report report;
+    convert(las, out, 30000, 2, &report);
+    assert_true(report.normals_trajectory); // a scan pattern: GPS-time bins are compact
+    sta_synth_scene *scene = NULL;
+    assert_int_equal(sta_synth_scene_create(&p, &scene, &err), STA_OK);
+    cloud c = read_cloud(out);
+    size_t walls = 0, facing = 0, ground = 0, up = 0;
+    for (size_t i = 0; i < c.count; i++) {
+        const sta_point *q = &c.points[i];
+        double s[3];
+        assert_int_equal(sta_synth_scene_scanner_position(scene, q->gps_time, s, &err), STA_OK);
+        const double to_scanner[3] = { s[0] - q->X * 0.001, s[1] - q->Y * 0.001,
+                                       s[2] - q->Z * 0.001 };
+        const double n[3] = { q->normal[0], q->normal[1], q->normal[2] };
+        if (q->classification == 6 && fabs(n[2]) < 0.2) { // building walls
+            walls++;
+            facing += n[0] * to_scanner[0] + n[1] * to_scanner[1] + n[2] * to_scanner[2] > 0.0;
+        }
+        if (q->classification == 11) { // road
+            ground++;
+            up += n[2] > 0.0;
+        }
+    }
+    print_message("street 150k: %zu of %zu walls face the scanner, %zu of %zu road normals up\n",
+                  facing, walls, up, ground);
+    assert_true(walls > 1000 && facing >= walls * 98 / 100);
+    assert_int_equal(up, ground);
+    sta_synth_scene_destroy(scene);
+    sta_free(c.points);
+}
+
+static void knn_outside_its_range_is_refused(void **state)
+{
+    (void)state;
+    const char *in[] = { "unused.las" };
+    for (int k = 0; k < 2; k++) {
+        sta_convert_options o = { .inputs = in,
+                                  .input_count = 1,
+                                  .output = "unused.strata",
+                                  .normals = true,
+                                  .knn = k ? STA_NORMALS_MAX_K + 1 : 2 };
+        sta_error err = { 0 };
+        assert_int_equal(sta_convert(&o, NULL, &err), STA_ERR_ARG);
+        assert_non_null(strstr(err.message, "--knn"));
+    }
+}
+
+static void node_source_carries_the_splat_section(void **state)
+{
+    (void)state;
+    char las[512], out[512];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("src.las"));
+    snprintf(out, sizeof(out), "%s", sta_test_tmp_path("src.strata"));
+    synth(STA_SYNTH_SPHERE, 20000, las);
+    convert(las, out, 0, 2, NULL);
+    sta_error err = { 0 };
+    sta_strata_reader *reader = NULL;
+    assert_int_equal(sta_strata_open(out, NULL, &reader, &err), STA_OK);
+    sta_strata_source source;
+    sta_strata_source_init(&source, reader, 8);
+    assert_true(source.source.has_splats);
+    void *worker = NULL;
+    assert_int_equal(source.source.worker_begin(source.source.context, &worker, &err), STA_OK);
+    sta_strata_points pts;
+    assert_int_equal(sta_strata_decode_node(reader, 0, worker, &pts, &err), STA_OK);
+    size_t n = pts.count;
+    sta_point *expect = sta_alloc_array(n, sizeof(sta_point));
+    memcpy(expect, pts.points, n * sizeof(sta_point));
+    uint8_t *gpu = NULL;
+    size_t count = 0;
+    assert_int_equal(source.source.load(source.source.context, worker, 0, &gpu, &count, &err),
+                     STA_OK);
+    assert_int_equal(count, n);
+    for (size_t i = 0; i < n; i++) {
+        float normal[3], radius;
+        sta_gpu_splat_decode(gpu + n * STA_GPU_POINT_SIZE + i * STA_GPU_SPLAT_SIZE, normal,
+                             &radius);
+        assert_float_equal(radius, expect[i].radius, 0.0f);
+        assert_true(radius > 0.0f);
+        for (int k = 0; k < 3; k++) {
+            assert_float_equal(normal[k], expect[i].normal[k], 1e-6f);
+        }
+    }
+    sta_free(gpu);
+    sta_free(expect);
+    source.source.worker_end(source.source.context, worker);
+    sta_strata_close(reader);
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(degenerate_neighbourhoods_fall_back_to_up),
+    cmocka_unit_test(tilted_plane_gets_its_normal_oriented_up),
+    cmocka_unit_test(sphere_matches_truth_without_chunk_seams),
+    cmocka_unit_test(planes_match_truth_oriented_up),
+    cmocka_unit_test(normals_output_is_deterministic),
+    cmocka_unit_test(street_walls_face_the_scanner),
+    cmocka_unit_test(knn_outside_its_range_is_refused),
+    cmocka_unit_test(node_source_carries_the_splat_section),
+};
+
+STA_TEST_MAIN(tests)
