@@ -10,6 +10,7 @@ layout(binding = STA_MIRROR_IMAGE_OUT, rgba8) uniform image2D u_out;
 layout(binding = STA_MIRROR_SAMPLER_DEPTH) uniform sampler2D u_depth;
 layout(binding = STA_MIRROR_SAMPLER_REFLECTED) uniform sampler2D u_reflected;
 layout(binding = STA_MIRROR_SAMPLER_REFLECTED_DEPTH) uniform sampler2D u_reflected_depth;
+layout(binding = STA_MIRROR_SAMPLER_FILLED) uniform sampler2D u_filled; // camera space, w > 0 valid
 
 uniform ivec2 u_size;     // frame, pixels
 uniform mat3 u_to_world;  // camera-space directions -> world (inverse view rotation)
@@ -22,6 +23,7 @@ uniform vec3 u_axis_v;
 uniform vec2 u_outline[STA_MIRROR_OUTLINE_MAX];
 uniform int u_count;
 uniform vec3 u_background;
+uniform int u_has_filled; // the pipeline filled the surface: it hides the mirror too
 
 bool inside(vec2 p)
 {
@@ -54,6 +56,14 @@ void main()
     }
     if (texelFetch(u_depth, p, 0).r > u_near / t) {
         return; // a point in front of the mirror
+    }
+    // The raw points leave gaps a wall in front of the mirror does not have: where the
+    // pipeline filled the surface, a filled position nearer than the mirror hides it.
+    if (u_has_filled != 0) {
+        vec4 f = texelFetch(u_filled, p, 0);
+        if (f.w > 0.0 && -f.z < t * 0.999) {
+            return;
+        }
     }
     ivec2 q = ivec2(u_size.x - 1 - p.x, p.y);
     vec3 c = texelFetch(u_reflected_depth, q, 0).r > 0.0 ? texelFetch(u_reflected, q, 0).rgb

@@ -122,6 +122,7 @@
 #define STA_MIRROR_SAMPLER_DEPTH           0  /* the frame's depth */
 #define STA_MIRROR_SAMPLER_REFLECTED       1  /* the reflected view's colour */
 #define STA_MIRROR_SAMPLER_REFLECTED_DEPTH 2  /* its depth (0: nothing drawn) */
+#define STA_MIRROR_SAMPLER_FILLED          3  /* the pipeline's filled positions, when it ran */
 #define STA_MIRROR_OUTLINE_MAX             64 /* = STA_MIRROR_MAX_VERTICES */
 
 /* Eye-dome lighting (edl.comp). */
@@ -203,6 +204,7 @@
  X(STA_MIRROR_SAMPLER_DEPTH)                                                                       \
  X(STA_MIRROR_SAMPLER_REFLECTED)                                                                   \
  X(STA_MIRROR_SAMPLER_REFLECTED_DEPTH)                                                             \
+ X(STA_MIRROR_SAMPLER_FILLED)                                                                      \
  X(STA_MIRROR_OUTLINE_MAX)                                                                         \
  X(STA_EDL_IMAGE_POSITION)                                                                         \
  X(STA_EDL_IMAGE_COLOUR)                                                                           \

@@ -31,6 +31,7 @@ sta_status sta_pass_mirror_init(sta_pass_mirror *pass, sta_error *err)
     pass->u_outline = glGetUniformLocation(p, "u_outline");
     pass->u_count = glGetUniformLocation(p, "u_count");
     pass->u_background = glGetUniformLocation(p, "u_background");
+    pass->u_has_filled = glGetUniformLocation(p, "u_has_filled");
     return sta_gl_check("creating the mirror pass", err);
 }
 
@@ -55,7 +56,7 @@ static void relative_plane(const sta_mirror *m, const double eye[3], float out[4
 }
 
 static void composite(const sta_pass_mirror *pass, const sta_mirror *m, const sta_camera *camera,
-                      sta_render_target *target)
+                      GLuint filled_position, sta_render_target *target)
 {
     float view[16], to_world[9];
     sta_camera_view_rotation(camera, view);
@@ -92,6 +93,8 @@ static void composite(const sta_pass_mirror *pass, const sta_mirror *m, const st
     glBindTextureUnit(STA_MIRROR_SAMPLER_DEPTH, target->depth);
     glBindTextureUnit(STA_MIRROR_SAMPLER_REFLECTED, pass->reflected.colour);
     glBindTextureUnit(STA_MIRROR_SAMPLER_REFLECTED_DEPTH, pass->reflected.depth);
+    glUniform1i(pass->u_has_filled, filled_position != 0);
+    glBindTextureUnit(STA_MIRROR_SAMPLER_FILLED, filled_position);
     sta_gl_dispatch_2d(camera->width_px, camera->height_px);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_FRAMEBUFFER_BARRIER_BIT);
@@ -101,8 +104,8 @@ sta_status sta_pass_mirror_draw(sta_pass_mirror *pass, const sta_mirror *m,
                                 const sta_camera *camera, const sta_camera *reflected,
                                 const sta_geometry_colours *colours, sta_pass_geometry *geometry,
                                 const sta_gpu_cache *cache, const sta_gpu_node_frame *frames,
-                                const uint32_t *draw, size_t count, sta_render_target *target,
-                                sta_error *err)
+                                const uint32_t *draw, size_t count, GLuint filled_position,
+                                sta_render_target *target, sta_error *err)
 {
     sta_status status =
         sta_render_target_resize(&pass->reflected, reflected->width_px, reflected->height_px, err);
@@ -116,6 +119,6 @@ sta_status sta_pass_mirror_draw(sta_pass_mirror *pass, const sta_mirror *m,
     if (status != STA_OK) {
         return status;
     }
-    composite(pass, m, camera, target);
+    composite(pass, m, camera, filled_position, target);
     return sta_gl_check("the mirror pass", err);
 }

@@ -18,7 +18,7 @@
 typedef struct sta_pass_mirror {
     GLuint program;
     GLint u_size, u_to_world, u_tan, u_near, u_plane, u_centre, u_axis_u, u_axis_v, u_outline,
-        u_count, u_background;
+        u_count, u_background, u_has_filled;
     sta_render_target reflected; /* the reflected view */
 } sta_pass_mirror;
 
@@ -33,7 +33,7 @@ sta_status sta_pass_mirror_draw(sta_pass_mirror *pass, const sta_mirror *m,
                                 const sta_camera *camera, const sta_camera *reflected,
                                 const sta_geometry_colours *colours, sta_pass_geometry *geometry,
                                 const sta_gpu_cache *cache, const sta_gpu_node_frame *frames,
-                                const uint32_t *draw, size_t count, sta_render_target *target,
-                                sta_error *err);
+                                const uint32_t *draw, size_t count, GLuint filled_position,
+                                sta_render_target *target, sta_error *err);
 
 #endif

@@ -416,10 +416,14 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         }
         s->has_mirror_pass = true;
     }
+    // The filled surface hides mirrors behind it where the pipeline made one this frame.
+    bool fills = pipeline.mode == STA_PIPELINE_FILL || pipeline.mode == STA_PIPELINE_NORMALS ||
+                 pipeline.mode == STA_PIPELINE_SHADED;
+    GLuint filled = fills && s->has_pipeline ? s->pipeline.filled_position : 0;
     for (size_t i = 0; i < mirror_count; i++) {
         status = sta_pass_mirror_draw(&s->mirror_pass, mirrors[i], camera, &reflected[i], &colours,
                                       &s->geometry, &s->cache, s->frames, frame.draw,
-                                      frame.draw_count, target, err);
+                                      frame.draw_count, filled, target, err);
         if (status != STA_OK) {
             return status;
         }

@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # strata-view's mirror options headless (EGL, llvmpipe): ghosts classified at load from
 # --mirrors draw the same picture as ghosts stored by strata-convert --mirrors;
-# --show-ghosts and the reflections change the picture; a bad mirror file stops the
+# --show-ghosts and the reflections change the picture, but not through a wall in front
+# of the mirror; a bad mirror file stops the
 # viewer with the file and mirror named.
 # usage: check_view_mirrors.sh BUILD_DIR WORK_DIR
 set -euo pipefail
@@ -25,6 +26,16 @@ cmp "$work/stored.png" "$work/at_load.png" ||
     { echo "ghosts classified at load differ from the stored attribute" >&2; exit 1; }
 ! cmp -s "$work/stored.png" "$work/ghosts.png" || { echo "--show-ghosts changed nothing" >&2; exit 1; }
 ! cmp -s "$work/stored.png" "$work/reflected.png" || { echo "no reflection drawn" >&2; exit 1; }
+# From outside the room (the default view) the walls hide every mirror: in the shaded
+# pipeline the filled wall in front of a mirror hides it, not only the raw points.
+outside() { # NAME [options]
+    "$bin/src/strata-view" --headless --size 1280x720 --pipeline shaded "$work/flagged.strata" \
+        --out "$work/$1.png" "${@:2}"
+}
+outside outside_plain --mirrors "$work/room.mirrors.json" --no-reflections
+outside outside_reflected --mirrors "$work/room.mirrors.json"
+cmp "$work/outside_plain.png" "$work/outside_reflected.png" ||
+    { echo "a mirror behind the room's wall shows through it" >&2; exit 1; }
 printf '{"format": "strata-mirrors", "version": 1, "mirrors": [{"name": "w", "polygon": %s}]}' \
     '[[0,0,0],[1,0,0],[1,1,0.5],[0,1,0]]' >"$work/bad.json"
 if "$bin/src/strata-view" "${view[@]}" "$work/flagged.strata" --out "$work/bad.png" \
