@@ -579,7 +579,7 @@ static sta_status distribute_batch(range_task *t, size_t input, sta_point_batch 
             const double world[3] = { sta_grid_apply(&t->set->grid, 0, p->X),
                                       sta_grid_apply(&t->set->grid, 1, p->Y),
                                       sta_grid_apply(&t->set->grid, 2, p->Z) };
-            p->mirror = sta_mirror_ghost_in_volume(t->set->mirrors, world);
+            p->mirror = sta_mirror_ghost_of(t->set->mirrors, p->point_source_id, world);
         }
         size_t c = (size_t)plan->chunk_of_cell[cell];
         chunk_buffer *b = &t->buffers[c];

@@ -101,12 +101,55 @@ static sta_status parse_mirror(const cJSON *item, size_t index, const char *path
     return STA_OK;
 }
 
+// One entry of "stations": {"point_source_id": 0..65535, "position": [x, y, z]}.
+static sta_status parse_station(const cJSON *item, size_t index, const char *path,
+                                sta_mirror_set *set, sta_error *err)
+{
+    static const char *const keys[] = { "point_source_id", "position", NULL };
+    if (!cJSON_IsObject(item)) {
+        return sta_fail(err, STA_ERR_FORMAT, "%s: station %zu: not an object", path, index);
+    }
+    const cJSON *child;
+    cJSON_ArrayForEach(child, item)
+    {
+        if (!is_key(child, keys)) {
+            return sta_fail(err, STA_ERR_FORMAT, "%s: station %zu: unknown key \"%s\"", path, index,
+                            child->string);
+        }
+    }
+    const cJSON *id = cJSON_GetObjectItemCaseSensitive(item, "point_source_id");
+    if (!cJSON_IsNumber(id) || !(id->valuedouble >= 0.0 && id->valuedouble <= 65535.0) ||
+        id->valuedouble != floor(id->valuedouble)) {
+        return sta_fail(err, STA_ERR_FORMAT,
+                        "%s: station %zu: \"point_source_id\" must be an integer 0..65535", path,
+                        index);
+    }
+    const cJSON *position = cJSON_GetObjectItemCaseSensitive(item, "position");
+    double p[3];
+    for (int a = 0; a < 3; a++) {
+        const cJSON *c = cJSON_IsArray(position) && cJSON_GetArraySize(position) == 3
+                             ? cJSON_GetArrayItem(position, a)
+                             : NULL;
+        if (!cJSON_IsNumber(c) || !isfinite(c->valuedouble)) {
+            return sta_fail(err, STA_ERR_FORMAT,
+                            "%s: station %zu: \"position\" must be [x, y, z], finite", path, index);
+        }
+        p[a] = c->valuedouble;
+    }
+    sta_error inner = { 0 };
+    if (sta_mirror_set_add_station(set, (uint16_t)id->valuedouble, p, &inner) != STA_OK) {
+        return sta_fail(err, inner.code, "%s: %s", path, inner.message);
+    }
+    return STA_OK;
+}
+
 static sta_status parse_root(const cJSON *root, const char *path, sta_mirror_set *out,
                              sta_error *err)
 {
-    static const char *const keys[] = { "format",   "version",           "tolerance_m",
-                                        "behind_m", "max_incidence_deg", "mirrors",
-                                        NULL };
+    static const char *const keys[] = {
+        "format",  "version",  "tolerance_m", "behind_m", "max_incidence_deg",
+        "mirrors", "stations", NULL
+    };
     if (!cJSON_IsObject(root)) {
         return sta_fail(err, STA_ERR_FORMAT, "%s: not a JSON object", path);
     }
@@ -144,6 +187,18 @@ static sta_status parse_root(const cJSON *root, const char *path, sta_mirror_set
     cJSON_ArrayForEach(child, mirrors)
     {
         s = parse_mirror(child, index++, path, out, err);
+        if (s != STA_OK) {
+            return s;
+        }
+    }
+    const cJSON *stations = cJSON_GetObjectItemCaseSensitive(root, "stations");
+    if (stations && !cJSON_IsArray(stations)) {
+        return sta_fail(err, STA_ERR_FORMAT, "%s: \"stations\" must be an array", path);
+    }
+    index = 1;
+    cJSON_ArrayForEach(child, stations)
+    {
+        s = parse_station(child, index++, path, out, err);
         if (s != STA_OK) {
             return s;
         }
@@ -213,6 +268,23 @@ void sta_mirror_set_write_json(sta_json_out *json, const sta_mirror_set *set)
         sta_json_end_object(json);
     }
     sta_json_end_array(json);
+    if (set->station_count > 0) {
+        sta_json_key(json, "stations");
+        sta_json_begin_array(json);
+        for (size_t i = 0; i < set->station_count; i++) {
+            sta_json_begin_object(json);
+            sta_json_key(json, "point_source_id");
+            sta_json_int(json, set->stations[i].point_source_id);
+            sta_json_key(json, "position");
+            sta_json_begin_array(json);
+            for (int a = 0; a < 3; a++) {
+                sta_json_double(json, set->stations[i].position[a]);
+            }
+            sta_json_end_array(json);
+            sta_json_end_object(json);
+        }
+        sta_json_end_array(json);
+    }
     sta_json_end_object(json);
 }
 

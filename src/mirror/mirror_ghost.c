@@ -18,6 +18,17 @@ uint8_t sta_mirror_ghost_from_scanner(const sta_mirror_set *set, const double sc
     return 0;
 }
 
+uint8_t sta_mirror_ghost_of(const sta_mirror_set *set, uint16_t point_source_id, const double p[3])
+{
+    // A linear search: a scan has a handful of stations (at most STA_MIRROR_MAX_STATIONS).
+    for (size_t i = 0; i < set->station_count; i++) {
+        if (set->stations[i].point_source_id == point_source_id) {
+            return sta_mirror_ghost_from_scanner(set, set->stations[i].position, p);
+        }
+    }
+    return sta_mirror_ghost_in_volume(set, p);
+}
+
 uint8_t sta_mirror_ghost_in_volume(const sta_mirror_set *set, const double p[3])
 {
     double spread = tan(set->max_incidence_deg * PI / 180.0);

@@ -18,13 +18,24 @@
 #define STA_MIRROR_DEFAULT_BEHIND_M          0.05 /* ghosts lie at least this far behind */
 #define STA_MIRROR_DEFAULT_MAX_INCIDENCE_DEG 80.0 /* view rays of the volume model */
 
+/* A scanner station of a terrestrial scan: the points whose LAS point source ID is
+ * `point_source_id` were measured from `position` (world coordinates). */
+typedef struct sta_mirror_station {
+    uint16_t point_source_id;
+    double position[3];
+} sta_mirror_station;
+
+#define STA_MIRROR_MAX_STATIONS 4096
+
 /* Zero fields mean default (sta_mirror_set_defaults). */
 typedef struct sta_mirror_set {
     sta_mirror *mirrors; /* count mirrors (sta_alloc) */
     size_t count;
-    double tolerance_m;       /* planarity tolerance for the outlines */
-    double behind_m;          /* a ghost lies more than this behind the plane */
-    double max_incidence_deg; /* volume model: largest angle of a view ray to the normal */
+    double tolerance_m;           /* planarity tolerance for the outlines */
+    double behind_m;              /* a ghost lies more than this behind the plane */
+    double max_incidence_deg;     /* volume model: largest angle of a view ray to the normal */
+    sta_mirror_station *stations; /* station_count (sta_alloc); none: the volume model only */
+    size_t station_count;
 } sta_mirror_set;
 
 void sta_mirror_set_defaults(sta_mirror_set *set);
@@ -38,7 +49,11 @@ sta_status sta_mirror_set_add(sta_mirror_set *set, const char *name, const doubl
 sta_status sta_mirror_set_translated(const sta_mirror_set *set, const double offset[3],
                                      sta_mirror_set *out, sta_error *err);
 
-/* Frees the mirrors; the set is empty afterwards (settings kept). */
+/* Appends a station; a point source ID given twice is an error naming both. */
+sta_status sta_mirror_set_add_station(sta_mirror_set *set, uint16_t point_source_id,
+                                      const double position[3], sta_error *err);
+
+/* Frees the mirrors and stations; the set is empty afterwards (settings kept). */
 void sta_mirror_set_release(sta_mirror_set *set);
 
 /* Reads a mirror file. Every error names the file and, where one is at fault, the
@@ -65,5 +80,9 @@ uint8_t sta_mirror_ghost_from_scanner(const sta_mirror_set *set, const double sc
  * than behind_m behind, at a depth h where its projection on the plane is within
  * h * tan(max_incidence) of the outline; 0 otherwise. docs/MIRRORS.md. */
 uint8_t sta_mirror_ghost_in_volume(const sta_mirror_set *set, const double p[3]);
+
+/* The label of a point measured under `point_source_id`: the scanner model from the
+ * station of that ID when the set has one, otherwise the volume model. */
+uint8_t sta_mirror_ghost_of(const sta_mirror_set *set, uint16_t point_source_id, const double p[3]);
 
 #endif

@@ -36,7 +36,7 @@ static void flag_ghosts(const sta_strata_source *s, const sta_strata_info *info,
         const double world[3] = { sta_grid_apply(grid, 0, points[i].X),
                                   sta_grid_apply(grid, 1, points[i].Y),
                                   sta_grid_apply(grid, 2, points[i].Z) };
-        if (sta_mirror_ghost_in_volume(s->mirrors, world)) {
+        if (sta_mirror_ghost_of(s->mirrors, points[i].point_source_id, world)) {
             gpu[i * STA_GPU_POINT_SIZE + STA_GPU_POINT_FLAGS_BYTE] |= STA_GPU_FLAG_MIRROR_GHOST;
         }
     }

@@ -89,6 +89,11 @@ sta_status sta_room_init(synth_room *room, uint64_t point_count, sta_error *err)
     sta_status s = add_mirror(room, "east wall", east, 4, inside, err);
     s = s == STA_OK ? add_mirror(room, "north wall hexagon", north, 6, inside, err) : s;
     s = s == STA_OK ? add_mirror(room, "leaning floor mirror", lean, 5, inside, err) : s;
+    // The stations go into the mirror file too (the point source ID of their points is
+    // station + 1, mirror_scan.c), so that --mirrors can use the scanner model.
+    for (int k = 0; k < ROOM_STATIONS && s == STA_OK; k++) {
+        s = sta_mirror_set_add_station(&room->mirrors, (uint16_t)(k + 1), room->stations[k], err);
+    }
     if (s != STA_OK) {
         sta_room_release(room);
     }
