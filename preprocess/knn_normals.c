@@ -409,6 +409,17 @@ static double halo_reach(const sta_normals_chunk *chunk, const int32_t p[3])
     return reach;
 }
 
+// The 27 cells of a block, the own cell first, then by distance (faces, edges, corners):
+// the first K + 1 candidates, taken unconditionally, are then near ones, and fewer of
+// the rest pass the K-th distance.
+static const int8_t block_offsets[27][3] = {
+    { 0, 0, 0 },  { -1, 0, 0 },   { 1, 0, 0 },   { 0, -1, 0 },  { 0, 1, 0 },  { 0, 0, -1 },
+    { 0, 0, 1 },  { -1, -1, 0 },  { 1, -1, 0 },  { -1, 1, 0 },  { 1, 1, 0 },  { -1, 0, -1 },
+    { 1, 0, -1 }, { -1, 0, 1 },   { 1, 0, 1 },   { 0, -1, -1 }, { 0, 1, -1 }, { 0, -1, 1 },
+    { 0, 1, 1 },  { -1, -1, -1 }, { 1, -1, -1 }, { -1, 1, -1 }, { 1, 1, -1 }, { -1, -1, 1 },
+    { 1, -1, 1 }, { -1, 1, 1 },   { 1, 1, 1 },
+};
+
 // Normal, orientation and radius of record i from its neighbourhood, into its SPLAT bytes.
 static void finish_point(const sta_normals_chunk *chunk, const sta_record_layout *layout,
                          uint8_t *records, size_t i, const neighbours *nb, sta_normals_stats *stats)
@@ -480,6 +491,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     g.slot_mask--;
     sta_status status = STA_OK;
     float(*block)[3] = NULL;
+    float *block_soa = NULL; /* x, y, z and squared distance, block_capacity each */
     size_t block_capacity = 0;
     if (!g.xyz || !g.sorted || !g.cell_of || !g.order || !g.cells || !g.slots || !bloom) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", n);
@@ -516,26 +528,32 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
             c[a] = (int64_t)((slot->key >> (CELL_BITS * a)) & ((1u << CELL_BITS) - 1));
         }
         size_t block_n = 0;
-        for (int64_t dz = -1; dz <= 1 && status == STA_OK; dz++) {
-            for (int64_t dy = -1; dy <= 1 && status == STA_OK; dy++) {
-                for (int64_t dx = -1; dx <= 1 && status == STA_OK; dx++) {
-                    const int64_t cell[3] = { c[0] + dx, c[1] + dy, c[2] + dz };
-                    const grid_slot *o = cell_slot(&g, cell);
-                    if (!o) {
-                        continue;
-                    }
-                    if (block_n + o->count > block_capacity) {
-                        size_t cap = 2 * (block_n + o->count);
-                        float(*grown)[3] = sta_realloc_array(block, cap, sizeof(*block));
-                        if (!grown) {
-                            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory");
-                            break;
-                        }
-                        block = grown, block_capacity = cap;
-                    }
-                    memcpy(block + block_n, g.sorted + o->start, o->count * sizeof(*block));
-                    block_n += o->count;
+        for (int o_i = 0; o_i < 27 && status == STA_OK; o_i++) {
+            const int64_t cell[3] = { c[0] + block_offsets[o_i][0], c[1] + block_offsets[o_i][1],
+                                      c[2] + block_offsets[o_i][2] };
+            const grid_slot *o = cell_slot(&g, cell);
+            if (!o) {
+                continue;
+            }
+            if (block_n + o->count > block_capacity) {
+                size_t cap = 2 * (block_n + o->count);
+                float(*grown)[3] = sta_realloc_array(block, cap, sizeof(*block));
+                float *soa = grown ? sta_realloc_array(block_soa, 4 * cap, sizeof(float)) : NULL;
+                block = grown ? grown : block;
+                block_soa = soa ? soa : block_soa;
+                if (!grown || !soa) {
+                    status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory");
+                    break;
                 }
+                block_capacity = cap;
+            }
+            memcpy(block + block_n, g.sorted + o->start, o->count * sizeof(*block));
+            block_n += o->count;
+        }
+        if (status == STA_OK) { // the block as structure of arrays too, for the distances
+            float *bx = block_soa, *by = bx + block_capacity, *bz = by + block_capacity;
+            for (size_t b = 0; b < block_n; b++) {
+                bx[b] = block[b][0], by[b] = block[b][1], bz[b] = block[b][2];
             }
         }
         for (uint32_t j = slot->start; j < slot->start + slot->count && status == STA_OK; j++) {
@@ -547,11 +565,17 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
             neighbours nb;
             nb.size = 0;
             nb.capacity = chunk->k + 1;
+            // Distances first, in a loop the compiler vectorises; then the few nearer
+            // than the current K-th go into the sorted list.
+            float *bx = block_soa, *by = bx + block_capacity, *bz = by + block_capacity;
+            float *d2 = bz + block_capacity;
             for (size_t b = 0; b < block_n; b++) {
-                float ex = block[b][0] - q[0], ey = block[b][1] - q[1], ez = block[b][2] - q[2];
-                float d2 = ex * ex + ey * ey + ez * ez;
-                if (nb.size < nb.capacity || d2 <= nb.d2[nb.size - 1]) { // most are farther
-                    offer(&nb, d2, block[b]);
+                float ex = bx[b] - q[0], ey = by[b] - q[1], ez = bz[b] - q[2];
+                d2[b] = ex * ex + ey * ey + ez * ez;
+            }
+            for (size_t b = 0; b < block_n; b++) {
+                if (nb.size < nb.capacity || d2[b] <= nb.d2[nb.size - 1]) { // most are farther
+                    offer(&nb, d2[b], block[b]);
                 }
             }
             float face = g.edge; // distance from q to its cell's nearest face
@@ -576,5 +600,6 @@ out:
     sta_free(bloom);
     sta_free(g.slots);
     sta_free(block);
+    sta_free(block_soa);
     return status;
 }
