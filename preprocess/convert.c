@@ -262,6 +262,7 @@ static void *index_worker(void *argument)
             sta_temp_runs_discard(&job->runs, chunk->list); // read once: free its disk
         }
         if (status == STA_OK && job->options->normals) {
+            sta_index_scratch_release(&scratch); // never both at once (worker_bytes)
             status = chunk_normals(job, args->index, job->chunk_order[i], records, count, &err);
         }
         sta_pending_node root = { 0 };
@@ -527,10 +528,18 @@ static size_t plan_chunk_capacity(uint64_t point_count)
 // payloads held until their turn (at most the raw records).
 static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2, bool normals)
 {
-    if (normals) { // the kNN grid over the chunk and a halo of up to half as many points
+    if (normals) {
+        // The normals come first and the index scratch is freed before them
+        // (index_worker), so a worker holds the kNN grid (over the chunk and a halo of
+        // up to half as many points) or the index's buffers, never both: besides the
+        // records and the node writer's column buffer, the larger of the two.
+        size_t grid_cells = (size_t)1 << (3 * grid_log2);
+        size_t largest_node = cap < grid_cells ? cap : grid_cells;
         size_t with_halo = cap + cap / 2;
-        return worker_bytes(cap, record_size, grid_log2, false) +
-               sta_normals_memory_bytes(with_halo) + (cap / 2) * 3 * sizeof(int32_t);
+        size_t knn = cap * record_size + largest_node * record_size +
+                     sta_normals_memory_bytes(with_halo) + (cap / 2) * 3 * sizeof(int32_t);
+        size_t plain = worker_bytes(cap, record_size, grid_log2, false);
+        return knn > plain ? knn : plain;
     }
     size_t grid_cells = (size_t)1 << (3 * grid_log2);
     size_t per_point = record_size + 2 * sizeof(sta_index_item) + 1; // records, items, labels

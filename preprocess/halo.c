@@ -9,24 +9,67 @@
 #include "core/alloc.h"
 #include "octree.h"
 
+// A chunk's box (grid units, [min, max)) and its own margin in metres: a multiple of
+// its estimated point spacing, at most its box edge.
+static double own_margin(const sta_chunk_plan *plan, const sta_grid *grid, size_t chunk, int k,
+                         int64_t box[2][3])
+{
+    const sta_chunk *c = &plan->chunks[chunk];
+    double edge = 0.0;
+    for (int a = 0; a < 3; a++) {
+        box[0][a] = sta_node_min(&plan->space, &c->key, a);
+        box[1][a] = box[0][a] + ((int64_t)1 << sta_node_side_log2(&plan->space, c->key.level, a));
+        edge = fmax(edge, (double)(box[1][a] - box[0][a]) * grid->scale[a]);
+    }
+    double spacing = edge / sqrt(fmax(1.0, (double)c->count));
+    return fmin(edge, STA_HALO_SPACINGS_PER_SQRT_K * sqrt((double)k) * spacing);
+}
+
+static void grow_box(int64_t box[2][3], double margin, const sta_grid *grid, int64_t out[2][3])
+{
+    for (int a = 0; a < 3; a++) {
+        int64_t m = (int64_t)ceil(margin / grid->scale[a]);
+        out[0][a] = box[0][a] - m;
+        out[1][a] = box[1][a] + m;
+    }
+}
+
+static bool overlaps(int64_t a[2][3], int64_t b[2][3])
+{
+    for (int i = 0; i < 3; i++) {
+        if (a[1][i] <= b[0][i] || b[1][i] <= a[0][i]) {
+            return false;
+        }
+    }
+    return true;
+}
+
 void sta_halo_chunk_frame(const sta_chunk_plan *plan, const sta_grid *grid, size_t chunk, int k,
                           sta_normals_chunk *out)
 {
     memset(out, 0, sizeof(*out));
-    const sta_chunk *c = &plan->chunks[chunk];
-    double edge = 0.0;
+    int64_t box[2][3], grown[2][3];
+    double margin = own_margin(plan, grid, chunk, k, box);
+    grow_box(box, margin, grid, grown);
+    // What the chunk receives from a neighbour reaches min(its margin, the neighbour's)
+    // into it (sta_halo_collect): the smallest over its neighbours bounds every face.
+    double effective = margin;
+    for (size_t c = 0; c < plan->chunk_count; c++) {
+        int64_t other[2][3];
+        double m = own_margin(plan, grid, c, k, other);
+        if (c != chunk && plan->chunks[c].count > 0 && overlaps(grown, other)) {
+            effective = fmin(effective, m);
+        }
+    }
     for (int a = 0; a < 3; a++) {
         out->scale[a] = grid->scale[a];
-        out->box_min[a] = sta_node_min(&plan->space, &c->key, a);
-        out->box_max[a] =
-            out->box_min[a] + ((int64_t)1 << sta_node_side_log2(&plan->space, c->key.level, a));
+        out->box_min[a] = box[0][a];
+        out->box_max[a] = box[1][a];
         out->scene_min[a] = plan->actual_min[a];
         out->scene_max[a] = plan->actual_max[a];
         out->scene_centre[a] = 0.5 * ((double)plan->actual_min[a] + (double)plan->actual_max[a]);
-        edge = fmax(edge, (double)(out->box_max[a] - out->box_min[a]) * grid->scale[a]);
     }
-    double spacing = edge / sqrt(fmax(1.0, (double)c->count));
-    out->margin = fmin(edge, STA_HALO_SPACINGS_PER_SQRT_K * sqrt((double)k) * spacing);
+    out->margin = effective;
     out->k = k;
 }
 
@@ -39,7 +82,9 @@ typedef struct halo_job {
     sta_trajectory *trajectory; /* NULL: none wanted (guard: lock) */
     int k;
     atomic_bool *cancel;
-    int64_t (*grown)[2][3]; /* per chunk: box grown by its margin, grid units [min, max) */
+    int64_t (*box)[2][3];   /* per chunk: its box, grid units [min, max) */
+    int64_t (*grown)[2][3]; /* per chunk: box grown by its own margin */
+    double *margin;         /* per chunk: its own margin, metres */
     atomic_size_t next;
     atomic_bool failed;
     pthread_mutex_t lock;
@@ -48,6 +93,7 @@ typedef struct halo_job {
 
 typedef struct halo_out {
     size_t chunk;
+    int64_t box[2][3]; /* the receiving chunk's box grown by min(its margin, the source's) */
     int32_t *xyz;
     size_t count, capacity;
 } halo_out;
@@ -56,16 +102,6 @@ static bool inside(int64_t box[2][3], const int32_t p[3])
 {
     return p[0] >= box[0][0] && p[0] < box[1][0] && p[1] >= box[0][1] && p[1] < box[1][1] &&
            p[2] >= box[0][2] && p[2] < box[1][2];
-}
-
-static bool overlaps(int64_t a[2][3], int64_t b[2][3])
-{
-    for (int i = 0; i < 3; i++) {
-        if (a[1][i] <= b[0][i] || b[1][i] <= a[0][i]) {
-            return false;
-        }
-    }
-    return true;
 }
 
 // Appends one chunk's halo points for `out->chunk`, in blocks ordered after `source`.
@@ -89,21 +125,21 @@ static sta_status one_chunk(halo_job *job, sta_run_codec *codec, size_t s, uint8
     const sta_chunk_plan *plan = job->plan;
     const sta_chunk *chunk = &plan->chunks[s];
     size_t count = (size_t)chunk->count, rec = job->layout->size;
-    sta_normals_chunk frame;
-    sta_halo_chunk_frame(plan, job->grid, s, job->k, &frame);
-    int64_t own[2][3] = { { frame.box_min[0], frame.box_min[1], frame.box_min[2] },
-                          { frame.box_max[0], frame.box_max[1], frame.box_max[2] } };
     halo_out *outs = NULL;
     size_t out_count = 0;
     for (size_t c = 0; c < plan->chunk_count; c++) {
-        if (c != s && plan->chunks[c].count > 0 && overlaps(job->grown[c], own)) {
+        if (c != s && plan->chunks[c].count > 0 && overlaps(job->grown[c], job->box[s])) {
             halo_out *grown = sta_realloc_array(outs, out_count + 1, sizeof(*outs));
             if (!grown) {
                 sta_free(outs);
                 return sta_fail(err, STA_ERR_NOMEM, "halo: out of memory");
             }
             outs = grown;
-            outs[out_count++] = (halo_out){ c, NULL, 0, 0 };
+            // A dense neighbour needs only a thin slice of this chunk, and this chunk's
+            // points near a dense one find their neighbours there: the smaller margin.
+            halo_out *o = &outs[out_count++];
+            *o = (halo_out){ .chunk = c };
+            grow_box(job->box[c], fmin(job->margin[c], job->margin[s]), job->grid, o->box);
         }
     }
     sta_status status = STA_OK;
@@ -128,7 +164,7 @@ static sta_status one_chunk(halo_job *job, sta_run_codec *codec, size_t s, uint8
         }
         for (size_t o = 0; o < out_count; o++) {
             halo_out *out = &outs[o];
-            if (!inside(job->grown[out->chunk], p)) {
+            if (!inside(out->box, p)) {
                 continue;
             }
             if (out->count == out->capacity) {
@@ -205,18 +241,19 @@ sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
                      .halo = halo,
                      .k = k,
                      .cancel = cancel };
-    job.grown = sta_alloc_array(plan->chunk_count ? plan->chunk_count : 1, sizeof(*job.grown));
-    if (!job.grown) {
+    size_t chunks = plan->chunk_count ? plan->chunk_count : 1;
+    job.box = sta_alloc_array(chunks, sizeof(*job.box));
+    job.grown = sta_alloc_array(chunks, sizeof(*job.grown));
+    job.margin = sta_alloc_array(chunks, sizeof(*job.margin));
+    if (!job.box || !job.grown || !job.margin) {
+        sta_free(job.box);
+        sta_free(job.grown);
+        sta_free(job.margin);
         return sta_fail(err, STA_ERR_NOMEM, "halo: out of memory");
     }
     for (size_t c = 0; c < plan->chunk_count; c++) {
-        sta_normals_chunk frame;
-        sta_halo_chunk_frame(plan, grid, c, k, &frame);
-        for (int a = 0; a < 3; a++) {
-            int64_t m = (int64_t)ceil(frame.margin / grid->scale[a]);
-            job.grown[c][0][a] = frame.box_min[a] - m;
-            job.grown[c][1][a] = frame.box_max[a] + m;
-        }
+        job.margin[c] = own_margin(plan, grid, c, k, job.box[c]);
+        grow_box(job.box[c], job.margin[c], grid, job.grown[c]);
     }
     atomic_init(&job.next, 0);
     atomic_init(&job.failed, false);
@@ -237,7 +274,9 @@ sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
         pthread_join(ids[t], NULL);
     }
     pthread_mutex_destroy(&job.lock);
+    sta_free(job.box);
     sta_free(job.grown);
+    sta_free(job.margin);
     if (atomic_load(&job.failed)) {
         *err = job.error;
         return job.error.code;

@@ -8,8 +8,11 @@
  * appended, as 3 x int32, to that chunk's list in a second compressed store. Lists read
  * back in (source chunk, block) order whatever the threads, so the output stays
  * deterministic. The margin of a chunk is a multiple of its estimated point spacing
- * (box edge / sqrt(points): surfaces), times sqrt(K); neighbourhoods that still reach
- * beyond it are counted (sta_normals_stats.beyond_halo) and reported.
+ * (box edge / sqrt(points): surfaces) times sqrt(K), at most its box edge; a chunk
+ * receives from a neighbour the points within the smaller of their two margins (a
+ * sparse chunk next to a dense one needs only a thin slice of it: its border points
+ * find their K nearest there). Neighbourhoods that may reach beyond what was received
+ * are counted (sta_normals_stats.beyond_halo) and reported.
  */
 #ifndef STA_PREPROCESS_HALO_H
 #define STA_PREPROCESS_HALO_H
@@ -26,8 +29,9 @@
  * lies at ~1.8 on a surface. */
 #define STA_HALO_SPACINGS_PER_SQRT_K 3.0
 
-/* The chunk's box and margin as sta_normals_compute wants them (k, up axis and scene
- * centre are left to the caller). */
+/* The chunk's box, the scene's bounds and the margin as sta_normals_compute wants
+ * them: the margin is the smallest that any face received (up axis and trajectory
+ * are left to the caller). */
 void sta_halo_chunk_frame(const sta_chunk_plan *plan, const sta_grid *grid, size_t chunk, int k,
                           sta_normals_chunk *out);
 

@@ -1,17 +1,14 @@
 /* SPDX-License-Identifier: MIT
  * Normals and splat radii of one chunk's points (strata-convert --normals).
  *
- * Design: the chunk's points and its halo (points of neighbouring chunks within a
- * margin, preprocess/halo.h) go into one uniform grid, hashed by cell; the cell edge is
- * adapted until about 4 points share an occupied cell. A point's K nearest neighbours
- * are searched in growing shells of cells until the K-th distance is within the shells
- * (exact). The normal is the eigenvector of the smallest eigenvalue of the
+ * Design: the K nearest neighbours of each of the chunk's points among the chunk and
+ * its halo (points of neighbouring chunks within a margin, preprocess/halo.h), exactly,
+ * from knn_grid.h. The normal is the eigenvector of the smallest eigenvalue of the
  * neighbourhood's covariance (Kopp's hybrid solver, core/eigen3.h), oriented by the
- * rule of docs/CONVERTER.md ("Normals").
- * Degenerate neighbourhoods (fewer than 3 distinct points, collinear)
- * get the up axis. The radius is the mean distance to the nearest STA_NORMALS_RADIUS_K
- * neighbours (the splatting notes' 8-10) whatever K. Results go into each record's
- * SPLAT bytes.
+ * rule of docs/CONVERTER.md ("Normals"). Degenerate neighbourhoods (fewer than 3
+ * distinct points, collinear) get the up axis. The radius is the mean distance to the nearest
+ * STA_NORMALS_RADIUS_K neighbours (the splatting notes' 8-10) whatever K. Results go into each
+ * record's SPLAT bytes.
  */
 #ifndef STA_PREPROCESS_KNN_NORMALS_H
 #define STA_PREPROCESS_KNN_NORMALS_H
@@ -24,7 +21,7 @@
 #include "trajectory.h"
 
 #define STA_NORMALS_DEFAULT_K 10 /* neighbours (issue 12: "8-10 nearest") */
-#define STA_NORMALS_MAX_K     64
+#define STA_NORMALS_MAX_K     64 /* = STA_KNN_MAX (knn_grid.h) */
 #define STA_NORMALS_RADIUS_K  10 /* the splat radius: mean distance to this many neighbours */
 
 /* Where one chunk's normals are computed; grid units are the output grid's integers. */

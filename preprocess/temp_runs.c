@@ -172,7 +172,9 @@ static int compare_blocks(const void *a, const void *b)
 void sta_temp_runs_sort(sta_temp_runs *runs, size_t list)
 {
     sta_run_list *l = &runs->lists[list];
-    qsort(l->blocks, l->block_count, sizeof(*l->blocks), compare_blocks);
+    if (l->block_count > 1) { // an empty list has no block array (qsort wants one)
+        qsort(l->blocks, l->block_count, sizeof(*l->blocks), compare_blocks);
+    }
 }
 
 sta_status sta_temp_runs_read_block(sta_temp_runs *runs, sta_run_codec *codec, size_t list,

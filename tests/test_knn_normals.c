@@ -222,6 +222,7 @@ static void sphere_matches_truth_without_chunk_seams(void **state)
     assert_true(r2.chunk_count >= 8);
     assert_int_equal(r2.normals_beyond_halo, 0);
     assert_int_equal(r2.normals_degenerate, 0);
+    assert_false(r2.normals_trajectory); // GPS time is the point index: no scan pattern
     cloud a = read_cloud(one), b = read_cloud(many);
     assert_int_equal(a.count, 60000);
     assert_int_equal(b.count, 60000);
