@@ -1,0 +1,65 @@
+/* SPDX-License-Identifier: MIT
+ * Volumetric classes (vegetation): pixels whose drawn point has a class in a set are
+ * shown as points, not as a surface. CPU twin of shaders/volumetric_mark.comp and
+ * shaders/volumetric_overlay.comp (render/pass_volumetric.c).
+ *
+ * Mark (after HPR, before pull-push): a pixel whose id names a resident point whose
+ * classification is in `classes` and whose label is STA_LABEL_VISIBLE becomes
+ * STA_LABEL_HIDDEN (so it seeds no fill: the surface behind it, or the background,
+ * is reconstructed from the other points) and its point is kept in `points` (RGB:
+ * colour, A: distance along the view axis, -z > 0). Every other pixel gets points = 0
+ * and keeps its label. Hidden points stay hidden: HPR still removes canopy seen
+ * through a wall.
+ * Overlay (after shading): each marked point is drawn as a square splat of radius
+ * STA_VOLUMETRIC_SPLAT_RADIUS_PX: a pixel takes the colour of the nearest marked point
+ * in that window unless the pixel holds a visible point (label after mark) that is
+ * nearer: crowns read as crowns and a wall in front still hides them. (The filled
+ * depth is no test: pull-push averages depths across wide gaps.) The splat colour is
+ * darkened by eye-dome lighting (shade_ref.h's sta_edl_ref rule with radius 1 px and
+ * STA_VOLUMETRIC_EDL_STRENGTH over the drawn points' positions), so crowns show their
+ * depth structure even in one flat colour.
+ */
+#ifndef STA_RENDER_REF_VOLUMETRIC_REF_H
+#define STA_RENDER_REF_VOLUMETRIC_REF_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "render/ref/image.h"
+
+/* Half the side of a volumetric point's square splat, pixels (1: 3 x 3). */
+#define STA_VOLUMETRIC_SPLAT_RADIUS_PX 1
+
+/* Eye-dome lighting strength on the splats (as STA_EDL_DEFAULT_STRENGTH). */
+#define STA_VOLUMETRIC_EDL_STRENGTH 60.0f
+
+/* Words in a class set: bit c of word c / 32 is classification c (0..255). */
+#define STA_VOLUMETRIC_CLASS_WORDS 8
+
+typedef struct sta_volumetric_input {
+    const uint32_t *ids;   /* width * height (slot, index) pairs, image rows (GL order) */
+    const uint32_t *nodes; /* per slot: first arena point, point count (0: not resident) */
+    uint32_t node_count;
+    const uint8_t *classes; /* classification per arena point */
+    uint32_t arena_points;
+    uint32_t class_set[STA_VOLUMETRIC_CLASS_WORDS];
+} sta_volumetric_input;
+
+/* True when classification `c` is in `set`. */
+static inline bool sta_volumetric_has_class(const uint32_t *set, uint32_t c)
+{
+    return c < 32u * STA_VOLUMETRIC_CLASS_WORDS && ((set[c / 32u] >> (c % 32u)) & 1u) != 0;
+}
+
+/* Mark: `position` RGBA (camera space, w > 0 where a point was drawn), `colour` RGBA
+ * (the point colours), `label` (1 channel) read and updated,
+ * `points` RGBA written; all the same size as the id image. Ids out of range (slot
+ * past node_count, index past the node's count or the arena) are ignored. */
+void sta_volumetric_mark_ref(const sta_volumetric_input *in, const sta_image *position,
+                             const sta_image *colour, sta_image *label, sta_image *points);
+
+/* Overlay: `points` and `label` after mark, `position` as for mark, `out` RGBA. */
+void sta_volumetric_overlay_ref(const sta_image *points, const sta_image *label,
+                                const sta_image *position, sta_image *out);
+
+#endif
