@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Volumetric classes, mark step: a visible pixel whose drawn point (looked up through
+// Volumetric classes, mark step: a pixel whose drawn point (visible or HPR-hidden) (looked up through
 // the point-id target in the arena) has a class in u_classes is relabelled hidden, so
 // pull-push does not grow a surface from it; its colour and distance (-z) are kept
 // for the overlay.
@@ -33,7 +33,8 @@ void main()
     bool marked = false;
     float label = imageLoad(u_label, p).r;
     vec4 position = imageLoad(u_position, p);
-    if (id.x < uint(nodes.length()) && label == STA_LABEL_VISIBLE && position.w > 0.0 &&
+    if (id.x < uint(nodes.length()) && (label == STA_LABEL_VISIBLE || label == STA_LABEL_HIDDEN) &&
+        position.w > 0.0 &&
         position.z < 0.0) {
         uvec2 node = nodes[id.x];
         uint total = uint(arena.length());

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Volumetric classes, overlay step: each marked point is drawn over the shaded picture
-// as a square splat in its own colour, nearest point first, except over a visible
-// point of another class that is nearer (the filled depth is no test: pull-push
+// as a square splat in its own colour, nearest point first, unless a visible point of
+// another class in the window is nearer (the filled depth is no test: pull-push
 // averages depths across wide gaps), darkened by eye-dome lighting so that crowns show
 // their depth structure even in one flat colour. Twin: src/render/ref/volumetric_ref.c (sta_volumetric_overlay_ref).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
@@ -31,9 +31,21 @@ void main()
             }
         }
     }
-    bool surface = imageLoad(u_label, p).r == STA_LABEL_VISIBLE;
-    if (best.a <= 0.0 || (surface && best.a >= -imageLoad(u_position, p).z)) {
+    if (best.a <= 0.0) {
         return;
+    }
+    // Hidden behind a visible point of another class in the window (a wall in front).
+    for (int dy = -r; dy <= r; dy++) {
+        for (int dx = -r; dx <= r; dx++) {
+            ivec2 q = p + ivec2(dx, dy);
+            if (q.x < 0 || q.y < 0 || q.x >= u_size.x || q.y >= u_size.y) {
+                continue;
+            }
+            if (imageLoad(u_label, q).r == STA_LABEL_VISIBLE &&
+                -imageLoad(u_position, q).z <= best.a) {
+                return;
+            }
+        }
     }
     // Eye-dome lighting on the splat: darker where drawn points around are nearer.
     float response = 0.0;

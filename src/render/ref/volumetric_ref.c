@@ -29,7 +29,8 @@ void sta_volumetric_mark_ref(const sta_volumetric_input *in, const sta_image *po
             float *l = sta_image_at(label, x, y), *p = sta_image_at(points, x, y);
             const float *c = sta_image_at(colour, x, y), *q = sta_image_at(position, x, y);
             int cls = pixel_class(in, i);
-            bool marked = cls >= 0 && *l == STA_LABEL_VISIBLE && q[3] > 0.0f && q[2] < 0.0f &&
+            bool marked = cls >= 0 && (*l == STA_LABEL_VISIBLE || *l == STA_LABEL_HIDDEN) &&
+                          q[3] > 0.0f && q[2] < 0.0f &&
                           sta_volumetric_has_class(in->class_set, (uint32_t)cls);
             for (int k = 0; k < 4; k++) {
                 p[k] = marked ? (k < 3 ? c[k] : -q[2]) : 0.0f;
@@ -61,6 +62,26 @@ static const float *nearest_point(const sta_image *points, int x, int y)
     return best;
 }
 
+// True when a visible point (of a class that is not volumetric: those are hidden
+// after mark) in the splat window around (x, y) is at distance <= d.
+static bool behind_surface(const sta_image *label, const sta_image *position, int x, int y, float d)
+{
+    const int r = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
+    for (int dy = -r; dy <= r; dy++) {
+        for (int dx = -r; dx <= r; dx++) {
+            int u = x + dx, v = y + dy;
+            if (u < 0 || v < 0 || u >= label->width || v >= label->height) {
+                continue;
+            }
+            if (*sta_image_at(label, u, v) == STA_LABEL_VISIBLE &&
+                -sta_image_at(position, u, v)[2] <= d) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 // Eye-dome lighting factor of a splat at distance `d` drawn in pixel (x, y).
 static float edl_shade(const sta_image *position, int x, int y, float d)
 {
@@ -87,8 +108,7 @@ void sta_volumetric_overlay_ref(const sta_image *points, const sta_image *label,
     for (int y = 0; y < out->height; y++) {
         for (int x = 0; x < out->width; x++) {
             const float *p = nearest_point(points, x, y);
-            bool surface = *sta_image_at(label, x, y) == STA_LABEL_VISIBLE;
-            if (p && (!surface || p[3] < -sta_image_at(position, x, y)[2])) {
+            if (p && !behind_surface(label, position, x, y, p[3])) {
                 float *o = sta_image_at(out, x, y), shade = edl_shade(position, x, y, p[3]);
                 for (int k = 0; k < 3; k++) {
                     o[k] = fminf(fmaxf(p[k] * shade, 0.0f), 1.0f);

@@ -4,16 +4,18 @@
  * shaders/volumetric_overlay.comp (render/pass_volumetric.c).
  *
  * Mark (after HPR, before pull-push): a pixel whose id names a resident point whose
- * classification is in `classes` and whose label is STA_LABEL_VISIBLE becomes
- * STA_LABEL_HIDDEN (so it seeds no fill: the surface behind it, or the background,
- * is reconstructed from the other points) and its point is kept in `points` (RGB:
- * colour, A: distance along the view axis, -z > 0). Every other pixel gets points = 0
- * and keeps its label. Hidden points stay hidden: HPR still removes canopy seen
- * through a wall.
+ * classification is in `classes` and whose label is STA_LABEL_VISIBLE or
+ * STA_LABEL_HIDDEN becomes STA_LABEL_HIDDEN (so it seeds no fill: the surface behind
+ * it, or the background, is reconstructed from the other points) and its point is
+ * kept in `points` (RGB: colour, A: distance along the view axis, -z > 0). Every
+ * other pixel gets points = 0 and keeps its label. HPR-hidden canopy points are kept
+ * too: scattered returns are no closed surface, so canopy behind canopy is seen
+ * through the gaps (HPR would remove it and leave black holes between crowns).
  * Overlay (after shading): each marked point is drawn as a square splat of radius
  * STA_VOLUMETRIC_SPLAT_RADIUS_PX: a pixel takes the colour of the nearest marked point
- * in that window unless the pixel holds a visible point (label after mark) that is
- * nearer: crowns read as crowns and a wall in front still hides them. (The filled
+ * in that window unless a visible point (label after mark: of another class) in the
+ * same window is as near or nearer: crowns read as crowns and a wall in front, even
+ * a sparsely sampled one, still hides them. (The filled
  * depth is no test: pull-push averages depths across wide gaps.) The splat colour is
  * darkened by eye-dome lighting (shade_ref.h's sta_edl_ref rule with radius 1 px and
  * STA_VOLUMETRIC_EDL_STRENGTH over the drawn points' positions), so crowns show their
