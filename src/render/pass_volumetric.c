@@ -17,10 +17,8 @@ sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err)
     char defines[256];
     snprintf(defines, sizeof(defines),
              "#define STA_LABEL_VISIBLE %.1f\n#define STA_LABEL_HIDDEN %.1f\n"
-             "#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n"
-             "#define STA_VOLUMETRIC_EDL_STRENGTH %.9e\n",
-             (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, STA_VOLUMETRIC_SPLAT_RADIUS_PX,
-             (double)STA_VOLUMETRIC_EDL_STRENGTH);
+             "#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
+             (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, STA_VOLUMETRIC_SPLAT_RADIUS_PX);
     const char *mark[] = { "volumetric_mark.comp" };
     const char *overlay[] = { "volumetric_overlay.comp" };
     sta_status s = sta_gl_program_create(mark, 1, defines, &pass->mark_program, err);
@@ -134,10 +132,6 @@ void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volu
     glUniform2i(pass->overlay_size, frame->width, frame->height);
     glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_POSITION, frame->position, 0, GL_FALSE, 0,
-                       GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_LABEL, frame->label, 0, GL_FALSE, 0,
-                       GL_READ_ONLY, GL_R32F);
     glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY,
                        GL_RGBA8);
     sta_gl_dispatch_2d(frame->width, frame->height);

@@ -7,19 +7,17 @@
  * classification is in `classes` and whose label is STA_LABEL_VISIBLE or
  * STA_LABEL_HIDDEN becomes STA_LABEL_HIDDEN (so it seeds no fill: the surface behind
  * it, or the background, is reconstructed from the other points) and its point is
- * kept in `points` (RGB: colour, A: distance along the view axis, -z > 0). Every
- * other pixel gets points = 0 and keeps its label. HPR-hidden canopy points are kept
- * too: scattered returns are no closed surface, so canopy behind canopy is seen
- * through the gaps (HPR would remove it and leave black holes between crowns).
- * Overlay (after shading): each marked point is drawn as a square splat of radius
- * STA_VOLUMETRIC_SPLAT_RADIUS_PX: a pixel takes the colour of the nearest marked point
- * in that window unless a visible point (label after mark: of another class) in the
- * same window is as near or nearer: crowns read as crowns and a wall in front, even
- * a sparsely sampled one, still hides them. (The filled
- * depth is no test: pull-push averages depths across wide gaps.) The splat colour is
- * darkened by eye-dome lighting (shade_ref.h's sta_edl_ref rule with radius 1 px and
- * STA_VOLUMETRIC_EDL_STRENGTH over the drawn points' positions), so crowns show their
- * depth structure even in one flat colour.
+ * kept in `points` (RGB: colour, A: distance along the view axis, -z > 0). A visible
+ * point of another class is kept as an occluder (RGB 0, A: minus its distance);
+ * every other pixel gets points = 0. Only marked pixels change label. HPR-hidden canopy points are
+ * kept too: scattered returns are no closed surface, so canopy behind canopy is seen through the
+ * gaps (HPR would remove it and leave black holes between crowns). Overlay (after shading): each
+ * marked point is drawn as a square splat of radius STA_VOLUMETRIC_SPLAT_RADIUS_PX: a pixel takes
+ * the colour of the nearest marked point in that window unless an occluder in the same window is as
+ * near or nearer: crowns read as crowns and a wall in front, even a sparsely sampled one, still
+ * hides them. (The filled depth is no test: pull-push averages depths across wide gaps.) No
+ * lighting: an eye-dome term over the same window does nothing by construction (the splat is the
+ * window's nearest point), a wider one would double the reads (docs/PIPELINE.md).
  */
 #ifndef STA_RENDER_REF_VOLUMETRIC_REF_H
 #define STA_RENDER_REF_VOLUMETRIC_REF_H
@@ -31,9 +29,6 @@
 
 /* Half the side of a volumetric point's square splat, pixels (1: 3 x 3). */
 #define STA_VOLUMETRIC_SPLAT_RADIUS_PX 1
-
-/* Eye-dome lighting strength on the splats (as STA_EDL_DEFAULT_STRENGTH). */
-#define STA_VOLUMETRIC_EDL_STRENGTH 60.0f
 
 /* Words in a class set: bit c of word c / 32 is classification c (0..255). */
 #define STA_VOLUMETRIC_CLASS_WORDS 8
@@ -60,8 +55,7 @@ static inline bool sta_volumetric_has_class(const uint32_t *set, uint32_t c)
 void sta_volumetric_mark_ref(const sta_volumetric_input *in, const sta_image *position,
                              const sta_image *colour, sta_image *label, sta_image *points);
 
-/* Overlay: `points` and `label` after mark, `position` as for mark, `out` RGBA. */
-void sta_volumetric_overlay_ref(const sta_image *points, const sta_image *label,
-                                const sta_image *position, sta_image *out);
+/* Overlay: `points` from mark, `out` RGBA. */
+void sta_volumetric_overlay_ref(const sta_image *points, sta_image *out);
 
 #endif
