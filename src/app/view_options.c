@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app/view_no_fill.h"
 #include "core/cli.h"
 #include "core/navigation.h"
 #include "render/bindings.h"
@@ -585,6 +586,13 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .flags = STA_CLI_ABOVE_MIN,
           .help = "sampling scale",
           .default_text = "from the hierarchy's spacing" },
+        { .name = "no-fill-classes",
+          .kind = STA_CLI_CALLBACK,
+          .dest = a,
+          .metavar = "LIST",
+          .parse = sta_view_parse_no_fill,
+          .help = STA_VIEW_NO_FILL_HELP,
+          .default_text = "3-5 (vegetation)" },
         { .name = NULL },
     };
     const sta_cli cli = {

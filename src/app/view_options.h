@@ -41,6 +41,8 @@ typedef struct sta_view_args {
     int hpr_radius_px;         /* --hpr-radius */
     double hpr_threshold;      /* --hpr-threshold */
     double s0_m;               /* --s0 */
+    bool no_fill_set;          /* --no-fill-classes given */
+    uint32_t no_fill[8];       /* --no-fill-classes: bit c % 32 of word c / 32 */
     int repeat;                /* --repeat: time N more frames once loaded */
     /* --hpr katz, --katz-*: the live Katz mode */
     sta_katz_view_options katz;

@@ -128,6 +128,8 @@ void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *
     out->hpr_radius_px = args->hpr_radius_px;
     out->hpr_threshold = (float)args->hpr_threshold;
     out->s0_m = (float)args->s0_m;
+    out->no_fill_set = args->no_fill_set;
+    memcpy(out->no_fill_classes, args->no_fill, sizeof(out->no_fill_classes));
 }
 
 void sta_view_pipeline_label(int mode, const sta_point_size *size, float splat_scale,

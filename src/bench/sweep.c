@@ -279,7 +279,10 @@ static void set_pipeline(const scene_run *run, sta_scene *scene, const sta_bench
                                .hpr_exhaustive = st->hpr_exhaustive,
                                .hpr_radius_px = o->hpr_radius_px,
                                .hpr_threshold = o->hpr_threshold,
-                               .s0_m = (float)o->s0_m };
+                               .s0_m = (float)o->s0_m,
+                               // The metrics measure the fill of every class against the
+                               // truth; vegetation drawn as points would hide it.
+                               .no_fill_set = true };
     sta_scene_set_pipeline(scene, &p);
     sta_scene_set_point_size(scene, &st->point_size);
 }

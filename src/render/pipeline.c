@@ -15,7 +15,8 @@ static const char *const mode_names[STA_PIPELINE_MODE_COUNT] = { "raw",     "hpr
 static const char *const normal_names[STA_NORMAL_METHOD_COUNT] = { "pyramid", "ld", "pd", "pc",
                                                                    "ti" };
 static const char *const pass_names[STA_PASS_COUNT] = { "unproject", "hpr",    "pullpush",
-                                                        "normals",   "smooth", "shade" };
+                                                        "normals",   "smooth", "shade",
+                                                        "volumetric" };
 
 int sta_pipeline_mode_from_name(const char *name)
 {
@@ -71,6 +72,9 @@ sta_status sta_pipeline_init(sta_pipeline *p, sta_error *err)
     if (s == STA_OK) {
         s = sta_shade_pass_init(&p->shade, err);
     }
+    if (s == STA_OK) {
+        s = sta_volumetric_pass_init(&p->volumetric, err);
+    }
     const char *display[] = { "display.comp" };
     const char *colour[] = { "colour_to_float.comp" };
     if (s == STA_OK) {
@@ -91,15 +95,15 @@ sta_status sta_pipeline_init(sta_pipeline *p, sta_error *err)
 
 static void release_textures(sta_pipeline *p)
 {
-    GLuint textures[] = { p->position,        p->colour,        p->label,  p->pyramid,
-                          p->filled_position, p->filled_colour, p->normal, p->normal2 };
+    GLuint textures[] = { p->position,      p->colour, p->label,   p->pyramid, p->filled_position,
+                          p->filled_colour, p->normal, p->normal2, p->points };
     for (size_t i = 0; i < sizeof(textures) / sizeof(textures[0]); i++) {
         if (textures[i]) {
             glDeleteTextures(1, &textures[i]);
         }
     }
     p->position = p->colour = p->label = p->pyramid = 0;
-    p->filled_position = p->filled_colour = p->normal = p->normal2 = 0;
+    p->filled_position = p->filled_colour = p->normal = p->normal2 = p->points = 0;
     p->width_px = p->height_px = 0;
 }
 
@@ -112,6 +116,7 @@ void sta_pipeline_release(sta_pipeline *p)
     sta_normals_pyramid_pass_release(&p->normals_pyramid);
     sta_normals_screen_pass_release(&p->normals_screen);
     sta_shade_pass_release(&p->shade);
+    sta_volumetric_pass_release(&p->volumetric);
     if (p->display_program) {
         glDeleteProgram(p->display_program);
     }
@@ -127,8 +132,8 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
         return STA_OK;
     }
     release_textures(p);
-    GLuint *four[] = { &p->position,      &p->colour, &p->filled_position,
-                       &p->filled_colour, &p->normal, &p->normal2 };
+    GLuint *four[] = { &p->position, &p->colour,  &p->filled_position, &p->filled_colour,
+                       &p->normal,   &p->normal2, &p->points };
     sta_status s = STA_OK;
     for (size_t i = 0; i < sizeof(four) / sizeof(four[0]) && s == STA_OK; i++) {
         s = sta_gl_texture_create(w, h, 4, 1, four[i], err);
@@ -211,6 +216,38 @@ static sta_status run_normals(sta_pipeline *p, const sta_pipeline_options *o,
     return s;
 }
 
+sta_status sta_pipeline_set_points(sta_pipeline *p, GLuint id_texture, const sta_gpu_cache *cache,
+                                   sta_error *err)
+{
+    memset(&p->points_source, 0, sizeof(p->points_source));
+    if (!cache || !id_texture) {
+        return STA_OK;
+    }
+    return sta_volumetric_points_from_cache(&p->volumetric, cache, id_texture, &p->points_source,
+                                            err);
+}
+
+// The volumetric class set of `o`, or false when it is empty or there is nothing to
+// look classes up in.
+static bool volumetric_classes(const sta_pipeline *p, const sta_pipeline_options *o,
+                               uint32_t set[STA_VOLUMETRIC_CLASS_WORDS])
+{
+    memset(set, 0, STA_VOLUMETRIC_CLASS_WORDS * sizeof(set[0]));
+    if (!p->points_source.id_texture || !p->points_source.arena) {
+        return false;
+    }
+    uint32_t any = 0;
+    for (int i = 0; i < STA_VOLUMETRIC_CLASS_WORDS; i++) {
+        set[i] = o->no_fill_set ? o->no_fill_classes[i] : 0;
+        any |= set[i];
+    }
+    if (!o->no_fill_set) {
+        set[0] = STA_PIPELINE_NO_FILL_DEFAULT;
+        any = set[0];
+    }
+    return any != 0;
+}
+
 static void read_timing(sta_pipeline *p, sta_pipeline_timing *t, const bool *ran)
 {
     t->total_ms = 0.0;
@@ -283,6 +320,20 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
         goto done;
     }
 
+    // Volumetric classes: no seeds for the fill, drawn back as points after shading.
+    uint32_t classes[STA_VOLUMETRIC_CLASS_WORDS];
+    bool volumetric = volumetric_classes(p, o, classes);
+    sta_volumetric_frame vframe = { w, h, p->position, p->colour, p->label, p->points };
+    if (volumetric) {
+        mark(p, t, STA_PASS_VOLUMETRIC, 0);
+        s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes, &vframe, err);
+        mark(p, t, STA_PASS_VOLUMETRIC, 1);
+        ran[STA_PASS_VOLUMETRIC] = true;
+        if (s != STA_OK) {
+            return s;
+        }
+    }
+
     mark(p, t, STA_PASS_PULLPUSH, 0);
     s = sta_pullpush_pass_run(&p->pullpush, view, p->position, p->colour, p->label,
                               p->filled_position, p->filled_colour, err);
@@ -293,7 +344,7 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     }
     if (o->mode == STA_PIPELINE_FILL) {
         display(p, 1, w, h, colour_rgba8);
-        goto done;
+        goto overlay;
     }
 
     s = run_normals(p, o, view, t, err);
@@ -313,6 +364,16 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
                        colour_rgba8);
     mark(p, t, STA_PASS_SHADE, 1);
     ran[STA_PASS_SHADE] = true;
+overlay:
+    if (volumetric) {
+        double before = p->marks[2 * STA_PASS_VOLUMETRIC + 1] - p->marks[2 * STA_PASS_VOLUMETRIC];
+        mark(p, t, STA_PASS_VOLUMETRIC, 0);
+        sta_volumetric_pass_overlay(&p->volumetric, &vframe, colour_rgba8);
+        mark(p, t, STA_PASS_VOLUMETRIC, 1);
+        if (t) {
+            p->marks[2 * STA_PASS_VOLUMETRIC] -= before; // mark and overlay together
+        }
+    }
 done:
     if (t) {
         read_timing(p, t, ran);

@@ -19,6 +19,7 @@
 #include "render/pass_pullpush.h"
 #include "render/pass_shade.h"
 #include "render/pass_unproject.h"
+#include "render/pass_volumetric.h"
 #include "render/ref/screen_space.h"
 
 typedef enum sta_pipeline_mode {
@@ -51,6 +52,7 @@ typedef enum sta_pass_id {
     STA_PASS_NORMALS,
     STA_PASS_SMOOTH,
     STA_PASS_SHADE,
+    STA_PASS_VOLUMETRIC, /* volumetric classes: mark and overlay together */
     STA_PASS_COUNT
 } sta_pass_id;
 
@@ -68,7 +70,16 @@ typedef struct sta_pipeline_options {
     float s0_m;                  /* sampling scale; 0: the scene's estimate */
     float normal_max_distance_m; /* screen-space normals; 0: 5 s0 */
     float background[3];
+    /* Volumetric classes, drawn as points with no surface fill (shaded and fill modes):
+     * bit c % 32 of word c / 32 is class c. With no_fill_set false (zero), the default
+     * STA_PIPELINE_NO_FILL_DEFAULT; set with all bits clear: none. */
+    bool no_fill_set;
+    uint32_t no_fill_classes[STA_VOLUMETRIC_CLASS_WORDS];
 } sta_pipeline_options;
+
+/* The default volumetric classes: LAS vegetation (3 low, 4 medium, 5 high), word 0. A
+ * scene without classification has none of them, so nothing changes there. */
+#define STA_PIPELINE_NO_FILL_DEFAULT ((1u << 3) | (1u << 4) | (1u << 5))
 
 typedef struct sta_pipeline_timing {
     double ms[STA_PASS_COUNT]; /* GPU time per pass (0 when not run) */
@@ -82,15 +93,24 @@ typedef struct sta_pipeline {
     sta_normals_pyramid_pass normals_pyramid;
     sta_normals_screen_pass normals_screen;
     sta_shade_pass shade;
+    sta_volumetric_pass volumetric;
+    sta_volumetric_points points_source; /* sta_pipeline_set_points; id_texture 0: none */
     GLuint display_program, colour_program;
     GLint display_size, display_mode, colour_size;
     int width_px, height_px; /* texture size */
     GLuint position, colour, label, pyramid, filled_position, filled_colour, normal, normal2;
+    GLuint points;                    /* volumetric colours (RGBA32F) */
     double marks[2 * STA_PASS_COUNT]; /* pass start/end, ms (timing on) */
 } sta_pipeline;
 
 sta_status sta_pipeline_init(sta_pipeline *pipeline, sta_error *err);
 void sta_pipeline_release(sta_pipeline *pipeline);
+
+/* Where the drawn points' classes come from for this frame (the point-id texture of
+ * the geometry pass's target and the GPU cache); without it (or with an empty arena)
+ * no class is drawn as points. The cache is read now, not kept. */
+sta_status sta_pipeline_set_points(sta_pipeline *pipeline, GLuint id_texture,
+                                   const sta_gpu_cache *cache, sta_error *err);
 
 /* Runs the passes `options->mode` needs on the geometry pass's depth (reverse-Z
  * float) and colour (RGBA8) textures and writes the result into `colour_rgba8` (it is

@@ -403,6 +403,10 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         }
         sta_view_params screen = { camera->width_px, camera->height_px, (float)camera->fov_y,
                                    (float)camera->near_m, stats->s0_m > 0 ? stats->s0_m : 0.01f };
+        status = sta_pipeline_set_points(&s->pipeline, target->id, &s->cache, err);
+        if (status != STA_OK) {
+            return status;
+        }
         status = sta_pipeline_run(&s->pipeline, &pipeline, &screen, target->depth, target->colour,
                                   s->timing ? &stats->timing : NULL, err);
         if (status != STA_OK) {

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+// Volumetric classes, mark step: a pixel whose drawn point (visible or HPR-hidden),
+// looked up through the point-id target in the arena, has a class in u_classes is
+// relabelled hidden, so pull-push does not grow a surface from it; its colour and
+// distance (-z) go to the points image for the overlay, visible points of the other
+// classes go there as occluders (alpha: minus their distance).
+// Twin: src/render/ref/volumetric_ref.c (sta_volumetric_mark_ref).
+layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
+layout(binding = STA_VOLUMETRIC_MARK_IMAGE_ID, rg32ui) readonly uniform uimage2D u_id;
+layout(binding = STA_VOLUMETRIC_MARK_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
+layout(binding = STA_VOLUMETRIC_MARK_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_colour;
+layout(binding = STA_VOLUMETRIC_MARK_IMAGE_LABEL, r32f) uniform image2D u_label;
+layout(binding = STA_VOLUMETRIC_MARK_IMAGE_POINTS, rgba32f) writeonly uniform image2D u_points;
+// The arena: 16-byte points (stream/gpu_points.h); classification is byte 11.
+layout(std430, binding = STA_VOLUMETRIC_MARK_BUFFER_ARENA) readonly buffer Arena
+{
+    uvec4 arena[];
+};
+// Per node slot: first arena point, point count (0: not resident).
+layout(std430, binding = STA_VOLUMETRIC_MARK_BUFFER_NODES) readonly buffer Nodes
+{
+    uvec2 nodes[];
+};
+uniform ivec2 u_size;
+uniform uint u_classes[8]; // bit c % 32 of word c / 32: class c is volumetric
+
+void main()
+{
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x >= u_size.x || p.y >= u_size.y) {
+        return;
+    }
+    float label = imageLoad(u_label, p).r;
+    vec4 position = imageLoad(u_position, p);
+    vec4 points = vec4(0.0);
+    bool drawn = (label == STA_LABEL_VISIBLE || label == STA_LABEL_HIDDEN) && position.w > 0.0 &&
+                 position.z < 0.0;
+    if (drawn) {
+        uvec2 id = imageLoad(u_id, p).xy;
+        bool marked = false;
+        if (id.x < uint(nodes.length())) {
+            uvec2 node = nodes[id.x];
+            uint total = uint(arena.length());
+            if (id.y < node.y && node.x < total && id.y < total - node.x) {
+                uint c = (arena[node.x + id.y].z >> 24u) & 0xFFu;
+                marked = ((u_classes[c >> 5u] >> (c & 31u)) & 1u) != 0u;
+            }
+        }
+        if (marked) {
+            points = vec4(imageLoad(u_colour, p).rgb, -position.z);
+            imageStore(u_label, p, vec4(STA_LABEL_HIDDEN));
+        } else if (label == STA_LABEL_VISIBLE) {
+            points.a = position.z; // an occluder: minus its distance
+        }
+    }
+    imageStore(u_points, p, points);
+}

@@ -1,0 +1,138 @@
+/* SPDX-License-Identifier: MIT
+ * Volumetric classes shown as points: the GL passes. */
+#include "render/pass_volumetric.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "render/bindings.h"
+#include "render/gl.h"
+#include "render/gl_image.h"
+#include "render/ref/screen_space.h"
+
+sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err)
+{
+    memset(pass, 0, sizeof(*pass));
+    char defines[256];
+    snprintf(defines, sizeof(defines),
+             "#define STA_LABEL_VISIBLE %.1f\n#define STA_LABEL_HIDDEN %.1f\n"
+             "#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
+             (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, STA_VOLUMETRIC_SPLAT_RADIUS_PX);
+    const char *mark[] = { "volumetric_mark.comp" };
+    const char *overlay[] = { "volumetric_overlay.comp" };
+    sta_status s = sta_gl_program_create(mark, 1, defines, &pass->mark_program, err);
+    if (s == STA_OK) {
+        s = sta_gl_program_create(overlay, 1, defines, &pass->overlay_program, err);
+    }
+    if (s != STA_OK) {
+        sta_volumetric_pass_release(pass);
+        return s;
+    }
+    pass->mark_size = glGetUniformLocation(pass->mark_program, "u_size");
+    pass->mark_classes = glGetUniformLocation(pass->mark_program, "u_classes");
+    pass->overlay_size = glGetUniformLocation(pass->overlay_program, "u_size");
+    return STA_OK;
+}
+
+void sta_volumetric_pass_release(sta_volumetric_pass *pass)
+{
+    if (pass->mark_program) {
+        glDeleteProgram(pass->mark_program);
+    }
+    if (pass->overlay_program) {
+        glDeleteProgram(pass->overlay_program);
+    }
+    if (pass->nodes_buffer) {
+        glDeleteBuffers(1, &pass->nodes_buffer);
+    }
+    sta_free(pass->host_nodes);
+    memset(pass, 0, sizeof(*pass));
+}
+
+sta_status sta_volumetric_points_from_cache(sta_volumetric_pass *pass, const sta_gpu_cache *cache,
+                                            GLuint id_texture, sta_volumetric_points *out,
+                                            sta_error *err)
+{
+    if (cache->node_count > pass->host_capacity) {
+        uint32_t *table = sta_alloc_array(cache->node_count, 2 * sizeof(uint32_t));
+        if (!table) {
+            return sta_fail(err, STA_ERR_NOMEM, "volumetric node table: out of memory");
+        }
+        sta_free(pass->host_nodes);
+        pass->host_nodes = table;
+        pass->host_capacity = cache->node_count;
+    }
+    for (uint32_t i = 0; i < cache->node_count; i++) {
+        const sta_gpu_cache_entry *e = &cache->entries[i];
+        pass->host_nodes[2 * i] = e->is_resident ? e->offset : 0;
+        pass->host_nodes[2 * i + 1] = e->is_resident ? e->count : 0;
+    }
+    *out =
+        (sta_volumetric_points){ id_texture, cache->buffer, pass->host_nodes, cache->node_count };
+    return STA_OK;
+}
+
+// The node table goes up every frame (8 bytes a node): offsets move when the arena is
+// compacted, and a frame's uploads change residency.
+static sta_status upload_nodes(sta_volumetric_pass *pass, const sta_volumetric_points *src,
+                               sta_error *err)
+{
+    uint32_t count = src->node_count > 0 ? src->node_count : 1;
+    if (count > pass->nodes_capacity) {
+        if (pass->nodes_buffer) {
+            glDeleteBuffers(1, &pass->nodes_buffer);
+        }
+        glCreateBuffers(1, &pass->nodes_buffer);
+        glNamedBufferStorage(pass->nodes_buffer, (GLsizeiptr)count * 8, NULL,
+                             GL_DYNAMIC_STORAGE_BIT);
+        pass->nodes_capacity = count;
+    }
+    if (src->node_count > 0) {
+        glNamedBufferSubData(pass->nodes_buffer, 0, (GLsizeiptr)src->node_count * 8, src->nodes);
+    } else {
+        static const uint32_t none[2] = { 0, 0 };
+        glNamedBufferSubData(pass->nodes_buffer, 0, sizeof(none), none);
+    }
+    return sta_gl_check("volumetric node table", err);
+}
+
+sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumetric_points *src,
+                                    const uint32_t class_set[STA_VOLUMETRIC_CLASS_WORDS],
+                                    const sta_volumetric_frame *frame, sta_error *err)
+{
+    sta_status s = upload_nodes(pass, src, err);
+    if (s != STA_OK) {
+        return s;
+    }
+    glUseProgram(pass->mark_program);
+    glUniform2i(pass->mark_size, frame->width, frame->height);
+    glUniform1uiv(pass->mark_classes, STA_VOLUMETRIC_CLASS_WORDS, class_set);
+    glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_ID, src->id_texture, 0, GL_FALSE, 0, GL_READ_ONLY,
+                       GL_RG32UI);
+    glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_POSITION, frame->position, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_COLOUR, frame->colour, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_LABEL, frame->label, 0, GL_FALSE, 0, GL_READ_WRITE,
+                       GL_R32F);
+    glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA32F);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_MARK_BUFFER_ARENA, src->arena);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_MARK_BUFFER_NODES,
+                     pass->nodes_buffer);
+    sta_gl_dispatch_2d(frame->width, frame->height);
+    return sta_gl_check("volumetric mark pass", err);
+}
+
+void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volumetric_frame *frame,
+                                 GLuint out)
+{
+    glUseProgram(pass->overlay_program);
+    glUniform2i(pass->overlay_size, frame->width, frame->height);
+    glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_RGBA8);
+    sta_gl_dispatch_2d(frame->width, frame->height);
+}

@@ -1,0 +1,61 @@
+/* SPDX-License-Identifier: MIT
+ * Volumetric classes (vegetation) shown as points instead of a filled surface: a mark
+ * step after HPR and an overlay after shading (the rule: render/ref/volumetric_ref.h).
+ */
+#ifndef STA_RENDER_PASS_VOLUMETRIC_H
+#define STA_RENDER_PASS_VOLUMETRIC_H
+
+#include <epoxy/gl.h>
+#include <stdint.h>
+
+#include "core/status.h"
+#include "render/gpu_cache.h"
+#include "render/ref/volumetric_ref.h"
+
+typedef struct sta_volumetric_pass {
+    GLuint mark_program, overlay_program;
+    GLint mark_size, mark_classes, overlay_size;
+    GLuint nodes_buffer;     /* uvec2 per node slot */
+    uint32_t nodes_capacity; /* slots the buffer holds */
+    uint32_t *host_nodes;    /* sta_volumetric_points_from_cache's table */
+    uint32_t host_capacity;  /* slots it holds */
+} sta_volumetric_pass;
+
+/* Where the points behind the pixel ids live: the point-id texture (GL_RG32UI, same
+ * size as the frame), the arena buffer and its node table (2 uint32 per slot: first
+ * point, count; count 0 when not resident). */
+typedef struct sta_volumetric_points {
+    GLuint id_texture;
+    GLuint arena;
+    const uint32_t *nodes;
+    uint32_t node_count;
+} sta_volumetric_points;
+
+/* Fills `out` from the GPU cache (its arena and residency; the table lives in `pass`
+ * until the next call). */
+sta_status sta_volumetric_points_from_cache(sta_volumetric_pass *pass, const sta_gpu_cache *cache,
+                                            GLuint id_texture, sta_volumetric_points *out,
+                                            sta_error *err);
+
+sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err);
+void sta_volumetric_pass_release(sta_volumetric_pass *pass);
+
+/* The textures of one frame, all width x height. */
+typedef struct sta_volumetric_frame {
+    int width, height;
+    GLuint position; /* RGBA32F camera-space positions (unproject) */
+    GLuint colour;   /* RGBA32F point colours */
+    GLuint label;    /* R32F HPR labels: marked points become hidden */
+    GLuint points;   /* RGBA32F: written by mark, read by overlay */
+} sta_volumetric_frame;
+
+/* Marks the pixels whose point has a class in `class_set`. */
+sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumetric_points *src,
+                                    const uint32_t class_set[STA_VOLUMETRIC_CLASS_WORDS],
+                                    const sta_volumetric_frame *frame, sta_error *err);
+
+/* Splats the marked points over `out` (RGBA8). */
+void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volumetric_frame *frame,
+                                 GLuint out);
+
+#endif

@@ -1,0 +1,61 @@
+/* SPDX-License-Identifier: MIT
+ * Volumetric classes (vegetation): pixels whose drawn point has a class in a set are
+ * shown as points, not as a surface. CPU twin of shaders/volumetric_mark.comp and
+ * shaders/volumetric_overlay.comp (render/pass_volumetric.c).
+ *
+ * Mark (after HPR, before pull-push): a pixel whose id names a resident point whose
+ * classification is in `classes` and whose label is STA_LABEL_VISIBLE or
+ * STA_LABEL_HIDDEN becomes STA_LABEL_HIDDEN (so it seeds no fill: the surface behind
+ * it, or the background, is reconstructed from the other points) and its point is
+ * kept in `points` (RGB: colour, A: distance along the view axis, -z > 0). A visible
+ * point of another class is kept as an occluder (RGB 0, A: minus its distance);
+ * every other pixel gets points = 0. Only marked pixels change label. HPR-hidden canopy points are
+ * kept too: scattered returns are no closed surface, so canopy behind canopy is seen through the
+ * gaps (HPR would remove it and leave black holes between crowns). Overlay (after shading): each
+ * marked point is drawn as a square splat of radius STA_VOLUMETRIC_SPLAT_RADIUS_PX: a pixel takes
+ * the colour of the nearest marked point in that window unless an occluder in the same window is as
+ * near or nearer: crowns read as crowns and a wall in front, even a sparsely sampled one, still
+ * hides them. (The filled depth is no test: pull-push averages depths across wide gaps.) No
+ * lighting: an eye-dome term over the same window does nothing by construction (the splat is the
+ * window's nearest point), a wider one would double the reads (docs/PIPELINE.md).
+ */
+#ifndef STA_RENDER_REF_VOLUMETRIC_REF_H
+#define STA_RENDER_REF_VOLUMETRIC_REF_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "render/ref/image.h"
+
+/* Half the side of a volumetric point's square splat, pixels (1: 3 x 3). */
+#define STA_VOLUMETRIC_SPLAT_RADIUS_PX 1
+
+/* Words in a class set: bit c of word c / 32 is classification c (0..255). */
+#define STA_VOLUMETRIC_CLASS_WORDS 8
+
+typedef struct sta_volumetric_input {
+    const uint32_t *ids;   /* width * height (slot, index) pairs, image rows (GL order) */
+    const uint32_t *nodes; /* per slot: first arena point, point count (0: not resident) */
+    uint32_t node_count;
+    const uint8_t *classes; /* classification per arena point */
+    uint32_t arena_points;
+    uint32_t class_set[STA_VOLUMETRIC_CLASS_WORDS];
+} sta_volumetric_input;
+
+/* True when classification `c` is in `set`. */
+static inline bool sta_volumetric_has_class(const uint32_t *set, uint32_t c)
+{
+    return c < 32u * STA_VOLUMETRIC_CLASS_WORDS && ((set[c / 32u] >> (c % 32u)) & 1u) != 0;
+}
+
+/* Mark: `position` RGBA (camera space, w > 0 where a point was drawn), `colour` RGBA
+ * (the point colours), `label` (1 channel) read and updated,
+ * `points` RGBA written; all the same size as the id image. Ids out of range (slot
+ * past node_count, index past the node's count or the arena) are ignored. */
+void sta_volumetric_mark_ref(const sta_volumetric_input *in, const sta_image *position,
+                             const sta_image *colour, sta_image *label, sta_image *points);
+
+/* Overlay: `points` from mark, `out` RGBA. */
+void sta_volumetric_overlay_ref(const sta_image *points, sta_image *out);
+
+#endif

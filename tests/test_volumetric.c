@@ -1,0 +1,443 @@
+/* SPDX-License-Identifier: MIT
+ * Volumetric classes drawn as points: the rule on hand-made cases, the shaders
+ * against their CPU twin, and the whole pipeline leaving flagged pixels unfilled. */
+#include "test_support.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/gl.h"
+#include "render/gl_image.h"
+#include "render/pass_volumetric.h"
+#include "render/pipeline.h"
+#include "render/ref/screen_space.h"
+#include "render/ref/volumetric_ref.h"
+
+static sta_gl_headless gl;
+
+static int setup(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    return sta_gl_headless_create(&gl, &err) == STA_OK ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    sta_gl_headless_destroy(&gl);
+    return 0;
+}
+
+static float frand(uint64_t *s)
+{
+    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
+    return (float)(*s >> 40) / 16777216.0f;
+}
+
+static void image(sta_image *im, int w, int h, int channels)
+{
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(im, w, h, channels, &err), STA_OK);
+}
+
+static void set_class(uint32_t *set, unsigned c)
+{
+    set[c / 32] |= 1u << (c % 32);
+}
+
+// A point at distance `d` in pixel (x, y) with colour `c` and label `l`.
+static void put(sta_image *position, sta_image *colour, sta_image *label, int x, int y, float d,
+                const float c[3], float l)
+{
+    float *p = sta_image_at(position, x, y), *k = sta_image_at(colour, x, y);
+    p[0] = 0.0f;
+    p[1] = 0.0f;
+    p[2] = -d;
+    p[3] = 1.0f;
+    memcpy(k, c, 3 * sizeof(float));
+    k[3] = 1.0f;
+    *sta_image_at(label, x, y) = l;
+}
+
+static void mark_rule_on_small_cases(void **state)
+{
+    (void)state;
+    // Pixels: 0 vegetation visible, 1 ground visible, 2 vegetation hidden by HPR (kept),
+    // 3 slot past the table, 4 index past its node's count, 5 empty id.
+    const int w = 6;
+    sta_image position, colour, label, points;
+    image(&position, w, 1, 4);
+    image(&colour, w, 1, 4);
+    image(&label, w, 1, 1);
+    image(&points, w, 1, 4);
+    const float green[3] = { 0.1f, 0.8f, 0.2f };
+    for (int x = 0; x < w; x++) {
+        put(&position, &colour, &label, x, 0, 4.0f + (float)x, green,
+            x == 2 ? STA_LABEL_HIDDEN : STA_LABEL_VISIBLE);
+    }
+    const uint32_t nodes[4] = { 0, 3, 3, 2 };     // slot 0: points 0..2, slot 1: 3..4
+    const uint8_t classes[5] = { 5, 2, 4, 5, 5 }; // per arena point
+    const uint32_t ids[2 * 6] = { 0, 0, 0, 1, 0, 2, 7, 0, 1, 2, 0xFFFFFFFFu, 0xFFFFFFFFu };
+    sta_volumetric_input in = { ids, nodes, 2, classes, 5, { 0 } };
+    set_class(in.class_set, 3);
+    set_class(in.class_set, 4);
+    set_class(in.class_set, 5);
+    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
+
+    assert_true(label.data[0] == STA_LABEL_HIDDEN); // marked: no seed for the fill
+    assert_true(points.data[1] == green[1] && points.data[3] == 4.0f);
+    assert_true(points.data[4 * 2 + 3] == 6.0f && label.data[2] == STA_LABEL_HIDDEN);
+    for (int x = 1; x < w; x++) {
+        if (x != 2) { // visible, not marked: an occluder at minus its distance
+            assert_true(points.data[4 * x + 3] == -(4.0f + (float)x));
+            assert_true(points.data[4 * x + 1] == 0.0f);
+            assert_true(label.data[x] == STA_LABEL_VISIBLE);
+        }
+    }
+    // Holes and background are never marked, whatever their id says.
+    label.data[0] = STA_LABEL_HOLE;
+    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
+    assert_true(label.data[0] == STA_LABEL_HOLE && points.data[3] == 0.0f);
+    label.data[0] = STA_LABEL_VISIBLE;
+
+    // An empty class set marks nothing.
+    memset(in.class_set, 0, sizeof(in.class_set));
+    label.data[0] = STA_LABEL_VISIBLE;
+    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
+    assert_true(label.data[0] == STA_LABEL_VISIBLE && points.data[3] == -4.0f);
+    // A class above 31 is reachable (the set covers 0..255).
+    set_class(in.class_set, 200);
+    uint8_t high[5] = { 200, 2, 4, 5, 5 };
+    in.classes = high;
+    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
+    assert_true(label.data[0] == STA_LABEL_HIDDEN && points.data[3] == 4.0f);
+
+    sta_image_release(&position);
+    sta_image_release(&colour);
+    sta_image_release(&label);
+    sta_image_release(&points);
+}
+
+static void overlay_splats_behind_nearer_surfaces(void **state)
+{
+    (void)state;
+    // One marked point at distance 5 in the middle of a 5 x 3 image; a visible point of
+    // another class (an occluder) at distance 2 to its right, one at 9 to its left.
+    const int w = 5, h = 3;
+    sta_image points, out;
+    image(&points, w, h, 4);
+    image(&out, w, h, 4);
+    float *m = sta_image_at(&points, 2, 1);
+    m[0] = 0.2f;
+    m[1] = 0.9f;
+    m[2] = 0.1f;
+    m[3] = 5.0f;
+    sta_image_at(&points, 3, 1)[3] = -2.0f;
+    sta_image_at(&points, 1, 1)[3] = -9.0f;
+    sta_volumetric_overlay_ref(&points, &out);
+
+    // The nearer occluder at (3, 1) hides the splat in every pixel whose 3 x 3 window
+    // holds it: columns 2..4. Column 1 sees only the farther one, column 0 no point.
+    for (int y = 0; y < h; y++) {
+        for (int x = 2; x < w; x++) {
+            assert_true(sta_image_at(&out, x, y)[3] == 0.0f);
+        }
+        assert_true(sta_image_at(&out, 1, y)[3] == 1.0f); // splat over the farther surface
+        assert_true(sta_image_at(&out, 0, y)[3] == 0.0f); // outside the splat
+    }
+    assert_true(sta_image_at(&out, 1, 1)[1] == 0.9f); // the point's own colour
+    // As a marked point (not an occluder) the near one no longer hides the splat and
+    // wins the pixels whose window holds it.
+    float *near = sta_image_at(&points, 3, 1);
+    near[0] = 1.0f;
+    near[3] = 2.0f;
+    memset(out.data, 0, (size_t)w * h * 4 * sizeof(float));
+    sta_volumetric_overlay_ref(&points, &out);
+    assert_true(sta_image_at(&out, 2, 1)[3] == 1.0f);
+    assert_true(sta_image_at(&out, 2, 1)[0] == 1.0f); // the nearest point's colour
+    assert_true(sta_image_at(&out, 4, 1)[0] == 1.0f);
+    assert_true(sta_image_at(&out, 1, 1)[0] == 0.2f); // only the point at 5 reaches it
+    assert_true(sta_image_at(&out, 0, 1)[3] == 0.0f);
+    sta_image_release(&points);
+    sta_image_release(&out);
+}
+
+static GLuint id_texture(int w, int h, const uint32_t *ids)
+{
+    GLuint t;
+    glCreateTextures(GL_TEXTURE_2D, 1, &t);
+    glTextureStorage2D(t, 1, GL_RG32UI, w, h);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t, 0, 0, 0, w, h, GL_RG_INTEGER, GL_UNSIGNED_INT, ids);
+    return t;
+}
+
+// The arena as the GPU cache lays it out: 16 bytes a point, classification in byte 11.
+static GLuint arena_buffer(const uint8_t *classes, uint32_t count)
+{
+    uint8_t *bytes = calloc(count, 16);
+    assert_non_null(bytes);
+    for (uint32_t i = 0; i < count; i++) {
+        bytes[16 * i + 11] = classes[i];
+        bytes[16 * i + 8] = 0xAB; // colour and other bytes must not be read as the class
+        bytes[16 * i + 12] = 0xCD;
+    }
+    GLuint b;
+    glCreateBuffers(1, &b);
+    glNamedBufferStorage(b, (GLsizeiptr)count * 16, bytes, 0);
+    free(bytes);
+    return b;
+}
+
+static GLuint rgba8_texture(int w, int h, const sta_image *im)
+{
+    uint8_t *bytes = malloc((size_t)w * h * 4);
+    assert_non_null(bytes);
+    for (int i = 0; i < w * h * 4; i++) {
+        bytes[i] = (uint8_t)lroundf(im->data[i] * 255.0f);
+    }
+    GLuint t;
+    glCreateTextures(GL_TEXTURE_2D, 1, &t);
+    glTextureStorage2D(t, 1, GL_RGBA8, w, h);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t, 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, bytes);
+    free(bytes);
+    return t;
+}
+
+static uint8_t *read_rgba8(GLuint t, int w, int h)
+{
+    uint8_t *got = malloc((size_t)w * h * 4);
+    assert_non_null(got);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(t, 0, GL_RGBA, GL_UNSIGNED_BYTE, w * h * 4, got);
+    return got;
+}
+
+static void shaders_match_twins(void **state)
+{
+    (void)state;
+    const int w = 37, h = 23;
+    enum {
+        NODES = 5,
+        POINTS = 200
+    };
+    uint64_t s = 7;
+    uint8_t classes[POINTS];
+    for (int i = 0; i < POINTS; i++) {
+        classes[i] = (uint8_t)(frand(&s) < 0.9f ? (int)(frand(&s) * 8.0f) : 200);
+    }
+    // Slot 3 is not resident; slot 4's count runs past the arena.
+    const uint32_t nodes[2 * NODES] = { 0, 50, 50, 70, 120, 60, 0, 0, 180, 40 };
+    uint32_t *ids = malloc((size_t)w * h * 2 * sizeof(uint32_t));
+    assert_non_null(ids);
+    sta_image position, colour, label, points, out;
+    image(&position, w, h, 4);
+    image(&colour, w, h, 4);
+    image(&label, w, h, 1);
+    image(&points, w, h, 4);
+    image(&out, w, h, 4);
+    static const float labels[4] = { STA_LABEL_BACKGROUND, STA_LABEL_VISIBLE, STA_LABEL_HIDDEN,
+                                     STA_LABEL_HOLE };
+    for (int i = 0; i < w * h; i++) {
+        bool drawn = frand(&s) < 0.7f;
+        ids[2 * i] = drawn ? (uint32_t)(frand(&s) * (NODES + 1)) : 0xFFFFFFFFu;
+        ids[2 * i + 1] = drawn ? (uint32_t)(frand(&s) * 75.0f) : 0xFFFFFFFFu;
+        float *p = &position.data[4 * i], *c = &colour.data[4 * i];
+        if (drawn) {
+            p[0] = frand(&s) - 0.5f;
+            p[1] = frand(&s) - 0.5f;
+            p[2] = -(1.0f + 30.0f * frand(&s));
+            p[3] = 1.0f;
+        }
+        for (int k = 0; k < 3; k++) {
+            c[k] = frand(&s);
+            out.data[4 * i + k] = (float)lroundf(frand(&s) * 255.0f) / 255.0f;
+        }
+        c[3] = out.data[4 * i + 3] = 1.0f;
+        label.data[i] = drawn ? labels[frand(&s) < 0.7f ? 1 : 2] : labels[frand(&s) < 0.5f ? 0 : 3];
+    }
+    sta_error err = { 0 };
+    GLuint tp, tc, tl, tpts, tid = id_texture(w, h, ids), arena = arena_buffer(classes, POINTS);
+    GLuint tout = rgba8_texture(w, h, &out);
+    assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&colour, &tc, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&label, &tl, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &tpts, &err), STA_OK);
+
+    sta_volumetric_input in = { ids, nodes, NODES, classes, POINTS, { 0 } };
+    set_class(in.class_set, 3);
+    set_class(in.class_set, 5);
+    set_class(in.class_set, 200);
+    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
+    sta_volumetric_overlay_ref(&points, &out);
+    int marked = 0;
+    for (int i = 0; i < w * h; i++) {
+        marked += points.data[4 * i + 3] > 0.0f;
+    }
+    print_message("%d marked pixels\n", marked);
+    assert_true(marked > 40); // the case exercises the rule
+
+    sta_volumetric_pass pass;
+    assert_int_equal(sta_volumetric_pass_init(&pass, &err), STA_OK);
+    sta_volumetric_points src = { tid, arena, nodes, NODES };
+    sta_volumetric_frame frame = { w, h, tp, tc, tl, tpts };
+    assert_int_equal(sta_volumetric_pass_mark(&pass, &src, in.class_set, &frame, &err), STA_OK);
+    sta_volumetric_pass_overlay(&pass, &frame, tout);
+
+    sta_image got_label, got_points;
+    assert_int_equal(sta_gl_texture_to_image(tl, 0, 1, &got_label, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_to_image(tpts, 0, 4, &got_points, &err), STA_OK);
+    assert_memory_equal(got_label.data, label.data, (size_t)w * h * sizeof(float));
+    assert_memory_equal(got_points.data, points.data, (size_t)w * h * 4 * sizeof(float));
+    uint8_t *got = read_rgba8(tout, w, h);
+    int worst = 0;
+    for (int i = 0; i < w * h * 4; i++) {
+        int d = abs((int)lroundf(out.data[i] * 255.0f) - (int)got[i]);
+        worst = d > worst ? d : worst;
+    }
+    assert_true(worst <= 1); // float to 8 bits: rounding may differ by one step
+
+    free(got);
+    free(ids);
+    sta_volumetric_pass_release(&pass);
+    GLuint textures[6] = { tp, tc, tl, tpts, tid, tout };
+    glDeleteTextures(6, textures);
+    glDeleteBuffers(1, &arena);
+    sta_image *images[] = { &position, &colour, &label, &points, &out, &got_label, &got_points };
+    for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
+        sta_image_release(images[i]);
+    }
+}
+
+// The pipeline on a hand-made frame: ground (class 2) fills the left half, sparse
+// canopy points (class 5, green, every 4th pixel) float in front of nothing on the
+// right. Returns the shaded RGBA8 picture (rows from the bottom).
+enum {
+    PW = 64,
+    PH = 48,
+    STRIDE = 4
+};
+
+static uint8_t *render_frame(const sta_pipeline_options *options, int mode)
+{
+    sta_error err = { 0 };
+    const float near_m = 0.1f;
+    sta_image depth, colour;
+    image(&depth, PW, PH, 1);
+    image(&colour, PW, PH, 4);
+    uint32_t *ids = malloc((size_t)PW * PH * 2 * sizeof(uint32_t));
+    assert_non_null(ids);
+    uint8_t classes[PW * PH];
+    uint32_t count = 0;
+    for (int y = 0; y < PH; y++) {
+        for (int x = 0; x < PW; x++) {
+            int i = y * PW + x;
+            bool ground = x < PW / 2, canopy = !ground && x % STRIDE == 0 && y % STRIDE == 0;
+            ids[2 * i] = ids[2 * i + 1] = 0xFFFFFFFFu;
+            if (!ground && !canopy) {
+                continue;
+            }
+            depth.data[i] = near_m / (ground ? 10.0f : 5.0f);
+            float *c = &colour.data[4 * i];
+            c[0] = ground ? 0.5f : 0.1f;
+            c[1] = ground ? 0.5f : 0.9f;
+            c[2] = ground ? 0.5f : 0.1f;
+            c[3] = 1.0f;
+            ids[2 * i] = 0;
+            ids[2 * i + 1] = count;
+            classes[count++] = ground ? 2 : 5;
+        }
+    }
+    GLuint tdepth, tcolour = rgba8_texture(PW, PH, &colour), tid = id_texture(PW, PH, ids);
+    assert_int_equal(sta_gl_texture_from_image(&depth, &tdepth, &err), STA_OK);
+    GLuint arena = arena_buffer(classes, count);
+    sta_gpu_cache_entry entry = { 0, count, true };
+    sta_gpu_cache cache = {
+        .entries = &entry, .node_count = 1, .buffer = arena, .capacity = count
+    };
+
+    sta_pipeline pipeline;
+    assert_int_equal(sta_pipeline_init(&pipeline, &err), STA_OK);
+    sta_pipeline_options o = *options;
+    o.mode = mode;
+    sta_view_params view = { PW, PH, 1.0f, near_m, 0.05f };
+    assert_int_equal(sta_pipeline_set_points(&pipeline, tid, &cache, &err), STA_OK);
+    assert_int_equal(sta_pipeline_run(&pipeline, &o, &view, tdepth, tcolour, NULL, &err), STA_OK);
+    uint8_t *got = read_rgba8(tcolour, PW, PH);
+
+    sta_pipeline_release(&pipeline);
+    GLuint textures[3] = { tdepth, tcolour, tid };
+    glDeleteTextures(3, textures);
+    glDeleteBuffers(1, &arena);
+    free(ids);
+    sta_image_release(&depth);
+    sta_image_release(&colour);
+    return got;
+}
+
+static bool greenish(const uint8_t *px)
+{
+    return px[1] > px[0] + 60 && px[1] > px[2] + 60;
+}
+
+// Right-half pixels two away from every canopy point (outside every 3 x 3 splat) that
+// are green, and the canopy points themselves that are green.
+static void count_green(const uint8_t *rgba, int *gaps_green, int *gaps, int *points_green,
+                        int *points)
+{
+    *gaps_green = *gaps = *points_green = *points = 0;
+    for (int y = 0; y < PH; y++) {
+        for (int x = PW / 2 + STRIDE; x < PW - STRIDE; x++) {
+            const uint8_t *px = &rgba[4 * (y * PW + x)];
+            if (x % STRIDE == 2 && y % STRIDE == 2 && y > STRIDE && y < PH - STRIDE) {
+                (*gaps)++;
+                *gaps_green += greenish(px);
+            } else if (x % STRIDE == 0 && y % STRIDE == 0) {
+                (*points)++;
+                *points_green += greenish(px);
+            }
+        }
+    }
+}
+
+static void flagged_pixels_are_not_filled(void **state)
+{
+    (void)state;
+    static const int modes[2] = { STA_PIPELINE_SHADED, STA_PIPELINE_FILL };
+    for (int m = 0; m < 2; m++) {
+        sta_pipeline_options filled = { 0 }, points = { 0 };
+        filled.no_fill_set = true; // the empty set: canopy filled as a surface
+        int gaps_green, gaps, points_green, npoints;
+
+        uint8_t *before = render_frame(&filled, modes[m]);
+        count_green(before, &gaps_green, &gaps, &points_green, &npoints);
+        assert_true(gaps > 20 && npoints > 20);
+        // Filled: the gaps between canopy points turn into a green surface.
+        assert_true(gaps_green * 10 >= gaps * 9);
+
+        uint8_t *after = render_frame(&points, modes[m]); // default: classes 3-5
+        count_green(after, &gaps_green, &gaps, &points_green, &npoints);
+        assert_int_equal(gaps_green, 0);         // no canopy surface between the points
+        assert_int_equal(points_green, npoints); // the points themselves are drawn
+        // The ground (class 2, left half) is the same picture either way.
+        for (int y = 0; y < PH; y++) {
+            for (int x = 0; x < PW / 2 - STRIDE; x++) {
+                assert_memory_equal(&before[4 * (y * PW + x)], &after[4 * (y * PW + x)], 4);
+            }
+        }
+        free(before);
+        free(after);
+    }
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(mark_rule_on_small_cases),
+    cmocka_unit_test(overlay_splats_behind_nearer_surfaces),
+    cmocka_unit_test_setup_teardown(shaders_match_twins, setup, teardown),
+    cmocka_unit_test_setup_teardown(flagged_pixels_are_not_filled, setup, teardown),
+};
+
+STA_TEST_MAIN(tests)
