@@ -5,26 +5,44 @@
 # The caller sets $work (a folder for screenshots) and keeps the viewer's pid in $viewer;
 # functions set $win (the window id).
 
-# Starts Xvfb on a random display in FIRST..FIRST+399 and exports DISPLAY; on exit the
-# viewer (if any) and Xvfb are stopped.
+# Starts Xvfb on a free display in FIRST..FIRST+399 and exports DISPLAY; on exit the
+# viewer (if any) and Xvfb are stopped. A display whose lock file exists is skipped, and
+# the server must answer within 20 s (a loaded machine, other window tests starting at
+# the same time): otherwise another display is tried, up to five times.
 window_session_start() { # FIRST
-    local tool
+    local tool i
     for tool in Xvfb xdotool xwd; do
         command -v $tool >/dev/null ||
             { echo "$tool is missing (scripts/install-deps.sh installs it)" >&2; exit 1; }
     done
-    display=:$(($1 + RANDOM % 400))
-    Xvfb "$display" -screen 0 1280x1024x24 -nolisten tcp >/dev/null 2>&1 &
-    xvfb=$!
     viewer=
+    xvfb=
     trap window_session_stop EXIT
-    export DISPLAY=$display
-    sleep 1
+    for _ in 1 2 3 4 5; do
+        local n=$(($1 + RANDOM % 400))
+        [ -e "/tmp/.X$n-lock" ] && continue
+        display=:$n
+        Xvfb "$display" -screen 0 1280x1024x24 -nolisten tcp >/dev/null 2>&1 &
+        xvfb=$!
+        for i in $(seq 1 40); do
+            if DISPLAY=$display xdotool getdisplaygeometry >/dev/null 2>&1; then
+                export DISPLAY=$display
+                return 0
+            fi
+            kill -0 "$xvfb" 2>/dev/null || break # it exited: the display was taken
+            sleep 0.5
+        done
+        kill "$xvfb" 2>/dev/null || true
+        wait "$xvfb" 2>/dev/null || true
+        xvfb=
+    done
+    echo "could not start Xvfb on a free display (tried 5)" >&2
+    exit 1
 }
 
 window_session_stop() {
     [ -n "${viewer:-}" ] && kill "$viewer" 2>/dev/null || true
-    kill "$xvfb" 2>/dev/null || true
+    [ -n "${xvfb:-}" ] && kill "$xvfb" 2>/dev/null || true
 }
 
 # Sets $win to the window of process $viewer (waits up to 30 s).
