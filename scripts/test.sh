@@ -24,7 +24,11 @@ for preset in ci-release ci-debug; do
     cmake --preset "$preset" >/dev/null
     cmake --build --preset "$preset" -j "$jobs"
     echo "== test $preset"
-    ctest --test-dir "build/$preset" --output-on-failure -j "$jobs"
+    # A failed test runs once more (docs/TESTING.md): the machine's own hiccups (an Xvfb
+    # display lost under load, LeakSanitizer's tracer crashing beside llvmpipe's threads)
+    # must not sink a run; the first failure stays in the log, and a test that fails
+    # twice fails the run.
+    ctest --test-dir "build/$preset" --output-on-failure -j "$jobs" --repeat until-pass:2
 done
 
 echo "== tsan: live Katz worker hand-over, streamer and loader threads"
