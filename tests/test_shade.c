@@ -28,12 +28,6 @@ static int teardown(void **state)
     return 0;
 }
 
-static float frand(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
-    return (float)(*s >> 40) / 16777216.0f;
-}
-
 // Random buffers: ~20% background, some pixels without a normal, a few at huge depth.
 static void make_buffers(int w, int h, sta_image *position, sta_image *colour, sta_image *normal)
 {
@@ -46,20 +40,21 @@ static void make_buffers(int w, int h, sta_image *position, sta_image *colour, s
         for (int x = 0; x < w; x++) {
             float *p = sta_image_at(position, x, y), *c = sta_image_at(colour, x, y),
                   *n = sta_image_at(normal, x, y);
-            if (frand(&s) < 0.2f) {
+            if (sta_test_frand(&s) < 0.2f) {
                 continue;
             }
-            float depth = (x % 13 == 0) ? 1e5f : 1.0f + 20.0f * frand(&s);
-            p[0] = (frand(&s) - 0.5f) * depth;
-            p[1] = (frand(&s) - 0.5f) * depth;
+            float depth = (x % 13 == 0) ? 1e5f : 1.0f + 20.0f * sta_test_frand(&s);
+            p[0] = (sta_test_frand(&s) - 0.5f) * depth;
+            p[1] = (sta_test_frand(&s) - 0.5f) * depth;
             p[2] = -depth;
             p[3] = 1.0f;
-            c[0] = frand(&s);
-            c[1] = frand(&s);
-            c[2] = frand(&s);
+            c[0] = sta_test_frand(&s);
+            c[1] = sta_test_frand(&s);
+            c[2] = sta_test_frand(&s);
             c[3] = 1.0f;
-            if (frand(&s) < 0.9f) {
-                float v[3] = { frand(&s) - 0.5f, frand(&s) - 0.5f, frand(&s) };
+            if (sta_test_frand(&s) < 0.9f) {
+                float v[3] = { sta_test_frand(&s) - 0.5f, sta_test_frand(&s) - 0.5f,
+                               sta_test_frand(&s) };
                 float len = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
                 n[0] = v[0] / len;
                 n[1] = v[1] / len;

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT
  * Volumetric classes drawn as points: the rule on hand-made cases, the shaders
  * against their CPU twin, and the whole pipeline leaving flagged pixels unfilled. */
+#include "scene_fixture.h"
 #include "test_support.h"
 
 #include <math.h>
@@ -13,28 +14,6 @@
 #include "render/pipeline.h"
 #include "render/ref/screen_space.h"
 #include "render/ref/volumetric_ref.h"
-
-static sta_gl_headless gl;
-
-static int setup(void **state)
-{
-    (void)state;
-    sta_error err = { 0 };
-    return sta_gl_headless_create(&gl, &err) == STA_OK ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    sta_gl_headless_destroy(&gl);
-    return 0;
-}
-
-static float frand(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
-    return (float)(*s >> 40) / 16777216.0f;
-}
 
 static void image(sta_image *im, int w, int h, int channels)
 {
@@ -227,7 +206,7 @@ static void shaders_match_twins(void **state)
     uint64_t s = 7;
     uint8_t classes[POINTS];
     for (int i = 0; i < POINTS; i++) {
-        classes[i] = (uint8_t)(frand(&s) < 0.9f ? (int)(frand(&s) * 8.0f) : 200);
+        classes[i] = (uint8_t)(sta_test_frand(&s) < 0.9f ? (int)(sta_test_frand(&s) * 8.0f) : 200);
     }
     // Slot 3 is not resident; slot 4's count runs past the arena.
     const uint32_t nodes[2 * NODES] = { 0, 50, 50, 70, 120, 60, 0, 0, 180, 40 };
@@ -242,22 +221,23 @@ static void shaders_match_twins(void **state)
     static const float labels[4] = { STA_LABEL_BACKGROUND, STA_LABEL_VISIBLE, STA_LABEL_HIDDEN,
                                      STA_LABEL_HOLE };
     for (int i = 0; i < w * h; i++) {
-        bool drawn = frand(&s) < 0.7f;
-        ids[2 * i] = drawn ? (uint32_t)(frand(&s) * (NODES + 1)) : 0xFFFFFFFFu;
-        ids[2 * i + 1] = drawn ? (uint32_t)(frand(&s) * 75.0f) : 0xFFFFFFFFu;
+        bool drawn = sta_test_frand(&s) < 0.7f;
+        ids[2 * i] = drawn ? (uint32_t)(sta_test_frand(&s) * (NODES + 1)) : 0xFFFFFFFFu;
+        ids[2 * i + 1] = drawn ? (uint32_t)(sta_test_frand(&s) * 75.0f) : 0xFFFFFFFFu;
         float *p = &position.data[4 * i], *c = &colour.data[4 * i];
         if (drawn) {
-            p[0] = frand(&s) - 0.5f;
-            p[1] = frand(&s) - 0.5f;
-            p[2] = -(1.0f + 30.0f * frand(&s));
+            p[0] = sta_test_frand(&s) - 0.5f;
+            p[1] = sta_test_frand(&s) - 0.5f;
+            p[2] = -(1.0f + 30.0f * sta_test_frand(&s));
             p[3] = 1.0f;
         }
         for (int k = 0; k < 3; k++) {
-            c[k] = frand(&s);
-            out.data[4 * i + k] = (float)lroundf(frand(&s) * 255.0f) / 255.0f;
+            c[k] = sta_test_frand(&s);
+            out.data[4 * i + k] = (float)lroundf(sta_test_frand(&s) * 255.0f) / 255.0f;
         }
         c[3] = out.data[4 * i + 3] = 1.0f;
-        label.data[i] = drawn ? labels[frand(&s) < 0.7f ? 1 : 2] : labels[frand(&s) < 0.5f ? 0 : 3];
+        label.data[i] = drawn ? labels[sta_test_frand(&s) < 0.7f ? 1 : 2]
+                              : labels[sta_test_frand(&s) < 0.5f ? 0 : 3];
     }
     sta_error err = { 0 };
     GLuint tp, tc, tl, tpts, tid = id_texture(w, h, ids), arena = arena_buffer(classes, POINTS);
@@ -436,8 +416,10 @@ static void flagged_pixels_are_not_filled(void **state)
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(mark_rule_on_small_cases),
     cmocka_unit_test(overlay_splats_behind_nearer_surfaces),
-    cmocka_unit_test_setup_teardown(shaders_match_twins, setup, teardown),
-    cmocka_unit_test_setup_teardown(flagged_pixels_are_not_filled, setup, teardown),
+    cmocka_unit_test_setup_teardown(shaders_match_twins, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(flagged_pixels_are_not_filled, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
 };
 
 STA_TEST_MAIN(tests)

@@ -53,6 +53,13 @@ void sta_test_write_file(const char *path, const void *data, size_t size);
   }                                                                                                \
  } while (0)
 
+/* A small deterministic generator for test data: uniform in [0, 1), 24 bits. */
+static inline float sta_test_frand(uint64_t *state)
+{
+    *state = *state * 6364136223846793005ull + 1442695040888963407ull;
+    return (float)(*state >> 40) / 16777216.0f;
+}
+
 int sta_test_run(const char *group, const struct CMUnitTest *tests, size_t count, int argc,
                  char **argv);
 
