@@ -807,24 +807,6 @@ static void live_katz_method_sphere(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
-// A small sphere scene converted to .strata at `strata` (its LAS beside it).
-static void make_sphere_strata(const char *stem, int points, char *strata, size_t size)
-{
-    sta_error err = { 0 };
-    char las[4096], name[256];
-    snprintf(name, sizeof(name), "%s.las", stem);
-    snprintf(las, sizeof(las), "%s", sta_test_tmp_path(name));
-    snprintf(name, sizeof(name), "%s.strata", stem);
-    snprintf(strata, size, "%s", sta_test_tmp_path(name));
-    sta_synth_params p = { .kind = STA_SYNTH_SPHERE, .seed = 3, .point_count = (uint64_t)points };
-    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
-    const char *inputs[] = { las };
-    sta_convert_options co = {
-        .inputs = inputs, .input_count = 1, .output = strata, .force = true, .compress_level = 1
-    };
-    assert_int_equal(sta_convert(&co, NULL, &err), STA_OK);
-}
-
 // sta_drawn_points_apply: a pixel's id leads to the point of the file drawn there (moved to
 // its GPU position); ids of no point, or of a point that is not in that pixel, are refused
 // with the file's name.
@@ -833,7 +815,7 @@ static void drawn_points_follow_the_ids(void **state)
     (void)state;
     sta_error err = { 0 };
     char strata[4096];
-    make_sphere_strata("drawn_points", 3000, strata, sizeof(strata));
+    sphere_scene("drawn_points", 3000, strata, sizeof(strata));
     sta_strata_reader *reader = NULL;
     sta_strata_decoder *decoder = NULL;
     assert_int_equal(sta_strata_open(strata, NULL, &reader, &err), STA_OK);
@@ -903,7 +885,7 @@ static void katz_on_drawn_points_sphere(void **state)
         fail_msg("no GL context: %s", err.message);
     }
     char strata[4096];
-    make_sphere_strata("katz_drawn", 20000, strata, sizeof(strata));
+    sphere_scene("katz_drawn", 20000, strata, sizeof(strata));
     const char *scenes[] = { strata };
     double f1[2];
     uint64_t count[2];
