@@ -22,26 +22,33 @@ static void store64(uint8_t *p, uint64_t v)
     memcpy(p, &v, sizeof(v));
 }
 
+// Swaps the bytes of `a` selected by mask << shift with those of `b` selected by mask.
+static inline void swap_masked(uint64_t *a, uint64_t *b, int shift, uint64_t mask)
+{
+    uint64_t t = ((*a >> shift) ^ *b) & mask;
+    *a ^= t << shift;
+    *b ^= t;
+}
+
 // Transposes the 8x8 byte matrix whose row i is r[i] (byte j at bits 8j): afterwards
 // byte i of r[j] is the former byte j of r[i]. The swap is symmetric, so this works
-// in both directions.
-static void transpose8x8(uint64_t r[8])
+// in both directions. Written out so that r stays in registers.
+static inline void transpose8x8(uint64_t r[8])
 {
-    for (int i = 0; i < 4; i++) { // 4x4 blocks: top right <-> bottom left
-        uint64_t t = ((r[i] >> 32) ^ r[i + 4]) & 0x00000000FFFFFFFFull;
-        r[i] ^= t << 32;
-        r[i + 4] ^= t;
-    }
-    for (int i = 0; i < 8; i += (i & 1) ? 3 : 1) { // rows 0,1,4,5 with 2,3,6,7: 2x2 blocks
-        uint64_t t = ((r[i] >> 16) ^ r[i + 2]) & 0x0000FFFF0000FFFFull;
-        r[i] ^= t << 16;
-        r[i + 2] ^= t;
-    }
-    for (int i = 0; i < 8; i += 2) { // single bytes
-        uint64_t t = ((r[i] >> 8) ^ r[i + 1]) & 0x00FF00FF00FF00FFull;
-        r[i] ^= t << 8;
-        r[i + 1] ^= t;
-    }
+    const uint64_t m32 = 0x00000000FFFFFFFFull, m16 = 0x0000FFFF0000FFFFull;
+    const uint64_t m8 = 0x00FF00FF00FF00FFull;
+    swap_masked(&r[0], &r[4], 32, m32); // 4x4 blocks: top right <-> bottom left
+    swap_masked(&r[1], &r[5], 32, m32);
+    swap_masked(&r[2], &r[6], 32, m32);
+    swap_masked(&r[3], &r[7], 32, m32);
+    swap_masked(&r[0], &r[2], 16, m16); // 2x2 blocks within them
+    swap_masked(&r[1], &r[3], 16, m16);
+    swap_masked(&r[4], &r[6], 16, m16);
+    swap_masked(&r[5], &r[7], 16, m16);
+    swap_masked(&r[0], &r[1], 8, m8); // single bytes
+    swap_masked(&r[2], &r[3], 8, m8);
+    swap_masked(&r[4], &r[5], 8, m8);
+    swap_masked(&r[6], &r[7], 8, m8);
 }
 
 void sta_byte_planes_split(const uint8_t *in, size_t count, size_t rec, uint8_t *out)
