@@ -577,7 +577,7 @@ void sta_convert_options_defaults(sta_convert_options *o)
     o->memory_mib = o->memory_mib ? o->memory_mib : STA_CONVERT_DEFAULT_MEMORY_MIB;
     o->grid_cells = o->grid_cells ? o->grid_cells : (int)STA_STRATA_DEFAULT_CELLS;
     o->leaf_capacity = o->leaf_capacity ? o->leaf_capacity : STA_CONVERT_DEFAULT_LEAF_CAPACITY;
-    o->compress_level = o->compress_level ? o->compress_level : STA_STRATA_DEFAULT_ZSTD_LEVEL;
+    o->compress_level = o->compress_level ? o->compress_level : STA_CONVERT_DEFAULT_ZSTD_LEVEL;
     o->knn = o->knn ? o->knn : STA_NORMALS_DEFAULT_K;
 }
 
