@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "core/alloc.h"
@@ -44,6 +45,7 @@ enum {
     CHUNKS_PER_SCENE = 8,    /* chunk size = points / this, within the bounds below */
     CHUNK_MIN_POINTS = 1 << 20,
     CHUNK_MAX_POINTS = 3 << 20,
+    PROGRESS_INTERVAL_NS = 100000000, /* progress redrawn every 0.1 s while indexing */
 };
 
 /* A node kept back for the merge, its records in the spill file. */
@@ -342,20 +344,26 @@ static sta_status run_index_phase(convert_job *job, sta_error *err)
     if (started == 0) {
         return sta_fail(err, STA_ERR_NOMEM, "cannot start worker threads");
     }
-    // The main thread draws progress while the workers run.
-    bool running = true;
-    while (running) {
-        usleep(100000);
-        sta_progress_draw(&job->progress);
-        running = atomic_load(&job->next_chunk) < job->plan.chunk_count + (size_t)started &&
-                  !atomic_load(&job->failed);
-        if (job->options->cancel && atomic_load(job->options->cancel)) {
-            atomic_store(&job->failed, true);
-            sta_node_writer_abort(&job->node_writer);
-        }
-    }
+    // The main thread draws progress while the workers run, and joins each as soon as
+    // it ends (a fixed sleep between checks left up to 0.1 s idle at the end).
     for (int t = 0; t < started; t++) {
-        pthread_join(threads[t], NULL);
+        struct timespec deadline;
+        clock_gettime(CLOCK_REALTIME, &deadline);
+        while (true) {
+            deadline.tv_nsec += PROGRESS_INTERVAL_NS;
+            if (deadline.tv_nsec >= 1000000000L) {
+                deadline.tv_sec++;
+                deadline.tv_nsec -= 1000000000L;
+            }
+            if (pthread_timedjoin_np(threads[t], NULL, &deadline) != ETIMEDOUT) {
+                break;
+            }
+            sta_progress_draw(&job->progress);
+            if (job->options->cancel && atomic_load(job->options->cancel)) {
+                atomic_store(&job->failed, true);
+                sta_node_writer_abort(&job->node_writer);
+            }
+        }
     }
     if (atomic_load(&job->failed)) {
         if (job->worker_error.code == STA_OK) {
@@ -577,7 +585,7 @@ void sta_convert_options_defaults(sta_convert_options *o)
     o->memory_mib = o->memory_mib ? o->memory_mib : STA_CONVERT_DEFAULT_MEMORY_MIB;
     o->grid_cells = o->grid_cells ? o->grid_cells : (int)STA_STRATA_DEFAULT_CELLS;
     o->leaf_capacity = o->leaf_capacity ? o->leaf_capacity : STA_CONVERT_DEFAULT_LEAF_CAPACITY;
-    o->compress_level = o->compress_level ? o->compress_level : STA_STRATA_DEFAULT_ZSTD_LEVEL;
+    o->compress_level = o->compress_level ? o->compress_level : STA_CONVERT_DEFAULT_ZSTD_LEVEL;
     o->knn = o->knn ? o->knn : STA_NORMALS_DEFAULT_K;
 }
 

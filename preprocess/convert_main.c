@@ -37,7 +37,7 @@ static const char exit_text[] =
 int main(int argc, char **argv)
 {
     // The defaults, shown by --help from here (convert.c resolves 0 to the same values).
-    sta_convert_options options = { .compress_level = STA_STRATA_DEFAULT_ZSTD_LEVEL,
+    sta_convert_options options = { .compress_level = STA_CONVERT_DEFAULT_ZSTD_LEVEL,
                                     .grid_cells = (int)STA_STRATA_DEFAULT_CELLS,
                                     .progress = true };
     int memory_mib = STA_CONVERT_DEFAULT_MEMORY_MIB;

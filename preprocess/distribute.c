@@ -68,6 +68,7 @@ typedef struct range_task {
     sta_status status;
     sta_error err;
     sta_status (*per_batch)(struct range_task *t, size_t input, sta_point_batch *batch);
+    sta_status (*at_end)(struct range_task *t); /* optional, in the task's thread */
     // counting
     const sta_octree_space *space;
     int level;
@@ -145,6 +146,9 @@ static void run_range(range_task *t)
             }
         }
         file_start = file_end;
+    }
+    if (t->status == STA_OK && t->at_end) {
+        t->status = t->at_end(t);
     }
 }
 
@@ -596,6 +600,16 @@ static sta_status distribute_batch(range_task *t, size_t input, sta_point_batch 
     return STA_OK;
 }
 
+// The thread's partly filled chunk buffers, compressed in its own thread (in parallel).
+static sta_status flush_all(range_task *t)
+{
+    sta_status status = STA_OK;
+    for (size_t c = 0; c < t->plan->chunk_count && status == STA_OK; c++) {
+        status = flush_chunk(t, c);
+    }
+    return status;
+}
+
 sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, sta_temp_runs *runs,
                                 size_t buffer_bytes, sta_progress *progress, atomic_bool *cancel,
                                 sta_error *err)
@@ -621,6 +635,7 @@ sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, 
         k->runs = runs;
         k->per_chunk = per_chunk;
         k->per_batch = distribute_batch;
+        k->at_end = flush_all;
         k->buffers = sta_calloc(plan->chunk_count, sizeof(*k->buffers));
         k->arena = sta_alloc_array(plan->chunk_count, per_chunk);
         if (!k->buffers || !k->arena) {
@@ -635,15 +650,7 @@ sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, 
     if (status == STA_OK) {
         status = run_tasks(tasks, plan->threads, progress, err);
     }
-    // Flush what is left, and check every thread wrote exactly what it counted.
-    for (int t = 0; t < plan->threads && status == STA_OK; t++) {
-        for (size_t c = 0; c < plan->chunk_count && status == STA_OK; c++) {
-            status = flush_chunk(&tasks[t], c);
-            if (status != STA_OK) {
-                *err = tasks[t].err;
-            }
-        }
-    }
+    // Every thread flushed what it had left (flush_all); check each wrote what it counted.
     for (size_t c = 0; c < plan->chunk_count && status == STA_OK; c++) {
         uint64_t written = 0;
         for (int t = 0; t < plan->threads; t++) {

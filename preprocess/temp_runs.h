@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT
  * The converter's temporary records as compressed runs: each chunk's records are a
- * list of blocks (byte-shuffled, zstd level 1) appended to one temporary file.
+ * list of blocks (byte-shuffled, zstd level -5) appended to one temporary file.
  *
  * Design: writers append blocks from any thread (offsets reserved under `lock`, the
  * write outside it). A block carries an order key; reading a chunk sorts its blocks
