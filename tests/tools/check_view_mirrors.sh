@@ -28,8 +28,13 @@ cmp "$work/stored.png" "$work/at_load.png" ||
 ! cmp -s "$work/stored.png" "$work/reflected.png" || { echo "no reflection drawn" >&2; exit 1; }
 # From outside the room (the default view) the walls hide every mirror: in the shaded
 # pipeline the filled wall in front of a mirror hides it, not only the raw points.
+# Under the sanitizer preset, LeakSanitizer's tracer crashes at exit on this frame
+# ("Tracer caught signal 11": it walks a bogus dynamic-TLS range of a library Mesa
+# loaded with dlopen; LSAN_OPTIONS=verbosity=1 shows "DTLS ... at 0x...f9e"), a bug
+# in the sanitizer runtime, not a leak: leak checking is off for these two runs only;
+# AddressSanitizer still checks every access.
 outside() { # NAME [options]
-    "$bin/src/strata-view" --headless --size 1280x720 --pipeline shaded "$work/flagged.strata" \
+    ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" "$bin/src/strata-view" --headless --size 1280x720 --pipeline shaded "$work/flagged.strata" \
         --out "$work/$1.png" "${@:2}"
 }
 outside outside_plain --mirrors "$work/room.mirrors.json" --no-reflections
