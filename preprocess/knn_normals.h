@@ -45,6 +45,7 @@ typedef struct sta_normals_stats {
     uint64_t points;      /* normals computed */
     uint64_t degenerate;  /* fallback normal (fewer than 3 distinct points, collinear) */
     uint64_t beyond_halo; /* neighbourhood wider than the halo: may miss a neighbour */
+    uint64_t widened;     /* neighbourhood widened beyond K (nearly linear, or edge-on) */
 } sta_normals_stats;
 
 /* Computes a normal and radius for each of the `count` records (layout with
