@@ -420,6 +420,10 @@ sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, 
             c[a] = (int64_t)((slot->key >> (CELL_BITS * a)) & ((1u << CELL_BITS) - 1));
         }
         size_t block_n = 0;
+        // Neighbourhoods a point widened to, searched at once for the next point of the
+        // cell: widening is local (a road's cells), and a wide search serves the narrow
+        // visit too.
+        int guess = k;
         for (int o_i = 0; o_i < 27 && status == STA_OK; o_i++) {
             const int64_t cell[3] = { c[0] + block_offsets[o_i][0], c[1] + block_offsets[o_i][1],
                                       c[2] + block_offsets[o_i][2] };
@@ -455,17 +459,25 @@ sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, 
             }
             const float *q = g.sorted[j];
             sta_knn nb;
-            int want = k;
-            do {
-                nearest_in_block(&g, (const float(*)[3])block, block_soa, block_capacity, block_n,
-                                 q, c, want, &nb);
+            int want = k, searched = 0, found = 0;
+            for (;;) {
+                if (want > searched) {
+                    searched = want > guess ? want : guess;
+                    nearest_in_block(&g, (const float(*)[3])block, block_soa, block_capacity,
+                                     block_n, q, c, searched, &nb);
+                    found = nb.size;
+                }
+                // The K + 1 nearest are the first K + 1 of a wider search (a total order).
+                nb.capacity = want + 1;
+                nb.size = found < want + 1 ? found : want + 1;
                 int next = visit(user, i, &nb);
-                // Only a wider neighbourhood than the last one, and only while the set has
-                // more points to give.
-                want = next > want && (size_t)want + 1 < n
-                           ? (next < STA_KNN_MAX ? next : STA_KNN_MAX)
-                           : 0;
-            } while (want > 0 && want > nb.capacity - 1);
+                next = next < STA_KNN_MAX ? next : STA_KNN_MAX;
+                if (next <= want || (size_t)want + 1 >= n) {
+                    break;
+                }
+                want = next;
+            }
+            guess = want;
         }
     }
 out:
