@@ -27,6 +27,11 @@
  * scene's up-axis line. */
 #define VERTICAL_DOT 0.2
 
+int sta_normals_widest_k(int k)
+{
+    return WIDEN_MAX * k < STA_NORMALS_MAX_K ? WIDEN_MAX * k : STA_NORMALS_MAX_K;
+}
+
 size_t sta_normals_memory_bytes(size_t points)
 {
     return sta_knn_memory_bytes(points) + points * 3 * sizeof(float); // + the positions

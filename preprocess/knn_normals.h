@@ -55,6 +55,9 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                                uint8_t *records, size_t count, const int32_t *halo,
                                size_t halo_count, sta_normals_stats *stats, sta_error *err);
 
+/* The widest neighbourhood a point's K = k neighbourhood is widened to. */
+int sta_normals_widest_k(int k);
+
 /* Bytes of scratch memory sta_normals_compute needs for `points` points (own + halo). */
 size_t sta_normals_memory_bytes(size_t points);
 

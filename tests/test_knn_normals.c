@@ -411,6 +411,8 @@ static void street_normals_are_deterministic(void **state)
     convert(las, a, 6000, 1, &ra);
     convert(las, b, 6000, 3, &rb);
     assert_true(ra.normals_trajectory);
+    assert_true(ra.normals_widened > 0); // edge-on fits against the trajectory
+    assert_int_equal(ra.normals_widened, rb.normals_widened);
     size_t na = 0, nb = 0;
     uint8_t *da = sta_test_read_file(a, &na), *db = sta_test_read_file(b, &nb);
     assert_int_equal(na, nb);
