@@ -5,10 +5,12 @@
  * its halo (points of neighbouring chunks within a margin, preprocess/halo.h), exactly,
  * from knn_grid.h. The normal is the eigenvector of the smallest eigenvalue of the
  * neighbourhood's covariance (Kopp's hybrid solver, core/eigen3.h), oriented by the
- * rule of docs/CONVERTER.md ("Normals"). Degenerate neighbourhoods (fewer than 3
- * distinct points, collinear) get the up axis. The radius is the mean distance to the nearest
- * STA_NORMALS_RADIUS_K neighbours (the splatting notes' 8-10) whatever K. Results go into each
- * record's SPLAT bytes.
+ * rule of docs/CONVERTER.md ("Normals"). A neighbourhood that is nearly linear, or
+ * whose plane holds the line of sight to the scanner path (one profile of a dense scan
+ * line), is widened to 6 K and fitted again (adaptive neighbourhoods). Degenerate
+ * neighbourhoods (fewer than 3 distinct points, collinear) get the up axis. The radius
+ * is the mean distance to the nearest STA_NORMALS_RADIUS_K neighbours (the splatting
+ * notes' 8-10) whatever K. Results go into each record's SPLAT bytes.
  */
 #ifndef STA_PREPROCESS_KNN_NORMALS_H
 #define STA_PREPROCESS_KNN_NORMALS_H
