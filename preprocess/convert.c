@@ -219,6 +219,7 @@ static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index
     job->normals.points += stats.points;
     job->normals.degenerate += stats.degenerate;
     job->normals.beyond_halo += stats.beyond_halo;
+    job->normals.widened += stats.widened;
     pthread_mutex_unlock(&job->spill_lock);
     return status;
 }
@@ -798,6 +799,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     }
     report->normals_degenerate = job.normals.degenerate;
     report->normals_beyond_halo = job.normals.beyond_halo;
+    report->normals_widened = job.normals.widened;
 
     // 5. merge the top of the tree, then write table and header
     t0 = sta_clock_s();

@@ -77,6 +77,7 @@ typedef struct sta_convert_report {
     double seconds_halo;          /* --normals: the halo pass (inside seconds_distribute's phase) */
     uint64_t normals_degenerate;  /* --normals: points given the fallback normal */
     uint64_t normals_beyond_halo; /* --normals: neighbourhoods wider than the halo */
+    uint64_t normals_widened;     /* --normals: neighbourhoods widened beyond K */
     bool normals_trajectory;      /* --normals: walls faced the scanner path (GPS time) */
     int up_axis;                  /* STA_STRATA_UP_* written to the header */
     char up_why[256];             /* how it was decided (sta_inputs_up_axis) */

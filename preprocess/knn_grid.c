@@ -332,6 +332,38 @@ static const int8_t block_offsets[27][3] = {
     { 1, -1, 1 }, { -1, 1, 1 },   { 1, 1, 1 },
 };
 
+// The k + 1 nearest of q (in cell c) from the gathered block (also as structure of
+// arrays, `cap` each, the fourth array scratch for distances), then in shells beyond it.
+static void nearest_in_block(const knn_grid *g, const float (*block)[3], float *block_soa,
+                             size_t cap, size_t block_n, const float q[3], const int64_t c[3],
+                             int k, sta_knn *nb)
+{
+    nb->size = 0;
+    nb->capacity = k + 1;
+    // Distances first, in a loop the compiler vectorises; then the few nearer than the
+    // current K-th go into the sorted list.
+    const float *bx = block_soa, *by = bx + cap, *bz = by + cap;
+    float *d2 = block_soa + 3 * cap;
+    for (size_t b = 0; b < block_n; b++) {
+        float ex = bx[b] - q[0], ey = by[b] - q[1], ez = bz[b] - q[2];
+        d2[b] = ex * ex + ey * ey + ez * ez;
+    }
+    for (size_t b = 0; b < block_n; b++) {
+        if (nb->size < nb->capacity || d2[b] <= nb->d2[nb->size - 1]) { // most are farther
+            offer(nb, d2[b], block[b]);
+        }
+    }
+    float face = g->edge; // distance from q to its cell's nearest face
+    for (int a = 0; a < 3; a++) {
+        float lo = g->min[a] + (float)c[a] * g->edge;
+        face = fminf(face, fmaxf(0.0f, fminf(q[a] - lo, lo + g->edge - q[a])));
+    }
+    float inside = g->edge + face; // to the outside of the 27 cells
+    if (nb->size < nb->capacity || !(nb->d2[nb->size - 1] <= inside * inside)) {
+        nearest_from(g, q, c, face, 1, nb);
+    }
+}
+
 sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, sta_knn_visit visit,
                         void *user, sta_error *err)
 {
@@ -388,6 +420,10 @@ sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, 
             c[a] = (int64_t)((slot->key >> (CELL_BITS * a)) & ((1u << CELL_BITS) - 1));
         }
         size_t block_n = 0;
+        // Neighbourhoods a point widened to, searched at once for the next point of the
+        // cell: widening is local (a road's cells), and a wide search serves the narrow
+        // visit too.
+        int guess = k;
         for (int o_i = 0; o_i < 27 && status == STA_OK; o_i++) {
             const int64_t cell[3] = { c[0] + block_offsets[o_i][0], c[1] + block_offsets[o_i][1],
                                       c[2] + block_offsets[o_i][2] };
@@ -423,31 +459,25 @@ sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, 
             }
             const float *q = g.sorted[j];
             sta_knn nb;
-            nb.size = 0;
-            nb.capacity = k + 1;
-            // Distances first, in a loop the compiler vectorises; then the few nearer
-            // than the current K-th go into the sorted list.
-            float *bx = block_soa, *by = bx + block_capacity, *bz = by + block_capacity;
-            float *d2 = bz + block_capacity;
-            for (size_t b = 0; b < block_n; b++) {
-                float ex = bx[b] - q[0], ey = by[b] - q[1], ez = bz[b] - q[2];
-                d2[b] = ex * ex + ey * ey + ez * ez;
-            }
-            for (size_t b = 0; b < block_n; b++) {
-                if (nb.size < nb.capacity || d2[b] <= nb.d2[nb.size - 1]) { // most are farther
-                    offer(&nb, d2[b], block[b]);
+            int want = k, searched = 0, found = 0;
+            for (;;) {
+                if (want > searched) {
+                    searched = want > guess ? want : guess;
+                    nearest_in_block(&g, (const float(*)[3])block, block_soa, block_capacity,
+                                     block_n, q, c, searched, &nb);
+                    found = nb.size;
                 }
+                // The K + 1 nearest are the first K + 1 of a wider search (a total order).
+                nb.capacity = want + 1;
+                nb.size = found < want + 1 ? found : want + 1;
+                int next = visit(user, i, &nb);
+                next = next < STA_KNN_MAX ? next : STA_KNN_MAX;
+                if (next <= want || (size_t)want + 1 >= n) {
+                    break;
+                }
+                want = next;
             }
-            float face = g.edge; // distance from q to its cell's nearest face
-            for (int a = 0; a < 3; a++) {
-                float lo = g.min[a] + (float)c[a] * g.edge;
-                face = fminf(face, fmaxf(0.0f, fminf(q[a] - lo, lo + g.edge - q[a])));
-            }
-            float inside = g.edge + face; // to the outside of the 27 cells
-            if (nb.size < nb.capacity || !(nb.d2[nb.size - 1] <= inside * inside)) {
-                nearest_from(&g, q, c, face, 1, &nb);
-            }
-            visit(user, i, &nb);
+            guess = want;
         }
     }
 out:

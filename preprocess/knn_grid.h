@@ -29,11 +29,15 @@ typedef struct sta_knn {
     const float *p[STA_KNN_MAX + 1]; /* the points (into the library's copies) */
 } sta_knn;
 
-/* Called once for each of the first `queries` points, in no particular order. */
-typedef void (*sta_knn_visit)(void *user, size_t index, const sta_knn *neighbours);
+/* Called for each of the first `queries` points, in no particular order. Returns 0 when
+ * done with the point, or a wider K (up to STA_KNN_MAX): then it is called again for the
+ * same point with its exact K + 1 nearest (adaptive neighbourhoods: only the points that
+ * ask pay for the wider search). */
+typedef int (*sta_knn_visit)(void *user, size_t index, const sta_knn *neighbours);
 
 /* Finds the k + 1 nearest of xyz[0 .. n) (a neighbourhood wider than 12 cells gets what
- * those hold) for each point i < queries and calls visit(user, i, ...). */
+ * those hold) for each point i < queries and calls visit(user, i, ...), again with more
+ * neighbours while it asks for them. */
 sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, sta_knn_visit visit,
                         void *user, sta_error *err);
 

@@ -13,9 +13,26 @@
 
 /* l1 <= COLLINEAR * l2: the neighbours lie on a line, no plane to fit. */
 #define COLLINEAR    1e-6
+/* l1 < LINEAR * l2 (spread across the strip under a tenth of the spread along it): the
+ * neighbours are nearly one line (a dense scan line), and noise across it would decide
+ * the plane: the neighbourhood is widened. */
+#define LINEAR       0.01
+/* |n . v| below this, v the unit direction to the scanner (the trajectory): the fitted
+ * plane holds the line of sight (within 10 degrees). No surface is scanned edge-on: this
+ * is one profile whose range noise (along the rays) spans the plane; widened. */
+#define EDGE_ON      0.17
+/* A widened neighbourhood holds this many times K (at most STA_KNN_MAX). On the 20 M
+ * street's road (1.5 cm range noise, profiles 5 cm apart) 4 K gave 5.2 degrees median,
+ * 6 K 3.8 (4 M street): the wider fit averages the noise over more profiles. */
+#define WIDEN_MAX    6
 /* |n . up| below this: a vertical surface (a wall), oriented by the trajectory or the
  * scene's up-axis line. */
 #define VERTICAL_DOT 0.2
+
+int sta_normals_widest_k(int k)
+{
+    return WIDEN_MAX * k < STA_NORMALS_MAX_K ? WIDEN_MAX * k : STA_NORMALS_MAX_K;
+}
 
 size_t sta_normals_memory_bytes(size_t points)
 {
@@ -50,8 +67,9 @@ static void orient(const sta_normals_chunk *chunk, const double p[3], const doub
     }
 }
 
-// The plane normal of a neighbourhood; false when it is degenerate.
-static bool fit_normal(const sta_knn *nb, double n[3])
+// The plane normal of a neighbourhood and the covariance's eigenvalues, ascending (zero
+// when none); false when it is degenerate.
+static bool fit_normal(const sta_knn *nb, double n[3], double w[3])
 {
     double mean[3] = { 0, 0, 0 };
     for (int i = 0; i < nb->size; i++) {
@@ -72,7 +90,7 @@ static bool fit_normal(const sta_knn *nb, double n[3])
             }
         }
     }
-    double w[3], v[3][3];
+    double v[3][3];
     sta_eigen3_path path = sta_eigen3_sym_d(cov, w, v);
     if (path == STA_EIGEN3_ZERO || path == STA_EIGEN3_INVALID || !(w[2] > 0.0) ||
         w[1] <= COLLINEAR * w[2]) {
@@ -108,16 +126,38 @@ typedef struct normals_visit {
     sta_normals_stats *stats;
 } normals_visit;
 
-static void finish_point(void *user, size_t i, const sta_knn *nb)
+// Whether a neighbourhood with this fit should be widened (docs/CONVERTER.md "Adaptive
+// neighbourhoods"): nearly linear, or a plane that holds the line of sight.
+static bool too_narrow(const sta_normals_chunk *chunk, const double p[3], const double *gps_time,
+                       bool ok, const double n[3], const double w[3])
+{
+    if (!ok || w[1] < LINEAR * w[2]) {
+        return true;
+    }
+    double target[3];
+    if (!chunk->trajectory || !gps_time ||
+        !sta_trajectory_at(chunk->trajectory, *gps_time, target)) {
+        return false;
+    }
+    double dot = 0.0, len2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+        double v = (target[a] - p[a]) * chunk->scale[a];
+        dot += n[a] * v;
+        len2 += v * v;
+    }
+    return fabs(dot) < EDGE_ON * sqrt(len2);
+}
+
+static int finish_point(void *user, size_t i, const sta_knn *nb)
 {
     const normals_visit *v = user;
     const sta_normals_chunk *chunk = v->chunk;
     const sta_record_layout *layout = v->layout;
     uint8_t *records = v->records;
     sta_normals_stats *stats = v->stats;
-    double normal[3] = { 0, 0, 0 };
+    double normal[3] = { 0, 0, 0 }, w[3] = { 0, 0, 0 };
     normal[chunk->up_axis == 1 ? 1 : 2] = 1.0; // the fallback: up
-    bool ok = nb->size >= 3 && fit_normal(nb, normal);
+    bool ok = nb->size >= 3 && fit_normal(nb, normal, w);
     int32_t p[3];
     sta_record_position(records + i * layout->size, p);
     double pd[3] = { p[0], p[1], p[2] };
@@ -125,6 +165,16 @@ static void finish_point(void *user, size_t i, const sta_knn *nb)
     bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
     if (timed) {
         memcpy(&gps_time, records + i * layout->size + layout->gps_offset, sizeof(gps_time));
+    }
+    int k = nb->capacity - 1;
+    int widest =
+        WIDEN_MAX * chunk->k < STA_NORMALS_MAX_K ? WIDEN_MAX * chunk->k : STA_NORMALS_MAX_K;
+    if (k < widest && nb->size == nb->capacity &&
+        too_narrow(chunk, pd, timed ? &gps_time : NULL, ok, normal, w)) {
+        return widest;
+    }
+    if (k > chunk->k) {
+        stats->widened++;
     }
     if (ok) {
         orient(chunk, pd, timed ? &gps_time : NULL, normal);
@@ -146,6 +196,7 @@ static void finish_point(void *user, size_t i, const sta_knn *nb)
     uint16_t packed[3];
     sta_splat_pack(nf, (float)radius, packed);
     memcpy(records + i * layout->size + layout->splat_offset, packed, sizeof(packed));
+    return 0;
 }
 
 sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_layout *layout,

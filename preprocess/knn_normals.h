@@ -5,10 +5,12 @@
  * its halo (points of neighbouring chunks within a margin, preprocess/halo.h), exactly,
  * from knn_grid.h. The normal is the eigenvector of the smallest eigenvalue of the
  * neighbourhood's covariance (Kopp's hybrid solver, core/eigen3.h), oriented by the
- * rule of docs/CONVERTER.md ("Normals"). Degenerate neighbourhoods (fewer than 3
- * distinct points, collinear) get the up axis. The radius is the mean distance to the nearest
- * STA_NORMALS_RADIUS_K neighbours (the splatting notes' 8-10) whatever K. Results go into each
- * record's SPLAT bytes.
+ * rule of docs/CONVERTER.md ("Normals"). A neighbourhood that is nearly linear, or
+ * whose plane holds the line of sight to the scanner path (one profile of a dense scan
+ * line), is widened to 6 K and fitted again (adaptive neighbourhoods). Degenerate
+ * neighbourhoods (fewer than 3 distinct points, collinear) get the up axis. The radius
+ * is the mean distance to the nearest STA_NORMALS_RADIUS_K neighbours (the splatting
+ * notes' 8-10) whatever K. Results go into each record's SPLAT bytes.
  */
 #ifndef STA_PREPROCESS_KNN_NORMALS_H
 #define STA_PREPROCESS_KNN_NORMALS_H
@@ -45,6 +47,7 @@ typedef struct sta_normals_stats {
     uint64_t points;      /* normals computed */
     uint64_t degenerate;  /* fallback normal (fewer than 3 distinct points, collinear) */
     uint64_t beyond_halo; /* neighbourhood wider than the halo: may miss a neighbour */
+    uint64_t widened;     /* neighbourhood widened beyond K (nearly linear, or edge-on) */
 } sta_normals_stats;
 
 /* Computes a normal and radius for each of the `count` records (layout with
@@ -53,6 +56,9 @@ typedef struct sta_normals_stats {
 sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_layout *layout,
                                uint8_t *records, size_t count, const int32_t *halo,
                                size_t halo_count, sta_normals_stats *stats, sta_error *err);
+
+/* The widest neighbourhood a point's K = k neighbourhood is widened to. */
+int sta_normals_widest_k(int k);
 
 /* Bytes of scratch memory sta_normals_compute needs for `points` points (own + halo). */
 size_t sta_normals_memory_bytes(size_t points);

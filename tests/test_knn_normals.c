@@ -327,6 +327,100 @@ static void normals_output_is_deterministic(void **state)
     free(db);
 }
 
+// Dense scan lines far apart (issue 12, the street's road near the scanner): points
+// 4 mm apart along x, lines 60 mm apart on the tilted plane z = 0.5 y, with +-1 mm of
+// noise in z. The 10 nearest lie on one line, where the noise decides the plane; the
+// nearly linear neighbourhood is widened until it spans the lines.
+static void dense_scan_lines_get_the_plane_between_them(void **state)
+{
+    (void)state;
+    enum {
+        ALONG = 100,
+        LINES = 21
+    };
+    static int32_t xyz[ALONG * LINES][3];
+    for (int j = 0; j < LINES; j++) {
+        for (int i = 0; i < ALONG; i++) {
+            uint32_t h = (uint32_t)(i * 2654435761u) ^ (uint32_t)(j * 40503u);
+            h ^= h >> 15;
+            h *= 0x2c1b3c6du;
+            h ^= h >> 12;
+            xyz[j * ALONG + i][0] = 1000 + 4 * i;
+            xyz[j * ALONG + i][1] = 1000 + 60 * j;
+            xyz[j * ALONG + i][2] = 100000 + 30 * j + (int32_t)(h % 3u) - 1;
+        }
+    }
+    static float normals[ALONG * LINES][3], radii[ALONG * LINES];
+    static double error[ALONG * LINES];
+    sta_normals_stats stats = { 0 };
+    compute((const int32_t(*)[3])xyz, ALONG * LINES, normals, radii, &stats);
+    const double t[3] = { 0.0, -0.5 / sqrt(1.25), 1.0 / sqrt(1.25) };
+    size_t inner = 0;
+    for (int j = 2; j < LINES - 2; j++) {
+        for (int i = 10; i < ALONG - 10; i++) { // away from the borders
+            const float *n = normals[j * ALONG + i];
+            const double nd[3] = { n[0], n[1], n[2] };
+            error[inner++] = oriented_angle(nd, t);
+        }
+    }
+    double median = quantile(error, inner, 0.5), p95 = quantile(error, inner, 0.95);
+    print_message("scan lines: median %.2f, p95 %.2f deg, %llu of %d widened\n", median, p95,
+                  (unsigned long long)stats.widened, ALONG * LINES);
+    assert_true(median <= 2.0);
+    assert_true(p95 <= 5.0);
+    assert_true(stats.widened >= (uint64_t)inner); // the lines' points paid, ...
+    assert_int_equal(stats.degenerate, 0);
+}
+
+// ... a plane sampled evenly does not: no neighbourhood is widened.
+static void even_plane_is_not_widened(void **state)
+{
+    (void)state;
+    enum {
+        N = 40
+    };
+    static int32_t xyz[N * N][3];
+    for (int i = 0; i < N; i++) {
+        for (int j = 0; j < N; j++) {
+            xyz[i * N + j][0] = 1000 + 20 * i;
+            xyz[i * N + j][1] = 1000 + 20 * j;
+            xyz[i * N + j][2] = 100000 + 10 * j + (i * 7 + j * 3) % 3 - 1;
+        }
+    }
+    static float normals[N * N][3], radii[N * N];
+    sta_normals_stats stats = { 0 };
+    compute((const int32_t(*)[3])xyz, N * N, normals, radii, &stats);
+    assert_int_equal(stats.widened, 0);
+}
+
+// Widened neighbourhoods (on the street: edge-on fits against the trajectory) give the
+// same bytes with any thread count.
+static void street_normals_are_deterministic(void **state)
+{
+    (void)state;
+    char las[512], a[512], b[512];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("dets.las"));
+    snprintf(a, sizeof(a), "%s", sta_test_tmp_path("dets_a.strata"));
+    snprintf(b, sizeof(b), "%s", sta_test_tmp_path("dets_b.strata"));
+    sta_synth_params p = {
+        .kind = STA_SYNTH_STREET, .seed = 5, .point_count = 60000, .origin = STA_SYNTH_ORIGIN_ZERO
+    };
+    sta_error err = { 0 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    sta_convert_report ra, rb;
+    convert(las, a, 6000, 1, &ra);
+    convert(las, b, 6000, 3, &rb);
+    assert_true(ra.normals_trajectory);
+    assert_true(ra.normals_widened > 0); // edge-on fits against the trajectory
+    assert_int_equal(ra.normals_widened, rb.normals_widened);
+    size_t na = 0, nb = 0;
+    uint8_t *da = sta_test_read_file(a, &na), *db = sta_test_read_file(b, &nb);
+    assert_int_equal(na, nb);
+    assert_memory_equal(da, db, na);
+    free(da);
+    free(db);
+}
+
 static void street_walls_face_the_scanner(void **state)
 {
     (void)state;
@@ -434,6 +528,9 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(planes_match_truth_oriented_up),
     cmocka_unit_test(normals_output_is_deterministic),
     cmocka_unit_test(street_walls_face_the_scanner),
+    cmocka_unit_test(dense_scan_lines_get_the_plane_between_them),
+    cmocka_unit_test(even_plane_is_not_widened),
+    cmocka_unit_test(street_normals_are_deterministic),
     cmocka_unit_test(knn_outside_its_range_is_refused),
     cmocka_unit_test(node_source_carries_the_splat_section),
 };
