@@ -22,7 +22,9 @@ window_session_start() { # FIRST
         local n=$(($1 + RANDOM % 400))
         [ -e "/tmp/.X$n-lock" ] && continue
         display=:$n
-        Xvfb "$display" -screen 0 1280x1024x24 -nolisten tcp >/dev/null 2>&1 &
+        # -noreset: the server would reset when the last client (a viewer the test closed)
+        # goes, and a viewer opening the display during that reset fails (seen under load).
+        Xvfb "$display" -screen 0 1280x1024x24 -nolisten tcp -noreset >/dev/null 2>&1 &
         xvfb=$!
         for i in $(seq 1 40); do
             if DISPLAY=$display xdotool getdisplaygeometry >/dev/null 2>&1; then
