@@ -754,16 +754,8 @@ static void live_katz_method_sphere(void **state)
     enum {
         POINTS = 20000
     };
-    char las[4096], strata[4096];
-    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("live_sphere.las"));
-    snprintf(strata, sizeof(strata), "%s", sta_test_tmp_path("live_sphere.strata"));
-    sta_synth_params p = { .kind = STA_SYNTH_SPHERE, .seed = 3, .point_count = POINTS };
-    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
-    const char *inputs[] = { las };
-    sta_convert_options co = {
-        .inputs = inputs, .input_count = 1, .output = strata, .force = true, .compress_level = 1
-    };
-    assert_int_equal(sta_convert(&co, NULL, &err), STA_OK);
+    char strata[4096];
+    sphere_scene("live_sphere", POINTS, strata, sizeof(strata));
     const char *scenes[] = { strata };
     sta_bench_options o = { .scenes = scenes,
                             .scene_count = 1,
