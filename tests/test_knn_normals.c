@@ -319,12 +319,7 @@ static void normals_output_is_deterministic(void **state)
     synth(STA_SYNTH_NESTED, 30000, las);
     convert(las, a, 3000, 1, NULL);
     convert(las, b, 3000, 3, NULL);
-    size_t na = 0, nb = 0;
-    uint8_t *da = sta_test_read_file(a, &na), *db = sta_test_read_file(b, &nb);
-    assert_int_equal(na, nb);
-    assert_memory_equal(da, db, na);
-    free(da);
-    free(db);
+    assert_true(sta_test_files_equal(a, b));
 }
 
 // Dense scan lines far apart (issue 12, the street's road near the scanner): points
@@ -413,12 +408,7 @@ static void street_normals_are_deterministic(void **state)
     assert_true(ra.normals_trajectory);
     assert_true(ra.normals_widened > 0); // edge-on fits against the trajectory
     assert_int_equal(ra.normals_widened, rb.normals_widened);
-    size_t na = 0, nb = 0;
-    uint8_t *da = sta_test_read_file(a, &na), *db = sta_test_read_file(b, &nb);
-    assert_int_equal(na, nb);
-    assert_memory_equal(da, db, na);
-    free(da);
-    free(db);
+    assert_true(sta_test_files_equal(a, b));
 }
 
 static void street_walls_face_the_scanner(void **state)

@@ -87,17 +87,6 @@ static void generate(const sta_synth_params *p, const char *path)
     }
 }
 
-static bool files_equal(const char *a, const char *b)
-{
-    size_t na = 0, nb = 0;
-    uint8_t *da = sta_test_read_file(a, &na);
-    uint8_t *db = sta_test_read_file(b, &nb);
-    bool same = na == nb && memcmp(da, db, na) == 0;
-    free(da);
-    free(db);
-    return same;
-}
-
 static char *path_copy(const char *name)
 {
     char *p = sta_strdup(sta_test_tmp_path(name));
@@ -123,10 +112,10 @@ static void same_seed_gives_same_bytes(void **state)
         generate(&p, b);
         p.seed = 8;
         generate(&p, c);
-        assert_true(files_equal(a, b));
-        assert_false(files_equal(a, c));
+        assert_true(sta_test_files_equal(a, b));
+        assert_false(sta_test_files_equal(a, c));
         char *ta = truth_of(a), *tb = truth_of(b);
-        assert_true(files_equal(ta, tb));
+        assert_true(sta_test_files_equal(ta, tb));
         sta_free(ta);
         sta_free(tb);
         sta_free(a);

@@ -124,6 +124,17 @@ uint8_t *sta_test_read_file(const char *path, size_t *out_size)
     return data;
 }
 
+bool sta_test_files_equal(const char *a, const char *b)
+{
+    size_t na = 0, nb = 0;
+    uint8_t *da = sta_test_read_file(a, &na);
+    uint8_t *db = sta_test_read_file(b, &nb);
+    bool same = na == nb && memcmp(da, db, na) == 0;
+    free(da);
+    free(db);
+    return same;
+}
+
 void sta_test_write_file(const char *path, const void *data, size_t size)
 {
     FILE *f = fopen(path, "wb");

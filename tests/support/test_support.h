@@ -10,6 +10,7 @@
 
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -34,6 +35,9 @@ void sta_test_mark_skipped(const char *reason);
 
 /* Reads a whole file into a malloc'ed buffer (test failure if it cannot). */
 uint8_t *sta_test_read_file(const char *path, size_t *out_size);
+
+/* True when the two files hold the same bytes (fails the test if one cannot be read). */
+bool sta_test_files_equal(const char *a, const char *b);
 
 /* Writes bytes to a file (test failure if it cannot). */
 void sta_test_write_file(const char *path, const void *data, size_t size);
