@@ -3,9 +3,11 @@
 # Screen-space passes against the geometry pass at 1920x1080 on the README's street
 # view, for two builds in the same run, interleaved A B A B A B (issue 15): per pass the
 # median over the rounds of each round's median of 5 frames, and the ratio of all
-# screen-space passes together to the geometry pass.
+# screen-space passes together to the geometry pass. The geometry pass is GL_POINTS
+# (`--raster points`): the pass-cost ratio stays measured against it (issue 20).
 # usage: bench/screen_cost.sh BUILD_A BUILD_B [SCENE.strata] [ROUNDS]
-#   (BUILD_*: release build folders, e.g. a build of main and build/release)
+#   (BUILD_*: release build folders, e.g. a build of main and build/release;
+#    EXTRA_A / EXTRA_B: more strata-view options for one side, e.g. to compare settings)
 set -euo pipefail
 a=$1 b=$2
 work=${BENCH_DIR:-/tmp/strata-bench}
@@ -21,10 +23,11 @@ size=${SIZE:-1920x1080}
 out=$(mktemp -d)
 for r in $(seq "$rounds"); do
     for side in a b; do
-        bin=$a
-        [ $side = b ] && bin=$b
+        bin=$a extra=${EXTRA_A:-}
+        [ $side = b ] && bin=$b extra=${EXTRA_B:-}
+        # shellcheck disable=SC2086 # EXTRA_*: several options
         "$bin/src/strata-view" --headless "$scene" --camera=$camera --size "$size" --repeat 5 \
-            --stats --pipeline shaded | grep '^median' >>"$out/$side"
+            --stats --raster points --pipeline shaded $extra | grep '^median' >>"$out/$side"
     done
 done
 # "median of 5 frames: frame F ms, geometry G ms, unproject U ms, hpr H ms, ..."

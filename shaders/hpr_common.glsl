@@ -113,3 +113,21 @@ float hpr_sector_mean(vec4 min_lo, vec4 min_hi, bool is_point, int outside)
     }
     return known > 0 ? sum / float(known) : 1.0;
 }
+
+// The mean below which a pixel is closed: HIDDEN for a point, HOLE for an empty pixel
+// (as hpr_label decides).
+float hpr_closed_bound(bool is_point, float threshold)
+{
+    float background = float(STA_HPR_BACKGROUND_OPEN_SECTORS) * 0.125;
+    return is_point ? threshold : max(threshold, background);
+}
+
+// True when the pixel is closed whatever further neighbours add: the plain mean of all
+// 8 minima (an empty sector counting 1) bounds every later mean from above, since
+// minima only fall and leaving out an unclosed outside sector (value 1) only lowers a
+// mean below 1. Both that mean and the label's own mean must be below the bound.
+bool hpr_settled(vec4 min_lo, vec4 min_hi, bool is_point, int outside, float bound)
+{
+    return hpr_sector_mean(min_lo, min_hi, true, 0) < bound &&
+           hpr_sector_mean(min_lo, min_hi, is_point, outside) < bound;
+}

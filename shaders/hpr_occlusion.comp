@@ -7,6 +7,12 @@
 // dropped, and for empty pixels sectors with ring texels outside the image that nothing
 // closes are left out of the mean (docs/HPR.md). Twin: sta_hpr_ref_pyramid_labels.
 //
+// Early exit: the sector minima only fall as neighbours are added, so once a pixel's
+// mean is below its bound (HIDDEN or HOLE) no further level can open it again; the
+// remaining levels are skipped (hpr_settled), and the label is the one the full loop
+// gives (the twin runs every level). Most empty pixels inside a surface settle after
+// the first levels.
+//
 // Neighbours are fetched from the textures, not staged in shared memory: on llvmpipe a
 // shared-memory version was 3x slower (per-lane gathers), and on GPUs the texture cache
 // serves the overlapping rings of a workgroup.
@@ -80,17 +86,12 @@ void main()
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
     int outside = 0; // sectors with ring texels outside the image within the reach
-    // Level 0: the 8 direct neighbours, from the position texture.
-    for (int i = 0; i < 8; i++) {
-        ivec2 n = p + RING[i];
-        if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
-            add_neighbour(texelFetch(u_position, n, 0), RING[i], p, x, false, cut2, min_lo, min_hi);
-        } else {
-            outside |= 1 << hpr_sector(2 * RING[i]);
-        }
-    }
-    // Levels 1..level: the ring around the ancestor, from the pyramid.
-    for (int k = 1; k <= level; k++) {
+    bool is_point = own.w > 0.5;
+    float bound = hpr_closed_bound(is_point, u_threshold);
+    // Levels level..1, coarse first (their rings close an empty pixel inside a surface
+    // at once, so it settles early): the ring around the ancestor, from the pyramid.
+    bool settled = false;
+    for (int k = level; k >= 1 && !settled; k--) {
         ivec2 a = p >> k;
         ivec2 size_k = (u_size + (1 << k) - 1) >> k;
         for (int i = 0; i < 8; i++) {
@@ -103,7 +104,17 @@ void main()
                 outside |= 1 << hpr_sector(2 * RING[i]);
             }
         }
+        settled = hpr_settled(min_lo, min_hi, is_point, outside, bound);
     }
-    float mean = hpr_sector_mean(min_lo, min_hi, own.w > 0.5, outside);
-    imageStore(u_label, p, vec4(hpr_label(own.w > 0.5, mean, u_threshold), 0.0, 0.0, 0.0));
+    // Level 0: the 8 direct neighbours, from the position texture.
+    for (int i = 0; i < 8 && !settled; i++) {
+        ivec2 n = p + RING[i];
+        if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
+            add_neighbour(texelFetch(u_position, n, 0), RING[i], p, x, false, cut2, min_lo, min_hi);
+        } else {
+            outside |= 1 << hpr_sector(2 * RING[i]);
+        }
+    }
+    float mean = hpr_sector_mean(min_lo, min_hi, is_point, outside);
+    imageStore(u_label, p, vec4(hpr_label(is_point, mean, u_threshold), 0.0, 0.0, 0.0));
 }
