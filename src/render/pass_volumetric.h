@@ -12,6 +12,9 @@
 #include "render/gpu_cache.h"
 #include "render/ref/volumetric_ref.h"
 
+/* Side of the overlay's tiles in pixels: the mark flags the tiles its splats reach. */
+#define STA_VOLUMETRIC_TILE_PX 8
+
 typedef struct sta_volumetric_pass {
     GLuint mark_program, overlay_program;
     GLint mark_size, mark_classes, overlay_size;
@@ -19,6 +22,8 @@ typedef struct sta_volumetric_pass {
     uint32_t nodes_capacity; /* slots the buffer holds */
     uint32_t *host_nodes;    /* sta_volumetric_points_from_cache's table */
     uint32_t host_capacity;  /* slots it holds */
+    GLuint tiles;            /* R32F tile flags, one texel per STA_VOLUMETRIC_TILE_PX square */
+    int tiles_width, tiles_height;
 } sta_volumetric_pass;
 
 /* Where the points behind the pixel ids live: the point-id texture (GL_RG32UI, same
@@ -44,7 +49,7 @@ void sta_volumetric_pass_release(sta_volumetric_pass *pass);
 typedef struct sta_volumetric_frame {
     int width, height;
     GLuint position; /* RGBA32F camera-space positions (unproject) */
-    GLuint colour;   /* RGBA32F point colours */
+    GLuint colour;   /* point colours, RGBA8 or RGBA32F (sampled) */
     GLuint label;    /* R32F HPR labels: marked points become hidden */
     GLuint points;   /* RGBA32F: written by mark, read by overlay */
 } sta_volumetric_frame;

@@ -278,15 +278,19 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     if (s != STA_OK) {
         return s;
     }
-    // Inputs: positions from depth, colour as float.
+    // Inputs: positions from depth; colour as float only for the passes that read it
+    // as an image (EDL, the HPR display); pull-push and the volumetric mark sample the
+    // geometry pass's RGBA8 colour (the same values).
     mark(p, t, STA_PASS_UNPROJECT, 0);
     sta_unproject_pass_run(&p->unproject, view, depth, p->position);
-    glUseProgram(p->colour_program);
-    glUniform2f(p->colour_size, (float)w, (float)h);
-    glBindTextureUnit(STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8, colour_rgba8);
-    glBindImageTexture(STA_COLOUR_TO_FLOAT_IMAGE_COLOUR, p->colour, 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       GL_RGBA32F);
-    sta_gl_dispatch_2d(w, h);
+    if (o->mode == STA_PIPELINE_EDL || o->mode == STA_PIPELINE_HPR) {
+        glUseProgram(p->colour_program);
+        glUniform2f(p->colour_size, (float)w, (float)h);
+        glBindTextureUnit(STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8, colour_rgba8);
+        glBindImageTexture(STA_COLOUR_TO_FLOAT_IMAGE_COLOUR, p->colour, 0, GL_FALSE, 0,
+                           GL_WRITE_ONLY, GL_RGBA32F);
+        sta_gl_dispatch_2d(w, h);
+    }
     mark(p, t, STA_PASS_UNPROJECT, 1);
     ran[STA_PASS_UNPROJECT] = true;
 
@@ -323,7 +327,7 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     // Volumetric classes: no seeds for the fill, drawn back as points after shading.
     uint32_t classes[STA_VOLUMETRIC_CLASS_WORDS];
     bool volumetric = volumetric_classes(p, o, classes);
-    sta_volumetric_frame vframe = { w, h, p->position, p->colour, p->label, p->points };
+    sta_volumetric_frame vframe = { w, h, p->position, colour_rgba8, p->label, p->points };
     if (volumetric) {
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
         s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes, &vframe, err);
@@ -335,7 +339,7 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     }
 
     mark(p, t, STA_PASS_PULLPUSH, 0);
-    s = sta_pullpush_pass_run(&p->pullpush, view, p->position, p->colour, p->label,
+    s = sta_pullpush_pass_run(&p->pullpush, view, p->position, colour_rgba8, p->label,
                               p->filled_position, p->filled_colour, err);
     mark(p, t, STA_PASS_PULLPUSH, 1);
     ran[STA_PASS_PULLPUSH] = true;
