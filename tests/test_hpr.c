@@ -295,8 +295,9 @@ static void both_release(both_result *r)
 /* Runs twin and shader of the pyramidal operator (and of the exhaustive one when
  * radius >= 0) on `position`; asserts equal pyramids (bit for bit) and equal labels
  * (but for near-threshold pixels, counted and printed). */
-static void run_both(const char *name, const sta_view_params *view, const sta_hpr_params *params,
-                     const sta_image *position, int radius, both_result *out)
+// Returns how many pyramidal labels differ between the shader and the twin.
+static int run_both(const char *name, const sta_view_params *view, const sta_hpr_params *params,
+                    const sta_image *position, int radius, both_result *out)
 {
     memset(out, 0, sizeof(*out));
     sta_error err = { 0 };
@@ -328,6 +329,7 @@ static void run_both(const char *name, const sta_view_params *view, const sta_hp
     printf("hpr %-14s %4dx%-4d pyramidal: %d of %d labels differ from the twin (%d levels, "
            "%d means within 1e-3 of the threshold)",
            name, w, h, differing, w * h, twin_pyramid.level_count, close);
+    int pyramid_differing = differing;
     sta_image_release(&gpu_label);
     sta_hpr_ref_pyramid_release(&twin_pyramid);
     sta_hpr_ref_pyramid_release(&gpu_pyramid_levels);
@@ -344,6 +346,7 @@ static void run_both(const char *name, const sta_view_params *view, const sta_hp
         sta_image_release(&mean);
     }
     printf("\n");
+    return pyramid_differing;
 }
 
 static int count_label(const sta_image *label, float value)
@@ -902,6 +905,37 @@ static void gaps_have_no_block_edges(void **state)
     sta_image_release(&position);
 }
 
+static void early_exit_keeps_every_label(void **state)
+{
+    (void)state;
+    // The shader stops a pixel's rings once it is HIDDEN or HOLE (coarse levels first);
+    // the twin runs every level. Not one label may differ, not even near the threshold:
+    // a sparse tilted plane (holes settle after one ring, points at the border keep
+    // their open outside sectors), the same with a wide gap (background inside), and
+    // two planes (hidden far points settle on the near plane's ring).
+    sta_image position;
+    both_result r;
+    int differing = 0, holes = 0, hidden = 0;
+    for (int scene = 0; scene < 3; scene++) {
+        static unsigned char truth[320 * 240];
+        sta_view_params view = scene == 2 ? make_view(320, 240) : make_view(160, 120);
+        if (scene == 2) {
+            make_two_planes(&view, &position, truth);
+        } else {
+            make_sparse_plane(&view, 1.0f, 80, 60, scene == 1 ? 25.0f : 0.0f, &position);
+        }
+        differing +=
+            run_both(scene == 2 ? "exit: planes" : "exit: sparse", &view, NULL, &position, -1, &r);
+        holes += count_label(&r.pyramid_label, STA_LABEL_HOLE);
+        hidden += count_label(&r.pyramid_label, STA_LABEL_HIDDEN);
+        both_release(&r);
+        sta_image_release(&position);
+    }
+    printf("early exit: %d holes, %d hidden points, %d labels differ\n", holes, hidden, differing);
+    assert_true(holes > 10000 && hidden > 100);
+    assert_int_equal(differing, 0);
+}
+
 static void coincident_points_are_skipped(void **state)
 {
     (void)state;
@@ -999,6 +1033,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(full_planes_are_visible, setup, teardown),
     cmocka_unit_test_setup_teardown(near_plane_and_huge_depth, setup, teardown),
     cmocka_unit_test_setup_teardown(coincident_points_are_skipped, setup, teardown),
+    cmocka_unit_test_setup_teardown(early_exit_keeps_every_label, setup, teardown),
     cmocka_unit_test_setup_teardown(surfaces_fill_to_the_image_edge, setup, teardown),
     cmocka_unit_test_setup_teardown(gaps_have_no_block_edges, setup, teardown),
     cmocka_unit_test(allocation_failures_are_clean),
