@@ -7,7 +7,10 @@
 # (`--raster points`): the pass-cost ratio stays measured against it (issue 20).
 # usage: bench/screen_cost.sh BUILD_A BUILD_B [SCENE.strata] [ROUNDS]
 #   (BUILD_*: release build folders, e.g. a build of main and build/release;
-#    EXTRA_A / EXTRA_B: more strata-view options for one side, e.g. to compare settings)
+#    EXTRA_A / EXTRA_B: more strata-view options for one side, e.g. to compare settings;
+#    CLOCK: cpu (default: the CPU time of the viewer's threads per pass, which other work
+#    on a shared machine does not inflate) or wall; a build without --stats-clock times
+#    wall clock)
 set -euo pipefail
 a=$1 b=$2
 work=${BENCH_DIR:-/tmp/strata-bench}
@@ -20,11 +23,20 @@ if [ ! -f "$scene" ]; then
 fi
 camera=650235,5401873.6,105.5,180,-8,70
 size=${SIZE:-1920x1080}
+clock=${CLOCK:-cpu}
 out=$(mktemp -d)
-for r in $(seq "$rounds"); do
+clock_option() {
+    if "$1/src/strata-view" --help | grep -q -- --stats-clock; then
+        echo "--stats-clock $clock"
+    else
+        echo "$1: no --stats-clock, wall clock" >&2
+    fi
+}
+for _ in $(seq "$rounds"); do
     for side in a b; do
         bin=$a extra=${EXTRA_A:-}
         [ $side = b ] && bin=$b extra=${EXTRA_B:-}
+        extra="$extra $(clock_option "$bin")"
         # shellcheck disable=SC2086 # EXTRA_*: several options
         "$bin/src/strata-view" --headless "$scene" --camera=$camera --size "$size" --repeat 5 \
             --stats --raster points --pipeline shaded $extra | grep '^median' >>"$out/$side"

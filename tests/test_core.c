@@ -4,6 +4,7 @@
 #include "test_support.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -241,6 +242,37 @@ static void clock_is_monotonic_and_non_negative(void **state)
     assert_true(ms_end <= sta_clock_s() * 1e3 + 1e-3);
 }
 
+// Burns CPU on its own thread until that thread's clock has counted *arg ms.
+static void *burn_cpu(void *arg)
+{
+    double want = *(const double *)arg, start = sta_clock_thread_cpu_ms();
+    volatile double sink = 0.0;
+    while (sta_clock_thread_cpu_ms() - start < want) {
+        for (int i = 0; i < 10000; i++) {
+            sink = sink + (double)i * 0.5;
+        }
+    }
+    (void)sink;
+    return NULL;
+}
+
+static void process_clock_counts_other_threads(void **state)
+{
+    (void)state;
+    // The per-pass CPU timing (strata-view --stats-clock cpu) relies on this: work done
+    // by another thread (llvmpipe's) shows in the process clock, not the caller's.
+    double want = 40.0;
+    double process0 = sta_clock_process_cpu_ms(), thread0 = sta_clock_thread_cpu_ms();
+    pthread_t worker;
+    assert_int_equal(pthread_create(&worker, NULL, burn_cpu, &want), 0);
+    assert_int_equal(pthread_join(worker, NULL), 0);
+    double process = sta_clock_process_cpu_ms() - process0;
+    double thread = sta_clock_thread_cpu_ms() - thread0;
+    assert_true(process0 >= 0.0);
+    assert_true(process >= want - 1.0);
+    assert_true(thread < want / 2.0); // joining waits without spinning
+}
+
 static void bytes_round_trip_little_endian(void **state)
 {
     (void)state;
@@ -423,6 +455,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(array_reserve_refuses_overflow),
     cmocka_unit_test(array_reserve_failure_keeps_old_array),
     cmocka_unit_test(clock_is_monotonic_and_non_negative),
+    cmocka_unit_test(process_clock_counts_other_threads),
     cmocka_unit_test(bytes_round_trip_little_endian),
     cmocka_unit_test(file_map_reads_file_and_names_missing_one),
     cmocka_unit_test(camera_y_up_basis),

@@ -392,6 +392,7 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_scene_set_splats(scene, &splats);
         sta_scene_set_katz(scene, &args->katz);
         sta_scene_set_timing(scene, args->stats);
+        sta_scene_set_timing_clock(scene, args->stats_clock);
         if (args->stats) {
             char renderer[256];
             printf("renderer: %s\n", sta_gl_describe(renderer, sizeof(renderer)));

@@ -236,6 +236,8 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     static const int splat_method_values[] = { STA_SPLAT_INSTANCED, STA_SPLAT_GEOMETRY,
                                                STA_SPLAT_PULLED };
     static const char *const raster_names[] = { "compute", "points", NULL };
+    static const char *const clock_names[] = { "wall", "cpu", NULL };
+    static const int clock_values[] = { STA_TIMING_WALL, STA_TIMING_CPU };
     static const int raster_values[] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     int hpr = 0; // index into hpr_names
     static const char *const hpr_names[] = { "pyramid", "exhaustive", "katz", NULL };
@@ -449,6 +451,16 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .kind = STA_CLI_FLAG,
           .dest = &a->stats,
           .help = "print one line of frame statistics per frame, with the GPU time of every pass" },
+        { .name = "stats-clock",
+          .kind = STA_CLI_CHOICE,
+          .dest = &a->stats_clock,
+          .metavar = "CLOCK",
+          .choices = clock_names,
+          .choice_values = clock_values,
+          .help = "--stats pass times: wall (elapsed, the GPU drained around each pass) or cpu "
+                  "(CPU time of all the process's threads meanwhile: the work of a pass on "
+                  "llvmpipe, steady on a busy machine)",
+          .default_text = "wall" },
         { .name = "raster",
           .kind = STA_CLI_CHOICE,
           .dest = &a->raster,

@@ -33,6 +33,7 @@ typedef struct sta_view_args {
     double orbit_pitch_deg[2]; /* --orbit-pitch: camera elevation above the orbit centre */
     const char *frame_pattern; /* --frames-out: numbered PNGs when playing a path */
     bool stats;                /* --stats: one line per frame */
+    int stats_clock;           /* --stats-clock (sta_timing_clock) */
     int pipeline;              /* --pipeline (sta_pipeline_mode) */
     int normals;               /* --normals (sta_normal_method) */
     int samples;               /* --samples 5|9|17|25 */

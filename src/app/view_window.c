@@ -652,6 +652,7 @@ int sta_view_run_window(const sta_view_args *args)
     s.show_ghosts = args->show_ghosts;
     sta_scene_set_katz(s.scene, &s.katz);
     sta_scene_set_timing(s.scene, args->stats);
+    sta_scene_set_timing_clock(s.scene, args->stats_clock);
     sta_scene_set_colour_mode(s.scene, s.colour_mode);
     sta_scene_set_ramps(s.scene, args->elevation_range[0], args->elevation_range[1],
                         args->intensity_max);

@@ -157,11 +157,16 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
 // wall clock read. GL timestamp queries would be cheaper on a real GPU but on llvmpipe
 // they record when commands are queued, not when they run; a drained pipeline gives
 // honest numbers on both (and timing is only on for --stats and benchmarks).
+double sta_timing_clock_ms(int clock)
+{
+    return clock == STA_TIMING_CPU ? sta_clock_process_cpu_ms() : sta_clock_ms();
+}
+
 static void mark(sta_pipeline *p, sta_pipeline_timing *t, int pass, int end)
 {
     if (t) {
         glFinish();
-        p->marks[2 * pass + end] = sta_clock_ms();
+        p->marks[2 * pass + end] = sta_timing_clock_ms(p->timing_clock);
     }
 }
 

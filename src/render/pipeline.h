@@ -81,6 +81,17 @@ typedef struct sta_pipeline_options {
  * scene without classification has none of them, so nothing changes there. */
 #define STA_PIPELINE_NO_FILL_DEFAULT ((1u << 3) | (1u << 4) | (1u << 5))
 
+/* The clock of per-pass times: wall time, or the CPU time of all the process's threads
+ * (sta_clock_process_cpu_ms: the work of a pass on llvmpipe, steady on a busy machine;
+ * meaningless where the GPU is a separate device). */
+typedef enum sta_timing_clock {
+    STA_TIMING_WALL,
+    STA_TIMING_CPU
+} sta_timing_clock;
+
+/* The time of `clock` in milliseconds (differences only). */
+double sta_timing_clock_ms(int clock);
+
 typedef struct sta_pipeline_timing {
     double ms[STA_PASS_COUNT]; /* GPU time per pass (0 when not run) */
     double total_ms;
@@ -101,6 +112,7 @@ typedef struct sta_pipeline {
     GLuint position, colour, label, pyramid, filled_position, filled_colour, normal, normal2;
     GLuint points;                    /* volumetric colours (RGBA32F) */
     double marks[2 * STA_PASS_COUNT]; /* pass start/end, ms (timing on) */
+    int timing_clock;                 /* sta_timing_clock of the marks (0: wall) */
 } sta_pipeline;
 
 sta_status sta_pipeline_init(sta_pipeline *pipeline, sta_error *err);

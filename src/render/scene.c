@@ -28,6 +28,7 @@ struct sta_scene {
     bool has_pipeline;
     sta_pipeline_options pipeline_options;
     bool timing;        /* drain and time each pass */
+    int timing_clock;   /* sta_timing_clock */
     sta_pass_katz katz; /* live Katz mode */
     double ramp[3];     /* elevation ramp min, max (metres), largest intensity; 0: from the scene */
     sta_point_size point_size;     /* raw and EDL modes; zero: one pixel */
@@ -198,6 +199,11 @@ void sta_scene_set_timing(sta_scene *s, bool on)
     s->timing = on;
 }
 
+void sta_scene_set_timing_clock(sta_scene *s, int clock)
+{
+    s->timing_clock = clock;
+}
+
 int sta_scene_pipeline_mode(const sta_scene *s)
 {
     return s->pipeline_options.mode;
@@ -331,7 +337,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     double geometry_start = 0;
     if (s->timing) {
         glFinish();
-        geometry_start = sta_clock_ms();
+        geometry_start = sta_timing_clock_ms(s->timing_clock);
     }
     const sta_strata_info *info = sta_scene_info(s);
     if (s->colour_mode == STA_COLOUR_HEIGHT && !s->ground.texture) {
@@ -391,7 +397,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     }
     if (s->timing) {
         glFinish();
-        stats->geometry_ms = sta_clock_ms() - geometry_start;
+        stats->geometry_ms = sta_timing_clock_ms(s->timing_clock) - geometry_start;
     }
     if (pipeline.mode != STA_PIPELINE_RAW && pipeline.mode != STA_PIPELINE_SPLATS) {
         if (!s->has_pipeline) {
@@ -407,6 +413,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         if (status != STA_OK) {
             return status;
         }
+        s->pipeline.timing_clock = s->timing_clock;
         status = sta_pipeline_run(&s->pipeline, &pipeline, &screen, target->depth, target->colour,
                                   s->timing ? &stats->timing : NULL, err);
         if (status != STA_OK) {

@@ -99,6 +99,9 @@ const sta_gpu_cache *sta_scene_gpu_cache(const sta_scene *scene);
 /* Turns per-pass timing on (times in sta_frame_stats; drains the GPU around each pass). */
 void sta_scene_set_timing(sta_scene *scene, bool on);
 
+/* The clock of those times (sta_timing_clock in render/pipeline.h; default wall). */
+void sta_scene_set_timing_clock(sta_scene *scene, int clock);
+
 /* Points whose GPU flags (stream/gpu_points.h) have any of `flags` are not drawn;
  * STA_SCENE_DEFAULT_HIDE_FLAGS (mirror ghosts hidden) until set. */
 #define STA_SCENE_DEFAULT_HIDE_FLAGS STA_GPU_FLAG_MIRROR_GHOST
