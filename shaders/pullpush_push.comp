@@ -50,14 +50,7 @@ void main()
     vec3 fp = t0.xyz;
     float sw = 0.0;
     vec3 sp = vec3(0.0), sc = vec3(0.0);
-    // A texel of full weight keeps its own value (the coarse one gets weight 1 - fw = 0),
-    // and HPR's background is cleared below: neither reads the coarse level.
-    bool needs_coarse = u_has_coarse && fw < 1.0;
-#ifdef PP_LEVEL0
-    bool background = u_has_label && pp_is_label(label, PP_LABEL_BACKGROUND);
-    needs_coarse = needs_coarse && !background;
-#endif
-    if (needs_coarse) {
+    if (u_has_coarse) {
         ivec2 c0 = ((q + 1) >> 1) - 1;
         vec2 wx, wy;
         wx[0] = (q.x & 1) != 0 ? 0.75 : 0.25;
@@ -90,7 +83,7 @@ void main()
         out_c = vec4(nc * inv, nw);
     }
 #ifdef PP_LEVEL0
-    if (background) {
+    if (u_has_label && pp_is_label(label, PP_LABEL_BACKGROUND)) {
         out_p = vec4(0.0);
         out_c = vec4(0.0);
     }
