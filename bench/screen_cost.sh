@@ -26,7 +26,9 @@ size=${SIZE:-1920x1080}
 clock=${CLOCK:-cpu}
 out=$(mktemp -d)
 clock_option() {
-    if "$1/src/strata-view" --help | grep -q -- --stats-clock; then
+    local help
+    help=$("$1/src/strata-view" --help)
+    if [[ $help == *--stats-clock* ]]; then
         echo "--stats-clock $clock"
     else
         echo "$1: no --stats-clock, wall clock" >&2

@@ -3,9 +3,7 @@
 // looked up through the point-id target in the arena, has a class in u_classes is
 // relabelled hidden, so pull-push does not grow a surface from it; its colour and
 // distance (-z) go to the points image for the overlay, visible points of the other
-// classes go there as occluders (alpha: minus their distance). The tiles a marked
-// point's splat reaches are flagged, so the overlay skips the others (the pass clears
-// the flags first).
+// classes go there as occluders (alpha: minus their distance).
 // Twin: src/render/ref/volumetric_ref.c (sta_volumetric_mark_ref).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_VOLUMETRIC_MARK_IMAGE_ID, rg32ui) readonly uniform uimage2D u_id;
@@ -14,7 +12,6 @@ layout(binding = STA_VOLUMETRIC_MARK_IMAGE_POSITION, rgba32f) readonly uniform i
 layout(binding = STA_VOLUMETRIC_MARK_SAMPLER_COLOUR) uniform sampler2D u_colour;
 layout(binding = STA_VOLUMETRIC_MARK_IMAGE_LABEL, r32f) uniform image2D u_label;
 layout(binding = STA_VOLUMETRIC_MARK_IMAGE_POINTS, rgba32f) writeonly uniform image2D u_points;
-layout(binding = STA_VOLUMETRIC_MARK_IMAGE_TILES, r32f) writeonly uniform image2D u_tiles;
 // The arena: 16-byte points (stream/gpu_points.h); classification is byte 11.
 layout(std430, binding = STA_VOLUMETRIC_MARK_BUFFER_ARENA) readonly buffer Arena
 {
@@ -35,12 +32,11 @@ void main()
         return;
     }
     float label = imageLoad(u_label, p).r;
+    vec4 position = imageLoad(u_position, p);
     vec4 points = vec4(0.0);
-    vec4 position = vec4(0.0);
-    if (label == STA_LABEL_VISIBLE || label == STA_LABEL_HIDDEN) {
-        position = imageLoad(u_position, p);
-    }
-    if (position.w > 0.0 && position.z < 0.0) {
+    bool drawn = (label == STA_LABEL_VISIBLE || label == STA_LABEL_HIDDEN) && position.w > 0.0 &&
+                 position.z < 0.0;
+    if (drawn) {
         uvec2 id = imageLoad(u_id, p).xy;
         bool marked = false;
         if (id.x < uint(nodes.length())) {
@@ -54,15 +50,6 @@ void main()
         if (marked) {
             points = vec4(texelFetch(u_colour, p, 0).rgb, -position.z);
             imageStore(u_label, p, vec4(STA_LABEL_HIDDEN));
-            // The splat covers p +- R: at most 2 x 2 tiles.
-            const int R = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
-            ivec2 t0 = max(p - R, ivec2(0)) / STA_VOLUMETRIC_TILE_PX;
-            ivec2 t1 = min(p + R, u_size - 1) / STA_VOLUMETRIC_TILE_PX;
-            for (int ty = t0.y; ty <= t1.y; ty++) {
-                for (int tx = t0.x; tx <= t1.x; tx++) {
-                    imageStore(u_tiles, ivec2(tx, ty), vec4(1.0));
-                }
-            }
         } else if (label == STA_LABEL_VISIBLE) {
             points.a = position.z; // an occluder: minus its distance
         }

@@ -2,13 +2,11 @@
 // Volumetric classes, overlay step: each marked point is drawn over the shaded picture
 // as a square splat in its own colour, nearest point first, unless a visible point of
 // another class in the window is as near (the filled depth is no test: pull-push
-// averages depths across wide gaps). One image read per window pixel; pixels of a tile
-// no marked point's splat reaches (the mark's flags) are left as they are at once.
+// averages depths across wide gaps). One image read per window pixel.
 // Twin: src/render/ref/volumetric_ref.c (sta_volumetric_overlay_ref).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS, rgba32f) readonly uniform image2D u_points;
 layout(binding = STA_VOLUMETRIC_OVERLAY_IMAGE_OUT, rgba8) writeonly uniform image2D u_out;
-layout(binding = STA_VOLUMETRIC_OVERLAY_IMAGE_TILES, r32f) readonly uniform image2D u_tiles;
 uniform ivec2 u_size;
 
 const int R = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
@@ -16,8 +14,7 @@ const int R = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
 void main()
 {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x >= u_size.x || p.y >= u_size.y ||
-        imageLoad(u_tiles, p / STA_VOLUMETRIC_TILE_PX).r == 0.0) {
+    if (p.x >= u_size.x || p.y >= u_size.y) {
         return;
     }
     vec4 best = vec4(0.0); // alpha > 0: a marked point, < 0: an occluder, 0: nothing

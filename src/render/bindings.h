@@ -136,12 +136,10 @@
 #define STA_VOLUMETRIC_MARK_IMAGE_LABEL     2 /* R32F HPR labels, updated */
 #define STA_VOLUMETRIC_MARK_IMAGE_POINTS    3 /* RGBA32F out: marked colour, distance */
 #define STA_VOLUMETRIC_MARK_IMAGE_POSITION  4 /* RGBA32F camera-space positions */
-#define STA_VOLUMETRIC_MARK_IMAGE_TILES     5 /* R32F out: 1 where a splat touches the tile */
 #define STA_VOLUMETRIC_MARK_BUFFER_ARENA    0 /* the GPU cache's arena */
 #define STA_VOLUMETRIC_MARK_BUFFER_NODES    1 /* uvec2 per node slot: offset, count */
 #define STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS 0 /* RGBA32F */
 #define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT    1 /* RGBA8, written where marked */
-#define STA_VOLUMETRIC_OVERLAY_IMAGE_TILES  2 /* R32F: the mark's tile flags */
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \
@@ -227,11 +225,9 @@
  X(STA_VOLUMETRIC_MARK_IMAGE_LABEL)                                                                \
  X(STA_VOLUMETRIC_MARK_IMAGE_POINTS)                                                               \
  X(STA_VOLUMETRIC_MARK_IMAGE_POSITION)                                                             \
- X(STA_VOLUMETRIC_MARK_IMAGE_TILES)                                                                \
  X(STA_VOLUMETRIC_MARK_BUFFER_ARENA)                                                               \
  X(STA_VOLUMETRIC_MARK_BUFFER_NODES)                                                               \
  X(STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS)                                                            \
- X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)                                                               \
- X(STA_VOLUMETRIC_OVERLAY_IMAGE_TILES)
+ X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)
 
 #endif

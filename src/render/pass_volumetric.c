@@ -14,12 +14,11 @@
 sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
-    char defines[320];
+    char defines[256];
     snprintf(defines, sizeof(defines),
              "#define STA_LABEL_VISIBLE %.1f\n#define STA_LABEL_HIDDEN %.1f\n"
-             "#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n#define STA_VOLUMETRIC_TILE_PX %d\n",
-             (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, STA_VOLUMETRIC_SPLAT_RADIUS_PX,
-             STA_VOLUMETRIC_TILE_PX);
+             "#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
+             (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, STA_VOLUMETRIC_SPLAT_RADIUS_PX);
     const char *mark[] = { "volumetric_mark.comp" };
     const char *overlay[] = { "volumetric_overlay.comp" };
     sta_status s = sta_gl_program_create(mark, 1, defines, &pass->mark_program, err);
@@ -46,9 +45,6 @@ void sta_volumetric_pass_release(sta_volumetric_pass *pass)
     }
     if (pass->nodes_buffer) {
         glDeleteBuffers(1, &pass->nodes_buffer);
-    }
-    if (pass->tiles) {
-        glDeleteTextures(1, &pass->tiles);
     }
     sta_free(pass->host_nodes);
     memset(pass, 0, sizeof(*pass));
@@ -101,36 +97,11 @@ static sta_status upload_nodes(sta_volumetric_pass *pass, const sta_volumetric_p
     return sta_gl_check("volumetric node table", err);
 }
 
-// The tile flags for a width x height frame, cleared.
-static sta_status clear_tiles(sta_volumetric_pass *pass, int width, int height, sta_error *err)
-{
-    int tw = (width + STA_VOLUMETRIC_TILE_PX - 1) / STA_VOLUMETRIC_TILE_PX;
-    int th = (height + STA_VOLUMETRIC_TILE_PX - 1) / STA_VOLUMETRIC_TILE_PX;
-    if (!pass->tiles || pass->tiles_width != tw || pass->tiles_height != th) {
-        if (pass->tiles) {
-            glDeleteTextures(1, &pass->tiles);
-            pass->tiles = 0;
-        }
-        sta_status s = sta_gl_texture_create(tw, th, 1, 1, &pass->tiles, err);
-        if (s != STA_OK) {
-            return s;
-        }
-        pass->tiles_width = tw;
-        pass->tiles_height = th;
-    }
-    static const float zero = 0.0f;
-    glClearTexImage(pass->tiles, 0, GL_RED, GL_FLOAT, &zero);
-    return STA_OK;
-}
-
 sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumetric_points *src,
                                     const uint32_t class_set[STA_VOLUMETRIC_CLASS_WORDS],
                                     const sta_volumetric_frame *frame, sta_error *err)
 {
     sta_status s = upload_nodes(pass, src, err);
-    if (s == STA_OK) {
-        s = clear_tiles(pass, frame->width, frame->height, err);
-    }
     if (s != STA_OK) {
         return s;
     }
@@ -146,8 +117,6 @@ sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumet
                        GL_R32F);
     glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
                        GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_TILES, pass->tiles, 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       GL_R32F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_MARK_BUFFER_ARENA, src->arena);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_MARK_BUFFER_NODES,
                      pass->nodes_buffer);
@@ -164,7 +133,5 @@ void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volu
                        GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY,
                        GL_RGBA8);
-    glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_TILES, pass->tiles, 0, GL_FALSE, 0,
-                       GL_READ_ONLY, GL_R32F);
     sta_gl_dispatch_2d(frame->width, frame->height);
 }

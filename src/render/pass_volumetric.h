@@ -12,9 +12,6 @@
 #include "render/gpu_cache.h"
 #include "render/ref/volumetric_ref.h"
 
-/* Side of the overlay's tiles in pixels: the mark flags the tiles its splats reach. */
-#define STA_VOLUMETRIC_TILE_PX 8
-
 typedef struct sta_volumetric_pass {
     GLuint mark_program, overlay_program;
     GLint mark_size, mark_classes, overlay_size;
@@ -22,8 +19,6 @@ typedef struct sta_volumetric_pass {
     uint32_t nodes_capacity; /* slots the buffer holds */
     uint32_t *host_nodes;    /* sta_volumetric_points_from_cache's table */
     uint32_t host_capacity;  /* slots it holds */
-    GLuint tiles;            /* R32F tile flags, one texel per STA_VOLUMETRIC_TILE_PX square */
-    int tiles_width, tiles_height;
 } sta_volumetric_pass;
 
 /* Where the points behind the pixel ids live: the point-id texture (GL_RG32UI, same
