@@ -4,6 +4,8 @@
 # strata-synth street view: median of 5 frames of a fully loaded view, per pass, for
 # each normal method and for pyramidal against exhaustive HPR.
 # usage: bench/passes.sh [SCENE.strata] (default: a 2 M-point street made here)
+#   CLOCK=cpu: per-pass CPU time of the viewer's threads (strata-view --stats-clock;
+#   steady on a shared machine) instead of wall time
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=build/release
@@ -20,8 +22,8 @@ size=${SIZE:-1920x1080}
 run() {
     printf '%-34s ' "$*"
     # GL_POINTS: the pass costs stay measured against the same geometry pass (issue 20).
-    $bin/src/strata-view --headless "$scene" --camera=$camera --size $size --repeat 5 --stats \
-        --raster points "$@" |
+    $bin/src/strata-view --headless "$scene" --camera=$camera --size "$size" --repeat 5 --stats \
+        --stats-clock "${CLOCK:-wall}" --raster points "$@" |
         grep median | sed 's/median of 5 frames: //'
 }
 run --pipeline raw
