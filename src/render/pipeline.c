@@ -153,15 +153,16 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
     return STA_OK;
 }
 
-// Per-pass time: with timing on, the GPU is drained before and after each pass and the
-// wall clock read. GL timestamp queries would be cheaper on a real GPU but on llvmpipe
-// they record when commands are queued, not when they run; a drained pipeline gives
-// honest numbers on both (and timing is only on for --stats and benchmarks).
 double sta_timing_clock_ms(int clock)
 {
     return clock == STA_TIMING_CPU ? sta_clock_process_cpu_ms() : sta_clock_ms();
 }
 
+// Per-pass time: with timing on, the GPU is drained before and after each pass and the
+// clock read (wall time, or the process's CPU time: sta_timing_clock). GL timestamp
+// queries would be cheaper on a real GPU but on llvmpipe they record when commands are
+// queued, not when they run; a drained pipeline gives honest numbers on both (and
+// timing is only on for --stats and benchmarks).
 static void mark(sta_pipeline *p, sta_pipeline_timing *t, int pass, int end)
 {
     if (t) {
