@@ -39,10 +39,10 @@ typedef struct knn_grid {
     const int32_t (*grid)[3];  /* their integer positions */
     float (*sorted)[3];        /* the points in cell order */
     int32_t (*sorted_grid)[3]; /* their integer positions */
-    uint32_t *cell_of; /* slot of each point */
-    uint32_t *order;   /* point index of each sorted position */
-    uint32_t *cells;   /* occupied slots in key order */
-    uint64_t *bloom;   /* occupied-cell filter, 2^bloom_log2 bits (NULL while tuning) */
+    uint32_t *cell_of;         /* slot of each point */
+    uint32_t *order;           /* point index of each sorted position */
+    uint32_t *cells;           /* occupied slots in key order */
+    uint64_t *bloom;           /* occupied-cell filter, 2^bloom_log2 bits (NULL while tuning) */
     int bloom_log2, bloom_max_log2;
     size_t cell_count;
     grid_slot *slots;
@@ -229,7 +229,6 @@ static void build_grid(knn_grid *g, size_t n, int k, uint64_t *bloom)
     }
 }
 
-
 // Distance first, then the integer coordinates: the same neighbourhood whatever order
 // the cells are visited in (chunkings differ in their grids).
 static inline bool before(const knn_grid *g, float d2, uint32_t p, float e2, uint32_t e)
@@ -359,7 +358,10 @@ static void nearest_from(const knn_grid *g, const float q[3], const int64_t c[3]
 
 // The 27 cells of a block, the own cell first, then by distance (faces, edges, corners);
 // the 98 of the second ring follow them (block_offsets_init).
-enum { INNER_CELLS = 27, WIDE_CELLS = 125 };
+enum {
+    INNER_CELLS = 27,
+    WIDE_CELLS = 125
+};
 static const int8_t inner_offsets[INNER_CELLS][3] = {
     { 0, 0, 0 },  { -1, 0, 0 },   { 1, 0, 0 },   { 0, -1, 0 },  { 0, 1, 0 },  { 0, 0, -1 },
     { 0, 0, 1 },  { -1, -1, 0 },  { 1, -1, 0 },  { -1, 1, 0 },  { 1, 1, 0 },  { -1, 0, -1 },
@@ -389,7 +391,7 @@ static void block_offsets_init(int8_t out[WIDE_CELLS][3])
 // (0 until then).
 typedef struct knn_block {
     size_t cap, inner, wide;
-    const int8_t (*offsets)[3]; /* WIDE_CELLS, inner ring first */
+    const int8_t (*offsets)[3];   /* WIDE_CELLS, inner ring first */
     float *x, *y, *z, *d2, *vals; /* vals: quickselect scratch */
     uint32_t *pos, *cand;         /* sorted positions; candidate scratch */
     int32_t (*grid)[3];           /* integer positions */
@@ -595,8 +597,8 @@ static bool nearest(const knn_grid *g, knn_cell *cell, const float q[3], int nee
         if (ring == 1 && wide) {
             continue;
         }
-        if (nearest_in_block(g, b, count, (float)ring * g->edge + face, q, need,
-                             &cell->hints[wide], nb)) {
+        if (nearest_in_block(g, b, count, (float)ring * g->edge + face, q, need, &cell->hints[wide],
+                             nb)) {
             return true;
         }
     }

@@ -268,9 +268,8 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         }
     }
     normals_visit ctx = { chunk, layout, records, stats };
-    sta_status status =
-        sta_knn_each((const float(*)[3])xyz, (const int32_t(*)[3])grid, n, count, chunk->k,
-                     finish_point, &ctx, err);
+    sta_status status = sta_knn_each((const float(*)[3])xyz, (const int32_t(*)[3])grid, n, count,
+                                     chunk->k, finish_point, &ctx, err);
     if (status == STA_OK) {
         stats->points += count;
     }
