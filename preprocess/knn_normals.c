@@ -76,12 +76,19 @@ static void orient(const sta_normals_chunk *chunk, const double p[3], const doub
 static bool fit_normal(const sta_normals_chunk *chunk, const int32_t q[3], const sta_knn *nb,
                        double n[3], double w[3])
 {
-    int64_t span = 0;
-    for (int i = 0; i < nb->size; i++) {
-        for (int a = 0; a < 3; a++) {
-            int64_t d = (int64_t)nb->grid[i][a] - q[a];
-            span = d > span ? d : -d > span ? -d : span;
+    int32_t lo[3], hi[3]; // the box of the neighbourhood (loops the compiler vectorises)
+    for (int a = 0; a < 3; a++) {
+        lo[a] = hi[a] = q[a];
+        for (int i = 0; i < nb->size; i++) {
+            lo[a] = nb->grid[i][a] < lo[a] ? nb->grid[i][a] : lo[a];
+            hi[a] = nb->grid[i][a] > hi[a] ? nb->grid[i][a] : hi[a];
         }
+    }
+    int64_t span = 0;
+    for (int a = 0; a < 3; a++) {
+        int64_t below = (int64_t)q[a] - lo[a], above = (int64_t)hi[a] - q[a];
+        span = below > span ? below : span;
+        span = above > span ? above : span;
     }
     // Offsets under 2^FIT_BITS keep 65 squares inside int64; a wider neighbourhood (a
     // few far outliers) is fitted at a coarser step.
