@@ -5,9 +5,10 @@
 
 #include <stdint.h>
 
+/* Ranges this short are sorted outright. */
 enum {
     SMALL = 12
-}; /* ranges this short are sorted outright */
+};
 
 static inline void swap(float *v, ptrdiff_t a, ptrdiff_t b)
 {
