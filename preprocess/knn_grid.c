@@ -183,9 +183,8 @@ static void build_grid(knn_grid *g, size_t n, int k, uint64_t *bloom)
         g->edge = next;
     }
     // The final table sized to the cells, not the points: a few MiB probed at random
-    // stay in cache where the full size would not.
-    g->slot_mask = full_mask;
-    fill_cells(g, n, &occupied);
+    // stay in cache where the full size would not. (The tuning's last fill was at this
+    // edge with the full table: `occupied` is its count.)
     size_t small = 1;
     while (small < 2 * occupied + 2) {
         small <<= 1;
