@@ -8,13 +8,14 @@
  * empty cells around a surface costs no cache miss) and walked in key order. Each cell
  * gathers the points of its 27 cells once (own cell first, then by distance), and of its
  * 125 cells when one of its points asks for a wider neighbourhood. For each point the
- * squared distances to the whole block are computed in one vectorised loop; the
- * candidates under a bound (the previous point's K-th distance plus the distance between
- * the two, by the triangle inequality) are kept, and the K-th smallest distance among
- * them is found by quickselect (knn_select.h): the neighbours are taken as a set, with
- * no sorted list to insert into. A point whose K-th neighbour is not provably inside the
- * block continues in shells of cells, skipping cells farther than its current K-th
- * distance. Distance ties are broken by integer coordinates, so a point's neighbourhood
+ * squared distances to the block are computed in one vectorised loop (a wider search
+ * of the same point only adds the outer ring's); the candidates under a bound are kept
+ * (the previous point's K-th distance x 1.25, else the triangle inequality's bound from
+ * it, else all: any bound that keeps K + 1 gives the exact set) and the K-th smallest
+ * distance among them is found by quickselect (knn_select.h): the neighbours are taken
+ * as a set, with no sorted list to insert into. A point whose K-th neighbour is not
+ * provably inside the 27 cells tries the 125, then continues in shells of cells,
+ * skipping cells farther than its current K-th distance. Distance ties are broken by integer coordinates, so a point's neighbourhood
  * is the same set whatever else the set holds beyond it and in whatever order cells are
  * visited.
  */
