@@ -15,9 +15,9 @@
  * distance among them is found by quickselect (knn_select.h): the neighbours are taken
  * as a set, with no sorted list to insert into. A point whose K-th neighbour is not
  * provably inside the 27 cells tries the 125, then continues in shells of cells,
- * skipping cells farther than its current K-th distance. Distance ties are broken by integer
- * coordinates, so a point's neighbourhood is the same set whatever else the set holds beyond it and
- * in whatever order cells are visited.
+ * skipping cells farther than its current K-th distance. Distance ties are broken by
+ * integer coordinates, so a point's neighbourhood is the same set whatever else the set
+ * holds beyond it and in whatever order cells are visited.
  */
 #ifndef STA_PREPROCESS_KNN_GRID_H
 #define STA_PREPROCESS_KNN_GRID_H
