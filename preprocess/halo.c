@@ -22,7 +22,10 @@ static double own_margin(const sta_chunk_plan *plan, const sta_grid *grid, size_
         edge = fmax(edge, (double)(box[1][a] - box[0][a]) * grid->scale[a]);
     }
     double spacing = edge / sqrt(fmax(1.0, (double)c->count));
-    return fmin(edge, STA_HALO_SPACINGS_PER_SQRT_K * sqrt((double)k) * spacing);
+    // Sized for the widest neighbourhood a point may be widened to (adaptive
+    // neighbourhoods, knn_normals.h), not K: no larger than --knn 64's margin.
+    double widest = (double)sta_normals_widest_k(k);
+    return fmin(edge, STA_HALO_SPACINGS_PER_SQRT_K * sqrt(widest) * spacing);
 }
 
 static void grow_box(int64_t box[2][3], double margin, const sta_grid *grid, int64_t out[2][3])

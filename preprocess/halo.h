@@ -8,7 +8,8 @@
  * appended, as 3 x int32, to that chunk's list in a second compressed store. Lists read
  * back in (source chunk, block) order whatever the threads, so the output stays
  * deterministic. The margin of a chunk is a multiple of its estimated point spacing
- * (box edge / sqrt(points): surfaces) times sqrt(K), at most its box edge; a chunk
+ * (box edge / sqrt(points): surfaces) times sqrt(K'), K' the widest neighbourhood a
+ * point may be widened to (sta_normals_widest_k: 6 K, at most 64), at most its box edge; a chunk
  * receives from a neighbour the points within the smaller of their two margins (a
  * sparse chunk next to a dense one needs only a thin slice of it: its border points
  * find their K nearest there). Neighbourhoods that may reach beyond what was received
@@ -25,8 +26,8 @@
 #include "temp_runs.h"
 #include "trajectory.h"
 
-/* Halo margin in spacings per sqrt(K): K = 10 gives ~9.5 spacings, the 10th neighbour
- * lies at ~1.8 on a surface. */
+/* Halo margin in spacings per sqrt(K'): K' = 60 (K = 10 widened) gives ~23 spacings,
+ * the 60th neighbour lies at ~4.4 on a surface. */
 #define STA_HALO_SPACINGS_PER_SQRT_K 3.0
 
 /* The chunk's box, the scene's bounds and the margin as sta_normals_compute wants

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT
- * Exact kNN of every point of a set: a tuned, hashed uniform grid, blocks of 27 cells,
- * shell search beyond them. */
+ * Exact kNN of every point of a set: a tuned, hashed uniform grid, blocks of 27 (or 125)
+ * cells searched by bounded quickselect, shell search beyond them. */
 #include "knn_grid.h"
 
 #include <math.h>
@@ -10,11 +10,16 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "knn_select.h"
 
 /* Points in a point's cell the grid edge is tuned to: TARGET_PER_K x K, at least
  * TARGET_MIN. Measured on a 1 M street at K = 10 and 40: 1.2-1.6 x K was the fastest
  * (fewer cells to probe against fewer points to compare). */
 #define TARGET_PER_K 1.5
+
+/* The first bound tried for a point's K-th squared distance: the previous point's,
+ * times this (on the 4 M street: about 1.3 x K candidates, under 10 % retried). */
+#define HINT_WIDEN 1.25f
 
 enum {
     TARGET_MIN = 8,
@@ -30,12 +35,14 @@ typedef struct grid_slot {
 } grid_slot;
 
 typedef struct knn_grid {
-    const float (*xyz)[3]; /* all points */
-    float (*sorted)[3];
-    uint32_t *cell_of; /* slot of each point */
-    uint32_t *order;   /* point index of each sorted position */
-    uint32_t *cells;   /* occupied slots in key order */
-    uint64_t *bloom;   /* occupied-cell filter, 2^bloom_log2 bits (NULL while tuning) */
+    const float (*xyz)[3];     /* all points */
+    const int32_t (*grid)[3];  /* their integer positions */
+    float (*sorted)[3];        /* the points in cell order */
+    int32_t (*sorted_grid)[3]; /* their integer positions */
+    uint32_t *cell_of;         /* slot of each point */
+    uint32_t *order;           /* point index of each sorted position */
+    uint32_t *cells;           /* occupied slots in key order */
+    uint64_t *bloom;           /* occupied-cell filter, 2^bloom_log2 bits (NULL while tuning) */
     int bloom_log2, bloom_max_log2;
     size_t cell_count;
     grid_slot *slots;
@@ -50,7 +57,8 @@ size_t sta_knn_memory_bytes(size_t points)
     while (slots < 2 * points + 2) {
         slots <<= 1;
     }
-    return points * (3 * sizeof(float) + 3 * sizeof(uint32_t)) + slots * sizeof(grid_slot);
+    return points * (3 * sizeof(float) + 3 * sizeof(int32_t) + 3 * sizeof(uint32_t)) +
+           slots * sizeof(grid_slot);
 }
 
 static uint64_t cell_key(const knn_grid *g, const float p[3], int64_t out[3])
@@ -175,9 +183,8 @@ static void build_grid(knn_grid *g, size_t n, int k, uint64_t *bloom)
         g->edge = next;
     }
     // The final table sized to the cells, not the points: a few MiB probed at random
-    // stay in cache where the full size would not.
-    g->slot_mask = full_mask;
-    fill_cells(g, n, &occupied);
+    // stay in cache where the full size would not. (The tuning's last fill was at this
+    // edge with the full table: `occupied` is its count.)
     size_t small = 1;
     while (small < 2 * occupied + 2) {
         small <<= 1;
@@ -216,38 +223,65 @@ static void build_grid(knn_grid *g, size_t n, int k, uint64_t *bloom)
     for (size_t i = 0; i < n; i++) {
         grid_slot *slot = &g->slots[g->cell_of[i]];
         g->order[slot->start + slot->count] = (uint32_t)i;
+        memcpy(g->sorted_grid[slot->start + slot->count], g->grid[i], sizeof(g->grid[i]));
         memcpy(g->sorted[slot->start + slot->count++], g->xyz[i], sizeof(g->xyz[i]));
     }
 }
 
-// Distance first, then the coordinates: the same neighbourhood whatever order the
-// cells are visited in (chunkings differ in their grids).
-static inline bool before(float d2, const float *p, float e2, const float *e)
+// Distance first, then the integer coordinates: the same neighbourhood whatever order
+// the cells are visited in (chunkings differ in their grids).
+static inline bool before(const knn_grid *g, float d2, uint32_t p, float e2, uint32_t e)
 {
     if (d2 != e2) {
         return d2 < e2;
     }
     for (int a = 0; a < 3; a++) {
-        if (p[a] != e[a]) {
-            return p[a] < e[a];
+        if (g->sorted_grid[p][a] != g->sorted_grid[e][a]) {
+            return g->sorted_grid[p][a] < g->sorted_grid[e][a];
         }
     }
     return false;
 }
 
-static inline void offer(sta_knn *nb, float d2, const float *p)
+// A neighbourhood being found: squared distances, sorted positions and integer
+// positions. Sorted ascending only while the shell search (nearest_from) inserts into it.
+typedef struct knn_list {
+    int size, capacity;
+    float d2[STA_KNN_MAX + 1];
+    uint32_t pos[STA_KNN_MAX + 1];
+    int32_t grid[STA_KNN_MAX + 1][3];
+} knn_list;
+
+static inline void list_set(knn_list *nb, int i, float d2, uint32_t pos, const int32_t grid[3])
 {
-    if (nb->size == nb->capacity && !before(d2, p, nb->d2[nb->size - 1], nb->p[nb->size - 1])) {
+    nb->d2[i] = d2;
+    nb->pos[i] = pos;
+    memcpy(nb->grid[i], grid, sizeof(nb->grid[i]));
+}
+
+static inline void list_swap(knn_list *nb, int i, int j)
+{
+    float d = nb->d2[i];
+    uint32_t p = nb->pos[i];
+    int32_t gr[3];
+    memcpy(gr, nb->grid[i], sizeof(gr));
+    list_set(nb, i, nb->d2[j], nb->pos[j], nb->grid[j]);
+    list_set(nb, j, d, p, gr);
+}
+
+static inline void offer(const knn_grid *g, knn_list *nb, float d2, uint32_t p,
+                         const int32_t grid[3])
+{
+    if (nb->size == nb->capacity &&
+        !before(g, d2, p, nb->d2[nb->size - 1], nb->pos[nb->size - 1])) {
         return;
     }
     int i = nb->size < nb->capacity ? nb->size++ : nb->size - 1;
-    while (i > 0 && before(d2, p, nb->d2[i - 1], nb->p[i - 1])) {
-        nb->d2[i] = nb->d2[i - 1];
-        nb->p[i] = nb->p[i - 1];
+    while (i > 0 && before(g, d2, p, nb->d2[i - 1], nb->pos[i - 1])) {
+        list_set(nb, i, nb->d2[i - 1], nb->pos[i - 1], nb->grid[i - 1]);
         i--;
     }
-    nb->d2[i] = d2;
-    nb->p[i] = p;
+    list_set(nb, i, d2, p, grid);
 }
 
 // The slot of cell c, NULL when empty or outside the key range.
@@ -262,7 +296,7 @@ static const grid_slot *cell_slot(const knn_grid *g, const int64_t c[3])
     return find_slot(g, key);
 }
 
-static void scan_cell(const knn_grid *g, const int64_t c[3], const float q[3], sta_knn *nb)
+static void scan_cell(const knn_grid *g, const int64_t c[3], const float q[3], knn_list *nb)
 {
     const grid_slot *slot = cell_slot(g, c);
     if (!slot) {
@@ -271,17 +305,17 @@ static void scan_cell(const knn_grid *g, const int64_t c[3], const float q[3], s
     for (uint32_t j = slot->start; j < slot->start + slot->count; j++) {
         const float *p = g->sorted[j];
         float dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
-        offer(nb, dx * dx + dy * dy + dz * dz, p);
+        offer(g, nb, dx * dx + dy * dy + dz * dz, j, g->sorted_grid[j]);
     }
 }
 
-// Completes the k + 1 nearest points of q (q itself among them) in `nb`, which holds
-// the best of the cells within Chebyshev distance `done` of q's cell `c`: shells of
-// cells further out are added until the K-th distance is within the scanned block
+// Completes the k + 1 nearest points of q (q itself among them) in `nb` (sorted), which
+// holds the best of the cells within Chebyshev distance `done` of q's cell `c`: shells
+// of cells further out are added until the K-th distance is within the scanned block
 // (exact), or MAX_SHELLS stops the search. `face`: q's distance to its own cell's
 // nearest face.
 static void nearest_from(const knn_grid *g, const float q[3], const int64_t c[3], float face,
-                         int done, sta_knn *nb)
+                         int done, knn_list *nb)
 {
     float lo[3]; // q's cell's lower corner
     for (int a = 0; a < 3; a++) {
@@ -321,10 +355,13 @@ static void nearest_from(const knn_grid *g, const float q[3], const int64_t c[3]
     }
 }
 
-// The 27 cells of a block, the own cell first, then by distance (faces, edges, corners):
-// the first K + 1 candidates, taken unconditionally, are then near ones, and fewer of
-// the rest pass the K-th distance.
-static const int8_t block_offsets[27][3] = {
+// The 27 cells of a block, the own cell first, then by distance (faces, edges, corners);
+// the 98 of the second ring follow them (block_offsets_init).
+enum {
+    INNER_CELLS = 27,
+    WIDE_CELLS = 125
+};
+static const int8_t inner_offsets[INNER_CELLS][3] = {
     { 0, 0, 0 },  { -1, 0, 0 },   { 1, 0, 0 },   { 0, -1, 0 },  { 0, 1, 0 },  { 0, 0, -1 },
     { 0, 0, 1 },  { -1, -1, 0 },  { 1, -1, 0 },  { -1, 1, 0 },  { 1, 1, 0 },  { -1, 0, -1 },
     { 1, 0, -1 }, { -1, 0, 1 },   { 1, 0, 1 },   { 0, -1, -1 }, { 0, 1, -1 }, { 0, -1, 1 },
@@ -332,40 +369,251 @@ static const int8_t block_offsets[27][3] = {
     { 1, -1, 1 }, { -1, 1, 1 },   { 1, 1, 1 },
 };
 
-// The k + 1 nearest of q (in cell c) from the gathered block (also as structure of
-// arrays, `cap` each, the fourth array scratch for distances), then in shells beyond it.
-static void nearest_in_block(const knn_grid *g, const float (*block)[3], float *block_soa,
-                             size_t cap, size_t block_n, const float q[3], const int64_t c[3],
-                             int k, sta_knn *nb)
+static void block_offsets_init(int8_t out[WIDE_CELLS][3])
 {
-    nb->size = 0;
-    nb->capacity = k + 1;
-    // Distances first, in a loop the compiler vectorises; then the few nearer than the
-    // current K-th go into the sorted list.
-    const float *bx = block_soa, *by = bx + cap, *bz = by + cap;
-    float *d2 = block_soa + 3 * cap;
-    for (size_t b = 0; b < block_n; b++) {
-        float ex = bx[b] - q[0], ey = by[b] - q[1], ez = bz[b] - q[2];
-        d2[b] = ex * ex + ey * ey + ez * ez;
-    }
-    for (size_t b = 0; b < block_n; b++) {
-        if (nb->size < nb->capacity || d2[b] <= nb->d2[nb->size - 1]) { // most are farther
-            offer(nb, d2[b], block[b]);
+    memcpy(out, inner_offsets, sizeof(inner_offsets));
+    int n = INNER_CELLS;
+    for (int dz = -2; dz <= 2; dz++) {
+        for (int dy = -2; dy <= 2; dy++) {
+            for (int dx = -2; dx <= 2; dx++) {
+                if (abs(dx) == 2 || abs(dy) == 2 || abs(dz) == 2) {
+                    out[n][0] = (int8_t)dx, out[n][1] = (int8_t)dy, out[n][2] = (int8_t)dz;
+                    n++;
+                }
+            }
         }
     }
-    float face = g->edge; // distance from q to its cell's nearest face
+}
+
+// The points of the cells around one cell, as structure of arrays (`cap` each): the
+// inner ring's `inner` points first, then (once gathered) the second ring's up to `wide`
+// (0 until then).
+typedef struct knn_block {
+    size_t cap, inner, wide;
+    const int8_t (*offsets)[3];   /* WIDE_CELLS, inner ring first */
+    float *x, *y, *z, *d2, *vals; /* vals: quickselect scratch */
+    uint32_t *pos, *cand;         /* sorted positions; candidate scratch */
+    int32_t (*grid)[3];           /* integer positions */
+} knn_block;
+
+static void block_free(knn_block *b)
+{
+    sta_free(b->x);
+    sta_free(b->y);
+    sta_free(b->z);
+    sta_free(b->d2);
+    sta_free(b->vals);
+    sta_free(b->pos);
+    sta_free(b->cand);
+    sta_free(b->grid);
+}
+
+static bool block_reserve(knn_block *b, size_t need)
+{
+    if (need <= b->cap) {
+        return true;
+    }
+    size_t cap = 2 * need;
+    float **f[] = { &b->x, &b->y, &b->z, &b->d2, &b->vals };
+    for (size_t i = 0; i < sizeof(f) / sizeof(f[0]); i++) {
+        float *grown = sta_realloc_array(*f[i], cap, sizeof(float));
+        if (!grown) {
+            return false;
+        }
+        *f[i] = grown;
+    }
+    uint32_t **u[] = { &b->pos, &b->cand };
+    for (size_t i = 0; i < sizeof(u) / sizeof(u[0]); i++) {
+        uint32_t *grown = sta_realloc_array(*u[i], cap, sizeof(uint32_t));
+        if (!grown) {
+            return false;
+        }
+        *u[i] = grown;
+    }
+    int32_t(*grid)[3] = sta_realloc_array(b->grid, cap, sizeof(*b->grid));
+    if (!grid) {
+        return false;
+    }
+    b->grid = grid;
+    b->cap = cap;
+    return true;
+}
+
+// Appends the points of cells offsets[from .. to) around c; false when out of memory.
+static bool block_gather(const knn_grid *g, knn_block *b, size_t *count, const int64_t c[3],
+                         int from, int to)
+{
+    for (int o_i = from; o_i < to; o_i++) {
+        const int64_t cell[3] = { c[0] + b->offsets[o_i][0], c[1] + b->offsets[o_i][1],
+                                  c[2] + b->offsets[o_i][2] };
+        const grid_slot *o = cell_slot(g, cell);
+        if (!o) {
+            continue;
+        }
+        if (!block_reserve(b, *count + o->count)) {
+            return false;
+        }
+        memcpy(b->grid + *count, g->sorted_grid + o->start, o->count * sizeof(*b->grid));
+        for (uint32_t j = 0; j < o->count; j++) {
+            const float *p = g->sorted[o->start + j];
+            b->x[*count] = p[0], b->y[*count] = p[1], b->z[*count] = p[2];
+            b->pos[(*count)++] = o->start + j;
+        }
+    }
+    return true;
+}
+
+// Squared distances from q to block points [from, to), in a loop the compiler vectorises.
+static void block_distances(knn_block *b, size_t from, size_t to, const float q[3])
+{
+    const float *restrict bx = b->x, *restrict by = b->y, *restrict bz = b->z;
+    float *restrict d2 = b->d2;
+    const float qx = q[0], qy = q[1], qz = q[2];
+    for (size_t i = from; i < to; i++) {
+        float ex = bx[i] - qx, ey = by[i] - qy, ez = bz[i] - qz;
+        d2[i] = ex * ex + ey * ey + ez * ez;
+    }
+}
+
+// The previous search's point and K-th distance at each width: they bound the next
+// point's K-th distance.
+typedef struct knn_hint {
+    float q[3];
+    float kth2; /* INFINITY: none */
+} knn_hint;
+
+// The `need` nearest of q among the block's first `count` points (their distances
+// computed) into nb, as a set, by a bounded quickselect; true when they are provably the
+// nearest of all points (the K-th within `inside` of q, inside the block).
+static bool nearest_in_block(const knn_grid *g, knn_block *b, size_t count, float inside,
+                             const float q[3], int need, knn_hint *hint, knn_list *nb)
+{
+    const float *d2 = b->d2;
+    nb->size = 0;
+    nb->capacity = need;
+    // Candidates under a bound; any bound that keeps `need` of them gives the exact set
+    // (all that it drops are farther than those), one too tight keeps fewer and the next
+    // is tried: the previous K-th distance a little widened (density changes slowly: few
+    // more than `need`), the triangle inequality's (holds unless the previous
+    // neighbourhood left the block), then none.
+    float bounds[3] = { INFINITY, INFINITY, INFINITY };
+    if (hint->kth2 < INFINITY) {
+        float dx = q[0] - hint->q[0], dy = q[1] - hint->q[1], dz = q[2] - hint->q[2];
+        double reach = sqrt((double)hint->kth2) + sqrt((double)(dx * dx + dy * dy + dz * dz));
+        bounds[0] = hint->kth2 * HINT_WIDEN;
+        bounds[1] = (float)(reach * reach * (1.0 + 1e-5));
+        bounds[2] = 4.0f * bounds[1];
+    }
+    size_t m = 0;
+    float tried = 0.0f;
+    for (int t = 0; t < 3 && m < (size_t)need; t++) {
+        const float bound = bounds[t];
+        if (!(bound < INFINITY) || !(bound > tried)) {
+            continue;
+        }
+        tried = bound;
+        uint32_t *restrict cand = b->cand;
+        m = 0;
+        for (size_t i = 0; i < count; i++) {
+            cand[m] = (uint32_t)i;
+            m += d2[i] <= bound;
+        }
+    }
+    if (m < (size_t)need) { // the whole block
+        m = count;
+        for (size_t i = 0; i < count; i++) {
+            b->cand[i] = (uint32_t)i;
+        }
+    }
+    float kth2 = INFINITY;
+    if (m > 0) {
+        size_t take = m < (size_t)need ? m : (size_t)need;
+        for (size_t j = 0; j < m; j++) {
+            b->vals[j] = d2[b->cand[j]];
+        }
+        kth2 = sta_knn_select_kth(b->vals, m, take - 1);
+        // Those nearer than the K-th, and of the ties at it the first by coordinates (a
+        // lattice has many).
+        knn_list ties;
+        ties.size = 0, ties.capacity = (int)take;
+        for (size_t j = 0; j < m; j++) {
+            uint32_t i = b->cand[j];
+            if (d2[i] < kth2) {
+                list_set(nb, nb->size++, d2[i], b->pos[i], b->grid[i]);
+            } else if (d2[i] == kth2) {
+                offer(g, &ties, d2[i], b->pos[i], b->grid[i]);
+            }
+        }
+        ties.size = ties.size < (int)take - nb->size ? ties.size : (int)take - nb->size;
+        for (int j = 0; j < ties.size; j++) {
+            list_set(nb, nb->size++, ties.d2[j], ties.pos[j], ties.grid[j]);
+        }
+    }
+    memcpy(hint->q, q, sizeof(hint->q));
+    hint->kth2 = nb->size == need ? kth2 : INFINITY;
+    return nb->size == need && kth2 <= inside * inside;
+}
+
+// Distance from q to the nearest face of its cell c.
+static float face_distance(const knn_grid *g, const float q[3], const int64_t c[3])
+{
+    float face = g->edge;
     for (int a = 0; a < 3; a++) {
         float lo = g->min[a] + (float)c[a] * g->edge;
         face = fminf(face, fmaxf(0.0f, fminf(q[a] - lo, lo + g->edge - q[a])));
     }
-    float inside = g->edge + face; // to the outside of the 27 cells
-    if (nb->size < nb->capacity || !(nb->d2[nb->size - 1] <= inside * inside)) {
-        nearest_from(g, q, c, face, 1, nb);
-    }
+    return face;
 }
 
-sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, sta_knn_visit visit,
-                        void *user, sta_error *err)
+// The search of one cell's points: its block and where the distances stand.
+typedef struct knn_cell {
+    int64_t c[3];
+    knn_block *block;
+    knn_hint hints[2]; /* narrow, wider (carried from cell to cell) */
+} knn_cell;
+
+// The `need` nearest of q (of cell c) into nb: from the 27 cells' block, the 125 cells'
+// when that is not provably enough (or `wide`), shells beyond them when that is not
+// either. `done`: the block points whose distances to q are computed. False when out of
+// memory.
+static bool nearest(const knn_grid *g, knn_cell *cell, const float q[3], int need, bool wide,
+                    size_t *done, knn_list *nb)
+{
+    knn_block *b = cell->block;
+    float face = face_distance(g, q, cell->c);
+    for (int ring = 1; ring <= 2; ring++) {
+        if (ring == 2 && b->wide == 0) {
+            b->wide = b->inner;
+            if (!block_gather(g, b, &b->wide, cell->c, INNER_CELLS, WIDE_CELLS)) {
+                return false;
+            }
+        }
+        size_t count = ring == 2 ? b->wide : b->inner;
+        if (*done < count) {
+            block_distances(b, *done, count, q);
+            *done = count;
+        }
+        if (ring == 1 && wide) {
+            continue;
+        }
+        if (nearest_in_block(g, b, count, (float)ring * g->edge + face, q, need, &cell->hints[wide],
+                             nb)) {
+            return true;
+        }
+    }
+    // Rare (sparse points, the edge of a dense patch): sorted, then shells.
+    knn_list sorted;
+    sorted.size = 0, sorted.capacity = need;
+    for (int j = 0; j < nb->size; j++) {
+        offer(g, &sorted, nb->d2[j], nb->pos[j], nb->grid[j]);
+    }
+    nearest_from(g, q, cell->c, face, 2, &sorted);
+    memcpy(nb, &sorted, sizeof(*nb));
+    return true;
+}
+
+sta_status sta_knn_each(const float (*xyz)[3], const int32_t (*grid)[3], size_t n, size_t queries,
+                        int k, sta_knn_visit visit, void *user, sta_error *err)
 {
     if (k < 1 || k > STA_KNN_MAX) {
         return sta_fail(err, STA_ERR_ARG, "kNN: K = %d outside 1..%d", k, STA_KNN_MAX);
@@ -382,7 +630,9 @@ sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, 
         g.slot_mask <<= 1;
     }
     g.xyz = xyz;
+    g.grid = grid;
     g.sorted = sta_alloc_array(n, sizeof(*g.sorted));
+    g.sorted_grid = sta_alloc_array(n, sizeof(*g.sorted_grid));
     g.cell_of = sta_alloc_array(n, sizeof(*g.cell_of));
     g.order = sta_alloc_array(n, sizeof(*g.order));
     g.cells = sta_alloc_array(n, sizeof(*g.cells));
@@ -394,18 +644,24 @@ sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, 
     g.slots = sta_alloc_array(g.slot_mask, sizeof(*g.slots));
     g.slot_mask--;
     sta_status status = STA_OK;
-    float(*block)[3] = NULL;
-    float *block_soa = NULL; /* x, y, z and squared distance, block_capacity each */
-    size_t block_capacity = 0;
-    if (!g.sorted || !g.cell_of || !g.order || !g.cells || !g.slots || !bloom) {
+    int8_t offsets[WIDE_CELLS][3];
+    block_offsets_init(offsets);
+    knn_block block = { 0 };
+    block.offsets = (const int8_t(*)[3])offsets;
+    knn_cell cell = { .block = &block };
+    for (int w = 0; w < 2; w++) {
+        cell.hints[w].kth2 = INFINITY;
+    }
+    if (!g.sorted || !g.sorted_grid || !g.cell_of || !g.order || !g.cells || !g.slots || !bloom) {
         status = sta_fail(err, STA_ERR_NOMEM, "kNN: out of memory for %zu points", n);
         goto out;
     }
     g.bloom = NULL; // off while the grid is tuned (fill_cells probes with keys directly)
     build_grid(&g, n, k, bloom);
     // Cell by cell: the points of the 27 cells around are gathered once and searched for
-    // each of the cell's own points; a neighbourhood that may reach beyond those cells
-    // (its K-th distance beyond the block's nearest face) is searched again in shells.
+    // each of the cell's own points (the 125 cells for a wider neighbourhood); one that
+    // may reach beyond those cells (its K-th distance beyond the block's nearest face) is
+    // searched again in shells.
     for (size_t cell_index = 0; cell_index < g.cell_count && status == STA_OK; cell_index++) {
         const grid_slot *slot = &g.slots[g.cells[cell_index]];
         bool has_own = false;
@@ -415,42 +671,13 @@ sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, 
         if (!has_own) {
             continue; // halo only
         }
-        int64_t c[3];
         for (int a = 0; a < 3; a++) {
-            c[a] = (int64_t)((slot->key >> (CELL_BITS * a)) & ((1u << CELL_BITS) - 1));
+            cell.c[a] = (int64_t)((slot->key >> (CELL_BITS * a)) & ((1u << CELL_BITS) - 1));
         }
-        size_t block_n = 0;
-        // Neighbourhoods a point widened to, searched at once for the next point of the
-        // cell: widening is local (a road's cells), and a wide search serves the narrow
-        // visit too.
-        int guess = k;
-        for (int o_i = 0; o_i < 27 && status == STA_OK; o_i++) {
-            const int64_t cell[3] = { c[0] + block_offsets[o_i][0], c[1] + block_offsets[o_i][1],
-                                      c[2] + block_offsets[o_i][2] };
-            const grid_slot *o = cell_slot(&g, cell);
-            if (!o) {
-                continue;
-            }
-            if (block_n + o->count > block_capacity) {
-                size_t cap = 2 * (block_n + o->count);
-                float(*grown)[3] = sta_realloc_array(block, cap, sizeof(*block));
-                float *soa = grown ? sta_realloc_array(block_soa, 4 * cap, sizeof(float)) : NULL;
-                block = grown ? grown : block;
-                block_soa = soa ? soa : block_soa;
-                if (!grown || !soa) {
-                    status = sta_fail(err, STA_ERR_NOMEM, "kNN: out of memory");
-                    break;
-                }
-                block_capacity = cap;
-            }
-            memcpy(block + block_n, g.sorted + o->start, o->count * sizeof(*block));
-            block_n += o->count;
-        }
-        if (status == STA_OK) { // the block as structure of arrays too, for the distances
-            float *bx = block_soa, *by = bx + block_capacity, *bz = by + block_capacity;
-            for (size_t b = 0; b < block_n; b++) {
-                bx[b] = block[b][0], by[b] = block[b][1], bz[b] = block[b][2];
-            }
+        block.inner = block.wide = 0;
+        if (!block_gather(&g, &block, &block.inner, cell.c, 0, INNER_CELLS)) {
+            status = sta_fail(err, STA_ERR_NOMEM, "kNN: out of memory");
+            break;
         }
         for (uint32_t j = slot->start; j < slot->start + slot->count && status == STA_OK; j++) {
             size_t i = g.order[j];
@@ -458,18 +685,19 @@ sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, 
                 continue;
             }
             const float *q = g.sorted[j];
+            knn_list found;
             sta_knn nb;
-            int want = k, searched = 0, found = 0;
+            size_t done = 0;
+            int want = k;
             for (;;) {
-                if (want > searched) {
-                    searched = want > guess ? want : guess;
-                    nearest_in_block(&g, (const float(*)[3])block, block_soa, block_capacity,
-                                     block_n, q, c, searched, &nb);
-                    found = nb.size;
+                if (!nearest(&g, &cell, q, want + 1, want > k, &done, &found)) {
+                    status = sta_fail(err, STA_ERR_NOMEM, "kNN: out of memory");
+                    break;
                 }
-                // The K + 1 nearest are the first K + 1 of a wider search (a total order).
                 nb.capacity = want + 1;
-                nb.size = found < want + 1 ? found : want + 1;
+                nb.size = found.size;
+                memcpy(nb.d2, found.d2, (size_t)found.size * sizeof(float));
+                memcpy(nb.grid, found.grid, (size_t)found.size * sizeof(nb.grid[0]));
                 int next = visit(user, i, &nb);
                 next = next < STA_KNN_MAX ? next : STA_KNN_MAX;
                 if (next <= want || (size_t)want + 1 >= n) {
@@ -477,17 +705,16 @@ sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, 
                 }
                 want = next;
             }
-            guess = want;
         }
     }
 out:
     sta_free(g.sorted);
+    sta_free(g.sorted_grid);
     sta_free(g.cell_of);
     sta_free(g.order);
     sta_free(g.cells);
     sta_free(bloom);
     sta_free(g.slots);
-    sta_free(block);
-    sta_free(block_soa);
+    block_free(&block);
     return status;
 }

@@ -6,27 +6,37 @@
  * cell holds about 1.5 K points (surfaces and volumes alike). Cells are hashed (a table
  * sized to the occupied cells, and a 16-bit-a-cell occupancy filter so that probing the
  * empty cells around a surface costs no cache miss) and walked in key order. Each cell
- * gathers the points of its 27 cells once (own cell first, then by distance); a point
- * whose K-th neighbour is not provably inside them continues in shells of cells,
+ * gathers the points of its 27 cells once (own cell first, then by distance), and of its
+ * 125 cells when one of its points asks for a wider neighbourhood. For each point the
+ * squared distances to the block are computed in one vectorised loop (a wider search
+ * of the same point only adds the outer ring's); the candidates under a bound are kept
+ * (the previous point's K-th distance x 1.25, else the triangle inequality's bound from
+ * it, else all: any bound that keeps K + 1 gives the exact set) and the K-th smallest
+ * distance among them is found by quickselect (knn_select.h): the neighbours are taken
+ * as a set, with no sorted list to insert into. A point whose K-th neighbour is not
+ * provably inside the 27 cells tries the 125, then continues in shells of cells,
  * skipping cells farther than its current K-th distance. Distance ties are broken by
- * coordinates, so a point's neighbourhood is the same set whatever else the set holds
- * beyond it and in whatever order cells are visited.
+ * integer coordinates, so a point's neighbourhood is the same set whatever else the set
+ * holds beyond it and in whatever order cells are visited.
  */
 #ifndef STA_PREPROCESS_KNN_GRID_H
 #define STA_PREPROCESS_KNN_GRID_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "core/status.h"
 
 #define STA_KNN_MAX 64 /* largest K */
 
-/* A neighbourhood: `size` points (k + 1 when the set has as many), ascending distance;
- * p[0] is the query point itself (or a duplicate of it). */
+/* A neighbourhood: `size` points (k + 1 when the set has as many), the nearest under
+ * the order (squared distance, then integer coordinates), in no particular order; the
+ * query point itself (or a duplicate of it) is among them. Consumers that sum over it
+ * must not depend on the order (knn_normals.c sums integers). */
 typedef struct sta_knn {
     int size, capacity;
-    float d2[STA_KNN_MAX + 1];       /* squared distances */
-    const float *p[STA_KNN_MAX + 1]; /* the points (into the library's copies) */
+    float d2[STA_KNN_MAX + 1];        /* squared distances (of the float positions) */
+    int32_t grid[STA_KNN_MAX + 1][3]; /* the integer positions */
 } sta_knn;
 
 /* Called for each of the first `queries` points, in no particular order. Returns 0 when
@@ -37,9 +47,10 @@ typedef int (*sta_knn_visit)(void *user, size_t index, const sta_knn *neighbours
 
 /* Finds the k + 1 nearest of xyz[0 .. n) (a neighbourhood wider than 12 cells gets what
  * those hold) for each point i < queries and calls visit(user, i, ...), again with more
- * neighbours while it asks for them. */
-sta_status sta_knn_each(const float (*xyz)[3], size_t n, size_t queries, int k, sta_knn_visit visit,
-                        void *user, sta_error *err);
+ * neighbours while it asks for them. grid[i]: point i's integer position (the one xyz[i]
+ * was computed from: same order), handed back in the neighbourhoods and the tie-break. */
+sta_status sta_knn_each(const float (*xyz)[3], const int32_t (*grid)[3], size_t n, size_t queries,
+                        int k, sta_knn_visit visit, void *user, sta_error *err);
 
 /* Bytes of scratch memory sta_knn_each needs for `points` points. */
 size_t sta_knn_memory_bytes(size_t points);

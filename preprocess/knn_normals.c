@@ -17,6 +17,8 @@
  * neighbours are nearly one line (a dense scan line), and noise across it would decide
  * the plane: the neighbourhood is widened. */
 #define LINEAR       0.01
+/* Offsets from the query point summed exactly in int64 (fit_normal) stay below 2^FIT_BITS. */
+#define FIT_BITS     28
 /* |n . v| below this, v the unit direction to the scanner (the trajectory): the fitted
  * plane holds the line of sight (within 10 degrees). No surface is scanned edge-on: this
  * is one profile whose range noise (along the rays) spans the plane; widened. */
@@ -36,7 +38,8 @@ int sta_normals_widest_k(int k)
 
 size_t sta_normals_memory_bytes(size_t points)
 {
-    return sta_knn_memory_bytes(points) + points * 3 * sizeof(float); // + the positions
+    // + the positions, as floats and integers
+    return sta_knn_memory_bytes(points) + points * 3 * (sizeof(float) + sizeof(int32_t));
 }
 
 // The rule of docs/CONVERTER.md: up for surfaces that face up or down; a wall faces the
@@ -67,27 +70,53 @@ static void orient(const sta_normals_chunk *chunk, const double p[3], const doub
     }
 }
 
-// The plane normal of a neighbourhood and the covariance's eigenvalues, ascending (zero
-// when none); false when it is degenerate.
-static bool fit_normal(const sta_knn *nb, double n[3], double w[3])
+// The plane normal of a neighbourhood around grid point q and the covariance's
+// eigenvalues, ascending (zero when none); false when it is degenerate. The sums are of
+// integers (offsets from q), exact: the same bits whatever order the set comes in.
+static bool fit_normal(const sta_normals_chunk *chunk, const int32_t q[3], const sta_knn *nb,
+                       double n[3], double w[3])
 {
-    double mean[3] = { 0, 0, 0 };
-    for (int i = 0; i < nb->size; i++) {
-        for (int a = 0; a < 3; a++) {
-            mean[a] += (double)nb->p[i][a];
+    int32_t lo[3], hi[3]; // the box of the neighbourhood (loops the compiler vectorises)
+    for (int a = 0; a < 3; a++) {
+        lo[a] = hi[a] = q[a];
+        for (int i = 0; i < nb->size; i++) {
+            lo[a] = nb->grid[i][a] < lo[a] ? nb->grid[i][a] : lo[a];
+            hi[a] = nb->grid[i][a] > hi[a] ? nb->grid[i][a] : hi[a];
         }
     }
+    int64_t span = 0;
     for (int a = 0; a < 3; a++) {
-        mean[a] /= nb->size;
+        int64_t below = (int64_t)q[a] - lo[a], above = (int64_t)hi[a] - q[a];
+        span = below > span ? below : span;
+        span = above > span ? above : span;
     }
-    double cov[9] = { 0 };
+    // Offsets under 2^FIT_BITS keep 65 squares inside int64; a wider neighbourhood (a
+    // few far outliers) is fitted at a coarser step.
+    int shift = 0;
+    while ((span >> shift) >= ((int64_t)1 << FIT_BITS)) {
+        shift++;
+    }
+    int64_t s1[3] = { 0, 0, 0 }, s2[6] = { 0, 0, 0, 0, 0, 0 };
     for (int i = 0; i < nb->size; i++) {
-        double d[3] = { (double)nb->p[i][0] - mean[0], (double)nb->p[i][1] - mean[1],
-                        (double)nb->p[i][2] - mean[2] };
-        for (int r = 0; r < 3; r++) {
-            for (int c = r; c < 3; c++) {
-                cov[3 * r + c] += d[r] * d[c];
+        int64_t d[3];
+        for (int a = 0; a < 3; a++) {
+            d[a] = (int64_t)nb->grid[i][a] - q[a];
+            if (shift > 0) { // (rare: a division, not a shift, rounds negatives alike)
+                d[a] /= (int64_t)1 << shift;
             }
+            s1[a] += d[a];
+        }
+        s2[0] += d[0] * d[0], s2[1] += d[0] * d[1], s2[2] += d[0] * d[2];
+        s2[3] += d[1] * d[1], s2[4] += d[1] * d[2], s2[5] += d[2] * d[2];
+    }
+    double step[3], cov[9] = { 0 };
+    for (int a = 0; a < 3; a++) {
+        step[a] = chunk->scale[a] * (double)((int64_t)1 << shift);
+    }
+    for (int r = 0, t = 0; r < 3; r++) {
+        for (int c = r; c < 3; c++, t++) {
+            double centred = (double)s2[t] - (double)s1[r] * (double)s1[c] / nb->size;
+            cov[3 * r + c] = centred * step[r] * step[c];
         }
     }
     double v[3][3];
@@ -157,9 +186,9 @@ static int finish_point(void *user, size_t i, const sta_knn *nb)
     sta_normals_stats *stats = v->stats;
     double normal[3] = { 0, 0, 0 }, w[3] = { 0, 0, 0 };
     normal[chunk->up_axis == 1 ? 1 : 2] = 1.0; // the fallback: up
-    bool ok = nb->size >= 3 && fit_normal(nb, normal, w);
     int32_t p[3];
     sta_record_position(records + i * layout->size, p);
+    bool ok = nb->size >= 3 && fit_normal(chunk, p, nb, normal, w);
     double pd[3] = { p[0], p[1], p[2] };
     double gps_time;
     bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
@@ -182,14 +211,30 @@ static int finish_point(void *user, size_t i, const sta_knn *nb)
         stats->degenerate++;
     }
     // Radius: the mean distance to the nearest STA_NORMALS_RADIUS_K (or K) neighbours,
-    // whatever K the normal used; nb->p[0] is q itself (distance 0).
-    int m = nb->size - 1 < STA_NORMALS_RADIUS_K ? nb->size - 1 : STA_NORMALS_RADIUS_K;
-    double sum = 0.0;
-    for (int j = 1; j <= m; j++) {
-        sum += sqrt((double)nb->d2[j]);
+    // whatever K the normal used, summed nearest first (the same bits in any set order);
+    // the nearest is q itself (distance 0).
+    float nearest[STA_NORMALS_RADIUS_K + 1];
+    int m = 0;
+    float farthest = 0.0f;
+    for (int j = 0; j < nb->size; j++) { // the STA_NORMALS_RADIUS_K + 1 smallest, sorted
+        float d2 = nb->d2[j];
+        farthest = fmaxf(farthest, d2);
+        if (m == STA_NORMALS_RADIUS_K + 1 && !(d2 < nearest[m - 1])) {
+            continue;
+        }
+        int at = m < STA_NORMALS_RADIUS_K + 1 ? m++ : m - 1;
+        while (at > 0 && d2 < nearest[at - 1]) {
+            nearest[at] = nearest[at - 1];
+            at--;
+        }
+        nearest[at] = d2;
     }
-    double radius = m > 0 ? sum / m : 0.0;
-    if (nb->size > 0 && sqrt((double)nb->d2[nb->size - 1]) > halo_reach(chunk, p)) {
+    double sum = 0.0;
+    for (int j = 1; j < m; j++) {
+        sum += sqrt((double)nearest[j]);
+    }
+    double radius = m > 1 ? sum / (m - 1) : 0.0;
+    if (nb->size > 0 && sqrt((double)farthest) > halo_reach(chunk, p)) {
         stats->beyond_halo++;
     }
     const float nf[3] = { (float)normal[0], (float)normal[1], (float)normal[2] };
@@ -211,28 +256,31 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     if (count == 0) {
         return STA_OK;
     }
-    float(*xyz)[3] = sta_alloc_array(n ? n : 1, sizeof(*xyz));
-    if (!xyz) {
+    float(*xyz)[3] = sta_alloc_array(n, sizeof(*xyz));
+    int32_t(*grid)[3] = sta_alloc_array(n, sizeof(*grid));
+    if (!xyz || !grid) {
+        sta_free(xyz);
+        sta_free(grid);
         return sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", n);
     }
     for (size_t i = 0; i < n; i++) {
-        int32_t p[3];
         if (i < count) {
-            sta_record_position(records + i * layout->size, p);
+            sta_record_position(records + i * layout->size, grid[i]);
         } else {
-            memcpy(p, halo + 3 * (i - count), sizeof(p));
+            memcpy(grid[i], halo + 3 * (i - count), sizeof(grid[i]));
         }
         for (int a = 0; a < 3; a++) {
             // From the scene's corner, not the chunk's: the same floats in every chunking.
-            xyz[i][a] = (float)((double)(p[a] - chunk->scene_min[a]) * chunk->scale[a]);
+            xyz[i][a] = (float)((double)(grid[i][a] - chunk->scene_min[a]) * chunk->scale[a]);
         }
     }
     normals_visit ctx = { chunk, layout, records, stats };
-    sta_status status =
-        sta_knn_each((const float(*)[3])xyz, n, count, chunk->k, finish_point, &ctx, err);
+    sta_status status = sta_knn_each((const float(*)[3])xyz, (const int32_t(*)[3])grid, n, count,
+                                     chunk->k, finish_point, &ctx, err);
     if (status == STA_OK) {
         stats->points += count;
     }
     sta_free(xyz);
+    sta_free(grid);
     return status;
 }

@@ -274,6 +274,71 @@ static void sphere_matches_truth_without_chunk_seams(void **state)
     sta_free(b.points);
 }
 
+// GPS time, then position (a street's scan repeats times across its scanners).
+static int by_time_and_position(const void *a, const void *b)
+{
+    const sta_point *x = a, *y = b;
+    if (x->gps_time != y->gps_time) {
+        return x->gps_time < y->gps_time ? -1 : 1;
+    }
+    if (x->X != y->X) {
+        return x->X < y->X ? -1 : 1;
+    }
+    if (x->Y != y->Y) {
+        return x->Y < y->Y ? -1 : 1;
+    }
+    return x->Z < y->Z ? -1 : x->Z > y->Z;
+}
+
+// Widened neighbourhoods (6 K) at chunk borders: the halo is sized for them, so a
+// street converted in many chunks stores the same normals and radii as in one.
+static void street_widened_normals_have_no_chunk_seams(void **state)
+{
+    (void)state;
+    char las[512], one[512], many[512];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("seam_street.las"));
+    snprintf(one, sizeof(one), "%s", sta_test_tmp_path("seam_street_one.strata"));
+    snprintf(many, sizeof(many), "%s", sta_test_tmp_path("seam_street_many.strata"));
+    sta_synth_params p = {
+        .kind = STA_SYNTH_STREET, .seed = 5, .point_count = 60000, .origin = STA_SYNTH_ORIGIN_ZERO
+    };
+    sta_error err = { 0 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    sta_convert_report r1, r2;
+    convert(las, one, 1 << 20, 2, &r1);
+    convert(las, many, 4000, 2, &r2);
+    assert_int_equal(r1.chunk_count, 1);
+    assert_true(r2.chunk_count >= 8);
+    assert_true(r2.normals_widened > 1000);
+    cloud a = read_cloud(one), b = read_cloud(many);
+    assert_int_equal(a.count, 60000);
+    assert_int_equal(b.count, 60000);
+    qsort(a.points, a.count, sizeof(sta_point), by_time_and_position);
+    qsort(b.points, b.count, sizeof(sta_point), by_time_and_position);
+    // Sparse stray points (radius over 0.5 m, neighbours metres apart, some beyond the 12
+    // cells a search reaches: knn_grid.h) may differ; every point of a surface must not.
+    size_t dense = 0, differ = 0, differ_sparse = 0;
+    for (size_t i = 0; i < a.count; i++) {
+        const sta_point *x = &a.points[i], *y = &b.points[i];
+        assert_true(x->gps_time == y->gps_time && x->X == y->X && x->Y == y->Y && x->Z == y->Z);
+        bool same = memcmp(x->normal, y->normal, sizeof(x->normal)) == 0 && x->radius == y->radius;
+        if (x->radius < 0.5f) {
+            dense++;
+            differ += !same;
+        } else {
+            differ_sparse += !same;
+        }
+    }
+    print_message("street 60k, %zu chunks: %zu widened, %zu beyond the halo; %zu of %zu points "
+                  "on surfaces and %zu sparse ones differ from one chunk\n",
+                  r2.chunk_count, (size_t)r2.normals_widened, (size_t)r2.normals_beyond_halo,
+                  differ, dense, differ_sparse);
+    assert_true(dense > 55000);
+    assert_int_equal(differ, 0);
+    sta_free(a.points);
+    sta_free(b.points);
+}
+
 static void planes_match_truth_oriented_up(void **state)
 {
     (void)state;
@@ -521,6 +586,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(dense_scan_lines_get_the_plane_between_them),
     cmocka_unit_test(even_plane_is_not_widened),
     cmocka_unit_test(street_normals_are_deterministic),
+    cmocka_unit_test(street_widened_normals_have_no_chunk_seams),
     cmocka_unit_test(knn_outside_its_range_is_refused),
     cmocka_unit_test(node_source_carries_the_splat_section),
 };

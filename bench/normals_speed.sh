@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# The cost of strata-convert --normals against a plain conversion (issue 12), and
+# against a reference binary (an earlier build copied beforehand, e.g. the merge base),
+# on one strata-synth street. Rounds interleaved (plain, ref --normals, new --normals),
+# wall and CPU (user + sys) seconds, medians, and the ratios per round: the machine is
+# shared, so only ratios within a round are compared.
+#
+#   bench/normals_speed.sh [REF_CONVERT|-] [POINTS=20000000] [RUNS=3] [K=10]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ref=${1:--}
+points=${2:-20000000}
+runs=${3:-3}
+k=${4:-10}
+bin=build/release
+work=${BENCH_DIR:-/tmp/strata-normals-bench}
+mkdir -p "$work"
+las="$work/street-$points.las"
+[ -f "$las" ] || $bin/src/strata-synth street --points "$points" --seed 1 -o "$las" --quiet
+echo "input: $las ($points points), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
+variants="plain new"
+[ "$ref" = - ] || variants="plain ref new"
+: >"$work/speed.txt"
+for run in $(seq 1 "$runs"); do
+    for v in $variants; do
+        case $v in
+        plain) cmd=($bin/preprocess/strata-convert) ;;
+        ref) cmd=("$ref" --normals --knn "$k") ;;
+        new) cmd=($bin/preprocess/strata-convert --normals --knn "$k") ;;
+        esac
+        /usr/bin/time -f "$v %e %U %S" -o "$work/time.txt" \
+            "${cmd[@]}" "$las" -o "$work/speed-$v.strata" --force -q
+        awk '{ printf "%s %.2f %.2f\n", $1, $2, $3 + $4 }' "$work/time.txt" | tee -a "$work/speed.txt"
+    done
+    echo "  load $(cut -d' ' -f1 /proc/loadavg)"
+done
+median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+echo "| run | median wall s | median CPU s | all wall s |"
+echo "|---|---|---|---|"
+for v in $variants; do
+    echo "| $v | $(awk -v t=$v '$1 == t { print $2 }' "$work/speed.txt" | median) |" \
+        "$(awk -v t=$v '$1 == t { print $3 }' "$work/speed.txt" | median) |" \
+        "$(awk -v t=$v '$1 == t { printf "%s ", $2 }' "$work/speed.txt")|"
+done
+echo "per round: new/plain wall, new/plain CPU, and (with a reference) new/ref wall, new/ref CPU:"
+awk '{ w[$1] = $2; c[$1] = $3 }
+     $1 == "new" { printf "  %.2f %.2f", w["new"] / w["plain"], c["new"] / c["plain"]
+                   if ("ref" in w) printf "   %.2f %.2f", w["new"] / w["ref"], c["new"] / c["ref"]
+                   printf "\n" }' "$work/speed.txt"

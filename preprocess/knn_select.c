@@ -1,0 +1,69 @@
+/* SPDX-License-Identifier: MIT
+ * Quickselect (median-of-three pivot, Hoare partition) on floats, insertion sort once
+ * the range is small. */
+#include "knn_select.h"
+
+#include <stdint.h>
+
+/* Ranges this short are sorted outright. */
+enum {
+    SMALL = 12
+};
+
+static inline void swap(float *v, ptrdiff_t a, ptrdiff_t b)
+{
+    float t = v[a];
+    v[a] = v[b];
+    v[b] = t;
+}
+
+float sta_knn_select_kth(float *v, size_t n, size_t k)
+{
+    ptrdiff_t lo = 0, hi = (ptrdiff_t)n - 1, want = (ptrdiff_t)k;
+    while (hi - lo >= SMALL) {
+        ptrdiff_t mid = lo + (hi - lo) / 2;
+        if (v[mid] < v[lo]) {
+            swap(v, mid, lo);
+        }
+        if (v[hi] < v[lo]) {
+            swap(v, hi, lo);
+        }
+        if (v[hi] < v[mid]) {
+            swap(v, hi, mid);
+        }
+        // v[lo] <= pivot <= v[hi]: both scans stop inside the range.
+        float pivot = v[mid];
+        ptrdiff_t i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < pivot) {
+                i++;
+            }
+            while (v[j] > pivot) {
+                j--;
+            }
+            if (i <= j) {
+                swap(v, i, j);
+                i++;
+                j--;
+            }
+        }
+        // [lo, j] <= pivot, (j, i) == pivot, [i, hi] >= pivot
+        if (want <= j) {
+            hi = j;
+        } else if (want >= i) {
+            lo = i;
+        } else {
+            return v[want];
+        }
+    }
+    for (ptrdiff_t i = lo + 1; i <= hi; i++) {
+        float x = v[i];
+        ptrdiff_t j = i;
+        while (j > lo && v[j - 1] > x) {
+            v[j] = v[j - 1];
+            j--;
+        }
+        v[j] = x;
+    }
+    return v[want];
+}
