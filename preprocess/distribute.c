@@ -69,6 +69,7 @@ typedef struct range_task {
     sta_error err;
     sta_status (*per_batch)(struct range_task *t, size_t input, sta_point_batch *batch);
     sta_status (*at_end)(struct range_task *t); /* optional, in the task's thread */
+    bool positions_only;                        /* per_batch reads only X, Y, Z (the count) */
     // counting
     const sta_octree_space *space;
     int level;
@@ -121,7 +122,9 @@ static void run_range(range_task *t)
                 t->status = sta_cloud_seek(reader, lo - file_start, &t->err);
                 uint64_t left = hi - lo;
                 while (t->status == STA_OK && left > 0) {
-                    t->status = sta_cloud_read(reader, &batch, &t->err);
+                    t->status = t->positions_only
+                                    ? sta_cloud_read_positions(reader, &batch, &t->err)
+                                    : sta_cloud_read(reader, &batch, &t->err);
                     if (t->status != STA_OK) {
                         break;
                     }
@@ -300,6 +303,7 @@ static sta_status count_pass(range_task *tasks, int threads, const sta_octree_sp
         k->level = level;
         k->outside = false;
         k->per_batch = count_batch;
+        k->positions_only = true; // count_batch and the regrid read nothing else
         for (int a = 0; a < 3; a++) {
             k->min[a] = INT64_MAX;
             k->max[a] = INT64_MIN;
