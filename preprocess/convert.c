@@ -68,6 +68,8 @@ typedef struct convert_job {
     char *chunk_path; /* temporary file of distributed records */
     int chunk_fd;
     sta_temp_runs runs;        /* the distributed records, compressed, per chunk */
+    uint8_t **chunk_records;   /* instead of runs when they fit --memory: each chunk's
+                                  records (owned; freed once indexed), else NULL */
     sta_temp_runs spill_runs;  /* nodes kept for the merge, one list each */
     sta_temp_usage temp_usage; /* both stores' disk together */
     sta_run_codec *codecs;     /* one per index worker */
@@ -224,6 +226,15 @@ static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index
     return status;
 }
 
+static void free_chunk_records(convert_job *job)
+{
+    for (size_t c = 0; job->chunk_records && c < job->plan.chunk_count; c++) {
+        sta_free(job->chunk_records[c]);
+    }
+    sta_free(job->chunk_records);
+    job->chunk_records = NULL;
+}
+
 typedef struct worker_args {
     convert_job *job;
     int index;
@@ -245,9 +256,11 @@ static void *index_worker(void *argument)
         if (i >= job->plan.chunk_count) {
             break;
         }
-        const sta_chunk *chunk = &job->plan.chunks[job->chunk_order[i]];
+        const size_t ci = job->chunk_order[i];
+        const sta_chunk *chunk = &job->plan.chunks[ci];
         size_t count = (size_t)chunk->count;
-        if (count > records_capacity) {
+        uint8_t *in_memory = job->chunk_records ? job->chunk_records[ci] : NULL;
+        if (!in_memory && count > records_capacity) {
             sta_free(records);
             records = sta_alloc_array(count, rec);
             records_capacity = records ? count : 0;
@@ -259,11 +272,12 @@ static void *index_worker(void *argument)
         }
         // The chunk's payloads reach the file in chunk order (deterministic output).
         status = sta_node_writer_begin_chunk(&job->node_writer, args->index, i, &err);
-        if (status == STA_OK) {
+        if (status == STA_OK && !in_memory) {
             status = sta_temp_runs_read(&job->runs, &job->codecs[args->index], chunk->list, records,
                                         &err);
             sta_temp_runs_discard(&job->runs, chunk->list); // read once: free its disk
         }
+        const uint8_t *data = in_memory ? in_memory : records;
         if (status == STA_OK && job->options->normals) {
             sta_index_scratch_release(&scratch); // never both at once (worker_bytes)
             status = chunk_normals(job, args->index, job->chunk_order[i], records, count, &err);
@@ -271,8 +285,12 @@ static void *index_worker(void *argument)
         sta_pending_node root = { 0 };
         if (status == STA_OK) {
             status =
-                sta_index_chunk(&job->plan.space, &job->inputs.layout, &chunk->key, records, count,
+                sta_index_chunk(&job->plan.space, &job->inputs.layout, &chunk->key, data, count,
                                 job->leaf_capacity, args->index, &sink, &scratch, &root, &err);
+        }
+        if (in_memory) { // indexed: its memory goes back at once
+            sta_free(in_memory);
+            job->chunk_records[ci] = NULL;
         }
         if (status == STA_OK) {
             status = sta_node_writer_end_chunk(&job->node_writer, args->index, &err);
@@ -552,9 +570,19 @@ static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2, bool n
     }
     size_t grid_cells = (size_t)1 << (3 * grid_log2);
     size_t per_point = record_size + 2 * sizeof(sta_index_item) + 1; // records, items, labels
-    size_t per_node_point = record_size + sizeof(sta_point) + 2 * record_size; // node buffers
+    // Node buffers: the gathered records, the node writer's columns and the encoder's
+    // shuffled and compressed copies (nodes are encoded from the packed records, never
+    // unpacked into sta_point).
+    size_t per_node_point = 4 * record_size;
     size_t largest_node = cap < grid_cells ? cap : grid_cells;
     return cap * (per_point + record_size) + largest_node * per_node_point;
+}
+
+// Bytes of --memory left after the fixed overhead.
+static size_t budget_bytes(size_t memory_mib)
+{
+    return memory_mib > FIXED_OVERHEAD_MIB ? (memory_mib - FIXED_OVERHEAD_MIB) << 20
+                                           : (size_t)32 << 20;
 }
 
 // How many chunks are indexed at once within the budget (see docs/CONVERTER.md):
@@ -562,8 +590,7 @@ static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2, bool n
 static int plan_index_threads(size_t memory_mib, int threads, size_t cap, size_t record_size,
                               int grid_log2, bool normals, size_t *out_buffer_bytes)
 {
-    size_t budget = memory_mib > FIXED_OVERHEAD_MIB ? (memory_mib - FIXED_OVERHEAD_MIB) << 20
-                                                    : (size_t)32 << 20;
+    size_t budget = budget_bytes(memory_mib);
     *out_buffer_bytes = budget / 8;
     size_t need = worker_bytes(cap, record_size, grid_log2, normals);
     size_t fit = (budget - budget / 8) / need;
@@ -575,6 +602,41 @@ static int plan_index_threads(size_t memory_mib, int threads, size_t cap, size_t
         fit = 1;
     }
     return fit < (size_t)threads ? (int)fit : threads;
+}
+
+// Keeps the distributed records in memory, one array per chunk (no temporary runs),
+// when they fit the budget beside the index workers (each then needs no records
+// buffer of its own), no chunk has to be split (refine.c works on runs) and no halo
+// is read from the runs (--normals). On false, or when an array cannot be had, the
+// records go through the temporary runs; the output is the same either way.
+static bool keep_records_in_memory(convert_job *job, size_t memory_mib, int index_threads,
+                                   int grid_log2)
+{
+    const sta_convert_options *o = job->options;
+    const sta_chunk_plan *plan = &job->plan;
+    if (o->runs_on_disk || o->normals || plan->chunk_count == 0) {
+        return false;
+    }
+    for (size_t c = 0; c < plan->chunk_count; c++) {
+        if (plan->chunks[c].count > job->chunk_capacity &&
+            plan->chunks[c].key.level < plan->space.max_level) {
+            return false;
+        }
+    }
+    const size_t rec = job->inputs.layout.size, cap = job->chunk_capacity;
+    size_t worker = worker_bytes(cap, rec, grid_log2, false) - cap * rec;
+    uint64_t need = plan->point_count * rec + (uint64_t)index_threads * worker;
+    if (need > budget_bytes(memory_mib)) {
+        return false;
+    }
+    job->chunk_records = sta_calloc(plan->chunk_count, sizeof(*job->chunk_records));
+    for (size_t c = 0; job->chunk_records && c < plan->chunk_count; c++) {
+        job->chunk_records[c] = sta_alloc_array((size_t)plan->chunks[c].count, rec);
+        if (!job->chunk_records[c]) {
+            free_chunk_records(job);
+        }
+    }
+    return job->chunk_records != NULL;
 }
 
 void sta_convert_options_defaults(sta_convert_options *o)
@@ -741,7 +803,11 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
                                     job.inputs.layout.size, 0, 0, err);
     }
     job.runs.usage = job.spill_runs.usage = &job.temp_usage;
-    if (status == STA_OK) {
+    if (status == STA_OK && keep_records_in_memory(&job, memory_mib, index_threads, grid_log2)) {
+        report->records_in_memory = true;
+        status = sta_distribute_to_memory(&job.inputs, &job.plan, job.chunk_records, &job.progress,
+                                          options->cancel, err);
+    } else if (status == STA_OK) {
         status = sta_distribute_write(&job.inputs, &job.plan, &job.runs, buffer_bytes,
                                       &job.progress, options->cancel, err);
     }
@@ -750,7 +816,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     status = sta_refine_chunks(&job.plan, &job.inputs.layout, &job.runs, job.chunk_capacity,
-                               buffer_bytes, err);
+                               buffer_bytes, err); // in memory: nothing to split
     if (status != STA_OK) {
         goto out;
     }
@@ -834,6 +900,7 @@ out:
         sta_run_codec_release(&job.codecs[t]);
     }
     sta_free(job.codecs);
+    free_chunk_records(&job);
     sta_temp_runs_release(&job.runs);
     sta_temp_runs_release(&job.spill_runs);
     sta_temp_runs_release(&job.halo_runs);

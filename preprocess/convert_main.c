@@ -195,10 +195,11 @@ int main(int argc, char **argv)
                                          : 0.0);
         fprintf(stderr,
                 "  phases: count %.2f s, distribute %.2f s, index %.2f s, merge %.2f s, "
-                "finish %.2f s; %zu chunks, %.0f MiB temporary\n",
+                "finish %.2f s; %zu chunks, %.0f MiB temporary%s\n",
                 report.seconds_count, report.seconds_distribute, report.seconds_index,
                 report.seconds_merge, report.seconds_finish, report.chunk_count,
-                (double)report.temp_bytes / 1048576.0);
+                (double)report.temp_bytes / 1048576.0,
+                report.records_in_memory ? " (records kept in memory)" : "");
         fprintf(stderr, "  up axis: %s\n", report.up_why);
         if (options.normals) {
             fprintf(
