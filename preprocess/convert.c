@@ -736,13 +736,14 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
 
     // 2. count and plan
     job.progress.enabled = options->progress;
-    double t0 = sta_clock_s();
+    double t0 = sta_clock_s(), c0 = sta_clock_process_cpu_s();
     status = sta_distribute_plan(&job.inputs, job.threads, grid_log2, job.chunk_capacity,
                                  &job.progress, options->cancel, &job.plan, err);
     if (status != STA_OK) {
         goto out;
     }
     report->seconds_count = sta_clock_s() - t0;
+    report->cpu_count = sta_clock_process_cpu_s() - c0;
 
     // The output writer: geometry from the plan, layout from the inputs.
     uint32_t extra_count = 0;
@@ -795,6 +796,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     t0 = sta_clock_s();
+    c0 = sta_clock_process_cpu_s();
     sta_progress_begin(&job.progress, "distributing", job.inputs.point_count, options->progress);
     status = sta_temp_runs_init(&job.runs, job.chunk_fd, job.chunk_path, job.inputs.layout.size,
                                 job.plan.chunk_count, STA_TEMP_RUNS_PAGE_ALIGNMENT, err);
@@ -821,6 +823,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     report->seconds_distribute = sta_clock_s() - t0;
+    report->cpu_distribute = sta_clock_process_cpu_s() - c0;
     if (options->normals && job.plan.chunk_count > 0) {
         t0 = sta_clock_s();
         status = make_temp(tmp_dir, options->output, "halo", &job.halo_path, &job.halo_fd, err);
@@ -849,6 +852,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
 
     // 4. index chunks in parallel
     t0 = sta_clock_s();
+    c0 = sta_clock_process_cpu_s();
     sta_progress_begin(&job.progress, "indexing", job.inputs.point_count, options->progress);
     if (job.plan.chunk_count > 0) {
         job.threads = index_threads; // distribution used them all; the index phase fewer
@@ -859,6 +863,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     report->seconds_index = sta_clock_s() - t0;
+    report->cpu_index = sta_clock_process_cpu_s() - c0;
     remove_temp(&job.chunk_path, &job.chunk_fd); // free the disk before the merge
     if (job.halo_fd >= 0) {
         remove_temp(&job.halo_path, &job.halo_fd);
@@ -869,6 +874,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
 
     // 5. merge the top of the tree, then write table and header
     t0 = sta_clock_s();
+    c0 = sta_clock_process_cpu_s();
     if (job.spilled_count == 0) {
         const sta_pending_node empty_root = { { 0, 0, 0, 0 }, NULL, 0, 0, 0 };
         status = finish_node(&job, &empty_root, err);
@@ -879,13 +885,16 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     report->seconds_merge = sta_clock_s() - t0;
+    report->cpu_merge = sta_clock_process_cpu_s() - c0;
     report->temp_bytes = atomic_load(&job.temp_usage.peak_bytes);
     t0 = sta_clock_s();
+    c0 = sta_clock_process_cpu_s();
     status = sta_node_writer_finish(&job.node_writer, &report->node_count, &report->max_level, err);
     if (status != STA_OK) {
         goto out;
     }
     report->seconds_finish = sta_clock_s() - t0;
+    report->cpu_finish = sta_clock_process_cpu_s() - c0;
     report->point_count = job.node_writer.point_count;
     report->raw_bytes = job.node_writer.raw_bytes;
     report->stored_bytes = job.node_writer.stored_bytes;

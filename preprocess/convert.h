@@ -78,6 +78,11 @@ typedef struct sta_convert_report {
     double seconds_merge;
     double seconds_finish;
     double seconds_total;
+    double cpu_count; /* per phase, CPU time of all threads (as seconds_*) */
+    double cpu_distribute;
+    double cpu_index;
+    double cpu_merge;
+    double cpu_finish;
     double seconds_halo;          /* --normals: the halo pass (inside seconds_distribute's phase) */
     uint64_t normals_degenerate;  /* --normals: points given the fallback normal */
     uint64_t normals_beyond_halo; /* --normals: neighbourhoods wider than the halo */

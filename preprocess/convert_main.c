@@ -200,6 +200,11 @@ int main(int argc, char **argv)
                 report.seconds_merge, report.seconds_finish, report.chunk_count,
                 (double)report.temp_bytes / 1048576.0,
                 report.records_in_memory ? " (records kept in memory)" : "");
+        fprintf(stderr,
+                "  CPU (all threads): count %.2f s, distribute %.2f s, index %.2f s, merge "
+                "%.2f s, finish %.2f s\n",
+                report.cpu_count, report.cpu_distribute, report.cpu_index, report.cpu_merge,
+                report.cpu_finish);
         fprintf(stderr, "  up axis: %s\n", report.up_why);
         if (options.normals) {
             fprintf(

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT
- * Clocks for timing: monotonic wall time and the calling thread's CPU time.
+ * Clocks for timing: monotonic wall time and the CPU time of the calling thread or of
+ * the process.
  *
  * Values are only meaningful as differences between two reads of the same clock; the
  * origin is unspecified. All functions are thread-safe.
@@ -17,5 +18,9 @@ double sta_clock_ms(void);
 /* CPU time consumed by the calling thread in milliseconds (CLOCK_THREAD_CPUTIME_ID).
  * Non-negative and non-decreasing within one thread; compare reads from one thread only. */
 double sta_clock_thread_cpu_ms(void);
+
+/* CPU time consumed by the whole process, all threads, in seconds
+ * (CLOCK_PROCESS_CPUTIME_ID). Non-negative and non-decreasing. */
+double sta_clock_process_cpu_s(void);
 
 #endif
