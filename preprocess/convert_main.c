@@ -67,7 +67,8 @@ int main(int argc, char **argv)
           .metavar = "MIB",
           .int_min = 64,
           .int_max = 1 << 24,
-          .help = "memory budget for the whole process" },
+          .help = "memory budget for the whole process (points that fit skip the "
+                  "temporary file)" },
         { .name = "tmp",
           .kind = STA_CLI_STRING,
           .dest = &options.tmp_dir,
