@@ -68,6 +68,8 @@ typedef struct convert_job {
     char *chunk_path; /* temporary file of distributed records */
     int chunk_fd;
     sta_temp_runs runs;        /* the distributed records, compressed, per chunk */
+    uint8_t **chunk_records;   /* instead of runs when they fit --memory: each chunk's
+                                  records (owned; freed once indexed), else NULL */
     sta_temp_runs spill_runs;  /* nodes kept for the merge, one list each */
     sta_temp_usage temp_usage; /* both stores' disk together */
     sta_run_codec *codecs;     /* one per index worker */
@@ -94,6 +96,12 @@ typedef struct convert_job {
 // Creates a temporary file "<dir>/.<base>.<tag>.XXXXXX" and unlinks it at once: it
 // lives only as the descriptor, so a killed process (SIGKILL, the OOM killer) leaves
 // nothing behind. The name, for messages only, is returned in *out_path (owned).
+// CPU seconds of all the process's threads, for the per-phase report.
+static double process_cpu_s(void)
+{
+    return sta_clock_process_cpu_ms() * 1e-3;
+}
+
 static sta_status make_temp(const char *dir, const char *output, const char *tag, char **out_path,
                             int *out_fd, sta_error *err)
 {
@@ -224,6 +232,15 @@ static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index
     return status;
 }
 
+static void free_chunk_records(convert_job *job)
+{
+    for (size_t c = 0; job->chunk_records && c < job->plan.chunk_count; c++) {
+        sta_free(job->chunk_records[c]);
+    }
+    sta_free(job->chunk_records);
+    job->chunk_records = NULL;
+}
+
 typedef struct worker_args {
     convert_job *job;
     int index;
@@ -245,9 +262,11 @@ static void *index_worker(void *argument)
         if (i >= job->plan.chunk_count) {
             break;
         }
-        const sta_chunk *chunk = &job->plan.chunks[job->chunk_order[i]];
+        const size_t ci = job->chunk_order[i];
+        const sta_chunk *chunk = &job->plan.chunks[ci];
         size_t count = (size_t)chunk->count;
-        if (count > records_capacity) {
+        uint8_t *in_memory = job->chunk_records ? job->chunk_records[ci] : NULL;
+        if (!in_memory && count > records_capacity) {
             sta_free(records);
             records = sta_alloc_array(count, rec);
             records_capacity = records ? count : 0;
@@ -259,11 +278,12 @@ static void *index_worker(void *argument)
         }
         // The chunk's payloads reach the file in chunk order (deterministic output).
         status = sta_node_writer_begin_chunk(&job->node_writer, args->index, i, &err);
-        if (status == STA_OK) {
+        if (status == STA_OK && !in_memory) {
             status = sta_temp_runs_read(&job->runs, &job->codecs[args->index], chunk->list, records,
                                         &err);
             sta_temp_runs_discard(&job->runs, chunk->list); // read once: free its disk
         }
+        const uint8_t *data = in_memory ? in_memory : records;
         if (status == STA_OK && job->options->normals) {
             sta_index_scratch_release(&scratch); // never both at once (worker_bytes)
             status = chunk_normals(job, args->index, job->chunk_order[i], records, count, &err);
@@ -271,8 +291,12 @@ static void *index_worker(void *argument)
         sta_pending_node root = { 0 };
         if (status == STA_OK) {
             status =
-                sta_index_chunk(&job->plan.space, &job->inputs.layout, &chunk->key, records, count,
+                sta_index_chunk(&job->plan.space, &job->inputs.layout, &chunk->key, data, count,
                                 job->leaf_capacity, args->index, &sink, &scratch, &root, &err);
+        }
+        if (in_memory) { // indexed: its memory goes back at once
+            sta_free(in_memory);
+            job->chunk_records[ci] = NULL;
         }
         if (status == STA_OK) {
             status = sta_node_writer_end_chunk(&job->node_writer, args->index, &err);
@@ -552,9 +576,19 @@ static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2, bool n
     }
     size_t grid_cells = (size_t)1 << (3 * grid_log2);
     size_t per_point = record_size + 2 * sizeof(sta_index_item) + 1; // records, items, labels
-    size_t per_node_point = record_size + sizeof(sta_point) + 2 * record_size; // node buffers
+    // Node buffers: the gathered records, the node writer's columns and the encoder's
+    // shuffled and compressed copies (nodes are encoded from the packed records, never
+    // unpacked into sta_point).
+    size_t per_node_point = 4 * record_size;
     size_t largest_node = cap < grid_cells ? cap : grid_cells;
     return cap * (per_point + record_size) + largest_node * per_node_point;
+}
+
+// Bytes of --memory left after the fixed overhead.
+static size_t budget_bytes(size_t memory_mib)
+{
+    return memory_mib > FIXED_OVERHEAD_MIB ? (memory_mib - FIXED_OVERHEAD_MIB) << 20
+                                           : (size_t)32 << 20;
 }
 
 // How many chunks are indexed at once within the budget (see docs/CONVERTER.md):
@@ -562,8 +596,7 @@ static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2, bool n
 static int plan_index_threads(size_t memory_mib, int threads, size_t cap, size_t record_size,
                               int grid_log2, bool normals, size_t *out_buffer_bytes)
 {
-    size_t budget = memory_mib > FIXED_OVERHEAD_MIB ? (memory_mib - FIXED_OVERHEAD_MIB) << 20
-                                                    : (size_t)32 << 20;
+    size_t budget = budget_bytes(memory_mib);
     *out_buffer_bytes = budget / 8;
     size_t need = worker_bytes(cap, record_size, grid_log2, normals);
     size_t fit = (budget - budget / 8) / need;
@@ -575,6 +608,41 @@ static int plan_index_threads(size_t memory_mib, int threads, size_t cap, size_t
         fit = 1;
     }
     return fit < (size_t)threads ? (int)fit : threads;
+}
+
+// Keeps the distributed records in memory, one array per chunk (no temporary runs),
+// when they fit the budget beside the index workers (each then needs no records
+// buffer of its own), no chunk has to be split (refine.c works on runs) and no halo
+// is read from the runs (--normals). On false, or when an array cannot be had, the
+// records go through the temporary runs; the output is the same either way.
+static bool keep_records_in_memory(convert_job *job, size_t memory_mib, int index_threads,
+                                   int grid_log2)
+{
+    const sta_convert_options *o = job->options;
+    const sta_chunk_plan *plan = &job->plan;
+    if (o->runs_on_disk || o->normals || plan->chunk_count == 0) {
+        return false;
+    }
+    for (size_t c = 0; c < plan->chunk_count; c++) {
+        if (plan->chunks[c].count > job->chunk_capacity &&
+            plan->chunks[c].key.level < plan->space.max_level) {
+            return false;
+        }
+    }
+    const size_t rec = job->inputs.layout.size, cap = job->chunk_capacity;
+    size_t worker = worker_bytes(cap, rec, grid_log2, false) - cap * rec;
+    uint64_t need = plan->point_count * rec + (uint64_t)index_threads * worker;
+    if (need > budget_bytes(memory_mib)) {
+        return false;
+    }
+    job->chunk_records = sta_calloc(plan->chunk_count, sizeof(*job->chunk_records));
+    for (size_t c = 0; job->chunk_records && c < plan->chunk_count; c++) {
+        job->chunk_records[c] = sta_alloc_array((size_t)plan->chunks[c].count, rec);
+        if (!job->chunk_records[c]) {
+            free_chunk_records(job);
+        }
+    }
+    return job->chunk_records != NULL;
 }
 
 void sta_convert_options_defaults(sta_convert_options *o)
@@ -674,13 +742,14 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
 
     // 2. count and plan
     job.progress.enabled = options->progress;
-    double t0 = sta_clock_s();
+    double t0 = sta_clock_s(), c0 = process_cpu_s();
     status = sta_distribute_plan(&job.inputs, job.threads, grid_log2, job.chunk_capacity,
                                  &job.progress, options->cancel, &job.plan, err);
     if (status != STA_OK) {
         goto out;
     }
     report->seconds_count = sta_clock_s() - t0;
+    report->cpu_count = process_cpu_s() - c0;
 
     // The output writer: geometry from the plan, layout from the inputs.
     uint32_t extra_count = 0;
@@ -733,6 +802,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     t0 = sta_clock_s();
+    c0 = process_cpu_s();
     sta_progress_begin(&job.progress, "distributing", job.inputs.point_count, options->progress);
     status = sta_temp_runs_init(&job.runs, job.chunk_fd, job.chunk_path, job.inputs.layout.size,
                                 job.plan.chunk_count, STA_TEMP_RUNS_PAGE_ALIGNMENT, err);
@@ -741,7 +811,11 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
                                     job.inputs.layout.size, 0, 0, err);
     }
     job.runs.usage = job.spill_runs.usage = &job.temp_usage;
-    if (status == STA_OK) {
+    if (status == STA_OK && keep_records_in_memory(&job, memory_mib, index_threads, grid_log2)) {
+        report->records_in_memory = true;
+        status = sta_distribute_to_memory(&job.inputs, &job.plan, job.chunk_records, &job.progress,
+                                          options->cancel, err);
+    } else if (status == STA_OK) {
         status = sta_distribute_write(&job.inputs, &job.plan, &job.runs, buffer_bytes,
                                       &job.progress, options->cancel, err);
     }
@@ -750,11 +824,12 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     status = sta_refine_chunks(&job.plan, &job.inputs.layout, &job.runs, job.chunk_capacity,
-                               buffer_bytes, err);
+                               buffer_bytes, err); // in memory: nothing to split
     if (status != STA_OK) {
         goto out;
     }
     report->seconds_distribute = sta_clock_s() - t0;
+    report->cpu_distribute = process_cpu_s() - c0;
     if (options->normals && job.plan.chunk_count > 0) {
         t0 = sta_clock_s();
         status = make_temp(tmp_dir, options->output, "halo", &job.halo_path, &job.halo_fd, err);
@@ -783,6 +858,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
 
     // 4. index chunks in parallel
     t0 = sta_clock_s();
+    c0 = process_cpu_s();
     sta_progress_begin(&job.progress, "indexing", job.inputs.point_count, options->progress);
     if (job.plan.chunk_count > 0) {
         job.threads = index_threads; // distribution used them all; the index phase fewer
@@ -793,6 +869,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     report->seconds_index = sta_clock_s() - t0;
+    report->cpu_index = process_cpu_s() - c0;
     remove_temp(&job.chunk_path, &job.chunk_fd); // free the disk before the merge
     if (job.halo_fd >= 0) {
         remove_temp(&job.halo_path, &job.halo_fd);
@@ -803,6 +880,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
 
     // 5. merge the top of the tree, then write table and header
     t0 = sta_clock_s();
+    c0 = process_cpu_s();
     if (job.spilled_count == 0) {
         const sta_pending_node empty_root = { { 0, 0, 0, 0 }, NULL, 0, 0, 0 };
         status = finish_node(&job, &empty_root, err);
@@ -813,13 +891,16 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
     report->seconds_merge = sta_clock_s() - t0;
+    report->cpu_merge = process_cpu_s() - c0;
     report->temp_bytes = atomic_load(&job.temp_usage.peak_bytes);
     t0 = sta_clock_s();
+    c0 = process_cpu_s();
     status = sta_node_writer_finish(&job.node_writer, &report->node_count, &report->max_level, err);
     if (status != STA_OK) {
         goto out;
     }
     report->seconds_finish = sta_clock_s() - t0;
+    report->cpu_finish = process_cpu_s() - c0;
     report->point_count = job.node_writer.point_count;
     report->raw_bytes = job.node_writer.raw_bytes;
     report->stored_bytes = job.node_writer.stored_bytes;
@@ -834,6 +915,7 @@ out:
         sta_run_codec_release(&job.codecs[t]);
     }
     sta_free(job.codecs);
+    free_chunk_records(&job);
     sta_temp_runs_release(&job.runs);
     sta_temp_runs_release(&job.spill_runs);
     sta_temp_runs_release(&job.halo_runs);

@@ -6,9 +6,10 @@
  * (workers compress and append node payloads as they finish), merge the top of the
  * tree above the chunks, then write the node table and header. Peak memory is set
  * by `memory_mib`: it bounds the write buffers and the number of chunks indexed at
- * once (not the chunk size, which depends on the input only, so that the output does
- * not depend on the budget). The same inputs and options give the same bytes whatever
- * `threads` and `memory_mib`.
+ * once, and decides whether the distributed records stay in memory instead of going
+ * through compressed temporary runs (not the chunk size, which depends on the input
+ * only, so that the output does not depend on the budget). The same inputs and options give the
+ * same bytes whatever `threads` and `memory_mib`.
  */
 #ifndef STA_PREPROCESS_CONVERT_H
 #define STA_PREPROCESS_CONVERT_H
@@ -44,6 +45,8 @@ typedef struct sta_convert_options {
     int grid_cells;       /* 0: STA_STRATA_DEFAULT_CELLS; a power of two, 16..1024 */
     size_t leaf_capacity; /* 0: STA_CONVERT_DEFAULT_LEAF_CAPACITY points before a split */
     size_t chunk_points;  /* 0: from the point count; tests force small chunks */
+    bool runs_on_disk;    /* distribute through the temporary runs even when the records
+                             fit in memory (tests and benchmarks; the output is the same) */
     bool force;           /* overwrite an existing output */
     bool keep_extra;      /* keep LAS extra dimensions (--attributes extra) */
     bool salvage;         /* read what is complete of truncated inputs */
@@ -65,15 +68,21 @@ typedef struct sta_convert_report {
     uint32_t node_count;
     size_t chunk_count;
     int max_level;
-    uint64_t raw_bytes;    /* node payloads before compression */
-    uint64_t stored_bytes; /* node payloads in the file */
-    uint64_t temp_bytes;   /* temporary disk at its peak (both temporary files) */
-    double seconds_count;  /* per phase, wall clock */
+    uint64_t raw_bytes;     /* node payloads before compression */
+    uint64_t stored_bytes;  /* node payloads in the file */
+    uint64_t temp_bytes;    /* temporary disk at its peak (both temporary files) */
+    bool records_in_memory; /* the distributed records fit --memory: no temporary runs */
+    double seconds_count;   /* per phase, wall clock */
     double seconds_distribute;
     double seconds_index;
     double seconds_merge;
     double seconds_finish;
     double seconds_total;
+    double cpu_count; /* per phase, CPU time of all threads (as seconds_*) */
+    double cpu_distribute;
+    double cpu_index;
+    double cpu_merge;
+    double cpu_finish;
     double seconds_halo;          /* --normals: the halo pass (inside seconds_distribute's phase) */
     uint64_t normals_degenerate;  /* --normals: points given the fallback normal */
     uint64_t normals_beyond_halo; /* --normals: neighbourhoods wider than the halo */

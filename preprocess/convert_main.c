@@ -67,7 +67,8 @@ int main(int argc, char **argv)
           .metavar = "MIB",
           .int_min = 64,
           .int_max = 1 << 24,
-          .help = "memory budget for the whole process" },
+          .help = "memory budget for the whole process (points that fit skip the "
+                  "temporary file)" },
         { .name = "tmp",
           .kind = STA_CLI_STRING,
           .dest = &options.tmp_dir,
@@ -195,10 +196,16 @@ int main(int argc, char **argv)
                                          : 0.0);
         fprintf(stderr,
                 "  phases: count %.2f s, distribute %.2f s, index %.2f s, merge %.2f s, "
-                "finish %.2f s; %zu chunks, %.0f MiB temporary\n",
+                "finish %.2f s; %zu chunks, %.0f MiB temporary%s\n",
                 report.seconds_count, report.seconds_distribute, report.seconds_index,
                 report.seconds_merge, report.seconds_finish, report.chunk_count,
-                (double)report.temp_bytes / 1048576.0);
+                (double)report.temp_bytes / 1048576.0,
+                report.records_in_memory ? " (records kept in memory)" : "");
+        fprintf(stderr,
+                "  CPU (all threads): count %.2f s, distribute %.2f s, index %.2f s, merge "
+                "%.2f s, finish %.2f s\n",
+                report.cpu_count, report.cpu_distribute, report.cpu_index, report.cpu_merge,
+                report.cpu_finish);
         fprintf(stderr, "  up axis: %s\n", report.up_why);
         if (options.normals) {
             fprintf(

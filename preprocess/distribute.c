@@ -69,6 +69,7 @@ typedef struct range_task {
     sta_error err;
     sta_status (*per_batch)(struct range_task *t, size_t input, sta_point_batch *batch);
     sta_status (*at_end)(struct range_task *t); /* optional, in the task's thread */
+    bool positions_only;                        /* per_batch reads only X, Y, Z (the count) */
     // counting
     const sta_octree_space *space;
     int level;
@@ -83,6 +84,10 @@ typedef struct range_task {
     size_t per_chunk;      /* buffer bytes per chunk */
     chunk_buffer *buffers; /* owned, one per chunk */
     uint8_t *arena;        /* owned */
+    // distribution into memory
+    uint8_t *const *chunk_records; /* borrowed: each chunk's records */
+    uint64_t *next;                /* owned: this thread's next record slot per chunk */
+    uint64_t *limit;               /* owned: the end of this thread's share per chunk */
 } range_task;
 
 static sta_cloud_reader *task_reader(range_task *t, size_t input)
@@ -121,7 +126,9 @@ static void run_range(range_task *t)
                 t->status = sta_cloud_seek(reader, lo - file_start, &t->err);
                 uint64_t left = hi - lo;
                 while (t->status == STA_OK && left > 0) {
-                    t->status = sta_cloud_read(reader, &batch, &t->err);
+                    t->status = t->positions_only
+                                    ? sta_cloud_read_positions(reader, &batch, &t->err)
+                                    : sta_cloud_read(reader, &batch, &t->err);
                     if (t->status != STA_OK) {
                         break;
                     }
@@ -212,6 +219,8 @@ static void release_tasks(range_task *tasks, int count, size_t inputs)
         sta_free(tasks[t].counts);
         sta_free(tasks[t].buffers);
         sta_free(tasks[t].arena);
+        sta_free(tasks[t].next);
+        sta_free(tasks[t].limit);
         sta_run_codec_release(&tasks[t].codec);
     }
     sta_free(tasks);
@@ -300,6 +309,7 @@ static sta_status count_pass(range_task *tasks, int threads, const sta_octree_sp
         k->level = level;
         k->outside = false;
         k->per_batch = count_batch;
+        k->positions_only = true; // count_batch and the regrid read nothing else
         for (int a = 0; a < 3; a++) {
             k->min[a] = INT64_MAX;
             k->max[a] = INT64_MIN;
@@ -564,28 +574,42 @@ static sta_status flush_chunk(range_task *t, size_t c)
     return status;
 }
 
+// Moves point i of the batch onto the output grid, flags mirror ghosts and finds its
+// chunk; fails when the point no longer lies where it was counted.
+static sta_status locate(range_task *t, size_t input, sta_point_batch *batch, size_t i,
+                         size_t *out_chunk)
+{
+    const sta_chunk_plan *plan = t->plan;
+    sta_point *p = &batch->points[i];
+    bool fits = sta_inputs_to_output(t->set, input, p);
+    const int32_t xyz[3] = { p->X, p->Y, p->Z };
+    size_t cell;
+    if (!fits || !counting_cell(&plan->space, plan->count_level, xyz, &cell) ||
+        plan->chunk_of_cell[cell] < 0) {
+        const sta_cloud_info *info = sta_cloud_reader_info(t->set->readers[input]);
+        return sta_fail(&t->err, STA_ERR_FORMAT, "%s: point %llu changed since it was counted",
+                        info->path, (unsigned long long)(batch->first_index + i));
+    }
+    if (t->set->mirrors) {
+        const double world[3] = { sta_grid_apply(&t->set->grid, 0, p->X),
+                                  sta_grid_apply(&t->set->grid, 1, p->Y),
+                                  sta_grid_apply(&t->set->grid, 2, p->Z) };
+        p->mirror = sta_mirror_ghost_of(t->set->mirrors, p->point_source_id, world);
+    }
+    *out_chunk = (size_t)plan->chunk_of_cell[cell];
+    return STA_OK;
+}
+
 static sta_status distribute_batch(range_task *t, size_t input, sta_point_batch *batch)
 {
     const size_t rec = t->set->layout.size;
-    const sta_chunk_plan *plan = t->plan;
     for (size_t i = 0; i < batch->count; i++) {
+        size_t c;
+        sta_status located = locate(t, input, batch, i, &c);
+        if (located != STA_OK) {
+            return located;
+        }
         sta_point *p = &batch->points[i];
-        bool fits = sta_inputs_to_output(t->set, input, p);
-        const int32_t xyz[3] = { p->X, p->Y, p->Z };
-        size_t cell;
-        if (!fits || !counting_cell(&plan->space, plan->count_level, xyz, &cell) ||
-            plan->chunk_of_cell[cell] < 0) {
-            const sta_cloud_info *info = sta_cloud_reader_info(t->set->readers[input]);
-            return sta_fail(&t->err, STA_ERR_FORMAT, "%s: point %llu changed since it was counted",
-                            info->path, (unsigned long long)(batch->first_index + i));
-        }
-        if (t->set->mirrors) {
-            const double world[3] = { sta_grid_apply(&t->set->grid, 0, p->X),
-                                      sta_grid_apply(&t->set->grid, 1, p->Y),
-                                      sta_grid_apply(&t->set->grid, 2, p->Z) };
-            p->mirror = sta_mirror_ghost_of(t->set->mirrors, p->point_source_id, world);
-        }
-        size_t c = (size_t)plan->chunk_of_cell[cell];
         chunk_buffer *b = &t->buffers[c];
         const uint8_t *extra = t->set->extra_size ? batch->extra + i * batch->extra_size : NULL;
         sta_record_pack(&t->set->layout, p, extra, b->data + b->used);
@@ -662,6 +686,78 @@ sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, 
                          "chunk %zu received %llu points, %llu were counted (an input "
                          "changed while being read)",
                          c, (unsigned long long)written, (unsigned long long)plan->chunks[c].count);
+        }
+    }
+    release_tasks(tasks, plan->threads, set->count);
+    return status;
+}
+
+static sta_status distribute_batch_to_memory(range_task *t, size_t input, sta_point_batch *batch)
+{
+    const size_t rec = t->set->layout.size;
+    for (size_t i = 0; i < batch->count; i++) {
+        size_t c;
+        sta_status located = locate(t, input, batch, i, &c);
+        if (located != STA_OK) {
+            return located;
+        }
+        if (t->next[c] == t->limit[c]) {
+            return sta_fail(&t->err, STA_ERR_FORMAT,
+                            "chunk %zu received more points than were counted (an input "
+                            "changed while being read)",
+                            c);
+        }
+        const uint8_t *extra = t->set->extra_size ? batch->extra + i * batch->extra_size : NULL;
+        sta_record_pack(&t->set->layout, &batch->points[i], extra,
+                        t->chunk_records[c] + t->next[c]++ * rec);
+    }
+    return STA_OK;
+}
+
+sta_status sta_distribute_to_memory(sta_input_set *set, const sta_chunk_plan *plan,
+                                    uint8_t *const *chunk_records, sta_progress *progress,
+                                    atomic_bool *cancel, sta_error *err)
+{
+    const size_t n = plan->chunk_count;
+    if (n == 0) {
+        return STA_OK;
+    }
+    range_task *tasks = create_tasks(set, plan, progress, cancel, err);
+    if (!tasks) {
+        return err->code;
+    }
+    sta_status status = STA_OK;
+    for (int t = 0; t < plan->threads && status == STA_OK; t++) {
+        range_task *k = &tasks[t];
+        k->plan = plan;
+        k->chunk_records = chunk_records;
+        k->per_batch = distribute_batch_to_memory;
+        k->next = sta_alloc_array(n, sizeof(uint64_t));
+        k->limit = sta_alloc_array(n, sizeof(uint64_t));
+        if (!k->next || !k->limit) {
+            status = sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu chunks", n);
+            break;
+        }
+        // Thread t's share of chunk c: from its first slot to the next thread's.
+        for (size_t c = 0; c < n; c++) {
+            uint64_t first = plan->chunks[c].first;
+            k->next[c] = plan->thread_first[(size_t)t * n + c] - first;
+            k->limit[c] = (t + 1 < plan->threads ? plan->thread_first[(size_t)(t + 1) * n + c]
+                                                 : first + plan->chunks[c].count) -
+                          first;
+        }
+    }
+    if (status == STA_OK) {
+        status = run_tasks(tasks, plan->threads, progress, err);
+    }
+    for (int t = 0; t < plan->threads && status == STA_OK; t++) {
+        for (size_t c = 0; c < n && status == STA_OK; c++) {
+            if (tasks[t].next[c] != tasks[t].limit[c]) {
+                status = sta_fail(err, STA_ERR_FORMAT,
+                                  "chunk %zu received fewer points than were counted (an "
+                                  "input changed while being read)",
+                                  c);
+            }
         }
     }
     release_tasks(tasks, plan->threads, set->count);

@@ -53,6 +53,15 @@ sta_status sta_distribute_write(sta_input_set *set, const sta_chunk_plan *plan, 
                                 size_t buffer_bytes, sta_progress *progress, atomic_bool *cancel,
                                 sta_error *err);
 
+/* As sta_distribute_write, into memory: chunk c's records go to chunk_records[c]
+ * (room for plan->chunks[c].count records, the caller's), in the order the runs
+ * would give back (thread 0's points, then thread 1's, ..., each in input order), so
+ * the tree built from them is the same. Each thread packs straight into its share
+ * of each chunk (plan->thread_first): no buffers, no compression, no file. */
+sta_status sta_distribute_to_memory(sta_input_set *set, const sta_chunk_plan *plan,
+                                    uint8_t *const *chunk_records, sta_progress *progress,
+                                    atomic_bool *cancel, sta_error *err);
+
 void sta_chunk_plan_release(sta_chunk_plan *plan);
 
 #endif

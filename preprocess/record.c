@@ -118,6 +118,14 @@ static uint8_t *encode_column(const sta_record_layout *layout, int c, const uint
         for (size_t i = 0; i < count; i++) {
             memcpy(pos + 2 * i, src + i * rec, 2);
         }
+    } else if (col->size == 4) { // constant sizes: inlined moves, not a call per value
+        for (size_t i = 0; i < count; i++) {
+            memcpy(pos + 4 * i, src + i * rec, 4);
+        }
+    } else if (col->size == 8) {
+        for (size_t i = 0; i < count; i++) {
+            memcpy(pos + 8 * i, src + i * rec, 8);
+        }
     } else {
         for (size_t i = 0; i < count; i++) {
             memcpy(pos + col->size * i, src + i * rec, col->size);

@@ -13,9 +13,9 @@
 #include <string.h>
 #include <zstd.h>
 
-#include "byte_planes.h"
 #include "core/alloc.h"
 #include "core/array.h"
+#include "core/byte_planes.h"
 #include "core/file_io.h"
 
 enum {

@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "byte_planes.h"
 #include "core/alloc.h"
+#include "core/byte_planes.h"
 
 static void planes_match_the_definition_and_join_back(void **state)
 {

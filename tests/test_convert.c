@@ -763,6 +763,7 @@ static void temporary_disk_is_bounded_and_outlier_proof(void **state)
                                       .output = out,
                                       .memory_mib = memories[m],
                                       .chunk_points = 20000,
+                                      .runs_on_disk = true, // the runs are measured here
                                       .force = true };
             sta_convert_report report;
             sta_log_set_level(STA_LOG_QUIET);
@@ -787,6 +788,76 @@ static void temporary_disk_is_bounded_and_outlier_proof(void **state)
     unlink(stray);
 }
 
+/* Records kept in memory (they fit --memory) give the same file as the temporary
+ * runs, on any number of threads; a budget too small for them takes the runs. */
+static void records_in_memory_match_the_runs(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char path[4096], first[4096], out[4096];
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    snprintf(first, sizeof(first), "%s/mem0.strata", sta_test_tmpdir());
+    snprintf(out, sizeof(out), "%s/mem.strata", sta_test_tmpdir());
+    const char *one[] = { path };
+    static const struct {
+        int threads;
+        size_t memory_mib;
+        size_t chunk_points;
+        bool on_disk;
+        bool in_memory; /* expected */
+    } runs[] = {
+        { 2, 2048, 0, true, false },     /* the reference: temporary runs */
+        { 1, 2048, 0, false, true },     /* one chunk in memory */
+        { 2, 2048, 0, false, true },     /* two threads fill their shares of it */
+        { 2, 64, 0, false, false },      /* a 1 M-point chunk's workers need more than 64 MiB */
+        { 3, 2048, 30000, false, true }, /* several chunks, three threads */
+        { 3, 2048, 30000, true, false }, /* the same through the runs */
+    };
+    size_t size0 = 0;
+    uint8_t *bytes0 = NULL, *bytes_chunked = NULL;
+    size_t size_chunked = 0;
+    for (size_t i = 0; i < sizeof(runs) / sizeof(runs[0]); i++) {
+        sta_convert_options o = { .inputs = one,
+                                  .input_count = 1,
+                                  .output = i == 0 ? first : out,
+                                  .threads = runs[i].threads,
+                                  .memory_mib = runs[i].memory_mib,
+                                  .chunk_points = runs[i].chunk_points,
+                                  .runs_on_disk = runs[i].on_disk,
+                                  .force = true };
+        sta_convert_report report;
+        sta_error err = { 0 };
+        sta_log_set_level(STA_LOG_QUIET); // 64 MiB warns that a chunk needs more
+        sta_status status = sta_convert(&o, &report, &err);
+        sta_log_set_level(STA_LOG_WARN);
+        if (status != STA_OK) {
+            fail_msg("run %zu: %s", i, err.message);
+        }
+        if (report.records_in_memory != runs[i].in_memory) {
+            fail_msg("run %zu: records %s memory", i, report.records_in_memory ? "in" : "not in");
+        }
+        size_t size = 0;
+        uint8_t *bytes = sta_test_read_file(i == 0 ? first : out, &size);
+        // Chunk size shapes the tree: each chunk size has its own reference.
+        uint8_t **reference = runs[i].chunk_points ? &bytes_chunked : &bytes0;
+        size_t *reference_size = runs[i].chunk_points ? &size_chunked : &size0;
+        if (!*reference) {
+            *reference = bytes;
+            *reference_size = size;
+            continue;
+        }
+        if (size != *reference_size || memcmp(bytes, *reference, size) != 0) {
+            fail_msg("run %zu (%d threads, %zu MiB, %s) differs", i, runs[i].threads,
+                     runs[i].memory_mib, report.records_in_memory ? "in memory" : "runs");
+        }
+        free(bytes);
+    }
+    free(bytes0);
+    free(bytes_chunked);
+    unlink(first);
+    unlink(out);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shared_las_files_round_trip),
     cmocka_unit_test(up_axis_from_the_source),
@@ -802,6 +873,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(kill_9_leaves_nothing_behind),
     cmocka_unit_test(temporary_disk_is_bounded_and_outlier_proof),
     cmocka_unit_test(output_is_byte_identical_across_threads_and_memory),
+    cmocka_unit_test(records_in_memory_match_the_runs),
     cmocka_unit_test(different_grids_merge_losslessly),
     cmocka_unit_test(different_grids_convert_into_one_scene),
 };

@@ -1742,6 +1742,48 @@ static void check_points(sta_cloud_reader *reader, const las_fact *f)
     }
 }
 
+// sta_cloud_read_positions gives the X, Y, Z of sta_cloud_read, batch by batch, and
+// leaves the other fields alone.
+static void check_positions_only(sta_cloud_reader *reader)
+{
+    const sta_cloud_info *info = sta_cloud_reader_info(reader);
+    sta_error err = { 0 };
+    sta_point_batch full = { 0 }, xyz = { 0 };
+    assert_int_equal(sta_point_batch_init(&full, 333, info->extra_size, &err), STA_OK);
+    assert_int_equal(sta_point_batch_init(&xyz, 333, info->extra_size, &err), STA_OK);
+    size_t length = strlen(info->path);
+    bool laz = length >= 4 && strcmp(info->path + length - 4, ".laz") == 0; // whole records
+    uint64_t seen = 0;
+    for (;;) {
+        assert_int_equal(sta_cloud_seek(reader, seen, &err), STA_OK);
+        assert_int_equal(sta_cloud_read(reader, &full, &err), STA_OK);
+        assert_int_equal(sta_cloud_seek(reader, seen, &err), STA_OK);
+        for (size_t i = 0; i < xyz.capacity; i++) {
+            xyz.points[i].intensity = 0xBEEF; // must survive
+        }
+        assert_int_equal(sta_cloud_read_positions(reader, &xyz, &err), STA_OK);
+        assert_int_equal(xyz.count, full.count);
+        assert_int_equal(xyz.first_index, full.first_index);
+        for (size_t i = 0; i < full.count; i++) {
+            if (xyz.points[i].X != full.points[i].X || xyz.points[i].Y != full.points[i].Y ||
+                xyz.points[i].Z != full.points[i].Z) {
+                fail_msg("%s: point %llu: positions-only read differs", info->path,
+                         (unsigned long long)(seen + i));
+            }
+            if (!laz) {
+                assert_int_equal(xyz.points[i].intensity, 0xBEEF);
+            }
+        }
+        if (full.count == 0) {
+            break;
+        }
+        seen += full.count;
+    }
+    assert_int_equal(seen, info->point_count);
+    sta_point_batch_release(&full);
+    sta_point_batch_release(&xyz);
+}
+
 static void check_corpus_file(const char *file)
 {
     const las_fact *f = find_fact(file);
@@ -1756,6 +1798,7 @@ static void check_corpus_file(const char *file)
         check_extra_dims(info, f); // malformed_extrabytes has its own case
     }
     check_points(reader, f);
+    check_positions_only(reader);
     sta_cloud_close(reader);
 }
 

@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/byte_planes.h"
 #include "core/bytes.h"
 #include "core/octahedral.h"
 #include "format/strata.h"
@@ -562,38 +563,26 @@ static void walk_columns(const sta_strata_layout *layout, size_t count, const ui
     }
 }
 
+// A column's byte planes (core/byte_planes.c: register transposes, about twice as
+// fast as a byte at a time).
 static void shuffle_column(size_t element, size_t offset, size_t count, const uint8_t *in,
                            uint8_t *out)
 {
-    const uint8_t *src = in + offset;
-    uint8_t *dst = out + offset;
     if (element == 1) {
-        memcpy(dst, src, count);
+        memcpy(out + offset, in + offset, count);
         return;
     }
-    for (size_t k = 0; k < element; k++) {
-        uint8_t *plane = dst + k * count;
-        for (size_t i = 0; i < count; i++) {
-            plane[i] = src[i * element + k];
-        }
-    }
+    sta_byte_planes_split(in + offset, count, element, out + offset);
 }
 
 static void unshuffle_column(size_t element, size_t offset, size_t count, const uint8_t *in,
                              uint8_t *out)
 {
-    const uint8_t *src = in + offset;
-    uint8_t *dst = out + offset;
     if (element == 1) {
-        memcpy(dst, src, count);
+        memcpy(out + offset, in + offset, count);
         return;
     }
-    for (size_t k = 0; k < element; k++) {
-        const uint8_t *plane = src + k * count;
-        for (size_t i = 0; i < count; i++) {
-            dst[i * element + k] = plane[i];
-        }
-    }
+    sta_byte_planes_join(in + offset, count, element, out + offset);
 }
 
 void sta_strata_shuffle(const sta_strata_layout *layout, size_t count, const uint8_t *raw,

@@ -87,14 +87,32 @@ const sta_cloud_info *sta_cloud_reader_info(const sta_cloud_reader *reader)
     return reader->ops->info(reader->impl);
 }
 
-sta_status sta_cloud_read(sta_cloud_reader *reader, sta_point_batch *batch, sta_error *err)
+static sta_status check_batch(const sta_cloud_reader *reader, const sta_point_batch *batch,
+                              sta_error *err)
 {
     const sta_cloud_info *info = sta_cloud_reader_info(reader);
     if (batch->capacity == 0 || batch->extra_size != info->extra_size) {
         return sta_fail(err, STA_ERR_ARG, "%s: batch holds %zu extra bytes per point, file has %zu",
                         info->path, batch->extra_size, info->extra_size);
     }
-    return reader->ops->read(reader->impl, batch, err);
+    return STA_OK;
+}
+
+sta_status sta_cloud_read(sta_cloud_reader *reader, sta_point_batch *batch, sta_error *err)
+{
+    sta_status status = check_batch(reader, batch, err);
+    return status == STA_OK ? reader->ops->read(reader->impl, batch, err) : status;
+}
+
+sta_status sta_cloud_read_positions(sta_cloud_reader *reader, sta_point_batch *batch,
+                                    sta_error *err)
+{
+    sta_status status = check_batch(reader, batch, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    return reader->ops->read_positions ? reader->ops->read_positions(reader->impl, batch, err)
+                                       : reader->ops->read(reader->impl, batch, err);
 }
 
 sta_status sta_cloud_seek(sta_cloud_reader *reader, uint64_t index, sta_error *err)

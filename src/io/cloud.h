@@ -112,6 +112,12 @@ const sta_cloud_info *sta_cloud_reader_info(const sta_cloud_reader *reader);
  * A record that cannot be decoded is an error naming the file and the point index. */
 sta_status sta_cloud_read(sta_cloud_reader *reader, sta_point_batch *batch, sta_error *err);
 
+/* As sta_cloud_read, but only X, Y and Z of each point are set (the other fields and
+ * the extra bytes are left as they were): cheaper for a pass that needs positions
+ * only (the converter's count). Formats without a faster way read everything. */
+sta_status sta_cloud_read_positions(sta_cloud_reader *reader, sta_point_batch *batch,
+                                    sta_error *err);
+
 /* Makes the next read start at point `index` (0 <= index <= point_count). */
 sta_status sta_cloud_seek(sta_cloud_reader *reader, uint64_t index, sta_error *err);
 

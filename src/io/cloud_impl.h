@@ -9,6 +9,8 @@
 
 typedef struct sta_cloud_ops {
     sta_status (*read)(void *impl, sta_point_batch *batch, sta_error *err);
+    /* Optional: as read, setting only X, Y and Z (NULL: read is used). */
+    sta_status (*read_positions)(void *impl, sta_point_batch *batch, sta_error *err);
     sta_status (*seek)(void *impl, uint64_t index, sta_error *err);
     const sta_cloud_info *(*info)(const void *impl);
     void (*close)(void *impl); /* frees impl; does not close the map */

@@ -26,6 +26,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/bytes.h"
 #include "core/log.h"
 #include "io/las_internal.h"
 #include "io/laz_internal.h"
@@ -60,6 +61,32 @@ static sta_status las_read(void *impl, sta_point_batch *batch, sta_error *err)
     // Streaming: the decoded records leave the resident set, so reading a file larger
     // than memory keeps RSS at one batch.
     sta_file_map_drop(reader->map, (size_t)(src - reader->map->data), count * stride);
+    return STA_OK;
+}
+
+// las_read for X, Y and Z only (LAZ decodes whole records anyway).
+static sta_status las_read_positions(void *impl, sta_point_batch *batch, sta_error *err)
+{
+    sta_las_reader *reader = impl;
+    if (reader->laz) {
+        return sta_las_read_laz(reader, batch, err);
+    }
+    uint64_t left = reader->info.point_count - reader->next_index;
+    size_t count = left < batch->capacity ? (size_t)left : batch->capacity;
+    batch->first_index = reader->next_index;
+    batch->count = count;
+    size_t stride = reader->record_length;
+    const uint8_t *src = reader->point_data + (size_t)reader->next_index * stride;
+    for (size_t i = 0; i < count; i++) {
+        const uint8_t *p = src + i * stride; // X, Y, Z lead every point format
+        batch->points[i].X = sta_load_i32le(p);
+        batch->points[i].Y = sta_load_i32le(p + 4);
+        batch->points[i].Z = sta_load_i32le(p + 8);
+    }
+    reader->next_index += count;
+    if (count > 0) {
+        sta_file_map_drop(reader->map, (size_t)(src - reader->map->data), count * stride);
+    }
     return STA_OK;
 }
 
@@ -102,6 +129,7 @@ static void las_close(void *impl)
 
 static const sta_cloud_ops las_ops = {
     .read = las_read,
+    .read_positions = las_read_positions,
     .seek = las_seek,
     .info = las_info,
     .close = las_close,

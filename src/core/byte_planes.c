@@ -6,7 +6,7 @@
  * per plane. Records left over (count % 8) and bytes left over (rec % 8) take the
  * plain loop. Loads and stores never reach past a record's own bytes.
  */
-#include "byte_planes.h"
+#include "core/byte_planes.h"
 
 #include <string.h>
 

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT
  * Byte planes of fixed-size records: all first bytes, then all second bytes, ... (the
- * temporary runs' shuffle before zstd, temp_runs.c).
+ * shuffle before zstd of the converter's temporary runs, preprocess/temp_runs.c, and
+ * of each column of a .strata payload, format/strata_codec.c).
  */
-#ifndef STA_BYTE_PLANES_H
-#define STA_BYTE_PLANES_H
+#ifndef STA_CORE_BYTE_PLANES_H
+#define STA_CORE_BYTE_PLANES_H
 
 #include <stddef.h>
 #include <stdint.h>
