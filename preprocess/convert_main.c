@@ -211,7 +211,7 @@ int main(int argc, char **argv)
             fprintf(
                 stderr,
                 "  normals: K = %d, halo pass %.2f s; %" PRIu64 " fallback (degenerate), %" PRIu64
-                " widened to %d (nearly linear or edge-on), %" PRIu64
+                " widened to %d (nearly linear, thick or edge-on), %" PRIu64
                 " neighbourhoods wider than the halo; walls face %s\n",
                 options.knn, report.seconds_halo, report.normals_degenerate, report.normals_widened,
                 sta_normals_widest_k(options.knn), report.normals_beyond_halo,

@@ -17,6 +17,12 @@
  * neighbours are nearly one line (a dense scan line), and noise across it would decide
  * the plane: the neighbourhood is widened. */
 #define LINEAR       0.01
+/* l0 > THICK * l1: across the fitted plane the neighbours spread more than 0.22 of their
+ * narrower spread within it (standard deviations): two surfaces close together (a square
+ * 1 cm under another) or range noise of the order of the spacing. The wider fit's
+ * in-plane spread outgrows the layer's thickness: widened. On strata-synth planes the
+ * p95 error falls from 16.7 to 2.3 degrees; 0.1 still left 7.7. */
+#define THICK        0.05
 /* Offsets from the query point summed exactly in int64 (fit_normal) stay below 2^FIT_BITS. */
 #define FIT_BITS     28
 /* |n . v| below this, v the unit direction to the scanner (the trajectory): the fitted
@@ -156,11 +162,12 @@ typedef struct normals_visit {
 } normals_visit;
 
 // Whether a neighbourhood with this fit should be widened (docs/CONVERTER.md "Adaptive
-// neighbourhoods"): nearly linear, or a plane that holds the line of sight.
+// neighbourhoods"): nearly linear, thick across its plane, or a plane that holds the line
+// of sight.
 static bool too_narrow(const sta_normals_chunk *chunk, const double p[3], const double *gps_time,
                        bool ok, const double n[3], const double w[3])
 {
-    if (!ok || w[1] < LINEAR * w[2]) {
+    if (!ok || w[1] < LINEAR * w[2] || w[0] > THICK * w[1]) {
         return true;
     }
     double target[3];

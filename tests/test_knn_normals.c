@@ -345,8 +345,11 @@ static void planes_match_truth_oriented_up(void **state)
     char las[512], out[512];
     snprintf(las, sizeof(las), "%s", sta_test_tmp_path("planes.las"));
     snprintf(out, sizeof(out), "%s", sta_test_tmp_path("planes.strata"));
-    synth(STA_SYNTH_PLANES, 400000, las); // spacing 3.5 cm: the 10 cm gap stays apart
-    convert(las, out, 40000, 2, NULL);
+    // 1 M as in bench/normals.sh: spacing 2.2 cm, so the 60 nearest of a widened point
+    // (radius about 10 cm) stay within the 1 cm pair of squares; at 400 k they reach the
+    // square 10 cm lower too and the p95 is 7.1 degrees (9.7 without widening).
+    synth(STA_SYNTH_PLANES, 1000000, las);
+    convert(las, out, 100000, 2, NULL);
     cloud c = read_cloud(out);
     double *err = sta_alloc_array(c.count, sizeof(double));
     double *apart = sta_alloc_array(c.count, sizeof(double));
@@ -361,12 +364,13 @@ static void planes_match_truth_oriented_up(void **state)
     }
     double median = quantile(err, c.count, 0.5), p95 = quantile(err, c.count, 0.95);
     double median_apart = quantile(apart, n_apart, 0.5), p95_apart = quantile(apart, n_apart, 0.95);
-    print_message("planes 400k: all median %.3f deg, p95 %.3f deg; squares 1 m+ apart: median "
+    print_message("planes 1M: all median %.3f deg, p95 %.3f deg; squares 1 m+ apart: median "
                   "%.3f, p95 %.3f (oriented)\n",
                   median, p95, median_apart, p95_apart);
     assert_true(median <= 1.0);
-    // Squares 1 cm and 10 cm apart share neighbourhoods where they overlap (the plane fit
-    // tilts there, docs/CONVERTER.md); the squares apart meet the target.
+    // Squares 1 cm and 10 cm apart share the 10 nearest where they overlap: a neighbourhood
+    // thick across its plane, widened (docs/CONVERTER.md); without that the p95 is 16.7.
+    assert_true(p95 <= 5.0);
     assert_true(median_apart <= 1.0);
     assert_true(p95_apart <= 5.0);
     sta_free(apart);
@@ -513,7 +517,9 @@ static void street_walls_face_the_scanner(void **state)
     print_message("street 150k: %zu of %zu walls face the scanner, %zu of %zu road normals up\n",
                   facing, walls, up, ground);
     assert_true(walls > 1000 && facing >= walls * 98 / 100);
-    assert_int_equal(up, ground);
+    // All but a few: a road point at the curb whose widened fit (thick: road and curb step)
+    // comes out steeper than 78 degrees is oriented as a wall (5 of 62,228 at this seed).
+    assert_true(ground > 50000 && up >= ground - ground / 5000);
     sta_synth_scene_destroy(scene);
     sta_free(c.points);
 }
