@@ -26,11 +26,37 @@ static void uniforms(sta_raster_compute *r, int slot, GLuint program)
     r->u_view_rotation[slot] = glGetUniformLocation(program, "u_view_rotation");
     r->u_projection[slot] = glGetUniformLocation(program, "u_projection");
     r->u_size[slot] = glGetUniformLocation(program, "u_size");
-    if (slot < STA_RASTER_PROGRAMS) {
-        r->u_hide_flags[slot] = glGetUniformLocation(program, "u_hide_flags");
-        r->u_clip_plane[slot] = glGetUniformLocation(program, "u_clip_plane");
-        sta_footprint_uniforms_locate(&r->footprint[slot], program);
+    r->u_hide_flags[slot] = glGetUniformLocation(program, "u_hide_flags");
+    r->u_clip_plane[slot] = glGetUniformLocation(program, "u_clip_plane");
+    sta_footprint_uniforms_locate(&r->footprint[slot], program);
+}
+
+// The resolve of colour `mode`, built on first use.
+static sta_status resolve_program(sta_raster_compute *r, int mode, sta_raster_resolve **out,
+                                  sta_error *err)
+{
+    sta_raster_resolve *v = &r->resolve[mode];
+    *out = v;
+    if (v->program) {
+        return STA_OK;
     }
+    char defines[sizeof(r->resolve_defines) + 64];
+    snprintf(defines, sizeof(defines), "%s#define STA_RASTER_COLOUR_MODE %d\n", r->resolve_defines,
+             mode);
+    const char *sources[] = { "geometry_colour.glsl", "raster_common.glsl", "raster_resolve.vert",
+                              "raster_resolve.frag" };
+    sta_status status = sta_gl_program_create(sources, 4, defines, &v->program, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    GLuint p = v->program;
+    v->u_view_rotation = glGetUniformLocation(p, "u_view_rotation");
+    v->u_projection = glGetUniformLocation(p, "u_projection");
+    v->u_size = glGetUniformLocation(p, "u_size");
+    v->u_elevation = glGetUniformLocation(p, "u_elevation");
+    v->u_intensity_scale = glGetUniformLocation(p, "u_intensity_scale");
+    v->u_background = glGetUniformLocation(p, "u_background");
+    return STA_OK;
 }
 
 sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error *err)
@@ -63,21 +89,17 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
             uniforms(r, slot, r->points_program[slot]);
         }
     }
-    if (status == STA_OK) {
-        const char *resolve[] = { "geometry_colour.glsl", "raster_common.glsl",
-                                  "raster_resolve.vert", "raster_resolve.frag" };
-        status = sta_gl_program_create(resolve, 4, defines, &r->resolve_program, err);
+    snprintf(r->resolve_defines, sizeof(r->resolve_defines),
+             "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n", extensions,
+             packed ? 1 : 0, (int)subpixel_bits);
+    sta_raster_resolve *resolve = NULL;
+    if (status == STA_OK) { // the default colours' resolve now, so that errors show early
+        status = resolve_program(r, STA_COLOUR_RGB, &resolve, err);
     }
     if (status != STA_OK) {
         sta_raster_compute_release(r);
         return status;
     }
-    GLuint p = r->resolve_program;
-    uniforms(r, STA_RASTER_PROGRAMS, p);
-    r->u_colour_mode = glGetUniformLocation(p, "u_colour_mode");
-    r->u_elevation = glGetUniformLocation(p, "u_elevation");
-    r->u_intensity_scale = glGetUniformLocation(p, "u_intensity_scale");
-    r->u_background = glGetUniformLocation(p, "u_background");
     glCreateVertexArrays(1, &r->vao);
     glCreateTextures(GL_TEXTURE_BUFFER, 1, &r->points_texture);
     glCreateBuffers(1, &r->indirect);
@@ -100,8 +122,10 @@ void sta_raster_compute_release(sta_raster_compute *r)
             glDeleteProgram(r->points_program[i]);
         }
     }
-    if (r->resolve_program) {
-        glDeleteProgram(r->resolve_program);
+    for (int i = 0; i < STA_COLOUR_MODE_COUNT; i++) {
+        if (r->resolve[i].program) {
+            glDeleteProgram(r->resolve[i].program);
+        }
     }
     if (r->vao) {
         glDeleteVertexArrays(1, &r->vao);
@@ -276,15 +300,23 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 
     // Resolve: colour, depth and id of the kept point into the target.
-    glUseProgram(r->resolve_program);
-    set_view(r, STA_RASTER_PROGRAMS, view, projection, w, h);
-    glUniform1i(r->u_colour_mode, colours->mode);
+    sta_raster_resolve *v = NULL;
+    int mode = colours->mode >= 0 && colours->mode < STA_COLOUR_MODE_COUNT ? colours->mode
+                                                                           : STA_COLOUR_RGB;
+    status = resolve_program(r, mode, &v, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    glUseProgram(v->program);
+    glUniformMatrix4fv(v->u_view_rotation, 1, GL_FALSE, view);
+    glUniformMatrix4fv(v->u_projection, 1, GL_FALSE, projection);
+    glUniform2i(v->u_size, w, h);
     double span = colours->elevation_span;
-    glUniform2f(r->u_elevation, (float)(camera->position[2] - colours->elevation_min),
+    glUniform2f(v->u_elevation, (float)(camera->position[2] - colours->elevation_min),
                 (float)(1.0 / (span > 0 ? span : 1.0)));
-    glUniform1f(r->u_intensity_scale, colours->intensity_scale);
-    sta_ground_texture_use(colours->ground, r->resolve_program, camera);
-    glUniform3fv(r->u_background, 1, background);
+    glUniform1f(v->u_intensity_scale, colours->intensity_scale);
+    sta_ground_texture_use(colours->ground, v->program, camera);
+    glUniform3fv(v->u_background, 1, background);
     sta_render_target_bind(target);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);

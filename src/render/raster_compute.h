@@ -35,11 +35,18 @@
 
 #include "core/camera.h"
 #include "core/status.h"
+#include "render/bindings.h"
 #include "render/footprint_uniforms.h"
 #include "render/geometry_colours.h"
 #include "render/gpu_cache.h"
 #include "render/target.h"
 #include "stream/gpu_points.h"
+
+/* The resolve program of one colour mode and its uniforms. */
+typedef struct sta_raster_resolve {
+    GLuint program; /* 0: not built yet */
+    GLint u_view_rotation, u_projection, u_size, u_elevation, u_intensity_scale, u_background;
+} sta_raster_resolve;
 
 /* Point programs: [2 * step + wide] (one-pixel and footprint variants of each step). */
 #define STA_RASTER_PROGRAMS 4
@@ -48,7 +55,6 @@ typedef struct sta_raster_compute {
     bool is_packed; /* one pass with 64-bit atomics */
     int steps;      /* 1: packed; 2: depth, then payload */
     GLuint points_program[STA_RASTER_PROGRAMS];
-    GLuint resolve_program;
     GLuint vao;                                      /* empty, for the resolve triangle */
     GLuint points_texture;                           /* texture buffer view of the arena */
     GLuint arena_viewed;                             /* arena buffer the view shows */
@@ -62,12 +68,14 @@ typedef struct sta_raster_compute {
     size_t node_table_capacity;                      /* entries */
     uint32_t *batch_table;                           /* 2 per batch */
     size_t batch_table_capacity;                     /* batches */
-    /* Per program: the point programs, then the resolve. */
-    GLint u_view_rotation[STA_RASTER_PROGRAMS + 1], u_projection[STA_RASTER_PROGRAMS + 1],
-        u_size[STA_RASTER_PROGRAMS + 1];
-    GLint u_hide_flags[STA_RASTER_PROGRAMS], u_clip_plane[STA_RASTER_PROGRAMS];
-    GLint u_colour_mode, u_elevation, u_intensity_scale, u_background;
+    GLint u_view_rotation[STA_RASTER_PROGRAMS], u_projection[STA_RASTER_PROGRAMS],
+        u_size[STA_RASTER_PROGRAMS], u_hide_flags[STA_RASTER_PROGRAMS],
+        u_clip_plane[STA_RASTER_PROGRAMS];
     sta_footprint_uniforms footprint[STA_RASTER_PROGRAMS];
+    /* The resolve per colour mode (a constant there: llvmpipe would run every mode's
+     * branch), built when the mode is first drawn, from these defines. */
+    sta_raster_resolve resolve[STA_COLOUR_MODE_COUNT];
+    char resolve_defines[256];
 } sta_raster_compute;
 
 /* Builds the programs: the packed one-pass variant when `packed` (needs

@@ -22,6 +22,7 @@ preamble() {
     echo "#define STA_RASTER_PACKED 1"
     echo "#define STA_RASTER_SUBPIXEL_BITS 8"
     echo "#define STA_RASTER_STEP STA_RASTER_STEP_PACKED"
+    echo "#define STA_RASTER_COLOUR_MODE STA_COLOUR_RGB"
 }
 # The point step in both builds: one pixel per point, and footprints (STA_RASTER_WIDE).
 for wide in 0 1; do
