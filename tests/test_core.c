@@ -4,6 +4,7 @@
 #include "test_support.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -241,6 +242,38 @@ static void clock_is_monotonic_and_non_negative(void **state)
     assert_true(ms_end <= sta_clock_s() * 1e3 + 1e-3);
 }
 
+// Burns at least 30 ms of this thread's CPU time; returns the time it counted.
+static void *burn_cpu(void *arg)
+{
+    double *counted = arg;
+    double start = sta_clock_thread_cpu_ms();
+    volatile double sink = 0.0;
+    while (sta_clock_thread_cpu_ms() - start < 30.0) {
+        for (int i = 0; i < 10000; i++) {
+            sink = sink + (double)i * 0.5;
+        }
+    }
+    *counted = sta_clock_thread_cpu_ms() - start;
+    return NULL;
+}
+
+// The process clock counts other threads' work (what llvmpipe's threads do for the
+// headless timings), the calling thread's clock does not.
+static void process_clock_counts_other_threads(void **state)
+{
+    (void)state;
+    double process0 = sta_clock_process_cpu_ms(), thread0 = sta_clock_thread_cpu_ms();
+    double counted = 0.0;
+    pthread_t worker;
+    assert_int_equal(pthread_create(&worker, NULL, burn_cpu, &counted), 0);
+    assert_int_equal(pthread_join(worker, NULL), 0);
+    double process = sta_clock_process_cpu_ms() - process0;
+    double thread = sta_clock_thread_cpu_ms() - thread0;
+    assert_true(counted >= 30.0);
+    assert_true(process >= counted);
+    assert_true(thread < counted);
+}
+
 static void bytes_round_trip_little_endian(void **state)
 {
     (void)state;
@@ -423,6 +456,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(array_reserve_refuses_overflow),
     cmocka_unit_test(array_reserve_failure_keeps_old_array),
     cmocka_unit_test(clock_is_monotonic_and_non_negative),
+    cmocka_unit_test(process_clock_counts_other_threads),
     cmocka_unit_test(bytes_round_trip_little_endian),
     cmocka_unit_test(file_map_reads_file_and_names_missing_one),
     cmocka_unit_test(camera_y_up_basis),

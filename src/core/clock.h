@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT
- * Clocks for timing: monotonic wall time and the calling thread's CPU time.
+ * Clocks for timing: monotonic wall time and the CPU time of the calling thread or of
+ * the whole process.
  *
  * Values are only meaningful as differences between two reads of the same clock; the
  * origin is unspecified. All functions are thread-safe.
@@ -13,6 +14,10 @@ double sta_clock_s(void);
 
 /* The same clock as sta_clock_s in milliseconds. Non-negative. */
 double sta_clock_ms(void);
+
+/* CPU time consumed by all threads of the process in milliseconds
+ * (CLOCK_PROCESS_CPUTIME_ID): with a software GL driver, its threads' work too. */
+double sta_clock_process_cpu_ms(void);
 
 /* CPU time consumed by the calling thread in milliseconds (CLOCK_THREAD_CPUTIME_ID).
  * Non-negative and non-decreasing within one thread; compare reads from one thread only. */
