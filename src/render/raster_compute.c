@@ -77,8 +77,8 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
                      STA_RASTER_STEP_PAYLOAD };
     sta_status status = STA_OK;
     // One program per step and footprint: llvmpipe runs both sides of a branch even on
-    // a uniform, so the one-pixel programs leave the footprint loop out (a step took
-    // 1.6x the CPU time with it, docs/BENCHMARKS.md).
+    // a uniform, so the one-pixel programs leave the footprint loop out (the depth step
+    // took 1.9x the CPU time with it, docs/BENCHMARKS.md).
     for (int slot = 0; slot < 2 * r->steps && status == STA_OK; slot++) {
         snprintf(defines, sizeof(defines),
                  "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n"
