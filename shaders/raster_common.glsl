@@ -33,6 +33,9 @@ layout(std430, binding = STA_RASTER_BUFFER_DEPTH) coherent buffer raster_depth {
 layout(std430, binding = STA_RASTER_BUFFER_PAYLOAD) coherent buffer raster_payload {
     uint payload[]; // smallest draw-order index at that depth; STA_RASTER_NO_POINT: none
 };
+layout(std430, binding = STA_RASTER_BUFFER_CANDIDATES) buffer raster_candidates {
+    uint candidates[]; // per invocation: bit k set when its k-th point may win (DEPTH step)
+};
 #endif
 
 layout(binding = STA_RASTER_SAMPLER_POINTS) uniform usamplerBuffer u_points;

@@ -3,20 +3,24 @@
 // reverse-Z depth per pixel; PAYLOAD then keeps, among the points at that depth, the
 // first in draw order (as GL_POINTS' GL_GREATER depth test does); PACKED does both at
 // once with 64-bit atomics. One workgroup per batch of STA_RASTER_BATCH_POINTS points
-// of one node (the batch list is the indirect dispatch).
-// Points wider than a pixel (u_point_wide) write their whole footprint
+// of one node (the batch list is the indirect dispatch). The DEPTH step marks, per
+// invocation, the points that were not behind the pixel's depth when they came (bit k:
+// its k-th point); only those can be nearest at the end (depths only grow), so the
+// PAYLOAD step projects only them.
+// Built with STA_RASTER_WIDE, points wider than a pixel write their whole footprint
 // (point_footprint.glsl) through the same atomics, the node's spacing in origin.w.
 layout(local_size_x = STA_RASTER_WORKGROUP_SIZE) in;
 
-uniform int u_point_wide; // 0: one pixel per point
-
 // Keeps the point `index` at `bits` in `pixel` if it is nearer (or equal and earlier).
-void keep(uint pixel, uint bits, uint index)
+// DEPTH step: true when the point may still be the pixel's nearest (a candidate).
+bool keep(uint pixel, uint bits, uint index)
 {
 #if STA_RASTER_STEP == STA_RASTER_STEP_DEPTH
-    if (bits > depth_bits[pixel]) { // most points lose: skip their atomic
+    uint kept = depth_bits[pixel];
+    if (bits > kept) { // most points lose: skip their atomic
         atomicMax(depth_bits[pixel], bits);
     }
+    return bits >= kept;
 #elif STA_RASTER_STEP == STA_RASTER_STEP_PAYLOAD
     if (bits == depth_bits[pixel]) {
         atomicMin(payload[pixel], index);
@@ -27,15 +31,18 @@ void keep(uint pixel, uint bits, uint index)
         atomicMax(packed_pixels[pixel], value);
     }
 #endif
+    return false;
 }
 
-void keep_footprint(vec3 relative, float spacing, uint index)
+#if STA_RASTER_WIDE
+bool keep_footprint(vec3 relative, float spacing, uint index)
 {
     vec4 clip = u_projection * (u_view_rotation * vec4(relative, 1.0));
     point_footprint f;
     if (!footprint_of(clip, spacing, u_size, f)) {
-        return;
+        return false;
     }
+    bool candidate = false;
     // Only the pixels whose centres can lie in the disk, |p * 2^bits + 2^(bits-1) - s| <=
     // r per axis (arithmetic shifts floor), and the centre pixel, inside the target: the
     // same pixels as the twin's wider loop finds, fewer tested.
@@ -50,39 +57,65 @@ void keep_footprint(vec3 relative, float spacing, uint index)
             ivec2 p = ivec2(x, y);
             float depth = footprint_depth(f, p);
             if (depth >= 0.0) {
-                keep(uint(p.y) * uint(u_size.x) + uint(p.x), floatBitsToUint(depth), index);
+                candidate = keep(uint(p.y) * uint(u_size.x) + uint(p.x), floatBitsToUint(depth),
+                                 index) ||
+                            candidate;
             }
         }
     }
+    return candidate;
+}
+#endif
+
+// Point `i` of the workgroup's batch (node `node`, first point `first`); true when it
+// is a candidate (DEPTH step).
+bool raster_point(raster_node node, uint first, uint i)
+{
+    uvec4 t = texelFetch(u_points, int(node.info.x + i));
+    if ((((t.w >> 16) & 0xFFu) & u_hide_flags) != 0u) {
+        return false;
+    }
+    vec3 q = vec3(uvec3(t.x & 0xFFFFu, t.x >> 16, t.y & 0xFFFFu));
+    vec3 relative = node.origin.xyz + q * node.step.xyz;
+    if (dot(u_clip_plane.xyz, relative) + u_clip_plane.w < 0.0) {
+        return false;
+    }
+    // Draw-order index with gaps: batch number, then the point within the batch, so
+    // that the resolve finds the point through the batch list without a search.
+    uint index = gl_WorkGroupID.x * uint(STA_RASTER_BATCH_POINTS) + (i - first);
+#if STA_RASTER_WIDE
+    return keep_footprint(relative, node.origin.w, index);
+#else
+    uint pixel;
+    float depth;
+    return project_point(relative, pixel, depth) && keep(pixel, floatBitsToUint(depth), index);
+#endif
 }
 
 void main()
 {
     uvec2 batch = batches[gl_WorkGroupID.x];
     raster_node node = nodes[batch.x];
-    uint end = min(node.info.y, batch.y + uint(STA_RASTER_BATCH_POINTS));
-    for (uint i = batch.y + gl_LocalInvocationID.x; i < end; i += uint(STA_RASTER_WORKGROUP_SIZE)) {
-        uvec4 t = texelFetch(u_points, int(node.info.x + i));
-        if ((((t.w >> 16) & 0xFFu) & u_hide_flags) != 0u) {
-            continue;
-        }
-        vec3 q = vec3(uvec3(t.x & 0xFFFFu, t.x >> 16, t.y & 0xFFFFu));
-        vec3 relative = node.origin.xyz + q * node.step.xyz;
-        if (dot(u_clip_plane.xyz, relative) + u_clip_plane.w < 0.0) {
-            continue;
-        }
-        // Draw-order index with gaps: batch number, then the point within the batch, so
-        // that the resolve finds the point through the batch list without a search.
-        uint index = gl_WorkGroupID.x * uint(STA_RASTER_BATCH_POINTS) + (i - batch.y);
-        if (u_point_wide != 0) {
-            keep_footprint(relative, node.origin.w, index);
-            continue;
-        }
-        uint pixel;
-        float depth;
-        if (!project_point(relative, pixel, depth)) {
-            continue;
-        }
-        keep(pixel, floatBitsToUint(depth), index);
+    uint invocation = gl_WorkGroupID.x * uint(STA_RASTER_WORKGROUP_SIZE) + gl_LocalInvocationID.x;
+    uint first = batch.y + gl_LocalInvocationID.x;
+#if STA_RASTER_STEP == STA_RASTER_STEP_PAYLOAD
+    // Only the depth step's candidates: bit k of the mask is point first + k * size.
+    uint mask = candidates[invocation];
+    while (mask != 0u) {
+        int k = findLSB(mask);
+        mask &= mask - 1u;
+        raster_point(node, batch.y, first + uint(k) * uint(STA_RASTER_WORKGROUP_SIZE));
     }
+#else
+    uint end = min(node.info.y, batch.y + uint(STA_RASTER_BATCH_POINTS));
+    uint mask = 0u;
+    for (uint k = 0u, i = first; i < end; k++, i += uint(STA_RASTER_WORKGROUP_SIZE)) {
+        if (raster_point(node, batch.y, i)) {
+            mask |= 1u << k;
+        }
+    }
+#if STA_RASTER_STEP == STA_RASTER_STEP_DEPTH
+    candidates[invocation] = mask;
+#endif
+#endif
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Compute rasteriser's resolve: the point kept in each pixel gives its colour (as the
-// GL_POINTS path colours it), its depth and its id to the render target.
-uniform int u_colour_mode;       // STA_COLOUR_*
+// GL_POINTS path colours it), its depth and its id to the render target. One program per
+// colour mode (STA_RASTER_COLOUR_MODE), so that only that mode's branch runs.
 uniform vec2 u_elevation;        // (camera z - min z, 1 / (max z - min z))
 uniform float u_intensity_scale; // 1 / largest intensity
 uniform vec3 u_background;       // colour of empty pixels
@@ -37,7 +37,7 @@ void main()
                  returns);
     vec3 relative = node.origin.xyz + vec3(position_intensity.xyz) * node.step.xyz;
     o_colour = vec4(point_colour(position_intensity, colour_class, returns, relative,
-                                 u_colour_mode, u_elevation, u_intensity_scale),
+                                 STA_RASTER_COLOUR_MODE, u_elevation, u_intensity_scale),
                     1.0);
     o_id = uvec2(node.info.w, i);
     gl_FragDepth = uintBitsToFloat(bits);

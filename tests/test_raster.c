@@ -2,7 +2,8 @@
  * The geometry pass's two rasterisers (compute shader and GL_POINTS) against the C twin
  * render/ref/raster_ref.h on small hand-made node sets, exactly: the id of the point
  * kept per pixel and its depth bits. Depth order, ties, points outside the frustum,
- * empty nodes, a node larger than one workgroup's batch, the arena after repacking;
+ * empty nodes, a node larger than one workgroup's batch, many points contending for a
+ * few pixels, the arena after repacking;
  * both rasterisers on a converted scene through sta_scene; the choice of the atomics
  * path (the 32-bit fallback when 64-bit atomics are absent or switched off). Points
  * wider than a pixel (render/point_size.h), fixed and adaptive, the same way; the
@@ -389,6 +390,22 @@ static void equal_depths_keep_the_first_drawn(void **state)
     free_set(&set);
 }
 
+// Many points, from many workgroups at once, into a few pixels: the atomics contend
+// within SIMD groups and between threads, and most points tie in depth with others (a
+// 6x6x6 grid of positions 1 mm apart, 20 m ahead), so many are payload candidates.
+static void many_points_contend_for_few_pixels(void **state)
+{
+    (void)state;
+    test_set set = { 0 };
+    for (int k = 0; k < 8; k++) {
+        add_node(&set, 20.0 + 0.002 * k, 0.001 * k, -0.001 * k, 20000, 6);
+    }
+    size_t drawn = check_set(&set);
+    printf("%zu pixels drawn by %d points\n", drawn, 8 * 20000);
+    assert_true(drawn >= 1 && drawn <= 16);
+    free_set(&set);
+}
+
 static void points_outside_the_frustum_are_not_drawn(void **state)
 {
     (void)state;
@@ -672,6 +689,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(nearest_point_wins_in_any_draw_order, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(equal_depths_keep_the_first_drawn, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(many_points_contend_for_few_pixels, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(points_outside_the_frustum_are_not_drawn, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

@@ -27,14 +27,14 @@ double sta_clock_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-double sta_clock_thread_cpu_ms(void)
-{
-    struct timespec ts = read_clock(CLOCK_THREAD_CPUTIME_ID);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
 double sta_clock_process_cpu_ms(void)
 {
     struct timespec ts = read_clock(CLOCK_PROCESS_CPUTIME_ID);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+double sta_clock_thread_cpu_ms(void)
+{
+    struct timespec ts = read_clock(CLOCK_THREAD_CPUTIME_ID);
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }

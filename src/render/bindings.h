@@ -44,17 +44,18 @@
 #define STA_SPLAT_SAMPLER_SPLATS    2 /* pulled splats: usamplerBuffer RG32UI, splats */
 
 /* Compute rasteriser (raster_common.glsl, raster_points.comp, raster_resolve.*). */
-#define STA_RASTER_SAMPLER_POINTS 0 /* usamplerBuffer RGBA32UI: the node arena */
-#define STA_RASTER_BUFFER_BATCHES 0 /* uvec2 per workgroup: node table index, first point */
-#define STA_RASTER_BUFFER_NODES   1 /* the frame's node table */
-#define STA_RASTER_BUFFER_DEPTH   2 /* uint per pixel (uint64 when packed) */
-#define STA_RASTER_BUFFER_PAYLOAD 3 /* uint per pixel: draw-order index (two-pass only) */
-#define STA_RASTER_WORKGROUP_SIZE 128
-#define STA_RASTER_BATCH_POINTS   4096        /* points per workgroup */
-#define STA_RASTER_NO_POINT       0xFFFFFFFFu /* empty payload */
-#define STA_RASTER_STEP_DEPTH     0           /* two-pass: depth */
-#define STA_RASTER_STEP_PAYLOAD   1           /* two-pass: payload at that depth */
-#define STA_RASTER_STEP_PACKED    2           /* one pass, 64-bit atomics */
+#define STA_RASTER_SAMPLER_POINTS    0 /* usamplerBuffer RGBA32UI: the node arena */
+#define STA_RASTER_BUFFER_BATCHES    0 /* uvec2 per workgroup: node table index, first point */
+#define STA_RASTER_BUFFER_NODES      1 /* the frame's node table */
+#define STA_RASTER_BUFFER_DEPTH      2 /* uint per pixel (uint64 when packed) */
+#define STA_RASTER_BUFFER_PAYLOAD    3 /* uint per pixel: draw-order index (two-pass only) */
+#define STA_RASTER_BUFFER_CANDIDATES 4 /* uint per invocation: its candidates (two-pass) */
+#define STA_RASTER_WORKGROUP_SIZE    128
+#define STA_RASTER_BATCH_POINTS      4096        /* points per workgroup */
+#define STA_RASTER_NO_POINT          0xFFFFFFFFu /* empty payload */
+#define STA_RASTER_STEP_DEPTH        0           /* two-pass: depth */
+#define STA_RASTER_STEP_PAYLOAD      1           /* two-pass: payload at that depth */
+#define STA_RASTER_STEP_PACKED       2           /* one pass, 64-bit atomics */
 
 /* Unproject (unproject.comp). */
 #define STA_UNPROJECT_SAMPLER_DEPTH  0 /* reverse-Z depth */
@@ -165,6 +166,7 @@
  X(STA_RASTER_BUFFER_NODES)                                                                        \
  X(STA_RASTER_BUFFER_DEPTH)                                                                        \
  X(STA_RASTER_BUFFER_PAYLOAD)                                                                      \
+ X(STA_RASTER_BUFFER_CANDIDATES)                                                                   \
  X(STA_RASTER_WORKGROUP_SIZE)                                                                      \
  X(STA_RASTER_BATCH_POINTS)                                                                        \
  X(STA_RASTER_NO_POINT)                                                                            \

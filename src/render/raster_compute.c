@@ -18,28 +18,52 @@ typedef struct raster_node {
 } raster_node;
 _Static_assert(sizeof(raster_node) == 48, "raster_node mirrors the std430 struct");
 _Static_assert(STA_RASTER_NO_POINT == STA_TARGET_NO_POINT, "the resolve writes the target's id");
+_Static_assert(STA_RASTER_BATCH_POINTS <= 32 * STA_RASTER_WORKGROUP_SIZE,
+               "an invocation's candidates are the bits of one uint");
 
 static void uniforms(sta_raster_compute *r, int slot, GLuint program)
 {
     r->u_view_rotation[slot] = glGetUniformLocation(program, "u_view_rotation");
     r->u_projection[slot] = glGetUniformLocation(program, "u_projection");
     r->u_size[slot] = glGetUniformLocation(program, "u_size");
-    if (slot < 2) {
-        r->u_hide_flags[slot] = glGetUniformLocation(program, "u_hide_flags");
-        r->u_clip_plane[slot] = glGetUniformLocation(program, "u_clip_plane");
-    }
+    r->u_hide_flags[slot] = glGetUniformLocation(program, "u_hide_flags");
+    r->u_clip_plane[slot] = glGetUniformLocation(program, "u_clip_plane");
+    sta_footprint_uniforms_locate(&r->footprint[slot], program);
 }
 
-static void footprint_uniforms(sta_raster_compute *r, int slot, GLuint program)
+// The resolve of colour `mode`, built on first use.
+static sta_status resolve_program(sta_raster_compute *r, int mode, sta_raster_resolve **out,
+                                  sta_error *err)
 {
-    sta_footprint_uniforms_locate(&r->footprint[slot], program);
-    r->u_point_wide[slot] = glGetUniformLocation(program, "u_point_wide");
+    sta_raster_resolve *v = &r->resolve[mode];
+    *out = v;
+    if (v->program) {
+        return STA_OK;
+    }
+    char defines[sizeof(r->resolve_defines) + 64];
+    snprintf(defines, sizeof(defines), "%s#define STA_RASTER_COLOUR_MODE %d\n", r->resolve_defines,
+             mode);
+    const char *sources[] = { "geometry_colour.glsl", "raster_common.glsl", "raster_resolve.vert",
+                              "raster_resolve.frag" };
+    sta_status status = sta_gl_program_create(sources, 4, defines, &v->program, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    GLuint p = v->program;
+    v->u_view_rotation = glGetUniformLocation(p, "u_view_rotation");
+    v->u_projection = glGetUniformLocation(p, "u_projection");
+    v->u_size = glGetUniformLocation(p, "u_size");
+    v->u_elevation = glGetUniformLocation(p, "u_elevation");
+    v->u_intensity_scale = glGetUniformLocation(p, "u_intensity_scale");
+    v->u_background = glGetUniformLocation(p, "u_background");
+    return STA_OK;
 }
 
 sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error *err)
 {
     memset(r, 0, sizeof(*r));
     r->is_packed = packed;
+    r->steps = packed ? 1 : 2;
     GLint subpixel_bits = 8;
     glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &r->max_texels);
@@ -52,32 +76,30 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
     int steps[2] = { packed ? STA_RASTER_STEP_PACKED : STA_RASTER_STEP_DEPTH,
                      STA_RASTER_STEP_PAYLOAD };
     sta_status status = STA_OK;
-    for (int i = 0; i < (packed ? 1 : 2) && status == STA_OK; i++) {
+    // One program per step and footprint: llvmpipe runs both sides of a branch even on
+    // a uniform, so the one-pixel programs leave the footprint loop out (the depth step
+    // took 1.9x the CPU time with it, docs/BENCHMARKS.md).
+    for (int slot = 0; slot < 2 * r->steps && status == STA_OK; slot++) {
         snprintf(defines, sizeof(defines),
                  "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n"
-                 "#define STA_RASTER_STEP %d\n",
-                 extensions, packed ? 1 : 0, (int)subpixel_bits, steps[i]);
-        status = sta_gl_program_create(points, 3, defines, &r->points_program[i], err);
+                 "#define STA_RASTER_STEP %d\n#define STA_RASTER_WIDE %d\n",
+                 extensions, packed ? 1 : 0, (int)subpixel_bits, steps[slot / 2], slot % 2);
+        status = sta_gl_program_create(points, 3, defines, &r->points_program[slot], err);
         if (status == STA_OK) {
-            uniforms(r, i, r->points_program[i]);
-            footprint_uniforms(r, i, r->points_program[i]);
+            uniforms(r, slot, r->points_program[slot]);
         }
     }
-    if (status == STA_OK) {
-        const char *resolve[] = { "geometry_colour.glsl", "raster_common.glsl",
-                                  "raster_resolve.vert", "raster_resolve.frag" };
-        status = sta_gl_program_create(resolve, 4, defines, &r->resolve_program, err);
+    snprintf(r->resolve_defines, sizeof(r->resolve_defines),
+             "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n", extensions,
+             packed ? 1 : 0, (int)subpixel_bits);
+    sta_raster_resolve *resolve = NULL;
+    if (status == STA_OK) { // the default colours' resolve now, so that errors show early
+        status = resolve_program(r, STA_COLOUR_RGB, &resolve, err);
     }
     if (status != STA_OK) {
         sta_raster_compute_release(r);
         return status;
     }
-    GLuint p = r->resolve_program;
-    uniforms(r, 2, p);
-    r->u_colour_mode = glGetUniformLocation(p, "u_colour_mode");
-    r->u_elevation = glGetUniformLocation(p, "u_elevation");
-    r->u_intensity_scale = glGetUniformLocation(p, "u_intensity_scale");
-    r->u_background = glGetUniformLocation(p, "u_background");
     glCreateVertexArrays(1, &r->vao);
     glCreateTextures(GL_TEXTURE_BUFFER, 1, &r->points_texture);
     glCreateBuffers(1, &r->indirect);
@@ -95,13 +117,15 @@ static void delete_buffer(GLuint *buffer)
 
 void sta_raster_compute_release(sta_raster_compute *r)
 {
-    for (int i = 0; i < 2; i++) {
+    for (int i = 0; i < STA_RASTER_PROGRAMS; i++) {
         if (r->points_program[i]) {
             glDeleteProgram(r->points_program[i]);
         }
     }
-    if (r->resolve_program) {
-        glDeleteProgram(r->resolve_program);
+    for (int i = 0; i < STA_COLOUR_MODE_COUNT; i++) {
+        if (r->resolve[i].program) {
+            glDeleteProgram(r->resolve[i].program);
+        }
     }
     if (r->vao) {
         glDeleteVertexArrays(1, &r->vao);
@@ -111,6 +135,7 @@ void sta_raster_compute_release(sta_raster_compute *r)
     }
     delete_buffer(&r->nodes);
     delete_buffer(&r->batches);
+    delete_buffer(&r->candidates);
     delete_buffer(&r->indirect);
     delete_buffer(&r->depth);
     delete_buffer(&r->payload);
@@ -230,6 +255,11 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     ensure_pixels(r, w, h);
     ensure_buffer(&r->nodes, &r->node_bytes, count * sizeof(raster_node));
     ensure_buffer(&r->batches, &r->batch_bytes, batches * 2 * sizeof(uint32_t));
+    if (r->steps == 2) {
+        ensure_buffer(&r->candidates, &r->candidate_bytes,
+                      batches * STA_RASTER_WORKGROUP_SIZE * sizeof(uint32_t));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_CANDIDATES, r->candidates);
+    }
     glNamedBufferSubData(r->nodes, 0, (GLsizeiptr)(count * sizeof(raster_node)), r->node_table);
     glNamedBufferSubData(r->batches, 0, (GLsizeiptr)(batches * 2 * sizeof(uint32_t)),
                          r->batch_table);
@@ -255,28 +285,38 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     float view[16], projection[16];
     sta_camera_view_rotation(camera, view);
     sta_camera_projection(camera, projection);
-    for (int step = 0; step < (r->is_packed ? 1 : 2); step++) {
-        glUseProgram(r->points_program[step]);
-        set_view(r, step, view, projection, w, h);
-        glUniform1i(r->u_point_wide[step], footprint->wide);
-        sta_footprint_uniforms_set(&r->footprint[step], footprint);
-        glUniform1ui(r->u_hide_flags[step], colours->hide_flags);
-        glUniform4fv(r->u_clip_plane[step], 1, colours->clip_plane);
+    for (int step = 0; step < r->steps; step++) {
+        int slot = 2 * step + (footprint->wide ? 1 : 0);
+        glUseProgram(r->points_program[slot]);
+        set_view(r, slot, view, projection, w, h);
+        if (footprint->wide) {
+            sta_footprint_uniforms_set(&r->footprint[slot], footprint);
+        }
+        glUniform1ui(r->u_hide_flags[slot], colours->hide_flags);
+        glUniform4fv(r->u_clip_plane[slot], 1, colours->clip_plane);
         glDispatchComputeIndirect(0);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 
     // Resolve: colour, depth and id of the kept point into the target.
-    glUseProgram(r->resolve_program);
-    set_view(r, 2, view, projection, w, h);
-    glUniform1i(r->u_colour_mode, colours->mode);
+    sta_raster_resolve *v = NULL;
+    int mode = colours->mode >= 0 && colours->mode < STA_COLOUR_MODE_COUNT ? colours->mode
+                                                                           : STA_COLOUR_RGB;
+    status = resolve_program(r, mode, &v, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    glUseProgram(v->program);
+    glUniformMatrix4fv(v->u_view_rotation, 1, GL_FALSE, view);
+    glUniformMatrix4fv(v->u_projection, 1, GL_FALSE, projection);
+    glUniform2i(v->u_size, w, h);
     double span = colours->elevation_span;
-    glUniform2f(r->u_elevation, (float)(camera->position[2] - colours->elevation_min),
+    glUniform2f(v->u_elevation, (float)(camera->position[2] - colours->elevation_min),
                 (float)(1.0 / (span > 0 ? span : 1.0)));
-    glUniform1f(r->u_intensity_scale, colours->intensity_scale);
-    sta_ground_texture_use(colours->ground, r->resolve_program, camera);
-    glUniform3fv(r->u_background, 1, background);
+    glUniform1f(v->u_intensity_scale, colours->intensity_scale);
+    sta_ground_texture_use(colours->ground, v->program, camera);
+    glUniform3fv(v->u_background, 1, background);
     sta_render_target_bind(target);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);

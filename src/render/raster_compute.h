@@ -13,8 +13,11 @@
  * batch list. With 64-bit atomics one step keeps (depth << 32 | ~draw-order index) per
  * pixel; without, a depth step (atomicMax of the depth's bits: reverse-Z floats >= 0
  * order like their bits) is followed by a payload step (atomicMin of the draw-order
- * index among the points at that depth). The resolve writes every pixel (background
- * where empty), so the target is not cleared first.
+ * index among the points at that depth). The depth step leaves a bit mask per
+ * invocation of the points that were not behind the pixel's depth when they came: the
+ * only ones that can be nearest at the end, since depths only grow, so the payload step
+ * reads and projects only those (half the payload step's time on the demo street). The
+ * resolve writes every pixel (background where empty), so the target is not cleared.
  * Either way the nearest point wins and ties go to the first in draw order, as with
  * GL_POINTS and GL_GREATER.
  *
@@ -32,33 +35,47 @@
 
 #include "core/camera.h"
 #include "core/status.h"
+#include "render/bindings.h"
 #include "render/footprint_uniforms.h"
 #include "render/geometry_colours.h"
 #include "render/gpu_cache.h"
 #include "render/target.h"
 #include "stream/gpu_points.h"
 
+/* The resolve program of one colour mode and its uniforms. */
+typedef struct sta_raster_resolve {
+    GLuint program; /* 0: not built yet */
+    GLint u_view_rotation, u_projection, u_size, u_elevation, u_intensity_scale, u_background;
+} sta_raster_resolve;
+
+/* Point programs: [2 * step + wide] (one-pixel and footprint variants of each step). */
+#define STA_RASTER_PROGRAMS 4
+
 typedef struct sta_raster_compute {
-    bool is_packed;           /* one pass with 64-bit atomics */
-    GLuint points_program[2]; /* depth and payload steps, or [0] packed */
-    GLuint resolve_program;
-    GLuint vao;                                           /* empty, for the resolve triangle */
-    GLuint points_texture;                                /* texture buffer view of the arena */
-    GLuint arena_viewed;                                  /* arena buffer the view shows */
-    GLuint nodes, batches, indirect;                      /* per-frame tables */
-    GLuint depth, payload;                                /* per-pixel buffers */
-    size_t node_bytes, batch_bytes;                       /* buffer capacities */
-    int width_px, height_px;                              /* size of the per-pixel buffers */
-    GLint max_texels;                                     /* GL_MAX_TEXTURE_BUFFER_SIZE */
-    void *node_table;                                     /* CPU copy of the tables, reused */
-    size_t node_table_capacity;                           /* entries */
-    uint32_t *batch_table;                                /* 2 per batch */
-    size_t batch_table_capacity;                          /* batches */
-    GLint u_view_rotation[3], u_projection[3], u_size[3]; /* per program (steps, resolve) */
-    GLint u_hide_flags[2], u_clip_plane[2];               /* per step program */
-    GLint u_colour_mode, u_elevation, u_intensity_scale, u_background;
-    sta_footprint_uniforms footprint[2]; /* per step program */
-    GLint u_point_wide[2];
+    bool is_packed; /* one pass with 64-bit atomics */
+    int steps;      /* 1: packed; 2: depth, then payload */
+    GLuint points_program[STA_RASTER_PROGRAMS];
+    GLuint vao;                                      /* empty, for the resolve triangle */
+    GLuint points_texture;                           /* texture buffer view of the arena */
+    GLuint arena_viewed;                             /* arena buffer the view shows */
+    GLuint nodes, batches, indirect;                 /* per-frame tables */
+    GLuint depth, payload;                           /* per-pixel buffers */
+    GLuint candidates;                               /* two-pass: a candidate mask per invocation */
+    size_t node_bytes, batch_bytes, candidate_bytes; /* buffer capacities */
+    int width_px, height_px;                         /* size of the per-pixel buffers */
+    GLint max_texels;                                /* GL_MAX_TEXTURE_BUFFER_SIZE */
+    void *node_table;                                /* CPU copy of the tables, reused */
+    size_t node_table_capacity;                      /* entries */
+    uint32_t *batch_table;                           /* 2 per batch */
+    size_t batch_table_capacity;                     /* batches */
+    GLint u_view_rotation[STA_RASTER_PROGRAMS], u_projection[STA_RASTER_PROGRAMS],
+        u_size[STA_RASTER_PROGRAMS], u_hide_flags[STA_RASTER_PROGRAMS],
+        u_clip_plane[STA_RASTER_PROGRAMS];
+    sta_footprint_uniforms footprint[STA_RASTER_PROGRAMS];
+    /* The resolve per colour mode (a constant there: llvmpipe would run every mode's
+     * branch), built when the mode is first drawn, from these defines. */
+    sta_raster_resolve resolve[STA_COLOUR_MODE_COUNT];
+    char resolve_defines[256];
 } sta_raster_compute;
 
 /* Builds the programs: the packed one-pass variant when `packed` (needs

@@ -334,10 +334,11 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         return status;
     }
 
-    double geometry_start = 0;
+    double geometry_start = 0, geometry_cpu_start = 0;
     if (s->timing) {
         glFinish();
         geometry_start = sta_timing_clock_ms(s->timing_clock);
+        geometry_cpu_start = sta_clock_process_cpu_ms();
     }
     const sta_strata_info *info = sta_scene_info(s);
     if (s->colour_mode == STA_COLOUR_HEIGHT && !s->ground.texture) {
@@ -398,6 +399,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
     if (s->timing) {
         glFinish();
         stats->geometry_ms = sta_timing_clock_ms(s->timing_clock) - geometry_start;
+        stats->geometry_cpu_ms = sta_clock_process_cpu_ms() - geometry_cpu_start;
     }
     if (pipeline.mode != STA_PIPELINE_RAW && pipeline.mode != STA_PIPELINE_SPLATS) {
         if (!s->has_pipeline) {

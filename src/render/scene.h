@@ -40,6 +40,9 @@ typedef struct sta_frame_stats {
     uint64_t evictions;         /* nodes evicted from the GPU cache so far */
     float s0_m;                 /* sampling scale used by the screen-space passes, metres */
     double geometry_ms;         /* GPU time of the geometry pass (when timing is on) */
+    double geometry_cpu_ms;     /* CPU time of the process over that pass (timing on): on
+                                   llvmpipe the work of its threads, steadier than the wall
+                                   time on a busy machine */
     sta_pipeline_timing timing; /* screen-space passes (when timing is on) */
     bool complete;              /* every selected node is resident (or refused), and in the
                                    live Katz mode the set drawn is of this view */

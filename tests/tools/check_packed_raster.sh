@@ -22,15 +22,19 @@ preamble() {
     echo "#define STA_RASTER_PACKED 1"
     echo "#define STA_RASTER_SUBPIXEL_BITS 8"
     echo "#define STA_RASTER_STEP STA_RASTER_STEP_PACKED"
+    echo "#define STA_RASTER_COLOUR_MODE STA_COLOUR_RGB"
 }
-{ preamble; cat "$shaders/raster_common.glsl" "$shaders/point_footprint.glsl" \
-    "$shaders/raster_points.comp"; } >"$work/packed.comp"
+# The point step in both builds: one pixel per point, and footprints (STA_RASTER_WIDE).
+for wide in 0 1; do
+    { preamble; echo "#define STA_RASTER_WIDE $wide"; cat "$shaders/raster_common.glsl" \
+        "$shaders/point_footprint.glsl" "$shaders/raster_points.comp"; } >"$work/packed$wide.comp"
+done
 { preamble; cat "$shaders/geometry_colour.glsl" "$shaders/raster_common.glsl" \
     "$shaders/raster_resolve.frag"; } >"$work/packed.frag"
 { preamble; cat "$shaders/geometry_colour.glsl" "$shaders/raster_common.glsl" \
     "$shaders/raster_resolve.vert"; } >"$work/packed.vert"
 status=0
-for stage in comp frag vert; do
-    glslangValidator "$work/packed.$stage" || status=1
+for file in packed0.comp packed1.comp packed.frag packed.vert; do
+    glslangValidator "$work/$file" || status=1
 done
 exit $status
