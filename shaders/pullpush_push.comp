@@ -2,7 +2,10 @@
 // Push (Kraus 2009): fine texel q of level l takes the bilinear interpolation of the
 // pushed level l + 1 (taps 3/4 and 1/4 per axis, 9/16 3/16 3/16 1/16 in 2D, coordinates
 // clamped to the coarse level, empty coarse texels skipped) under its own value by
-// "over" compositing: w' = w + (1 - w) sw, value (w v + (1 - w) sv) / w'.
+// "over" compositing: w' = w + (1 - w) sw, value (w v + (1 - w) sv) / w'. Each tap's
+// weight is divided by 1 + x + x^2/2 + x^3/6 (exp(x) to third order; GLSL's exp differs
+// from the twin's expf), x = ((d - d_near) / (PP_DEPTH_TAU d_near))^2, d_near the nearest
+// tap depth: a hole at an outline takes the near surface, not a depth between both.
 // Twin: src/render/ref/pullpush_ref.c (push_texel). Built twice: with PP_LEVEL0 the
 // fine level is the input, the result goes to the output textures and the background
 // found by HPR is restored; without it a pyramid level is updated in place.
@@ -57,16 +60,29 @@ void main()
         wx[1] = 1.0 - wx[0];
         wy[0] = (q.y & 1) != 0 ? 0.75 : 0.25;
         wy[1] = 1.0 - wy[0];
-        for (int b = 0; b < 2; b++) {
-            for (int a = 0; a < 2; a++) {
-                ivec2 cq = clamp(c0 + ivec2(a, b), ivec2(0), u_coarse_size - 1);
-                vec4 t = imageLoad(u_coarse_position, cq);
-                if (t.w > 0.0) {
-                    float kw = wx[a] * wy[b] * t.w;
-                    sw += kw;
-                    sp += kw * t.xyz;
-                    sc += kw * imageLoad(u_coarse_colour, cq).rgb;
+        vec4 tp[4];
+        float near_d = 0.0; // nearest depth among the non-empty taps
+        for (int k = 0; k < 4; k++) {
+            ivec2 cq = clamp(c0 + ivec2(k & 1, k >> 1), ivec2(0), u_coarse_size - 1);
+            tp[k] = imageLoad(u_coarse_position, cq);
+            float d = -tp[k].z;
+            if (tp[k].w > 0.0 && (near_d <= 0.0 || d < near_d)) {
+                near_d = d;
+            }
+        }
+        for (int k = 0; k < 4; k++) {
+            if (tp[k].w > 0.0) {
+                float kw = wx[k & 1] * wy[k >> 1] * tp[k].w;
+                if (near_d > 0.0) {
+                    precise float dz = (-tp[k].z - near_d) / (PP_DEPTH_TAU * near_d);
+                    precise float x = dz * dz;
+                    precise float e = 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0)));
+                    kw = kw / e;
                 }
+                sw += kw;
+                sp += kw * tp[k].xyz;
+                ivec2 cq = clamp(c0 + ivec2(k & 1, k >> 1), ivec2(0), u_coarse_size - 1);
+                sc += kw * imageLoad(u_coarse_colour, cq).rgb;
             }
         }
     }

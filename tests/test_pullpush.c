@@ -24,6 +24,8 @@
 #define WEIGHT_TOLERANCE     1e-5f
 #define COLOUR_TOLERANCE     1e-5f
 #define NORMAL_TOLERANCE_DEG 0.05
+/* push_keeps_holes_on_one_surface: 319 with the depth weight, 545 without. */
+#define MAX_FLOATING         400
 
 /* ---- a frame of inputs ---- */
 
@@ -841,6 +843,49 @@ static void depth_discontinuity_stays_bounded(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
+/* The near square over the far plane of depth_discontinuity_stays_bounded, 30 % points:
+ * the push prefers the nearest coarse tap's surface (STA_PULLPUSH_DEPTH_TAU), so few
+ * filled holes float between the two surfaces (more than 5 % off both depths): 319 of
+ * the 6144 pixels, against 545 without the depth weight (TAU = 1e30). The rest come from
+ * the pull, whose coarse texels already mix both surfaces. */
+static void push_keeps_holes_on_one_surface(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    const int w = 96, h = 64;
+    frame f;
+    frame_init(&f, w, h);
+    rng_state = 12345u;
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            bool near = x >= 32 && x < 64 && y >= 16 && y < 48;
+            if (random01() < 0.3f) {
+                set_point(&f, x, y, near ? 2.0f : 20.0f, STA_LABEL_VISIBLE);
+            } else {
+                set_empty(&f, x, y, STA_LABEL_HOLE);
+            }
+        }
+    }
+    result ref, got;
+    check_gl_matches_twin(&f, NULL, &ref, &got);
+    int floating = 0;
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            float d = -sta_image_at(&got.position, x, y)[2];
+            if (fabsf(d - 2.0f) > 0.1f && fabsf(d - 20.0f) > 1.0f) {
+                floating++;
+            }
+        }
+    }
+    printf("push: %d filled pixels more than 5 %% off both surfaces\n", floating);
+    assert_true(floating <= MAX_FLOATING);
+    result_release(&ref);
+    result_release(&got);
+    frame_release(&f);
+    sta_gl_headless_destroy(&gl);
+}
+
 /* Points at the near plane and at 100 km, sparse, in one frame. */
 static void near_plane_and_far_points(void **state)
 {
@@ -1025,6 +1070,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(all_points_pass_through),
     cmocka_unit_test(hidden_points_do_not_leak),
     cmocka_unit_test(depth_discontinuity_stays_bounded),
+    cmocka_unit_test(push_keeps_holes_on_one_surface),
     cmocka_unit_test(near_plane_and_far_points),
     cmocka_unit_test(twin_rejects_mismatched_sizes),
     cmocka_unit_test(normals_do_not_mix_across_a_step),

@@ -13,11 +13,13 @@
 
 const char *sta_pullpush_shader_defines(void)
 {
-    static char defines[128];
+    static char defines[256];
     if (!defines[0]) {
         snprintf(defines, sizeof(defines),
-                 "#define PP_LABEL_BACKGROUND %.1f\n#define PP_LABEL_VISIBLE %.1f\n",
-                 (double)STA_LABEL_BACKGROUND, (double)STA_LABEL_VISIBLE);
+                 "#define PP_LABEL_BACKGROUND %.1f\n#define PP_LABEL_VISIBLE %.1f\n"
+                 "#define PP_DEPTH_TAU %.9e\n",
+                 (double)STA_LABEL_BACKGROUND, (double)STA_LABEL_VISIBLE,
+                 (double)STA_PULLPUSH_DEPTH_TAU);
     }
     return defines;
 }
@@ -25,7 +27,7 @@ const char *sta_pullpush_shader_defines(void)
 static sta_status build(const char *stage, const char *variant, sta_pullpush_program *out,
                         sta_error *err)
 {
-    char defines[256];
+    char defines[320];
     snprintf(defines, sizeof(defines), "%s%s", sta_pullpush_shader_defines(), variant);
     const char *names[] = { "pullpush_common.glsl", stage };
     sta_status status = sta_gl_program_create(names, 2, defines, &out->program, err);

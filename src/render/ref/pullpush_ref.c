@@ -7,6 +7,7 @@
  */
 #include "render/ref/pullpush_ref.h"
 
+#include <math.h>
 #include <stdbool.h>
 #include <string.h>
 
@@ -133,18 +134,31 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
         wx[1] = 1.0f - wx[0];
         wy[0] = (j & 1) ? 0.75f : 0.25f;
         wy[1] = 1.0f - wy[0];
-        for (int b = 0; b < 2; b++) {
-            int cy = clamp_int(cy0 + b, 0, coarse_h - 1);
-            for (int a = 0; a < 2; a++) {
-                int cx = clamp_int(cx0 + a, 0, coarse_w - 1);
-                texel t = fetch(coarse, cx, cy);
-                if (t.w > 0.0f) {
-                    float kw = wx[a] * wy[b] * t.w;
-                    sw += kw;
-                    for (int k = 0; k < 3; k++) {
-                        sp[k] += kw * t.p[k];
-                        sc[k] += kw * t.c[k];
-                    }
+        texel taps[4];
+        float near_d = 0.0f; /* nearest depth among the non-empty taps */
+        for (int k = 0; k < 4; k++) {
+            int a = k & 1, b = k >> 1;
+            taps[k] = fetch(coarse, clamp_int(cx0 + a, 0, coarse_w - 1),
+                            clamp_int(cy0 + b, 0, coarse_h - 1));
+            float d = -taps[k].p[2];
+            if (taps[k].w > 0.0f && (near_d <= 0.0f || d < near_d)) {
+                near_d = d;
+            }
+        }
+        for (int k = 0; k < 4; k++) {
+            const texel *t = &taps[k];
+            if (t->w > 0.0f) {
+                float kw = wx[k & 1] * wy[k >> 1] * t->w;
+                if (near_d > 0.0f) {
+                    float dz = (-t->p[2] - near_d) / (STA_PULLPUSH_DEPTH_TAU * near_d);
+                    float x = dz * dz;
+                    float e = 1.0f + x * (1.0f + x * (0.5f + x * (1.0f / 6.0f)));
+                    kw = kw / e;
+                }
+                sw += kw;
+                for (int c = 0; c < 3; c++) {
+                    sp[c] += kw * t->p[c];
+                    sc[c] += kw * t->c[c];
                 }
             }
         }

@@ -21,6 +21,13 @@
 #include "render/ref/image.h"
 #include "render/ref/screen_space.h"
 
+/* Push: a coarse tap's weight is divided by 1 + x + x^2/2 + x^3/6 (exp(x) to third
+ * order: plain arithmetic, which the shader and the twin compute alike, where GLSL's exp
+ * and expf part ways), x = ((d - d_near) / (TAU d_near))^2, d its depth and d_near the
+ * nearest depth among the (up to 4) taps: a hole at an outline takes the near surface
+ * rather than a depth between both (issue 15, docs/BENCHMARKS.md). */
+#define STA_PULLPUSH_DEPTH_TAU 0.3f
+
 /* Levels of the largest view accepted (32768 pixels on a side). */
 #define STA_PULLPUSH_MAX_LEVELS 16
 

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Screen-space picture error against the synth's truth (issue 15, parts 2 and 3): HPR
+# F1, filled-depth p95 (relative; all pixels with a truth hit, and only those of a sampled
+# surface, strata-bench's depth_sampled_*) and pyramidal normal median / p95 on the three street
+# views (960x540, 2 M points, seed 1) and two orbit views of sphere, nested and the
+# bunny (640x480, 200 k points, seed 1). One line per view; errors are deterministic on
+# llvmpipe, so two builds are compared by running the script once per build.
+# usage: bench/screen_quality.sh [BUILD=build/release] [LABEL]
+#   (EXTRA: more strata-bench options; BENCH_DIR: work folder, default /tmp/strata-quality;
+#    BUNNY: the bunny PLY, default ../shared/data/models/bun_zipper.ply)
+set -euo pipefail
+build=${1:-build/release}
+label=${2:-$(basename "$build")}
+work=${BENCH_DIR:-/tmp/strata-quality}
+bunny=${BUNNY:-$(dirname "$0")/../../shared/data/models/bun_zipper.ply}
+mkdir -p "$work"
+synth=$build/src/strata-synth
+convert=$build/preprocess/strata-convert
+bench=$build/src/bench/strata-bench
+make_scene() { # name, synth arguments...
+    local name=$1
+    shift
+    if [ ! -f "$work/$name.strata" ]; then
+        "$synth" "$@" --seed 1 -o "$work/$name.las" --quiet
+        "$convert" "$work/$name.las" -o "$work/$name.strata" --force -q
+    fi
+}
+make_scene street street --points 2000000
+make_scene sphere sphere --points 200000
+make_scene nested nested --points 200000
+make_scene bunny mesh --mesh "$bunny" --points 200000
+run() { # scene, views option, size
+    local out="$work/out-$label-$1"
+    # shellcheck disable=SC2086
+    "$bench" "$work/$1.strata" $2 --size "$3" --repeat 1 --no-image-error \
+        --pipelines normals --out "$out" --quiet ${EXTRA:-}
+    awk -F, -v label="$label" -v scene="$1" '
+        NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+        { printf "%s %s view %s: F1 %.4f depth p95 %.2f %% (sampled %.2f %%) normals %.2f / %.1f deg\n",
+              label, scene, $col["camera"], $col["hpr_f1"], 100 * $col["depth_rel_p95"],
+              100 * $col["depth_sampled_rel_p95"],
+              $col["normal_median_deg"], $col["normal_p95_deg"] }' "$out/results.csv"
+}
+run street "--street 3" 960x540
+for scene in sphere nested bunny; do
+    run $scene "--orbit 2" 640x480
+done
