@@ -22,6 +22,14 @@ layout(binding = STA_HPR_OCCLUSION_SAMPLER_POSITION) uniform sampler2D u_positio
 // level l >= 1 at mip level l - 1
 layout(binding = STA_HPR_OCCLUSION_SAMPLER_PYRAMID) uniform sampler2D u_pyramid;
 layout(binding = STA_HPR_OCCLUSION_IMAGE_LABEL, r32f) writeonly uniform image2D u_label;
+#ifdef HPR_REFINE // sparse operator, last step: the listed pixels only
+layout(std430, binding = STA_HPR_OCCLUSION_BUFFER_LIST) readonly buffer RefineList
+{
+    uint u_count;
+    uint u_pixels[];
+};
+uniform int u_list_width; // list entries per dispatch row
+#endif
 uniform ivec2 u_size;       // width, height in pixels
 uniform int u_level_count;  // pyramid levels, level 0 included (>= 2)
 uniform int u_coarse_level; // already clamped to [1, u_level_count - 1]
@@ -58,6 +66,16 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2,
 void main()
 {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+#ifdef HPR_REFINE
+    uint i = gl_GlobalInvocationID.y * uint(u_list_width) + gl_GlobalInvocationID.x;
+    if (i >= u_count) {
+        return;
+    }
+    p = ivec2(int(u_pixels[i] & 0xffffu), int(u_pixels[i] >> 16));
+#endif
+#ifdef HPR_ANCHORS // sparse operator, first step: the even (x, y) anchors only
+    p *= 2;
+#endif
     if (p.x >= u_size.x || p.y >= u_size.y) {
         return;
     }

@@ -547,6 +547,86 @@ static scores score(const char *name, const sta_image *label, const unsigned cha
     return s;
 }
 
+/* The copy step on a hand-built 3 x 3 image (anchors at the corners): a pixel copies
+ * agreeing anchors of its kind at its depth; a depth edge or another kind keeps the
+ * full label (refined). */
+static void sparse_copy_step_rules(void **state)
+{
+    (void)state;
+    sta_image position, full, out;
+    new_image(&position, 3, 3, 4);
+    new_image(&full, 3, 3, 1);
+    new_image(&out, 3, 3, 1);
+    for (int i = 0; i < 9; i++) {
+        position.data[4 * i + 2] = -10.0f;
+        position.data[4 * i + 3] = 1.0f;
+        full.data[i] = STA_LABEL_VISIBLE;
+    }
+    full.data[4] = STA_LABEL_HIDDEN; // the centre: copies its visible anchors
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 0);
+    assert_true(out.data[4] == STA_LABEL_VISIBLE);
+    position.data[4 * 4 + 2] = -10.1f; // within 2 % of the anchors' depth: still copied
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 0);
+    position.data[4 * 4 + 2] = -20.0f; // behind a depth edge: refined, keeps HIDDEN
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 1);
+    assert_true(out.data[4] == STA_LABEL_HIDDEN);
+    position.data[4 * 1 + 3] = 0.0f; // (1, 0) empty among visible anchors: refined
+    full.data[1] = STA_LABEL_HOLE;
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 2);
+    assert_true(out.data[1] == STA_LABEL_HOLE);
+    full.data[8] = STA_LABEL_HIDDEN; // anchor (2, 2) disagrees: (2, 1), (1, 2) refined
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 4);
+    for (int i = 0; i < 9; i += 2) { // anchors keep their own labels
+        assert_true(out.data[i] == full.data[i]);
+    }
+    sta_image_release(&position);
+    sta_image_release(&full);
+    sta_image_release(&out);
+}
+
+/* The sparse operator on the GPU equals the twin's copy step applied to the GPU's full
+ * labels (anchors and refined pixels run the unchanged operator), on the two planes at
+ * an even and an odd size; it copies most non-anchor pixels and keeps the truth scores. */
+static void sparse_operator_matches_twin(void **state)
+{
+    (void)state;
+    const int sizes[2][2] = { { 320, 240 }, { 211, 157 } };
+    static unsigned char truth[320 * 240];
+    for (int k = 0; k < 2; k++) {
+        int w = sizes[k][0], h = sizes[k][1];
+        sta_view_params view = make_view(w, h);
+        sta_image position, full, sparse, expected;
+        make_two_planes(&view, &position, truth);
+        gpu_pyramid(&view, NULL, &position, &full, NULL);
+        sta_hpr_params params = { .sparse = true };
+        gpu_pyramid(&view, &params, &position, &sparse, NULL);
+        new_image(&expected, w, h, 1);
+        int refined = sta_hpr_ref_sparse_labels(&position, &full, &expected);
+        assert_memory_equal(expected.data, sparse.data, (size_t)w * (size_t)h * sizeof(float));
+        int differ = 0;
+        for (int i = 0; i < w * h; i++) {
+            differ += full.data[i] != sparse.data[i];
+        }
+        int others = w * h - ((w + 1) / 2) * ((h + 1) / 2);
+        printf("hpr sparse %dx%d: %d of %d non-anchor pixels refined, %d labels differ from "
+               "the full operator\n",
+               w, h, refined, others, differ);
+        assert_true(refined > 0 && refined < others / 2);
+        assert_true(differ < w * h / 50);
+        if (k == 0) {
+            scores s = score("sparse", &sparse, truth);
+            assert_true(s.hidden_r > 0.95 && s.hidden_p > 0.95);
+            assert_true(s.visible_r > 0.97 && s.visible_p > 0.97);
+            assert_true(s.hole_r > 0.95 && s.hole_p > 0.95);
+            assert_true(s.sky_r > 0.95 && s.sky_p > 0.95);
+        }
+        sta_image_release(&position);
+        sta_image_release(&full);
+        sta_image_release(&sparse);
+        sta_image_release(&expected);
+    }
+}
+
 static void near_plane_over_far_plane_known_truth(void **state)
 {
     (void)state;
@@ -1027,6 +1107,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(adaptive_level_is_rounded_eq1),
     cmocka_unit_test_setup_teardown(shader_matches_twin_on_random_buffers, setup, teardown),
     cmocka_unit_test_setup_teardown(near_plane_over_far_plane_known_truth, setup, teardown),
+    cmocka_unit_test(sparse_copy_step_rules),
+    cmocka_unit_test_setup_teardown(sparse_operator_matches_twin, setup, teardown),
     cmocka_unit_test_setup_teardown(labels_match_with_thresholds_on_the_means, setup, teardown),
     cmocka_unit_test_setup_teardown(empty_frame_is_background, setup, teardown),
     cmocka_unit_test_setup_teardown(single_point_is_visible, setup, teardown),

@@ -80,6 +80,12 @@
 #define STA_HPR_OCCLUSION_SAMPLER_POSITION 0 /* level 0 */
 #define STA_HPR_OCCLUSION_SAMPLER_PYRAMID  1 /* level l >= 1 at mip l - 1 */
 #define STA_HPR_OCCLUSION_IMAGE_LABEL      0 /* R32F out */
+#define STA_HPR_OCCLUSION_BUFFER_LIST      0 /* HPR_REFINE: the pixels to refine */
+
+/* Sparse HPR copy step (hpr_sparse_classify.comp). */
+#define STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION 0
+#define STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL      0 /* R32F: anchors in, the rest out */
+#define STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST      0 /* the pixels to refine (appended) */
 
 /* HPR exhaustive occlusion (hpr_exhaustive.comp). */
 #define STA_HPR_EXHAUSTIVE_SAMPLER_POSITION 0
@@ -188,6 +194,10 @@
  X(STA_HPR_OCCLUSION_SAMPLER_POSITION)                                                             \
  X(STA_HPR_OCCLUSION_SAMPLER_PYRAMID)                                                              \
  X(STA_HPR_OCCLUSION_IMAGE_LABEL)                                                                  \
+ X(STA_HPR_OCCLUSION_BUFFER_LIST)                                                                  \
+ X(STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION)                                                       \
+ X(STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL)                                                            \
+ X(STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST)                                                            \
  X(STA_HPR_EXHAUSTIVE_SAMPLER_POSITION)                                                            \
  X(STA_HPR_EXHAUSTIVE_IMAGE_LABEL)                                                                 \
  X(STA_PULLPUSH_IMAGE_OUT_POSITION)                                                                \

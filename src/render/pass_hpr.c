@@ -13,6 +13,9 @@
 #include "render/gl.h"
 #include "render/gl_image.h"
 
+/* Entries of the refinement list per dispatch row. */
+#define STA_HPR_LIST_WIDTH 1024
+
 // The constants of hpr_ref.h and screen_space.h the shaders use, as #defines.
 static void shader_defines(char *out, size_t size)
 {
@@ -28,12 +31,13 @@ static void shader_defines(char *out, size_t size)
              "#define STA_HPR_SQRT_HALF %.9e\n"
              "#define STA_HPR_MIN_REACH_PX %.9e\n"
              "#define STA_HPR_MAX_REACH_PX %.9e\n"
-             "#define STA_HPR_CUT_FACTOR %.9e\n",
+             "#define STA_HPR_CUT_FACTOR %.9e\n"
+             "#define STA_HPR_SPARSE_DEPTH_TAU %.9e\n",
              STA_HPR_MAX_LEVELS, STA_HPR_SECTOR_TAN_NUM, STA_HPR_SECTOR_TAN_DEN,
              (double)STA_HPR_MIN_LENGTH2_M2, (double)STA_LABEL_BACKGROUND,
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
              (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_MAX_REACH_PX,
-             (double)STA_HPR_CUT_FACTOR);
+             (double)STA_HPR_CUT_FACTOR, (double)STA_HPR_SPARSE_DEPTH_TAU);
 }
 
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
@@ -51,6 +55,21 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
     if (status == STA_OK) {
         status = sta_gl_program_create(exhaustive, 2, defines, &pass->exhaustive_program, err);
     }
+    size_t n = strlen(defines);
+    const char *classify[] = { "hpr_sparse_classify.comp" };
+    const struct {
+        const char *define;
+        const char **names;
+        int count;
+        GLuint *program;
+    } sparse[] = { { "#define HPR_ANCHORS 1\n", occlusion, 2, &pass->anchors_program },
+                   { "#define HPR_REFINE 1\n", occlusion, 2, &pass->refine_program },
+                   { "", classify, 1, &pass->classify_program } };
+    for (size_t i = 0; i < sizeof(sparse) / sizeof(sparse[0]) && status == STA_OK; i++) {
+        snprintf(defines + n, sizeof(defines) - n, "%s", sparse[i].define);
+        status = sta_gl_program_create(sparse[i].names, sparse[i].count, defines, sparse[i].program,
+                                       err);
+    }
     if (status != STA_OK) {
         sta_hpr_pass_release(pass);
         return status;
@@ -58,16 +77,6 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
     GLuint p = pass->pyramid_program;
     pass->pyr_src_size = glGetUniformLocation(p, "u_src_size");
     pass->pyr_dst_size = glGetUniformLocation(p, "u_dst_size");
-    p = pass->occlusion_program;
-    pass->occ_size = glGetUniformLocation(p, "u_size");
-    pass->occ_level_count = glGetUniformLocation(p, "u_level_count");
-    pass->occ_coarse_level = glGetUniformLocation(p, "u_coarse_level");
-    pass->occ_level_depth = glGetUniformLocation(p, "u_level_depth");
-    pass->occ_tan_half = glGetUniformLocation(p, "u_tan_half");
-    pass->occ_far = glGetUniformLocation(p, "u_far");
-    pass->occ_threshold = glGetUniformLocation(p, "u_threshold");
-    pass->occ_radius_k = glGetUniformLocation(p, "u_radius_k");
-    pass->occ_scale = glGetUniformLocation(p, "u_scale");
     p = pass->exhaustive_program;
     pass->exh_size = glGetUniformLocation(p, "u_size");
     pass->exh_radius = glGetUniformLocation(p, "u_radius");
@@ -79,12 +88,15 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
 
 void sta_hpr_pass_release(sta_hpr_pass *pass)
 {
-    GLuint programs[] = { pass->pyramid_program, pass->occlusion_program,
-                          pass->exhaustive_program };
+    GLuint programs[] = { pass->pyramid_program, pass->occlusion_program, pass->exhaustive_program,
+                          pass->anchors_program, pass->refine_program,    pass->classify_program };
     for (size_t i = 0; i < sizeof(programs) / sizeof(programs[0]); i++) {
         if (programs[i]) {
             glDeleteProgram(programs[i]);
         }
+    }
+    if (pass->list_buffer) {
+        glDeleteBuffers(1, &pass->list_buffer);
     }
     memset(pass, 0, sizeof(*pass));
 }
@@ -183,7 +195,78 @@ static void tan_half(const sta_view_params *view, float out[2])
     out[0] = out[1] * (float)view->width_px / (float)view->height_px;
 }
 
-sta_status sta_hpr_pass_run_pyramid(const sta_hpr_pass *pass, const sta_view_params *view,
+// The occlusion uniforms of one variant of hpr_occlusion.comp.
+static void set_occlusion_uniforms(GLuint program, const sta_view_params *view,
+                                   const sta_hpr_params *p, int levels, const float *level_depth)
+{
+    int coarse = p->coarse_level < levels - 1 ? p->coarse_level : levels - 1; // >= 1
+    float th[2];
+    tan_half(view, th);
+    glUseProgram(program);
+    glUniform2i(glGetUniformLocation(program, "u_size"), view->width_px, view->height_px);
+    glUniform1i(glGetUniformLocation(program, "u_level_count"), levels);
+    glUniform1i(glGetUniformLocation(program, "u_coarse_level"), coarse);
+    glUniform1fv(glGetUniformLocation(program, "u_level_depth"), levels, level_depth);
+    glUniform2f(glGetUniformLocation(program, "u_tan_half"), th[0], th[1]);
+    glUniform1f(glGetUniformLocation(program, "u_far"), p->far_m);
+    glUniform1f(glGetUniformLocation(program, "u_threshold"), p->threshold);
+    glUniform1f(glGetUniformLocation(program, "u_radius_k"), sta_hpr_radius_k(view, p));
+    // As the twin (hpr_ref.c frame_of): pixels per unit of x / d and y / d.
+    glUniform2f(glGetUniformLocation(program, "u_scale"), 0.5f * (float)view->width_px / th[0],
+                0.5f * (float)view->height_px / th[1]);
+}
+
+// Grows the refinement list to hold `pixels` entries after its count.
+static sta_status ensure_list(sta_hpr_pass *pass, int pixels, sta_error *err)
+{
+    if (pass->list_buffer && pass->list_pixels >= pixels) {
+        return STA_OK;
+    }
+    if (pass->list_buffer) {
+        glDeleteBuffers(1, &pass->list_buffer);
+    }
+    glCreateBuffers(1, &pass->list_buffer);
+    glNamedBufferStorage(pass->list_buffer, ((GLsizeiptr)pixels + 1) * (GLsizeiptr)sizeof(GLuint),
+                         NULL, GL_DYNAMIC_STORAGE_BIT);
+    pass->list_pixels = pixels;
+    return sta_gl_check("hpr refinement list", err);
+}
+
+// The sparse operator (docs/HPR.md, "Sparse operator"): anchors, copy step, refinement.
+static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
+                             const sta_hpr_params *p, int levels, const float *level_depth,
+                             GLuint label_texture, sta_error *err)
+{
+    int w = view->width_px, h = view->height_px;
+    sta_status status = ensure_list(pass, w * h, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    GLuint zero = 0, count = 0;
+    glNamedBufferSubData(pass->list_buffer, 0, sizeof(zero), &zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_OCCLUSION_BUFFER_LIST, pass->list_buffer);
+    glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_READ_WRITE,
+                       GL_R32F);
+    set_occlusion_uniforms(pass->anchors_program, view, p, levels, level_depth);
+    sta_gl_dispatch_2d((w + 1) / 2, (h + 1) / 2);
+    glUseProgram(pass->classify_program);
+    glUniform2i(glGetUniformLocation(pass->classify_program, "u_size"), w, h);
+    sta_gl_dispatch_2d(w, h);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    // The count on the CPU sizes the last dispatch (a stall; an indirect dispatch
+    // would avoid it on a GPU).
+    glGetNamedBufferSubData(pass->list_buffer, 0, sizeof(count), &count);
+    if (count > 0) {
+        set_occlusion_uniforms(pass->refine_program, view, p, levels, level_depth);
+        glUniform1i(glGetUniformLocation(pass->refine_program, "u_list_width"), STA_HPR_LIST_WIDTH);
+        sta_gl_dispatch_2d(STA_HPR_LIST_WIDTH,
+                           ((int)count + STA_HPR_LIST_WIDTH - 1) / STA_HPR_LIST_WIDTH);
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_OCCLUSION_BUFFER_LIST, 0);
+    return sta_gl_check("hpr sparse occlusion", err);
+}
+
+sta_status sta_hpr_pass_run_pyramid(sta_hpr_pass *pass, const sta_view_params *view,
                                     const sta_hpr_params *params, GLuint position_texture,
                                     GLuint pyramid_texture, GLuint label_texture, sta_error *err)
 {
@@ -200,23 +283,12 @@ sta_status sta_hpr_pass_run_pyramid(const sta_hpr_pass *pass, const sta_view_par
     int levels = sta_hpr_pyramid_levels(view->width_px, view->height_px);
     float level_depth[STA_HPR_MAX_LEVELS];
     sta_hpr_level_depths(view, &p, levels, level_depth);
-    int coarse = p.coarse_level < levels - 1 ? p.coarse_level : levels - 1; // >= 1
-    float th[2];
-    tan_half(view, th);
-    glUseProgram(pass->occlusion_program);
-    glUniform2i(pass->occ_size, view->width_px, view->height_px);
-    glUniform1i(pass->occ_level_count, levels);
-    glUniform1i(pass->occ_coarse_level, coarse);
-    glUniform1fv(pass->occ_level_depth, levels, level_depth);
-    glUniform2f(pass->occ_tan_half, th[0], th[1]);
-    glUniform1f(pass->occ_far, p.far_m);
-    glUniform1f(pass->occ_threshold, p.threshold);
-    glUniform1f(pass->occ_radius_k, sta_hpr_radius_k(view, &p));
-    // As the twin (hpr_ref.c frame_of): pixels per unit of x / d and y / d.
-    glUniform2f(pass->occ_scale, 0.5f * (float)view->width_px / th[0],
-                0.5f * (float)view->height_px / th[1]);
     glBindTextureUnit(STA_HPR_OCCLUSION_SAMPLER_POSITION, position_texture);
     glBindTextureUnit(STA_HPR_OCCLUSION_SAMPLER_PYRAMID, pyramid_texture);
+    if (p.sparse) {
+        return run_sparse(pass, view, &p, levels, level_depth, label_texture, err);
+    }
+    set_occlusion_uniforms(pass->occlusion_program, view, &p, levels, level_depth);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY,
                        GL_R32F);
     sta_gl_dispatch_2d(view->width_px, view->height_px);

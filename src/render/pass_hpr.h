@@ -24,9 +24,12 @@ typedef struct sta_hpr_pass {
     GLuint pyramid_program;    /* hpr_pyramid.comp: one level from the one below */
     GLuint occlusion_program;  /* hpr_occlusion.comp: pyramidal operator */
     GLuint exhaustive_program; /* hpr_exhaustive.comp: fixed-radius operator */
+    /* The sparse operator (sta_hpr_params.sparse): hpr_occlusion.comp on the anchors
+     * and on the listed pixels, hpr_sparse_classify.comp between them. */
+    GLuint anchors_program, refine_program, classify_program;
+    GLuint list_buffer; /* count, then the pixels to refine; grown as needed */
+    int list_pixels;    /* pixels the list buffer holds */
     GLint pyr_src_size, pyr_dst_size;
-    GLint occ_size, occ_level_count, occ_coarse_level, occ_level_depth, occ_tan_half, occ_far,
-        occ_threshold, occ_radius_k, occ_scale;
     GLint exh_size, exh_radius, exh_tan_half, exh_far, exh_threshold;
 } sta_hpr_pass;
 
@@ -55,8 +58,10 @@ sta_status sta_hpr_pass_build_pyramid(const sta_hpr_pass *pass, const sta_view_p
                                       sta_error *err);
 
 /* The pyramidal operator: builds the pyramid, then writes STA_LABEL_* into
- * `label_texture` (R32F, view's size). params may be NULL (all defaults). */
-sta_status sta_hpr_pass_run_pyramid(const sta_hpr_pass *pass, const sta_view_params *view,
+ * `label_texture` (R32F, view's size). params may be NULL (all defaults). With
+ * params->sparse: the operator on the even (x, y) anchors, the copy step, the operator
+ * on the refined pixels (the list buffer is grown here; its count is read back). */
+sta_status sta_hpr_pass_run_pyramid(sta_hpr_pass *pass, const sta_view_params *view,
                                     const sta_hpr_params *params, GLuint position_texture,
                                     GLuint pyramid_texture, GLuint label_texture, sta_error *err);
 

@@ -26,6 +26,8 @@
 #ifndef STA_RENDER_REF_HPR_REF_H
 #define STA_RENDER_REF_HPR_REF_H
 
+#include <stdbool.h>
+
 #include "core/status.h"
 #include "render/ref/image.h"
 #include "render/ref/screen_space.h"
@@ -49,6 +51,9 @@
 /* Pyramidal operator: ring candidates (levels >= 1) landing farther than this many
  * neighbourhood radii K / z from the pixel are dropped (per-pixel decision). */
 #define STA_HPR_CUT_FACTOR           2.0f
+/* Sparse operator: a point copies its anchors' label only when every anchor's depth is
+ * within this fraction of its own (no depth edge in the 2 x 2 neighbourhood). */
+#define STA_HPR_SPARSE_DEPTH_TAU     0.02f
 
 /* Parameters. Zero means default (resolved by sta_hpr_params_defaults). A negative
  * threshold makes every pixel open (HPR off). s_hpr's default depends on the view: it
@@ -62,6 +67,9 @@ typedef struct sta_hpr_params {
                          <= 0: STA_HPR_DEFAULT_COARSE_LEVEL */
     float far_m;      /* depth of background pixels, metres; <= 0 or not finite:
                          STA_HPR_DEFAULT_FAR_M */
+    bool sparse;      /* pyramidal operator on the even (x, y) anchors, the other pixels
+                         copy agreeing anchors or are refined (sta_hpr_ref_sparse_labels);
+                         false (default): every pixel */
 } sta_hpr_params;
 
 /* Fills threshold, coarse_level and far_m of `config` with their defaults where they
@@ -128,6 +136,16 @@ void sta_hpr_ref_pyramid_release(sta_hpr_pyramid *pyramid);
 void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_params *params,
                                 const sta_hpr_pyramid *pyramid, sta_image *out_label,
                                 sta_image *out_mean, sta_image *out_level);
+
+/* The sparse operator's copy step (twin of hpr_sparse_classify.comp): `full_label` holds
+ * the pyramidal labels of every pixel (the anchors and the refined pixels get exactly
+ * those); each pixel with an odd x or y copies the label of its up to 4 nearest anchors
+ * (even x and y, clamped to the image) when they all agree, the label is of the
+ * pixel's kind (point: visible / hidden; empty: hole / background) and, for a point,
+ * every anchor's depth is within STA_HPR_SPARSE_DEPTH_TAU of its own; else it keeps
+ * its full label (refined). out_label: same size. Returns the refined pixel count. */
+int sta_hpr_ref_sparse_labels(const sta_image *position, const sta_image *full_label,
+                              sta_image *out_label);
 
 /* Builds the pyramid and labels `position` with it (the whole pyramidal operator). */
 sta_status sta_hpr_ref_pyramid(const sta_view_params *view, const sta_hpr_params *params,
