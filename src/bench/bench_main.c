@@ -472,6 +472,11 @@ int main(int argc, char **argv)
           .parse = parse_hpr_list,
           .show = show_hpr,
           .help = "pyramid,exhaustive" },
+        { .name = "hpr-sparse",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.hpr_sparse,
+          .help = "the pyramid variant runs the sparse operator (a quarter of the pixels, "
+                  "refined where 2x2 blocks disagree; docs/HPR.md)" },
         { .name = "smooth",
           .kind = STA_CLI_FLAG,
           .dest = &o.smooth,
