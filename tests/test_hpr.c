@@ -565,9 +565,9 @@ static void sparse_copy_step_rules(void **state)
     full.data[4] = STA_LABEL_HIDDEN; // the centre: copies its visible anchors
     assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 0);
     assert_true(out.data[4] == STA_LABEL_VISIBLE);
-    position.data[4 * 4 + 2] = -10.1f; // within 2 % of the anchors' depth: still copied
+    position.data[4 * 4 + 2] = -10.04f; // within 0.5 % of the anchors' depth: still copied
     assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 0);
-    position.data[4 * 4 + 2] = -20.0f; // behind a depth edge: refined, keeps HIDDEN
+    position.data[4 * 4 + 2] = -10.1f; // 1 % behind: a depth edge, refined, keeps HIDDEN
     assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 1);
     assert_true(out.data[4] == STA_LABEL_HIDDEN);
     position.data[4 * 1 + 3] = 0.0f; // (1, 0) empty among visible anchors: refined

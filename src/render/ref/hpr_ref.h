@@ -52,8 +52,9 @@
  * neighbourhood radii K / z from the pixel are dropped (per-pixel decision). */
 #define STA_HPR_CUT_FACTOR           2.0f
 /* Sparse operator: a point copies its anchors' label only when every anchor's depth is
- * within this fraction of its own (no depth edge in the 2 x 2 neighbourhood). */
-#define STA_HPR_SPARSE_DEPTH_TAU     0.02f
+ * within this fraction of its own (no depth edge in the 2 x 2 neighbourhood). 0.005:
+ * the error of the full operator to 0.3 % at the cost of 0.02 (docs/BENCHMARKS.md). */
+#define STA_HPR_SPARSE_DEPTH_TAU     0.005f
 
 /* Parameters. Zero means default (resolved by sta_hpr_params_defaults). A negative
  * threshold makes every pixel open (HPR off). s_hpr's default depends on the view: it
