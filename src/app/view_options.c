@@ -240,7 +240,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     static const int clock_values[] = { STA_TIMING_WALL, STA_TIMING_CPU };
     static const int raster_values[] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     int hpr = 0; // index into hpr_names
-    static const char *const hpr_names[] = { "pyramid", "exhaustive", "katz", "sparse", NULL };
+    static const char *const hpr_names[] = { "sparse", "exhaustive", "katz", "pyramid", NULL };
     static const char *const sample_names[] = { "5", "9", "17", "25", NULL };
     static const int sample_values[] = { 5, 9, 17, 25 };
     const char *pipeline_names[STA_PIPELINE_MODE_COUNT + 1] = { NULL };
@@ -546,10 +546,10 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .dest = &hpr,
           .metavar = "MODE",
           .choices = hpr_names,
-          .help = "pyramidal HPR, the fixed-radius baseline, live Katz HPR (CPU threads: "
-                  "the visible points of a subsample are drawn; docs/KATZ.md), or the "
-                  "pyramidal one on a quarter of the pixels, refined where 2x2 blocks "
-                  "disagree (about a third cheaper; docs/HPR.md)" },
+          .help = "pyramidal HPR on a quarter of the pixels, refined where 2x2 blocks "
+                  "disagree (docs/HPR.md), the fixed-radius baseline, live Katz HPR (CPU "
+                  "threads: the visible points of a subsample are drawn; docs/KATZ.md), or "
+                  "pyramidal HPR on every pixel (a third dearer)" },
         { .name = "katz-points",
           .kind = STA_CLI_COUNT,
           .dest = &a->katz.sample_points,
@@ -618,7 +618,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
         return rc == 0 ? -1 : rc;
     }
     a->hpr_exhaustive = hpr == 1;
-    a->hpr_sparse = hpr == 3;
+    a->hpr_every_pixel = hpr == 3;
     a->katz.enabled = hpr == 2;
     if (r.positional_count == 0) {
         return sta_cli_usage_error(&cli, "no scene given (see --help)");

@@ -39,7 +39,7 @@ typedef struct sta_view_args {
     int samples;               /* --samples 5|9|17|25 */
     bool smooth;               /* --smooth */
     bool hpr_exhaustive;       /* --hpr exhaustive */
-    bool hpr_sparse;           /* --hpr sparse */
+    bool hpr_every_pixel;      /* --hpr pyramid (default --hpr sparse) */
     int hpr_radius_px;         /* --hpr-radius */
     double hpr_threshold;      /* --hpr-threshold */
     double s0_m;               /* --s0 */

@@ -472,11 +472,11 @@ int main(int argc, char **argv)
           .parse = parse_hpr_list,
           .show = show_hpr,
           .help = "pyramid,exhaustive" },
-        { .name = "hpr-sparse",
+        { .name = "hpr-every-pixel",
           .kind = STA_CLI_FLAG,
-          .dest = &o.hpr_sparse,
-          .help = "the pyramid variant runs the sparse operator (a quarter of the pixels, "
-                  "refined where 2x2 blocks disagree; docs/HPR.md)" },
+          .dest = &o.hpr_every_pixel,
+          .help = "the pyramid variant on every pixel instead of the sparse operator (a "
+                  "quarter of the pixels, refined where 2x2 blocks disagree; docs/HPR.md)" },
         { .name = "smooth",
           .kind = STA_CLI_FLAG,
           .dest = &o.smooth,

@@ -55,7 +55,7 @@ typedef struct sta_bench_options {
     int sample_count;                     /* 0: 9 */
     bool hpr_variants[2];                 /* HPR variants: [0] pyramid, [1] exhaustive;
                                              neither set: pyramid only */
-    bool hpr_sparse;                      /* the pyramid variant runs the sparse operator */
+    bool hpr_every_pixel;                 /* the pyramid variant on every pixel, not sparse */
     bool smooth;                          /* normal smoothing pass */
     int hpr_radius_px;                    /* exhaustive radius; 0: the pipeline's 8 */
     float hpr_threshold;                  /* 0: the pipeline's 0.1 */

@@ -65,7 +65,8 @@ typedef struct sta_pipeline_options {
     int samples;                 /* LD/PD/PC/TI scheme: 5, 9, 17, 25 (0: 9) */
     bool smooth;                 /* run the normal smoothing pass */
     bool hpr_exhaustive;         /* the fixed-radius baseline instead of the pyramid */
-    bool hpr_sparse;             /* the pyramid's sparse operator (sta_hpr_params.sparse) */
+    bool hpr_every_pixel;        /* the pyramid on every pixel instead of the sparse operator
+                                    (the default; sta_hpr_params.sparse, docs/HPR.md) */
     int hpr_radius_px;           /* exhaustive radius (0: STA_PIPELINE_DEFAULT_HPR_RADIUS_PX) */
     float hpr_threshold;         /* 0: 0.1 */
     float s0_m;                  /* sampling scale; 0: the scene's estimate */
