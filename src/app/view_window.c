@@ -465,7 +465,7 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
         sta_scene_set_pipeline(s->scene, o);
         fprintf(stderr, "pipeline %s, normals %s%s, hpr %s\n", sta_pipeline_mode_name(o->mode),
                 sta_normal_method_name(o->normals), o->smooth ? " smoothed" : "",
-                o->hpr_exhaustive ? "exhaustive" : "pyramid");
+                o->hpr_exhaustive ? "exhaustive" : (o->hpr_every_pixel ? "pyramid" : "sparse"));
     } else if (key == GLFW_KEY_V) {
         s->show_ghosts = !s->show_ghosts;
         sta_scene_set_hide_flags(s->scene, s->show_ghosts ? 0u : STA_SCENE_DEFAULT_HIDE_FLAGS);
