@@ -789,6 +789,22 @@ static void hidden_points_do_not_leak(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
+// 30 % of the pixels hold a point: depth 2 inside the square [32, 64) x [16, 48), depth
+// 20 elsewhere; the rest are holes.
+static void fill_square_over_plane(frame *f)
+{
+    for (int y = 0; y < f->position.height; y++) {
+        for (int x = 0; x < f->position.width; x++) {
+            bool near = x >= 32 && x < 64 && y >= 16 && y < 48;
+            if (random01() < 0.3f) {
+                set_point(f, x, y, near ? 2.0f : 20.0f, STA_LABEL_VISIBLE);
+            } else {
+                set_empty(f, x, y, STA_LABEL_HOLE);
+            }
+        }
+    }
+}
+
 /* A near square (2 m) in front of a far plane (20 m), both sampled sparsely: filled
  * depths stay between the two, and far from the edge equal their surface. */
 static void depth_discontinuity_stays_bounded(void **state)
@@ -799,16 +815,7 @@ static void depth_discontinuity_stays_bounded(void **state)
     const int w = 96, h = 64;
     frame f;
     frame_init(&f, w, h);
-    for (int y = 0; y < h; y++) {
-        for (int x = 0; x < w; x++) {
-            bool near = x >= 32 && x < 64 && y >= 16 && y < 48;
-            if (random01() < 0.3f) {
-                set_point(&f, x, y, near ? 2.0f : 20.0f, STA_LABEL_VISIBLE);
-            } else {
-                set_empty(&f, x, y, STA_LABEL_HOLE);
-            }
-        }
-    }
+    fill_square_over_plane(&f);
     result ref, got;
     check_gl_matches_twin(&f, NULL, &ref, &got);
     int mixed = 0;
@@ -857,16 +864,7 @@ static void push_keeps_holes_on_one_surface(void **state)
     frame f;
     frame_init(&f, w, h);
     rng_state = 12345u;
-    for (int y = 0; y < h; y++) {
-        for (int x = 0; x < w; x++) {
-            bool near = x >= 32 && x < 64 && y >= 16 && y < 48;
-            if (random01() < 0.3f) {
-                set_point(&f, x, y, near ? 2.0f : 20.0f, STA_LABEL_VISIBLE);
-            } else {
-                set_empty(&f, x, y, STA_LABEL_HOLE);
-            }
-        }
-    }
+    fill_square_over_plane(&f);
     result ref, got;
     check_gl_matches_twin(&f, NULL, &ref, &got);
     int floating = 0;
