@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # Screen-space picture error against the synth's truth (issue 15, parts 2 and 3): HPR
 # F1, filled-depth p95 (relative; all pixels with a truth hit, and only those of a sampled
-# surface, strata-bench's depth_sampled_*) and pyramidal normal median / p95 on the three street
+# surface, strata-bench's depth_sampled_*; and over those with window glass accepted as a
+# surface, depth_glass_*) and pyramidal normal median / p95 on the three street
 # views (960x540, 2 M points, seed 1) and two orbit views of sphere, nested and the
 # bunny (640x480, 200 k points, seed 1). One line per view; errors are deterministic on
 # llvmpipe, so two builds are compared by running the script once per build.
@@ -37,9 +38,10 @@ run() { # scene, views option, size
         --pipelines normals --out "$out" --quiet ${EXTRA:-}
     awk -F, -v label="$label" -v scene="$1" '
         NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
-        { printf "%s %s view %s: F1 %.4f depth p95 %.2f %% (sampled %.2f %%) normals %.2f / %.1f deg\n",
+        { glass = ("depth_glass_rel_p95" in col) ? sprintf("%.2f %%", 100 * $col["depth_glass_rel_p95"]) : "n/a"
+          printf "%s %s view %s: F1 %.4f depth p95 %.2f %% (sampled %.2f %%, glass rule %s) normals %.2f / %.1f deg\n",
               label, scene, $col["camera"], $col["hpr_f1"], 100 * $col["depth_rel_p95"],
-              100 * $col["depth_sampled_rel_p95"],
+              100 * $col["depth_sampled_rel_p95"], glass,
               $col["normal_median_deg"], $col["normal_p95_deg"] }' "$out/results.csv"
 }
 run street "--street 3" 960x540

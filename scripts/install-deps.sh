@@ -14,6 +14,7 @@ packages=(
     libcjson-dev                                               # camera paths, truth sidecars
     libstb-dev fonts-dejavu-core                               # on-screen text (stb_truetype, DejaVu)
     clang-format-14 python3                                    # format check, test helpers
+    python3-numpy python3-pil                                  # bench/screen_classes.py (per-pixel error classes)
     glslang-tools                                              # checks shaders llvmpipe cannot build
     xvfb xdotool x11-apps                                      # window tests (Xvfb, xwd)
 )

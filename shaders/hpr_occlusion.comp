@@ -38,6 +38,7 @@ uniform vec2 u_tan_half;    // tan(fov_y / 2) * aspect, tan(fov_y / 2)
 uniform float u_far;        // depth of background pixels, metres
 uniform float u_threshold;
 uniform float u_radius_k;   // K of eq. 1: the neighbourhood radius is K / z pixels
+uniform float u_gap;       // sta_hpr_occluder_gap_m: occluders lie this much nearer
 uniform vec2 u_scale;       // pixels per unit of x / d and y / d: size / (2 tan)
 
 const ivec2 RING[8] = ivec2[8](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-1, 0),
@@ -46,11 +47,12 @@ const ivec2 RING[8] = ivec2[8](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(
 // Lowers the sector minima by neighbour y at ring offset `ring` (its sector: each ring
 // position is one sector, as in the paper's Figure 3). Ring candidates of levels >= 1
 // (`cut`) whose points land farther than the cut radius (squared: cut2) from pixel p's
-// centre are dropped, which makes the decision per pixel rather than per block.
-void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2,
+// centre are dropped, which makes the decision per pixel rather than per block, and so
+// are neighbours not nearer than `limit` (the centre's depth less the occluder gap).
+void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, float limit,
                    inout vec4 min_lo, inout vec4 min_hi)
 {
-    if (!(y.w > 0.5) || !(-y.z > 0.0)) {
+    if (!(y.w > 0.5) || !(-y.z > 0.0) || !(-y.z < limit)) {
         return;
     }
     precise float inv = 1.0 / -y.z;
@@ -102,6 +104,7 @@ void main()
 
     vec4 own = texelFetch(u_position, p, 0);
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
+    precise float limit = -x.z - u_gap;
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
     int outside = 0; // sectors with ring texels outside the image within the reach
     bool is_point = own.w > 0.5;
@@ -115,8 +118,8 @@ void main()
         for (int i = 0; i < 8; i++) {
             ivec2 n = a + RING[i];
             if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
-                add_neighbour(texelFetch(u_pyramid, n, k - 1), RING[i], p, x, true, cut2, min_lo,
-                              min_hi);
+                add_neighbour(texelFetch(u_pyramid, n, k - 1), RING[i], p, x, true, cut2, limit,
+                              min_lo, min_hi);
             } else {
                 // Outside the image: its sector may have been closed out there.
                 outside |= 1 << hpr_sector(2 * RING[i]);
@@ -128,7 +131,8 @@ void main()
     for (int i = 0; i < 8 && !settled; i++) {
         ivec2 n = p + RING[i];
         if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
-            add_neighbour(texelFetch(u_position, n, 0), RING[i], p, x, false, cut2, min_lo, min_hi);
+            add_neighbour(texelFetch(u_position, n, 0), RING[i], p, x, false, cut2, limit, min_lo,
+                          min_hi);
         } else {
             outside |= 1 << hpr_sector(2 * RING[i]);
         }

@@ -2,7 +2,9 @@
 // Pull (Kraus 2009): coarse texel (i, j) of level l is the weight-normalised 4x4
 // filter (taps 1/4, 3/4, 3/4, 1/4 per axis over fine texels 2i-1 .. 2i+2) of level
 // l - 1; its weight is the filtered weight sum clamped to 1. Fine texels outside the
-// fine level have weight 0. Twin: src/render/ref/pullpush_ref.c (pull_level).
+// fine level have weight 0. In the values (not the weight) each tap's weight is divided
+// by the push's depth factor with PP_PULL_TAU against the nearest tap (issue 15).
+// Twin: src/render/ref/pullpush_ref.c (pull_level).
 // Built twice: with PP_FROM_INPUT the fine level is level 0 (the inputs, weights from
 // the HPR labels), without it a pyramid level.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
@@ -30,22 +32,47 @@ void main()
     if (q.x >= u_coarse_size.x || q.y >= u_coarse_size.y) {
         return;
     }
-    float sw = 0.0;
-    vec3 sp = vec3(0.0), sc = vec3(0.0);
+    // The 16 fine texels and their weights (0 outside the fine level), then the nearest
+    // depth among those with weight.
+    vec4 t[16];
+    float w[16];
+    float near_d = 0.0;
     for (int b = 0; b < 4; b++) {
         for (int a = 0; a < 4; a++) {
             ivec2 f = 2 * q - 1 + ivec2(a, b);
             bool inside = f.x >= 0 && f.y >= 0 && f.x < u_fine_size.x && f.y < u_fine_size.y;
-            vec4 t = imageLoad(u_fine_position, f);
+            int k = 4 * b + a;
+            t[k] = imageLoad(u_fine_position, f);
 #ifdef PP_FROM_INPUT
-            float w = pp_input_weight(t, imageLoad(u_label, f).r, u_has_label);
+            w[k] = inside ? pp_input_weight(t[k], imageLoad(u_label, f).r, u_has_label) : 0.0;
 #else
-            float w = t.w;
+            w[k] = inside ? t[k].w : 0.0;
 #endif
-            if (inside && w > 0.0) {
-                float kw = PULL_TAPS[a] * PULL_TAPS[b] * w;
+            if (w[k] > 0.0 && (near_d <= 0.0 || -t[k].z < near_d)) {
+                near_d = -t[k].z;
+            }
+        }
+    }
+    // Coverage: the plain filtered weight sum. Values: each tap's weight divided by the
+    // depth factor, so a coarse texel over a depth edge keeps the near surface rather
+    // than a depth between both.
+    float sw = 0.0, sv = 0.0;
+    vec3 sp = vec3(0.0), sc = vec3(0.0);
+    for (int b = 0; b < 4; b++) {
+        for (int a = 0; a < 4; a++) {
+            int k = 4 * b + a;
+            if (w[k] > 0.0) {
+                float kw = PULL_TAPS[a] * PULL_TAPS[b] * w[k];
                 sw += kw;
-                sp += kw * t.xyz;
+                if (near_d > 0.0) {
+                    precise float dz = (-t[k].z - near_d) / (PP_PULL_TAU * near_d);
+                    precise float x = dz * dz;
+                    precise float e = 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0)));
+                    kw = kw / e;
+                }
+                sv += kw;
+                sp += kw * t[k].xyz;
+                ivec2 f = 2 * q - 1 + ivec2(a, b);
 #ifdef PP_FROM_INPUT
                 sc += kw * texelFetch(u_input_colour, f, 0).rgb;
 #else
@@ -56,10 +83,10 @@ void main()
     }
     vec4 out_p = vec4(0.0), out_c = vec4(0.0);
     if (sw > 0.0) {
-        float inv = 1.0 / sw;
-        float w = min(1.0, sw);
-        out_p = vec4(sp * inv, w);
-        out_c = vec4(sc * inv, w);
+        float inv = 1.0 / sv;
+        float cover = min(1.0, sw);
+        out_p = vec4(sp * inv, cover);
+        out_c = vec4(sc * inv, cover);
     }
     imageStore(u_coarse_position, q, out_p);
     imageStore(u_coarse_colour, q, out_c);

@@ -389,6 +389,78 @@ static void eval_buffers_hand_made(void **state)
 /* The border metric: a 40x40 view whose rays all hit but the sky at the top-right
  * corner; the fill leaves 10 band pixels on a surface and 20 sky pixels empty, and 5
  * interior pixels (outside the band). */
+/* The glass rule of the depth error: a 3x1 view whose rays pass window glass at 5 m
+ * before a room wall at 9 m (pixels 0, 1) and hit a wall at 4 m (pixel 2, no glass).
+ * Filled at the glass, the room and 4.4 m: the plain error counts the glass pixel 4/9
+ * off, the glass rule 0; the room pixel is right under both; pixel 2 is 10 % off
+ * under both (no glass on its ray). */
+static void depth_error_accepts_glass_or_behind(void **state)
+{
+    (void)state;
+    float depth[3] = { 9.0f, 9.0f, 4.0f }, glass[3] = { 5.0f, 5.0f, 4.0f };
+    float normal[9] = { 0, 0, 1, 0, 0, 1, 0, 0, 1 };
+    sta_view_truth v = {
+        .width = 3, .height = 1, .depth_m = depth, .normal = normal, .glass_depth_m = glass
+    };
+    sta_image img = { 0 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(&img, 3, 1, 4, &err), STA_OK);
+    const float filled[3] = { 5.0f, 9.0f, 4.4f };
+    for (int x = 0; x < 3; x++) {
+        float *p = sta_image_at(&img, x, 0);
+        p[2] = -filled[x];
+        p[3] = 1.0f;
+    }
+    sta_error_summary plain, rule;
+    assert_int_equal(sta_eval_depth(&v, &img, NULL, &plain, &err), STA_OK);
+    assert_int_equal(sta_eval_depth_glass(&v, &img, NULL, &rule, &err), STA_OK);
+    assert_int_equal(plain.count, 3);
+    assert_int_equal(rule.count, 3);
+    assert_near(plain.mean, (4.0 / 9.0 + 0.0 + 0.1) / 3.0, 1e-6);
+    assert_near(rule.mean, (0.0 + 0.0 + 0.1) / 3.0, 1e-6);
+    // Without glass depths the rule is the plain error.
+    v.glass_depth_m = NULL;
+    assert_int_equal(sta_eval_depth_glass(&v, &img, NULL, &rule, &err), STA_OK);
+    assert_near(rule.mean, plain.mean, 1e-12);
+    sta_image_release(&img);
+}
+
+/* The truth of street views from the scanner's path, turned all round: glass depths
+ * are never beyond the plain depths, and some rays (the windows) meet glass before the
+ * rooms behind. */
+static void street_truth_has_glass_before_rooms(void **state)
+{
+    (void)state;
+    sta_synth_params p = { .kind = STA_SYNTH_STREET, .seed = 1, .point_count = 10000 };
+    sta_bench_truth t;
+    sta_error err = { 0 };
+    assert_int_equal(sta_bench_truth_init(&p, origin, &t, &err), STA_OK);
+    double local[3];
+    assert_int_equal(sta_synth_scene_scanner_position(t.scene, 388102418.0 + 3.0, local, &err),
+                     STA_OK);
+    sta_camera c = { .fov_y = 60.0 * M_PI / 180.0, .near_m = 0.1, .width_px = 64, .height_px = 48 };
+    world(local, c.position);
+    c.pitch = 10.0 * M_PI / 180.0;
+    int glass_first = 0;
+    for (int k = 0; k < 8; k++) {
+        c.yaw = k * 0.25 * M_PI;
+        sta_view_truth v;
+        assert_int_equal(sta_view_truth_compute(&t, &c, &v, &err), STA_OK);
+        for (int i = 0; i < 64 * 48; i++) {
+            if (isnan(v.depth_m[i])) {
+                assert_true(isnan(v.glass_depth_m[i]));
+                continue;
+            }
+            assert_true(v.glass_depth_m[i] <= v.depth_m[i]);
+            glass_first += v.glass_depth_m[i] < v.depth_m[i];
+        }
+        sta_view_truth_release(&v);
+    }
+    printf("street: %d of %d pixels meet glass first\n", glass_first, 8 * 64 * 48);
+    assert_true(glass_first > 0);
+    sta_bench_truth_release(&t);
+}
+
 static void border_metric_counts_band_surface_pixels(void **state)
 {
     (void)state;
@@ -1003,6 +1075,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(eval_buffers_hand_made),
     cmocka_unit_test(sampled_pixels_need_a_point_near_the_hit),
     cmocka_unit_test(border_metric_counts_band_surface_pixels),
+    cmocka_unit_test(depth_error_accepts_glass_or_behind),
+    cmocka_unit_test(street_truth_has_glass_before_rooms),
     cmocka_unit_test(settings_expand),
     cmocka_unit_test(settings_expand_point_sizes),
     cmocka_unit_test(eval_surface_hand_made),

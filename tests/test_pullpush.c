@@ -24,8 +24,9 @@
 #define WEIGHT_TOLERANCE     1e-5f
 #define COLOUR_TOLERANCE     1e-5f
 #define NORMAL_TOLERANCE_DEG 0.05
-/* push_keeps_holes_on_one_surface: 319 with the depth weight, 545 without. */
-#define MAX_FLOATING         400
+/* push_keeps_holes_on_one_surface: 217 with the depth weights of the pull and the push,
+ * 319 with the push's alone, 545 without either. */
+#define MAX_FLOATING         270
 
 /* ---- a frame of inputs ---- */
 
@@ -884,6 +885,39 @@ static void push_keeps_holes_on_one_surface(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
+/* The pull's depth weight: an 8x8 frame, every pixel a visible point, columns 0-3 at
+ * 2 m and 4-7 at 20 m. Level-1 texel (2, j) filters fine columns 3-6 (taps 1/4 on the
+ * near column 3, 3/4 3/4 1/4 on the far ones): the plain filter gives the depth
+ * 0.125 * 2 + 0.875 * 20 = 17.75 m, between both surfaces; with the weight the near
+ * surface's 2 m (to 0.1 %), while the coverage stays the plain weight sum (1). GPU
+ * levels equal the twin's (check_gl_matches_twin). */
+static void pull_keeps_coarse_texels_on_one_surface(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    frame f;
+    frame_init(&f, 8, 8);
+    for (int y = 0; y < 8; y++) {
+        for (int x = 0; x < 8; x++) {
+            set_point(&f, x, y, x < 4 ? 2.0f : 20.0f, STA_LABEL_VISIBLE);
+        }
+    }
+    result ref, got;
+    check_gl_matches_twin(&f, NULL, &ref, &got);
+    for (int j = 0; j < 4; j++) {
+        const float *t = sta_image_at(&got.levels.position[1], 2, j);
+        printf("level 1 texel (2, %d): depth %.4f m, weight %.3f\n", j, (double)-t[2],
+               (double)t[3]);
+        assert_true(fabsf(-t[2] - 2.0f) < 0.002f);
+        assert_true(t[3] == 1.0f);
+    }
+    result_release(&ref);
+    result_release(&got);
+    frame_release(&f);
+    sta_gl_headless_destroy(&gl);
+}
+
 /* Points at the near plane and at 100 km, sparse, in one frame. */
 static void near_plane_and_far_points(void **state)
 {
@@ -1069,6 +1103,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(hidden_points_do_not_leak),
     cmocka_unit_test(depth_discontinuity_stays_bounded),
     cmocka_unit_test(push_keeps_holes_on_one_surface),
+    cmocka_unit_test(pull_keeps_coarse_texels_on_one_surface),
     cmocka_unit_test(near_plane_and_far_points),
     cmocka_unit_test(twin_rejects_mismatched_sizes),
     cmocka_unit_test(normals_do_not_mix_across_a_step),

@@ -190,6 +190,14 @@ bool sta_bench_truth_ray(sta_bench_truth *t, const double eye[3], const double d
     return sta_synth_scene_raycast(t->scene, local, dir, max_t, out_hit);
 }
 
+bool sta_bench_truth_ray_glass(sta_bench_truth *t, const double eye[3], const double dir[3],
+                               double max_t, sta_synth_hit *out_hit)
+{
+    const double local[3] = { eye[0] - t->origin[0], eye[1] - t->origin[1], eye[2] - t->origin[2] };
+    return sta_synth_scene_raycast_ex(t->scene, local, dir, 0.0, max_t, STA_SYNTH_RAY_GLASS,
+                                      out_hit);
+}
+
 bool sta_bench_truth_point_visible(sta_bench_truth *t, const double eye[3], const double point[3],
                                    double tolerance_m)
 {

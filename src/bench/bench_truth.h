@@ -37,9 +37,12 @@ sta_status sta_bench_truth_init(const sta_synth_params *params, const double ori
 void sta_bench_truth_release(sta_bench_truth *truth);
 
 /* The nearest surface along the ray from `eye` (world) in unit direction `dir` for
- * 0 < t < max_t; false when nothing is hit. */
+ * 0 < t < max_t; false when nothing is hit. Window glass is passed through (the street's
+ * rooms show behind it); sta_bench_truth_ray_glass reports it as a surface. */
 bool sta_bench_truth_ray(sta_bench_truth *truth, const double eye[3], const double dir[3],
                          double max_t, sta_synth_hit *out_hit);
+bool sta_bench_truth_ray_glass(sta_bench_truth *truth, const double eye[3], const double dir[3],
+                               double max_t, sta_synth_hit *out_hit);
 
 /* True visibility of a point (world) seen from `eye` (world): visible iff no surface
  * crosses the segment from the eye to the point closer than `tolerance_m` before the

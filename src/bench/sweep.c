@@ -435,6 +435,13 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
             row->depth_sampled_rel_mean = e.mean;
             row->depth_sampled_rel_median = e.median;
             row->depth_sampled_rel_p95 = e.p95;
+            s = sta_eval_depth_glass(view_truth, &image, sampled, &e, err);
+        }
+        if (s == STA_OK) {
+            row->depth_glass_count = e.count;
+            row->depth_glass_rel_mean = e.mean;
+            row->depth_glass_rel_median = e.median;
+            row->depth_glass_rel_p95 = e.p95;
         }
         sta_image_release(&image);
     }
@@ -470,6 +477,8 @@ static void clear_errors(sta_bench_row *row)
         (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
     row->depth_sampled_rel_mean = row->depth_sampled_rel_median = row->depth_sampled_rel_p95 =
+        (double)NAN;
+    row->depth_glass_rel_mean = row->depth_glass_rel_median = row->depth_glass_rel_p95 =
         (double)NAN;
     row->border_empty = (double)NAN;
     row->psnr_db = row->ssim = (double)NAN;

@@ -128,6 +128,8 @@ typedef struct sta_bench_row {
     double surface_hole, surface_see_through, surface_bleed, surface_error;
     uint64_t depth_sampled_count; /* the same over sampled pixels (sta_view_truth_sampled) */
     double depth_sampled_rel_mean, depth_sampled_rel_median, depth_sampled_rel_p95;
+    uint64_t depth_glass_count; /* the same with window glass a surface (sta_eval_depth_glass) */
+    double depth_glass_rel_mean, depth_glass_rel_median, depth_glass_rel_p95;
     uint64_t border_count; /* sta_eval_border: band pixels whose ray hits the scene */
     double border_empty;   /* the share of them the fill leaves empty */
     double psnr_db;        /* +inf for identical images */

@@ -17,7 +17,8 @@ sta_status sta_view_truth_compute(sta_bench_truth *truth, const sta_camera *came
     const size_t n = (size_t)w * (size_t)h;
     out->depth_m = sta_alloc_array(n, sizeof(float));
     out->normal = sta_alloc_array(n, 3 * sizeof(float));
-    if (!out->depth_m || !out->normal) {
+    out->glass_depth_m = sta_alloc_array(n, sizeof(float));
+    if (!out->depth_m || !out->normal || !out->glass_depth_m) {
         sta_view_truth_release(out);
         return sta_fail(err, STA_ERR_NOMEM, "out of memory for the truth of a %dx%d view", w, h);
     }
@@ -33,12 +34,17 @@ sta_status sta_view_truth_compute(sta_bench_truth *truth, const sta_camera *came
             sta_synth_hit hit;
             float *n3 = out->normal + 3 * i;
             if (!sta_bench_truth_ray(truth, camera->position, dir, (double)INFINITY, &hit)) {
-                out->depth_m[i] = NAN;
+                out->depth_m[i] = out->glass_depth_m[i] = NAN;
                 n3[0] = n3[1] = n3[2] = 0.0f;
                 continue;
             }
             out->hit_count++;
             out->depth_m[i] = (float)(hit.t * cosine);
+            sta_synth_hit glass;
+            out->glass_depth_m[i] =
+                sta_bench_truth_ray_glass(truth, camera->position, dir, hit.t, &glass)
+                    ? (float)(glass.t * cosine)
+                    : out->depth_m[i];
             const double *nw = hit.normal;
             double side = nw[0] * dir[0] + nw[1] * dir[1] + nw[2] * dir[2] > 0.0 ? -1.0 : 1.0;
             n3[0] = (float)(side * (nw[0] * r[0] + nw[1] * r[1] + nw[2] * r[2]));
@@ -53,6 +59,7 @@ void sta_view_truth_release(sta_view_truth *v)
 {
     sta_free(v->depth_m);
     sta_free(v->normal);
+    sta_free(v->glass_depth_m);
     memset(v, 0, sizeof(*v));
 }
 
@@ -229,8 +236,11 @@ sta_status sta_eval_normals(const sta_view_truth *v, const sta_image *normal,
     return STA_OK;
 }
 
-sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, const uint8_t *sampled,
-                          sta_error_summary *out, sta_error *err)
+// The depth error of each counted pixel; with `glass`, the lesser of the errors against
+// the surface behind the glass and against the glass.
+static sta_status eval_depth(const sta_view_truth *v, const sta_image *filled,
+                             const uint8_t *sampled, bool glass, sta_error_summary *out,
+                             sta_error *err)
 {
     sta_status s = check_size(v, filled, "filled", err);
     if (s != STA_OK) {
@@ -249,13 +259,31 @@ sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, cons
             continue;
         }
         double d = -(double)p[2];
-        if (isfinite(d)) {
-            values[count++] = fabs(d - truth) / truth;
+        if (!isfinite(d)) {
+            continue;
         }
+        double e = fabs(d - truth) / truth;
+        double g = glass && v->glass_depth_m ? (double)v->glass_depth_m[i] : truth;
+        if (g > 0.0 && g < truth) {
+            e = fmin(e, fabs(d - g) / g);
+        }
+        values[count++] = e;
     }
     sta_error_summarise(values, count, out);
     sta_free(values);
     return STA_OK;
+}
+
+sta_status sta_eval_depth(const sta_view_truth *v, const sta_image *filled, const uint8_t *sampled,
+                          sta_error_summary *out, sta_error *err)
+{
+    return eval_depth(v, filled, sampled, false, out, err);
+}
+
+sta_status sta_eval_depth_glass(const sta_view_truth *v, const sta_image *filled,
+                                const uint8_t *sampled, sta_error_summary *out, sta_error *err)
+{
+    return eval_depth(v, filled, sampled, true, out, err);
 }
 
 void sta_eval_surface(const sta_view_truth *v, const sta_camera *camera, const float *depth,

@@ -20,8 +20,11 @@
 /* Per pixel truth of one view. */
 typedef struct sta_view_truth {
     int width, height;
-    float *depth_m; /* per pixel: true depth along the view axis; NAN where the ray misses */
-    float *normal;  /* 3 per pixel: unit camera-space normal facing the camera (0 on miss) */
+    float *depth_m;       /* per pixel: true depth along the view axis; NAN where the ray misses */
+    float *normal;        /* 3 per pixel: unit camera-space normal facing the camera (0 on miss) */
+    float *glass_depth_m; /* per pixel: the true depth with window glass as a surface
+                             (sta_bench_truth_ray_glass): less than depth_m where the
+                             ray passes a window, depth_m elsewhere; NULL: as depth_m */
     uint64_t hit_count;
 } sta_view_truth;
 
@@ -95,6 +98,13 @@ sta_status sta_eval_normals(const sta_view_truth *view_truth, const sta_image *n
  * when `sampled` is not NULL, whose byte in it is 1 (sta_view_truth_sampled). */
 sta_status sta_eval_depth(const sta_view_truth *view_truth, const sta_image *filled,
                           const uint8_t *sampled, sta_error_summary *out, sta_error *err);
+
+/* As sta_eval_depth, with window glass accepted as a surface: where the pixel's ray
+ * passes glass (glass_depth_m < depth_m), the lesser of the errors against the glass
+ * and against the surface behind it. The street's scanner reports glass now and then
+ * and the rooms behind it; both are sampled surfaces on the same ray (docs/BENCH.md). */
+sta_status sta_eval_depth_glass(const sta_view_truth *view_truth, const sta_image *filled,
+                                const uint8_t *sampled, sta_error_summary *out, sta_error *err);
 
 /* Width of the image border band of sta_eval_border, pixels (issue 15's edge metric). */
 #define STA_BORDER_BAND_PX 16

@@ -211,6 +211,7 @@ static void set_occlusion_uniforms(GLuint program, const sta_view_params *view,
     glUniform1f(glGetUniformLocation(program, "u_far"), p->far_m);
     glUniform1f(glGetUniformLocation(program, "u_threshold"), p->threshold);
     glUniform1f(glGetUniformLocation(program, "u_radius_k"), sta_hpr_radius_k(view, p));
+    glUniform1f(glGetUniformLocation(program, "u_gap"), sta_hpr_occluder_gap_m(view, p));
     // As the twin (hpr_ref.c frame_of): pixels per unit of x / d and y / d.
     glUniform2f(glGetUniformLocation(program, "u_scale"), 0.5f * (float)view->width_px / th[0],
                 0.5f * (float)view->height_px / th[1]);

@@ -7,6 +7,7 @@
  */
 #include "render/ref/hpr_ref.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdbool.h>
 #include <string.h>
@@ -22,6 +23,15 @@ void sta_hpr_params_defaults(sta_hpr_params *config)
     if (!(config->far_m > 0.0f) || !isfinite(config->far_m)) {
         config->far_m = STA_HPR_DEFAULT_FAR_M;
     }
+    if (config->occluder_gap_s0 == 0.0f) {
+        config->occluder_gap_s0 = STA_HPR_OCCLUDER_GAP_S0;
+    }
+}
+
+float sta_hpr_occluder_gap_m(const sta_view_params *view, const sta_hpr_params *resolved)
+{
+    float gap = resolved->occluder_gap_s0 * view->s0;
+    return resolved->occluder_gap_s0 > 0.0f && gap > 0.0f && isfinite(gap) ? gap : -FLT_MAX;
 }
 
 float sta_hpr_s_hpr_m(const sta_view_params *view, const sta_hpr_params *config)
@@ -285,6 +295,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
     float level_depth[STA_HPR_MAX_LEVELS];
     sta_hpr_level_depths(view, &p, level_count, level_depth);
     float radius_k = sta_hpr_radius_k(view, &p);
+    float gap_m = sta_hpr_occluder_gap_m(view, &p);
     // Level 1 at least (coarse_level >= 1 and level_count >= 2).
     int coarse = p.coarse_level < level_count - 1 ? p.coarse_level : level_count - 1;
     for (int py = 0; py < f.height; py++) {
@@ -316,6 +327,8 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             float radius = radius_k / z;
             float cut = STA_HPR_CUT_FACTOR * radius;
             float cut2 = cut * cut;
+            // Only neighbours nearer than the centre point by more than the gap occlude.
+            float occluder_limit = -x[2] - gap_m;
             float sector_min[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
             unsigned outside = 0;
             for (int k = 0; k <= level; k++) {
@@ -335,7 +348,8 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                         }
                         const float *y = sta_image_at(lk, nx, ny);
                         float v[2];
-                        if (y[3] <= 0.5f || !screen_offset(&f, y, px, py, v)) {
+                        if (y[3] <= 0.5f || !screen_offset(&f, y, px, py, v) ||
+                            !(-y[2] < occluder_limit)) {
                             continue;
                         }
                         float dist2 = v[0] * v[0] + v[1] * v[1];

@@ -55,32 +55,48 @@
  * within this fraction of its own (no depth edge in the 2 x 2 neighbourhood). 0.005:
  * the error of the full operator to 0.3 % at the cost of 0.02 (docs/BENCHMARKS.md). */
 #define STA_HPR_SPARSE_DEPTH_TAU     0.005f
+/* Pyramidal operator: a neighbour closes a sector only when it lies nearer than the
+ * pixel's point by more than this many s0 (issue 15, part 2). Noise makes a surface
+ * rough in depth, and the paper's operator let a point's own surface neighbours, a few
+ * centimetres nearer, hide it (the far road, facades along the street); 1.5 s0 keeps
+ * them (docs/HPR.md, docs/BENCHMARKS.md "Sixth round"). */
+#define STA_HPR_OCCLUDER_GAP_S0      1.5f
 
 /* Parameters. Zero means default (resolved by sta_hpr_params_defaults). A negative
  * threshold makes every pixel open (HPR off). s_hpr's default depends on the view: it
  * stays 0 after sta_hpr_params_defaults and sta_hpr_s_hpr_m derives it where used. */
 typedef struct sta_hpr_params {
-    float threshold;  /* a pixel is open when its mean sector occlusion >= this;
-                         0: STA_HPR_DEFAULT_THRESHOLD */
-    float s_hpr;      /* metric size of the neighbourhood (eq. 1), metres; 0: derived,
-                         STA_HPR_DEFAULT_S_HPR_FACTOR * view s0 (sta_hpr_s_hpr_m) */
-    int coarse_level; /* pyramid level giving the coarse depth (eq. 1);
-                         <= 0: STA_HPR_DEFAULT_COARSE_LEVEL */
-    float far_m;      /* depth of background pixels, metres; <= 0 or not finite:
-                         STA_HPR_DEFAULT_FAR_M */
-    bool sparse;      /* pyramidal operator on the even (x, y) anchors, the other pixels
-                         copy agreeing anchors or are refined (sta_hpr_ref_sparse_labels);
-                         false (default): every pixel */
+    float threshold;       /* a pixel is open when its mean sector occlusion >= this;
+                              0: STA_HPR_DEFAULT_THRESHOLD */
+    float s_hpr;           /* metric size of the neighbourhood (eq. 1), metres; 0: derived,
+                              STA_HPR_DEFAULT_S_HPR_FACTOR * view s0 (sta_hpr_s_hpr_m) */
+    int coarse_level;      /* pyramid level giving the coarse depth (eq. 1);
+                              <= 0: STA_HPR_DEFAULT_COARSE_LEVEL */
+    float far_m;           /* depth of background pixels, metres; <= 0 or not finite:
+                              STA_HPR_DEFAULT_FAR_M */
+    float occluder_gap_s0; /* pyramidal operator: a neighbour occludes only when its
+                              depth is below the pixel's by more than this many s0;
+                              0: STA_HPR_OCCLUDER_GAP_S0; < 0: every neighbour (the
+                              paper's operator). The exhaustive operator has no gap */
+    bool sparse;           /* pyramidal operator on the even (x, y) anchors, the other pixels
+                              copy agreeing anchors or are refined (sta_hpr_ref_sparse_labels);
+                              false (default): every pixel */
 } sta_hpr_params;
 
-/* Fills threshold, coarse_level and far_m of `config` with their defaults where they
- * are zero (or, as documented above, out of range), in place; other fields stay as
- * they are. s_hpr stays 0 when it is 0 (its default needs the view). */
+/* Fills threshold, coarse_level, far_m and occluder_gap_s0 of `config` with their defaults where
+ * they are zero (or, as documented above, out of range), in place; other fields stay as they are.
+ * s_hpr stays 0 when it is 0 (its default needs the view). */
 void sta_hpr_params_defaults(sta_hpr_params *config);
 
 /* s_hpr in metres: config->s_hpr, or STA_HPR_DEFAULT_S_HPR_FACTOR * view->s0 when it
  * is 0. */
 float sta_hpr_s_hpr_m(const sta_view_params *view, const sta_hpr_params *config);
+
+/* The occluder gap in metres (sta_hpr_params.occluder_gap_s0 times view->s0) of
+ * `resolved` parameters; -FLT_MAX when the gap is off (negative) or s0 is not positive,
+ * so that every neighbour takes part. A neighbour y of a pixel whose centre point has
+ * depth d is a candidate only when -y.z < d - gap. */
+float sta_hpr_occluder_gap_m(const sta_view_params *view, const sta_hpr_params *resolved);
 
 /* Number of pyramid levels for a width x height image, level 0 (the image) included:
  * max(2, 1 + ceil(log2(max(width, height)))), so the last level is 1 x 1 and level 1

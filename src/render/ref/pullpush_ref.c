@@ -70,37 +70,61 @@ static void store(const sta_image *position, const sta_image *colour, int x, int
 
 static const float zero3[3] = { 0.0f, 0.0f, 0.0f };
 
-/* Pull: coarse texel (i, j) is the weight-normalised 4x4 filter of the fine level;
- * its weight is the filtered weight sum clamped to 1. */
+/* The push's and the pull's depth factor 1 + x + x^2/2 + x^3/6 (exp(x) to third order),
+ * x = ((d - d_near) / (tau d_near))^2; a tap's weight is divided by it. */
+static float depth_factor(float d, float near_d, float tau)
+{
+    float dz = (d - near_d) / (tau * near_d);
+    float x = dz * dz;
+    return 1.0f + x * (1.0f + x * (0.5f + x * (1.0f / 6.0f)));
+}
+
+/* Pull: coarse texel (i, j) is the 4x4 filter of the fine level; its weight is the
+ * filtered weight sum clamped to 1, its values the filter normalised with each tap's
+ * weight divided by the depth factor (STA_PULLPUSH_PULL_DEPTH_TAU) against the nearest
+ * tap: a coarse texel over a depth edge keeps the near surface (issue 15, sixth round). */
 static void pull_level(const level_source *fine, int fine_w, int fine_h, const sta_image *out_p,
                        const sta_image *out_c)
 {
     for (int j = 0; j < out_p->height; j++) {
         for (int i = 0; i < out_p->width; i++) {
-            float sw = 0.0f, sp[3] = { 0.0f, 0.0f, 0.0f }, sc[3] = { 0.0f, 0.0f, 0.0f };
+            texel taps[16];
+            float near_d = 0.0f; /* nearest depth among the taps with weight */
             for (int b = 0; b < 4; b++) {
-                int fy = 2 * j - 1 + b;
-                if (fy < 0 || fy >= fine_h) {
-                    continue;
-                }
                 for (int a = 0; a < 4; a++) {
-                    int fx = 2 * i - 1 + a;
-                    if (fx < 0 || fx >= fine_w) {
+                    int fx = 2 * i - 1 + a, fy = 2 * j - 1 + b;
+                    texel *t = &taps[4 * b + a];
+                    if (fx < 0 || fy < 0 || fx >= fine_w || fy >= fine_h) {
+                        t->w = 0.0f;
                         continue;
                     }
-                    texel t = fetch(fine, fx, fy);
-                    if (t.w > 0.0f) {
-                        float kw = pull_taps[a] * pull_taps[b] * t.w;
-                        sw += kw;
-                        for (int k = 0; k < 3; k++) {
-                            sp[k] += kw * t.p[k];
-                            sc[k] += kw * t.c[k];
-                        }
+                    *t = fetch(fine, fx, fy);
+                    if (t->w > 0.0f && (near_d <= 0.0f || -t->p[2] < near_d)) {
+                        near_d = -t->p[2];
+                    }
+                }
+            }
+            float sw = 0.0f, sv = 0.0f, sp[3] = { 0.0f, 0.0f, 0.0f }, sc[3] = { 0.0f, 0.0f, 0.0f };
+            for (int b = 0; b < 4; b++) {
+                for (int a = 0; a < 4; a++) {
+                    const texel *t = &taps[4 * b + a];
+                    if (!(t->w > 0.0f)) {
+                        continue;
+                    }
+                    float kw = pull_taps[a] * pull_taps[b] * t->w;
+                    sw += kw;
+                    if (near_d > 0.0f) {
+                        kw = kw / depth_factor(-t->p[2], near_d, STA_PULLPUSH_PULL_DEPTH_TAU);
+                    }
+                    sv += kw;
+                    for (int k = 0; k < 3; k++) {
+                        sp[k] += kw * t->p[k];
+                        sc[k] += kw * t->c[k];
                     }
                 }
             }
             if (sw > 0.0f) {
-                float inv = 1.0f / sw;
+                float inv = 1.0f / sv;
                 float p[3], c[3];
                 for (int k = 0; k < 3; k++) {
                     p[k] = sp[k] * inv;
@@ -150,10 +174,7 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
             if (t->w > 0.0f) {
                 float kw = wx[k & 1] * wy[k >> 1] * t->w;
                 if (near_d > 0.0f) {
-                    float dz = (-t->p[2] - near_d) / (STA_PULLPUSH_DEPTH_TAU * near_d);
-                    float x = dz * dz;
-                    float e = 1.0f + x * (1.0f + x * (0.5f + x * (1.0f / 6.0f)));
-                    kw = kw / e;
+                    kw = kw / depth_factor(-t->p[2], near_d, STA_PULLPUSH_DEPTH_TAU);
                 }
                 sw += kw;
                 for (int c = 0; c < 3; c++) {

@@ -26,7 +26,14 @@
  * and expf part ways), x = ((d - d_near) / (TAU d_near))^2, d its depth and d_near the
  * nearest depth among the (up to 4) taps: a hole at an outline takes the near surface
  * rather than a depth between both (issue 15, docs/BENCHMARKS.md). */
-#define STA_PULLPUSH_DEPTH_TAU 0.3f
+#define STA_PULLPUSH_DEPTH_TAU      0.3f
+/* Pull: the same factor against the nearest of the 16 fine taps divides each tap's
+ * weight in the values (not in the coverage, the plain weight sum): a coarse texel over
+ * a depth edge holds the near surface, not a depth between both, which the push then
+ * spread as fill floating between the surfaces (issue 15, sixth round; 0.5: the value
+ * that gains on the street without a loss on sphere, nested and the bunny,
+ * docs/BENCHMARKS.md). */
+#define STA_PULLPUSH_PULL_DEPTH_TAU 0.5f
 
 /* Levels of the largest view accepted (32768 pixels on a side). */
 #define STA_PULLPUSH_MAX_LEVELS 16
