@@ -44,10 +44,11 @@ typedef struct sta_normals_chunk {
 
 /* What happened, summed over chunks. */
 typedef struct sta_normals_stats {
-    uint64_t points;      /* normals computed */
-    uint64_t degenerate;  /* fallback normal (fewer than 3 distinct points, collinear) */
-    uint64_t beyond_halo; /* neighbourhood wider than the halo: may miss a neighbour */
-    uint64_t widened;     /* neighbourhood widened beyond K (nearly linear, or edge-on) */
+    uint64_t points;        /* normals computed */
+    uint64_t degenerate;    /* fallback normal (fewer than 3 distinct points, collinear) */
+    uint64_t beyond_halo;   /* neighbourhood wider than the halo: may miss a neighbour */
+    uint64_t widened;       /* neighbourhood widened beyond K (nearly linear, thick or edge-on) */
+    uint64_t widened_exact; /* of which fitted over the exact widest K nearest (not a box) */
 } sta_normals_stats;
 
 /* Computes a normal and radius for each of the `count` records (layout with
