@@ -56,31 +56,52 @@ static bool grow(sta_cell_moments *m)
     return true;
 }
 
-sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t origin[3],
-                                 const int32_t (*grid)[3], size_t n, sta_error *err)
+// The sums of cell `local`, created empty when new; NULL when out of memory.
+static sta_moment_sums *cell_at(sta_cell_moments *m, const int64_t local[3])
 {
-    memset(m, 0, sizeof(*m));
-    if (level < 0 || level > STA_MOMENTS_MAX_LEVEL || n > STA_MOMENTS_MAX_POINTS) {
-        return sta_fail(err, STA_ERR_ARG, "cell moments: level %d or %zu points out of range",
-                        level, n);
+    uint64_t key = pack(local);
+    size_t s = find(m->keys, m->capacity, key);
+    if (m->keys[s] == 0) {
+        if (2 * (m->used + 1) > m->capacity) {
+            if (!grow(m)) {
+                return NULL;
+            }
+            s = find(m->keys, m->capacity, key);
+        }
+        m->keys[s] = key;
+        memset(&m->sums[s], 0, sizeof(m->sums[s]));
+        m->used++;
     }
-    m->level = level;
-    int64_t hi[3] = { 0, 0, 0 };
+    return &m->sums[s];
+}
+
+// Cell coordinates (from the scene corner) relative to the set's lowest cell; false when
+// they lie outside what the set addresses.
+static bool local_of(const sta_cell_moments *m, const int64_t cell[3], int64_t local[3])
+{
     for (int a = 0; a < 3; a++) {
-        m->origin[a] = origin[a];
-        m->base[a] = INT64_MAX;
-    }
-    for (size_t i = 0; i < n; i++) {
-        for (int a = 0; a < 3; a++) {
-            int64_t c = ((int64_t)grid[i][a] - origin[a]) >> level;
-            m->base[a] = c < m->base[a] ? c : m->base[a];
-            hi[a] = c > hi[a] ? c : hi[a];
+        local[a] = cell[a] - m->base[a];
+        if (local[a] < 0 || local[a] > (int64_t)AXIS_MASK) {
+            return false;
         }
     }
+    return true;
+}
+
+sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t origin[3],
+                                 const int32_t lo[3], const int32_t hi[3], sta_error *err)
+{
+    memset(m, 0, sizeof(*m));
+    if (level < 0 || level > STA_MOMENTS_MAX_LEVEL) {
+        return sta_fail(err, STA_ERR_ARG, "cell moments: level %d out of range", level);
+    }
+    m->level = level;
     for (int a = 0; a < 3; a++) {
+        m->origin[a] = origin[a];
         // One empty cell below and two above stay addressable (blocks reach past the set).
-        m->base[a] = n > 0 ? m->base[a] - 1 : 0;
-        if (hi[a] - m->base[a] + 3 > (int64_t)AXIS_MASK) {
+        m->base[a] = (((int64_t)lo[a] - origin[a]) >> level) - 1;
+        int64_t top = ((int64_t)hi[a] - origin[a]) >> level;
+        if (top - m->base[a] + 3 > (int64_t)AXIS_MASK) {
             return sta_fail(err, STA_ERR_ARG, "cell moments: level %d spans too many cells", level);
         }
     }
@@ -91,28 +112,44 @@ sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t o
         sta_cell_moments_release(m);
         return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
     }
+    return STA_OK;
+}
+
+bool sta_cell_moments_mark(sta_cell_moments *m, const int64_t cell[3])
+{
+    int64_t local[3];
+    return !local_of(m, cell, local) || cell_at(m, local) != NULL;
+}
+
+bool sta_cell_moments_has(const sta_cell_moments *m, const int64_t cell[3])
+{
+    int64_t local[3];
+    return local_of(m, cell, local) && m->keys[find(m->keys, m->capacity, pack(local))] != 0;
+}
+
+sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], size_t n,
+                                const sta_cell_moments *only, sta_error *err)
+{
+    int level = m->level;
     for (size_t i = 0; i < n; i++) {
-        int64_t local[3], d[3];
+        int64_t u[3], local[3], d[3];
         for (int a = 0; a < 3; a++) {
-            int64_t u = (int64_t)grid[i][a] - origin[a];
-            local[a] = (u >> level) - m->base[a];
-            d[a] = u & (((int64_t)1 << level) - 1);
+            u[a] = (int64_t)grid[i][a] - m->origin[a];
         }
-        uint64_t key = pack(local);
-        size_t s = find(m->keys, m->capacity, key);
-        if (m->keys[s] == 0) {
-            if (2 * (m->used + 1) > m->capacity) {
-                if (!grow(m)) {
-                    sta_cell_moments_release(m);
-                    return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
-                }
-                s = find(m->keys, m->capacity, key);
+        if (only) {
+            int64_t cell[3] = { u[0] >> only->level, u[1] >> only->level, u[2] >> only->level };
+            if (!sta_cell_moments_has(only, cell)) {
+                continue;
             }
-            m->keys[s] = key;
-            memset(&m->sums[s], 0, sizeof(m->sums[s]));
-            m->used++;
         }
-        sta_moment_sums *c = &m->sums[s];
+        for (int a = 0; a < 3; a++) {
+            local[a] = (u[a] >> level) - m->base[a];
+            d[a] = u[a] & (((int64_t)1 << level) - 1);
+        }
+        sta_moment_sums *c = cell_at(m, local);
+        if (!c) {
+            return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
+        }
         c->n++;
         c->s1[0] += d[0], c->s1[1] += d[1], c->s1[2] += d[2];
         c->s2[0] += d[0] * d[0], c->s2[1] += d[0] * d[1], c->s2[2] += d[0] * d[2];

@@ -42,12 +42,25 @@ typedef struct sta_cell_moments {
     sta_moment_sums *sums; /* per slot */
 } sta_cell_moments;
 
-/* Builds level `level` (0..STA_MOMENTS_MAX_LEVEL) over the n points `grid` (grid units)
- * that lie at or above the scene corner `origin`. Fails (STA_ERR_ARG) when the points
- * span more cells than STA_MOMENTS_AXIS_BITS hold, or n exceeds STA_MOMENTS_MAX_POINTS.
- * Release with sta_cell_moments_release. */
+/* An empty level `level` (0..STA_MOMENTS_MAX_LEVEL) for points inside the box lo..hi
+ * (grid units, at or above the scene corner `origin`). Fails (STA_ERR_ARG) when the box
+ * spans more cells than STA_MOMENTS_AXIS_BITS hold. Release with
+ * sta_cell_moments_release. */
 sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t origin[3],
-                                 const int32_t (*grid)[3], size_t n, sta_error *err);
+                                 const int32_t lo[3], const int32_t hi[3], sta_error *err);
+
+/* Creates cell `cell` (coordinates from the scene corner) empty: a set of wanted cells.
+ * False when out of memory. */
+bool sta_cell_moments_mark(sta_cell_moments *m, const int64_t cell[3]);
+
+/* Whether cell `cell` exists. */
+bool sta_cell_moments_has(const sta_cell_moments *m, const int64_t cell[3]);
+
+/* Adds the n points `grid` (grid units, inside the box; at most STA_MOMENTS_MAX_POINTS
+ * in all) to their cells; when `only` is not NULL, only the points whose cell of
+ * only's (coarser or equal) level exists there. */
+sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], size_t n,
+                                const sta_cell_moments *only, sta_error *err);
 
 void sta_cell_moments_release(sta_cell_moments *m);
 

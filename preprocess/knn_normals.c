@@ -57,10 +57,18 @@ int sta_normals_widest_k(int k)
     return WIDEN_MAX * k < STA_NORMALS_MAX_K ? WIDEN_MAX * k : STA_NORMALS_MAX_K;
 }
 
+/* Bytes a point of the widened fits' cells (cell_moments.h) take at most, measured: on the
+ * 4 M street (chunks of 0.3-1.2 M points) one level's table held up to 0.41 slots a point
+ * (88 bytes a slot), and 1.5 times that while it grows. */
+#define CELL_BYTES_PER_POINT 56
+
 size_t sta_normals_memory_bytes(size_t points)
 {
-    // + the positions, as floats and integers
-    return sta_knn_memory_bytes(points) + points * 3 * (sizeof(float) + sizeof(int32_t));
+    // The search and the cells are not held at once; + the positions, as floats and
+    // integers, and the radius and box code of each point.
+    size_t search = sta_knn_memory_bytes(points), cells = points * CELL_BYTES_PER_POINT;
+    return (search > cells ? search : cells) +
+           points * (3 * (sizeof(float) + sizeof(int32_t)) + sizeof(float) + 1);
 }
 
 // The rule of docs/CONVERTER.md: up for surfaces that face up or down; a wall faces the
@@ -232,11 +240,12 @@ typedef struct normals_visit {
     const sta_record_layout *layout;
     uint8_t *records;
     sta_normals_stats *stats;
-    int min_code;  /* the block codes usable for this set (cell_moments.h's limits), */
-    int max_code;  /* max_code -1: none, the exact search only */
-    double unit_m; /* metres per grid unit (the coarsest axis) */
-    float *radius; /* per record, of the points left for a block fit */
-    uint8_t *code; /* per record: CODE_DONE, or a block code | escalations << CODE_BITS */
+    int min_code;         /* the block codes usable for this set (cell_moments.h's limits), */
+    int max_code;         /* max_code -1: none, the exact search only */
+    double unit_m;        /* metres per grid unit (the coarsest axis) */
+    float *radius;        /* per record, of the points left for a block fit */
+    uint8_t *code;        /* per record: CODE_DONE, or a block code | escalations << CODE_BITS */
+    int32_t lo[3], hi[3]; /* the box of the chunk's and halo's points, grid units */
 } normals_visit;
 
 #define CODE_BITS  6
@@ -445,6 +454,57 @@ static double block_reach(const normals_visit *v, const int32_t p[3], int code,
     return sqrt(d2);
 }
 
+// The cells of `level` that the boxes of the points waiting at that level overlap: first
+// the set of cells 4 times wider that hold them (a box reaches at most 2 cells from its
+// point), then the points of those. The cells hold all their points: the same sums as
+// if every point had been added.
+static sta_status level_cells(const normals_visit *v, const int32_t (*grid)[3], size_t n,
+                              size_t count, int level, sta_cell_moments *cells, sta_error *err)
+{
+    const int64_t *origin = v->chunk->scene_min;
+    int coarse = level + 2 < STA_MOMENTS_MAX_LEVEL ? level + 2 : STA_MOMENTS_MAX_LEVEL;
+    sta_cell_moments wanted;
+    sta_status status = sta_cell_moments_init(&wanted, coarse, origin, v->lo, v->hi, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    int64_t last[2][3] = { { -1, -1, -1 }, { -1, -1, -1 } }, reach = (int64_t)2 << level;
+    for (size_t i = 0; i < count; i++) {
+        if (v->code[i] >= CODE_EXACT || (v->code[i] & CODE_MASK) >> 1 != level) {
+            continue;
+        }
+        int64_t range[2][3];
+        for (int a = 0; a < 3; a++) {
+            int64_t u = (int64_t)grid[i][a] - origin[a];
+            range[0][a] = (u - reach) >> coarse;
+            range[1][a] = (u + reach) >> coarse;
+        }
+        if (memcmp(range, last, sizeof(range)) == 0) {
+            continue; // (the previous point marked the same cells)
+        }
+        memcpy(last, range, sizeof(last));
+        for (int64_t z = range[0][2]; z <= range[1][2]; z++) {
+            for (int64_t y = range[0][1]; y <= range[1][1]; y++) {
+                for (int64_t x = range[0][0]; x <= range[1][0]; x++) {
+                    if (!sta_cell_moments_mark(&wanted, (const int64_t[3]){ x, y, z })) {
+                        sta_cell_moments_release(&wanted);
+                        return sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
+                    }
+                }
+            }
+        }
+    }
+    status = sta_cell_moments_init(cells, level, origin, v->lo, v->hi, err);
+    if (status == STA_OK) {
+        status = sta_cell_moments_add(cells, grid, n, &wanted, err);
+        if (status != STA_OK) {
+            sta_cell_moments_release(cells);
+        }
+    }
+    sta_cell_moments_release(&wanted);
+    return status;
+}
+
 // The second pass: the points left with a block code get the fit of their block, level by
 // level (one level's cells at a time). A block with fewer than K + 1 points or no plane
 // moves to the next wider block, at most ESCALATE times.
@@ -476,16 +536,12 @@ static sta_status fit_blocks(normals_visit *v, const int32_t (*grid)[3], size_t 
     sta_status status = STA_OK;
     for (int level = lo >> 1; level <= (hi >> 1) && status == STA_OK; level++) {
         sta_cell_moments cells;
-        bool built = false;
+        status = level_cells(v, grid, n, count, level, &cells, err);
+        if (status != STA_OK) {
+            break;
+        }
         for (size_t i = 0; i < count; i++) {
             while (v->code[i] < CODE_EXACT && (v->code[i] & CODE_MASK) >> 1 == level) {
-                if (!built) {
-                    status = sta_cell_moments_init(&cells, level, chunk->scene_min, grid, n, err);
-                    if (status != STA_OK) {
-                        break;
-                    }
-                    built = true;
-                }
                 int code = v->code[i] & CODE_MASK, steps = v->code[i] >> CODE_BITS;
                 int64_t u[3], anchor[3];
                 double first[3];
@@ -513,13 +569,8 @@ static sta_status fit_blocks(normals_visit *v, const int32_t (*grid)[3], size_t 
                 store(v, i, f->ok, normal, v->radius[i]);
                 v->code[i] = CODE_DONE;
             }
-            if (status != STA_OK) {
-                break;
-            }
         }
-        if (built) {
-            sta_cell_moments_release(&cells);
-        }
+        sta_cell_moments_release(&cells);
     }
     sta_free(cache);
     sta_free(scratch);
@@ -599,7 +650,7 @@ static void usable_codes(size_t n, const int64_t span[3], int *min_code, int *ma
     int level = 0;
     for (int a = 0; a < 3; a++) {
         while (level <= STA_MOMENTS_MAX_LEVEL &&
-               (span[a] >> level) + 4 >= ((int64_t)1 << STA_MOMENTS_AXIS_BITS)) {
+               (span[a] >> level) + 6 >= ((int64_t)1 << STA_MOMENTS_AXIS_BITS)) {
             level++;
         }
     }
@@ -660,6 +711,8 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                           .unit_m = unit_m,
                           .radius = radius,
                           .code = code };
+    memcpy(ctx.lo, lo, sizeof(lo));
+    memcpy(ctx.hi, hi, sizeof(hi));
     usable_codes(n, span, &ctx.min_code, &ctx.max_code);
     sta_status status = sta_knn_each((const float(*)[3])xyz, (const int32_t(*)[3])grid, n, count,
                                      chunk->k, finish_point, &ctx, err);
