@@ -446,7 +446,7 @@ static double block_reach(const normals_visit *v, const int32_t p[3], int code,
 {
     double d2 = 0.0;
     for (int a = 0; a < 3; a++) {
-        double lo = (double)(v->chunk->scene_min[a] + (anchor[a] << (code >> 1)));
+        double lo = (double)(v->chunk->scene_min[a] + anchor[a] * ((int64_t)1 << (code >> 1)));
         double hi = lo + (double)((int64_t)(3 + (code & 1)) << (code >> 1));
         double d = fmax(fabs(p[a] - lo), fabs(hi - p[a])) * v->chunk->scale[a];
         d2 += d * d;

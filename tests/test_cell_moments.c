@@ -59,7 +59,7 @@ static sta_moment_sums brute(const int32_t (*grid)[3], size_t n, const int64_t o
         for (int a = 0; a < 3; a++) {
             int64_t u = (int64_t)grid[i][a] - origin[a];
             inside = inside && (u >> level) == anchor[a] + xyz[a];
-            d[a] = u - (anchor[a] << level);
+            d[a] = u - anchor[a] * ((int64_t)1 << level);
         }
         if (!inside) {
             continue;
