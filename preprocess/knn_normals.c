@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT
- * Per-chunk normals from kNN neighbourhoods (knn_grid.h): covariance, eigenvector,
- * orientation, radius, packed into the records' SPLAT bytes. */
+ * Per-chunk normals from kNN neighbourhoods (knn_grid.h) and, for widened ones, boxes
+ * of cell moments (cell_moments.h): covariance, eigenvector, orientation, radius, packed
+ * into the records' SPLAT bytes. Three passes: the K search of every point, the box fits
+ * level by level, the exact widest search of the points whose box stayed thick. */
 #include "knn_normals.h"
 
 #include <math.h>

@@ -7,7 +7,10 @@
  * neighbourhood's covariance (Kopp's hybrid solver, core/eigen3.h), oriented by the
  * rule of docs/CONVERTER.md ("Normals"). A neighbourhood that is nearly linear, or
  * whose plane holds the line of sight to the scanner path (one profile of a dense scan
- * line), is widened to 6 K and fitted again (adaptive neighbourhoods). Degenerate
+ * line), or thick across its plane, is widened and fitted again over about 6 K points
+ * (adaptive neighbourhoods): from the exact moments of the cells of a box centred on the
+ * point (cell_moments.h), or, where that box is still thick (foliage, volumes), the
+ * exact 6 K nearest. Degenerate
  * neighbourhoods (fewer than 3 distinct points, collinear) get the up axis. The radius
  * is the mean distance to the nearest STA_NORMALS_RADIUS_K neighbours (the splatting
  * notes' 8-10) whatever K. Results go into each record's SPLAT bytes.
