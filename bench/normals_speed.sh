@@ -7,6 +7,9 @@
 # shared, so only ratios within a round are compared.
 #
 #   bench/normals_speed.sh [REF_CONVERT|-] [POINTS=20000000] [RUNS=3] [K=10]
+#
+# NEW_CONVERT=path: the binary timed as plain and new (default build/release's; a copy
+# keeps rebuilds during the run out of it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ref=${1:--}
@@ -14,6 +17,7 @@ points=${2:-20000000}
 runs=${3:-3}
 k=${4:-10}
 bin=build/release
+new=${NEW_CONVERT:-$bin/preprocess/strata-convert}
 work=${BENCH_DIR:-/tmp/strata-normals-bench}
 mkdir -p "$work"
 las="$work/street-$points.las"
@@ -25,9 +29,9 @@ variants="plain new"
 for run in $(seq 1 "$runs"); do
     for v in $variants; do
         case $v in
-        plain) cmd=($bin/preprocess/strata-convert) ;;
+        plain) cmd=("$new") ;;
         ref) cmd=("$ref" --normals --knn "$k") ;;
-        new) cmd=($bin/preprocess/strata-convert --normals --knn "$k") ;;
+        new) cmd=("$new" --normals --knn "$k") ;;
         esac
         /usr/bin/time -f "$v %e %U %S" -o "$work/time.txt" \
             "${cmd[@]}" "$las" -o "$work/speed-$v.strata" --force -q

@@ -228,6 +228,7 @@ static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index
     job->normals.degenerate += stats.degenerate;
     job->normals.beyond_halo += stats.beyond_halo;
     job->normals.widened += stats.widened;
+    job->normals.widened_exact += stats.widened_exact;
     pthread_mutex_unlock(&job->spill_lock);
     return status;
 }
@@ -877,6 +878,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     report->normals_degenerate = job.normals.degenerate;
     report->normals_beyond_halo = job.normals.beyond_halo;
     report->normals_widened = job.normals.widened;
+    report->normals_widened_exact = job.normals.widened_exact;
 
     // 5. merge the top of the tree, then write table and header
     t0 = sta_clock_s();

@@ -87,9 +87,10 @@ typedef struct sta_convert_report {
     uint64_t normals_degenerate;  /* --normals: points given the fallback normal */
     uint64_t normals_beyond_halo; /* --normals: neighbourhoods wider than the halo */
     uint64_t normals_widened;     /* --normals: neighbourhoods widened beyond K */
-    bool normals_trajectory;      /* --normals: walls faced the scanner path (GPS time) */
-    int up_axis;                  /* STA_STRATA_UP_* written to the header */
-    char up_why[256];             /* how it was decided (sta_inputs_up_axis) */
+    uint64_t normals_widened_exact; /* of which the exact widest K nearest, not a box */
+    bool normals_trajectory;        /* --normals: walls faced the scanner path (GPS time) */
+    int up_axis;                    /* STA_STRATA_UP_* written to the header */
+    char up_why[256];               /* how it was decided (sta_inputs_up_axis) */
 } sta_convert_report;
 
 /* Runs the whole conversion. On any failure no output and no temporary file is left

@@ -208,15 +208,17 @@ int main(int argc, char **argv)
                 report.cpu_finish);
         fprintf(stderr, "  up axis: %s\n", report.up_why);
         if (options.normals) {
-            fprintf(
-                stderr,
-                "  normals: K = %d, halo pass %.2f s; %" PRIu64 " fallback (degenerate), %" PRIu64
-                " widened to %d (nearly linear, thick or edge-on), %" PRIu64
-                " neighbourhoods wider than the halo; walls face %s\n",
-                options.knn, report.seconds_halo, report.normals_degenerate, report.normals_widened,
-                sta_normals_widest_k(options.knn), report.normals_beyond_halo,
-                report.normals_trajectory ? "the scanner path (GPS time)"
-                                          : "away from the scene's vertical centre line");
+            fprintf(stderr,
+                    "  normals: K = %d, halo pass %.2f s; %" PRIu64
+                    " fallback (degenerate), %" PRIu64
+                    " widened (nearly linear, thick or edge-on; %" PRIu64
+                    " to the %d nearest, the others to a box of cells), %" PRIu64
+                    " neighbourhoods wider than the halo; walls face %s\n",
+                    options.knn, report.seconds_halo, report.normals_degenerate,
+                    report.normals_widened, report.normals_widened_exact,
+                    sta_normals_widest_k(options.knn), report.normals_beyond_halo,
+                    report.normals_trajectory ? "the scanner path (GPS time)"
+                                              : "away from the scene's vertical centre line");
         }
     }
     return 0;

@@ -7,7 +7,10 @@
  * neighbourhood's covariance (Kopp's hybrid solver, core/eigen3.h), oriented by the
  * rule of docs/CONVERTER.md ("Normals"). A neighbourhood that is nearly linear, or
  * whose plane holds the line of sight to the scanner path (one profile of a dense scan
- * line), is widened to 6 K and fitted again (adaptive neighbourhoods). Degenerate
+ * line), or thick across its plane, is widened and fitted again over about 6 K points
+ * (adaptive neighbourhoods): from the exact moments of the cells of a box centred on the
+ * point (cell_moments.h), or, where that box is still thick (foliage, volumes), the
+ * exact 6 K nearest. Degenerate
  * neighbourhoods (fewer than 3 distinct points, collinear) get the up axis. The radius
  * is the mean distance to the nearest STA_NORMALS_RADIUS_K neighbours (the splatting
  * notes' 8-10) whatever K. Results go into each record's SPLAT bytes.
@@ -44,10 +47,11 @@ typedef struct sta_normals_chunk {
 
 /* What happened, summed over chunks. */
 typedef struct sta_normals_stats {
-    uint64_t points;      /* normals computed */
-    uint64_t degenerate;  /* fallback normal (fewer than 3 distinct points, collinear) */
-    uint64_t beyond_halo; /* neighbourhood wider than the halo: may miss a neighbour */
-    uint64_t widened;     /* neighbourhood widened beyond K (nearly linear, or edge-on) */
+    uint64_t points;        /* normals computed */
+    uint64_t degenerate;    /* fallback normal (fewer than 3 distinct points, collinear) */
+    uint64_t beyond_halo;   /* neighbourhood wider than the halo: may miss a neighbour */
+    uint64_t widened;       /* neighbourhood widened beyond K (nearly linear, thick or edge-on) */
+    uint64_t widened_exact; /* of which fitted over the exact widest K nearest (not a box) */
 } sta_normals_stats;
 
 /* Computes a normal and radius for each of the `count` records (layout with

@@ -433,7 +433,40 @@ static void dense_scan_lines_get_the_plane_between_them(void **state)
     assert_true(median <= 2.0);
     assert_true(p95 <= 5.0);
     assert_true(stats.widened >= (uint64_t)inner); // the lines' points paid, ...
+    assert_int_equal(stats.widened_exact, 0);      // with box fits (a plane: thin), ...
     assert_int_equal(stats.degenerate, 0);
+}
+
+// ... while a volume, thick in any box, keeps the exact 6 K nearest: every widened point,
+// with a finite unit normal.
+static void volume_keeps_the_exact_wide_fit(void **state)
+{
+    (void)state;
+    enum {
+        N = 3000
+    };
+    static int32_t xyz[N][3];
+    uint32_t h = 12345;
+    for (int i = 0; i < N; i++) {
+        for (int a = 0; a < 3; a++) {
+            h = h * 1664525u + 1013904223u;
+            xyz[i][a] = 1000 + (int32_t)((h >> 8) % 400u);
+        }
+    }
+    static float normals[N][3], radii[N];
+    sta_normals_stats stats = { 0 };
+    compute((const int32_t(*)[3])xyz, N, normals, radii, &stats);
+    print_message("volume: %llu of %d widened, %llu to the exact nearest\n",
+                  (unsigned long long)stats.widened, N, (unsigned long long)stats.widened_exact);
+    assert_true(stats.widened > N / 2);
+    assert_true(stats.widened_exact > stats.widened * 9 / 10);
+    for (int i = 0; i < N; i++) {
+        double len = 0.0;
+        for (int a = 0; a < 3; a++) {
+            len += (double)normals[i][a] * (double)normals[i][a];
+        }
+        assert_true(fabs(sqrt(len) - 1.0) < 1e-3);
+    }
 }
 
 // ... a plane sampled evenly does not: no neighbourhood is widened.
@@ -591,6 +624,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(street_walls_face_the_scanner),
     cmocka_unit_test(dense_scan_lines_get_the_plane_between_them),
     cmocka_unit_test(even_plane_is_not_widened),
+    cmocka_unit_test(volume_keeps_the_exact_wide_fit),
     cmocka_unit_test(street_normals_are_deterministic),
     cmocka_unit_test(street_widened_normals_have_no_chunk_seams),
     cmocka_unit_test(knn_outside_its_range_is_refused),

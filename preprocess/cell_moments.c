@@ -1,0 +1,202 @@
+/* SPDX-License-Identifier: MIT
+ * Per-cell exact moments of one grid level and their sums over blocks of cells. */
+#include "cell_moments.h"
+
+#include <string.h>
+
+#include "core/alloc.h"
+
+#define FIRST_CAPACITY 1024
+#define AXIS_MASK      (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
+
+static uint64_t pack(const int64_t local[3])
+{
+    return ((uint64_t)local[0] | (uint64_t)local[1] << STA_MOMENTS_AXIS_BITS |
+            (uint64_t)local[2] << (2 * STA_MOMENTS_AXIS_BITS)) +
+           1;
+}
+
+static size_t slot_of(uint64_t key, size_t capacity)
+{
+    return (size_t)((key * 0x9E3779B97F4A7C15ull) >> 17) & (capacity - 1);
+}
+
+// The slot holding `key`, or the empty one where it would go.
+static size_t find(const uint64_t *keys, size_t capacity, uint64_t key)
+{
+    size_t s = slot_of(key, capacity);
+    while (keys[s] != 0 && keys[s] != key) {
+        s = (s + 1) & (capacity - 1);
+    }
+    return s;
+}
+
+static bool grow(sta_cell_moments *m)
+{
+    size_t capacity = m->capacity * 2;
+    uint64_t *keys = sta_calloc(capacity, sizeof(*keys));
+    sta_moment_sums *sums = sta_alloc_array(capacity, sizeof(*sums));
+    if (!keys || !sums) {
+        sta_free(keys);
+        sta_free(sums);
+        return false;
+    }
+    for (size_t s = 0; s < m->capacity; s++) {
+        if (m->keys[s] != 0) {
+            size_t t = find(keys, capacity, m->keys[s]);
+            keys[t] = m->keys[s];
+            sums[t] = m->sums[s];
+        }
+    }
+    sta_free(m->keys);
+    sta_free(m->sums);
+    m->keys = keys;
+    m->sums = sums;
+    m->capacity = capacity;
+    return true;
+}
+
+// The sums of cell `local`, created empty when new; NULL when out of memory.
+static sta_moment_sums *cell_at(sta_cell_moments *m, const int64_t local[3])
+{
+    uint64_t key = pack(local);
+    size_t s = find(m->keys, m->capacity, key);
+    if (m->keys[s] == 0) {
+        if (2 * (m->used + 1) > m->capacity) {
+            if (!grow(m)) {
+                return NULL;
+            }
+            s = find(m->keys, m->capacity, key);
+        }
+        m->keys[s] = key;
+        memset(&m->sums[s], 0, sizeof(m->sums[s]));
+        m->used++;
+    }
+    return &m->sums[s];
+}
+
+// Cell coordinates (from the scene corner) relative to the set's lowest cell; false when
+// they lie outside what the set addresses.
+static bool local_of(const sta_cell_moments *m, const int64_t cell[3], int64_t local[3])
+{
+    for (int a = 0; a < 3; a++) {
+        local[a] = cell[a] - m->base[a];
+        if (local[a] < 0 || local[a] > (int64_t)AXIS_MASK) {
+            return false;
+        }
+    }
+    return true;
+}
+
+sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t origin[3],
+                                 const int32_t lo[3], const int32_t hi[3], sta_error *err)
+{
+    memset(m, 0, sizeof(*m));
+    if (level < 0 || level > STA_MOMENTS_MAX_LEVEL) {
+        return sta_fail(err, STA_ERR_ARG, "cell moments: level %d out of range", level);
+    }
+    m->level = level;
+    for (int a = 0; a < 3; a++) {
+        m->origin[a] = origin[a];
+        // One empty cell below and two above stay addressable (blocks reach past the set).
+        m->base[a] = (((int64_t)lo[a] - origin[a]) >> level) - 1;
+        int64_t top = ((int64_t)hi[a] - origin[a]) >> level;
+        if (top - m->base[a] + 3 > (int64_t)AXIS_MASK) {
+            return sta_fail(err, STA_ERR_ARG, "cell moments: level %d spans too many cells", level);
+        }
+    }
+    m->capacity = FIRST_CAPACITY;
+    m->keys = sta_calloc(m->capacity, sizeof(*m->keys));
+    m->sums = sta_alloc_array(m->capacity, sizeof(*m->sums));
+    if (!m->keys || !m->sums) {
+        sta_cell_moments_release(m);
+        return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
+    }
+    return STA_OK;
+}
+
+bool sta_cell_moments_mark(sta_cell_moments *m, const int64_t cell[3])
+{
+    int64_t local[3];
+    return !local_of(m, cell, local) || cell_at(m, local) != NULL;
+}
+
+bool sta_cell_moments_has(const sta_cell_moments *m, const int64_t cell[3])
+{
+    int64_t local[3];
+    return local_of(m, cell, local) && m->keys[find(m->keys, m->capacity, pack(local))] != 0;
+}
+
+sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], size_t n,
+                                const sta_cell_moments *only, sta_error *err)
+{
+    int level = m->level;
+    for (size_t i = 0; i < n; i++) {
+        int64_t u[3], local[3], d[3];
+        for (int a = 0; a < 3; a++) {
+            u[a] = (int64_t)grid[i][a] - m->origin[a];
+        }
+        if (only) {
+            int64_t cell[3] = { u[0] >> only->level, u[1] >> only->level, u[2] >> only->level };
+            if (!sta_cell_moments_has(only, cell)) {
+                continue;
+            }
+        }
+        for (int a = 0; a < 3; a++) {
+            local[a] = (u[a] >> level) - m->base[a];
+            d[a] = u[a] & (((int64_t)1 << level) - 1);
+        }
+        sta_moment_sums *c = cell_at(m, local);
+        if (!c) {
+            return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
+        }
+        c->n++;
+        c->s1[0] += d[0], c->s1[1] += d[1], c->s1[2] += d[2];
+        c->s2[0] += d[0] * d[0], c->s2[1] += d[0] * d[1], c->s2[2] += d[0] * d[2];
+        c->s2[3] += d[1] * d[1], c->s2[4] += d[1] * d[2], c->s2[5] += d[2] * d[2];
+    }
+    return STA_OK;
+}
+
+void sta_cell_moments_release(sta_cell_moments *m)
+{
+    sta_free(m->keys);
+    sta_free(m->sums);
+    memset(m, 0, sizeof(*m));
+}
+
+void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], int cells,
+                            sta_moment_sums *out)
+{
+    for (int z = 0, i = 0; z < cells; z++) {
+        for (int y = 0; y < cells; y++) {
+            for (int x = 0; x < cells; x++, i++) {
+                memset(&out[i], 0, sizeof(out[i]));
+                int64_t local[3] = { anchor[0] - m->base[0] + x, anchor[1] - m->base[1] + y,
+                                     anchor[2] - m->base[2] + z };
+                if (local[0] < 0 || local[1] < 0 || local[2] < 0 || local[0] > (int64_t)AXIS_MASK ||
+                    local[1] > (int64_t)AXIS_MASK || local[2] > (int64_t)AXIS_MASK) {
+                    continue; // beyond the set: empty
+                }
+                size_t s = find(m->keys, m->capacity, pack(local));
+                if (m->keys[s] == 0) {
+                    continue;
+                }
+                // The cell's sums move from its corner to the block's by o (exact).
+                const sta_moment_sums *c = &m->sums[s];
+                int64_t o[3] = { (int64_t)x << m->level, (int64_t)y << m->level,
+                                 (int64_t)z << m->level };
+                out[i].n = c->n;
+                for (int a = 0; a < 3; a++) {
+                    out[i].s1[a] = c->s1[a] + c->n * o[a];
+                }
+                for (int r = 0, t = 0; r < 3; r++) {
+                    for (int q = r; q < 3; q++, t++) {
+                        out[i].s2[t] =
+                            c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
+                    }
+                }
+            }
+        }
+    }
+}

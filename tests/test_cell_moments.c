@@ -1,0 +1,219 @@
+/* SPDX-License-Identifier: MIT
+ * Tests for the per-cell exact moments (preprocess/cell_moments.c): every cell of a
+ * block holds the sums a brute-force pass over the points gives (offsets from the
+ * block's corner), at fine and coarse levels and for blocks reaching past the set;
+ * adding only the points of wanted coarser cells keeps those cells whole; a set too
+ * wide for the cell coordinates is refused. */
+#include "test_support.h"
+
+#include <string.h>
+
+#include "cell_moments.h"
+#include "core/alloc.h"
+
+enum {
+    POINTS = 4000
+};
+
+static uint32_t next_random(uint32_t *state)
+{
+    *state = *state * 1664525u + 1013904223u;
+    return *state >> 8;
+}
+
+// Random points in a box of `side` grid units from `corner`, a fifth of them on a few
+// shared positions (duplicates).
+static void random_points(int32_t (*grid)[3], size_t n, const int32_t corner[3], int32_t side,
+                          uint32_t seed)
+{
+    uint32_t s = seed;
+    for (size_t i = 0; i < n; i++) {
+        for (int a = 0; a < 3; a++) {
+            grid[i][a] = corner[a] + (int32_t)(next_random(&s) % (uint32_t)side);
+        }
+        if (i % 5 == 4) {
+            memcpy(grid[i], grid[(i / 50) * 5], sizeof(grid[i]));
+        }
+    }
+}
+
+static void bounds(const int32_t (*grid)[3], size_t n, int32_t lo[3], int32_t hi[3])
+{
+    for (int a = 0; a < 3; a++) {
+        lo[a] = hi[a] = grid[0][a];
+        for (size_t i = 1; i < n; i++) {
+            lo[a] = grid[i][a] < lo[a] ? grid[i][a] : lo[a];
+            hi[a] = grid[i][a] > hi[a] ? grid[i][a] : hi[a];
+        }
+    }
+}
+
+// The sums of the points in cell (anchor + xyz) of `level`, offsets from the block corner.
+static sta_moment_sums brute(const int32_t (*grid)[3], size_t n, const int64_t origin[3], int level,
+                             const int64_t anchor[3], const int xyz[3])
+{
+    sta_moment_sums m = { 0 };
+    for (size_t i = 0; i < n; i++) {
+        int64_t d[3];
+        bool inside = true;
+        for (int a = 0; a < 3; a++) {
+            int64_t u = (int64_t)grid[i][a] - origin[a];
+            inside = inside && (u >> level) == anchor[a] + xyz[a];
+            d[a] = u - anchor[a] * ((int64_t)1 << level);
+        }
+        if (!inside) {
+            continue;
+        }
+        m.n++;
+        for (int a = 0; a < 3; a++) {
+            m.s1[a] += d[a];
+        }
+        for (int r = 0, t = 0; r < 3; r++) {
+            for (int c = r; c < 3; c++, t++) {
+                m.s2[t] += d[r] * d[c];
+            }
+        }
+    }
+    return m;
+}
+
+// Every block of `cells` cells an axis from each point's cell (moved by -1 and -2, so
+// blocks reach past the set's lowest cells) against brute force. Returns the cells
+// checked that held points.
+static size_t check_blocks(const sta_cell_moments *m, const int32_t (*grid)[3], size_t n,
+                           const int64_t origin[3], int cells, size_t every)
+{
+    sta_moment_sums out[64];
+    size_t full = 0;
+    for (size_t i = 0; i < n; i += every) {
+        int64_t anchor[3];
+        for (int a = 0; a < 3; a++) {
+            anchor[a] = (((int64_t)grid[i][a] - origin[a]) >> m->level) - 1 - (int64_t)(i % 2);
+        }
+        sta_cell_moments_block(m, anchor, cells, out);
+        for (int z = 0, j = 0; z < cells; z++) {
+            for (int y = 0; y < cells; y++) {
+                for (int x = 0; x < cells; x++, j++) {
+                    const int xyz[3] = { x, y, z };
+                    sta_moment_sums b = brute(grid, n, origin, m->level, anchor, xyz);
+                    assert_memory_equal(&out[j], &b, sizeof(b));
+                    full += b.n > 0;
+                }
+            }
+        }
+    }
+    return full;
+}
+
+static void block_sums_match_brute_force(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    assert_non_null(grid);
+    const int32_t corner[3] = { 1000000, -2000000, 37 };
+    random_points(grid, POINTS, corner, 5000, 11);
+    const int64_t origin[3] = { 999000, -2000500, 0 }; // the scene's corner: below every point
+    int32_t lo[3], hi[3];
+    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
+    const int levels[] = { 0, 4, 8, 11 };
+    for (size_t l = 0; l < sizeof(levels) / sizeof(levels[0]); l++) {
+        sta_cell_moments m;
+        sta_error err = { 0 };
+        assert_int_equal(sta_cell_moments_init(&m, levels[l], origin, lo, hi, &err), STA_OK);
+        assert_int_equal(sta_cell_moments_add(&m, (const int32_t(*)[3])grid, POINTS, NULL, &err),
+                         STA_OK);
+        size_t full = 0;
+        for (int cells = 3; cells <= 4; cells++) {
+            full += check_blocks(&m, (const int32_t(*)[3])grid, POINTS, origin, cells, 97);
+        }
+        assert_true(full > 0);
+        sta_cell_moments_release(&m);
+    }
+    sta_free(grid);
+}
+
+static void wanted_cells_hold_all_their_points(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    assert_non_null(grid);
+    const int32_t corner[3] = { 0, 0, 0 };
+    random_points(grid, POINTS, corner, 3000, 5);
+    const int64_t origin[3] = { 0, 0, 0 };
+    int32_t lo[3], hi[3];
+    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
+    sta_error err = { 0 };
+    sta_cell_moments wanted, all, some;
+    assert_int_equal(sta_cell_moments_init(&wanted, 9, origin, lo, hi, &err), STA_OK);
+    const int64_t mark[2][3] = { { 1, 2, 0 }, { 4, 4, 5 } };
+    for (int i = 0; i < 2; i++) {
+        assert_true(sta_cell_moments_mark(&wanted, mark[i]));
+        assert_true(sta_cell_moments_has(&wanted, mark[i]));
+    }
+    assert_false(sta_cell_moments_has(&wanted, (const int64_t[3]){ 1, 2, 1 }));
+    assert_int_equal(sta_cell_moments_init(&all, 6, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(sta_cell_moments_init(&some, 6, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(sta_cell_moments_add(&all, (const int32_t(*)[3])grid, POINTS, NULL, &err),
+                     STA_OK);
+    assert_int_equal(sta_cell_moments_add(&some, (const int32_t(*)[3])grid, POINTS, &wanted, &err),
+                     STA_OK);
+    // Inside a wanted cell (8 cells of level 6 an axis) every cell equals the full set's;
+    // the cells next to it are empty.
+    sta_moment_sums a[64], b[64];
+    size_t full = 0;
+    for (int i = 0; i < 2; i++) {
+        for (int dz = -1; dz <= 8; dz += 3) {
+            for (int dy = -1; dy <= 8; dy += 3) {
+                for (int dx = -1; dx <= 8; dx += 3) {
+                    const int64_t anchor[3] = { mark[i][0] * 8 + dx, mark[i][1] * 8 + dy,
+                                                mark[i][2] * 8 + dz };
+                    sta_cell_moments_block(&all, anchor, 3, a);
+                    sta_cell_moments_block(&some, anchor, 3, b);
+                    for (int j = 0; j < 27; j++) {
+                        int64_t c[3] = { anchor[0] + j % 3, anchor[1] + j / 3 % 3,
+                                         anchor[2] + j / 9 };
+                        bool in = true;
+                        for (int k = 0; k < 3; k++) {
+                            in = in && (c[k] >> 3) == mark[i][k];
+                        }
+                        if (in) {
+                            assert_memory_equal(&a[j], &b[j], sizeof(a[j]));
+                            full += a[j].n > 0;
+                        } else {
+                            assert_int_equal(b[j].n, 0);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert_true(full > 10);
+    assert_true(some.used < all.used);
+    sta_cell_moments_release(&wanted);
+    sta_cell_moments_release(&all);
+    sta_cell_moments_release(&some);
+    sta_free(grid);
+}
+
+static void too_wide_a_set_is_refused(void **state)
+{
+    (void)state;
+    const int64_t origin[3] = { 0, 0, 0 };
+    const int32_t lo[3] = { 0, 0, 0 }, hi[3] = { 1 << 22, 5, 5 };
+    sta_cell_moments m;
+    sta_error err = { 0 };
+    assert_int_equal(sta_cell_moments_init(&m, 0, origin, lo, hi, &err), STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "spans too many cells"));
+    assert_int_equal(sta_cell_moments_init(&m, STA_MOMENTS_MAX_LEVEL + 1, origin, lo, hi, &err),
+                     STA_ERR_ARG);
+    assert_int_equal(sta_cell_moments_init(&m, 2, origin, lo, hi, &err), STA_OK);
+    sta_cell_moments_release(&m);
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(block_sums_match_brute_force),
+    cmocka_unit_test(wanted_cells_hold_all_their_points),
+    cmocka_unit_test(too_wide_a_set_is_refused),
+};
+
+STA_TEST_MAIN(tests)
