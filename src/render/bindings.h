@@ -145,8 +145,10 @@
 #define STA_VOLUMETRIC_MARK_IMAGE_POSITION  4 /* RGBA32F camera-space positions */
 #define STA_VOLUMETRIC_MARK_BUFFER_ARENA    0 /* the GPU cache's arena */
 #define STA_VOLUMETRIC_MARK_BUFFER_NODES    1 /* uvec2 per node slot: offset, count */
-#define STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS 0 /* RGBA32F */
 #define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT    1 /* RGBA8, written where marked */
+/* volumetric_window.glsl, in volumetric_overlay.comp and shade.comp (STA_SHADE_OVERLAY):
+ * above every image unit of both */
+#define STA_VOLUMETRIC_WINDOW_IMAGE_POINTS  4 /* RGBA32F marked points and occluders */
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \
@@ -239,7 +241,7 @@
  X(STA_VOLUMETRIC_MARK_IMAGE_POSITION)                                                             \
  X(STA_VOLUMETRIC_MARK_BUFFER_ARENA)                                                               \
  X(STA_VOLUMETRIC_MARK_BUFFER_NODES)                                                               \
- X(STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS)                                                            \
- X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)
+ X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)                                                               \
+ X(STA_VOLUMETRIC_WINDOW_IMAGE_POINTS)
 
 #endif

@@ -20,10 +20,10 @@ sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err)
              "#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, STA_VOLUMETRIC_SPLAT_RADIUS_PX);
     const char *mark[] = { "volumetric_mark.comp" };
-    const char *overlay[] = { "volumetric_overlay.comp" };
+    const char *overlay[] = { "volumetric_window.glsl", "volumetric_overlay.comp" };
     sta_status s = sta_gl_program_create(mark, 1, defines, &pass->mark_program, err);
     if (s == STA_OK) {
-        s = sta_gl_program_create(overlay, 1, defines, &pass->overlay_program, err);
+        s = sta_gl_program_create(overlay, 2, defines, &pass->overlay_program, err);
     }
     if (s != STA_OK) {
         sta_volumetric_pass_release(pass);
@@ -129,7 +129,7 @@ void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volu
 {
     glUseProgram(pass->overlay_program);
     glUniform2i(pass->overlay_size, frame->width, frame->height);
-    glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
+    glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY,
                        GL_RGBA8);

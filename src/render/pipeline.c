@@ -370,10 +370,13 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     mark(p, t, STA_PASS_SHADE, 0);
     sta_shade_params shade = { .background = { o->background[0], o->background[1],
                                                o->background[2] } };
+    // The marked volumetric points are drawn inside the shade pass (one full-screen
+    // pass fewer; its time counts as shading).
     sta_shade_pass_run(&p->shade, &shade, w, h, p->filled_position, p->filled_colour, p->normal,
-                       colour_rgba8);
+                       volumetric ? p->points : 0, colour_rgba8);
     mark(p, t, STA_PASS_SHADE, 1);
     ran[STA_PASS_SHADE] = true;
+    goto done;
 overlay:
     if (volumetric) {
         double before = p->marks[2 * STA_PASS_VOLUMETRIC + 1] - p->marks[2 * STA_PASS_VOLUMETRIC];
