@@ -353,7 +353,8 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
     sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, 0, split);
     sta_volumetric_pass_overlay(&vol, &frame, split);
     sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, tpts, fused);
-    uint8_t *a = read_rgba8(split, w, h), *b = read_rgba8(fused, w, h), *c = read_rgba8(plain, w, h);
+    uint8_t *a = read_rgba8(split, w, h), *b = read_rgba8(fused, w, h),
+            *c = read_rgba8(plain, w, h);
     assert_memory_equal(a, b, (size_t)w * h * 4);
     int overlaid = 0;
     for (int i = 0; i < w * h; i++) {

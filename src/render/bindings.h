@@ -112,11 +112,13 @@
 
 /* Pyramidal normals (normals_pyramid_level.comp, normals_pyramid_gather.comp); POINTS
  * is declared by their shared library pullpush_normals.glsl. */
-#define STA_NORMALS_PYRAMID_IMAGE_POINTS        1 /* RGBA32F points of the level */
-#define STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS   0 /* RGBA32F out: normals of levels >= 1 */
-#define STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL 0 /* RGBA32F out */
-#define STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS  2
-#define STA_NORMALS_PYRAMID_IMAGE_LAST          2 /* highest image unit above */
+#define STA_NORMALS_PYRAMID_IMAGE_POINTS          1 /* RGBA32F points of the level */
+#define STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS     0 /* RGBA32F out: normals of levels >= 1 */
+#define STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL   0 /* RGBA32F out */
+#define STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS    2
+#define STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL 0 /* RGBA32F out */
+#define STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_HALF   2 /* RGBA32F anchors: normal, plane offset */
+#define STA_NORMALS_PYRAMID_IMAGE_LAST            2 /* highest image unit above */
 
 /* Blinn-Phong shading (shade.comp). */
 #define STA_SHADE_IMAGE_POSITION 0
@@ -138,17 +140,17 @@
 #define STA_EDL_IMAGE_OUT      3 /* RGBA8 out */
 
 /* Volumetric classes shown as points (volumetric_mark.comp, volumetric_overlay.comp). */
-#define STA_VOLUMETRIC_MARK_IMAGE_ID        0 /* RG32UI point ids (render/target.h) */
-#define STA_VOLUMETRIC_MARK_SAMPLER_COLOUR  0 /* point colours (RGBA8 or RGBA32F) */
-#define STA_VOLUMETRIC_MARK_IMAGE_LABEL     2 /* R32F HPR labels, updated */
-#define STA_VOLUMETRIC_MARK_IMAGE_POINTS    3 /* RGBA32F out: marked colour, distance */
-#define STA_VOLUMETRIC_MARK_IMAGE_POSITION  4 /* RGBA32F camera-space positions */
-#define STA_VOLUMETRIC_MARK_BUFFER_ARENA    0 /* the GPU cache's arena */
-#define STA_VOLUMETRIC_MARK_BUFFER_NODES    1 /* uvec2 per node slot: offset, count */
-#define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT    1 /* RGBA8, written where marked */
+#define STA_VOLUMETRIC_MARK_IMAGE_ID       0 /* RG32UI point ids (render/target.h) */
+#define STA_VOLUMETRIC_MARK_SAMPLER_COLOUR 0 /* point colours (RGBA8 or RGBA32F) */
+#define STA_VOLUMETRIC_MARK_IMAGE_LABEL    2 /* R32F HPR labels, updated */
+#define STA_VOLUMETRIC_MARK_IMAGE_POINTS   3 /* RGBA32F out: marked colour, distance */
+#define STA_VOLUMETRIC_MARK_IMAGE_POSITION 4 /* RGBA32F camera-space positions */
+#define STA_VOLUMETRIC_MARK_BUFFER_ARENA   0 /* the GPU cache's arena */
+#define STA_VOLUMETRIC_MARK_BUFFER_NODES   1 /* uvec2 per node slot: offset, count */
+#define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT   1 /* RGBA8, written where marked */
 /* volumetric_window.glsl, in volumetric_overlay.comp and shade.comp (STA_SHADE_OVERLAY):
  * above every image unit of both */
-#define STA_VOLUMETRIC_WINDOW_IMAGE_POINTS  4 /* RGBA32F marked points and occluders */
+#define STA_VOLUMETRIC_WINDOW_IMAGE_POINTS 4 /* RGBA32F marked points and occluders */
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \
@@ -220,6 +222,8 @@
  X(STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS)                                                          \
  X(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL)                                                        \
  X(STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS)                                                         \
+ X(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL)                                                      \
+ X(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_HALF)                                                        \
  X(STA_NORMALS_PYRAMID_IMAGE_LAST)                                                                 \
  X(STA_SHADE_IMAGE_POSITION)                                                                       \
  X(STA_SHADE_IMAGE_COLOUR)                                                                         \

@@ -193,7 +193,7 @@ static sta_status run_normals(sta_pipeline *p, const sta_pipeline_options *o,
     mark(p, t, STA_PASS_NORMALS, 0);
     sta_status s;
     if (o->normals == STA_NORMAL_PYRAMID) {
-        sta_normals_pyramid_params params = { 0 };
+        sta_normals_pyramid_params params = { .half_resolution = !o->normals_every_pixel };
         sta_normals_pyramid_params_defaults(&params);
         s = sta_normals_pyramid_pass_run(&p->normals_pyramid, view, &params,
                                          sta_pullpush_pass_pyramid(&p->pullpush),

@@ -67,6 +67,9 @@ typedef struct sta_pipeline_options {
     bool hpr_exhaustive;         /* the fixed-radius baseline instead of the pyramid */
     bool hpr_every_pixel;        /* the pyramid on every pixel instead of the sparse operator
                                     (the default; sta_hpr_params.sparse, docs/HPR.md) */
+    bool normals_every_pixel;    /* pyramidal normals gathered on every pixel instead of on
+                                    a quarter of them and upsampled (the default;
+                                    sta_normals_pyramid_params.half_resolution) */
     int hpr_radius_px;           /* exhaustive radius (0: STA_PIPELINE_DEFAULT_HPR_RADIUS_PX) */
     float hpr_threshold;         /* 0: 0.1 */
     float s0_m;                  /* sampling scale; 0: the scene's estimate */
