@@ -38,6 +38,7 @@
  * render target's colour attachments (render/target.h). */
 #define STA_GEOMETRY_OUT_COLOUR     0 /* RGBA8 colour */
 #define STA_GEOMETRY_OUT_ID         1 /* RG32UI: node slot, point index */
+#define STA_GEOMETRY_OUT_POSITION   2 /* RGBA32F: camera-space position (compute resolve) */
 /* The ground model for STA_COLOUR_HEIGHT (geometry_colour.glsl; unit 0 is the raster's). */
 #define STA_GEOMETRY_SAMPLER_GROUND 1 /* R32F: ground height per cell */
 #define STA_SPLAT_SAMPLER_POINTS    0 /* pulled splats: usamplerBuffer RGBA32UI, points */
@@ -168,6 +169,7 @@
  X(STA_COLOUR_HEIGHT)                                                                              \
  X(STA_GEOMETRY_OUT_COLOUR)                                                                        \
  X(STA_GEOMETRY_OUT_ID)                                                                            \
+ X(STA_GEOMETRY_OUT_POSITION)                                                                      \
  X(STA_SPLAT_SAMPLER_POINTS)                                                                       \
  X(STA_SPLAT_SAMPLER_SPLATS)                                                                       \
  X(STA_GEOMETRY_SAMPLER_GROUND)                                                                    \

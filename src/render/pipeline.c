@@ -153,6 +153,17 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
     return STA_OK;
 }
 
+sta_status sta_pipeline_position_texture(sta_pipeline *p, int width_px, int height_px,
+                                         GLuint *out_texture, sta_error *err)
+{
+    *out_texture = 0;
+    sta_status s = resize(p, width_px, height_px, err);
+    if (s == STA_OK) {
+        *out_texture = p->position;
+    }
+    return s;
+}
+
 double sta_timing_clock_ms(int clock)
 {
     return clock == STA_TIMING_CPU ? sta_clock_process_cpu_ms() : sta_clock_ms();
@@ -273,6 +284,8 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
                             sta_pipeline_timing *t, sta_error *err)
 {
     bool ran[STA_PASS_COUNT] = { false };
+    bool positions_ready = p->positions_ready;
+    p->positions_ready = false;
     if (t) {
         memset(t, 0, sizeof(*t));
     }
@@ -284,11 +297,13 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     if (s != STA_OK) {
         return s;
     }
-    // Inputs: positions from depth; colour as float only for the passes that read it
-    // as an image (EDL, the HPR display); pull-push and the volumetric mark sample the
-    // geometry pass's RGBA8 colour (the same values).
+    // Inputs: positions from depth (unless the compute rasteriser wrote them); colour as float only
+    // for the passes that read it as an image (EDL, the HPR display); pull-push and the volumetric
+    // mark sample the geometry pass's RGBA8 colour (the same values).
     mark(p, t, STA_PASS_UNPROJECT, 0);
-    sta_unproject_pass_run(&p->unproject, view, depth, p->position);
+    if (!positions_ready) {
+        sta_unproject_pass_run(&p->unproject, view, depth, p->position);
+    }
     if (o->mode == STA_PIPELINE_EDL || o->mode == STA_PIPELINE_HPR) {
         glUseProgram(p->colour_program);
         glUniform2f(p->colour_size, (float)w, (float)h);

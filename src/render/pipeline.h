@@ -118,6 +118,10 @@ typedef struct sta_pipeline {
     GLuint points;                    /* volumetric colours (RGBA32F) */
     double marks[2 * STA_PASS_COUNT]; /* pass start/end, ms (timing on) */
     int timing_clock;                 /* sta_timing_clock of the marks (0: wall) */
+    /* Set by the caller for one run: `position` already holds this frame's camera-space
+     * positions (the compute rasteriser's resolve wrote them, see
+     * sta_pipeline_position_texture), so the unproject pass is skipped; cleared by the run. */
+    bool positions_ready;
 } sta_pipeline;
 
 sta_status sta_pipeline_init(sta_pipeline *pipeline, sta_error *err);
@@ -133,6 +137,12 @@ sta_status sta_pipeline_set_points(sta_pipeline *pipeline, GLuint id_texture,
  * float) and colour (RGBA8) textures and writes the result into `colour_rgba8` (it is
  * read first, then overwritten). With `timing` (may be NULL) every pass is timed by
  * draining the GPU around it (wall clock), which slows the frame a little. */
+/* The texture the next run of a width x height view reads its camera-space positions
+ * from (RGBA32F; (re)allocated for that size), for a geometry pass that writes them
+ * itself (then set positions_ready). */
+sta_status sta_pipeline_position_texture(sta_pipeline *pipeline, int width_px, int height_px,
+                                         GLuint *out_texture, sta_error *err);
+
 sta_status sta_pipeline_run(sta_pipeline *pipeline, const sta_pipeline_options *options,
                             const sta_view_params *view, GLuint depth, GLuint colour_rgba8,
                             sta_pipeline_timing *timing, sta_error *err);
