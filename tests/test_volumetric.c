@@ -266,7 +266,7 @@ static void shaders_match_twins(void **state)
     assert_int_equal(sta_volumetric_pass_init(&pass, &err), STA_OK);
     sta_volumetric_points src = { tid, arena, nodes, NODES };
     sta_volumetric_frame frame = { w, h, tp, tc, tl, tpts };
-    assert_int_equal(sta_volumetric_pass_mark(&pass, &src, in.class_set, &frame, &err), STA_OK);
+    assert_int_equal(sta_volumetric_pass_mark(&pass, &src, in.class_set, 0, &frame, &err), STA_OK);
     sta_volumetric_pass_overlay(&pass, &frame, tout);
 
     sta_image got_label, got_points;

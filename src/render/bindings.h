@@ -39,6 +39,7 @@
 #define STA_GEOMETRY_OUT_COLOUR     0 /* RGBA8 colour */
 #define STA_GEOMETRY_OUT_ID         1 /* RG32UI: node slot, point index */
 #define STA_GEOMETRY_OUT_POSITION   2 /* RGBA32F: camera-space position (compute resolve) */
+#define STA_GEOMETRY_OUT_CLASS      3 /* R8UI: the point's class (compute resolve) */
 /* The ground model for STA_COLOUR_HEIGHT (geometry_colour.glsl; unit 0 is the raster's). */
 #define STA_GEOMETRY_SAMPLER_GROUND 1 /* R32F: ground height per cell */
 #define STA_SPLAT_SAMPLER_POINTS    0 /* pulled splats: usamplerBuffer RGBA32UI, points */
@@ -146,6 +147,7 @@
 #define STA_VOLUMETRIC_MARK_IMAGE_LABEL    2 /* R32F HPR labels, updated */
 #define STA_VOLUMETRIC_MARK_IMAGE_POINTS   3 /* RGBA32F out: marked colour, distance */
 #define STA_VOLUMETRIC_MARK_IMAGE_POSITION 4 /* RGBA32F camera-space positions */
+#define STA_VOLUMETRIC_MARK_IMAGE_CLASS    5 /* R8UI point classes (STA_VOLUMETRIC_CLASS_IMAGE) */
 #define STA_VOLUMETRIC_MARK_BUFFER_ARENA   0 /* the GPU cache's arena */
 #define STA_VOLUMETRIC_MARK_BUFFER_NODES   1 /* uvec2 per node slot: offset, count */
 #define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT   1 /* RGBA8, written where marked */
@@ -170,6 +172,7 @@
  X(STA_GEOMETRY_OUT_COLOUR)                                                                        \
  X(STA_GEOMETRY_OUT_ID)                                                                            \
  X(STA_GEOMETRY_OUT_POSITION)                                                                      \
+ X(STA_GEOMETRY_OUT_CLASS)                                                                         \
  X(STA_SPLAT_SAMPLER_POINTS)                                                                       \
  X(STA_SPLAT_SAMPLER_SPLATS)                                                                       \
  X(STA_GEOMETRY_SAMPLER_GROUND)                                                                    \
@@ -245,6 +248,7 @@
  X(STA_VOLUMETRIC_MARK_IMAGE_LABEL)                                                                \
  X(STA_VOLUMETRIC_MARK_IMAGE_POINTS)                                                               \
  X(STA_VOLUMETRIC_MARK_IMAGE_POSITION)                                                             \
+ X(STA_VOLUMETRIC_MARK_IMAGE_CLASS)                                                                \
  X(STA_VOLUMETRIC_MARK_BUFFER_ARENA)                                                               \
  X(STA_VOLUMETRIC_MARK_BUFFER_NODES)                                                               \
  X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)                                                               \

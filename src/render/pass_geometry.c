@@ -222,11 +222,11 @@ sta_status sta_pass_geometry_draw(sta_pass_geometry *p, const sta_camera *camera
 }
 
 bool sta_pass_geometry_set_position_out(sta_pass_geometry *p, GLuint position_texture,
-                                        const sta_view_params *view)
+                                        GLuint class_texture, const sta_view_params *view)
 {
     if (p->choice.raster != STA_RASTER_COMPUTE) {
         return false;
     }
-    sta_raster_compute_set_position_out(&p->compute, position_texture, view);
+    sta_raster_compute_set_position_out(&p->compute, position_texture, class_texture, view);
     return position_texture != 0;
 }

@@ -96,14 +96,14 @@ sta_status sta_pipeline_init(sta_pipeline *p, sta_error *err)
 static void release_textures(sta_pipeline *p)
 {
     GLuint textures[] = { p->position,      p->colour, p->label,   p->pyramid, p->filled_position,
-                          p->filled_colour, p->normal, p->normal2, p->points };
+                          p->filled_colour, p->normal, p->normal2, p->points,  p->classes };
     for (size_t i = 0; i < sizeof(textures) / sizeof(textures[0]); i++) {
         if (textures[i]) {
             glDeleteTextures(1, &textures[i]);
         }
     }
     p->position = p->colour = p->label = p->pyramid = 0;
-    p->filled_position = p->filled_colour = p->normal = p->normal2 = p->points = 0;
+    p->filled_position = p->filled_colour = p->normal = p->normal2 = p->points = p->classes = 0;
     p->width_px = p->height_px = 0;
 }
 
@@ -142,6 +142,10 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
         s = sta_gl_texture_create(w, h, 1, 1, &p->label, err);
     }
     if (s == STA_OK) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &p->classes);
+        glTextureStorage2D(p->classes, 1, GL_R8UI, w, h);
+    }
+    if (s == STA_OK) {
         s = sta_hpr_pyramid_texture_create(w, h, &p->pyramid, err);
     }
     if (s != STA_OK) {
@@ -153,13 +157,14 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
     return STA_OK;
 }
 
-sta_status sta_pipeline_position_texture(sta_pipeline *p, int width_px, int height_px,
-                                         GLuint *out_texture, sta_error *err)
+sta_status sta_pipeline_raster_textures(sta_pipeline *p, int width_px, int height_px,
+                                        GLuint *out_position, GLuint *out_classes, sta_error *err)
 {
-    *out_texture = 0;
+    *out_position = *out_classes = 0;
     sta_status s = resize(p, width_px, height_px, err);
     if (s == STA_OK) {
-        *out_texture = p->position;
+        *out_position = p->position;
+        *out_classes = p->classes;
     }
     return s;
 }
@@ -351,7 +356,8 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     sta_volumetric_frame vframe = { w, h, p->position, colour_rgba8, p->label, p->points };
     if (volumetric) {
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
-        s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes, &vframe, err);
+        s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes,
+                                     positions_ready ? p->classes : 0, &vframe, err);
         mark(p, t, STA_PASS_VOLUMETRIC, 1);
         ran[STA_PASS_VOLUMETRIC] = true;
         if (s != STA_OK) {

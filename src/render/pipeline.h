@@ -116,11 +116,13 @@ typedef struct sta_pipeline {
     int width_px, height_px; /* texture size */
     GLuint position, colour, label, pyramid, filled_position, filled_colour, normal, normal2;
     GLuint points;                    /* volumetric colours (RGBA32F) */
+    GLuint classes;                   /* R8UI point classes (from the compute rasteriser) */
     double marks[2 * STA_PASS_COUNT]; /* pass start/end, ms (timing on) */
     int timing_clock;                 /* sta_timing_clock of the marks (0: wall) */
-    /* Set by the caller for one run: `position` already holds this frame's camera-space
-     * positions (the compute rasteriser's resolve wrote them, see
-     * sta_pipeline_position_texture), so the unproject pass is skipped; cleared by the run. */
+    /* Set by the caller for one run: `position` and `classes` already hold this frame's
+     * camera-space positions and point classes (the compute rasteriser's resolve wrote
+     * them, see sta_pipeline_raster_textures), so the unproject pass is skipped and the
+     * volumetric mark reads the classes; cleared by the run. */
     bool positions_ready;
 } sta_pipeline;
 
@@ -137,11 +139,11 @@ sta_status sta_pipeline_set_points(sta_pipeline *pipeline, GLuint id_texture,
  * float) and colour (RGBA8) textures and writes the result into `colour_rgba8` (it is
  * read first, then overwritten). With `timing` (may be NULL) every pass is timed by
  * draining the GPU around it (wall clock), which slows the frame a little. */
-/* The texture the next run of a width x height view reads its camera-space positions
- * from (RGBA32F; (re)allocated for that size), for a geometry pass that writes them
- * itself (then set positions_ready). */
-sta_status sta_pipeline_position_texture(sta_pipeline *pipeline, int width_px, int height_px,
-                                         GLuint *out_texture, sta_error *err);
+/* The textures the next run of a width x height view reads its camera-space positions
+ * (RGBA32F) and point classes (R8UI) from ((re)allocated for that size), for a geometry
+ * pass that writes them itself (then set positions_ready). */
+sta_status sta_pipeline_raster_textures(sta_pipeline *pipeline, int width_px, int height_px,
+                                        GLuint *out_position, GLuint *out_classes, sta_error *err);
 
 sta_status sta_pipeline_run(sta_pipeline *pipeline, const sta_pipeline_options *options,
                             const sta_view_params *view, GLuint depth, GLuint colour_rgba8,

@@ -333,9 +333,10 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     sta_render_target_bind(target);
     if (position) { // a third colour attachment for this draw only
         glNamedFramebufferTexture(target->framebuffer, GL_COLOR_ATTACHMENT2, r->position_out, 0);
-        const GLenum three[3] = { GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
-                                  GL_COLOR_ATTACHMENT2 };
-        glNamedFramebufferDrawBuffers(target->framebuffer, 3, three);
+        glNamedFramebufferTexture(target->framebuffer, GL_COLOR_ATTACHMENT3, r->class_out, 0);
+        const GLenum four[4] = { GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                 GL_COLOR_ATTACHMENT3 };
+        glNamedFramebufferDrawBuffers(target->framebuffer, 4, four);
     }
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
@@ -348,6 +349,7 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
         const GLenum two[2] = { GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1 };
         glNamedFramebufferDrawBuffers(target->framebuffer, 2, two);
         glNamedFramebufferTexture(target->framebuffer, GL_COLOR_ATTACHMENT2, 0, 0);
+        glNamedFramebufferTexture(target->framebuffer, GL_COLOR_ATTACHMENT3, 0, 0);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                         GL_FRAMEBUFFER_BARRIER_BIT);
     }
@@ -355,9 +357,10 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
 }
 
 void sta_raster_compute_set_position_out(sta_raster_compute *r, GLuint position_texture,
-                                         const sta_view_params *view)
+                                         GLuint class_texture, const sta_view_params *view)
 {
     r->position_out = position_texture;
+    r->class_out = position_texture ? class_texture : 0;
     if (position_texture) {
         sta_unproject_uniforms(view, r->unproject_size, r->unproject_tan_half);
         r->unproject_near = view->near_m;

@@ -80,7 +80,7 @@ typedef struct sta_raster_compute {
     char resolve_defines[256];
     /* sta_raster_compute_set_position_out: RGBA32F texture the resolve also writes the
      * camera-space positions into (0: none), and the unproject uniforms for it. */
-    GLuint position_out;
+    GLuint position_out, class_out; /* class_out: R8UI */
     float unproject_size[2], unproject_tan_half[2], unproject_near;
 } sta_raster_compute;
 
@@ -96,9 +96,10 @@ void sta_raster_compute_release(sta_raster_compute *raster);
  * unproject pass (render/pass_unproject.h) would from the depth it writes, for `view`
  * (the target's size and the camera's fov and near plane): attached to the target as a
  * third colour output for the resolve draw only (a fragment output: an image store there
- * cost llvmpipe as much as the unproject pass it saves). */
+ * cost llvmpipe as much as the unproject pass it saves); and each pixel's point class
+ * into `class_texture` (R8UI, 0 where no point), a fourth output. */
 void sta_raster_compute_set_position_out(sta_raster_compute *raster, GLuint position_texture,
-                                         const sta_view_params *view);
+                                         GLuint class_texture, const sta_view_params *view);
 
 /* Rasterises nodes `draw[0..count)` into `target` (cleared first) with `footprint`
  * (render/point_size.h; all zero: one pixel per point); same contract as

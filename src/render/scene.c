@@ -319,7 +319,8 @@ static sta_status ensure_pipeline(sta_scene *s, sta_error *err)
 
 // Before the geometry pass of a frame the screen-space pipeline runs on: the compute
 // rasteriser's resolve writes the pipeline's camera-space positions itself (the same
-// bits as the unproject pass, which the pipeline then skips: one full-screen pass fewer).
+// bits as the unproject pass, which the pipeline then skips: one full-screen pass fewer)
+// and the classes the volumetric mark would otherwise look up through the point ids.
 static sta_status geometry_positions(sta_scene *s, const sta_camera *camera,
                                      const sta_pipeline_options *pipeline, sta_error *err)
 {
@@ -329,16 +330,16 @@ static sta_status geometry_positions(sta_scene *s, const sta_camera *camera,
         return STA_OK;
     }
     sta_status status = ensure_pipeline(s, err);
-    GLuint position = 0;
+    GLuint position = 0, classes = 0;
     if (status == STA_OK) {
-        status = sta_pipeline_position_texture(&s->pipeline, camera->width_px, camera->height_px,
-                                               &position, err);
+        status = sta_pipeline_raster_textures(&s->pipeline, camera->width_px, camera->height_px,
+                                              &position, &classes, err);
     }
     if (status == STA_OK) {
         sta_view_params view = { camera->width_px, camera->height_px, (float)camera->fov_y,
                                  (float)camera->near_m, 0.0f };
         s->pipeline.positions_ready =
-            sta_pass_geometry_set_position_out(&s->geometry, position, &view);
+            sta_pass_geometry_set_position_out(&s->geometry, position, classes, &view);
     }
     return status;
 }
@@ -433,7 +434,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
             status = sta_pass_geometry_draw(&s->geometry, camera, &colours, &s->cache, s->frames,
                                             frame.draw, frame.draw_count, target, err);
         }
-        sta_pass_geometry_set_position_out(&s->geometry, 0, NULL); // this draw only
+        sta_pass_geometry_set_position_out(&s->geometry, 0, 0, NULL); // this draw only
         if (status != STA_OK) {
             return status;
         }
