@@ -88,6 +88,7 @@
 #define STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION 0
 #define STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL      0 /* R32F: anchors in, the rest out */
 #define STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST      0 /* the pixels to refine (appended) */
+#define STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH  1 /* the refinement's indirect dispatch */
 
 /* HPR exhaustive occlusion (hpr_exhaustive.comp). */
 #define STA_HPR_EXHAUSTIVE_SAMPLER_POSITION 0
@@ -207,6 +208,7 @@
  X(STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION)                                                       \
  X(STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL)                                                            \
  X(STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST)                                                            \
+ X(STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH)                                                        \
  X(STA_HPR_EXHAUSTIVE_SAMPLER_POSITION)                                                            \
  X(STA_HPR_EXHAUSTIVE_IMAGE_LABEL)                                                                 \
  X(STA_PULLPUSH_IMAGE_OUT_POSITION)                                                                \
