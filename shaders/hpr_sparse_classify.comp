@@ -13,6 +13,12 @@ layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST) buffer RefineList
     uint u_count;
     uint u_pixels[]; // x | y << 16
 };
+// The refinement's indirect dispatch (x, y, z workgroups): y grows here with the list,
+// so that no count has to be read back on the CPU to size it.
+layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH) buffer RefineDispatch
+{
+    uint u_groups[3];
+};
 uniform ivec2 u_size;
 
 void main()
@@ -40,6 +46,8 @@ void main()
     if (ok) {
         imageStore(u_label, p, vec4(l0, 0.0, 0.0, 0.0));
     } else {
-        u_pixels[atomicAdd(u_count, 1u)] = uint(p.x) | (uint(p.y) << 16);
+        uint k = atomicAdd(u_count, 1u);
+        u_pixels[k] = uint(p.x) | (uint(p.y) << 16);
+        atomicMax(u_groups[1], k / uint(STA_HPR_LIST_WIDTH * STA_WORKGROUP_SIZE_Y) + 1u);
     }
 }

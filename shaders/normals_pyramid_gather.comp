@@ -8,6 +8,10 @@
 // tangent plane passes within u_plane_tolerance_m * 2^l * depth of the pixel's point
 // (no mixing across depth discontinuities); where neither level has one, the next finer
 // level that does. Twin: src/render/ref/normals_pyramid_ref.c.
+// With NP_ANCHORS (half resolution, sta_normals_pyramid_params.half_resolution) it runs
+// on the even pixels (2i, 2j) only and writes texel (i, j) of the half-resolution image
+// that normals_pyramid_upsample.comp reads: xyz the normal (zero where none), w its
+// tangent plane's offset dot(n, p).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL, rgba32f)
     writeonly uniform image2D u_normal;
@@ -59,7 +63,11 @@ bool level_normal(int l, ivec2 q, vec3 p, float tolerance_m, out vec3 n)
 
 void main()
 {
+#ifdef NP_ANCHORS
+    ivec2 q = 2 * ivec2(gl_GlobalInvocationID.xy);
+#else
     ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+#endif
     if (q.x >= u_size.x || q.y >= u_size.y) {
         return;
     }
@@ -100,5 +108,10 @@ void main()
             result = vec4(s * (n / len), 1.0);
         }
     }
+#ifdef NP_ANCHORS
+    imageStore(u_normal, q / 2,
+               result.w > 0.0 ? vec4(result.xyz, dot(result.xyz, p.xyz)) : vec4(0.0));
+#else
     imageStore(u_normal, q, result);
+#endif
 }

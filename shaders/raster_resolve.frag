@@ -1,10 +1,20 @@
 // SPDX-License-Identifier: MIT
 // Compute rasteriser's resolve: the point kept in each pixel gives its colour (as the
 // GL_POINTS path colours it), its depth and its id to the render target. One program per
-// colour mode (STA_RASTER_COLOUR_MODE), so that only that mode's branch runs.
+// colour mode (STA_RASTER_COLOUR_MODE), so that only that mode's branch runs. With
+// STA_RASTER_POSITION also its camera-space position (what the unproject pass would make
+// of the depth written here: unproject_pixel.glsl), so the screen-space pipeline can skip
+// that pass, and its class (the volumetric mark reads it instead of looking the id up).
 uniform vec2 u_elevation;        // (camera z - min z, 1 / (max z - min z))
 uniform float u_intensity_scale; // 1 / largest intensity
 uniform vec3 u_background;       // colour of empty pixels
+#if STA_RASTER_POSITION
+layout(location = STA_GEOMETRY_OUT_POSITION) out vec4 o_position;
+layout(location = STA_GEOMETRY_OUT_CLASS) out uint o_class; // for the volumetric mark
+uniform vec2 u_unproject_size; // as the unproject pass's u_size, u_tan_half, u_near
+uniform vec2 u_tan_half;
+uniform float u_near;
+#endif
 
 layout(location = STA_GEOMETRY_OUT_COLOUR) out vec4 o_colour;
 layout(location = STA_GEOMETRY_OUT_ID) out uvec2 o_id;
@@ -26,6 +36,10 @@ void main()
         o_colour = vec4(u_background, 1.0);
         o_id = uvec2(STA_RASTER_NO_POINT);
         gl_FragDepth = 0.0;
+#if STA_RASTER_POSITION
+        o_position = vec4(0.0);
+        o_class = 0u;
+#endif
         return;
     }
     // The draw-order index is batch * STA_RASTER_BATCH_POINTS + point within the batch.
@@ -41,4 +55,8 @@ void main()
                     1.0);
     o_id = uvec2(node.info.w, i);
     gl_FragDepth = uintBitsToFloat(bits);
+#if STA_RASTER_POSITION
+    o_position = unproject_pixel(p, uintBitsToFloat(bits), u_unproject_size, u_tan_half, u_near);
+    o_class = colour_class.w;
+#endif
 }

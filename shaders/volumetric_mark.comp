@@ -4,14 +4,22 @@
 // relabelled hidden, so pull-push does not grow a surface from it; its colour and
 // distance (-z) go to the points image for the overlay, visible points of the other
 // classes go there as occluders (alpha: minus their distance).
+// With STA_VOLUMETRIC_CLASS_IMAGE the class comes from a per-pixel class image (the
+// compute rasteriser writes it with the point) instead of the id and arena lookup: the
+// same marks, without two dependent buffer reads a pixel.
 // Twin: src/render/ref/volumetric_ref.c (sta_volumetric_mark_ref).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
+#ifdef STA_VOLUMETRIC_CLASS_IMAGE
+layout(binding = STA_VOLUMETRIC_MARK_IMAGE_CLASS, r8ui) readonly uniform uimage2D u_class;
+#else
 layout(binding = STA_VOLUMETRIC_MARK_IMAGE_ID, rg32ui) readonly uniform uimage2D u_id;
+#endif
 layout(binding = STA_VOLUMETRIC_MARK_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
 // The point colours, RGBA8 (the geometry pass's) or RGBA32F.
 layout(binding = STA_VOLUMETRIC_MARK_SAMPLER_COLOUR) uniform sampler2D u_colour;
 layout(binding = STA_VOLUMETRIC_MARK_IMAGE_LABEL, r32f) uniform image2D u_label;
 layout(binding = STA_VOLUMETRIC_MARK_IMAGE_POINTS, rgba32f) writeonly uniform image2D u_points;
+#ifndef STA_VOLUMETRIC_CLASS_IMAGE
 // The arena: 16-byte points (stream/gpu_points.h); classification is byte 11.
 layout(std430, binding = STA_VOLUMETRIC_MARK_BUFFER_ARENA) readonly buffer Arena
 {
@@ -22,6 +30,7 @@ layout(std430, binding = STA_VOLUMETRIC_MARK_BUFFER_NODES) readonly buffer Nodes
 {
     uvec2 nodes[];
 };
+#endif
 uniform ivec2 u_size;
 uniform uint u_classes[8]; // bit c % 32 of word c / 32: class c is volumetric
 
@@ -37,8 +46,12 @@ void main()
     bool drawn = (label == STA_LABEL_VISIBLE || label == STA_LABEL_HIDDEN) && position.w > 0.0 &&
                  position.z < 0.0;
     if (drawn) {
-        uvec2 id = imageLoad(u_id, p).xy;
         bool marked = false;
+#ifdef STA_VOLUMETRIC_CLASS_IMAGE
+        uint c = imageLoad(u_class, p).x & 0xFFu;
+        marked = ((u_classes[c >> 5u] >> (c & 31u)) & 1u) != 0u;
+#else
+        uvec2 id = imageLoad(u_id, p).xy;
         if (id.x < uint(nodes.length())) {
             uvec2 node = nodes[id.x];
             uint total = uint(arena.length());
@@ -47,6 +60,7 @@ void main()
                 marked = ((u_classes[c >> 5u] >> (c & 31u)) & 1u) != 0u;
             }
         }
+#endif
         if (marked) {
             points = vec4(texelFetch(u_colour, p, 0).rgb, -position.z);
             imageStore(u_label, p, vec4(STA_LABEL_HIDDEN));

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT
  * GL tests of the viewer's rendering on Mesa llvmpipe through headless EGL: the
  * geometry pass against a CPU projection, precision far from the origin, budget and
- * cache caps, corrupt nodes. Scenes are made here (PLY -> strata-convert). */
+ * cache caps, corrupt nodes, the compute rasteriser's positions. Scenes are made here
+ * (PLY -> strata-convert). */
 #include "scene_fixture.h"
 #include "test_support.h"
 
@@ -17,6 +18,8 @@
 #include "format/strata_reader.h"
 #include "render/bindings.h"
 #include "render/gl.h"
+#include "render/gl_image.h"
+#include "render/pass_unproject.h"
 #include "render/scene.h"
 #include "stream/gpu_points.h"
 
@@ -176,6 +179,55 @@ static void same_image_at_origin_utm_and_ecef(void **state)
     for (int k = 0; k < 3; k++) {
         free(images[k]);
     }
+}
+
+/* The shaded pipeline with the compute rasteriser takes its camera-space positions from
+ * the rasteriser's resolve instead of the unproject pass: they are the unproject pass's
+ * positions from the same depth, bit for bit; with GL_POINTS the pass runs as before. */
+static void raster_positions_equal_unproject(void **state)
+{
+    (void)state;
+    const double origin[3] = { 0, 0, 0 };
+    char path[4096];
+    build_scene("positions", origin, path, sizeof(path));
+    sta_camera camera = test_camera(origin);
+    sta_error err = { 0 };
+    sta_unproject_pass unproject;
+    assert_int_equal(sta_unproject_pass_init(&unproject, &err), STA_OK);
+    for (int raster = STA_RASTER_COMPUTE; raster <= STA_RASTER_POINTS; raster++) {
+        sta_scene *scene = NULL;
+        sta_scene_options options = { 0 };
+        assert_int_equal(sta_scene_open(path, &options, &scene, &err), STA_OK);
+        sta_geometry_options geometry = { .raster = raster };
+        sta_scene_set_raster(scene, &geometry);
+        sta_pipeline_options pipeline = { .mode = STA_PIPELINE_SHADED };
+        sta_scene_set_pipeline(scene, &pipeline);
+        sta_render_target target = { 0 };
+        sta_frame_stats stats = sta_fixture_render_complete(scene, &camera, &target);
+        assert_int_equal(stats.raster_positions, raster == STA_RASTER_COMPUTE);
+        GLuint expected;
+        assert_int_equal(sta_gl_texture_create(W, H, 4, 1, &expected, &err), STA_OK);
+        sta_view_params view = { W, H, (float)camera.fov_y, (float)camera.near_m, 0.0f };
+        sta_unproject_pass_run(&unproject, &view, target.depth, expected);
+        sta_image got, want;
+        assert_int_equal(
+            sta_gl_texture_to_image(sta_scene_pipeline(scene)->position, 0, 4, &got, &err), STA_OK);
+        assert_int_equal(sta_gl_texture_to_image(expected, 0, 4, &want, &err), STA_OK);
+        int drawn = 0;
+        for (int i = 0; i < W * H; i++) {
+            drawn += want.data[4 * i + 3] > 0.0f;
+        }
+        printf("%s: %d pixels with a point\n", raster == STA_RASTER_COMPUTE ? "compute" : "points",
+               drawn);
+        assert_true(drawn > W * H / 20);
+        assert_memory_equal(got.data, want.data, (size_t)W * H * 4 * sizeof(float));
+        sta_image_release(&got);
+        sta_image_release(&want);
+        glDeleteTextures(1, &expected);
+        sta_render_target_release(&target);
+        sta_scene_close(scene);
+    }
+    sta_unproject_pass_release(&unproject);
 }
 
 static void budget_and_gpu_cap_hold(void **state)
@@ -368,6 +420,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(geometry_pass_matches_cpu_projection, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(same_image_at_origin_utm_and_ecef, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(raster_positions_equal_unproject, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(budget_and_gpu_cap_hold, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT
  * Volumetric classes drawn as points: the rule on hand-made cases, the shaders
- * against their CPU twin, and the whole pipeline leaving flagged pixels unfilled. */
+ * against their CPU twin, the shade pass's overlay variant against shade + overlay, and
+ * the whole pipeline leaving flagged pixels unfilled. */
 #include "scene_fixture.h"
 #include "test_support.h"
 
@@ -10,6 +11,7 @@
 
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/pass_shade.h"
 #include "render/pass_volumetric.h"
 #include "render/pipeline.h"
 #include "render/ref/screen_space.h"
@@ -264,7 +266,7 @@ static void shaders_match_twins(void **state)
     assert_int_equal(sta_volumetric_pass_init(&pass, &err), STA_OK);
     sta_volumetric_points src = { tid, arena, nodes, NODES };
     sta_volumetric_frame frame = { w, h, tp, tc, tl, tpts };
-    assert_int_equal(sta_volumetric_pass_mark(&pass, &src, in.class_set, &frame, &err), STA_OK);
+    assert_int_equal(sta_volumetric_pass_mark(&pass, &src, in.class_set, 0, &frame, &err), STA_OK);
     sta_volumetric_pass_overlay(&pass, &frame, tout);
 
     sta_image got_label, got_points;
@@ -287,6 +289,87 @@ static void shaders_match_twins(void **state)
     glDeleteTextures(6, textures);
     glDeleteBuffers(1, &arena);
     sta_image *images[] = { &position, &colour, &label, &points, &out, &got_label, &got_points };
+    for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
+        sta_image_release(images[i]);
+    }
+}
+
+// The shade pass with the overlay inside (what the shaded pipeline runs) gives the
+// picture of the shade pass followed by the overlay pass, byte for byte, on random
+// surfaces with marked points and occluders (some of them along the borders).
+static void shade_overlay_matches_shade_then_overlay(void **state)
+{
+    (void)state;
+    const int w = 41, h = 29;
+    sta_image position, colour, normal, points;
+    image(&position, w, h, 4);
+    image(&colour, w, h, 4);
+    image(&normal, w, h, 4);
+    image(&points, w, h, 4);
+    uint64_t s = 11;
+    for (int i = 0; i < w * h; i++) {
+        float *p = &position.data[4 * i], *c = &colour.data[4 * i], *n = &normal.data[4 * i];
+        float *m = &points.data[4 * i];
+        if (sta_test_frand(&s) < 0.85f) {
+            p[0] = sta_test_frand(&s) - 0.5f;
+            p[1] = sta_test_frand(&s) - 0.5f;
+            p[2] = -(1.0f + 20.0f * sta_test_frand(&s));
+            p[3] = 1.0f;
+            n[2] = sta_test_frand(&s) < 0.9f ? 1.0f : 0.0f;
+            n[3] = n[2];
+        }
+        for (int k = 0; k < 3; k++) {
+            c[k] = sta_test_frand(&s);
+        }
+        c[3] = 1.0f;
+        float r = sta_test_frand(&s);
+        if (r < 0.1f) { // a marked point: its colour and distance
+            m[0] = sta_test_frand(&s);
+            m[1] = sta_test_frand(&s);
+            m[2] = sta_test_frand(&s);
+            m[3] = 1.0f + 20.0f * sta_test_frand(&s);
+        } else if (r < 0.3f) { // an occluder: minus its distance
+            m[3] = -(1.0f + 20.0f * sta_test_frand(&s));
+        }
+    }
+    sta_error err = { 0 };
+    GLuint tp, tc, tn, tpts, split, fused, plain;
+    assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&colour, &tc, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&normal, &tn, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&points, &tpts, &err), STA_OK);
+    sta_image blank;
+    image(&blank, w, h, 4);
+    split = rgba8_texture(w, h, &blank);
+    fused = rgba8_texture(w, h, &blank);
+    plain = rgba8_texture(w, h, &blank);
+    sta_shade_pass shade;
+    sta_volumetric_pass vol;
+    assert_int_equal(sta_shade_pass_init(&shade, &err), STA_OK);
+    assert_int_equal(sta_volumetric_pass_init(&vol, &err), STA_OK);
+    sta_shade_params params = { .background = { 0.1f, 0.2f, 0.3f } };
+    sta_volumetric_frame frame = { w, h, tp, tc, 0, tpts };
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, 0, plain);
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, 0, split);
+    sta_volumetric_pass_overlay(&vol, &frame, split);
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, tpts, fused);
+    uint8_t *a = read_rgba8(split, w, h), *b = read_rgba8(fused, w, h),
+            *c = read_rgba8(plain, w, h);
+    assert_memory_equal(a, b, (size_t)w * h * 4);
+    int overlaid = 0;
+    for (int i = 0; i < w * h; i++) {
+        overlaid += memcmp(a + 4 * i, c + 4 * i, 4) != 0;
+    }
+    print_message("%d of %d pixels overlaid\n", overlaid, w * h);
+    assert_true(overlaid > w * h / 10); // the case exercises the overlay
+    free(a);
+    free(b);
+    free(c);
+    sta_shade_pass_release(&shade);
+    sta_volumetric_pass_release(&vol);
+    GLuint textures[7] = { tp, tc, tn, tpts, split, fused, plain };
+    glDeleteTextures(7, textures);
+    sta_image *images[] = { &position, &colour, &normal, &points, &blank };
     for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
         sta_image_release(images[i]);
     }
@@ -417,6 +500,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(mark_rule_on_small_cases),
     cmocka_unit_test(overlay_splats_behind_nearer_surfaces),
     cmocka_unit_test_setup_teardown(shaders_match_twins, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(shade_overlay_matches_shade_then_overlay, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(flagged_pixels_are_not_filled, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

@@ -477,6 +477,11 @@ int main(int argc, char **argv)
           .dest = &o.hpr_every_pixel,
           .help = "the pyramid variant on every pixel instead of the sparse operator (a "
                   "quarter of the pixels, refined where 2x2 blocks disagree; docs/HPR.md)" },
+        { .name = "normals-every-pixel",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.normals_every_pixel,
+          .help = "pyramidal normals gathered on every pixel instead of on a quarter of "
+                  "them and upsampled within each surface (docs/PULLPUSH.md)" },
         { .name = "smooth",
           .kind = STA_CLI_FLAG,
           .dest = &o.smooth,

@@ -278,6 +278,7 @@ static void set_pipeline(const scene_run *run, sta_scene *scene, const sta_bench
                                .smooth = o->smooth && mode_runs_normals(st->mode),
                                .hpr_exhaustive = st->hpr_exhaustive,
                                .hpr_every_pixel = o->hpr_every_pixel,
+                               .normals_every_pixel = o->normals_every_pixel,
                                .hpr_radius_px = o->hpr_radius_px,
                                .hpr_threshold = o->hpr_threshold,
                                .s0_m = (float)o->s0_m,

@@ -56,6 +56,7 @@ typedef struct sta_bench_options {
     bool hpr_variants[2];                 /* HPR variants: [0] pyramid, [1] exhaustive;
                                              neither set: pyramid only */
     bool hpr_every_pixel;                 /* the pyramid variant on every pixel, not sparse */
+    bool normals_every_pixel;             /* pyramidal normals gathered on every pixel */
     bool smooth;                          /* normal smoothing pass */
     int hpr_radius_px;                    /* exhaustive radius; 0: the pipeline's 8 */
     float hpr_threshold;                  /* 0: the pipeline's 0.1 */

@@ -38,6 +38,8 @@
  * render target's colour attachments (render/target.h). */
 #define STA_GEOMETRY_OUT_COLOUR     0 /* RGBA8 colour */
 #define STA_GEOMETRY_OUT_ID         1 /* RG32UI: node slot, point index */
+#define STA_GEOMETRY_OUT_POSITION   2 /* RGBA32F: camera-space position (compute resolve) */
+#define STA_GEOMETRY_OUT_CLASS      3 /* R8UI: the point's class (compute resolve) */
 /* The ground model for STA_COLOUR_HEIGHT (geometry_colour.glsl; unit 0 is the raster's). */
 #define STA_GEOMETRY_SAMPLER_GROUND 1 /* R32F: ground height per cell */
 #define STA_SPLAT_SAMPLER_POINTS    0 /* pulled splats: usamplerBuffer RGBA32UI, points */
@@ -86,6 +88,7 @@
 #define STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION 0
 #define STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL      0 /* R32F: anchors in, the rest out */
 #define STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST      0 /* the pixels to refine (appended) */
+#define STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH  1 /* the refinement's indirect dispatch */
 
 /* HPR exhaustive occlusion (hpr_exhaustive.comp). */
 #define STA_HPR_EXHAUSTIVE_SAMPLER_POSITION 0
@@ -112,11 +115,13 @@
 
 /* Pyramidal normals (normals_pyramid_level.comp, normals_pyramid_gather.comp); POINTS
  * is declared by their shared library pullpush_normals.glsl. */
-#define STA_NORMALS_PYRAMID_IMAGE_POINTS        1 /* RGBA32F points of the level */
-#define STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS   0 /* RGBA32F out: normals of levels >= 1 */
-#define STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL 0 /* RGBA32F out */
-#define STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS  2
-#define STA_NORMALS_PYRAMID_IMAGE_LAST          2 /* highest image unit above */
+#define STA_NORMALS_PYRAMID_IMAGE_POINTS          1 /* RGBA32F points of the level */
+#define STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS     0 /* RGBA32F out: normals of levels >= 1 */
+#define STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL   0 /* RGBA32F out */
+#define STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS    2
+#define STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL 0 /* RGBA32F out */
+#define STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_HALF   2 /* RGBA32F anchors: normal, plane offset */
+#define STA_NORMALS_PYRAMID_IMAGE_LAST            2 /* highest image unit above */
 
 /* Blinn-Phong shading (shade.comp). */
 #define STA_SHADE_IMAGE_POSITION 0
@@ -138,15 +143,18 @@
 #define STA_EDL_IMAGE_OUT      3 /* RGBA8 out */
 
 /* Volumetric classes shown as points (volumetric_mark.comp, volumetric_overlay.comp). */
-#define STA_VOLUMETRIC_MARK_IMAGE_ID        0 /* RG32UI point ids (render/target.h) */
-#define STA_VOLUMETRIC_MARK_SAMPLER_COLOUR  0 /* point colours (RGBA8 or RGBA32F) */
-#define STA_VOLUMETRIC_MARK_IMAGE_LABEL     2 /* R32F HPR labels, updated */
-#define STA_VOLUMETRIC_MARK_IMAGE_POINTS    3 /* RGBA32F out: marked colour, distance */
-#define STA_VOLUMETRIC_MARK_IMAGE_POSITION  4 /* RGBA32F camera-space positions */
-#define STA_VOLUMETRIC_MARK_BUFFER_ARENA    0 /* the GPU cache's arena */
-#define STA_VOLUMETRIC_MARK_BUFFER_NODES    1 /* uvec2 per node slot: offset, count */
-#define STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS 0 /* RGBA32F */
-#define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT    1 /* RGBA8, written where marked */
+#define STA_VOLUMETRIC_MARK_IMAGE_ID       0 /* RG32UI point ids (render/target.h) */
+#define STA_VOLUMETRIC_MARK_SAMPLER_COLOUR 0 /* point colours (RGBA8 or RGBA32F) */
+#define STA_VOLUMETRIC_MARK_IMAGE_LABEL    2 /* R32F HPR labels, updated */
+#define STA_VOLUMETRIC_MARK_IMAGE_POINTS   3 /* RGBA32F out: marked colour, distance */
+#define STA_VOLUMETRIC_MARK_IMAGE_POSITION 4 /* RGBA32F camera-space positions */
+#define STA_VOLUMETRIC_MARK_IMAGE_CLASS    5 /* R8UI point classes (STA_VOLUMETRIC_CLASS_IMAGE) */
+#define STA_VOLUMETRIC_MARK_BUFFER_ARENA   0 /* the GPU cache's arena */
+#define STA_VOLUMETRIC_MARK_BUFFER_NODES   1 /* uvec2 per node slot: offset, count */
+#define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT   1 /* RGBA8, written where marked */
+/* volumetric_window.glsl, in volumetric_overlay.comp and shade.comp (STA_SHADE_OVERLAY):
+ * above every image unit of both */
+#define STA_VOLUMETRIC_WINDOW_IMAGE_POINTS 4 /* RGBA32F marked points and occluders */
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \
@@ -164,6 +172,8 @@
  X(STA_COLOUR_HEIGHT)                                                                              \
  X(STA_GEOMETRY_OUT_COLOUR)                                                                        \
  X(STA_GEOMETRY_OUT_ID)                                                                            \
+ X(STA_GEOMETRY_OUT_POSITION)                                                                      \
+ X(STA_GEOMETRY_OUT_CLASS)                                                                         \
  X(STA_SPLAT_SAMPLER_POINTS)                                                                       \
  X(STA_SPLAT_SAMPLER_SPLATS)                                                                       \
  X(STA_GEOMETRY_SAMPLER_GROUND)                                                                    \
@@ -198,6 +208,7 @@
  X(STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION)                                                       \
  X(STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL)                                                            \
  X(STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST)                                                            \
+ X(STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH)                                                        \
  X(STA_HPR_EXHAUSTIVE_SAMPLER_POSITION)                                                            \
  X(STA_HPR_EXHAUSTIVE_IMAGE_LABEL)                                                                 \
  X(STA_PULLPUSH_IMAGE_OUT_POSITION)                                                                \
@@ -218,6 +229,8 @@
  X(STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS)                                                          \
  X(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL)                                                        \
  X(STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS)                                                         \
+ X(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL)                                                      \
+ X(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_HALF)                                                        \
  X(STA_NORMALS_PYRAMID_IMAGE_LAST)                                                                 \
  X(STA_SHADE_IMAGE_POSITION)                                                                       \
  X(STA_SHADE_IMAGE_COLOUR)                                                                         \
@@ -237,9 +250,10 @@
  X(STA_VOLUMETRIC_MARK_IMAGE_LABEL)                                                                \
  X(STA_VOLUMETRIC_MARK_IMAGE_POINTS)                                                               \
  X(STA_VOLUMETRIC_MARK_IMAGE_POSITION)                                                             \
+ X(STA_VOLUMETRIC_MARK_IMAGE_CLASS)                                                                \
  X(STA_VOLUMETRIC_MARK_BUFFER_ARENA)                                                               \
  X(STA_VOLUMETRIC_MARK_BUFFER_NODES)                                                               \
- X(STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS)                                                            \
- X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)
+ X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)                                                               \
+ X(STA_VOLUMETRIC_WINDOW_IMAGE_POINTS)
 
 #endif

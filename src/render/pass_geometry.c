@@ -220,3 +220,13 @@ sta_status sta_pass_geometry_draw(sta_pass_geometry *p, const sta_camera *camera
     draw_points(p, camera, colours, &footprint, cache, frames, draw, count, target);
     return STA_OK;
 }
+
+bool sta_pass_geometry_set_position_out(sta_pass_geometry *p, GLuint position_texture,
+                                        GLuint class_texture, const sta_view_params *view)
+{
+    if (p->choice.raster != STA_RASTER_COMPUTE) {
+        return false;
+    }
+    sta_raster_compute_set_position_out(&p->compute, position_texture, class_texture, view);
+    return position_texture != 0;
+}

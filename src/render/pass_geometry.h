@@ -89,6 +89,14 @@ void sta_pass_geometry_begin_points(const sta_pass_geometry *pass, const sta_cam
 /* Sets the size of the points drawn from the next draw on (`size` NULL: one pixel). */
 void sta_pass_geometry_set_point_size(sta_pass_geometry *pass, const sta_point_size *size);
 
+/* With the compute rasteriser, the next draws also write the camera-space position of
+ * every pixel into `position_texture` (RGBA32F of the target's size, as the unproject
+ * pass makes them from the depth: render/raster_compute.h) and each pixel's point class
+ * into `class_texture` (R8UI), for `view`; 0 stops it.
+ * Returns whether they will (false with GL_POINTS: then run the unproject pass). */
+bool sta_pass_geometry_set_position_out(sta_pass_geometry *pass, GLuint position_texture,
+                                        GLuint class_texture, const sta_view_params *view);
+
 /* A zeroed pass is a no-op. */
 void sta_pass_geometry_release(sta_pass_geometry *pass);
 

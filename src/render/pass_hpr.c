@@ -32,12 +32,13 @@ static void shader_defines(char *out, size_t size)
              "#define STA_HPR_MIN_REACH_PX %.9e\n"
              "#define STA_HPR_MAX_REACH_PX %.9e\n"
              "#define STA_HPR_CUT_FACTOR %.9e\n"
-             "#define STA_HPR_SPARSE_DEPTH_TAU %.9e\n",
+             "#define STA_HPR_SPARSE_DEPTH_TAU %.9e\n"
+             "#define STA_HPR_LIST_WIDTH %d\n",
              STA_HPR_MAX_LEVELS, STA_HPR_SECTOR_TAN_NUM, STA_HPR_SECTOR_TAN_DEN,
              (double)STA_HPR_MIN_LENGTH2_M2, (double)STA_LABEL_BACKGROUND,
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
              (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_MAX_REACH_PX,
-             (double)STA_HPR_CUT_FACTOR, (double)STA_HPR_SPARSE_DEPTH_TAU);
+             (double)STA_HPR_CUT_FACTOR, (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH);
 }
 
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
@@ -97,6 +98,9 @@ void sta_hpr_pass_release(sta_hpr_pass *pass)
     }
     if (pass->list_buffer) {
         glDeleteBuffers(1, &pass->list_buffer);
+    }
+    if (pass->dispatch_buffer) {
+        glDeleteBuffers(1, &pass->dispatch_buffer);
     }
     memset(pass, 0, sizeof(*pass));
 }
@@ -226,6 +230,11 @@ static sta_status ensure_list(sta_hpr_pass *pass, int pixels, sta_error *err)
     if (pass->list_buffer) {
         glDeleteBuffers(1, &pass->list_buffer);
     }
+    if (!pass->dispatch_buffer) {
+        glCreateBuffers(1, &pass->dispatch_buffer);
+        glNamedBufferStorage(pass->dispatch_buffer, 3 * sizeof(GLuint), NULL,
+                             GL_DYNAMIC_STORAGE_BIT);
+    }
     glCreateBuffers(1, &pass->list_buffer);
     glNamedBufferStorage(pass->list_buffer, ((GLsizeiptr)pixels + 1) * (GLsizeiptr)sizeof(GLuint),
                          NULL, GL_DYNAMIC_STORAGE_BIT);
@@ -243,9 +252,15 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     if (status != STA_OK) {
         return status;
     }
-    GLuint zero = 0, count = 0;
+    GLuint zero = 0;
+    // The refinement's workgroups: a row of STA_HPR_LIST_WIDTH pixels across, rows
+    // added by the classify step as the list grows (none when it stays empty).
+    const GLuint groups[3] = { STA_HPR_LIST_WIDTH / STA_WORKGROUP_SIZE_X, 0, 1 };
     glNamedBufferSubData(pass->list_buffer, 0, sizeof(zero), &zero);
+    glNamedBufferSubData(pass->dispatch_buffer, 0, sizeof(groups), groups);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_OCCLUSION_BUFFER_LIST, pass->list_buffer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH,
+                     pass->dispatch_buffer);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_READ_WRITE,
                        GL_R32F);
     set_occlusion_uniforms(pass->anchors_program, view, p, levels, level_depth);
@@ -253,17 +268,17 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     glUseProgram(pass->classify_program);
     glUniform2i(glGetUniformLocation(pass->classify_program, "u_size"), w, h);
     sta_gl_dispatch_2d(w, h);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    // The count on the CPU sizes the last dispatch (a stall; an indirect dispatch
-    // would avoid it on a GPU).
-    glGetNamedBufferSubData(pass->list_buffer, 0, sizeof(count), &count);
-    if (count > 0) {
-        set_occlusion_uniforms(pass->refine_program, view, p, levels, level_depth);
-        glUniform1i(glGetUniformLocation(pass->refine_program, "u_list_width"), STA_HPR_LIST_WIDTH);
-        sta_gl_dispatch_2d(STA_HPR_LIST_WIDTH,
-                           ((int)count + STA_HPR_LIST_WIDTH - 1) / STA_HPR_LIST_WIDTH);
-    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    // Sized on the GPU (no count read back: no stall between the steps on a GPU).
+    set_occlusion_uniforms(pass->refine_program, view, p, levels, level_depth);
+    glUniform1i(glGetUniformLocation(pass->refine_program, "u_list_width"), STA_HPR_LIST_WIDTH);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pass->dispatch_buffer);
+    glDispatchComputeIndirect(0);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                    GL_TEXTURE_UPDATE_BARRIER_BIT);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_OCCLUSION_BUFFER_LIST, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH, 0);
     return sta_gl_check("hpr sparse occlusion", err);
 }
 

@@ -27,8 +27,9 @@ typedef struct sta_hpr_pass {
     /* The sparse operator (sta_hpr_params.sparse): hpr_occlusion.comp on the anchors
      * and on the listed pixels, hpr_sparse_classify.comp between them. */
     GLuint anchors_program, refine_program, classify_program;
-    GLuint list_buffer; /* count, then the pixels to refine; grown as needed */
-    int list_pixels;    /* pixels the list buffer holds */
+    GLuint list_buffer;     /* count, then the pixels to refine; grown as needed */
+    int list_pixels;        /* pixels the list buffer holds */
+    GLuint dispatch_buffer; /* the refinement's indirect dispatch, sized by the classify step */
     GLint pyr_src_size, pyr_dst_size;
     GLint exh_size, exh_radius, exh_tan_half, exh_far, exh_threshold;
 } sta_hpr_pass;

@@ -14,9 +14,18 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
     memset(pass, 0, sizeof(*pass));
     const char *level[] = { "pullpush_normals.glsl", "normals_pyramid_level.comp" };
     const char *gather[] = { "pullpush_normals.glsl", "normals_pyramid_gather.comp" };
+    const char *upsample[] = { "pullpush_normals.glsl",
+                               "normals_pyramid_upsample.comp" }; // u_points
     sta_status status = sta_gl_program_create(level, 2, NULL, &pass->level_program, err);
     if (status == STA_OK) {
         status = sta_gl_program_create(gather, 2, NULL, &pass->gather_program, err);
+    }
+    if (status == STA_OK) {
+        status =
+            sta_gl_program_create(gather, 2, "#define NP_ANCHORS 1\n", &pass->anchor_program, err);
+    }
+    if (status == STA_OK) {
+        status = sta_gl_program_create(upsample, 2, NULL, &pass->upsample_program, err);
     }
     if (status != STA_OK) {
         sta_normals_pyramid_pass_release(pass);
@@ -26,16 +35,25 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
     pass->level_offset = glGetUniformLocation(pass->level_program, "u_offset");
     pass->level_jump2 = glGetUniformLocation(pass->level_program, "u_jump2");
     pass->level_texel_m = glGetUniformLocation(pass->level_program, "u_texel_m");
-    GLuint g = pass->gather_program;
-    pass->gather_size = glGetUniformLocation(g, "u_size");
-    pass->gather_level_count = glGetUniformLocation(g, "u_level_count");
-    pass->gather_level_offset = glGetUniformLocation(g, "u_level_offset");
-    pass->gather_level_size = glGetUniformLocation(g, "u_level_size");
-    pass->gather_radius_px_m = glGetUniformLocation(g, "u_radius_px_m");
-    pass->gather_near = glGetUniformLocation(g, "u_near");
-    pass->gather_plane_tolerance_m = glGetUniformLocation(g, "u_plane_tolerance_m");
-    pass->gather_jump2 = glGetUniformLocation(g, "u_jump2");
-    pass->gather_texel_m = glGetUniformLocation(g, "u_texel_m");
+    for (int i = 0; i < 2; i++) {
+        GLuint g = i == 0 ? pass->gather_program : pass->anchor_program;
+        pass->gather_size[i] = glGetUniformLocation(g, "u_size");
+        pass->gather_level_count[i] = glGetUniformLocation(g, "u_level_count");
+        pass->gather_level_offset[i] = glGetUniformLocation(g, "u_level_offset");
+        pass->gather_level_size[i] = glGetUniformLocation(g, "u_level_size");
+        pass->gather_radius_px_m[i] = glGetUniformLocation(g, "u_radius_px_m");
+        pass->gather_near[i] = glGetUniformLocation(g, "u_near");
+        pass->gather_plane_tolerance_m[i] = glGetUniformLocation(g, "u_plane_tolerance_m");
+        pass->gather_jump2[i] = glGetUniformLocation(g, "u_jump2");
+        pass->gather_texel_m[i] = glGetUniformLocation(g, "u_texel_m");
+    }
+    GLuint u = pass->upsample_program;
+    pass->upsample_size = glGetUniformLocation(u, "u_size");
+    pass->upsample_half_size = glGetUniformLocation(u, "u_half_size");
+    pass->upsample_near = glGetUniformLocation(u, "u_near");
+    pass->upsample_level_count = glGetUniformLocation(u, "u_level_count");
+    pass->upsample_radius_px_m = glGetUniformLocation(u, "u_radius_px_m");
+    pass->upsample_plane_tolerance_m = glGetUniformLocation(u, "u_plane_tolerance_m");
     return STA_OK;
 }
 
@@ -44,11 +62,17 @@ void sta_normals_pyramid_pass_release(sta_normals_pyramid_pass *pass)
     if (pass->level_program) {
         glDeleteProgram(pass->level_program);
     }
-    if (pass->gather_program) {
-        glDeleteProgram(pass->gather_program);
+    GLuint programs[] = { pass->gather_program, pass->anchor_program, pass->upsample_program };
+    for (size_t i = 0; i < sizeof(programs) / sizeof(programs[0]); i++) {
+        if (programs[i]) {
+            glDeleteProgram(programs[i]);
+        }
     }
     if (pass->atlas) {
         glDeleteTextures(1, &pass->atlas);
+    }
+    if (pass->half) {
+        glDeleteTextures(1, &pass->half);
     }
     memset(pass, 0, sizeof(*pass));
 }
@@ -68,6 +92,10 @@ static sta_status ensure_atlas(sta_normals_pyramid_pass *pass, const sta_pullpus
         glDeleteTextures(1, &pass->atlas);
         pass->atlas = 0;
     }
+    if (pass->half) {
+        glDeleteTextures(1, &pass->half);
+        pass->half = 0;
+    }
     memset(pass->offset_x, 0, sizeof(pass->offset_x));
     memset(pass->offset_y, 0, sizeof(pass->offset_y));
     int column_height = 0;
@@ -85,6 +113,9 @@ static sta_status ensure_atlas(sta_normals_pyramid_pass *pass, const sta_pullpus
     }
     sta_status status =
         sta_gl_texture_create(pass->atlas_width_px, pass->atlas_height_px, 4, 1, &pass->atlas, err);
+    if (status == STA_OK) {
+        status = sta_gl_texture_create((w + 1) / 2, (h + 1) / 2, 4, 1, &pass->half, err);
+    }
     if (status != STA_OK) {
         return status;
     }
@@ -137,24 +168,45 @@ sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const st
         sta_gl_dispatch_2d(sizes[2 * l], sizes[2 * l + 1]);
     }
 
-    GLuint gp = pass->gather_program;
+    // Full resolution: the gather on every pixel. Half resolution: the gather on the
+    // even pixels into the half image, then the upsample on every pixel.
+    const int i = p.half_resolution ? 1 : 0;
+    const int hw = (view->width_px + 1) / 2, hh = (view->height_px + 1) / 2;
+    GLuint gp = i ? pass->anchor_program : pass->gather_program;
     glUseProgram(gp);
-    glProgramUniform2i(gp, pass->gather_size, view->width_px, view->height_px);
-    glProgramUniform1i(gp, pass->gather_level_count, count);
-    glProgramUniform2iv(gp, pass->gather_level_offset, count, offsets);
-    glProgramUniform2iv(gp, pass->gather_level_size, count, sizes);
-    glProgramUniform1f(gp, pass->gather_radius_px_m, sta_normals_pyramid_radius_px_m(view, &p));
-    glProgramUniform1f(gp, pass->gather_near, view->near_m);
-    glProgramUniform1f(gp, pass->gather_jump2, jump2);
-    glProgramUniform1f(gp, pass->gather_texel_m, sta_normals_pyramid_texel_m(view, 0));
-    glProgramUniform1f(gp, pass->gather_plane_tolerance_m,
+    glProgramUniform2i(gp, pass->gather_size[i], view->width_px, view->height_px);
+    glProgramUniform1i(gp, pass->gather_level_count[i], count);
+    glProgramUniform2iv(gp, pass->gather_level_offset[i], count, offsets);
+    glProgramUniform2iv(gp, pass->gather_level_size[i], count, sizes);
+    glProgramUniform1f(gp, pass->gather_radius_px_m[i], sta_normals_pyramid_radius_px_m(view, &p));
+    glProgramUniform1f(gp, pass->gather_near[i], view->near_m);
+    glProgramUniform1f(gp, pass->gather_jump2[i], jump2);
+    glProgramUniform1f(gp, pass->gather_texel_m[i], sta_normals_pyramid_texel_m(view, 0));
+    glProgramUniform1f(gp, pass->gather_plane_tolerance_m[i],
                        sta_normals_pyramid_plane_tolerance_m(view, &p));
-    glBindImageTexture(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL, out_normal_tex, 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL, i ? pass->half : out_normal_tex, 0,
+                       GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_NORMALS_PYRAMID_IMAGE_POINTS, filled_position_tex, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS, pass->atlas, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
+    if (i) {
+        sta_gl_dispatch_2d(hw, hh);
+        GLuint up = pass->upsample_program;
+        glUseProgram(up);
+        glProgramUniform2i(up, pass->upsample_size, view->width_px, view->height_px);
+        glProgramUniform2i(up, pass->upsample_half_size, hw, hh);
+        glProgramUniform1f(up, pass->upsample_near, view->near_m);
+        glProgramUniform1i(up, pass->upsample_level_count, count);
+        glProgramUniform1f(up, pass->upsample_radius_px_m,
+                           sta_normals_pyramid_radius_px_m(view, &p));
+        glProgramUniform1f(up, pass->upsample_plane_tolerance_m,
+                           sta_normals_pyramid_plane_tolerance_m(view, &p));
+        glBindImageTexture(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL, out_normal_tex, 0, GL_FALSE,
+                           0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_HALF, pass->half, 0, GL_FALSE, 0,
+                           GL_READ_ONLY, GL_RGBA32F);
+    }
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     for (GLuint unit = 0; unit <= STA_NORMALS_PYRAMID_IMAGE_LAST; unit++) {
         glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);

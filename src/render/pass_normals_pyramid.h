@@ -6,7 +6,10 @@
  * pass (level 1 at the origin, levels 2.. stacked in a column to its right, about 3/8
  * of the view's texels), so that the gather shader can pick a level per pixel; it is
  * (re)allocated when the view size changes. Level-0 normals are computed by the
- * gather shader itself where a pixel uses level 0. Main thread (GL) only.
+ * gather shader itself where a pixel uses level 0. At half resolution
+ * (params->half_resolution) the gather runs on the even pixels only, into a
+ * quarter-size image, and an upsample pass interpolates every pixel from it (the twin's
+ * steps 4-5). Main thread (GL) only.
  */
 #ifndef STA_RENDER_PASS_NORMALS_PYRAMID_H
 #define STA_RENDER_PASS_NORMALS_PYRAMID_H
@@ -20,10 +23,17 @@
 
 typedef struct sta_normals_pyramid_pass {
     GLuint level_program, gather_program;
+    GLuint anchor_program;   /* the gather on the even pixels (half resolution) */
+    GLuint upsample_program; /* half resolution, step 3 */
     GLint level_size, level_offset, level_jump2, level_texel_m;
-    GLint gather_size, gather_level_count, gather_level_offset, gather_level_size;
-    GLint gather_radius_px_m, gather_near, gather_plane_tolerance_m, gather_jump2, gather_texel_m;
+    /* [0] the gather program, [1] the anchor program */
+    GLint gather_size[2], gather_level_count[2], gather_level_offset[2], gather_level_size[2];
+    GLint gather_radius_px_m[2], gather_near[2], gather_plane_tolerance_m[2], gather_jump2[2];
+    GLint gather_texel_m[2];
+    GLint upsample_size, upsample_half_size, upsample_near, upsample_level_count;
+    GLint upsample_radius_px_m, upsample_plane_tolerance_m;
     GLuint atlas; /* owned, RGBA32F */
+    GLuint half;  /* owned, RGBA32F, ceil(w / 2) x ceil(h / 2): the anchors' normals */
     int atlas_width_px, atlas_height_px;
     int view_width_px, view_height_px;     /* the size the atlas was made for */
     int offset_x[STA_PULLPUSH_MAX_LEVELS]; /* level origins in the atlas */

@@ -2,18 +2,28 @@
  * Shading passes. */
 #include "render/pass_shade.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/ref/volumetric_ref.h"
 
 sta_status sta_shade_pass_init(sta_shade_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
     const char *shade[] = { "shade.comp" };
     const char *edl[] = { "edl.comp" };
+    const char *overlay[] = { "volumetric_window.glsl", "shade.comp" };
+    char defines[128];
+    snprintf(defines, sizeof(defines),
+             "#define STA_SHADE_OVERLAY 1\n#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
+             STA_VOLUMETRIC_SPLAT_RADIUS_PX);
     sta_status status = sta_gl_program_create(shade, 1, NULL, &pass->shade_program, err);
+    if (status == STA_OK) {
+        status = sta_gl_program_create(overlay, 2, defines, &pass->overlay_program, err);
+    }
     if (status == STA_OK) {
         status = sta_gl_program_create(edl, 1, NULL, &pass->edl_program, err);
     }
@@ -21,9 +31,12 @@ sta_status sta_shade_pass_init(sta_shade_pass *pass, sta_error *err)
         sta_shade_pass_release(pass);
         return status;
     }
-    pass->shade_size = glGetUniformLocation(pass->shade_program, "u_size");
-    pass->shade_light = glGetUniformLocation(pass->shade_program, "u_light");
-    pass->shade_background = glGetUniformLocation(pass->shade_program, "u_background");
+    for (int i = 0; i < 2; i++) {
+        GLuint program = i == 0 ? pass->shade_program : pass->overlay_program;
+        pass->shade_size[i] = glGetUniformLocation(program, "u_size");
+        pass->shade_light[i] = glGetUniformLocation(program, "u_light");
+        pass->shade_background[i] = glGetUniformLocation(program, "u_background");
+    }
     pass->edl_size = glGetUniformLocation(pass->edl_program, "u_size");
     pass->edl_radius = glGetUniformLocation(pass->edl_program, "u_radius");
     pass->edl_strength = glGetUniformLocation(pass->edl_program, "u_strength");
@@ -39,18 +52,27 @@ void sta_shade_pass_release(sta_shade_pass *pass)
     if (pass->edl_program) {
         glDeleteProgram(pass->edl_program);
     }
+    if (pass->overlay_program) {
+        glDeleteProgram(pass->overlay_program);
+    }
     memset(pass, 0, sizeof(*pass));
 }
 
 void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *params, int width,
-                        int height, GLuint position, GLuint colour, GLuint normal, GLuint out)
+                        int height, GLuint position, GLuint colour, GLuint normal,
+                        GLuint overlay_points, GLuint out)
 {
     sta_shade_params p = *params;
     sta_shade_params_defaults(&p);
-    glUseProgram(pass->shade_program);
-    glUniform2f(pass->shade_size, (float)width, (float)height);
-    glUniform4f(pass->shade_light, p.ambient, p.diffuse, p.specular, p.shininess);
-    glUniform3f(pass->shade_background, p.background[0], p.background[1], p.background[2]);
+    int i = overlay_points ? 1 : 0;
+    glUseProgram(i ? pass->overlay_program : pass->shade_program);
+    glUniform2f(pass->shade_size[i], (float)width, (float)height);
+    glUniform4f(pass->shade_light[i], p.ambient, p.diffuse, p.specular, p.shininess);
+    glUniform3f(pass->shade_background[i], p.background[0], p.background[1], p.background[2]);
+    if (overlay_points) {
+        glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_POINTS, overlay_points, 0, GL_FALSE, 0,
+                           GL_READ_ONLY, GL_RGBA32F);
+    }
     glBindImageTexture(STA_SHADE_IMAGE_POSITION, position, 0, GL_FALSE, 0, GL_READ_ONLY,
                        GL_RGBA32F);
     glBindImageTexture(STA_SHADE_IMAGE_COLOUR, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);

@@ -12,16 +12,21 @@
 
 typedef struct sta_shade_pass {
     GLuint shade_program, edl_program;
-    GLint shade_size, shade_light, shade_background;
+    GLuint overlay_program; /* shade.comp with the volumetric overlay (STA_SHADE_OVERLAY) */
+    GLint shade_size[2], shade_light[2], shade_background[2]; /* [0] shade, [1] overlay */
     GLint edl_size, edl_radius, edl_strength, edl_background;
 } sta_shade_pass;
 
 sta_status sta_shade_pass_init(sta_shade_pass *pass, sta_error *err);
 void sta_shade_pass_release(sta_shade_pass *pass);
 
-/* position, colour, normal: RGBA32F; out: RGBA8, all width x height. */
+/* position, colour, normal: RGBA32F; out: RGBA8, all width x height. overlay_points: 0,
+ * or the volumetric mark's points image (render/pass_volumetric.h), whose marked points
+ * are then drawn over the shading in the same pass, as sta_volumetric_pass_overlay would
+ * after it (the same picture, one full-screen pass fewer). */
 void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *params, int width,
-                        int height, GLuint position, GLuint colour, GLuint normal, GLuint out);
+                        int height, GLuint position, GLuint colour, GLuint normal,
+                        GLuint overlay_points, GLuint out);
 
 /* position, colour: RGBA32F; out: RGBA8. */
 void sta_edl_pass_run(const sta_shade_pass *pass, const sta_edl_params *params, int width,

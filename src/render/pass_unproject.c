@@ -12,8 +12,8 @@
 sta_status sta_unproject_pass_init(sta_unproject_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
-    const char *names[] = { "unproject.comp" };
-    sta_status status = sta_gl_program_create(names, 1, NULL, &pass->program, err);
+    const char *names[] = { "unproject_pixel.glsl", "unproject.comp" };
+    sta_status status = sta_gl_program_create(names, 2, NULL, &pass->program, err);
     if (status != STA_OK) {
         return status;
     }
@@ -34,13 +34,23 @@ void sta_unproject_pass_release(sta_unproject_pass *pass)
 void sta_unproject_pass_run(const sta_unproject_pass *pass, const sta_view_params *view,
                             GLuint depth_texture, GLuint position_texture)
 {
-    float tan_y = tanf(0.5f * view->fov_y);
+    float size[2], tan_half[2];
+    sta_unproject_uniforms(view, size, tan_half);
     glUseProgram(pass->program);
-    glUniform2f(pass->u_size, (float)view->width_px, (float)view->height_px);
-    glUniform2f(pass->u_tan_half, tan_y * (float)view->width_px / (float)view->height_px, tan_y);
+    glUniform2f(pass->u_size, size[0], size[1]);
+    glUniform2f(pass->u_tan_half, tan_half[0], tan_half[1]);
     glUniform1f(pass->u_near, view->near_m);
     glBindTextureUnit(STA_UNPROJECT_SAMPLER_DEPTH, depth_texture);
     glBindImageTexture(STA_UNPROJECT_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,
                        GL_WRITE_ONLY, GL_RGBA32F);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
+}
+
+void sta_unproject_uniforms(const sta_view_params *view, float size[2], float tan_half[2])
+{
+    float tan_y = tanf(0.5f * view->fov_y);
+    size[0] = (float)view->width_px;
+    size[1] = (float)view->height_px;
+    tan_half[0] = tan_y * (float)view->width_px / (float)view->height_px;
+    tan_half[1] = tan_y;
 }

@@ -22,4 +22,9 @@ void sta_unproject_pass_release(sta_unproject_pass *pass);
 void sta_unproject_pass_run(const sta_unproject_pass *pass, const sta_view_params *view,
                             GLuint depth_texture, GLuint position_texture);
 
+/* The floats unproject_pixel.glsl takes for `view` (u_size, u_tan_half; u_near is
+ * view->near_m): the compute rasteriser's resolve passes the same ones, so that its
+ * positions are the pass's bit for bit. */
+void sta_unproject_uniforms(const sta_view_params *view, float size[2], float tan_half[2]);
+
 #endif

@@ -20,10 +20,16 @@ sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err)
              "#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, STA_VOLUMETRIC_SPLAT_RADIUS_PX);
     const char *mark[] = { "volumetric_mark.comp" };
-    const char *overlay[] = { "volumetric_overlay.comp" };
+    const char *overlay[] = { "volumetric_window.glsl", "volumetric_overlay.comp" };
+    char image_defines[sizeof(defines) + 48];
+    snprintf(image_defines, sizeof(image_defines), "%s#define STA_VOLUMETRIC_CLASS_IMAGE 1\n",
+             defines);
     sta_status s = sta_gl_program_create(mark, 1, defines, &pass->mark_program, err);
     if (s == STA_OK) {
-        s = sta_gl_program_create(overlay, 1, defines, &pass->overlay_program, err);
+        s = sta_gl_program_create(mark, 1, image_defines, &pass->mark_image_program, err);
+    }
+    if (s == STA_OK) {
+        s = sta_gl_program_create(overlay, 2, defines, &pass->overlay_program, err);
     }
     if (s != STA_OK) {
         sta_volumetric_pass_release(pass);
@@ -31,6 +37,8 @@ sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err)
     }
     pass->mark_size = glGetUniformLocation(pass->mark_program, "u_size");
     pass->mark_classes = glGetUniformLocation(pass->mark_program, "u_classes");
+    pass->mark_image_size = glGetUniformLocation(pass->mark_image_program, "u_size");
+    pass->mark_image_classes = glGetUniformLocation(pass->mark_image_program, "u_classes");
     pass->overlay_size = glGetUniformLocation(pass->overlay_program, "u_size");
     return STA_OK;
 }
@@ -42,6 +50,9 @@ void sta_volumetric_pass_release(sta_volumetric_pass *pass)
     }
     if (pass->overlay_program) {
         glDeleteProgram(pass->overlay_program);
+    }
+    if (pass->mark_image_program) {
+        glDeleteProgram(pass->mark_image_program);
     }
     if (pass->nodes_buffer) {
         glDeleteBuffers(1, &pass->nodes_buffer);
@@ -99,15 +110,27 @@ static sta_status upload_nodes(sta_volumetric_pass *pass, const sta_volumetric_p
 
 sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumetric_points *src,
                                     const uint32_t class_set[STA_VOLUMETRIC_CLASS_WORDS],
-                                    const sta_volumetric_frame *frame, sta_error *err)
+                                    GLuint class_texture, const sta_volumetric_frame *frame,
+                                    sta_error *err)
 {
-    sta_status s = upload_nodes(pass, src, err);
-    if (s != STA_OK) {
-        return s;
+    if (class_texture) {
+        glUseProgram(pass->mark_image_program);
+        glUniform2i(pass->mark_image_size, frame->width, frame->height);
+        glUniform1uiv(pass->mark_image_classes, STA_VOLUMETRIC_CLASS_WORDS, class_set);
+        glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_CLASS, class_texture, 0, GL_FALSE, 0,
+                           GL_READ_ONLY, GL_R8UI);
+    } else {
+        sta_status s = upload_nodes(pass, src, err);
+        if (s != STA_OK) {
+            return s;
+        }
+        glUseProgram(pass->mark_program);
+        glUniform2i(pass->mark_size, frame->width, frame->height);
+        glUniform1uiv(pass->mark_classes, STA_VOLUMETRIC_CLASS_WORDS, class_set);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_MARK_BUFFER_ARENA, src->arena);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_MARK_BUFFER_NODES,
+                         pass->nodes_buffer);
     }
-    glUseProgram(pass->mark_program);
-    glUniform2i(pass->mark_size, frame->width, frame->height);
-    glUniform1uiv(pass->mark_classes, STA_VOLUMETRIC_CLASS_WORDS, class_set);
     glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_ID, src->id_texture, 0, GL_FALSE, 0, GL_READ_ONLY,
                        GL_RG32UI);
     glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_POSITION, frame->position, 0, GL_FALSE, 0,
@@ -117,9 +140,6 @@ sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumet
                        GL_R32F);
     glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
                        GL_WRITE_ONLY, GL_RGBA32F);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_MARK_BUFFER_ARENA, src->arena);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_MARK_BUFFER_NODES,
-                     pass->nodes_buffer);
     sta_gl_dispatch_2d(frame->width, frame->height);
     return sta_gl_check("volumetric mark pass", err);
 }
@@ -129,7 +149,7 @@ void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volu
 {
     glUseProgram(pass->overlay_program);
     glUniform2i(pass->overlay_size, frame->width, frame->height);
-    glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
+    glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY,
                        GL_RGBA8);

@@ -14,7 +14,9 @@
 
 typedef struct sta_volumetric_pass {
     GLuint mark_program, overlay_program;
+    GLuint mark_image_program; /* the mark reading a class image (STA_VOLUMETRIC_CLASS_IMAGE) */
     GLint mark_size, mark_classes, overlay_size;
+    GLint mark_image_size, mark_image_classes;
     GLuint nodes_buffer;     /* uvec2 per node slot */
     uint32_t nodes_capacity; /* slots the buffer holds */
     uint32_t *host_nodes;    /* sta_volumetric_points_from_cache's table */
@@ -49,10 +51,14 @@ typedef struct sta_volumetric_frame {
     GLuint points;   /* RGBA32F: written by mark, read by overlay */
 } sta_volumetric_frame;
 
-/* Marks the pixels whose point has a class in `class_set`. */
+/* Marks the pixels whose point has a class in `class_set`. class_texture: 0 to look each
+ * pixel's class up through its point id in `src`, or an R8UI image of the classes of the
+ * points drawn (the compute rasteriser's, render/raster_compute.h): the same marks, one
+ * image read instead of two dependent buffer reads a pixel. */
 sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumetric_points *src,
                                     const uint32_t class_set[STA_VOLUMETRIC_CLASS_WORDS],
-                                    const sta_volumetric_frame *frame, sta_error *err);
+                                    GLuint class_texture, const sta_volumetric_frame *frame,
+                                    sta_error *err);
 
 /* Splats the marked points over `out` (RGBA8). */
 void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volumetric_frame *frame,

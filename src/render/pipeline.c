@@ -96,14 +96,14 @@ sta_status sta_pipeline_init(sta_pipeline *p, sta_error *err)
 static void release_textures(sta_pipeline *p)
 {
     GLuint textures[] = { p->position,      p->colour, p->label,   p->pyramid, p->filled_position,
-                          p->filled_colour, p->normal, p->normal2, p->points };
+                          p->filled_colour, p->normal, p->normal2, p->points,  p->classes };
     for (size_t i = 0; i < sizeof(textures) / sizeof(textures[0]); i++) {
         if (textures[i]) {
             glDeleteTextures(1, &textures[i]);
         }
     }
     p->position = p->colour = p->label = p->pyramid = 0;
-    p->filled_position = p->filled_colour = p->normal = p->normal2 = p->points = 0;
+    p->filled_position = p->filled_colour = p->normal = p->normal2 = p->points = p->classes = 0;
     p->width_px = p->height_px = 0;
 }
 
@@ -142,6 +142,10 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
         s = sta_gl_texture_create(w, h, 1, 1, &p->label, err);
     }
     if (s == STA_OK) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &p->classes);
+        glTextureStorage2D(p->classes, 1, GL_R8UI, w, h);
+    }
+    if (s == STA_OK) {
         s = sta_hpr_pyramid_texture_create(w, h, &p->pyramid, err);
     }
     if (s != STA_OK) {
@@ -151,6 +155,18 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
     p->width_px = w;
     p->height_px = h;
     return STA_OK;
+}
+
+sta_status sta_pipeline_raster_textures(sta_pipeline *p, int width_px, int height_px,
+                                        GLuint *out_position, GLuint *out_classes, sta_error *err)
+{
+    *out_position = *out_classes = 0;
+    sta_status s = resize(p, width_px, height_px, err);
+    if (s == STA_OK) {
+        *out_position = p->position;
+        *out_classes = p->classes;
+    }
+    return s;
 }
 
 double sta_timing_clock_ms(int clock)
@@ -193,7 +209,7 @@ static sta_status run_normals(sta_pipeline *p, const sta_pipeline_options *o,
     mark(p, t, STA_PASS_NORMALS, 0);
     sta_status s;
     if (o->normals == STA_NORMAL_PYRAMID) {
-        sta_normals_pyramid_params params = { 0 };
+        sta_normals_pyramid_params params = { .half_resolution = !o->normals_every_pixel };
         sta_normals_pyramid_params_defaults(&params);
         s = sta_normals_pyramid_pass_run(&p->normals_pyramid, view, &params,
                                          sta_pullpush_pass_pyramid(&p->pullpush),
@@ -273,6 +289,8 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
                             sta_pipeline_timing *t, sta_error *err)
 {
     bool ran[STA_PASS_COUNT] = { false };
+    bool positions_ready = p->positions_ready;
+    p->positions_ready = false;
     if (t) {
         memset(t, 0, sizeof(*t));
     }
@@ -284,11 +302,13 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     if (s != STA_OK) {
         return s;
     }
-    // Inputs: positions from depth; colour as float only for the passes that read it
-    // as an image (EDL, the HPR display); pull-push and the volumetric mark sample the
-    // geometry pass's RGBA8 colour (the same values).
+    // Inputs: positions from depth (unless the compute rasteriser wrote them); colour as float only
+    // for the passes that read it as an image (EDL, the HPR display); pull-push and the volumetric
+    // mark sample the geometry pass's RGBA8 colour (the same values).
     mark(p, t, STA_PASS_UNPROJECT, 0);
-    sta_unproject_pass_run(&p->unproject, view, depth, p->position);
+    if (!positions_ready) {
+        sta_unproject_pass_run(&p->unproject, view, depth, p->position);
+    }
     if (o->mode == STA_PIPELINE_EDL || o->mode == STA_PIPELINE_HPR) {
         glUseProgram(p->colour_program);
         glUniform2f(p->colour_size, (float)w, (float)h);
@@ -336,7 +356,8 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     sta_volumetric_frame vframe = { w, h, p->position, colour_rgba8, p->label, p->points };
     if (volumetric) {
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
-        s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes, &vframe, err);
+        s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes,
+                                     positions_ready ? p->classes : 0, &vframe, err);
         mark(p, t, STA_PASS_VOLUMETRIC, 1);
         ran[STA_PASS_VOLUMETRIC] = true;
         if (s != STA_OK) {
@@ -370,10 +391,13 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     mark(p, t, STA_PASS_SHADE, 0);
     sta_shade_params shade = { .background = { o->background[0], o->background[1],
                                                o->background[2] } };
+    // The marked volumetric points are drawn inside the shade pass (one full-screen
+    // pass fewer; its time counts as shading).
     sta_shade_pass_run(&p->shade, &shade, w, h, p->filled_position, p->filled_colour, p->normal,
-                       colour_rgba8);
+                       volumetric ? p->points : 0, colour_rgba8);
     mark(p, t, STA_PASS_SHADE, 1);
     ran[STA_PASS_SHADE] = true;
+    goto done;
 overlay:
     if (volumetric) {
         double before = p->marks[2 * STA_PASS_VOLUMETRIC + 1] - p->marks[2 * STA_PASS_VOLUMETRIC];

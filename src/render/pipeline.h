@@ -67,6 +67,9 @@ typedef struct sta_pipeline_options {
     bool hpr_exhaustive;         /* the fixed-radius baseline instead of the pyramid */
     bool hpr_every_pixel;        /* the pyramid on every pixel instead of the sparse operator
                                     (the default; sta_hpr_params.sparse, docs/HPR.md) */
+    bool normals_every_pixel;    /* pyramidal normals gathered on every pixel instead of on
+                                    a quarter of them and upsampled (the default;
+                                    sta_normals_pyramid_params.half_resolution) */
     int hpr_radius_px;           /* exhaustive radius (0: STA_PIPELINE_DEFAULT_HPR_RADIUS_PX) */
     float hpr_threshold;         /* 0: 0.1 */
     float s0_m;                  /* sampling scale; 0: the scene's estimate */
@@ -113,8 +116,14 @@ typedef struct sta_pipeline {
     int width_px, height_px; /* texture size */
     GLuint position, colour, label, pyramid, filled_position, filled_colour, normal, normal2;
     GLuint points;                    /* volumetric colours (RGBA32F) */
+    GLuint classes;                   /* R8UI point classes (from the compute rasteriser) */
     double marks[2 * STA_PASS_COUNT]; /* pass start/end, ms (timing on) */
     int timing_clock;                 /* sta_timing_clock of the marks (0: wall) */
+    /* Set by the caller for one run: `position` and `classes` already hold this frame's
+     * camera-space positions and point classes (the compute rasteriser's resolve wrote
+     * them, see sta_pipeline_raster_textures), so the unproject pass is skipped and the
+     * volumetric mark reads the classes; cleared by the run. */
+    bool positions_ready;
 } sta_pipeline;
 
 sta_status sta_pipeline_init(sta_pipeline *pipeline, sta_error *err);
@@ -130,6 +139,12 @@ sta_status sta_pipeline_set_points(sta_pipeline *pipeline, GLuint id_texture,
  * float) and colour (RGBA8) textures and writes the result into `colour_rgba8` (it is
  * read first, then overwritten). With `timing` (may be NULL) every pass is timed by
  * draining the GPU around it (wall clock), which slows the frame a little. */
+/* The textures the next run of a width x height view reads its camera-space positions
+ * (RGBA32F) and point classes (R8UI) from ((re)allocated for that size), for a geometry
+ * pass that writes them itself (then set positions_ready). */
+sta_status sta_pipeline_raster_textures(sta_pipeline *pipeline, int width_px, int height_px,
+                                        GLuint *out_position, GLuint *out_classes, sta_error *err);
+
 sta_status sta_pipeline_run(sta_pipeline *pipeline, const sta_pipeline_options *options,
                             const sta_view_params *view, GLuint depth, GLuint colour_rgba8,
                             sta_pipeline_timing *timing, sta_error *err);

@@ -9,6 +9,7 @@
 #include "core/array.h"
 #include "render/bindings.h"
 #include "render/gl.h"
+#include "render/pass_unproject.h"
 
 /* One entry of the node table, as raster_common.glsl's raster_node (std430). */
 typedef struct raster_node {
@@ -31,21 +32,22 @@ static void uniforms(sta_raster_compute *r, int slot, GLuint program)
     sta_footprint_uniforms_locate(&r->footprint[slot], program);
 }
 
-// The resolve of colour `mode`, built on first use.
-static sta_status resolve_program(sta_raster_compute *r, int mode, sta_raster_resolve **out,
-                                  sta_error *err)
+// The resolve of colour `mode` (writing positions or not), built on first use.
+static sta_status resolve_program(sta_raster_compute *r, int mode, int position,
+                                  sta_raster_resolve **out, sta_error *err)
 {
-    sta_raster_resolve *v = &r->resolve[mode];
+    sta_raster_resolve *v = &r->resolve[mode][position];
     *out = v;
     if (v->program) {
         return STA_OK;
     }
-    char defines[sizeof(r->resolve_defines) + 64];
-    snprintf(defines, sizeof(defines), "%s#define STA_RASTER_COLOUR_MODE %d\n", r->resolve_defines,
-             mode);
-    const char *sources[] = { "geometry_colour.glsl", "raster_common.glsl", "raster_resolve.vert",
-                              "raster_resolve.frag" };
-    sta_status status = sta_gl_program_create(sources, 4, defines, &v->program, err);
+    char defines[sizeof(r->resolve_defines) + 96];
+    snprintf(defines, sizeof(defines),
+             "%s#define STA_RASTER_COLOUR_MODE %d\n#define STA_RASTER_POSITION %d\n",
+             r->resolve_defines, mode, position);
+    const char *sources[] = { "geometry_colour.glsl", "raster_common.glsl", "unproject_pixel.glsl",
+                              "raster_resolve.vert", "raster_resolve.frag" };
+    sta_status status = sta_gl_program_create(sources, 5, defines, &v->program, err);
     if (status != STA_OK) {
         return status;
     }
@@ -56,6 +58,9 @@ static sta_status resolve_program(sta_raster_compute *r, int mode, sta_raster_re
     v->u_elevation = glGetUniformLocation(p, "u_elevation");
     v->u_intensity_scale = glGetUniformLocation(p, "u_intensity_scale");
     v->u_background = glGetUniformLocation(p, "u_background");
+    v->u_unproject_size = glGetUniformLocation(p, "u_unproject_size");
+    v->u_tan_half = glGetUniformLocation(p, "u_tan_half");
+    v->u_near = glGetUniformLocation(p, "u_near");
     return STA_OK;
 }
 
@@ -94,7 +99,7 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
              packed ? 1 : 0, (int)subpixel_bits);
     sta_raster_resolve *resolve = NULL;
     if (status == STA_OK) { // the default colours' resolve now, so that errors show early
-        status = resolve_program(r, STA_COLOUR_RGB, &resolve, err);
+        status = resolve_program(r, STA_COLOUR_RGB, 0, &resolve, err);
     }
     if (status != STA_OK) {
         sta_raster_compute_release(r);
@@ -123,8 +128,10 @@ void sta_raster_compute_release(sta_raster_compute *r)
         }
     }
     for (int i = 0; i < STA_COLOUR_MODE_COUNT; i++) {
-        if (r->resolve[i].program) {
-            glDeleteProgram(r->resolve[i].program);
+        for (int k = 0; k < 2; k++) {
+            if (r->resolve[i][k].program) {
+                glDeleteProgram(r->resolve[i][k].program);
+            }
         }
     }
     if (r->vao) {
@@ -303,11 +310,17 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     sta_raster_resolve *v = NULL;
     int mode = colours->mode >= 0 && colours->mode < STA_COLOUR_MODE_COUNT ? colours->mode
                                                                            : STA_COLOUR_RGB;
-    status = resolve_program(r, mode, &v, err);
+    int position = r->position_out ? 1 : 0;
+    status = resolve_program(r, mode, position, &v, err);
     if (status != STA_OK) {
         return status;
     }
     glUseProgram(v->program);
+    if (position) {
+        glUniform2fv(v->u_unproject_size, 1, r->unproject_size);
+        glUniform2fv(v->u_tan_half, 1, r->unproject_tan_half);
+        glUniform1f(v->u_near, r->unproject_near);
+    }
     glUniformMatrix4fv(v->u_view_rotation, 1, GL_FALSE, view);
     glUniformMatrix4fv(v->u_projection, 1, GL_FALSE, projection);
     glUniform2i(v->u_size, w, h);
@@ -318,6 +331,13 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     sta_ground_texture_use(colours->ground, v->program, camera);
     glUniform3fv(v->u_background, 1, background);
     sta_render_target_bind(target);
+    if (position) { // a third colour attachment for this draw only
+        glNamedFramebufferTexture(target->framebuffer, GL_COLOR_ATTACHMENT2, r->position_out, 0);
+        glNamedFramebufferTexture(target->framebuffer, GL_COLOR_ATTACHMENT3, r->class_out, 0);
+        const GLenum four[4] = { GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                 GL_COLOR_ATTACHMENT3 };
+        glNamedFramebufferDrawBuffers(target->framebuffer, 4, four);
+    }
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
     glBindVertexArray(r->vao);
@@ -325,5 +345,24 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     glBindVertexArray(0);
     glDepthFunc(GL_LESS);
     glDisable(GL_DEPTH_TEST);
+    if (position) {
+        const GLenum two[2] = { GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1 };
+        glNamedFramebufferDrawBuffers(target->framebuffer, 2, two);
+        glNamedFramebufferTexture(target->framebuffer, GL_COLOR_ATTACHMENT2, 0, 0);
+        glNamedFramebufferTexture(target->framebuffer, GL_COLOR_ATTACHMENT3, 0, 0);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                        GL_FRAMEBUFFER_BARRIER_BIT);
+    }
     return STA_OK;
+}
+
+void sta_raster_compute_set_position_out(sta_raster_compute *r, GLuint position_texture,
+                                         GLuint class_texture, const sta_view_params *view)
+{
+    r->position_out = position_texture;
+    r->class_out = position_texture ? class_texture : 0;
+    if (position_texture) {
+        sta_unproject_uniforms(view, r->unproject_size, r->unproject_tan_half);
+        r->unproject_near = view->near_m;
+    }
 }

@@ -39,6 +39,7 @@
 #include "render/footprint_uniforms.h"
 #include "render/geometry_colours.h"
 #include "render/gpu_cache.h"
+#include "render/ref/screen_space.h"
 #include "render/target.h"
 #include "stream/gpu_points.h"
 
@@ -46,6 +47,7 @@
 typedef struct sta_raster_resolve {
     GLuint program; /* 0: not built yet */
     GLint u_view_rotation, u_projection, u_size, u_elevation, u_intensity_scale, u_background;
+    GLint u_unproject_size, u_tan_half, u_near; /* the position variant's */
 } sta_raster_resolve;
 
 /* Point programs: [2 * step + wide] (one-pixel and footprint variants of each step). */
@@ -74,8 +76,12 @@ typedef struct sta_raster_compute {
     sta_footprint_uniforms footprint[STA_RASTER_PROGRAMS];
     /* The resolve per colour mode (a constant there: llvmpipe would run every mode's
      * branch), built when the mode is first drawn, from these defines. */
-    sta_raster_resolve resolve[STA_COLOUR_MODE_COUNT];
+    sta_raster_resolve resolve[STA_COLOUR_MODE_COUNT][2]; /* [mode][writes positions] */
     char resolve_defines[256];
+    /* sta_raster_compute_set_position_out: RGBA32F texture the resolve also writes the
+     * camera-space positions into (0: none), and the unproject uniforms for it. */
+    GLuint position_out, class_out; /* class_out: R8UI */
+    float unproject_size[2], unproject_tan_half[2], unproject_near;
 } sta_raster_compute;
 
 /* Builds the programs: the packed one-pass variant when `packed` (needs
@@ -84,6 +90,16 @@ sta_status sta_raster_compute_init(sta_raster_compute *raster, bool packed, sta_
 
 /* A zeroed rasteriser is a no-op. */
 void sta_raster_compute_release(sta_raster_compute *raster);
+
+/* From the next draw on, the resolve also writes each pixel's camera-space position
+ * into `position_texture` (RGBA32F of the target's size; 0: stop), exactly as the
+ * unproject pass (render/pass_unproject.h) would from the depth it writes, for `view`
+ * (the target's size and the camera's fov and near plane): attached to the target as a
+ * third colour output for the resolve draw only (a fragment output: an image store there
+ * cost llvmpipe as much as the unproject pass it saves); and each pixel's point class
+ * into `class_texture` (R8UI, 0 where no point), a fourth output. */
+void sta_raster_compute_set_position_out(sta_raster_compute *raster, GLuint position_texture,
+                                         GLuint class_texture, const sta_view_params *view);
 
 /* Rasterises nodes `draw[0..count)` into `target` (cleared first) with `footprint`
  * (render/point_size.h; all zero: one pixel per point); same contract as

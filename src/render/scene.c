@@ -305,6 +305,45 @@ static sta_status build_ground(sta_scene *s, sta_error *err)
     return status;
 }
 
+static sta_status ensure_pipeline(sta_scene *s, sta_error *err)
+{
+    if (!s->has_pipeline) {
+        sta_status status = sta_pipeline_init(&s->pipeline, err);
+        if (status != STA_OK) {
+            return status;
+        }
+        s->has_pipeline = true;
+    }
+    return STA_OK;
+}
+
+// Before the geometry pass of a frame the screen-space pipeline runs on: the compute
+// rasteriser's resolve writes the pipeline's camera-space positions itself (the same
+// bits as the unproject pass, which the pipeline then skips: one full-screen pass fewer)
+// and the classes the volumetric mark would otherwise look up through the point ids.
+static sta_status geometry_positions(sta_scene *s, const sta_camera *camera,
+                                     const sta_pipeline_options *pipeline, sta_error *err)
+{
+    s->pipeline.positions_ready = false;
+    if (pipeline->mode == STA_PIPELINE_RAW || pipeline->mode == STA_PIPELINE_SPLATS ||
+        s->geometry.choice.raster != STA_RASTER_COMPUTE) {
+        return STA_OK;
+    }
+    sta_status status = ensure_pipeline(s, err);
+    GLuint position = 0, classes = 0;
+    if (status == STA_OK) {
+        status = sta_pipeline_raster_textures(&s->pipeline, camera->width_px, camera->height_px,
+                                              &position, &classes, err);
+    }
+    if (status == STA_OK) {
+        sta_view_params view = { camera->width_px, camera->height_px, (float)camera->fov_y,
+                                 (float)camera->near_m, 0.0f };
+        s->pipeline.positions_ready =
+            sta_pass_geometry_set_position_out(&s->geometry, position, classes, &view);
+    }
+    return status;
+}
+
 sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_target *target,
                             sta_frame_stats *stats, sta_error *err)
 {
@@ -390,8 +429,12 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         int mode = s->pipeline_options.mode;
         bool sized = mode == STA_PIPELINE_RAW || mode == STA_PIPELINE_EDL;
         sta_pass_geometry_set_point_size(&s->geometry, sized ? &s->point_size : NULL);
-        status = sta_pass_geometry_draw(&s->geometry, camera, &colours, &s->cache, s->frames,
-                                        frame.draw, frame.draw_count, target, err);
+        status = geometry_positions(s, camera, &pipeline, err);
+        if (status == STA_OK) {
+            status = sta_pass_geometry_draw(&s->geometry, camera, &colours, &s->cache, s->frames,
+                                            frame.draw, frame.draw_count, target, err);
+        }
+        sta_pass_geometry_set_position_out(&s->geometry, 0, 0, NULL); // this draw only
         if (status != STA_OK) {
             return status;
         }
@@ -402,12 +445,9 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
         stats->geometry_cpu_ms = sta_clock_process_cpu_ms() - geometry_cpu_start;
     }
     if (pipeline.mode != STA_PIPELINE_RAW && pipeline.mode != STA_PIPELINE_SPLATS) {
-        if (!s->has_pipeline) {
-            status = sta_pipeline_init(&s->pipeline, err);
-            if (status != STA_OK) {
-                return status;
-            }
-            s->has_pipeline = true;
+        status = ensure_pipeline(s, err);
+        if (status != STA_OK) {
+            return status;
         }
         sta_view_params screen = { camera->width_px, camera->height_px, (float)camera->fov_y,
                                    (float)camera->near_m, stats->s0_m > 0 ? stats->s0_m : 0.01f };
@@ -416,6 +456,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
             return status;
         }
         s->pipeline.timing_clock = s->timing_clock;
+        stats->raster_positions = s->pipeline.positions_ready;
         status = sta_pipeline_run(&s->pipeline, &pipeline, &screen, target->depth, target->colour,
                                   s->timing ? &stats->timing : NULL, err);
         if (status != STA_OK) {

@@ -44,6 +44,8 @@ typedef struct sta_frame_stats {
                                    llvmpipe the work of its threads, steadier than the wall
                                    time on a busy machine */
     sta_pipeline_timing timing; /* screen-space passes (when timing is on) */
+    bool raster_positions;      /* the compute rasteriser wrote the camera-space positions
+                                   and the pipeline skipped its unproject pass */
     bool complete;              /* every selected node is resident (or refused), and in the
                                    live Katz mode the set drawn is of this view */
     sta_katz_frame_stats katz;  /* live Katz mode (zero when off) */

@@ -161,6 +161,112 @@ static bool level_normal(const sta_image *normals, const sta_image *points, int 
     return true;
 }
 
+// What steps 2-3 read: the view, the parameters and every level's points and normals.
+typedef struct gather_input {
+    const sta_view_params *view;
+    const sta_pullpush_levels *levels;
+    const sta_image *filled_position;
+    const sta_image *normals; /* per level */
+    int count;
+    float radius_px_m, tolerance_m;
+} gather_input;
+
+// Steps 2-3 at pixel (x, y), whose point pt has w > 0: the unit normal facing the camera,
+// false where there is none.
+static bool gather_pixel(const gather_input *g, int x, int y, const float pt[3], float o[3])
+{
+    const int count = g->count;
+    float depth = fmaxf(-pt[2], g->view->near_m);
+    float r_px = g->radius_px_m / depth;
+    float lambda = fminf(log2f(fmaxf(r_px, 1.0f)), (float)(count - 1));
+    int la = (int)lambda;
+    int lb = la + 1 < count ? la + 1 : la;
+    float t = lambda - (float)la;
+    float na[3], nb[3], n[3];
+    const sta_image *pa = la == 0 ? g->filled_position : &g->levels->position[la];
+    const sta_image *pb = lb == 0 ? g->filled_position : &g->levels->position[lb];
+    float ta = g->tolerance_m * (float)(1 << la) * depth;
+    float tb = g->tolerance_m * (float)(1 << lb) * depth;
+    bool va = level_normal(&g->normals[la], pa, la, x, y, pt, ta, na);
+    bool vb = level_normal(&g->normals[lb], pb, lb, x, y, pt, tb, nb);
+    if (va && vb) {
+        for (int k = 0; k < 3; k++) {
+            n[k] = (1.0f - t) * na[k] + t * nb[k];
+        }
+    } else if (va || vb) {
+        memcpy(n, va ? na : nb, sizeof(n));
+    } else {
+        // Both levels straddle a discontinuity here: the next finer level that has a
+        // texel on the pixel's side.
+        bool found = false;
+        for (int l = la - 1; l >= 0 && !found; l--) {
+            const sta_image *pl = l == 0 ? g->filled_position : &g->levels->position[l];
+            float tl = g->tolerance_m * (float)(1 << l) * depth;
+            found = level_normal(&g->normals[l], pl, l, x, y, pt, tl, n);
+        }
+        if (!found) {
+            return false;
+        }
+    }
+    float n2 = dot3(n, n);
+    if (!(n2 > 1e-12f)) {
+        return false;
+    }
+    float len = sqrtf(n2);
+    float s = dot3(n, pt) > 0.0f ? -1.0f : 1.0f;
+    for (int k = 0; k < 3; k++) {
+        o[k] = s * (n[k] / len);
+    }
+    return true;
+}
+
+// Step 5 at pixel (x, y), whose point pt has w > 0; half: step 4's image (xyz normal,
+// zero where none, w its plane offset).
+static bool upsample_pixel(const gather_input *g, const sta_image *half, int x, int y,
+                           const float pt[3], float o[3])
+{
+    float depth = fmaxf(-pt[2], g->view->near_m);
+    float lambda = fminf(log2f(fmaxf(g->radius_px_m / depth, 1.0f)), (float)(g->count - 1));
+    int level = (int)lambda > 1 ? (int)lambda : 1;
+    float tolerance = g->tolerance_m * (float)(1 << level) * depth;
+    int i0 = x / 2, j0 = y / 2;
+    float fu = (float)(x - 2 * i0) * 0.5f, fv = (float)(y - 2 * j0) * 0.5f;
+    float n[3] = { 0.0f, 0.0f, 0.0f }, nearest[3] = { 0.0f, 0.0f, 0.0f };
+    float nearest_off = 1e30f;
+    for (int b = 0; b < 2; b++) {
+        for (int a = 0; a < 2; a++) {
+            int i = i0 + a < half->width ? i0 + a : half->width - 1;
+            int j = j0 + b < half->height ? j0 + b : half->height - 1;
+            const float *m = sta_image_at(half, i, j);
+            float bw = (a == 1 ? fu : 1.0f - fu) * (b == 1 ? fv : 1.0f - fv);
+            float off = fabsf(dot3(m, pt) - m[3]);
+            bool valid = dot3(m, m) > 0.5f;
+            if (valid && off <= tolerance) {
+                for (int k = 0; k < 3; k++) {
+                    n[k] += bw * m[k];
+                }
+            }
+            if (valid && bw > 0.0f && off < nearest_off) {
+                nearest_off = off;
+                memcpy(nearest, m, sizeof(nearest));
+            }
+        }
+    }
+    if (!(dot3(n, n) > 1e-12f)) {
+        memcpy(n, nearest, sizeof(n)); // no anchor on p's surface: the nearest plane's
+    }
+    float n2 = dot3(n, n);
+    if (!(n2 > 1e-12f)) {
+        return false;
+    }
+    float len = sqrtf(n2);
+    float s = dot3(n, pt) > 0.0f ? -1.0f : 1.0f;
+    for (int k = 0; k < 3; k++) {
+        o[k] = s * (n[k] / len);
+    }
+    return true;
+}
+
 sta_status sta_normals_pyramid_ref(const sta_view_params *view,
                                    const sta_normals_pyramid_params *params,
                                    const sta_pullpush_levels *levels,
@@ -180,10 +286,8 @@ sta_status sta_normals_pyramid_ref(const sta_view_params *view,
     }
     sta_normals_pyramid_params p = params ? *params : (sta_normals_pyramid_params){ 0 };
     sta_normals_pyramid_params_defaults(&p);
-    float radius_px_m = sta_normals_pyramid_radius_px_m(view, &p);
-    float tolerance_m = sta_normals_pyramid_plane_tolerance_m(view, &p);
 
-    sta_image normals[STA_PULLPUSH_MAX_LEVELS];
+    sta_image normals[STA_PULLPUSH_MAX_LEVELS], half = { 0 };
     memset(normals, 0, sizeof(normals));
     sta_status status = STA_OK;
     for (int l = 0; l < count && status == STA_OK; l++) {
@@ -194,6 +298,26 @@ sta_status sta_normals_pyramid_ref(const sta_view_params *view,
                                           sta_normals_pyramid_texel_m(view, l), &normals[l]);
         }
     }
+    gather_input g = { view,
+                       levels,
+                       filled_position,
+                       normals,
+                       count,
+                       sta_normals_pyramid_radius_px_m(view, &p),
+                       sta_normals_pyramid_plane_tolerance_m(view, &p) };
+    if (status == STA_OK && p.half_resolution) {
+        status = sta_image_init(&half, (w + 1) / 2, (h + 1) / 2, 4, err);
+        for (int j = 0; j < half.height && status == STA_OK; j++) {
+            for (int i = 0; i < half.width; i++) {
+                const float *pt = sta_image_at(filled_position, 2 * i, 2 * j);
+                float *o = sta_image_at(&half, i, j);
+                o[0] = o[1] = o[2] = o[3] = 0.0f;
+                if (pt[3] > 0.0f && gather_pixel(&g, 2 * i, 2 * j, pt, o)) {
+                    o[3] = dot3(o, pt);
+                }
+            }
+        }
+    }
     for (int y = 0; y < h && status == STA_OK; y++) {
         for (int x = 0; x < w; x++) {
             const float *pt = sta_image_at(filled_position, x, y);
@@ -202,50 +326,15 @@ sta_status sta_normals_pyramid_ref(const sta_view_params *view,
             if (!(pt[3] > 0.0f)) {
                 continue;
             }
-            float depth = fmaxf(-pt[2], view->near_m);
-            float r_px = radius_px_m / depth;
-            float lambda = fminf(log2f(fmaxf(r_px, 1.0f)), (float)(count - 1));
-            int la = (int)lambda;
-            int lb = la + 1 < count ? la + 1 : la;
-            float t = lambda - (float)la;
-            float na[3], nb[3], n[3];
-            const sta_image *pa = la == 0 ? filled_position : &levels->position[la];
-            const sta_image *pb = lb == 0 ? filled_position : &levels->position[lb];
-            float ta = tolerance_m * (float)(1 << la) * depth;
-            float tb = tolerance_m * (float)(1 << lb) * depth;
-            bool va = level_normal(&normals[la], pa, la, x, y, pt, ta, na);
-            bool vb = level_normal(&normals[lb], pb, lb, x, y, pt, tb, nb);
-            if (va && vb) {
-                for (int k = 0; k < 3; k++) {
-                    n[k] = (1.0f - t) * na[k] + t * nb[k];
-                }
-            } else if (va || vb) {
-                memcpy(n, va ? na : nb, sizeof(n));
-            } else {
-                // Both levels straddle a discontinuity here: the next finer level that
-                // has a texel on the pixel's side.
-                bool found = false;
-                for (int l = la - 1; l >= 0 && !found; l--) {
-                    const sta_image *pl = l == 0 ? filled_position : &levels->position[l];
-                    float tl = tolerance_m * (float)(1 << l) * depth;
-                    found = level_normal(&normals[l], pl, l, x, y, pt, tl, n);
-                }
-                if (!found) {
-                    continue;
-                }
+            bool ok = p.half_resolution ? upsample_pixel(&g, &half, x, y, pt, o)
+                                        : gather_pixel(&g, x, y, pt, o);
+            o[3] = ok ? 1.0f : 0.0f;
+            if (!ok) {
+                o[0] = o[1] = o[2] = 0.0f;
             }
-            float n2 = dot3(n, n);
-            if (!(n2 > 1e-12f)) {
-                continue;
-            }
-            float len = sqrtf(n2);
-            float s = dot3(n, pt) > 0.0f ? -1.0f : 1.0f;
-            for (int k = 0; k < 3; k++) {
-                o[k] = s * (n[k] / len);
-            }
-            o[3] = 1.0f;
         }
     }
+    sta_image_release(&half);
     for (int l = 0; l < count; l++) {
         sta_image_release(&normals[l]);
     }

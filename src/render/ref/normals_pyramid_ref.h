@@ -24,9 +24,22 @@
  *    metre at unit depth) of the texel's tangent plane (its normal through its point).
  *    Where no texel of the two levels passes, the next finer level that has one is
  *    used, down to level 0 (the pixel's own normal, whose plane holds p).
+ * At half resolution (half_resolution; issue 20: the gather is most of the pass's cost,
+ * and it is per pixel):
+ * 4. Steps 2-3 on the even pixels (2i, 2j) only (the anchors), giving a
+ *    ceil(W / 2) x ceil(H / 2) image of normals and their tangent planes.
+ * 5. Every pixel with a point p: bilinear interpolation of the anchors around it (anchor
+ *    (i, j) sits at pixel (2i, 2j): weights 1, 1/2 or 1/4; clamped at the far borders),
+ *    counting only anchors whose tangent plane passes within plane_tolerance texel
+ *    footprints of p at level max(1, floor(lambda)) (step 3's finer level at p, at
+ *    least level 1, the anchors' spacing); where none does, the normal of the anchor of non-zero
+ * weight whose plane passes nearest to p (the first in row order on ties; none where no anchor has
+ * one); normalised and oriented towards the camera.
  */
 #ifndef STA_RENDER_REF_NORMALS_PYRAMID_REF_H
 #define STA_RENDER_REF_NORMALS_PYRAMID_REF_H
+
+#include <stdbool.h>
 
 #include "core/status.h"
 #include "render/ref/image.h"
@@ -50,6 +63,7 @@ typedef struct sta_normals_pyramid_params {
                               the test off (the estimator before issue 15) */
     float jump_ratio;      /* step 1; below 1 (or NaN): STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO;
                               +INFINITY: no jump test (before issue 15) */
+    bool half_resolution;  /* steps 4-5 instead of 2-3 on every pixel (default false) */
 } sta_normals_pyramid_params;
 
 /* Fills the zero (or negative, or NaN) fields of `config` with the defaults above, in
