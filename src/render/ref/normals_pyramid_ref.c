@@ -171,6 +171,22 @@ typedef struct gather_input {
     float radius_px_m, tolerance_m;
 } gather_input;
 
+// The normal n made unit length and turned to face the camera at the origin (away
+// from the pixel's point pt); false when n is (nearly) zero.
+static bool orient_unit(const float n[3], const float pt[3], float o[3])
+{
+    float n2 = dot3(n, n);
+    if (!(n2 > 1e-12f)) {
+        return false;
+    }
+    float len = sqrtf(n2);
+    float s = dot3(n, pt) > 0.0f ? -1.0f : 1.0f;
+    for (int k = 0; k < 3; k++) {
+        o[k] = s * (n[k] / len);
+    }
+    return true;
+}
+
 // Steps 2-3 at pixel (x, y), whose point pt has w > 0: the unit normal facing the camera,
 // false where there is none.
 static bool gather_pixel(const gather_input *g, int x, int y, const float pt[3], float o[3])
@@ -208,16 +224,7 @@ static bool gather_pixel(const gather_input *g, int x, int y, const float pt[3],
             return false;
         }
     }
-    float n2 = dot3(n, n);
-    if (!(n2 > 1e-12f)) {
-        return false;
-    }
-    float len = sqrtf(n2);
-    float s = dot3(n, pt) > 0.0f ? -1.0f : 1.0f;
-    for (int k = 0; k < 3; k++) {
-        o[k] = s * (n[k] / len);
-    }
-    return true;
+    return orient_unit(n, pt, o);
 }
 
 // Step 5 at pixel (x, y), whose point pt has w > 0; half: step 4's image (xyz normal,
@@ -255,16 +262,7 @@ static bool upsample_pixel(const gather_input *g, const sta_image *half, int x, 
     if (!(dot3(n, n) > 1e-12f)) {
         memcpy(n, nearest, sizeof(n)); // no anchor on p's surface: the nearest plane's
     }
-    float n2 = dot3(n, n);
-    if (!(n2 > 1e-12f)) {
-        return false;
-    }
-    float len = sqrtf(n2);
-    float s = dot3(n, pt) > 0.0f ? -1.0f : 1.0f;
-    for (int k = 0; k < 3; k++) {
-        o[k] = s * (n[k] / len);
-    }
-    return true;
+    return orient_unit(n, pt, o);
 }
 
 sta_status sta_normals_pyramid_ref(const sta_view_params *view,
