@@ -583,7 +583,9 @@ static float face_distance(const knn_grid *g, const float q[3], const int64_t c[
     float face = g->edge;
     for (int a = 0; a < 3; a++) {
         float lo = g->min[a] + (float)c[a] * g->edge;
-        face = fminf(face, fmaxf(0.0f, fminf(q[a] - lo, lo + g->edge - q[a])));
+        float below = q[a] - lo, above = lo + g->edge - q[a], d = below < above ? below : above;
+        d = d > 0.0f ? d : 0.0f; // ternaries, not libm's fminf / fmaxf calls (no NaN here)
+        face = d < face ? d : face;
     }
     return face;
 }
