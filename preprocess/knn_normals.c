@@ -313,7 +313,7 @@ static int finish_point(void *user, size_t i, const sta_knn *nb)
     float farthest = 0.0f;
     for (int j = 0; j < nb->size; j++) { // the STA_NORMALS_RADIUS_K + 1 smallest, sorted
         float d2 = nb->d2[j];
-        farthest = fmaxf(farthest, d2);
+        farthest = d2 > farthest ? d2 : farthest; // no NaN: not libm's fmaxf call
         if (m == STA_NORMALS_RADIUS_K + 1 && !(d2 < nearest[m - 1])) {
             continue;
         }
@@ -598,7 +598,7 @@ static int finish_exact(void *user, size_t j, const sta_knn *nb)
     bool ok = nb->size >= 3 && fit_normal(v->chunk, p, nb, normal, w);
     float farthest = 0.0f;
     for (int k = 0; k < nb->size; k++) {
-        farthest = fmaxf(farthest, nb->d2[k]);
+        farthest = nb->d2[k] > farthest ? nb->d2[k] : farthest;
     }
     v->stats->widened++;
     v->stats->widened_exact++;

@@ -9,7 +9,7 @@
 #include <stddef.h>
 
 /* The value v[k] would have if v[0 .. n) were sorted ascending (0 <= k < n; no NaN).
- * Reorders v. */
+ * Reorders v (not when n is small). */
 float sta_knn_select_kth(float *v, size_t n, size_t k);
 
 #endif
