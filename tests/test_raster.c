@@ -120,10 +120,14 @@ typedef struct raster_out {
     size_t drawn;            /* pixels with a point */
 } raster_out;
 
+// The twin of rasteriser `method` (the compute one projects one-pixel points by node rows).
 static void twin(const test_set *set, const sta_camera *camera, const sta_point_size *size,
-                 raster_out *out)
+                 int method, raster_out *out)
 {
-    sta_raster_ref_view view = { .width_px = W, .height_px = H, .hide_flags = hide_flags };
+    sta_raster_ref_view view = { .width_px = W,
+                                 .height_px = H,
+                                 .hide_flags = hide_flags,
+                                 .node_rows = method == STA_RASTER_COMPUTE };
     memcpy(view.clip_plane, clip_plane, sizeof(clip_plane));
     if (size) {
         sta_point_size_footprint(size, camera, &view.footprint);
@@ -222,11 +226,11 @@ static size_t check_set_sized(const test_set *set, const sta_point_size *size)
 {
     sta_camera camera = test_camera();
     static raster_out expected, got;
-    twin(set, &camera, size, &expected);
     sta_gpu_cache cache;
     upload(&cache, set);
     const int methods[2] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     for (int m = 0; m < 2; m++) {
+        twin(set, &camera, size, methods[m], &expected);
         sta_geometry_options options = { .raster = methods[m] };
         gpu(set, &cache, &camera, &options, size, &got);
         size_t id_differ = 0, depth_differ = 0;
@@ -287,7 +291,7 @@ static void flagged_points_are_hidden(void **state)
     size_t hidden = check_set(&set);
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, NULL, &out);
+    twin(&set, &camera, NULL, STA_RASTER_COMPUTE, &out);
     for (int i = 0; i < W * H; i++) {
         if (out.ids[2 * i] != STA_TARGET_NO_POINT) {
             assert_true(out.ids[2 * i + 1] % 3 != 0); // never a flagged point
@@ -354,7 +358,7 @@ static void nearest_point_wins_in_any_draw_order(void **state)
     // The near node really hides part of the far one in the twin.
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, NULL, &out);
+    twin(&set, &camera, NULL, STA_RASTER_COMPUTE, &out);
     size_t near_pixels = 0;
     for (int i = 0; i < W * H; i++) {
         near_pixels += out.ids[2 * i] == 1;
@@ -380,7 +384,7 @@ static void equal_depths_keep_the_first_drawn(void **state)
     check_set(&set);
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, NULL, &out);
+    twin(&set, &camera, NULL, STA_RASTER_COMPUTE, &out);
     for (int i = 0; i < W * H; i++) {
         if (out.ids[2 * i] != STA_TARGET_NO_POINT) {
             assert_int_equal(out.ids[2 * i], 2);    // the first node drawn
@@ -450,7 +454,7 @@ static void node_larger_than_a_batch(void **state)
     // Points of the last batch of the big node are kept too.
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, NULL, &out);
+    twin(&set, &camera, NULL, STA_RASTER_COMPUTE, &out);
     size_t last_batch = 0;
     for (int i = 0; i < W * H; i++) {
         last_batch += out.ids[2 * i] == 1 && out.ids[2 * i + 1] >= 3 * STA_RASTER_BATCH_POINTS;
@@ -490,7 +494,7 @@ static void arena_repack_keeps_every_node(void **state)
     assert_int_equal(cache.live, 6 * 20000);
     sta_camera camera = test_camera();
     static raster_out expected, got;
-    twin(&set, &camera, NULL, &expected);
+    twin(&set, &camera, NULL, STA_RASTER_COMPUTE, &expected);
     sta_geometry_options options = { .raster = STA_RASTER_COMPUTE };
     gpu(&set, &cache, &camera, &options, NULL, &got);
     assert_memory_equal(expected.ids, got.ids, sizeof(got.ids));
@@ -571,9 +575,12 @@ static void both_rasterisers_render_a_scene_alike(void **state)
     }
     printf("%zu covered pixels, %zu differ between GL_POINTS and compute\n", covered, differ);
     assert_true(covered > 5000);
-    // Stated tolerance: none. The pixel rule of raster_common.glsl is llvmpipe's
-    // (docs/PIPELINE.md), so the two rasterisers keep the same point in every pixel.
-    assert_int_equal(differ, 0);
+    // Stated tolerance (docs/PIPELINE.md, "The compute rasteriser's pixel rule"): at most
+    // 0.5 % of the covered pixels. The compute path projects by per-node rows rounded to
+    // float, GL_POINTS by two matrix products: a point within a few 1e-7 of a sub-pixel
+    // boundary may snap to the neighbouring pixel, or a near tie of depths flip (1 of
+    // 13801 pixels here when written).
+    assert_true(differ * 200 <= covered);
     for (int k = 0; k < 2; k++) {
         free(rgba[k]);
         free(ids[k]);

@@ -15,9 +15,10 @@
 typedef struct raster_node {
     float origin[4];
     float step[4];
-    uint32_t info[4]; /* arena offset, count, first draw-order index, node slot */
+    uint32_t info[4];         /* arena offset, count, first draw-order index, node slot */
+    sta_raster_ref_rows rows; /* one-pixel projection and clip plane */
 } raster_node;
-_Static_assert(sizeof(raster_node) == 48, "raster_node mirrors the std430 struct");
+_Static_assert(sizeof(raster_node) == 128, "raster_node mirrors the std430 struct");
 _Static_assert(STA_RASTER_NO_POINT == STA_TARGET_NO_POINT, "the resolve writes the target's id");
 _Static_assert(STA_RASTER_BATCH_POINTS <= 32 * STA_RASTER_WORKGROUP_SIZE,
                "an invocation's candidates are the bits of one uint");
@@ -71,6 +72,7 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
     r->steps = packed ? 1 : 2;
     GLint subpixel_bits = 8;
     glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
+    r->subpixel_bits = (int)subpixel_bits;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &r->max_texels);
     // The snapping of raster_common.glsl follows the driver's sub-pixel precision.
     char defines[512];
@@ -184,9 +186,9 @@ static void ensure_pixels(sta_raster_compute *r, int width_px, int height_px)
 
 // The node table and batch list of the frame, on the CPU; returns the batch count.
 static sta_status build_tables(sta_raster_compute *r, const sta_camera *camera,
-                               const sta_gpu_cache *cache, const sta_gpu_node_frame *frames,
-                               const uint32_t *draw, size_t count, size_t *out_batches,
-                               sta_error *err)
+                               const sta_raster_ref_view *view, const sta_gpu_cache *cache,
+                               const sta_gpu_node_frame *frames, const uint32_t *draw, size_t count,
+                               size_t *out_batches, sta_error *err)
 {
     sta_status status = sta_array_reserve(&r->node_table, &r->node_table_capacity,
                                           count ? count : 1, sizeof(raster_node), 64, err);
@@ -203,6 +205,7 @@ static sta_status build_tables(sta_raster_compute *r, const sta_camera *camera,
         }
         n->origin[3] = (float)f->spacing; // the adaptive point size reads it
         n->step[3] = 0.0f;
+        sta_raster_ref_node_rows(view, n->origin, n->step, &n->rows);
         n->info[0] = e->offset;
         n->info[1] = points;
         n->info[2] = (uint32_t)batches;
@@ -249,8 +252,16 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
                         "shows at most %d (lower the GPU memory cap or use --raster points)",
                         cache->capacity, (int)r->max_texels);
     }
+    // The view as the twin sees it: the node rows are formed from it.
+    sta_raster_ref_view view = { .width_px = target->width_px,
+                                 .height_px = target->height_px,
+                                 .subpixel_bits = r->subpixel_bits,
+                                 .node_rows = 1 };
+    sta_camera_view_rotation(camera, view.view);
+    sta_camera_projection(camera, view.projection);
+    memcpy(view.clip_plane, colours->clip_plane, sizeof(view.clip_plane));
     size_t batches = 0;
-    sta_status status = build_tables(r, camera, cache, frames, draw, count, &batches, err);
+    sta_status status = build_tables(r, camera, &view, cache, frames, draw, count, &batches, err);
     if (status != STA_OK) {
         return status;
     }
@@ -289,13 +300,11 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     }
     glBindTextureUnit(STA_RASTER_SAMPLER_POINTS, r->points_texture);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, r->indirect);
-    float view[16], projection[16];
-    sta_camera_view_rotation(camera, view);
-    sta_camera_projection(camera, projection);
+    const float *rotation = view.view, *projection = view.projection;
     for (int step = 0; step < r->steps; step++) {
         int slot = 2 * step + (footprint->wide ? 1 : 0);
         glUseProgram(r->points_program[slot]);
-        set_view(r, slot, view, projection, w, h);
+        set_view(r, slot, rotation, projection, w, h);
         if (footprint->wide) {
             sta_footprint_uniforms_set(&r->footprint[slot], footprint);
         }
@@ -321,7 +330,7 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
         glUniform2fv(v->u_tan_half, 1, r->unproject_tan_half);
         glUniform1f(v->u_near, r->unproject_near);
     }
-    glUniformMatrix4fv(v->u_view_rotation, 1, GL_FALSE, view);
+    glUniformMatrix4fv(v->u_view_rotation, 1, GL_FALSE, rotation);
     glUniformMatrix4fv(v->u_projection, 1, GL_FALSE, projection);
     glUniform2i(v->u_size, w, h);
     double span = colours->elevation_span;

@@ -65,6 +65,7 @@ typedef struct sta_raster_compute {
     GLuint candidates;                               /* two-pass: a candidate mask per invocation */
     size_t node_bytes, batch_bytes, candidate_bytes; /* buffer capacities */
     int width_px, height_px;                         /* size of the per-pixel buffers */
+    int subpixel_bits;                               /* GL_SUBPIXEL_BITS: the node rows' snap */
     GLint max_texels;                                /* GL_MAX_TEXTURE_BUFFER_SIZE */
     void *node_table;                                /* CPU copy of the tables, reused */
     size_t node_table_capacity;                      /* entries */
