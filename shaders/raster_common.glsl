@@ -69,8 +69,13 @@ float row_at(vec4 r, vec3 q)
 // false when it is not drawn (clip plane included).
 bool project_rows(raster_node node, vec3 q, out uint pixel, out float depth)
 {
+#ifndef STA_RASTER_NO_PLANE
+    if (row_at(node.plane, q) < 0.0) {
+        return false;
+    }
+#endif
     float w = row_at(node.row_w, q);
-    if (row_at(node.plane, q) < 0.0 || !(w > 0.0)) {
+    if (!(w > 0.0)) {
         return false;
     }
     float inverse = 1.0 / w;

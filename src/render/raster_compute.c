@@ -65,6 +65,44 @@ static sta_status resolve_program(sta_raster_compute *r, int mode, int position,
     return STA_OK;
 }
 
+enum {
+    VARIANT_PIXEL,
+    VARIANT_WIDE,
+    VARIANT_PIXEL_PLANE
+};
+
+// The point program of `slot`, built on first use. llvmpipe runs both sides of a branch
+// even on a uniform, so the variants are separate programs: the one-pixel ones leave the
+// footprint loop out (the depth step took 1.9x the CPU time with it, docs/BENCHMARKS.md)
+// and, without a clip plane (every view but a mirror's), the plane's row.
+static sta_status points_program(sta_raster_compute *r, int slot, sta_error *err)
+{
+    if (r->points_program[slot]) {
+        return STA_OK;
+    }
+    const char *extensions = r->is_packed ? "#extension GL_ARB_gpu_shader_int64 : require\n"
+                                            "#extension GL_ARB_shader_atomic_int64 : require\n"
+                                          : "";
+    int step = r->is_packed                      ? STA_RASTER_STEP_PACKED
+               : slot / STA_RASTER_VARIANTS == 0 ? STA_RASTER_STEP_DEPTH
+                                                 : STA_RASTER_STEP_PAYLOAD;
+    int variant = slot % STA_RASTER_VARIANTS;
+    // The snapping of raster_common.glsl follows the driver's sub-pixel precision.
+    char defines[512];
+    snprintf(defines, sizeof(defines),
+             "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n"
+             "#define STA_RASTER_STEP %d\n#define STA_RASTER_WIDE %d\n%s",
+             extensions, r->is_packed ? 1 : 0, r->subpixel_bits, step,
+             variant == VARIANT_WIDE ? 1 : 0,
+             variant == VARIANT_PIXEL ? "#define STA_RASTER_NO_PLANE\n" : "");
+    const char *points[] = { "raster_common.glsl", "point_footprint.glsl", "raster_points.comp" };
+    sta_status status = sta_gl_program_create(points, 3, defines, &r->points_program[slot], err);
+    if (status == STA_OK) {
+        uniforms(r, slot, r->points_program[slot]);
+    }
+    return status;
+}
+
 sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error *err)
 {
     memset(r, 0, sizeof(*r));
@@ -74,26 +112,14 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
     glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
     r->subpixel_bits = (int)subpixel_bits;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &r->max_texels);
-    // The snapping of raster_common.glsl follows the driver's sub-pixel precision.
-    char defines[512];
     const char *extensions = packed ? "#extension GL_ARB_gpu_shader_int64 : require\n"
                                       "#extension GL_ARB_shader_atomic_int64 : require\n"
                                     : "";
-    const char *points[] = { "raster_common.glsl", "point_footprint.glsl", "raster_points.comp" };
-    int steps[2] = { packed ? STA_RASTER_STEP_PACKED : STA_RASTER_STEP_DEPTH,
-                     STA_RASTER_STEP_PAYLOAD };
     sta_status status = STA_OK;
-    // One program per step and footprint: llvmpipe runs both sides of a branch even on
-    // a uniform, so the one-pixel programs leave the footprint loop out (the depth step
-    // took 1.9x the CPU time with it, docs/BENCHMARKS.md).
-    for (int slot = 0; slot < 2 * r->steps && status == STA_OK; slot++) {
-        snprintf(defines, sizeof(defines),
-                 "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n"
-                 "#define STA_RASTER_STEP %d\n#define STA_RASTER_WIDE %d\n",
-                 extensions, packed ? 1 : 0, (int)subpixel_bits, steps[slot / 2], slot % 2);
-        status = sta_gl_program_create(points, 3, defines, &r->points_program[slot], err);
+    for (int step = 0; step < r->steps && status == STA_OK; step++) {
+        status = points_program(r, STA_RASTER_VARIANTS * step + VARIANT_PIXEL, err);
         if (status == STA_OK) {
-            uniforms(r, slot, r->points_program[slot]);
+            status = points_program(r, STA_RASTER_VARIANTS * step + VARIANT_WIDE, err);
         }
     }
     snprintf(r->resolve_defines, sizeof(r->resolve_defines),
@@ -301,8 +327,18 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     glBindTextureUnit(STA_RASTER_SAMPLER_POINTS, r->points_texture);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, r->indirect);
     const float *rotation = view.view, *projection = view.projection;
+    const float *plane = colours->clip_plane;
+    bool has_plane = plane[0] != 0.0f || plane[1] != 0.0f || plane[2] != 0.0f || plane[3] != 0.0f;
     for (int step = 0; step < r->steps; step++) {
-        int slot = 2 * step + (footprint->wide ? 1 : 0);
+        int variant = footprint->wide ? VARIANT_WIDE
+                      : has_plane     ? VARIANT_PIXEL_PLANE
+                                      : VARIANT_PIXEL;
+        int slot = STA_RASTER_VARIANTS * step + variant;
+        status = points_program(r, slot, err);
+        if (status != STA_OK) {
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+            return status;
+        }
         glUseProgram(r->points_program[slot]);
         set_view(r, slot, rotation, projection, w, h);
         if (footprint->wide) {
