@@ -32,7 +32,9 @@ bool footprint_of(vec4 clip, float spacing, ivec2 size, out point_footprint f)
     }
     float inverse = 1.0 / clip.w;
     vec3 ndc = clip.xyz * inverse;
-    // As raster_common.glsl's project_point (llvmpipe's fused viewport transform).
+    // GL_POINTS' window position: llvmpipe's viewport transform is one fused
+    // multiply-add, but its shaders split fma() into two roundings: in double the
+    // product is exact and the sum rounds once before the float.
     vec2 half_size = vec2(size) * 0.5;
     vec2 window = vec2(dvec2(ndc.xy) * dvec2(half_size) + dvec2(half_size));
     f.snapped = ivec2(floor(window * float(1 << STA_RASTER_SUBPIXEL_BITS) + 0.5));

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The compute rasteriser's shared part (render/raster_compute.h): the frame's node
 // table, the arena of points (a texture buffer of 16-byte texels, stream/gpu_points.h),
-// the per-pixel buffers and the projection of a point to its pixel as the GL_POINTS
-// rasteriser does it.
+// the per-pixel buffers and the projection of a one-pixel point to its pixel by the
+// node's precomputed rows (wider points: point_footprint.glsl, as GL_POINTS does).
 //
 // Based on: Schütz, Kerbl, Wimmer, "Rendering Point Clouds with Compute Shaders and
 // Vertex Order Optimization", CGF 40(4), 2021: atomicMin/Max of depth (and payload)
@@ -12,6 +12,9 @@ struct raster_node {
     vec4 origin; // xyz: node corner minus camera position, metres
     vec4 step;   // xyz: metres per quantisation step
     uvec4 info;  // arena offset, point count, first batch, node slot
+    // One-pixel points: the node's rows from quantised position to snapped window x, y
+    // (times w), w and the clip plane; clip_z.x: clip.z (render/ref/raster_ref.h).
+    vec4 row_x, row_y, row_w, plane, clip_z;
 };
 
 layout(std430, binding = STA_RASTER_BUFFER_NODES) readonly buffer raster_nodes {
@@ -54,32 +57,36 @@ void unpack_point(uvec4 t, out uvec4 position_intensity, out uvec4 colour_class,
     returns = uvec4(t.w & 0xFFu, (t.w >> 8) & 0xFFu, (t.w >> 16) & 0xFFu, t.w >> 24);
 }
 
-// Pixel (row-major from the bottom) and reverse-Z depth of a point, or false when the
-// GL_POINTS path would not draw it. The rule is the rasteriser's: clip volume test on
-// the point's centre, ndc = clip * (1 / w), window = ndc * size / 2 + size / 2 fused,
-// snapped to 1 / 2^STA_RASTER_SUBPIXEL_BITS pixel (half up), and a one-pixel point
-// covers the pixel whose centre lies in [x - 0.5, x + 0.5) on the snapped grid, that is
-// pixel ceil(x) - 1 on each axis.
-bool project_point(vec3 relative, out uint pixel, out float depth)
+// One of a node's rows at quantised position q, summed as the C twin does.
+float row_at(vec4 r, vec3 q)
 {
-    vec4 clip = u_projection * (u_view_rotation * vec4(relative, 1.0));
-    if (!(clip.w > 0.0) || abs(clip.x) > clip.w || abs(clip.y) > clip.w || clip.z < 0.0 ||
-        clip.z > clip.w) {
+    return ((r.x * q.x + r.y * q.y) + r.z * q.z) + r.w;
+}
+
+// Pixel and depth of the point at quantised position q of `node` by the node's rows (the
+// compute rasteriser's one-pixel rule, render/ref/raster_ref.h: one product per row and
+// one division instead of two matrix products, the viewport and snapping folded in), or
+// false when it is not drawn (clip plane included).
+bool project_rows(raster_node node, vec3 q, out uint pixel, out float depth)
+{
+#ifndef STA_RASTER_NO_PLANE
+    if (row_at(node.plane, q) < 0.0) {
         return false;
     }
-    vec3 ndc = clip.xyz * (1.0 / clip.w);
-    // llvmpipe's viewport transform is one fused multiply-add, but its shaders split
-    // fma() into two roundings: in double the product is exact and the sum rounds once
-    // before the float (a second rounding that differs from a fused one only when the
-    // double lands exactly halfway between two floats).
-    vec2 half_size = vec2(u_size) * 0.5;
-    vec2 window = vec2(dvec2(ndc.xy) * dvec2(half_size) + dvec2(half_size));
-    ivec2 snapped = ivec2(floor(window * float(1 << STA_RASTER_SUBPIXEL_BITS) + 0.5));
-    ivec2 p = (snapped - 1) >> STA_RASTER_SUBPIXEL_BITS;
-    if (p.x < 0 || p.y < 0 || p.x >= u_size.x || p.y >= u_size.y) {
+#endif
+    float w = row_at(node.row_w, q);
+    if (!(w > 0.0)) {
         return false;
     }
+    float inverse = 1.0 / w;
+    depth = node.clip_z.x * inverse;
+    vec2 s = vec2(row_at(node.row_x, q), row_at(node.row_y, q)) * inverse;
+    vec2 limit = vec2(u_size * (1 << STA_RASTER_SUBPIXEL_BITS)) + 1.0;
+    if (!(depth >= 0.0 && depth <= 1.0 && s.x >= 1.0 && s.y >= 1.0 && s.x < limit.x &&
+          s.y < limit.y)) {
+        return false;
+    }
+    ivec2 p = (ivec2(s) - 1) >> STA_RASTER_SUBPIXEL_BITS;
     pixel = uint(p.y) * uint(u_size.x) + uint(p.x);
-    depth = ndc.z;
     return true;
 }

@@ -76,19 +76,19 @@ bool raster_point(raster_node node, uint first, uint i)
         return false;
     }
     vec3 q = vec3(uvec3(t.x & 0xFFFFu, t.x >> 16, t.y & 0xFFFFu));
-    vec3 relative = node.origin.xyz + q * node.step.xyz;
-    if (dot(u_clip_plane.xyz, relative) + u_clip_plane.w < 0.0) {
-        return false;
-    }
     // Draw-order index with gaps: batch number, then the point within the batch, so
     // that the resolve finds the point through the batch list without a search.
     uint index = gl_WorkGroupID.x * uint(STA_RASTER_BATCH_POINTS) + (i - first);
 #if STA_RASTER_WIDE
+    vec3 relative = node.origin.xyz + q * node.step.xyz;
+    if (dot(u_clip_plane.xyz, relative) + u_clip_plane.w < 0.0) {
+        return false;
+    }
     return keep_footprint(relative, node.origin.w, index);
 #else
     uint pixel;
     float depth;
-    return project_point(relative, pixel, depth) && keep(pixel, floatBitsToUint(depth), index);
+    return project_rows(node, q, pixel, depth) && keep(pixel, floatBitsToUint(depth), index);
 #endif
 }
 

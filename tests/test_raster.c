@@ -120,10 +120,14 @@ typedef struct raster_out {
     size_t drawn;            /* pixels with a point */
 } raster_out;
 
+// The twin of rasteriser `method` (the compute one projects one-pixel points by node rows).
 static void twin(const test_set *set, const sta_camera *camera, const sta_point_size *size,
-                 raster_out *out)
+                 int method, raster_out *out)
 {
-    sta_raster_ref_view view = { .width_px = W, .height_px = H, .hide_flags = hide_flags };
+    sta_raster_ref_view view = { .width_px = W,
+                                 .height_px = H,
+                                 .hide_flags = hide_flags,
+                                 .node_rows = method == STA_RASTER_COMPUTE };
     memcpy(view.clip_plane, clip_plane, sizeof(clip_plane));
     if (size) {
         sta_point_size_footprint(size, camera, &view.footprint);
@@ -222,11 +226,11 @@ static size_t check_set_sized(const test_set *set, const sta_point_size *size)
 {
     sta_camera camera = test_camera();
     static raster_out expected, got;
-    twin(set, &camera, size, &expected);
     sta_gpu_cache cache;
     upload(&cache, set);
     const int methods[2] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     for (int m = 0; m < 2; m++) {
+        twin(set, &camera, size, methods[m], &expected);
         sta_geometry_options options = { .raster = methods[m] };
         gpu(set, &cache, &camera, &options, size, &got);
         size_t id_differ = 0, depth_differ = 0;
@@ -287,7 +291,7 @@ static void flagged_points_are_hidden(void **state)
     size_t hidden = check_set(&set);
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, NULL, &out);
+    twin(&set, &camera, NULL, STA_RASTER_COMPUTE, &out);
     for (int i = 0; i < W * H; i++) {
         if (out.ids[2 * i] != STA_TARGET_NO_POINT) {
             assert_true(out.ids[2 * i + 1] % 3 != 0); // never a flagged point
@@ -354,7 +358,7 @@ static void nearest_point_wins_in_any_draw_order(void **state)
     // The near node really hides part of the far one in the twin.
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, NULL, &out);
+    twin(&set, &camera, NULL, STA_RASTER_COMPUTE, &out);
     size_t near_pixels = 0;
     for (int i = 0; i < W * H; i++) {
         near_pixels += out.ids[2 * i] == 1;
@@ -380,7 +384,7 @@ static void equal_depths_keep_the_first_drawn(void **state)
     check_set(&set);
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, NULL, &out);
+    twin(&set, &camera, NULL, STA_RASTER_COMPUTE, &out);
     for (int i = 0; i < W * H; i++) {
         if (out.ids[2 * i] != STA_TARGET_NO_POINT) {
             assert_int_equal(out.ids[2 * i], 2);    // the first node drawn
@@ -450,7 +454,7 @@ static void node_larger_than_a_batch(void **state)
     // Points of the last batch of the big node are kept too.
     sta_camera camera = test_camera();
     static raster_out out;
-    twin(&set, &camera, NULL, &out);
+    twin(&set, &camera, NULL, STA_RASTER_COMPUTE, &out);
     size_t last_batch = 0;
     for (int i = 0; i < W * H; i++) {
         last_batch += out.ids[2 * i] == 1 && out.ids[2 * i + 1] >= 3 * STA_RASTER_BATCH_POINTS;
@@ -490,7 +494,7 @@ static void arena_repack_keeps_every_node(void **state)
     assert_int_equal(cache.live, 6 * 20000);
     sta_camera camera = test_camera();
     static raster_out expected, got;
-    twin(&set, &camera, NULL, &expected);
+    twin(&set, &camera, NULL, STA_RASTER_COMPUTE, &expected);
     sta_geometry_options options = { .raster = STA_RASTER_COMPUTE };
     gpu(&set, &cache, &camera, &options, NULL, &got);
     assert_memory_equal(expected.ids, got.ids, sizeof(got.ids));
@@ -571,9 +575,12 @@ static void both_rasterisers_render_a_scene_alike(void **state)
     }
     printf("%zu covered pixels, %zu differ between GL_POINTS and compute\n", covered, differ);
     assert_true(covered > 5000);
-    // Stated tolerance: none. The pixel rule of raster_common.glsl is llvmpipe's
-    // (docs/PIPELINE.md), so the two rasterisers keep the same point in every pixel.
-    assert_int_equal(differ, 0);
+    // Stated tolerance (docs/PIPELINE.md, "The compute rasteriser's pixel rule"): at most
+    // 0.5 % of the covered pixels. The compute path projects by per-node rows rounded to
+    // float, GL_POINTS by two matrix products: a point within a few 1e-7 of a sub-pixel
+    // boundary may snap to the neighbouring pixel, or a near tie of depths flip (1 of
+    // 13801 pixels here when written).
+    assert_true(differ * 200 <= covered);
     for (int k = 0; k < 2; k++) {
         free(rgba[k]);
         free(ids[k]);
@@ -679,7 +686,72 @@ static void wide_point_is_a_disk_with_a_paraboloid(void **state)
     assert_true(nearest == depth[centre]);
 }
 
+// The compute path's node rows against the GL_POINTS rule, in the twin alone, on random
+// points of random nodes at 1920x1080 (a few metres to 200 m ahead, some off screen):
+// the rows round once where GL_POINTS rounds after every product, so a point may move
+// one pixel over, never more, in at most 0.1 % of the drawn points (the stated tolerance,
+// docs/PIPELINE.md, is 0.5 % of the pixels), and its depth changes only in the last bits.
+static void node_rows_stay_within_a_pixel_of_gl_points(void **state)
+{
+    (void)state;
+    sta_camera camera = test_camera();
+    camera.width_px = 1920;
+    camera.height_px = 1080;
+    camera.yaw = 0.3;
+    camera.pitch = -0.1;
+    sta_raster_ref_view points = { .width_px = 1920, .height_px = 1080, .subpixel_bits = 8 };
+    sta_camera_view_rotation(&camera, points.view);
+    sta_camera_projection(&camera, points.projection);
+    sta_raster_ref_view rows_view = points;
+    rows_view.node_rows = 1;
+    rng_state = 7;
+    size_t drawn = 0, moved = 0, border = 0, far_moves = 0;
+    float worst_depth = 0.0f;
+    for (int n = 0; n < 200; n++) {
+        const float ahead = 3.0f + (float)(rng() % 197000) * 0.001f;
+        float origin[3] = { ahead, -0.6f * ahead + (float)(rng() % 1000) * 0.0012f * ahead,
+                            -0.4f * ahead + (float)(rng() % 1000) * 0.0008f * ahead };
+        float step[3];
+        for (int a = 0; a < 3; a++) {
+            step[a] = (float)(1 + rng() % 50) * 1e-5f * ahead;
+        }
+        sta_raster_ref_rows rows;
+        sta_raster_ref_node_rows(&rows_view, origin, step, &rows);
+        for (int i = 0; i < 1000; i++) {
+            float q[3], relative[3], d_points = 0.0f, d_rows = 0.0f;
+            for (int a = 0; a < 3; a++) {
+                q[a] = (float)(rng() % 65536);
+                relative[a] = origin[a] + q[a] * step[a];
+            }
+            long a = sta_raster_ref_project(&points, relative, &d_points);
+            long b = sta_raster_ref_project_rows(&rows_view, &rows, q, &d_rows);
+            if (a < 0 && b < 0) {
+                continue;
+            }
+            drawn++;
+            if (a < 0 || b < 0) {
+                border++; // one rule puts it just inside the view, the other just outside
+                continue;
+            }
+            if (a != b) {
+                moved++;
+                long dx = a % 1920 - b % 1920, dy = a / 1920 - b / 1920;
+                far_moves += dx < -1 || dx > 1 || dy < -1 || dy > 1;
+            }
+            worst_depth = fmaxf(worst_depth, fabsf(d_rows - d_points) / d_points);
+        }
+    }
+    printf("%zu drawn, %zu in another pixel, %zu only by one rule (border), %zu moved by more "
+           "than a pixel; worst relative depth difference %g\n",
+           drawn, moved, border, far_moves, (double)worst_depth);
+    assert_true(drawn > 50000);
+    assert_true((moved + border) * 1000 <= drawn);
+    assert_int_equal(far_moves, 0);
+    assert_true(worst_depth < 1e-5f);
+}
+
 static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(node_rows_stay_within_a_pixel_of_gl_points),
     cmocka_unit_test_setup_teardown(twin_matches_on_random_nodes, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(flagged_points_are_hidden, sta_fixture_gl_setup,

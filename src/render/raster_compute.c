@@ -15,9 +15,10 @@
 typedef struct raster_node {
     float origin[4];
     float step[4];
-    uint32_t info[4]; /* arena offset, count, first draw-order index, node slot */
+    uint32_t info[4];         /* arena offset, count, first draw-order index, node slot */
+    sta_raster_ref_rows rows; /* one-pixel projection and clip plane */
 } raster_node;
-_Static_assert(sizeof(raster_node) == 48, "raster_node mirrors the std430 struct");
+_Static_assert(sizeof(raster_node) == 128, "raster_node mirrors the std430 struct");
 _Static_assert(STA_RASTER_NO_POINT == STA_TARGET_NO_POINT, "the resolve writes the target's id");
 _Static_assert(STA_RASTER_BATCH_POINTS <= 32 * STA_RASTER_WORKGROUP_SIZE,
                "an invocation's candidates are the bits of one uint");
@@ -64,6 +65,44 @@ static sta_status resolve_program(sta_raster_compute *r, int mode, int position,
     return STA_OK;
 }
 
+enum {
+    VARIANT_PIXEL,
+    VARIANT_WIDE,
+    VARIANT_PIXEL_PLANE
+};
+
+// The point program of `slot`, built on first use. llvmpipe runs both sides of a branch
+// even on a uniform, so the variants are separate programs: the one-pixel ones leave the
+// footprint loop out (the depth step took 1.9x the CPU time with it, docs/BENCHMARKS.md)
+// and, without a clip plane (every view but a mirror's), the plane's row.
+static sta_status points_program(sta_raster_compute *r, int slot, sta_error *err)
+{
+    if (r->points_program[slot]) {
+        return STA_OK;
+    }
+    const char *extensions = r->is_packed ? "#extension GL_ARB_gpu_shader_int64 : require\n"
+                                            "#extension GL_ARB_shader_atomic_int64 : require\n"
+                                          : "";
+    int step = r->is_packed                      ? STA_RASTER_STEP_PACKED
+               : slot / STA_RASTER_VARIANTS == 0 ? STA_RASTER_STEP_DEPTH
+                                                 : STA_RASTER_STEP_PAYLOAD;
+    int variant = slot % STA_RASTER_VARIANTS;
+    // The snapping of raster_common.glsl follows the driver's sub-pixel precision.
+    char defines[512];
+    snprintf(defines, sizeof(defines),
+             "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n"
+             "#define STA_RASTER_STEP %d\n#define STA_RASTER_WIDE %d\n%s",
+             extensions, r->is_packed ? 1 : 0, r->subpixel_bits, step,
+             variant == VARIANT_WIDE ? 1 : 0,
+             variant == VARIANT_PIXEL ? "#define STA_RASTER_NO_PLANE\n" : "");
+    const char *points[] = { "raster_common.glsl", "point_footprint.glsl", "raster_points.comp" };
+    sta_status status = sta_gl_program_create(points, 3, defines, &r->points_program[slot], err);
+    if (status == STA_OK) {
+        uniforms(r, slot, r->points_program[slot]);
+    }
+    return status;
+}
+
 sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error *err)
 {
     memset(r, 0, sizeof(*r));
@@ -71,27 +110,16 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
     r->steps = packed ? 1 : 2;
     GLint subpixel_bits = 8;
     glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
+    r->subpixel_bits = (int)subpixel_bits;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &r->max_texels);
-    // The snapping of raster_common.glsl follows the driver's sub-pixel precision.
-    char defines[512];
     const char *extensions = packed ? "#extension GL_ARB_gpu_shader_int64 : require\n"
                                       "#extension GL_ARB_shader_atomic_int64 : require\n"
                                     : "";
-    const char *points[] = { "raster_common.glsl", "point_footprint.glsl", "raster_points.comp" };
-    int steps[2] = { packed ? STA_RASTER_STEP_PACKED : STA_RASTER_STEP_DEPTH,
-                     STA_RASTER_STEP_PAYLOAD };
     sta_status status = STA_OK;
-    // One program per step and footprint: llvmpipe runs both sides of a branch even on
-    // a uniform, so the one-pixel programs leave the footprint loop out (the depth step
-    // took 1.9x the CPU time with it, docs/BENCHMARKS.md).
-    for (int slot = 0; slot < 2 * r->steps && status == STA_OK; slot++) {
-        snprintf(defines, sizeof(defines),
-                 "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n"
-                 "#define STA_RASTER_STEP %d\n#define STA_RASTER_WIDE %d\n",
-                 extensions, packed ? 1 : 0, (int)subpixel_bits, steps[slot / 2], slot % 2);
-        status = sta_gl_program_create(points, 3, defines, &r->points_program[slot], err);
+    for (int step = 0; step < r->steps && status == STA_OK; step++) {
+        status = points_program(r, STA_RASTER_VARIANTS * step + VARIANT_PIXEL, err);
         if (status == STA_OK) {
-            uniforms(r, slot, r->points_program[slot]);
+            status = points_program(r, STA_RASTER_VARIANTS * step + VARIANT_WIDE, err);
         }
     }
     snprintf(r->resolve_defines, sizeof(r->resolve_defines),
@@ -184,9 +212,9 @@ static void ensure_pixels(sta_raster_compute *r, int width_px, int height_px)
 
 // The node table and batch list of the frame, on the CPU; returns the batch count.
 static sta_status build_tables(sta_raster_compute *r, const sta_camera *camera,
-                               const sta_gpu_cache *cache, const sta_gpu_node_frame *frames,
-                               const uint32_t *draw, size_t count, size_t *out_batches,
-                               sta_error *err)
+                               const sta_raster_ref_view *view, const sta_gpu_cache *cache,
+                               const sta_gpu_node_frame *frames, const uint32_t *draw, size_t count,
+                               size_t *out_batches, sta_error *err)
 {
     sta_status status = sta_array_reserve(&r->node_table, &r->node_table_capacity,
                                           count ? count : 1, sizeof(raster_node), 64, err);
@@ -203,6 +231,7 @@ static sta_status build_tables(sta_raster_compute *r, const sta_camera *camera,
         }
         n->origin[3] = (float)f->spacing; // the adaptive point size reads it
         n->step[3] = 0.0f;
+        sta_raster_ref_node_rows(view, n->origin, n->step, &n->rows);
         n->info[0] = e->offset;
         n->info[1] = points;
         n->info[2] = (uint32_t)batches;
@@ -249,8 +278,16 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
                         "shows at most %d (lower the GPU memory cap or use --raster points)",
                         cache->capacity, (int)r->max_texels);
     }
+    // The view as the twin sees it: the node rows are formed from it.
+    sta_raster_ref_view view = { .width_px = target->width_px,
+                                 .height_px = target->height_px,
+                                 .subpixel_bits = r->subpixel_bits,
+                                 .node_rows = 1 };
+    sta_camera_view_rotation(camera, view.view);
+    sta_camera_projection(camera, view.projection);
+    memcpy(view.clip_plane, colours->clip_plane, sizeof(view.clip_plane));
     size_t batches = 0;
-    sta_status status = build_tables(r, camera, cache, frames, draw, count, &batches, err);
+    sta_status status = build_tables(r, camera, &view, cache, frames, draw, count, &batches, err);
     if (status != STA_OK) {
         return status;
     }
@@ -289,13 +326,21 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     }
     glBindTextureUnit(STA_RASTER_SAMPLER_POINTS, r->points_texture);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, r->indirect);
-    float view[16], projection[16];
-    sta_camera_view_rotation(camera, view);
-    sta_camera_projection(camera, projection);
+    const float *rotation = view.view, *projection = view.projection;
+    const float *plane = colours->clip_plane;
+    bool has_plane = plane[0] != 0.0f || plane[1] != 0.0f || plane[2] != 0.0f || plane[3] != 0.0f;
     for (int step = 0; step < r->steps; step++) {
-        int slot = 2 * step + (footprint->wide ? 1 : 0);
+        int variant = footprint->wide ? VARIANT_WIDE
+                      : has_plane     ? VARIANT_PIXEL_PLANE
+                                      : VARIANT_PIXEL;
+        int slot = STA_RASTER_VARIANTS * step + variant;
+        status = points_program(r, slot, err);
+        if (status != STA_OK) {
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+            return status;
+        }
         glUseProgram(r->points_program[slot]);
-        set_view(r, slot, view, projection, w, h);
+        set_view(r, slot, rotation, projection, w, h);
         if (footprint->wide) {
             sta_footprint_uniforms_set(&r->footprint[slot], footprint);
         }
@@ -321,7 +366,7 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
         glUniform2fv(v->u_tan_half, 1, r->unproject_tan_half);
         glUniform1f(v->u_near, r->unproject_near);
     }
-    glUniformMatrix4fv(v->u_view_rotation, 1, GL_FALSE, view);
+    glUniformMatrix4fv(v->u_view_rotation, 1, GL_FALSE, rotation);
     glUniformMatrix4fv(v->u_projection, 1, GL_FALSE, projection);
     glUniform2i(v->u_size, w, h);
     double span = colours->elevation_span;

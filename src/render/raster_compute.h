@@ -50,8 +50,10 @@ typedef struct sta_raster_resolve {
     GLint u_unproject_size, u_tan_half, u_near; /* the position variant's */
 } sta_raster_resolve;
 
-/* Point programs: [2 * step + wide] (one-pixel and footprint variants of each step). */
-#define STA_RASTER_PROGRAMS 4
+/* Point programs: [STA_RASTER_VARIANTS * step + variant]: one-pixel points without a
+ * clip plane, wider points, one-pixel points with a clip plane (built on first use). */
+#define STA_RASTER_VARIANTS 3
+#define STA_RASTER_PROGRAMS (2 * STA_RASTER_VARIANTS)
 
 typedef struct sta_raster_compute {
     bool is_packed; /* one pass with 64-bit atomics */
@@ -65,6 +67,7 @@ typedef struct sta_raster_compute {
     GLuint candidates;                               /* two-pass: a candidate mask per invocation */
     size_t node_bytes, batch_bytes, candidate_bytes; /* buffer capacities */
     int width_px, height_px;                         /* size of the per-pixel buffers */
+    int subpixel_bits;                               /* GL_SUBPIXEL_BITS: the node rows' snap */
     GLint max_texels;                                /* GL_MAX_TEXTURE_BUFFER_SIZE */
     void *node_table;                                /* CPU copy of the tables, reused */
     size_t node_table_capacity;                      /* entries */

@@ -68,6 +68,76 @@ long sta_raster_ref_project(const sta_raster_ref_view *v, const float relative[3
     return x + y * (long)v->width_px;
 }
 
+void sta_raster_ref_node_rows(const sta_raster_ref_view *v, const float origin[3],
+                              const float step[3], sta_raster_ref_rows *out)
+{
+    // m = projection * view * [diag(step) origin; 0 1], in double.
+    double m[4][4];
+    for (int r = 0; r < 4; r++) {
+        double a[4]; // row r of projection * view (view: no translation)
+        for (int j = 0; j < 4; j++) {
+            a[j] = 0.0;
+            for (int k = 0; k < 4; k++) {
+                a[j] += (double)v->projection[4 * k + r] * (double)v->view[4 * j + k];
+            }
+        }
+        m[r][3] = a[3];
+        for (int j = 0; j < 3; j++) {
+            m[r][j] = a[j] * (double)step[j];
+            m[r][3] += a[j] * (double)origin[j];
+        }
+    }
+    // Snapped window = floor(window * 2^bits + 0.5), window = (x / w) * h + h: the
+    // numerator of the fraction over w is scale * h * x + (scale * h + 0.5) * w.
+    double scale = (double)(1 << v->subpixel_bits);
+    double hx = scale * (double)v->width_px * 0.5, hy = scale * (double)v->height_px * 0.5;
+    const float *c = v->clip_plane;
+    for (int j = 0; j < 4; j++) {
+        out->x[j] = (float)(hx * m[0][j] + (hx + 0.5) * m[3][j]);
+        out->y[j] = (float)(hy * m[1][j] + (hy + 0.5) * m[3][j]);
+        out->w[j] = (float)m[3][j];
+        out->plane[j] = j < 3 ? (float)((double)c[j] * (double)step[j]) : 0.0f;
+    }
+    out->z = (float)m[2][3];
+    out->unused[0] = out->unused[1] = out->unused[2] = 0.0f;
+    out->plane[3] = (float)((double)c[0] * (double)origin[0] + (double)c[1] * (double)origin[1] +
+                            (double)c[2] * (double)origin[2] + (double)c[3]);
+}
+
+// One row at (q, 1), summed as the shader does.
+static float row_at(const float r[4], const float q[3])
+{
+    float sum = r[0] * q[0];
+    sum = sum + r[1] * q[1];
+    sum = sum + r[2] * q[2];
+    return sum + r[3];
+}
+
+long sta_raster_ref_project_rows(const sta_raster_ref_view *v, const sta_raster_ref_rows *rows,
+                                 const float q[3], float *out_depth)
+{
+    if (row_at(rows->plane, q) < 0.0f) {
+        return -1;
+    }
+    float w = row_at(rows->w, q);
+    if (!(w > 0.0f)) {
+        return -1;
+    }
+    float inverse = 1.0f / w;
+    float depth = rows->z * inverse;
+    float sx = row_at(rows->x, q) * inverse;
+    float sy = row_at(rows->y, q) * inverse;
+    float scale = (float)(1 << v->subpixel_bits);
+    // Written as the shader rejects, so that a NaN behaves alike.
+    if (!(depth >= 0.0f && depth <= 1.0f && sx >= 1.0f && sy >= 1.0f &&
+          sx < scale * (float)v->width_px + 1.0f && sy < scale * (float)v->height_px + 1.0f)) {
+        return -1;
+    }
+    long x = ((long)sx - 1) >> v->subpixel_bits, y = ((long)sy - 1) >> v->subpixel_bits;
+    *out_depth = depth;
+    return x + y * (long)v->width_px;
+}
+
 typedef struct raster_out {
     float *depth;
     uint32_t *ids;
@@ -133,11 +203,27 @@ void sta_raster_ref_draw(const sta_raster_ref_view *v, const sta_raster_ref_node
     memset(depth, 0, pixels * sizeof(float));
     memset(ids, 0xFF, pixels * 2 * sizeof(uint32_t));
     raster_out out = { depth, ids };
+    bool rows_rule = v->node_rows && !v->footprint.wide;
     for (size_t n = 0; n < node_count; n++) {
         const sta_raster_ref_node *node = &nodes[n];
+        sta_raster_ref_rows rows;
+        if (rows_rule) {
+            sta_raster_ref_node_rows(v, node->origin, node->step, &rows);
+        }
         for (uint32_t i = 0; i < node->count; i++) {
             const uint8_t *p = node->points + (size_t)i * 16;
             if (p[14] & v->hide_flags) {
+                continue;
+            }
+            if (rows_rule) {
+                float q[3], d;
+                for (int axis = 0; axis < 3; axis++) {
+                    q[axis] = (float)((uint32_t)p[2 * axis] | (uint32_t)p[2 * axis + 1] << 8);
+                }
+                long pixel = sta_raster_ref_project_rows(v, &rows, q, &d);
+                if (pixel >= 0) {
+                    keep(&out, pixel, d, node->slot, i);
+                }
                 continue;
             }
             float relative[3];

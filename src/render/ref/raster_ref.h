@@ -21,6 +21,18 @@
  * there is a paraboloid towards the camera: depth * (1 / (1 - R * depth_per_px * t)),
  * t = 1 - min(d^2 * (1 / r^2), 1) (t = 0 when r = 0), that is the eye distance made
  * shorter by the radius in metres at the centre and by nothing at the rim.
+ *
+ * The compute rasteriser's one-pixel rule (`node_rows`; sta_raster_ref_node_rows) is
+ * cheaper and differs from GL_POINTS' in the last bits: per node, the product of the
+ * viewport, projection, view and the node's dequantisation (relative = origin + q *
+ * step) is formed once in double from the float inputs and rounded to three float rows
+ * X, Y, W with the viewport and the snapping folded in (X = 2^bits * size / 2 *
+ * (clip.x + clip.w) + clip.w / 2), and the clip plane to a fourth; clip.z is one number
+ * Z, the projection's (reverse-Z, infinite far: sta_camera_projection; a projection
+ * whose clip.z varies with the position is not supported). A point's q (float) gives
+ * each row as ((r0 q.x + r1 q.y) + r2 q.z) + r3 in float; it is drawn when its plane
+ * value is not negative, w > 0, depth = Z * (1 / W) lies in [0, 1] and sx = X * (1 / W)
+ * in [1, 2^bits * width + 1) (sy alike): pixel ((int)sx - 1) >> bits on each axis.
  */
 #ifndef STA_RENDER_REF_RASTER_REF_H
 #define STA_RENDER_REF_RASTER_REF_H
@@ -56,13 +68,31 @@ typedef struct sta_raster_ref_view {
     uint8_t hide_flags;  /* points whose flags byte (14) has any of these are not drawn */
     float clip_plane[4]; /* camera-relative; points with a negative distance are not drawn */
     sta_raster_ref_footprint footprint;
+    int node_rows; /* 1: one-pixel points by the compute rasteriser's per-node rows */
 } sta_raster_ref_view;
+
+/* The compute rasteriser's per-node rows (the rule above). */
+typedef struct sta_raster_ref_rows {
+    float x[4], y[4], w[4]; /* snapped window x, y (times w), w */
+    float plane[4];         /* clip plane distance */
+    float z;                /* clip.z: the same for every point (infinite reverse-Z) */
+    float unused[3];        /* (the GPU table's vec4) */
+} sta_raster_ref_rows;
 
 /* Rasterises the nodes. Outputs per pixel, rows from the bottom (GL order): `depth`
  * (0 where empty) and `ids` (2 per pixel: node slot, point index; 0xFFFFFFFF both
  * where empty). */
 void sta_raster_ref_draw(const sta_raster_ref_view *view, const sta_raster_ref_node *nodes,
                          size_t node_count, float *depth, uint32_t *ids);
+
+/* The rows of the node at `origin` with quantisation `step` (the rule above). */
+void sta_raster_ref_node_rows(const sta_raster_ref_view *view, const float origin[3],
+                              const float step[3], sta_raster_ref_rows *out);
+
+/* Pixel (GL order: x + y * width) and depth of the point at quantised position `q` by
+ * the node's rows, or -1 when the point is not drawn (its plane value included). */
+long sta_raster_ref_project_rows(const sta_raster_ref_view *view, const sta_raster_ref_rows *rows,
+                                 const float q[3], float *out_depth);
 
 /* Pixel (GL order: x + y * width) and depth of one camera-relative position, or -1 when
  * the point is not drawn. */
