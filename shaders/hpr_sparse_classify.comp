@@ -48,6 +48,11 @@ void main()
     } else {
         uint k = atomicAdd(u_count, 1u);
         u_pixels[k] = uint(p.x) | (uint(p.y) << 16);
-        atomicMax(u_groups[1], k / uint(STA_HPR_LIST_WIDTH * STA_WORKGROUP_SIZE_Y) + 1u);
+        // The entries are 0..count-1 without gaps, so the first entry of each dispatch
+        // row alone raises the row count: one atomic per row, not per pixel.
+        const uint row = uint(STA_HPR_LIST_WIDTH * STA_WORKGROUP_SIZE_Y);
+        if (k % row == 0u) {
+            atomicMax(u_groups[1], k / row + 1u);
+        }
     }
 }
