@@ -28,7 +28,6 @@ layout(std430, binding = STA_HPR_OCCLUSION_BUFFER_LIST) readonly buffer RefineLi
     uint u_count;
     uint u_pixels[];
 };
-uniform int u_list_width; // list entries per dispatch row
 #endif
 uniform ivec2 u_size;       // width, height in pixels
 uniform int u_level_count;  // pyramid levels, level 0 included (>= 2)
@@ -69,7 +68,10 @@ void main()
 {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
 #ifdef HPR_REFINE
-    uint i = gl_GlobalInvocationID.y * uint(u_list_width) + gl_GlobalInvocationID.x;
+    // Consecutive entries to one workgroup (the classify step lists a tile's pixels
+    // together): neighbouring pixels in each SIMD row, as in the full-screen dispatch.
+    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    uint i = group * uint(STA_WORKGROUP_SIZE_X * STA_WORKGROUP_SIZE_Y) + gl_LocalInvocationIndex;
     if (i >= u_count) {
         return;
     }

@@ -67,18 +67,20 @@ bool keep_footprint(vec3 relative, float spacing, uint index)
 }
 #endif
 
-// Point `i` of the workgroup's batch (node `node`, first point `first`); true when it
+// Point `i` of node `node` (in the workgroup's batch); true when it
 // is a candidate (DEPTH step).
-bool raster_point(raster_node node, uint first, uint i)
+bool raster_point(raster_node node, uint i)
 {
     uvec4 t = texelFetch(u_points, int(node.info.x + i));
     if ((((t.w >> 16) & 0xFFu) & u_hide_flags) != 0u) {
         return false;
     }
     vec3 q = vec3(uvec3(t.x & 0xFFFFu, t.x >> 16, t.y & 0xFFFFu));
-    // Draw-order index with gaps: batch number, then the point within the batch, so
-    // that the resolve finds the point through the batch list without a search.
-    uint index = gl_WorkGroupID.x * uint(STA_RASTER_BATCH_POINTS) + (i - first);
+    // Draw-order index with gaps: the batch's number in draw order (the node's first,
+    // node.info.z, plus i's batch within the node), then the point within the batch, so
+    // that the resolve finds the point through the draw-order batch list without a
+    // search. The workgroups themselves run nearest node first (raster_compute.c).
+    uint index = node.info.z * uint(STA_RASTER_BATCH_POINTS) + i;
 #if STA_RASTER_WIDE
     vec3 relative = node.origin.xyz + q * node.step.xyz;
     if (dot(u_clip_plane.xyz, relative) + u_clip_plane.w < 0.0) {
@@ -104,13 +106,13 @@ void main()
     while (mask != 0u) {
         int k = findLSB(mask);
         mask &= mask - 1u;
-        raster_point(node, batch.y, first + uint(k) * uint(STA_RASTER_WORKGROUP_SIZE));
+        raster_point(node, first + uint(k) * uint(STA_RASTER_WORKGROUP_SIZE));
     }
 #else
     uint end = min(node.info.y, batch.y + uint(STA_RASTER_BATCH_POINTS));
     uint mask = 0u;
     for (uint k = 0u, i = first; i < end; k++, i += uint(STA_RASTER_WORKGROUP_SIZE)) {
-        if (raster_point(node, batch.y, i)) {
+        if (raster_point(node, i)) {
             mask |= 1u << k;
         }
     }

@@ -271,7 +271,6 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     // Sized on the GPU (no count read back: no stall between the steps on a GPU).
     set_occlusion_uniforms(pass->refine_program, view, p, levels, level_depth);
-    glUniform1i(glGetUniformLocation(pass->refine_program, "u_list_width"), STA_HPR_LIST_WIDTH);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pass->dispatch_buffer);
     glDispatchComputeIndirect(0);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);

@@ -3,6 +3,7 @@
 #include "render/raster_compute.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/alloc.h"
@@ -170,12 +171,15 @@ void sta_raster_compute_release(sta_raster_compute *r)
     }
     delete_buffer(&r->nodes);
     delete_buffer(&r->batches);
+    delete_buffer(&r->near_batches);
     delete_buffer(&r->candidates);
     delete_buffer(&r->indirect);
     delete_buffer(&r->depth);
     delete_buffer(&r->payload);
     sta_free(r->node_table);
     sta_free(r->batch_table);
+    sta_free(r->near_table);
+    sta_free(r->near_keys);
     memset(r, 0, sizeof(*r));
 }
 
@@ -256,6 +260,64 @@ static sta_status build_tables(sta_raster_compute *r, const sta_camera *camera,
     return status;
 }
 
+typedef struct near_key {
+    float distance; /* camera to the node's box, m */
+    uint32_t node;  /* node table index */
+} near_key;
+
+static int compare_near(const void *a, const void *b)
+{
+    const near_key *x = a, *y = b;
+    if (x->distance != y->distance) {
+        return x->distance < y->distance ? -1 : 1;
+    }
+    return x->node < y->node ? -1 : x->node > y->node;
+}
+
+// The batches again, nearest node first: the point steps' dispatch order. Depths only
+// grow, so near points first leave the later, farther ones fewer atomics and fewer
+// candidates; the result does not depend on the order (the draw-order indices come
+// from the node table, and the atomics keep the nearest, then the smallest index).
+static sta_status build_near_order(sta_raster_compute *r, size_t count, size_t batches,
+                                   sta_error *err)
+{
+    sta_status status = sta_array_reserve(&r->near_keys, &r->near_keys_capacity, count ? count : 1,
+                                          sizeof(near_key), 64, err);
+    if (status == STA_OK) {
+        void *table = r->near_table;
+        status = sta_array_reserve(&table, &r->near_table_capacity, batches ? batches : 1,
+                                   2 * sizeof(uint32_t), 1024, err);
+        r->near_table = table;
+    }
+    if (status != STA_OK) {
+        return status;
+    }
+    near_key *keys = r->near_keys;
+    const raster_node *nodes = r->node_table;
+    for (size_t i = 0; i < count; i++) {
+        // The box of quantised positions 0..65535 per axis, relative to the camera.
+        float d2 = 0.0f;
+        for (int axis = 0; axis < 3; axis++) {
+            float lo = nodes[i].origin[axis], hi = lo + 65535.0f * nodes[i].step[axis];
+            float d = lo > 0.0f ? lo : hi < 0.0f ? -hi : 0.0f;
+            d2 += d * d;
+        }
+        keys[i] = (near_key){ d2, (uint32_t)i };
+    }
+    qsort(keys, count, sizeof(near_key), compare_near);
+    size_t b = 0;
+    for (size_t k = 0; k < count; k++) {
+        const uint32_t *info = nodes[keys[k].node].info;
+        for (uint32_t first = 0; first < info[1]; first += STA_RASTER_BATCH_POINTS, b++) {
+            r->near_table[2 * b] = keys[k].node;
+            r->near_table[2 * b + 1] = first;
+        }
+    }
+    return b == batches ? STA_OK
+                        : sta_fail(err, STA_ERR_ARG,
+                                   "compute rasteriser: %zu of %zu batches ordered", b, batches);
+}
+
 static void set_view(const sta_raster_compute *r, int slot, const float view[16],
                      const float projection[16], int width_px, int height_px)
 {
@@ -291,6 +353,12 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     if (status != STA_OK) {
         return status;
     }
+    if (status == STA_OK) {
+        status = build_near_order(r, count, batches, err);
+    }
+    if (status != STA_OK) {
+        return status;
+    }
     if (batches == 0 || !cache->buffer) {
         sta_render_target_begin(target, background);
         return STA_OK;
@@ -299,6 +367,7 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     ensure_pixels(r, w, h);
     ensure_buffer(&r->nodes, &r->node_bytes, count * sizeof(raster_node));
     ensure_buffer(&r->batches, &r->batch_bytes, batches * 2 * sizeof(uint32_t));
+    ensure_buffer(&r->near_batches, &r->near_batch_bytes, batches * 2 * sizeof(uint32_t));
     if (r->steps == 2) {
         ensure_buffer(&r->candidates, &r->candidate_bytes,
                       batches * STA_RASTER_WORKGROUP_SIZE * sizeof(uint32_t));
@@ -307,6 +376,8 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     glNamedBufferSubData(r->nodes, 0, (GLsizeiptr)(count * sizeof(raster_node)), r->node_table);
     glNamedBufferSubData(r->batches, 0, (GLsizeiptr)(batches * 2 * sizeof(uint32_t)),
                          r->batch_table);
+    glNamedBufferSubData(r->near_batches, 0, (GLsizeiptr)(batches * 2 * sizeof(uint32_t)),
+                         r->near_table);
     const GLuint groups[3] = { (GLuint)batches, 1, 1 };
     glNamedBufferSubData(r->indirect, 0, sizeof(groups), groups);
     if (r->arena_viewed != cache->buffer) {
@@ -319,7 +390,8 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
         glClearNamedBufferData(r->payload, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_NODES, r->nodes);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_BATCHES, r->batches);
+    // The point steps read the batches nearest first; the resolve, in draw order.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_BATCHES, r->near_batches);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_DEPTH, r->depth);
     if (r->payload) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_PAYLOAD, r->payload);
@@ -352,6 +424,7 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 
     // Resolve: colour, depth and id of the kept point into the target.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_RASTER_BUFFER_BATCHES, r->batches);
     sta_raster_resolve *v = NULL;
     int mode = colours->mode >= 0 && colours->mode < STA_COLOUR_MODE_COUNT ? colours->mode
                                                                            : STA_COLOUR_RGB;

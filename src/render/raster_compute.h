@@ -59,13 +59,15 @@ typedef struct sta_raster_compute {
     bool is_packed; /* one pass with 64-bit atomics */
     int steps;      /* 1: packed; 2: depth, then payload */
     GLuint points_program[STA_RASTER_PROGRAMS];
-    GLuint vao;                                      /* empty, for the resolve triangle */
-    GLuint points_texture;                           /* texture buffer view of the arena */
-    GLuint arena_viewed;                             /* arena buffer the view shows */
-    GLuint nodes, batches, indirect;                 /* per-frame tables */
-    GLuint depth, payload;                           /* per-pixel buffers */
-    GLuint candidates;                               /* two-pass: a candidate mask per invocation */
+    GLuint vao;                      /* empty, for the resolve triangle */
+    GLuint points_texture;           /* texture buffer view of the arena */
+    GLuint arena_viewed;             /* arena buffer the view shows */
+    GLuint nodes, batches, indirect; /* per-frame tables */
+    GLuint near_batches;             /* the batches, nearest node first: the point steps' order */
+    GLuint depth, payload;           /* per-pixel buffers */
+    GLuint candidates;               /* two-pass: a candidate mask per invocation */
     size_t node_bytes, batch_bytes, candidate_bytes; /* buffer capacities */
+    size_t near_batch_bytes;                         /* its capacity */
     int width_px, height_px;                         /* size of the per-pixel buffers */
     int subpixel_bits;                               /* GL_SUBPIXEL_BITS: the node rows' snap */
     GLint max_texels;                                /* GL_MAX_TEXTURE_BUFFER_SIZE */
@@ -73,6 +75,10 @@ typedef struct sta_raster_compute {
     size_t node_table_capacity;                      /* entries */
     uint32_t *batch_table;                           /* 2 per batch */
     size_t batch_table_capacity;                     /* batches */
+    uint32_t *near_table;                            /* near_batches' CPU copy, 2 per batch */
+    size_t near_table_capacity;                      /* batches */
+    void *near_keys;                                 /* node order: distance, node */
+    size_t near_keys_capacity;                       /* entries */
     GLint u_view_rotation[STA_RASTER_PROGRAMS], u_projection[STA_RASTER_PROGRAMS],
         u_size[STA_RASTER_PROGRAMS], u_hide_flags[STA_RASTER_PROGRAMS],
         u_clip_plane[STA_RASTER_PROGRAMS];
