@@ -637,6 +637,20 @@ static void different_grids_merge_losslessly(void **state)
     assert_true(maps[1].is_exact[0]);
 }
 
+/* sta_convert with warnings silenced (small budgets and odd grids warn on purpose);
+ * fails the test, naming `what`, when the conversion fails. */
+static void convert_quietly(const sta_convert_options *o, sta_convert_report *report,
+                            const char *what)
+{
+    sta_error err = { 0 };
+    sta_log_set_level(STA_LOG_QUIET);
+    sta_status status = sta_convert(o, report, &err);
+    sta_log_set_level(STA_LOG_WARN);
+    if (status != STA_OK) {
+        fail_msg("%s: %s", what, err.message);
+    }
+}
+
 /* Two files on different grids, far from the first file's offset at the finer
  * scale, convert into one scene with every point. */
 static void different_grids_convert_into_one_scene(void **state)
@@ -655,13 +669,7 @@ static void different_grids_convert_into_one_scene(void **state)
     snprintf(out, sizeof(out), "%s/ab.strata", sta_test_tmpdir());
     sta_convert_options o = { .inputs = inputs, .input_count = 2, .output = out };
     sta_convert_report report;
-    sta_error err = { 0 };
-    sta_log_set_level(STA_LOG_QUIET);
-    sta_status status = sta_convert(&o, &report, &err);
-    sta_log_set_level(STA_LOG_WARN);
-    if (status != STA_OK) {
-        fail_msg("convert: %s", err.message);
-    }
+    convert_quietly(&o, &report, "convert");
     assert_int_equal(report.point_count, 50000);
     unlink(out);
     unlink(a);
@@ -695,13 +703,9 @@ static void output_is_byte_identical_across_threads_and_memory(void **state)
                                   .leaf_capacity = 500,
                                   .chunk_points = 3000,
                                   .force = true };
-        sta_error err = { 0 };
-        sta_log_set_level(STA_LOG_QUIET); // 64 MiB warns that a chunk needs more
-        sta_status status = sta_convert(&o, NULL, &err);
-        sta_log_set_level(STA_LOG_WARN);
-        if (status != STA_OK) {
-            fail_msg("run %zu: %s", i, err.message);
-        }
+        char what[32];
+        snprintf(what, sizeof(what), "run %zu", i);
+        convert_quietly(&o, NULL, what); // 64 MiB warns that a chunk needs more
         if (i == 0) {
             bytes0 = sta_test_read_file(first, &size0);
             continue;
@@ -766,12 +770,7 @@ static void temporary_disk_is_bounded_and_outlier_proof(void **state)
                                       .runs_on_disk = true, // the runs are measured here
                                       .force = true };
             sta_convert_report report;
-            sta_log_set_level(STA_LOG_QUIET);
-            sta_status status = sta_convert(&o, &report, &err);
-            sta_log_set_level(STA_LOG_WARN);
-            if (status != STA_OK) {
-                fail_msg("convert: %s", err.message);
-            }
+            convert_quietly(&o, &report, "convert");
             double ratio = (double)report.temp_bytes / las_bytes;
             print_message("stray %d, memory %zu MiB: temporary %.3fx the LAS size\n", with_stray,
                           memories[m], ratio);
@@ -826,13 +825,9 @@ static void records_in_memory_match_the_runs(void **state)
                                   .runs_on_disk = runs[i].on_disk,
                                   .force = true };
         sta_convert_report report;
-        sta_error err = { 0 };
-        sta_log_set_level(STA_LOG_QUIET); // 64 MiB warns that a chunk needs more
-        sta_status status = sta_convert(&o, &report, &err);
-        sta_log_set_level(STA_LOG_WARN);
-        if (status != STA_OK) {
-            fail_msg("run %zu: %s", i, err.message);
-        }
+        char what[32];
+        snprintf(what, sizeof(what), "run %zu", i);
+        convert_quietly(&o, &report, what); // 64 MiB warns that a chunk needs more
         if (report.records_in_memory != runs[i].in_memory) {
             fail_msg("run %zu: records %s memory", i, report.records_in_memory ? "in" : "not in");
         }
