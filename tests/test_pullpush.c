@@ -66,6 +66,14 @@ static void result_release(result *r)
     sta_pullpush_levels_release(&r->levels);
 }
 
+/* One case's frame and its twin and GPU results. */
+static void case_release(frame *f, result *ref, result *got)
+{
+    result_release(ref);
+    result_release(got);
+    frame_release(f);
+}
+
 /* The camera ray through pixel (x, y), z = -1 (the unproject pass's maths). */
 static void pixel_ray(const sta_view_params *v, int x, int y, float r[3])
 {
@@ -382,9 +390,7 @@ static void check_random_size_with(int w, int h, bool has_label,
             }
         }
     }
-    result_release(&ref);
-    result_release(&got);
-    frame_release(&f);
+    case_release(&f, &ref, &got);
     sta_gl_headless_destroy(&gl);
 }
 
@@ -447,9 +453,7 @@ static void passes_follow_view_size_changes(void **state)
         run_ref(&f, &params, &ref);
         run_gl_with(&pp, &np, &f, &params, &got);
         compare_results(&f, &ref, &got);
-        result_release(&ref);
-        result_release(&got);
-        frame_release(&f);
+        case_release(&f, &ref, &got);
     }
     sta_normals_pyramid_pass_release(&np);
     sta_pullpush_pass_release(&pp);
@@ -701,9 +705,7 @@ static void empty_frame_stays_empty(void **state)
                 assert_true(lp->data[i] == 0.0f);
             }
         }
-        result_release(&ref);
-        result_release(&got);
-        frame_release(&f);
+        case_release(&f, &ref, &got);
     }
     sta_gl_headless_destroy(&gl);
 }
@@ -755,9 +757,7 @@ static void single_point_fills_its_neighbourhood(void **state)
         for (int i = 0; i < w * h; i++) {
             assert_true(got.normal.data[4 * i + 3] == 0.0f);
         }
-        result_release(&ref);
-        result_release(&got);
-        frame_release(&f);
+        case_release(&f, &ref, &got);
     }
     sta_gl_headless_destroy(&gl);
 }
@@ -788,9 +788,7 @@ static void all_points_pass_through(void **state)
         assert_true(got.normal.data[4 * i + 3] == 1.0f);
         assert_true(angle_deg(&got.normal.data[4 * i], pn) < 0.05);
     }
-    result_release(&ref);
-    result_release(&got);
-    frame_release(&f);
+    case_release(&f, &ref, &got);
     sta_gl_headless_destroy(&gl);
 }
 
@@ -892,9 +890,7 @@ static void depth_discontinuity_stays_bounded(void **state)
         }
     }
     printf("depth discontinuity: %d pixels near the edge mix both depths\n", mixed);
-    result_release(&ref);
-    result_release(&got);
-    frame_release(&f);
+    case_release(&f, &ref, &got);
     sta_gl_headless_destroy(&gl);
 }
 
@@ -926,9 +922,7 @@ static void push_keeps_holes_on_one_surface(void **state)
     }
     printf("push: %d filled pixels more than 5 %% off both surfaces\n", floating);
     assert_true(floating <= MAX_FLOATING);
-    result_release(&ref);
-    result_release(&got);
-    frame_release(&f);
+    case_release(&f, &ref, &got);
     sta_gl_headless_destroy(&gl);
 }
 
@@ -959,9 +953,7 @@ static void pull_keeps_coarse_texels_on_one_surface(void **state)
         assert_true(fabsf(-t[2] - 2.0f) < 0.002f);
         assert_true(t[3] == 1.0f);
     }
-    result_release(&ref);
-    result_release(&got);
-    frame_release(&f);
+    case_release(&f, &ref, &got);
     sta_gl_headless_destroy(&gl);
 }
 
@@ -991,9 +983,7 @@ static void near_plane_and_far_points(void **state)
         assert_true(p[3] > 0.0f);
         assert_true(-p[2] >= f.view.near_m * (1.0f - 1e-6f) && -p[2] <= 1e5f * (1.0f + 1e-6f));
     }
-    result_release(&ref);
-    result_release(&got);
-    frame_release(&f);
+    case_release(&f, &ref, &got);
     sta_gl_headless_destroy(&gl);
 }
 
@@ -1093,9 +1083,7 @@ static step_errors measure_step(const sta_normals_pyramid_params *params)
     qsort(angles, (size_t)e.count, sizeof(double), compare_double);
     e.p95 = angles[(size_t)e.count * 95 / 100];
     free(angles);
-    result_release(&ref);
-    result_release(&got);
-    frame_release(&f);
+    case_release(&f, &ref, &got);
     return e;
 }
 
