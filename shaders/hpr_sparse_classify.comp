@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // The sparse HPR operator's copy step (docs/HPR.md, "Sparse operator"): after the
-// pyramidal operator ran on the even (x, y) anchors only, each other pixel copies its
-// up to 4 nearest anchors' label when they all agree, the label is of its kind (point
-// or empty) and, for a point, every anchor's depth is within STA_HPR_SPARSE_DEPTH_TAU of its own
-// (no depth edge); otherwise it goes on the list the operator refines. Twin:
-// sta_hpr_ref_sparse_labels (src/render/ref/hpr_sparse_ref.c).
+// pyramidal operator ran on the even (x, y) anchors only, each other pixel copies the
+// label its nearest anchors of its own kind (point or empty) agree on, when there is at
+// least one such anchor and, for a point, each of them lies within
+// STA_HPR_SPARSE_DEPTH_TAU of its depth (no depth edge); otherwise it goes on the list
+// the operator refines. One invocation per 2x2 block: the block's anchor and its three
+// other pixels, which share the anchors (x, y), (x + 2, y), (x, y + 2), (x + 2, y + 2).
+// Twin: sta_hpr_ref_sparse_labels (src/render/ref/hpr_sparse_ref.c).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION) uniform sampler2D u_position;
 layout(binding = STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL, r32f) uniform image2D u_label;
@@ -21,58 +23,84 @@ layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH) buffer RefineD
 };
 uniform ivec2 u_size;
 
-// The workgroup's listed pixels: counted in shared memory, then one atomic on the
-// global count per workgroup (the global count is one cache line that every listed
-// pixel's atomic would contend for).
-shared uint s_listed;
-shared uint s_base;
+bool is_point_label(float label)
+{
+    return label == STA_LABEL_VISIBLE || label == STA_LABEL_HIDDEN;
+}
+
+// Folds anchor (label la, depth da) into pixel p's copy: anchors of the other kind are
+// left out; `count` of p's kind so far, their common `label`, `ok` while they agree
+// and (for a point) lie within the depth tolerance `tau` of its depth `zp`.
+void fold_anchor(float la, float da, bool own_point, float zp, float tau, inout int count,
+                 inout float label, inout bool ok)
+{
+    if (is_point_label(la) != own_point) {
+        return;
+    }
+    label = count == 0 ? la : label;
+    precise float d = abs(da - zp);
+    ok = ok && la == label && (!own_point || d <= tau);
+    count++;
+}
+
+// Pixel p: copies the label of its anchors of its kind (2 or 4 of the block's: la0/da0
+// and la1/da1 always, la2/da2 and la3/da3 when `four`), or lists it for refinement.
+void classify(ivec2 p, bool four, vec4 la, vec4 da, inout uint n, inout uvec3 listed)
+{
+    if (p.x >= u_size.x || p.y >= u_size.y) {
+        return;
+    }
+    vec4 own = texelFetch(u_position, p, 0);
+    bool own_point = own.w > 0.5;
+    precise float zp = -own.z;
+    precise float tau = STA_HPR_SPARSE_DEPTH_TAU * zp;
+    int count = 0;
+    float label = 0.0;
+    bool ok = true;
+    fold_anchor(la.x, da.x, own_point, zp, tau, count, label, ok);
+    fold_anchor(la.y, da.y, own_point, zp, tau, count, label, ok);
+    if (four) {
+        fold_anchor(la.z, da.z, own_point, zp, tau, count, label, ok);
+        fold_anchor(la.w, da.w, own_point, zp, tau, count, label, ok);
+    }
+    if (ok && count > 0) {
+        imageStore(u_label, p, vec4(label, 0.0, 0.0, 0.0));
+        return;
+    }
+    uint entry = uint(p.x) | (uint(p.y) << 16);
+    listed = n == 0u ? uvec3(entry, listed.yz) : n == 1u ? uvec3(listed.x, entry, listed.z)
+                                                         : uvec3(listed.xy, entry);
+    n++;
+}
 
 void main()
 {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (gl_LocalInvocationIndex == 0u) {
-        s_listed = 0u;
+    ivec2 a0 = 2 * ivec2(gl_GlobalInvocationID.xy); // the block's anchor
+    uvec3 listed = uvec3(0u);
+    uint n = 0u;
+    if (a0.x < u_size.x && a0.y < u_size.y) {
+        // The 4 anchors, clamped to the last even row and column (as the twin).
+        ivec2 a1 = min(a0 + 2, (u_size - 1) & ~1);
+        ivec2 q1 = ivec2(a1.x, a0.y), q2 = ivec2(a0.x, a1.y);
+        vec4 la = vec4(imageLoad(u_label, a0).x, imageLoad(u_label, q1).x,
+                       imageLoad(u_label, q2).x, imageLoad(u_label, a1).x);
+        vec4 da = -vec4(texelFetch(u_position, a0, 0).z, texelFetch(u_position, q1, 0).z,
+                        texelFetch(u_position, q2, 0).z, texelFetch(u_position, a1, 0).z);
+        // (x + 1, y): anchors 0 and 1; (x, y + 1): 0 and 2; (x + 1, y + 1): all four.
+        classify(a0 + ivec2(1, 0), false, la, da, n, listed);
+        classify(a0 + ivec2(0, 1), false, la.xzyw, da.xzyw, n, listed);
+        classify(a0 + ivec2(1, 1), true, la, da, n, listed);
     }
-    barrier();
-    // Anchors (even x and y) and pixels outside the view take part in the barriers only.
-    bool listed = false;
-    if (p.x < u_size.x && p.y < u_size.y && ((p.x | p.y) & 1) != 0) {
-        ivec2 a0 = p & ~1;
-        ivec2 a1 = min(a0 + 2 * (p & 1), (u_size - 1) & ~1);
-        ivec2 anchors[4] = ivec2[4](a0, ivec2(a1.x, a0.y), ivec2(a0.x, a1.y), a1);
-        float l0 = imageLoad(u_label, a0).x;
-        vec4 own = texelFetch(u_position, p, 0);
-        bool own_point = own.w > 0.5;
-        bool ok = own_point == (l0 == STA_LABEL_VISIBLE || l0 == STA_LABEL_HIDDEN);
-        precise float zp = -own.z;
-        precise float tau = STA_HPR_SPARSE_DEPTH_TAU * zp;
-        for (int i = 1; i < 4 && ok; i++) {
-            ok = imageLoad(u_label, anchors[i]).x == l0;
-        }
-        for (int i = 0; i < 4 && ok && own_point; i++) {
-            precise float d = abs(-texelFetch(u_position, anchors[i], 0).z - zp);
-            ok = d <= tau;
-        }
-        if (ok) {
-            imageStore(u_label, p, vec4(l0, 0.0, 0.0, 0.0));
-        }
-        listed = !ok;
+    if (n == 0u) {
+        return;
     }
-    uint local = 0u;
-    if (listed) {
-        local = atomicAdd(s_listed, 1u);
-    }
-    barrier();
-    if (gl_LocalInvocationIndex == 0u && s_listed != 0u) {
-        s_base = atomicAdd(u_count, s_listed);
-    }
-    barrier();
-    if (listed) {
-        uint k = s_base + local;
-        u_pixels[k] = uint(p.x) | (uint(p.y) << 16);
-        // The entries are 0..count-1 without gaps, so the first entry of each dispatch
-        // row alone raises the row count: one atomic per row, not per pixel.
-        const uint row = uint(STA_HPR_LIST_WIDTH * STA_WORKGROUP_SIZE_Y);
+    uint base = atomicAdd(u_count, n);
+    // The entries are 0..count-1 without gaps, so the entry that opens a dispatch row
+    // alone raises the row count: one atomic per row, not per pixel.
+    const uint row = uint(STA_HPR_LIST_WIDTH * STA_WORKGROUP_SIZE_Y);
+    for (uint i = 0u; i < n; i++) {
+        uint k = base + i;
+        u_pixels[k] = i == 0u ? listed.x : i == 1u ? listed.y : listed.z;
         if (k % row == 0u) {
             atomicMax(u_groups[1], k / row + 1u);
         }

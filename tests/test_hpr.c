@@ -579,6 +579,30 @@ static void sparse_copy_step_rules(void **state)
     for (int i = 0; i < 9; i += 2) { // anchors keep their own labels
         assert_true(out.data[i] == full.data[i]);
     }
+    // Only anchors of the pixel's own kind count: an empty anchor (2, 0) makes the empty
+    // (1, 0) copy its label whatever the point anchor (0, 0) says; the point (2, 1) copies
+    // its one point anchor (2, 2); (1, 1) and (1, 2) keep point anchors that disagree.
+    position.data[4 * 2 + 3] = 0.0f;
+    full.data[2] = STA_LABEL_HOLE;
+    full.data[1] = STA_LABEL_BACKGROUND; // what the full operator said: not copied
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 2);
+    assert_true(out.data[5] == STA_LABEL_HIDDEN);
+    assert_true(out.data[1] == STA_LABEL_HOLE);
+    assert_true(out.data[4] == STA_LABEL_HIDDEN);
+    full.data[2] = STA_LABEL_BACKGROUND; // the empty anchor says background: copied too
+    full.data[1] = STA_LABEL_HOLE;
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 2);
+    assert_true(out.data[1] == STA_LABEL_BACKGROUND);
+    // Points whose anchors are all empty have nothing to copy: refined.
+    const int anchors[4] = { 0, 2, 6, 8 };
+    for (int k = 0; k < 4; k++) {
+        position.data[4 * anchors[k] + 3] = 0.0f;
+        full.data[anchors[k]] = STA_LABEL_HOLE;
+    }
+    full.data[4] = STA_LABEL_VISIBLE;
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 4);
+    assert_true(out.data[4] == STA_LABEL_VISIBLE);
+    assert_true(out.data[1] == STA_LABEL_HOLE);
     sta_image_release(&position);
     sta_image_release(&full);
     sta_image_release(&out);

@@ -267,7 +267,7 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     sta_gl_dispatch_2d((w + 1) / 2, (h + 1) / 2);
     glUseProgram(pass->classify_program);
     glUniform2i(glGetUniformLocation(pass->classify_program, "u_size"), w, h);
-    sta_gl_dispatch_2d(w, h);
+    sta_gl_dispatch_2d((w + 1) / 2, (h + 1) / 2); // one invocation per 2x2 block
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     // Sized on the GPU (no count read back: no stall between the steps on a GPU).
     set_occlusion_uniforms(pass->refine_program, view, p, levels, level_depth);
