@@ -1,11 +1,16 @@
 // SPDX-License-Identifier: MIT
-// The sparse HPR operator's copy step (docs/HPR.md, "Sparse operator"): after the
-// pyramidal operator ran on the even (x, y) anchors only, each other pixel copies the
-// label its nearest anchors of its own kind (point or empty) agree on, when there is at
-// least one such anchor and, for a point, each of them lies within
-// STA_HPR_SPARSE_DEPTH_TAU of its depth (no depth edge); otherwise it goes on the list
-// the operator refines. One invocation per 2x2 block: the block's anchor and its three
-// other pixels, which share the anchors (x, y), (x + 2, y), (x, y + 2), (x + 2, y + 2).
+// The sparse HPR operator's copy step (docs/HPR.md, "Sparse operator"), run twice with
+// a stride u_stride of 2, then 1. On the grid of pixels whose x and y are multiples of
+// u_stride, the operator has labelled the anchors (x and y multiples of 2 u_stride);
+// each other pixel of the grid copies the label its nearest anchors of its own kind
+// (point or empty) agree on, when there is at least one such anchor and, for a point,
+// each of them lies within STA_HPR_SPARSE_DEPTH_TAU of its depth (no depth edge);
+// otherwise it goes on the list the operator refines. Points of the coarse pass are
+// always listed (the operator on every even point keeps each error of the full operator
+// within 0.1 %; copying them from anchors 4 px apart did not, docs/BENCHMARKS.md).
+// One invocation per 2x2 block of
+// the grid: the block's anchor and its three other pixels, which share the anchors
+// (x, y), (x + 2, y), (x, y + 2), (x + 2, y + 2) in grid steps.
 // Twin: sta_hpr_ref_sparse_labels (src/render/ref/hpr_sparse_ref.c).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION) uniform sampler2D u_position;
@@ -22,6 +27,7 @@ layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH) buffer RefineD
     uint u_groups[3];
 };
 uniform ivec2 u_size;
+uniform int u_stride; // pixels per grid step: 2 (the coarse pass), then 1
 
 bool is_point_label(float label)
 {
@@ -43,20 +49,22 @@ void fold_anchor(float la, float da, bool own_point, float zp, float tau, inout 
     count++;
 }
 
-// Pixel p: copies the label of its anchors of its kind (2 or 4 of the block's: la0/da0
-// and la1/da1 always, la2/da2 and la3/da3 when `four`), or lists it for refinement.
-void classify(ivec2 p, bool four, vec4 la, vec4 da, inout uint n, inout uvec3 listed)
+// Grid pixel g: copies the label of its anchors of its kind (2 or 4 of the block's: .x
+// and .y of la / da always, .z and .w when `four`), or lists it for refinement.
+void classify(ivec2 g, ivec2 grid, bool four, vec4 la, vec4 da, inout uint n,
+              inout uvec3 listed)
 {
-    if (p.x >= u_size.x || p.y >= u_size.y) {
+    if (g.x >= grid.x || g.y >= grid.y) {
         return;
     }
+    ivec2 p = g * u_stride;
     vec4 own = texelFetch(u_position, p, 0);
     bool own_point = own.w > 0.5;
     precise float zp = -own.z;
     precise float tau = STA_HPR_SPARSE_DEPTH_TAU * zp;
     int count = 0;
     float label = 0.0;
-    bool ok = true;
+    bool ok = !(own_point && u_stride > 1); // the coarse pass lists every point
     fold_anchor(la.x, da.x, own_point, zp, tau, count, label, ok);
     fold_anchor(la.y, da.y, own_point, zp, tau, count, label, ok);
     if (four) {
@@ -75,21 +83,23 @@ void classify(ivec2 p, bool four, vec4 la, vec4 da, inout uint n, inout uvec3 li
 
 void main()
 {
-    ivec2 a0 = 2 * ivec2(gl_GlobalInvocationID.xy); // the block's anchor
+    ivec2 grid = (u_size + u_stride - 1) / u_stride; // the grid's size
+    ivec2 a0 = 2 * ivec2(gl_GlobalInvocationID.xy); // the block's anchor, in grid steps
     uvec3 listed = uvec3(0u);
     uint n = 0u;
-    if (a0.x < u_size.x && a0.y < u_size.y) {
-        // The 4 anchors, clamped to the last even row and column (as the twin).
-        ivec2 a1 = min(a0 + 2, (u_size - 1) & ~1);
-        ivec2 q1 = ivec2(a1.x, a0.y), q2 = ivec2(a0.x, a1.y);
-        vec4 la = vec4(imageLoad(u_label, a0).x, imageLoad(u_label, q1).x,
-                       imageLoad(u_label, q2).x, imageLoad(u_label, a1).x);
-        vec4 da = -vec4(texelFetch(u_position, a0, 0).z, texelFetch(u_position, q1, 0).z,
-                        texelFetch(u_position, q2, 0).z, texelFetch(u_position, a1, 0).z);
+    if (a0.x < grid.x && a0.y < grid.y) {
+        // The 4 anchors, clamped to the grid's last even row and column (as the twin).
+        ivec2 a1 = min(a0 + 2, (grid - 1) & ~1);
+        ivec2 q0 = a0 * u_stride, q3 = a1 * u_stride;
+        ivec2 q1 = ivec2(q3.x, q0.y), q2 = ivec2(q0.x, q3.y);
+        vec4 la = vec4(imageLoad(u_label, q0).x, imageLoad(u_label, q1).x,
+                       imageLoad(u_label, q2).x, imageLoad(u_label, q3).x);
+        vec4 da = -vec4(texelFetch(u_position, q0, 0).z, texelFetch(u_position, q1, 0).z,
+                        texelFetch(u_position, q2, 0).z, texelFetch(u_position, q3, 0).z);
         // (x + 1, y): anchors 0 and 1; (x, y + 1): 0 and 2; (x + 1, y + 1): all four.
-        classify(a0 + ivec2(1, 0), false, la, da, n, listed);
-        classify(a0 + ivec2(0, 1), false, la.xzyw, da.xzyw, n, listed);
-        classify(a0 + ivec2(1, 1), true, la, da, n, listed);
+        classify(a0 + ivec2(1, 0), grid, false, la, da, n, listed);
+        classify(a0 + ivec2(0, 1), grid, false, la.xzyw, da.xzyw, n, listed);
+        classify(a0 + ivec2(1, 1), grid, true, la, da, n, listed);
     }
     if (n == 0u) {
         return;

@@ -547,9 +547,10 @@ static scores score(const char *name, const sta_image *label, const unsigned cha
     return s;
 }
 
-/* The copy step on a hand-built 3 x 3 image (anchors at the corners): a pixel copies
- * agreeing anchors of its kind at its depth; a depth edge or another kind keeps the
- * full label (refined). */
+/* The second copy step on a hand-built 3 x 3 image (its anchors at the corners; the
+ * empty (0, 0) leaves the first step nothing to copy into the points at the other
+ * corners, which keep their full labels): a pixel copies agreeing anchors of its kind
+ * at its depth; a depth edge or disagreeing anchors keep the full label (refined). */
 static void sparse_copy_step_rules(void **state)
 {
     (void)state;
@@ -562,47 +563,67 @@ static void sparse_copy_step_rules(void **state)
         position.data[4 * i + 3] = 1.0f;
         full.data[i] = STA_LABEL_VISIBLE;
     }
-    full.data[4] = STA_LABEL_HIDDEN; // the centre: copies its visible anchors
-    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 0);
+    position.data[3] = 0.0f;
+    full.data[0] = STA_LABEL_HOLE;
+    full.data[4] = STA_LABEL_HIDDEN; // the centre: copies its visible point anchors
+    const int corners = 3;           // (2, 0), (0, 2), (2, 2) refined in the first step
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), corners);
     assert_true(out.data[4] == STA_LABEL_VISIBLE);
     position.data[4 * 4 + 2] = -10.04f; // within 0.5 % of the anchors' depth: still copied
-    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 0);
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), corners);
     position.data[4 * 4 + 2] = -10.1f; // 1 % behind: a depth edge, refined, keeps HIDDEN
-    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 1);
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), corners + 1);
     assert_true(out.data[4] == STA_LABEL_HIDDEN);
-    position.data[4 * 1 + 3] = 0.0f; // (1, 0) empty among visible anchors: refined
-    full.data[1] = STA_LABEL_HOLE;
-    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 2);
+    // The empty (1, 0) copies its empty anchor (0, 0), whatever the point anchor (2, 0)
+    // says and what the full operator said.
+    position.data[4 * 1 + 3] = 0.0f;
+    full.data[1] = STA_LABEL_BACKGROUND;
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), corners + 1);
     assert_true(out.data[1] == STA_LABEL_HOLE);
     full.data[8] = STA_LABEL_HIDDEN; // anchor (2, 2) disagrees: (2, 1), (1, 2) refined
-    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 4);
-    for (int i = 0; i < 9; i += 2) { // anchors keep their own labels
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), corners + 3);
+    for (int i = 0; i < 9; i += 2) { // the corners keep their own labels
         assert_true(out.data[i] == full.data[i]);
     }
-    // Only anchors of the pixel's own kind count: an empty anchor (2, 0) makes the empty
-    // (1, 0) copy its label whatever the point anchor (0, 0) says; the point (2, 1) copies
-    // its one point anchor (2, 2); (1, 1) and (1, 2) keep point anchors that disagree.
-    position.data[4 * 2 + 3] = 0.0f;
-    full.data[2] = STA_LABEL_HOLE;
-    full.data[1] = STA_LABEL_BACKGROUND; // what the full operator said: not copied
-    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 2);
-    assert_true(out.data[5] == STA_LABEL_HIDDEN);
-    assert_true(out.data[1] == STA_LABEL_HOLE);
-    assert_true(out.data[4] == STA_LABEL_HIDDEN);
-    full.data[2] = STA_LABEL_BACKGROUND; // the empty anchor says background: copied too
-    full.data[1] = STA_LABEL_HOLE;
-    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 2);
-    assert_true(out.data[1] == STA_LABEL_BACKGROUND);
-    // Points whose anchors are all empty have nothing to copy: refined.
-    const int anchors[4] = { 0, 2, 6, 8 };
-    for (int k = 0; k < 4; k++) {
-        position.data[4 * anchors[k] + 3] = 0.0f;
-        full.data[anchors[k]] = STA_LABEL_HOLE;
+    sta_image_release(&position);
+    sta_image_release(&full);
+    sta_image_release(&out);
+}
+
+/* Both copy steps on a 5 x 5 image (anchors at multiples of 4): the first copies the
+ * even empty pixels from the anchors and always refines the even points; a
+ * disagreeing anchor sends the even pixels next to it to refinement in the first step
+ * and their odd neighbours in the second. */
+static void sparse_copy_steps_in_turn(void **state)
+{
+    (void)state;
+    sta_image position, full, out;
+    new_image(&position, 5, 5, 4);
+    new_image(&full, 5, 5, 1);
+    new_image(&out, 5, 5, 1);
+    for (int i = 0; i < 25; i++) {
+        position.data[4 * i + 2] = -10.0f;
+        position.data[4 * i + 3] = 1.0f;
+        full.data[i] = STA_LABEL_VISIBLE;
     }
-    full.data[4] = STA_LABEL_VISIBLE;
-    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 4);
-    assert_true(out.data[4] == STA_LABEL_VISIBLE);
-    assert_true(out.data[1] == STA_LABEL_HOLE);
+    // Points: the 5 even ones that are not anchors are refined, the odd ones copy them.
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 5);
+    for (int i = 0; i < 25; i++) {
+        position.data[4 * i + 3] = 0.0f;
+        full.data[i] = STA_LABEL_HOLE;
+    }
+    const int centre = 2 * 5 + 2;
+    full.data[centre] = STA_LABEL_BACKGROUND; // copied from the 4 anchors in the first step
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 0);
+    for (int i = 0; i < 25; i++) {
+        assert_true(out.data[i] == STA_LABEL_HOLE);
+    }
+    // Anchor (4, 4) open: (2, 2), (4, 2), (2, 4) refined in the first step, then the 10
+    // odd pixels with anchors of both labels in the second.
+    full.data[24] = STA_LABEL_BACKGROUND;
+    assert_int_equal(sta_hpr_ref_sparse_labels(&position, &full, &out), 3 + 10);
+    assert_true(out.data[centre] == STA_LABEL_BACKGROUND);
+    assert_true(out.data[4 * 5 + 1] == STA_LABEL_HOLE && out.data[1 * 5 + 4] == STA_LABEL_HOLE);
     sta_image_release(&position);
     sta_image_release(&full);
     sta_image_release(&out);
@@ -631,7 +652,8 @@ static void sparse_operator_matches_twin(void **state)
         for (int i = 0; i < w * h; i++) {
             differ += full.data[i] != sparse.data[i];
         }
-        int others = w * h - ((w + 1) / 2) * ((h + 1) / 2);
+        const int stride = STA_HPR_ANCHOR_STRIDE; // the anchors: x, y multiples of it
+        int others = w * h - ((w + stride - 1) / stride) * ((h + stride - 1) / stride);
         printf("hpr sparse %dx%d: %d of %d non-anchor pixels refined, %d labels differ from "
                "the full operator\n",
                w, h, refined, others, differ);
@@ -1198,6 +1220,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(shader_matches_twin_on_random_buffers, setup, teardown),
     cmocka_unit_test_setup_teardown(near_plane_over_far_plane_known_truth, setup, teardown),
     cmocka_unit_test(sparse_copy_step_rules),
+    cmocka_unit_test(sparse_copy_steps_in_turn),
     cmocka_unit_test_setup_teardown(sparse_operator_matches_twin, setup, teardown),
     cmocka_unit_test_setup_teardown(labels_match_with_thresholds_on_the_means, setup, teardown),
     cmocka_unit_test_setup_teardown(empty_frame_is_background, setup, teardown),

@@ -33,12 +33,14 @@ static void shader_defines(char *out, size_t size)
              "#define STA_HPR_MAX_REACH_PX %.9e\n"
              "#define STA_HPR_CUT_FACTOR %.9e\n"
              "#define STA_HPR_SPARSE_DEPTH_TAU %.9e\n"
-             "#define STA_HPR_LIST_WIDTH %d\n",
+             "#define STA_HPR_LIST_WIDTH %d\n"
+             "#define STA_HPR_ANCHOR_STRIDE %d\n",
              STA_HPR_MAX_LEVELS, STA_HPR_SECTOR_TAN_NUM, STA_HPR_SECTOR_TAN_DEN,
              (double)STA_HPR_MIN_LENGTH2_M2, (double)STA_LABEL_BACKGROUND,
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
              (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_MAX_REACH_PX,
-             (double)STA_HPR_CUT_FACTOR, (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH);
+             (double)STA_HPR_CUT_FACTOR, (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH,
+             STA_HPR_ANCHOR_STRIDE);
 }
 
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
@@ -242,7 +244,37 @@ static sta_status ensure_list(sta_hpr_pass *pass, int pixels, sta_error *err)
     return sta_gl_check("hpr refinement list", err);
 }
 
-// The sparse operator (docs/HPR.md, "Sparse operator"): anchors, copy step, refinement.
+// One copy step of the sparse operator on the grid of pixels whose x and y are
+// multiples of `stride`, then the refinement of the pixels it listed (one indirect
+// dispatch sized by the copy step: no count read back, so a GPU does not stall).
+static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
+                            const sta_hpr_params *p, int levels, const float *level_depth,
+                            int stride)
+{
+    int w = view->width_px, h = view->height_px;
+    GLuint zero = 0;
+    // The refinement's workgroups: a row of STA_HPR_LIST_WIDTH pixels across, rows
+    // added by the classify step as the list grows (none when it stays empty).
+    const GLuint groups[3] = { STA_HPR_LIST_WIDTH / STA_WORKGROUP_SIZE_X, 0, 1 };
+    glNamedBufferSubData(pass->list_buffer, 0, sizeof(zero), &zero);
+    glNamedBufferSubData(pass->dispatch_buffer, 0, sizeof(groups), groups);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glUseProgram(pass->classify_program);
+    glUniform2i(glGetUniformLocation(pass->classify_program, "u_size"), w, h);
+    glUniform1i(glGetUniformLocation(pass->classify_program, "u_stride"), stride);
+    int grid_w = (w + stride - 1) / stride, grid_h = (h + stride - 1) / stride;
+    sta_gl_dispatch_2d((grid_w + 1) / 2, (grid_h + 1) / 2); // one invocation per 2x2 block
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
+                    GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    set_occlusion_uniforms(pass->refine_program, view, p, levels, level_depth);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pass->dispatch_buffer);
+    glDispatchComputeIndirect(0);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+}
+
+// The sparse operator (docs/HPR.md, "Sparse operator"): the operator on the anchors
+// (x and y multiples of STA_HPR_ANCHOR_STRIDE), then two copy steps with their
+// refinements: the even pixels from the anchors, every other pixel from the even ones.
 static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
                              const sta_hpr_params *p, int levels, const float *level_depth,
                              GLuint label_texture, sta_error *err)
@@ -252,28 +284,16 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     if (status != STA_OK) {
         return status;
     }
-    GLuint zero = 0;
-    // The refinement's workgroups: a row of STA_HPR_LIST_WIDTH pixels across, rows
-    // added by the classify step as the list grows (none when it stays empty).
-    const GLuint groups[3] = { STA_HPR_LIST_WIDTH / STA_WORKGROUP_SIZE_X, 0, 1 };
-    glNamedBufferSubData(pass->list_buffer, 0, sizeof(zero), &zero);
-    glNamedBufferSubData(pass->dispatch_buffer, 0, sizeof(groups), groups);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_OCCLUSION_BUFFER_LIST, pass->list_buffer);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH,
                      pass->dispatch_buffer);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_READ_WRITE,
                        GL_R32F);
     set_occlusion_uniforms(pass->anchors_program, view, p, levels, level_depth);
-    sta_gl_dispatch_2d((w + 1) / 2, (h + 1) / 2);
-    glUseProgram(pass->classify_program);
-    glUniform2i(glGetUniformLocation(pass->classify_program, "u_size"), w, h);
-    sta_gl_dispatch_2d((w + 1) / 2, (h + 1) / 2); // one invocation per 2x2 block
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-    // Sized on the GPU (no count read back: no stall between the steps on a GPU).
-    set_occlusion_uniforms(pass->refine_program, view, p, levels, level_depth);
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pass->dispatch_buffer);
-    glDispatchComputeIndirect(0);
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    const int stride = STA_HPR_ANCHOR_STRIDE;
+    sta_gl_dispatch_2d((w + stride - 1) / stride, (h + stride - 1) / stride);
+    copy_and_refine(pass, view, p, levels, level_depth, 2);
+    copy_and_refine(pass, view, p, levels, level_depth, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_OCCLUSION_BUFFER_LIST, 0);

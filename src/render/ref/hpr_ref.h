@@ -55,6 +55,9 @@
  * within this fraction of its own (no depth edge in the 2 x 2 neighbourhood). 0.005:
  * the error of the full operator to 0.3 % at the cost of 0.02 (docs/BENCHMARKS.md). */
 #define STA_HPR_SPARSE_DEPTH_TAU     0.005f
+/* Sparse operator: the operator runs on the pixels whose x and y are multiples of
+ * this; two copy steps fill the even pixels, then the others (issue 15, eighth round). */
+#define STA_HPR_ANCHOR_STRIDE        4
 /* Pyramidal operator: a neighbour closes a sector only when it lies nearer than the
  * pixel's point by more than this many s0 (issue 15, part 2). Noise makes a surface
  * rough in depth, and the paper's operator let a point's own surface neighbours, a few
@@ -154,13 +157,16 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                                 const sta_hpr_pyramid *pyramid, sta_image *out_label,
                                 sta_image *out_mean, sta_image *out_level);
 
-/* The sparse operator's copy step (twin of hpr_sparse_classify.comp): `full_label` holds
- * the pyramidal labels of every pixel (the anchors and the refined pixels get exactly
- * those); each pixel with an odd x or y copies the label of its up to 4 nearest anchors
- * (even x and y, clamped to the image) when they all agree, the label is of the
- * pixel's kind (point: visible / hidden; empty: hole / background) and, for a point,
- * every anchor's depth is within STA_HPR_SPARSE_DEPTH_TAU of its own; else it keeps
- * its full label (refined). out_label: same size. Returns the refined pixel count. */
+/* The sparse operator's copy steps (twin of hpr_sparse_classify.comp): `full_label`
+ * holds the pyramidal labels of every pixel (the anchors and the refined pixels get
+ * exactly those). First on the grid of even pixels, then on the whole image: each pixel
+ * of the grid that is not one of its anchors (x and y multiples of twice the grid's
+ * step) copies the label of its up to 4 nearest anchors (clamped to the grid) of its
+ * own kind (point: visible / hidden; empty: hole / background) when there is at least
+ * one, they all agree and, for a point, each one's depth is within
+ * STA_HPR_SPARSE_DEPTH_TAU of its own; else it keeps its full label (refined). In the
+ * first step every point is refined. The second step's anchors carry the first step's
+ * labels. out_label: same size. Returns the refined pixel count (both steps). */
 int sta_hpr_ref_sparse_labels(const sta_image *position, const sta_image *full_label,
                               sta_image *out_label);
 

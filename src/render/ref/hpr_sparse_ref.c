@@ -3,6 +3,7 @@
  * (docs/HPR.md, "Sparse operator"). */
 #include <math.h>
 #include <stdbool.h>
+#include <string.h>
 
 #include "render/ref/hpr_ref.h"
 
@@ -11,35 +12,41 @@ static bool is_point_label(float label)
     return label == STA_LABEL_VISIBLE || label == STA_LABEL_HIDDEN;
 }
 
-// Whether pixel (x, y) copies its anchors' label (into *out): as the shader. Only the
-// anchors of the pixel's own kind (point or empty) count; at least one must, all of
-// them must agree, and for a point each must lie within the depth tolerance.
-static bool copies_anchors(const sta_image *position, const sta_image *full_label, int x, int y,
-                           float *out)
+// Whether grid pixel (gx, gy) of the grid with step `stride` copies its anchors' label
+// (into *out), from `label`: as the shader. Only the anchors of the pixel's own kind
+// (point or empty) count; at least one must, all of them must agree, and for a point
+// each must lie within the depth tolerance.
+static bool copies_anchors(const sta_image *position, const sta_image *label, int stride, int gx,
+                           int gy, float *out)
 {
-    int w = full_label->width, h = full_label->height;
-    int ax[2] = { x & ~1, 0 }, ay[2] = { y & ~1, 0 };
-    int last_x = (w - 1) & ~1, last_y = (h - 1) & ~1;
-    ax[1] = ax[0] + 2 * (x & 1) < last_x ? ax[0] + 2 * (x & 1) : last_x;
-    ay[1] = ay[0] + 2 * (y & 1) < last_y ? ay[0] + 2 * (y & 1) : last_y;
-    const float *own = sta_image_at(position, x, y);
+    int grid_w = (label->width + stride - 1) / stride;
+    int grid_h = (label->height + stride - 1) / stride;
+    int ax[2] = { gx & ~1, 0 }, ay[2] = { gy & ~1, 0 };
+    int last_x = (grid_w - 1) & ~1, last_y = (grid_h - 1) & ~1;
+    ax[1] = ax[0] + 2 * (gx & 1) < last_x ? ax[0] + 2 * (gx & 1) : last_x;
+    ay[1] = ay[0] + 2 * (gy & 1) < last_y ? ay[0] + 2 * (gy & 1) : last_y;
+    const float *own = sta_image_at(position, gx * stride, gy * stride);
     bool own_point = own[3] > 0.5f;
+    if (own_point && stride > 1) {
+        return false; // the coarse step refines every point
+    }
     float zp = -own[2], tau = STA_HPR_SPARSE_DEPTH_TAU * zp;
-    float label = 0.0f;
+    float copied = 0.0f;
     int count = 0;
     for (int j = 0; j < 2; j++) {
         for (int i = 0; i < 2; i++) {
-            float anchor = *sta_image_at(full_label, ax[i], ay[j]);
+            int x = ax[i] * stride, y = ay[j] * stride;
+            float anchor = *sta_image_at(label, x, y);
             if (is_point_label(anchor) != own_point) {
                 continue;
             }
             if (count == 0) {
-                label = anchor;
+                copied = anchor;
             }
-            if (anchor != label) {
+            if (anchor != copied) {
                 return false;
             }
-            if (own_point && !(fabsf(-sta_image_at(position, ax[i], ay[j])[2] - zp) <= tau)) {
+            if (own_point && !(fabsf(-sta_image_at(position, x, y)[2] - zp) <= tau)) {
                 return false;
             }
             count++;
@@ -48,22 +55,34 @@ static bool copies_anchors(const sta_image *position, const sta_image *full_labe
     if (count == 0) {
         return false;
     }
-    *out = label;
+    *out = copied;
     return true;
+}
+
+// One copy step on the grid with step `stride`, in place in `label`.
+static int copy_step(const sta_image *position, sta_image *label, int stride)
+{
+    int refined = 0;
+    int grid_w = (label->width + stride - 1) / stride;
+    int grid_h = (label->height + stride - 1) / stride;
+    for (int gy = 0; gy < grid_h; gy++) {
+        for (int gx = 0; gx < grid_w; gx++) {
+            float *out = sta_image_at(label, gx * stride, gy * stride);
+            if (((gx | gy) & 1) != 0 && !copies_anchors(position, label, stride, gx, gy, out)) {
+                refined++; // keeps its full label
+            }
+        }
+    }
+    return refined;
 }
 
 int sta_hpr_ref_sparse_labels(const sta_image *position, const sta_image *full_label,
                               sta_image *out_label)
 {
-    int refined = 0;
-    for (int y = 0; y < full_label->height; y++) {
-        for (int x = 0; x < full_label->width; x++) {
-            float label = *sta_image_at(full_label, x, y);
-            if (((x | y) & 1) != 0 && !copies_anchors(position, full_label, x, y, &label)) {
-                refined++;
-            }
-            *sta_image_at(out_label, x, y) = label;
-        }
-    }
-    return refined;
+    memcpy(out_label->data, full_label->data,
+           (size_t)full_label->width * (size_t)full_label->height * sizeof(float));
+    // A pixel's anchors lie on a smaller step's grid only after it: the even pixels of
+    // the first step are never anchors of each other, nor the odd ones of the second.
+    int refined = copy_step(position, out_label, STA_HPR_ANCHOR_STRIDE / 2);
+    return refined + copy_step(position, out_label, 1);
 }
