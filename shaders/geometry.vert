@@ -24,6 +24,7 @@ out float gl_ClipDistance[1];
 
 flat out vec3 v_colour;
 flat out uvec2 v_id;
+flat out uint v_class; // for the volumetric mark (written when a class texture is attached)
 
 void main()
 {
@@ -38,4 +39,5 @@ void main()
     v_colour = point_colour(a_position_intensity, a_colour_class, a_returns, relative,
                             u_colour_mode, u_elevation, u_intensity_scale);
     v_id = uvec2(u_node_slot, uint(gl_VertexID) - u_arena_offset);
+    v_class = a_colour_class.w;
 }

@@ -9,13 +9,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "convert.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/gpu_cache.h"
 #include "render/pass_shade.h"
 #include "render/pass_volumetric.h"
 #include "render/pipeline.h"
 #include "render/ref/screen_space.h"
 #include "render/ref/volumetric_ref.h"
+#include "render/scene.h"
+#include "synth/synth.h"
 
 static void image(sta_image *im, int w, int h, int channels)
 {
@@ -496,12 +500,83 @@ static void flagged_pixels_are_not_filled(void **state)
     }
 }
 
+/* The GL_POINTS geometry pass writes each pixel's point class (for the mark, instead of
+ * the id lookup): on a small synthetic street seen from its middle, every drawn pixel's
+ * class equals the one its point id gives in the GPU arena, vegetation among them. */
+static void points_pass_writes_the_classes_of_the_ids(void **state)
+{
+    (void)state;
+    enum {
+        SW = 320,
+        SH = 200
+    };
+    sta_synth_params p = { .kind = STA_SYNTH_STREET, .point_count = 300000, .seed = 1 };
+    sta_synth_georef georef;
+    sta_synth_georef_init(p.origin, &georef);
+    char las[4096], path[4096];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("vstreet.las"));
+    snprintf(path, sizeof(path), "%s", sta_test_tmp_path("vstreet.strata"));
+    sta_error err = { 0 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    const char *inputs[] = { las };
+    sta_convert_options o = { .inputs = inputs, .input_count = 1, .output = path, .force = true };
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_OK);
+    sta_scene *scene = NULL;
+    sta_scene_options options = { .min_spacing_px = 0.01 };
+    assert_int_equal(sta_scene_open(path, &options, &scene, &err), STA_OK);
+    sta_geometry_options g = { .raster = STA_RASTER_POINTS };
+    sta_scene_set_raster(scene, &g);
+    sta_pipeline_options pipeline = { .mode = STA_PIPELINE_SHADED };
+    sta_scene_set_pipeline(scene, &pipeline);
+    sta_camera camera = { 0 }; // the README's view: down the street, trees on both sides
+    camera.position[0] = georef.origin[0] - 6.0;
+    camera.position[1] = georef.origin[1];
+    camera.position[2] = georef.origin[2] + 2.25;
+    camera.yaw = 3.14159265358979;
+    camera.pitch = -0.14;
+    camera.fov_y = 1.2217;
+    camera.near_m = 0.01;
+    camera.width_px = SW;
+    camera.height_px = SH;
+    sta_render_target target = { 0 };
+    sta_fixture_render_complete(scene, &camera, &target);
+
+    static uint32_t ids[2 * SW * SH];
+    static uint8_t classes[SW * SH];
+    glGetTextureImage(target.id, 0, GL_RG_INTEGER, GL_UNSIGNED_INT, sizeof(ids), ids);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(sta_scene_pipeline(scene)->classes, 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
+                      sizeof(classes), classes);
+    const sta_gpu_cache *cache = sta_scene_gpu_cache(scene);
+    int drawn = 0, vegetation = 0;
+    for (int i = 0; i < SW * SH; i++) {
+        if (ids[2 * i] >= cache->node_count) {
+            continue; // no point
+        }
+        const sta_gpu_cache_entry *e = &cache->entries[ids[2 * i]];
+        assert_true(e->is_resident && ids[2 * i + 1] < e->count);
+        uint8_t point[16];
+        glGetNamedBufferSubData(cache->buffer, (GLintptr)(e->offset + ids[2 * i + 1]) * 16, 16,
+                                point);
+        assert_int_equal(classes[i], point[11]); // classification: byte 11
+        drawn++;
+        vegetation += classes[i] >= 3 && classes[i] <= 5;
+    }
+    printf("%d pixels with a point, %d of them vegetation\n", drawn, vegetation);
+    assert_true(drawn > SW * SH / 10);
+    assert_true(vegetation > 100 && vegetation < drawn / 2);
+    sta_render_target_release(&target);
+    sta_scene_close(scene);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(mark_rule_on_small_cases),
     cmocka_unit_test(overlay_splats_behind_nearer_surfaces),
     cmocka_unit_test_setup_teardown(shaders_match_twins, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(shade_overlay_matches_shade_then_overlay, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(points_pass_writes_the_classes_of_the_ids, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(flagged_pixels_are_not_filled, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

@@ -178,6 +178,13 @@ static void draw_points(const sta_pass_geometry *p, const sta_camera *camera,
     if (wide) {
         begin_wide(p, camera, colours, footprint, target);
     }
+    bool classes = p->class_out && !wide;
+    if (classes) { // a class attachment for this draw only
+        glNamedFramebufferTexture(target->framebuffer, GL_COLOR_ATTACHMENT3, p->class_out, 0);
+        const GLenum four[4] = { GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_NONE,
+                                 GL_COLOR_ATTACHMENT3 };
+        glNamedFramebufferDrawBuffers(target->framebuffer, 4, four);
+    }
     if (cache->buffer) {
         glVertexArrayVertexBuffer(p->vao, 0, cache->buffer, 0, STA_GPU_POINT_SIZE);
     }
@@ -204,6 +211,12 @@ static void draw_points(const sta_pass_geometry *p, const sta_camera *camera,
     }
     glBindVertexArray(0);
     glDisable(GL_CLIP_DISTANCE0);
+    if (classes) {
+        const GLenum two[2] = { GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1 };
+        glNamedFramebufferDrawBuffers(target->framebuffer, 2, two);
+        glNamedFramebufferTexture(target->framebuffer, GL_COLOR_ATTACHMENT3, 0, 0);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    }
 }
 
 sta_status sta_pass_geometry_draw(sta_pass_geometry *p, const sta_camera *camera,
@@ -219,6 +232,12 @@ sta_status sta_pass_geometry_draw(sta_pass_geometry *p, const sta_camera *camera
     }
     draw_points(p, camera, colours, &footprint, cache, frames, draw, count, target);
     return STA_OK;
+}
+
+bool sta_pass_geometry_set_class_out(sta_pass_geometry *p, GLuint class_texture)
+{
+    p->class_out = p->choice.raster == STA_RASTER_COMPUTE ? 0 : class_texture;
+    return p->class_out != 0;
 }
 
 bool sta_pass_geometry_set_position_out(sta_pass_geometry *p, GLuint position_texture,

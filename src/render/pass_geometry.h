@@ -73,6 +73,7 @@ typedef struct sta_pass_geometry {
         w_elevation, w_intensity_scale, w_node_slot, w_arena_offset, w_hide_flags, w_clip_plane;
     sta_footprint_uniforms w_footprint;
     sta_point_size point_size; /* one pixel until set */
+    GLuint class_out;          /* GL_POINTS: R8UI point classes written too (0: none) */
 } sta_pass_geometry;
 
 /* Builds the chosen rasteriser (`options` may be NULL: defaults) and logs the choice and
@@ -96,6 +97,12 @@ void sta_pass_geometry_set_point_size(sta_pass_geometry *pass, const sta_point_s
  * Returns whether they will (false with GL_POINTS: then run the unproject pass). */
 bool sta_pass_geometry_set_position_out(sta_pass_geometry *pass, GLuint position_texture,
                                         GLuint class_texture, const sta_view_params *view);
+
+/* With GL_POINTS, the next draws of one-pixel points also write each pixel's point
+ * class into `class_texture` (R8UI of the target's size), so that the volumetric mark
+ * need not look it up through the point ids; 0 stops it. Returns whether they will
+ * (false with the compute rasteriser: sta_pass_geometry_set_position_out). */
+bool sta_pass_geometry_set_class_out(sta_pass_geometry *pass, GLuint class_texture);
 
 /* A zeroed pass is a no-op. */
 void sta_pass_geometry_release(sta_pass_geometry *pass);

@@ -290,7 +290,8 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
 {
     bool ran[STA_PASS_COUNT] = { false };
     bool positions_ready = p->positions_ready;
-    p->positions_ready = false;
+    bool classes_ready = positions_ready || p->classes_ready;
+    p->positions_ready = p->classes_ready = false;
     if (t) {
         memset(t, 0, sizeof(*t));
     }
@@ -357,7 +358,7 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     if (volumetric) {
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
         s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes,
-                                     positions_ready ? p->classes : 0, &vframe, err);
+                                     classes_ready ? p->classes : 0, &vframe, err);
         mark(p, t, STA_PASS_VOLUMETRIC, 1);
         ran[STA_PASS_VOLUMETRIC] = true;
         if (s != STA_OK) {

@@ -124,6 +124,10 @@ typedef struct sta_pipeline {
      * them, see sta_pipeline_raster_textures), so the unproject pass is skipped and the
      * volumetric mark reads the classes; cleared by the run. */
     bool positions_ready;
+    /* Set by the caller for one run: `classes` already holds this frame's point classes
+     * (the GL_POINTS geometry pass wrote them: sta_pass_geometry_set_class_out), so the
+     * volumetric mark reads them instead of looking them up; cleared by the run. */
+    bool classes_ready;
 } sta_pipeline;
 
 sta_status sta_pipeline_init(sta_pipeline *pipeline, sta_error *err);

@@ -321,12 +321,13 @@ static sta_status ensure_pipeline(sta_scene *s, sta_error *err)
 // rasteriser's resolve writes the pipeline's camera-space positions itself (the same
 // bits as the unproject pass, which the pipeline then skips: one full-screen pass fewer)
 // and the classes the volumetric mark would otherwise look up through the point ids.
+// GL_POINTS writes the classes alone (the mark's id lookups cost more than the write).
 static sta_status geometry_positions(sta_scene *s, const sta_camera *camera,
                                      const sta_pipeline_options *pipeline, sta_error *err)
 {
-    s->pipeline.positions_ready = false;
+    s->pipeline.positions_ready = s->pipeline.classes_ready = false;
     if (pipeline->mode == STA_PIPELINE_RAW || pipeline->mode == STA_PIPELINE_SPLATS ||
-        s->geometry.choice.raster != STA_RASTER_COMPUTE) {
+        pipeline->mode == STA_PIPELINE_EDL) {
         return STA_OK;
     }
     sta_status status = ensure_pipeline(s, err);
@@ -334,6 +335,10 @@ static sta_status geometry_positions(sta_scene *s, const sta_camera *camera,
     if (status == STA_OK) {
         status = sta_pipeline_raster_textures(&s->pipeline, camera->width_px, camera->height_px,
                                               &position, &classes, err);
+    }
+    if (status == STA_OK && s->geometry.choice.raster != STA_RASTER_COMPUTE) {
+        s->pipeline.classes_ready = sta_pass_geometry_set_class_out(&s->geometry, classes);
+        return STA_OK;
     }
     if (status == STA_OK) {
         sta_view_params view = { camera->width_px, camera->height_px, (float)camera->fov_y,
@@ -435,6 +440,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
                                             frame.draw, frame.draw_count, target, err);
         }
         sta_pass_geometry_set_position_out(&s->geometry, 0, 0, NULL); // this draw only
+        sta_pass_geometry_set_class_out(&s->geometry, 0);
         if (status != STA_OK) {
             return status;
         }
