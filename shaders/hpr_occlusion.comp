@@ -77,7 +77,7 @@ void main()
     }
     p = ivec2(int(u_pixels[i] & 0xffffu), int(u_pixels[i] >> 16));
 #endif
-#ifdef HPR_ANCHORS // sparse operator, first step: the anchors only (x, y multiples of 4)
+#ifdef HPR_ANCHORS // sparse operator, first step: the anchors only (x, y multiples of the stride)
     p *= STA_HPR_ANCHOR_STRIDE;
 #endif
     if (p.x >= u_size.x || p.y >= u_size.y) {

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
-// The sparse HPR operator's copy step (docs/HPR.md, "Sparse operator"), run twice with
-// a stride u_stride of 2, then 1. On the grid of pixels whose x and y are multiples of
-// u_stride, the operator has labelled the anchors (x and y multiples of 2 u_stride);
+// The sparse HPR operator's copy step (docs/HPR.md, "Sparse operator"), run with the
+// strides u_stride = STA_HPR_ANCHOR_STRIDE / 2, ..., 2, 1 in turn. On the grid of pixels
+// whose x and y are multiples of u_stride, the anchors (x and y multiples of 2 u_stride)
+// are labelled (by the operator or the step before);
 // each other pixel of the grid copies the label its nearest anchors of its own kind
 // (point or empty) agree on, when there is at least one such anchor and, for a point,
 // each of them lies within STA_HPR_SPARSE_DEPTH_TAU of its depth (no depth edge);
-// otherwise it goes on the list the operator refines. Points of the coarse pass are
+// otherwise it goes on the list the operator refines. Points of the coarse steps are
 // always listed (the operator on every even point keeps each error of the full operator
 // within 0.1 %; copying them from anchors 4 px apart did not, docs/BENCHMARKS.md).
 // One invocation per 2x2 block of
@@ -27,7 +28,7 @@ layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH) buffer RefineD
     uint u_groups[3];
 };
 uniform ivec2 u_size;
-uniform int u_stride; // pixels per grid step: 2 (the coarse pass), then 1
+uniform int u_stride; // pixels per grid step
 
 bool is_point_label(float label)
 {

@@ -273,8 +273,8 @@ static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
 }
 
 // The sparse operator (docs/HPR.md, "Sparse operator"): the operator on the anchors
-// (x and y multiples of STA_HPR_ANCHOR_STRIDE), then two copy steps with their
-// refinements: the even pixels from the anchors, every other pixel from the even ones.
+// (x and y multiples of STA_HPR_ANCHOR_STRIDE), then copy steps with their refinements
+// on ever finer grids, down to every pixel from the even ones.
 static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
                              const sta_hpr_params *p, int levels, const float *level_depth,
                              GLuint label_texture, sta_error *err)
@@ -292,8 +292,9 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     set_occlusion_uniforms(pass->anchors_program, view, p, levels, level_depth);
     const int stride = STA_HPR_ANCHOR_STRIDE;
     sta_gl_dispatch_2d((w + stride - 1) / stride, (h + stride - 1) / stride);
-    copy_and_refine(pass, view, p, levels, level_depth, 2);
-    copy_and_refine(pass, view, p, levels, level_depth, 1);
+    for (int step = stride / 2; step >= 1; step /= 2) {
+        copy_and_refine(pass, view, p, levels, level_depth, step);
+    }
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_OCCLUSION_BUFFER_LIST, 0);

@@ -81,8 +81,10 @@ int sta_hpr_ref_sparse_labels(const sta_image *position, const sta_image *full_l
 {
     memcpy(out_label->data, full_label->data,
            (size_t)full_label->width * (size_t)full_label->height * sizeof(float));
-    // A pixel's anchors lie on a smaller step's grid only after it: the even pixels of
-    // the first step are never anchors of each other, nor the odd ones of the second.
-    int refined = copy_step(position, out_label, STA_HPR_ANCHOR_STRIDE / 2);
-    return refined + copy_step(position, out_label, 1);
+    // Within a step the pixels it writes are never anchors of each other (in place).
+    int refined = 0;
+    for (int step = STA_HPR_ANCHOR_STRIDE / 2; step >= 1; step /= 2) {
+        refined += copy_step(position, out_label, step);
+    }
+    return refined;
 }
