@@ -95,8 +95,21 @@ void main()
         ivec2 q1 = ivec2(q3.x, q0.y), q2 = ivec2(q0.x, q3.y);
         vec4 la = vec4(imageLoad(u_label, q0).x, imageLoad(u_label, q1).x,
                        imageLoad(u_label, q2).x, imageLoad(u_label, q3).x);
-        vec4 da = -vec4(texelFetch(u_position, q0, 0).z, texelFetch(u_position, q1, 0).z,
-                        texelFetch(u_position, q2, 0).z, texelFetch(u_position, q3, 0).z);
+        // Anchor depths matter only for point anchors (a point compares them with its
+        // own): not fetched for the others (copy step at stride 1: 22 -> 20 CPU ms).
+        vec4 da = vec4(0.0);
+        if (is_point_label(la.x)) {
+            da.x = -texelFetch(u_position, q0, 0).z;
+        }
+        if (is_point_label(la.y)) {
+            da.y = -texelFetch(u_position, q1, 0).z;
+        }
+        if (is_point_label(la.z)) {
+            da.z = -texelFetch(u_position, q2, 0).z;
+        }
+        if (is_point_label(la.w)) {
+            da.w = -texelFetch(u_position, q3, 0).z;
+        }
         // (x + 1, y): anchors 0 and 1; (x, y + 1): 0 and 2; (x + 1, y + 1): all four.
         classify(a0 + ivec2(1, 0), grid, false, la, da, n, listed);
         classify(a0 + ivec2(0, 1), grid, false, la.xzyw, da.xzyw, n, listed);
