@@ -41,10 +41,14 @@ void main()
         return;
     }
     float label = imageLoad(u_label, p).r;
-    vec4 position = imageLoad(u_position, p);
+    // Only a point's label is visible or hidden: the position is read for those alone.
+    bool point = label == STA_LABEL_VISIBLE || label == STA_LABEL_HIDDEN;
+    vec4 position = vec4(0.0);
+    if (point) {
+        position = imageLoad(u_position, p);
+    }
     vec4 points = vec4(0.0);
-    bool drawn = (label == STA_LABEL_VISIBLE || label == STA_LABEL_HIDDEN) && position.w > 0.0 &&
-                 position.z < 0.0;
+    bool drawn = point && position.w > 0.0 && position.z < 0.0;
     if (drawn) {
         bool marked = false;
 #ifdef STA_VOLUMETRIC_CLASS_IMAGE
