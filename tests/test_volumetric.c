@@ -547,6 +547,7 @@ static void points_pass_writes_the_classes_of_the_ids(void **state)
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glGetTextureImage(sta_scene_pipeline(scene)->classes, 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
                       sizeof(classes), classes);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4); // the default again
     const sta_gpu_cache *cache = sta_scene_gpu_cache(scene);
     int drawn = 0, vegetation = 0;
     for (int i = 0; i < SW * SH; i++) {
