@@ -24,9 +24,10 @@
 #define WEIGHT_TOLERANCE     1e-5f
 #define COLOUR_TOLERANCE     1e-5f
 #define NORMAL_TOLERANCE_DEG 0.05
-/* push_keeps_holes_on_one_surface: 217 with the depth weights of the pull and the push,
- * 319 with the push's alone, 545 without either. */
-#define MAX_FLOATING         270
+/* push_keeps_holes_on_one_surface: 59 with the pull's reference on the inner 2x2 taps
+ * (issue 15, eighth round), 217 with the nearest of all 16, 319 with the push's depth
+ * weight alone, 545 without either. */
+#define MAX_FLOATING         100
 
 /* ---- a frame of inputs ---- */
 
@@ -926,32 +927,49 @@ static void push_keeps_holes_on_one_surface(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
-/* The pull's depth weight: an 8x8 frame, every pixel a visible point, columns 0-3 at
- * 2 m and 4-7 at 20 m. Level-1 texel (2, j) filters fine columns 3-6 (taps 1/4 on the
- * near column 3, 3/4 3/4 1/4 on the far ones): the plain filter gives the depth
- * 0.125 * 2 + 0.875 * 20 = 17.75 m, between both surfaces; with the weight the near
- * surface's 2 m (to 0.1 %), while the coverage stays the plain weight sum (1). GPU
- * levels equal the twin's (check_gl_matches_twin). */
+/* The pull's depth weight and its reference: a 14x8 frame of visible points, columns
+ * 0-3 and 9 at 2 m, 4-8 and 12-13 at 20 m, 10-11 empty (holes). The reference is the
+ * nearest depth among a coarse texel's inner 2x2 taps (its own footprint), else among
+ * all 16 (issue 15, eighth round).
+ * - Texel (1, j) filters columns 1-4, inner 2-3 near: the near surface's 2 m (the plain
+ *   filter: 0.875 * 2 + 0.125 * 20 = 4.25 m).
+ * - Texel (2, j) filters columns 3-6, inner 4-5 far: the far surface (the 1/4 tap of the
+ *   near column 3 divided by its depth factor, 15.2: 19.83 m; the plain filter 17.75 m,
+ *   the nearest of all 16 taps as the reference, the rule before, 2 m: a halo of the near
+ *   surface over the far one).
+ * - Texel (5, j) filters columns 9-12, inner 10-11 empty: the nearest of all taps, 2 m.
+ * The coverage stays the plain weight sum (1 for texels 1 and 2). GPU levels equal the
+ * twin's (check_gl_matches_twin). */
 static void pull_keeps_coarse_texels_on_one_surface(void **state)
 {
     (void)state;
     sta_gl_headless gl = { 0 };
     assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     frame f;
-    frame_init(&f, 8, 8);
+    frame_init(&f, 14, 8);
     for (int y = 0; y < 8; y++) {
-        for (int x = 0; x < 8; x++) {
-            set_point(&f, x, y, x < 4 ? 2.0f : 20.0f, STA_LABEL_VISIBLE);
+        for (int x = 0; x < 14; x++) {
+            if (x == 10 || x == 11) {
+                set_empty(&f, x, y, STA_LABEL_HOLE);
+            } else {
+                bool near = x < 4 || x == 9;
+                set_point(&f, x, y, near ? 2.0f : 20.0f, STA_LABEL_VISIBLE);
+            }
         }
     }
     result ref, got;
     check_gl_matches_twin(&f, NULL, &ref, &got);
     for (int j = 0; j < 4; j++) {
-        const float *t = sta_image_at(&got.levels.position[1], 2, j);
-        printf("level 1 texel (2, %d): depth %.4f m, weight %.3f\n", j, (double)-t[2],
-               (double)t[3]);
-        assert_true(fabsf(-t[2] - 2.0f) < 0.002f);
-        assert_true(t[3] == 1.0f);
+        const float *t1 = sta_image_at(&got.levels.position[1], 1, j);
+        const float *t2 = sta_image_at(&got.levels.position[1], 2, j);
+        const float *t5 = sta_image_at(&got.levels.position[1], 5, j);
+        printf("level 1 row %d: texel 1 %.4f m (weight %.3f), texel 2 %.4f m (weight %.3f), "
+               "texel 5 %.4f m\n",
+               j, (double)-t1[2], (double)t1[3], (double)-t2[2], (double)t2[3], (double)-t5[2]);
+        assert_true(fabsf(-t1[2] - 2.0f) < 0.002f);
+        assert_true(-t2[2] > 19.5f && -t2[2] < 20.0f);
+        assert_true(fabsf(-t5[2] - 2.0f) < 0.002f);
+        assert_true(t1[3] == 1.0f && t2[3] == 1.0f && t5[3] > 0.0f);
     }
     case_release(&f, &ref, &got);
     sta_gl_headless_destroy(&gl);

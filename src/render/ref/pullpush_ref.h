@@ -27,7 +27,9 @@
  * nearest depth among the (up to 4) taps: a hole at an outline takes the near surface
  * rather than a depth between both (issue 15, docs/BENCHMARKS.md). */
 #define STA_PULLPUSH_DEPTH_TAU      0.3f
-/* Pull: the same factor against the nearest of the 16 fine taps divides each tap's
+/* Pull: the same factor against the nearest of the inner 2x2 fine taps (the coarse
+ * texel's own footprint; the nearest of all 16 where those four are empty: issue 15,
+ * eighth round, docs/PULLPUSH.md) divides each tap's
  * weight in the values (not in the coverage, the plain weight sum): a coarse texel over
  * a depth edge holds the near surface, not a depth between both, which the push then
  * spread as fill floating between the surfaces (issue 15, sixth round; 0.5: the value
