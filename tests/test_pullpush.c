@@ -15,6 +15,7 @@
 #include "render/gl_image.h"
 #include "render/pass_normals_pyramid.h"
 #include "render/pass_pullpush.h"
+#include "render/pass_shade.h"
 #include "render/ref/normals_pyramid_ref.h"
 #include "render/ref/pullpush_ref.h"
 
@@ -432,6 +433,77 @@ static void half_resolution_shader_matches_twin(void **state)
     for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
         check_random_size_with(sizes[i][0], sizes[i][1], true, &params);
     }
+}
+
+/* The shade pass upsampling half-resolution normals itself (what the shaded pipeline
+ * runs) gives the picture of the upsample pass followed by the shade pass, byte for
+ * byte, on random frames of odd and even sizes. */
+static void shade_upsample_matches_upsample_then_shade(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    sta_pullpush_pass pp;
+    sta_normals_pyramid_pass np;
+    init_passes(&pp, &np);
+    sta_shade_pass shade;
+    sta_error err = { 0 };
+    assert_int_equal(sta_shade_pass_init(&shade, &err), STA_OK);
+    const int sizes[][2] = { { 37, 23 }, { 64, 64 }, { 129, 65 } };
+    for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
+        int w = sizes[i][0], h = sizes[i][1];
+        frame f;
+        frame_init(&f, w, h);
+        fill_random(&f);
+        GLuint position, colour, filled, filled_colour, normal, split, fused;
+        assert_int_equal(sta_gl_texture_from_image(&f.position, &position, &err), STA_OK);
+        assert_int_equal(sta_gl_texture_from_image(&f.colour, &colour, &err), STA_OK);
+        assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &filled, &err), STA_OK);
+        assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &filled_colour, &err), STA_OK);
+        assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &normal, &err), STA_OK);
+        glCreateTextures(GL_TEXTURE_2D, 1, &split);
+        glTextureStorage2D(split, 1, GL_RGBA8, w, h);
+        glCreateTextures(GL_TEXTURE_2D, 1, &fused);
+        glTextureStorage2D(fused, 1, GL_RGBA8, w, h);
+        assert_int_equal(
+            sta_pullpush_pass_run(&pp, &f.view, position, colour, 0, filled, filled_colour, &err),
+            STA_OK);
+        const sta_pullpush_pyramid *pyr = sta_pullpush_pass_pyramid(&pp);
+        sta_normals_pyramid_params half = { .half_resolution = true };
+        sta_shade_params params = { .background = { 0.1f, 0.2f, 0.3f } };
+        assert_int_equal(
+            sta_normals_pyramid_pass_run(&np, &f.view, &half, pyr, filled, normal, &err), STA_OK);
+        sta_shade_pass_run(&shade, &params, w, h, filled, filled_colour, normal, NULL, 0, split);
+        sta_normals_upsample_inputs up;
+        assert_int_equal(
+            sta_normals_pyramid_pass_run_deferred(&np, &f.view, &half, pyr, filled, &up, &err),
+            STA_OK);
+        sta_shade_pass_run(&shade, &params, w, h, filled, filled_colour, 0, &up, 0, fused);
+        size_t bytes = (size_t)w * h * 4;
+        uint8_t *a = malloc(bytes), *b = malloc(bytes);
+        assert_non_null(a);
+        assert_non_null(b);
+        glGetTextureImage(split, 0, GL_RGBA, GL_UNSIGNED_BYTE, (GLsizei)bytes, a);
+        glGetTextureImage(fused, 0, GL_RGBA, GL_UNSIGNED_BYTE, (GLsizei)bytes, b);
+        assert_memory_equal(a, b, bytes);
+        sta_image normals;
+        assert_int_equal(sta_gl_texture_to_image(normal, 0, 4, &normals, &err), STA_OK);
+        int lit = 0;
+        for (int k = 0; k < w * h; k++) {
+            lit += normals.data[4 * k + 3] > 0.0f;
+        }
+        assert_true(lit > w * h / 4); // most pixels shaded from an upsampled normal
+        sta_image_release(&normals);
+        free(a);
+        free(b);
+        GLuint textures[] = { position, colour, filled, filled_colour, normal, split, fused };
+        glDeleteTextures(7, textures);
+        frame_release(&f);
+    }
+    sta_shade_pass_release(&shade);
+    sta_normals_pyramid_pass_release(&np);
+    sta_pullpush_pass_release(&pp);
+    sta_gl_headless_destroy(&gl);
 }
 
 /* One pass object over changing view sizes (its pyramid and atlas are reallocated)
@@ -1149,6 +1221,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shader_matches_twin_odd_sizes),
     cmocka_unit_test(half_resolution_shader_matches_twin),
     cmocka_unit_test(half_resolution_normals_stay_close),
+    cmocka_unit_test(shade_upsample_matches_upsample_then_shade),
     cmocka_unit_test(passes_follow_view_size_changes),
     cmocka_unit_test(plane_is_recovered),
     cmocka_unit_test(sphere_is_recovered),
