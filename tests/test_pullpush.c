@@ -25,10 +25,11 @@
 #define WEIGHT_TOLERANCE     1e-5f
 #define COLOUR_TOLERANCE     1e-5f
 #define NORMAL_TOLERANCE_DEG 0.05
-/* push_keeps_holes_on_one_surface: 59 with the pull's reference on the inner 2x2 taps
- * (issue 15, eighth round), 217 with the nearest of all 16, 319 with the push's depth
- * weight alone, 545 without either. */
-#define MAX_FLOATING         100
+/* push_keeps_holes_on_one_surface: 20 with the push's reference on its own coarse texel
+ * and the pull's on the inner 2x2 taps (issue 15, eighth round), 59 with the pull's
+ * alone, 217 with the nearest taps as references, 319 with the push's depth weight
+ * alone, 545 without either. */
+#define MAX_FLOATING         40
 
 /* ---- a frame of inputs ---- */
 
@@ -999,6 +1000,49 @@ static void push_keeps_holes_on_one_surface(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
+/* The push's reference: a 16x16 frame of visible points with one column of holes beside
+ * a depth edge. Rows 0-7: columns 0-7 at 2 m, 9-15 at 20 m, column 8 empty; rows 8-15
+ * mirrored (columns 0-6 at 20 m, 8-15 at 2 m, column 7 empty), so the hole column lies on
+ * the far side of the edge, once an even column and once an odd one. The hole's coarse
+ * taps are its own level-1 texel (9/16 with the row taps, the far surface) and the
+ * neighbouring one across the edge (the near surface): with the nearest tap as the
+ * reference (the rule before) the hole took the near surface, 2 m, a halo of the near
+ * surface over the far one; with its own texel's depth as the reference it stays on the
+ * far surface: 19.67 m, within 3 % (the pull's own texel holds 19.71 m: its outer 1/4
+ * tap on the near column, divided by the depth factor 15.2, still counts). Rows within 2 of the
+ * frame's middle and edges mix both halves in their vertical taps and are not checked. */
+static void push_takes_the_surface_of_its_own_coarse_texel(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
+    frame f;
+    frame_init(&f, 16, 16);
+    for (int y = 0; y < 16; y++) {
+        bool top = y < 8;
+        int hole = top ? 8 : 7;
+        for (int x = 0; x < 16; x++) {
+            if (x == hole) {
+                set_empty(&f, x, y, STA_LABEL_HOLE);
+            } else {
+                bool near = top ? x < 8 : x > 7;
+                set_point(&f, x, y, near ? 2.0f : 20.0f, STA_LABEL_VISIBLE);
+            }
+        }
+    }
+    result ref, got;
+    check_gl_matches_twin(&f, NULL, &ref, &got);
+    const int rows[] = { 2, 3, 4, 5, 10, 11, 12, 13 };
+    for (size_t r = 0; r < sizeof(rows) / sizeof(rows[0]); r++) {
+        int y = rows[r], x = y < 8 ? 8 : 7;
+        float d = -sta_image_at(&got.position, x, y)[2];
+        printf("hole (%d, %d): filled depth %.4f m\n", x, y, (double)d);
+        assert_true(fabsf(d - 20.0f) < 0.6f);
+    }
+    case_release(&f, &ref, &got);
+    sta_gl_headless_destroy(&gl);
+}
+
 /* The pull's depth weight and its reference: a 14x8 frame of visible points, columns
  * 0-3 and 9 at 2 m, 4-8 and 12-13 at 20 m, 10-11 empty (holes). The reference is the
  * nearest depth among a coarse texel's inner 2x2 taps (its own footprint), else among
@@ -1231,6 +1275,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(hidden_points_do_not_leak),
     cmocka_unit_test(depth_discontinuity_stays_bounded),
     cmocka_unit_test(push_keeps_holes_on_one_surface),
+    cmocka_unit_test(push_takes_the_surface_of_its_own_coarse_texel),
     cmocka_unit_test(pull_keeps_coarse_texels_on_one_surface),
     cmocka_unit_test(near_plane_and_far_points),
     cmocka_unit_test(twin_rejects_mismatched_sizes),

@@ -168,7 +168,7 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
         wy[0] = (j & 1) ? 0.75f : 0.25f;
         wy[1] = 1.0f - wy[0];
         texel taps[4];
-        float near_d = 0.0f; /* nearest depth among the non-empty taps */
+        float near_d = 0.0f; /* nearest depth among the non-empty taps (the fallback) */
         for (int k = 0; k < 4; k++) {
             int a = k & 1, b = k >> 1;
             taps[k] = fetch(coarse, clamp_int(cx0 + a, 0, coarse_w - 1),
@@ -177,6 +177,12 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
             if (taps[k].w > 0.0f && (near_d <= 0.0f || d < near_d)) {
                 near_d = d;
             }
+        }
+        /* The reference: the depth of the 9/16 tap (the coarse texel holding the fine
+         * one) where it has weight, else the nearest. */
+        int own = ((i & 1) ? 0 : 1) + ((j & 1) ? 0 : 2);
+        if (taps[own].w > 0.0f) {
+            near_d = -taps[own].p[2];
         }
         for (int k = 0; k < 4; k++) {
             const texel *t = &taps[k];
