@@ -1,25 +1,11 @@
 // SPDX-License-Identifier: MIT
 // Pyramidal normals at half resolution, step 3: every pixel's normal from the
-// half-resolution normals of the even pixels (normals_pyramid_gather.comp with
-// NP_ANCHORS): bilinear interpolation at the pixel (anchor (i, j) sits at pixel (2i, 2j),
-// so the weights are 1, 1/2 or 1/4), counting only anchors whose tangent plane passes
-// within the gather's plane tolerance of the pixel's point at the finer of the two
-// levels the gather would use here, at least level 1 (the anchors' spacing): no mixing
-// across depth discontinuities, and a noisy point still finds its surface's anchors. Where no anchor
-// qualifies (a surface seen only between anchors), the normal of the anchor whose plane
-// passes nearest (the pixel's own level-0 normal there measured as good, but computing
-// it costs every pixel on llvmpipe, which runs both sides of a branch: +25 % of the
-// pass). An anchor reads back its own normal. Twin: src/render/ref/normals_pyramid_ref.c.
+// half-resolution normals of the even pixels (normals_upsample.glsl).
+// Twin: src/render/ref/normals_pyramid_ref.c.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL, rgba32f)
     writeonly uniform image2D u_normal;
-layout(binding = STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_HALF, rgba32f) readonly uniform image2D u_half;
 uniform ivec2 u_size;
-uniform ivec2 u_half_size;
-uniform float u_near;
-uniform int u_level_count;
-uniform float u_radius_px_m;       // as the gather's
-uniform float u_plane_tolerance_m; // as the gather's: a level-l texel's is this * 2^l * depth
 
 void main()
 {
@@ -27,45 +13,5 @@ void main()
     if (q.x >= u_size.x || q.y >= u_size.y) {
         return;
     }
-    vec4 p = imageLoad(u_points, q);
-    vec4 result = vec4(0.0);
-    if (p.w > 0.0) {
-        float depth = max(-p.z, u_near);
-        float lambda = min(log2(max(u_radius_px_m / depth, 1.0)), float(u_level_count - 1));
-        int level = max(int(lambda), 1);
-        float tolerance = u_plane_tolerance_m * float(1 << level) * depth;
-        ivec2 i0 = q / 2;
-        vec2 f = vec2(q - 2 * i0) * 0.5;
-        vec3 acc = vec3(0.0), nearest = vec3(0.0);
-        float nearest_off = 1e30;
-        for (int b = 0; b < 2; b++) {
-            for (int a = 0; a < 2; a++) {
-                ivec2 t = min(i0 + ivec2(a, b), u_half_size - 1);
-                vec4 m = imageLoad(u_half, t);
-                float bw = (a == 1 ? f.x : 1.0 - f.x) * (b == 1 ? f.y : 1.0 - f.y);
-                float off = abs(dot(m.xyz, p.xyz) - m.w);
-                bool valid = dot(m.xyz, m.xyz) > 0.5;
-                if (valid && off <= tolerance) {
-                    acc += bw * m.xyz;
-                }
-                if (valid && bw > 0.0 && off < nearest_off) {
-                    nearest_off = off;
-                    nearest = m.xyz;
-                }
-            }
-        }
-        vec3 n = acc;
-        bool ok = dot(acc, acc) > 1e-12;
-        if (!ok) {
-            n = nearest;
-            ok = true;
-        }
-        float n2 = dot(n, n);
-        if (ok && n2 > 1e-12) {
-            float len = sqrt(n2);
-            float s = dot(n, p.xyz) > 0.0 ? -1.0 : 1.0;
-            result = vec4(s * (n / len), 1.0);
-        }
-    }
-    imageStore(u_normal, q, result);
+    imageStore(u_normal, q, np_upsample(q, imageLoad(u_points, q)));
 }

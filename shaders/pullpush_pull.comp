@@ -3,7 +3,8 @@
 // filter (taps 1/4, 3/4, 3/4, 1/4 per axis over fine texels 2i-1 .. 2i+2) of level
 // l - 1; its weight is the filtered weight sum clamped to 1. Fine texels outside the
 // fine level have weight 0. In the values (not the weight) each tap's weight is divided
-// by the push's depth factor with PP_PULL_TAU against the nearest tap (issue 15).
+// by the push's depth factor with PP_PULL_TAU against the nearest of the inner 2x2 taps,
+// or of all 16 where those are empty (issue 15).
 // Twin: src/render/ref/pullpush_ref.c (pull_level).
 // Built twice: with PP_FROM_INPUT the fine level is level 0 (the inputs, weights from
 // the HPR labels), without it a pyramid level.
@@ -32,11 +33,12 @@ void main()
     if (q.x >= u_coarse_size.x || q.y >= u_coarse_size.y) {
         return;
     }
-    // The 16 fine texels and their weights (0 outside the fine level), then the nearest
-    // depth among those with weight.
+    // The 16 fine texels and their weights (0 outside the fine level), then the depth
+    // reference: the nearest depth among the inner 2x2 texels with weight (the coarse
+    // texel's own footprint), else among all 16 (issue 15, eighth round).
     vec4 t[16];
     float w[16];
-    float near_d = 0.0;
+    float near_d = 0.0, near_inner = 0.0;
     for (int b = 0; b < 4; b++) {
         for (int a = 0; a < 4; a++) {
             ivec2 f = 2 * q - 1 + ivec2(a, b);
@@ -51,7 +53,14 @@ void main()
             if (w[k] > 0.0 && (near_d <= 0.0 || -t[k].z < near_d)) {
                 near_d = -t[k].z;
             }
+            bool inner = (a == 1 || a == 2) && (b == 1 || b == 2);
+            if (inner && w[k] > 0.0 && (near_inner <= 0.0 || -t[k].z < near_inner)) {
+                near_inner = -t[k].z;
+            }
         }
+    }
+    if (near_inner > 0.0) {
+        near_d = near_inner;
     }
     // Coverage: the plain filtered weight sum. Values: each tap's weight divided by the
     // depth factor, so a coarse texel over a depth edge keeps the near surface rather

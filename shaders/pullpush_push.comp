@@ -4,8 +4,9 @@
 // clamped to the coarse level, empty coarse texels skipped) under its own value by
 // "over" compositing: w' = w + (1 - w) sw, value (w v + (1 - w) sv) / w'. Each tap's
 // weight is divided by 1 + x + x^2/2 + x^3/6 (exp(x) to third order; GLSL's exp differs
-// from the twin's expf), x = ((d - d_near) / (PP_DEPTH_TAU d_near))^2, d_near the nearest
-// tap depth: a hole at an outline takes the near surface, not a depth between both.
+// from the twin's expf), x = ((d - d_near) / (PP_DEPTH_TAU d_near))^2, d_near the depth
+// of the 9/16 tap where it has weight, else the nearest tap depth: a hole at an outline
+// takes one surface, not a depth between both.
 // Twin: src/render/ref/pullpush_ref.c (push_texel). Built twice: with PP_LEVEL0 the
 // fine level is the input, the result goes to the output textures and the background
 // found by HPR is restored; without it a pyramid level is updated in place.
@@ -61,7 +62,7 @@ void main()
         wy[0] = (q.y & 1) != 0 ? 0.75 : 0.25;
         wy[1] = 1.0 - wy[0];
         vec4 tp[4];
-        float near_d = 0.0; // nearest depth among the non-empty taps
+        float near_d = 0.0; // nearest depth among the non-empty taps (the fallback)
         for (int k = 0; k < 4; k++) {
             ivec2 cq = clamp(c0 + ivec2(k & 1, k >> 1), ivec2(0), u_coarse_size - 1);
             tp[k] = imageLoad(u_coarse_position, cq);
@@ -69,6 +70,16 @@ void main()
             if (tp[k].w > 0.0 && (near_d <= 0.0 || d < near_d)) {
                 near_d = d;
             }
+        }
+        // The reference is the depth of the tap of weight 9/16, the coarse texel that
+        // holds q, where it has weight (issue 15, eighth round): a hole beside a wall
+        // stays on the wall even where a neighbouring coarse texel holds a nearer tree.
+        // (Selected with constant indices: a per-pixel index into tp costs llvmpipe a
+        // trip through memory, +13 % of the pass.)
+        bool odd_x = (q.x & 1) != 0;
+        vec4 own = (q.y & 1) != 0 ? (odd_x ? tp[0] : tp[1]) : (odd_x ? tp[2] : tp[3]);
+        if (own.w > 0.0) {
+            near_d = -own.z;
         }
         for (int k = 0; k < 4; k++) {
             if (tp[k].w > 0.0) {

@@ -3,12 +3,15 @@
 // normals and the (filled) point colours. Pixels without a surface get the background.
 // With STA_SHADE_OVERLAY (and volumetric_window.glsl) the volumetric classes' marked
 // points are drawn over the result here, as volumetric_overlay.comp would after it: the
-// same picture, one full-screen pass fewer (on llvmpipe each costs ~10 ms of CPU at
-// 1080p before it does any work).
+// same picture, one full-screen pass fewer. With STA_SHADE_UPSAMPLE (and
+// normals_upsample.glsl) the half-resolution normals are upsampled here instead of read
+// from the normal image: again the same picture, one full-screen pass fewer.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_SHADE_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
 layout(binding = STA_SHADE_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_colour;
+#ifndef STA_SHADE_UPSAMPLE
 layout(binding = STA_SHADE_IMAGE_NORMAL, rgba32f) readonly uniform image2D u_normal;
+#endif
 layout(binding = STA_SHADE_IMAGE_OUT, rgba8) writeonly uniform image2D u_out;
 uniform vec2 u_size;
 uniform vec4 u_light; // ambient, diffuse, specular, shininess
@@ -21,7 +24,11 @@ void main()
         return;
     }
     vec4 position = imageLoad(u_position, p);
+#ifdef STA_SHADE_UPSAMPLE
+    vec4 normal = np_upsample(p, position); // the same normal the upsample pass would store
+#else
     vec4 normal = imageLoad(u_normal, p);
+#endif
     vec3 result = u_background;
     if (position.w > 0.0) {
         vec3 albedo = imageLoad(u_colour, p).rgb;

@@ -353,10 +353,10 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
     assert_int_equal(sta_volumetric_pass_init(&vol, &err), STA_OK);
     sta_shade_params params = { .background = { 0.1f, 0.2f, 0.3f } };
     sta_volumetric_frame frame = { w, h, tp, tc, 0, tpts };
-    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, 0, plain);
-    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, 0, split);
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, 0, plain);
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, 0, split);
     sta_volumetric_pass_overlay(&vol, &frame, split);
-    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, tpts, fused);
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, tpts, fused);
     uint8_t *a = read_rgba8(split, w, h), *b = read_rgba8(fused, w, h),
             *c = read_rgba8(plain, w, h);
     assert_memory_equal(a, b, (size_t)w * h * 4);

@@ -279,6 +279,7 @@ static void set_pipeline(const scene_run *run, sta_scene *scene, const sta_bench
                                .hpr_exhaustive = st->hpr_exhaustive,
                                .hpr_every_pixel = o->hpr_every_pixel,
                                .normals_every_pixel = o->normals_every_pixel,
+                               .keep_normal_image = true, // read for the normal errors
                                .hpr_radius_px = o->hpr_radius_px,
                                .hpr_threshold = o->hpr_threshold,
                                .s0_m = (float)o->s0_m,

@@ -120,8 +120,10 @@
 #define STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL   0 /* RGBA32F out */
 #define STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS    2
 #define STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL 0 /* RGBA32F out */
-#define STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_HALF   2 /* RGBA32F anchors: normal, plane offset */
-#define STA_NORMALS_PYRAMID_IMAGE_LAST            2 /* highest image unit above */
+/* normals_upsample.glsl, in normals_pyramid_upsample.comp and shade.comp
+ * (STA_SHADE_UPSAMPLE): above every image unit of both */
+#define STA_NORMALS_UPSAMPLE_IMAGE_HALF           5 /* RGBA32F anchors: normal, plane offset */
+#define STA_NORMALS_PYRAMID_IMAGE_LAST            5 /* highest image unit above */
 
 /* Blinn-Phong shading (shade.comp). */
 #define STA_SHADE_IMAGE_POSITION 0
@@ -230,7 +232,7 @@
  X(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL)                                                        \
  X(STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS)                                                         \
  X(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL)                                                      \
- X(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_HALF)                                                        \
+ X(STA_NORMALS_UPSAMPLE_IMAGE_HALF)                                                                \
  X(STA_NORMALS_PYRAMID_IMAGE_LAST)                                                                 \
  X(STA_SHADE_IMAGE_POSITION)                                                                       \
  X(STA_SHADE_IMAGE_COLOUR)                                                                         \

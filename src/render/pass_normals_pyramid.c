@@ -14,8 +14,8 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
     memset(pass, 0, sizeof(*pass));
     const char *level[] = { "pullpush_normals.glsl", "normals_pyramid_level.comp" };
     const char *gather[] = { "pullpush_normals.glsl", "normals_pyramid_gather.comp" };
-    const char *upsample[] = { "pullpush_normals.glsl",
-                               "normals_pyramid_upsample.comp" }; // u_points
+    const char *upsample[] = { "pullpush_normals.glsl", "normals_upsample.glsl",
+                               "normals_pyramid_upsample.comp" }; // u_points, np_upsample
     sta_status status = sta_gl_program_create(level, 2, NULL, &pass->level_program, err);
     if (status == STA_OK) {
         status = sta_gl_program_create(gather, 2, NULL, &pass->gather_program, err);
@@ -25,7 +25,7 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
             sta_gl_program_create(gather, 2, "#define NP_ANCHORS 1\n", &pass->anchor_program, err);
     }
     if (status == STA_OK) {
-        status = sta_gl_program_create(upsample, 2, NULL, &pass->upsample_program, err);
+        status = sta_gl_program_create(upsample, 3, NULL, &pass->upsample_program, err);
     }
     if (status != STA_OK) {
         sta_normals_pyramid_pass_release(pass);
@@ -49,11 +49,7 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
     }
     GLuint u = pass->upsample_program;
     pass->upsample_size = glGetUniformLocation(u, "u_size");
-    pass->upsample_half_size = glGetUniformLocation(u, "u_half_size");
-    pass->upsample_near = glGetUniformLocation(u, "u_near");
-    pass->upsample_level_count = glGetUniformLocation(u, "u_level_count");
-    pass->upsample_radius_px_m = glGetUniformLocation(u, "u_radius_px_m");
-    pass->upsample_plane_tolerance_m = glGetUniformLocation(u, "u_plane_tolerance_m");
+    sta_normals_upsample_locate(u, &pass->upsample);
     return STA_OK;
 }
 
@@ -124,11 +120,31 @@ static sta_status ensure_atlas(sta_normals_pyramid_pass *pass, const sta_pullpus
     return STA_OK;
 }
 
-sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const sta_view_params *view,
-                                        const sta_normals_pyramid_params *params,
-                                        const sta_pullpush_pyramid *pyramid,
-                                        GLuint filled_position_tex, GLuint out_normal_tex,
-                                        sta_error *err)
+void sta_normals_upsample_locate(GLuint program, sta_normals_upsample_uniforms *u)
+{
+    u->half_size = glGetUniformLocation(program, "u_half_size");
+    u->near = glGetUniformLocation(program, "u_upsample_near");
+    u->level_count = glGetUniformLocation(program, "u_level_count");
+    u->radius_px_m = glGetUniformLocation(program, "u_radius_px_m");
+    u->plane_tolerance_m = glGetUniformLocation(program, "u_plane_tolerance_m");
+}
+
+void sta_normals_upsample_bind(GLuint program, const sta_normals_upsample_uniforms *u,
+                               const sta_normals_upsample_inputs *in)
+{
+    glProgramUniform2i(program, u->half_size, in->half_width_px, in->half_height_px);
+    glProgramUniform1f(program, u->near, in->near_m);
+    glProgramUniform1i(program, u->level_count, in->level_count);
+    glProgramUniform1f(program, u->radius_px_m, in->radius_px_m);
+    glProgramUniform1f(program, u->plane_tolerance_m, in->plane_tolerance_m);
+    glBindImageTexture(STA_NORMALS_UPSAMPLE_IMAGE_HALF, in->half, 0, GL_FALSE, 0, GL_READ_ONLY,
+                       GL_RGBA32F);
+}
+
+static sta_status run(sta_normals_pyramid_pass *pass, const sta_view_params *view,
+                      const sta_normals_pyramid_params *params, const sta_pullpush_pyramid *pyramid,
+                      GLuint filled_position_tex, GLuint out_normal_tex,
+                      sta_normals_upsample_inputs *deferred, sta_error *err)
 {
     int count = pyramid->level_count;
     if (count == 0 || pyramid->width_px[0] != view->width_px ||
@@ -192,24 +208,51 @@ sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const st
                        GL_READ_ONLY, GL_RGBA32F);
     if (i) {
         sta_gl_dispatch_2d(hw, hh);
-        GLuint up = pass->upsample_program;
-        glUseProgram(up);
-        glProgramUniform2i(up, pass->upsample_size, view->width_px, view->height_px);
-        glProgramUniform2i(up, pass->upsample_half_size, hw, hh);
-        glProgramUniform1f(up, pass->upsample_near, view->near_m);
-        glProgramUniform1i(up, pass->upsample_level_count, count);
-        glProgramUniform1f(up, pass->upsample_radius_px_m,
-                           sta_normals_pyramid_radius_px_m(view, &p));
-        glProgramUniform1f(up, pass->upsample_plane_tolerance_m,
-                           sta_normals_pyramid_plane_tolerance_m(view, &p));
-        glBindImageTexture(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL, out_normal_tex, 0, GL_FALSE,
-                           0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindImageTexture(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_HALF, pass->half, 0, GL_FALSE, 0,
-                           GL_READ_ONLY, GL_RGBA32F);
+        sta_normals_upsample_inputs in = { pass->half,
+                                           hw,
+                                           hh,
+                                           count,
+                                           view->near_m,
+                                           sta_normals_pyramid_radius_px_m(view, &p),
+                                           sta_normals_pyramid_plane_tolerance_m(view, &p) };
+        if (deferred) { // the caller's shader upsamples (shade.comp STA_SHADE_UPSAMPLE)
+            *deferred = in;
+        } else {
+            GLuint up = pass->upsample_program;
+            glUseProgram(up);
+            glProgramUniform2i(up, pass->upsample_size, view->width_px, view->height_px);
+            sta_normals_upsample_bind(up, &pass->upsample, &in);
+            glBindImageTexture(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL, out_normal_tex, 0,
+                               GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            sta_gl_dispatch_2d(view->width_px, view->height_px);
+        }
+    } else {
+        sta_gl_dispatch_2d(view->width_px, view->height_px);
     }
-    sta_gl_dispatch_2d(view->width_px, view->height_px);
     for (GLuint unit = 0; unit <= STA_NORMALS_PYRAMID_IMAGE_LAST; unit++) {
         glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     }
     return sta_gl_check("pyramidal normal pass", err);
+}
+
+sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const sta_view_params *view,
+                                        const sta_normals_pyramid_params *params,
+                                        const sta_pullpush_pyramid *pyramid,
+                                        GLuint filled_position_tex, GLuint out_normal_tex,
+                                        sta_error *err)
+{
+    return run(pass, view, params, pyramid, filled_position_tex, out_normal_tex, NULL, err);
+}
+
+sta_status sta_normals_pyramid_pass_run_deferred(sta_normals_pyramid_pass *pass,
+                                                 const sta_view_params *view,
+                                                 const sta_normals_pyramid_params *params,
+                                                 const sta_pullpush_pyramid *pyramid,
+                                                 GLuint filled_position_tex,
+                                                 sta_normals_upsample_inputs *out, sta_error *err)
+{
+    sta_normals_pyramid_params p = params ? *params : (sta_normals_pyramid_params){ 0 };
+    p.half_resolution = true;
+    memset(out, 0, sizeof(*out));
+    return run(pass, view, &p, pyramid, filled_position_tex, 0, out, err);
 }

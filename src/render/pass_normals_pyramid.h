@@ -21,6 +21,26 @@
 #include "render/ref/normals_pyramid_ref.h"
 #include "render/ref/screen_space.h"
 
+/* What step 3 of the half-resolution normals (shaders/normals_upsample.glsl) reads: the
+ * anchors' normals and the floats of the view. */
+typedef struct sta_normals_upsample_inputs {
+    GLuint half; /* RGBA32F, half_width_px x half_height_px: normal, plane offset */
+    int half_width_px, half_height_px, level_count;
+    float near_m, radius_px_m, plane_tolerance_m;
+} sta_normals_upsample_inputs;
+
+/* The uniforms of normals_upsample.glsl in one program. */
+typedef struct sta_normals_upsample_uniforms {
+    GLint half_size, near, level_count, radius_px_m, plane_tolerance_m;
+} sta_normals_upsample_uniforms;
+
+/* Finds them in `program` (linked with normals_upsample.glsl). */
+void sta_normals_upsample_locate(GLuint program, sta_normals_upsample_uniforms *uniforms);
+
+/* Sets them for `in` and binds its half image (before a dispatch of `program`). */
+void sta_normals_upsample_bind(GLuint program, const sta_normals_upsample_uniforms *uniforms,
+                               const sta_normals_upsample_inputs *in);
+
 typedef struct sta_normals_pyramid_pass {
     GLuint level_program, gather_program;
     GLuint anchor_program;   /* the gather on the even pixels (half resolution) */
@@ -30,8 +50,8 @@ typedef struct sta_normals_pyramid_pass {
     GLint gather_size[2], gather_level_count[2], gather_level_offset[2], gather_level_size[2];
     GLint gather_radius_px_m[2], gather_near[2], gather_plane_tolerance_m[2], gather_jump2[2];
     GLint gather_texel_m[2];
-    GLint upsample_size, upsample_half_size, upsample_near, upsample_level_count;
-    GLint upsample_radius_px_m, upsample_plane_tolerance_m;
+    GLint upsample_size;
+    sta_normals_upsample_uniforms upsample;
     GLuint atlas; /* owned, RGBA32F */
     GLuint half;  /* owned, RGBA32F, ceil(w / 2) x ceil(h / 2): the anchors' normals */
     int atlas_width_px, atlas_height_px;
@@ -56,5 +76,16 @@ sta_status sta_normals_pyramid_pass_run(sta_normals_pyramid_pass *pass, const st
                                         const sta_pullpush_pyramid *pyramid,
                                         GLuint filled_position_tex, GLuint out_normal_tex,
                                         sta_error *err);
+
+/* The half-resolution estimator without its last step: the anchors' normals into the
+ * pass's half image, described in `out` for a shader that upsamples them itself where it
+ * reads a normal (shade.comp with STA_SHADE_UPSAMPLE: one full-screen pass fewer; the
+ * same normals as sta_normals_pyramid_pass_run with half_resolution). */
+sta_status sta_normals_pyramid_pass_run_deferred(sta_normals_pyramid_pass *pass,
+                                                 const sta_view_params *view,
+                                                 const sta_normals_pyramid_params *params,
+                                                 const sta_pullpush_pyramid *pyramid,
+                                                 GLuint filled_position_tex,
+                                                 sta_normals_upsample_inputs *out, sta_error *err);
 
 #endif

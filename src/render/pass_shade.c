@@ -13,16 +13,31 @@
 sta_status sta_shade_pass_init(sta_shade_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
-    const char *shade[] = { "shade.comp" };
     const char *edl[] = { "edl.comp" };
-    const char *overlay[] = { "volumetric_window.glsl", "shade.comp" };
-    char defines[128];
-    snprintf(defines, sizeof(defines),
-             "#define STA_SHADE_OVERLAY 1\n#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
-             STA_VOLUMETRIC_SPLAT_RADIUS_PX);
-    sta_status status = sta_gl_program_create(shade, 1, NULL, &pass->shade_program, err);
-    if (status == STA_OK) {
-        status = sta_gl_program_create(overlay, 2, defines, &pass->overlay_program, err);
+    // Variant v: bit 0 the volumetric overlay, bit 1 the normals upsampled here.
+    const char *libraries[] = { "volumetric_window.glsl", "normals_upsample.glsl" };
+    sta_status status = STA_OK;
+    for (int v = 0; v < STA_SHADE_VARIANTS && status == STA_OK; v++) {
+        const char *names[3];
+        size_t count = 0;
+        for (int k = 0; k < 2; k++) {
+            if (v & (1 << k)) {
+                names[count++] = libraries[k];
+            }
+        }
+        names[count++] = "shade.comp";
+        char defines[160];
+        snprintf(defines, sizeof(defines), "%s%s#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
+                 v & 1 ? "#define STA_SHADE_OVERLAY 1\n" : "",
+                 v & 2 ? "#define STA_SHADE_UPSAMPLE 1\n" : "", STA_VOLUMETRIC_SPLAT_RADIUS_PX);
+        status = sta_gl_program_create(names, count, defines, &pass->programs[v], err);
+        if (status == STA_OK) {
+            GLuint program = pass->programs[v];
+            pass->shade_size[v] = glGetUniformLocation(program, "u_size");
+            pass->shade_light[v] = glGetUniformLocation(program, "u_light");
+            pass->shade_background[v] = glGetUniformLocation(program, "u_background");
+            sta_normals_upsample_locate(program, &pass->upsample[v]);
+        }
     }
     if (status == STA_OK) {
         status = sta_gl_program_create(edl, 1, NULL, &pass->edl_program, err);
@@ -30,12 +45,6 @@ sta_status sta_shade_pass_init(sta_shade_pass *pass, sta_error *err)
     if (status != STA_OK) {
         sta_shade_pass_release(pass);
         return status;
-    }
-    for (int i = 0; i < 2; i++) {
-        GLuint program = i == 0 ? pass->shade_program : pass->overlay_program;
-        pass->shade_size[i] = glGetUniformLocation(program, "u_size");
-        pass->shade_light[i] = glGetUniformLocation(program, "u_light");
-        pass->shade_background[i] = glGetUniformLocation(program, "u_background");
     }
     pass->edl_size = glGetUniformLocation(pass->edl_program, "u_size");
     pass->edl_radius = glGetUniformLocation(pass->edl_program, "u_radius");
@@ -46,26 +55,29 @@ sta_status sta_shade_pass_init(sta_shade_pass *pass, sta_error *err)
 
 void sta_shade_pass_release(sta_shade_pass *pass)
 {
-    if (pass->shade_program) {
-        glDeleteProgram(pass->shade_program);
+    for (int v = 0; v < STA_SHADE_VARIANTS; v++) {
+        if (pass->programs[v]) {
+            glDeleteProgram(pass->programs[v]);
+        }
     }
     if (pass->edl_program) {
         glDeleteProgram(pass->edl_program);
-    }
-    if (pass->overlay_program) {
-        glDeleteProgram(pass->overlay_program);
     }
     memset(pass, 0, sizeof(*pass));
 }
 
 void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *params, int width,
                         int height, GLuint position, GLuint colour, GLuint normal,
-                        GLuint overlay_points, GLuint out)
+                        const sta_normals_upsample_inputs *upsample, GLuint overlay_points,
+                        GLuint out)
 {
     sta_shade_params p = *params;
     sta_shade_params_defaults(&p);
-    int i = overlay_points ? 1 : 0;
-    glUseProgram(i ? pass->overlay_program : pass->shade_program);
+    int i = (overlay_points ? 1 : 0) | (upsample ? 2 : 0);
+    glUseProgram(pass->programs[i]);
+    if (upsample) {
+        sta_normals_upsample_bind(pass->programs[i], &pass->upsample[i], upsample);
+    }
     glUniform2f(pass->shade_size[i], (float)width, (float)height);
     glUniform4f(pass->shade_light[i], p.ambient, p.diffuse, p.specular, p.shininess);
     glUniform3f(pass->shade_background[i], p.background[0], p.background[1], p.background[2]);
@@ -76,7 +88,10 @@ void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *para
     glBindImageTexture(STA_SHADE_IMAGE_POSITION, position, 0, GL_FALSE, 0, GL_READ_ONLY,
                        GL_RGBA32F);
     glBindImageTexture(STA_SHADE_IMAGE_COLOUR, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(STA_SHADE_IMAGE_NORMAL, normal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    if (!upsample) {
+        glBindImageTexture(STA_SHADE_IMAGE_NORMAL, normal, 0, GL_FALSE, 0, GL_READ_ONLY,
+                           GL_RGBA32F);
+    }
     glBindImageTexture(STA_SHADE_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
     sta_gl_dispatch_2d(width, height);
 }

@@ -203,17 +203,29 @@ static void display(sta_pipeline *p, int mode, int w, int h, GLuint out)
     sta_gl_dispatch_2d(w, h);
 }
 
+// deferred: NULL, or where the half-resolution pyramidal normals leave their last step
+// to the shade pass (then *deferred_used is set; the normal image is not written).
 static sta_status run_normals(sta_pipeline *p, const sta_pipeline_options *o,
-                              const sta_view_params *view, sta_pipeline_timing *t, sta_error *err)
+                              const sta_view_params *view, sta_pipeline_timing *t,
+                              sta_normals_upsample_inputs *deferred, bool *deferred_used,
+                              sta_error *err)
 {
     mark(p, t, STA_PASS_NORMALS, 0);
     sta_status s;
+    *deferred_used = false;
     if (o->normals == STA_NORMAL_PYRAMID) {
         sta_normals_pyramid_params params = { .half_resolution = !o->normals_every_pixel };
         sta_normals_pyramid_params_defaults(&params);
-        s = sta_normals_pyramid_pass_run(&p->normals_pyramid, view, &params,
-                                         sta_pullpush_pass_pyramid(&p->pullpush),
-                                         p->filled_position, p->normal, err);
+        if (deferred && params.half_resolution && !o->smooth) {
+            *deferred_used = true;
+            s = sta_normals_pyramid_pass_run_deferred(&p->normals_pyramid, view, &params,
+                                                      sta_pullpush_pass_pyramid(&p->pullpush),
+                                                      p->filled_position, deferred, err);
+        } else {
+            s = sta_normals_pyramid_pass_run(&p->normals_pyramid, view, &params,
+                                             sta_pullpush_pass_pyramid(&p->pullpush),
+                                             p->filled_position, p->normal, err);
+        }
     } else {
         static const int methods[STA_NORMAL_METHOD_COUNT] = { 0, STA_NORMALS_SCREEN_LD,
                                                               STA_NORMALS_SCREEN_PD,
@@ -379,7 +391,11 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
         goto overlay;
     }
 
-    s = run_normals(p, o, view, t, err);
+    // Shaded: the half-resolution normals are upsampled inside the shade pass.
+    sta_normals_upsample_inputs upsample;
+    bool upsampled_in_shade = false;
+    bool defer = o->mode == STA_PIPELINE_SHADED && !o->keep_normal_image;
+    s = run_normals(p, o, view, t, defer ? &upsample : NULL, &upsampled_in_shade, err);
     ran[STA_PASS_NORMALS] = true;
     ran[STA_PASS_SMOOTH] = o->smooth;
     if (s != STA_OK) {
@@ -392,10 +408,11 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     mark(p, t, STA_PASS_SHADE, 0);
     sta_shade_params shade = { .background = { o->background[0], o->background[1],
                                                o->background[2] } };
-    // The marked volumetric points are drawn inside the shade pass (one full-screen
-    // pass fewer; its time counts as shading).
+    // The marked volumetric points are drawn inside the shade pass, and the normals'
+    // upsample runs there (a full-screen pass fewer each; their time counts as shading).
     sta_shade_pass_run(&p->shade, &shade, w, h, p->filled_position, p->filled_colour, p->normal,
-                       volumetric ? p->points : 0, colour_rgba8);
+                       upsampled_in_shade ? &upsample : NULL, volumetric ? p->points : 0,
+                       colour_rgba8);
     mark(p, t, STA_PASS_SHADE, 1);
     ran[STA_PASS_SHADE] = true;
     goto done;

@@ -70,6 +70,9 @@ typedef struct sta_pipeline_options {
     bool normals_every_pixel;    /* pyramidal normals gathered on every pixel instead of on
                                     a quarter of them and upsampled (the default;
                                     sta_normals_pyramid_params.half_resolution) */
+    bool keep_normal_image;      /* shaded: the normals' upsample writes the normal image
+                                    (strata-bench reads it) instead of running inside the
+                                    shade pass (the default: a full-screen pass fewer) */
     int hpr_radius_px;           /* exhaustive radius (0: STA_PIPELINE_DEFAULT_HPR_RADIUS_PX) */
     float hpr_threshold;         /* 0: 0.1 */
     float s0_m;                  /* sampling scale; 0: the scene's estimate */

@@ -49,8 +49,10 @@
 /* Default metric radius r_n, in units of the view's s0 (sta_normals_pyramid_params_defaults). */
 #define STA_NORMALS_PYRAMID_DEFAULT_RADIUS_S0       3.0f
 /* Default plane test: a texel's tangent plane may miss the pixel's point by this many
- * texel footprints (step 3 above). */
-#define STA_NORMALS_PYRAMID_DEFAULT_PLANE_TOLERANCE 0.5f
+ * texel footprints (step 3 above). 0.25 since issue 15's eighth round: with the fill on
+ * one surface at depth edges, a tighter test gains on every normal median and on the
+ * closed models' p95 (docs/BENCHMARKS.md); 0.5 before. */
+#define STA_NORMALS_PYRAMID_DEFAULT_PLANE_TOLERANCE 0.25f
 /* Default jump ratio of step 1. */
 #define STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO      2.5f
 

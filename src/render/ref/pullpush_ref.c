@@ -89,7 +89,9 @@ static void pull_level(const level_source *fine, int fine_w, int fine_h, const s
     for (int j = 0; j < out_p->height; j++) {
         for (int i = 0; i < out_p->width; i++) {
             texel taps[16];
-            float near_d = 0.0f; /* nearest depth among the taps with weight */
+            /* The depth reference: the nearest depth among the inner 2x2 taps with weight
+             * (the coarse texel's own footprint), else among all 16. */
+            float near_d = 0.0f, near_inner = 0.0f;
             for (int b = 0; b < 4; b++) {
                 for (int a = 0; a < 4; a++) {
                     int fx = 2 * i - 1 + a, fy = 2 * j - 1 + b;
@@ -102,7 +104,14 @@ static void pull_level(const level_source *fine, int fine_w, int fine_h, const s
                     if (t->w > 0.0f && (near_d <= 0.0f || -t->p[2] < near_d)) {
                         near_d = -t->p[2];
                     }
+                    bool inner = (a == 1 || a == 2) && (b == 1 || b == 2);
+                    if (inner && t->w > 0.0f && (near_inner <= 0.0f || -t->p[2] < near_inner)) {
+                        near_inner = -t->p[2];
+                    }
                 }
+            }
+            if (near_inner > 0.0f) {
+                near_d = near_inner;
             }
             float sw = 0.0f, sv = 0.0f, sp[3] = { 0.0f, 0.0f, 0.0f }, sc[3] = { 0.0f, 0.0f, 0.0f };
             for (int b = 0; b < 4; b++) {
@@ -159,7 +168,7 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
         wy[0] = (j & 1) ? 0.75f : 0.25f;
         wy[1] = 1.0f - wy[0];
         texel taps[4];
-        float near_d = 0.0f; /* nearest depth among the non-empty taps */
+        float near_d = 0.0f; /* nearest depth among the non-empty taps (the fallback) */
         for (int k = 0; k < 4; k++) {
             int a = k & 1, b = k >> 1;
             taps[k] = fetch(coarse, clamp_int(cx0 + a, 0, coarse_w - 1),
@@ -168,6 +177,12 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
             if (taps[k].w > 0.0f && (near_d <= 0.0f || d < near_d)) {
                 near_d = d;
             }
+        }
+        /* The reference: the depth of the 9/16 tap (the coarse texel holding the fine
+         * one) where it has weight, else the nearest. */
+        int own = ((i & 1) ? 0 : 1) + ((j & 1) ? 0 : 2);
+        if (taps[own].w > 0.0f) {
+            near_d = -taps[own].p[2];
         }
         for (int k = 0; k < 4; k++) {
             const texel *t = &taps[k];

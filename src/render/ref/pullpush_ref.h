@@ -24,16 +24,19 @@
 /* Push: a coarse tap's weight is divided by 1 + x + x^2/2 + x^3/6 (exp(x) to third
  * order: plain arithmetic, which the shader and the twin compute alike, where GLSL's exp
  * and expf part ways), x = ((d - d_near) / (TAU d_near))^2, d its depth and d_near the
- * nearest depth among the (up to 4) taps: a hole at an outline takes the near surface
- * rather than a depth between both (issue 15, docs/BENCHMARKS.md). */
-#define STA_PULLPUSH_DEPTH_TAU      0.3f
-/* Pull: the same factor against the nearest of the 16 fine taps divides each tap's
- * weight in the values (not in the coverage, the plain weight sum): a coarse texel over
- * a depth edge holds the near surface, not a depth between both, which the push then
- * spread as fill floating between the surfaces (issue 15, sixth round; 0.5: the value
- * that gains on the street without a loss on sphere, nested and the bunny,
- * docs/BENCHMARKS.md). */
-#define STA_PULLPUSH_PULL_DEPTH_TAU 0.5f
+ * depth of the 9/16 tap (the coarse texel holding the fine one) where it has weight, else
+ * the nearest depth among the (up to 4) taps: a hole at an outline takes one surface
+ * rather than a depth between both (issue 15; 0.2 since the eighth round, with the
+ * references below: docs/BENCHMARKS.md, docs/PULLPUSH.md). */
+#define STA_PULLPUSH_DEPTH_TAU      0.2f
+/* Pull: the same factor against the nearest of the inner 2x2 fine taps (the coarse
+ * texel's own footprint; the nearest of all 16 where those four are empty) divides each
+ * tap's weight in the values (not in the coverage, the plain weight sum): a coarse texel
+ * over a depth edge holds its own surface, not a depth between both, which the push then
+ * spread as fill floating between the surfaces (issue 15, sixth and eighth rounds; 0.15:
+ * with the inner reference, smaller values gain on the street and on sphere and the
+ * bunny, down to where the far street's normal median starts to rise, docs/BENCHMARKS.md). */
+#define STA_PULLPUSH_PULL_DEPTH_TAU 0.15f
 
 /* Levels of the largest view accepted (32768 pixels on a side). */
 #define STA_PULLPUSH_MAX_LEVELS 16
