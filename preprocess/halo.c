@@ -11,7 +11,8 @@
 #include "octree.h"
 
 // The moments' finest level, from the whole scene (the same in every chunking).
-static int scene_base_level(const sta_chunk_plan *plan, const sta_grid *grid)
+static int scene_base_level(const sta_chunk_plan *plan, const sta_grid *grid,
+                            sta_normals_method method)
 {
     uint64_t points = 0;
     double extent[3], unit = 0.0;
@@ -22,7 +23,7 @@ static int scene_base_level(const sta_chunk_plan *plan, const sta_grid *grid)
         extent[a] = (double)(plan->actual_max[a] - plan->actual_min[a]) * grid->scale[a];
         unit = fmax(unit, grid->scale[a]);
     }
-    return sta_moment_normals_base_level(points, extent, unit);
+    return sta_moment_normals_base_level(method, points, extent, unit);
 }
 
 // A chunk's box (grid units, [min, max)) and its own margin in metres: kNN, a multiple
@@ -38,7 +39,7 @@ static double own_margin(const sta_chunk_plan *plan, const sta_grid *grid, size_
         box[1][a] = box[0][a] + ((int64_t)1 << sta_node_side_log2(&plan->space, c->key.level, a));
         edge = fmax(edge, (double)(box[1][a] - box[0][a]) * grid->scale[a]);
     }
-    if (method == STA_NORMALS_MOMENTS) {
+    if (method != STA_NORMALS_KNN) {
         double unit = fmax(grid->scale[0], fmax(grid->scale[1], grid->scale[2]));
         return sta_moment_normals_reach(base_level, unit);
     }
@@ -73,7 +74,7 @@ void sta_halo_chunk_frame(const sta_chunk_plan *plan, const sta_grid *grid, size
 {
     memset(out, 0, sizeof(*out));
     int64_t box[2][3], grown[2][3];
-    int base_level = scene_base_level(plan, grid);
+    int base_level = scene_base_level(plan, grid, method);
     double margin = own_margin(plan, grid, chunk, k, method, base_level, box);
     grow_box(box, margin, grid, grown);
     // What the chunk receives from a neighbour reaches min(its margin, the neighbour's)
@@ -265,7 +266,7 @@ sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
 {
     halo_job job = { .plan = plan,
                      .method = method,
-                     .base_level = scene_base_level(plan, grid),
+                     .base_level = scene_base_level(plan, grid, method),
                      .trajectory = trajectory,
                      .grid = grid,
                      .layout = layout,

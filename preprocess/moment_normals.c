@@ -29,6 +29,11 @@
  * (0.44 / 9.0 degrees median / p95 against 0.21 / 7.8), better trees (9.8 / 46 against
  * 10.5 / 51). */
 #define BASE_CELL_SPACINGS   4.0
+/* A candidate moves to the next level's box only when its normal is within this (cosine)
+ * of this level's: the same surface, flatter (on a curb face the wider box is flatter,
+ * but the road's). */
+#define AGREE                0.94
+#define BLEND_AGREE          0.87
 /* Newton steps for the smallest eigenvalue (surface_variation). */
 #define VARIATION_STEPS      6
 /* The mean distance to the nearest j of points on a line `spacing` apart: for j = 10, the
@@ -185,14 +190,15 @@ static double box_radius(double count, const double w[3], double factor)
     return plane > line ? plane : line;
 }
 
-// How far in metres its box at `level` (the 2 x 2 x 2 cells around its nearest vertex)
-// reaches from grid point u (from the scene corner) along any axis.
+// How far in metres the boxes of the 8 vertices of its cell at `level` (the cells from
+// one below to one above its own) reach from grid point u (from the scene corner) along
+// any axis.
 static double box_reach(const sta_normals_chunk *chunk, const int64_t u[3], int level)
 {
     double reach = 0.0;
     for (int a = 0; a < 3; a++) {
-        int64_t v = (2 * u[a] + ((int64_t)1 << level)) >> (level + 1);
-        int64_t lo = (v - 1) << level, hi = (v + 1) << level;
+        int64_t c = u[a] >> level;
+        int64_t lo = (c - 1) << level, hi = (c + 2) << level;
         double d = (double)(u[a] - lo > hi - u[a] ? u[a] - lo : hi - u[a]) * chunk->scale[a];
         reach = d > reach ? d : reach;
     }
@@ -206,6 +212,10 @@ typedef struct level_boxes {
     int64_t last[3];      /* the vertex last asked for by nearest_box, */
     vertex_box *last_box; /* its box (NULL: none) */
     size_t last_capacity; /* and the table's capacity then (a grown table moves it) */
+    bool corners_valid;   /* the normals of the 8 vertex boxes of cell `corner_cell` */
+    int64_t corner_cell[3];
+    bool corner_ok[8];
+    double corner_normal[8][3];
 } level_boxes;
 
 static bool level_init(level_boxes *l, const sta_cell_moments *cells)
@@ -216,6 +226,7 @@ static bool level_init(level_boxes *l, const sta_cell_moments *cells)
     }
     l->cells = cells;
     l->last_box = NULL;
+    l->corners_valid = false;
     if (!table_init(&l->table, expect)) {
         table_release(&l->table);
         return false;
@@ -269,6 +280,74 @@ static vertex_box *nearest_box(const sta_normals_chunk *chunk, level_boxes *l, c
     l->last_box = b;
     l->last_capacity = l->table.capacity;
     return b;
+}
+
+// Whether box b has a plane, fitted when first asked (one solve for all its points).
+static bool box_fit(const sta_normals_chunk *chunk, vertex_box *b)
+{
+    if (b->fit == 0) {
+        const double zero[3] = { 0, 0, 0 };
+        bool fitted =
+            b->n > 2.0 && sta_normal_fit_moments(chunk, b->n, zero, b->m2, 0, b->normal, b->w);
+        b->fit = fitted ? 1 : 2;
+    }
+    return b->fit == 1;
+}
+
+// The normals of the boxes of the 8 grid vertices of u's cell, blended by the point's place
+// in the cell (trilinear weights), each turned to agree with `normal` (its nearest box's,
+// replaced by the blend): the normal field between the boxes' centres. On a curved surface
+// the nearest box's centre lies up to a quarter of its edge from the point (a 0.3 m leaf
+// sphere, a 15 cm box: 3.7 cm, 7 degrees); on a plane the boxes agree. False when out of
+// memory.
+static bool blend_normals(const sta_normals_chunk *chunk, level_boxes *l, const int64_t u[3],
+                          double normal[3])
+{
+    int level = l->cells->level;
+    int64_t c[3];
+    double f[3];
+    for (int a = 0; a < 3; a++) {
+        c[a] = u[a] >> level;
+        f[a] = (double)(u[a] - (c[a] << level)) / (double)((int64_t)1 << level);
+    }
+    if (!l->corners_valid || memcmp(c, l->corner_cell, sizeof(c)) != 0) {
+        for (int k = 0; k < 8; k++) {
+            const int64_t v[3] = { c[0] + (k & 1), c[1] + (k >> 1 & 1), c[2] + (k >> 2) };
+            vertex_box *b = vertex_at(&l->table, l->cells, v);
+            if (!b) {
+                l->corners_valid = false;
+                return false;
+            }
+            l->corner_ok[k] = box_fit(chunk, b);
+            memcpy(l->corner_normal[k], b->normal, sizeof(b->normal));
+        }
+        memcpy(l->corner_cell, c, sizeof(c));
+        l->corners_valid = true;
+    }
+    double sum[3] = { 0, 0, 0 };
+    for (int k = 0; k < 8; k++) {
+        if (!l->corner_ok[k]) {
+            continue;
+        }
+        const double *nk = l->corner_normal[k];
+        double w = ((k & 1) ? f[0] : 1.0 - f[0]) * ((k >> 1 & 1) ? f[1] : 1.0 - f[1]) *
+                   ((k >> 2) ? f[2] : 1.0 - f[2]);
+        double dot = nk[0] * normal[0] + nk[1] * normal[1] + nk[2] * normal[2];
+        if (fabs(dot) < BLEND_AGREE) {
+            continue; // another surface (an edge, a curb): not blended across
+        }
+        w = dot < 0.0 ? -w : w;
+        for (int a = 0; a < 3; a++) {
+            sum[a] += w * nk[a];
+        }
+    }
+    double len = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+    if (len > 1e-6) {
+        for (int a = 0; a < 3; a++) {
+            normal[a] = sum[a] / len;
+        }
+    }
+    return true;
 }
 
 // What one level's pass over the waiting points shares.
@@ -332,18 +411,15 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
             if (!c) {
                 return SIZE_MAX;
             }
-            if (c->variation < b->variation) {
-                m->state[i] = (uint8_t)(state + 1); // the next level's box is flatter
+            if (c->variation < b->variation && box_fit(chunk, b) && box_fit(chunk, c) &&
+                fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
+                     b->normal[2] * c->normal[2]) > AGREE) {
+                m->state[i] = (uint8_t)(state + 1); // flatter, and the same surface
                 left++;
                 continue;
             }
         }
-        if (b->fit == 0) { // (the first point to take this box: one solve for all)
-            const double zero[3] = { 0, 0, 0 };
-            bool fitted =
-                b->n > 2.0 && sta_normal_fit_moments(chunk, b->n, zero, b->m2, 0, b->normal, b->w);
-            b->fit = fitted ? 1 : 2;
-        }
+        box_fit(chunk, b);
         double n = b->n, normal[3], w[3];
         bool ok = b->fit == 1;
         memcpy(normal, b->normal, sizeof(normal));
@@ -360,6 +436,9 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
                 continue;
             }
         }
+        if (ok && !blend_normals(chunk, fine, u, normal)) {
+            return SIZE_MAX;
+        }
         if (box_reach(chunk, u, fine->cells->level) > sta_normal_halo_reach(chunk, p)) {
             m->stats->beyond_halo++;
         }
@@ -369,8 +448,11 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
     return left;
 }
 
-int sta_moment_normals_base_level(uint64_t points, const double extent[3], double unit)
+int sta_moment_normals_base_level(sta_normals_method method, uint64_t points,
+                                  const double extent[3], double unit)
 {
+    double spacings =
+        method == STA_NORMALS_MOMENTS_FINE ? BASE_CELL_SPACINGS / 2.0 : BASE_CELL_SPACINGS;
     double e[3] = { extent[0], extent[1], extent[2] };
     for (int i = 0; i < 2; i++) { // the two widest first
         for (int j = i + 1; j < 3; j++) {
@@ -386,8 +468,7 @@ int sta_moment_normals_base_level(uint64_t points, const double extent[3], doubl
     }
     double spacing = sqrt(e[0] * e[1] / (double)points) / unit;
     int level = 0;
-    while (level < STA_MOMENTS_MAX_LEVEL &&
-           (double)((int64_t)2 << level) <= BASE_CELL_SPACINGS * spacing) {
+    while (level < STA_MOMENTS_MAX_LEVEL && (double)((int64_t)2 << level) <= spacings * spacing) {
         level++;
     }
     return level;
@@ -395,9 +476,9 @@ int sta_moment_normals_base_level(uint64_t points, const double extent[3], doubl
 
 double sta_moment_normals_reach(int base_level, double unit)
 {
-    // The box of a level-L vertex reaches 1.5 cells from a point in either of its cells.
+    // A point blends the boxes of its cell's 8 vertices: they reach 2 cells from it.
     int top = base_level + STA_MOMENTS_LEVELS_ABOVE_BASE;
-    return 1.5 *
+    return 2.0 *
            (double)((int64_t)1 << (top < STA_MOMENTS_MAX_LEVEL ? top : STA_MOMENTS_MAX_LEVEL)) *
            unit;
 }

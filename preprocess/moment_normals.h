@@ -42,11 +42,12 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                                uint8_t *records, size_t count, const int32_t *halo,
                                size_t halo_count, sta_normals_stats *stats, sta_error *err);
 
-/* The base level for a scene of `points` points whose bounds span `extent` metres an
- * axis, on a grid of `unit` metres (the coarsest axis): cells about as wide as the
- * spacing of points spread over the scene's two widest extents. The same for every chunk
- * of a scene. */
-int sta_moment_normals_base_level(uint64_t points, const double extent[3], double unit);
+/* The base level of `method` (a moments one) for a scene of `points` points whose bounds
+ * span `extent` metres an axis, on a grid of `unit` metres (the coarsest axis): cells of
+ * 2-4 (STA_NORMALS_MOMENTS_FINE: 1-2) times the spacing of points spread over the scene's
+ * two widest extents. The same for every chunk of a scene. */
+int sta_moment_normals_base_level(sta_normals_method method, uint64_t points,
+                                  const double extent[3], double unit);
 
 /* How far (metres, along any axis) the widest box of a point reaches from it: the halo
  * margin of the moments method. */
