@@ -34,6 +34,8 @@
  * but the road's). */
 #define AGREE                0.94
 #define BLEND_AGREE          0.87
+/* Records asked for this many points ahead of the pass (their GPS time, their SPLAT). */
+#define PREFETCH             8
 /* Newton steps for the smallest eigenvalue (surface_variation). */
 #define VARIATION_STEPS      6
 /* The mean distance to the nearest j of points on a line `spacing` apart: for j = 10, the
@@ -356,11 +358,12 @@ typedef struct moment_pass {
     const sta_record_layout *layout;
     uint8_t *records;
     sta_normals_stats *stats;
-    uint8_t *state;
-    const uint32_t *order; /* the points, own and halo, in cell order (cell_order.h) */
-    size_t count;          /* own points: indices below this */
-    double need;           /* points a box must hold */
-    double factor;         /* plane_radius_factor() */
+    uint8_t *state;           /* per own point, in cell order */
+    const uint32_t *order;    /* the own points' records in cell order (cell_order.h) */
+    const int32_t (*grid)[3]; /* their positions, in that order */
+    size_t count;             /* own points */
+    double need;              /* points a box must hold */
+    double factor;            /* plane_radius_factor() */
 } moment_pass;
 
 // The points still waiting at `fine`'s level: those whose cell of the next level (`coarse`,
@@ -368,22 +371,23 @@ typedef struct moment_pass {
 // candidates; a candidate whose box at the next level is flatter (less surface variation)
 // waits for it, at most STEPS levels, else takes this one; a point that grows takes this
 // one. Returns how many are left, or SIZE_MAX when out of memory.
-static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *coarse, size_t total)
+static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *coarse)
 {
     const sta_normals_chunk *chunk = m->chunk;
     const sta_record_layout *layout = m->layout;
     int64_t last_parent[3] = { -1, -1, -1 }, parent_count = 0;
     size_t left = 0;
     bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
-    for (size_t j = 0; j < total; j++) {
-        size_t i = m->order[j];
-        if (i >= m->count || m->state[i] == STATE_DONE) {
-            continue; // (a halo point, or done)
+    for (size_t j = 0; j < m->count; j++) {
+        uint8_t state = m->state[j];
+        if (state == STATE_DONE) {
+            continue;
         }
-        uint8_t state = m->state[i];
-        uint8_t *record = m->records + i * layout->size;
-        int32_t p[3];
-        sta_record_position(record, p);
+        uint8_t *record = m->records + (size_t)m->order[j] * layout->size;
+        const int32_t *p = m->grid[j];
+        if (j + PREFETCH < m->count) { // (records lie in input order: a miss each)
+            __builtin_prefetch(m->records + (size_t)m->order[j + PREFETCH] * layout->size);
+        }
         int64_t u[3];
         for (int a = 0; a < 3; a++) {
             u[a] = (int64_t)p[a] - chunk->scene_min[a];
@@ -414,7 +418,7 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
             if (c->variation < b->variation && box_fit(chunk, b) && box_fit(chunk, c) &&
                 fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
                      b->normal[2] * c->normal[2]) > AGREE) {
-                m->state[i] = (uint8_t)(state + 1); // flatter, and the same surface
+                m->state[j] = (uint8_t)(state + 1); // flatter, and the same surface
                 left++;
                 continue;
             }
@@ -430,7 +434,7 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
                 memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
             }
             if (sta_normal_too_narrow(chunk, pd, timed ? &gps_time : NULL, ok, normal, w, false)) {
-                m->state[i] = STATE_GROW; // nearly linear, edge-on or no plane: once wider
+                m->state[j] = STATE_GROW; // nearly linear, edge-on or no plane: once wider
                 m->stats->widened++;
                 left++;
                 continue;
@@ -443,7 +447,7 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
             m->stats->beyond_halo++;
         }
         sta_normal_store(chunk, layout, record, ok, normal, box_radius(n, w, m->factor), m->stats);
-        m->state[i] = STATE_DONE;
+        m->state[j] = STATE_DONE;
     }
     return left;
 }
@@ -579,6 +583,18 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     if (status == STA_OK) {
         status = sta_cell_moments_add(&cells[0], (const int32_t(*)[3])grid, n, order, NULL, err);
     }
+    // The own points in cell order with their positions: the passes read them in order.
+    int32_t(*own)[3] = status == STA_OK ? sta_alloc_array(count, sizeof(*own)) : NULL;
+    if (status == STA_OK && !own) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
+    }
+    for (size_t j = 0, k = 0; status == STA_OK && j < n; j++) {
+        if (order[j] < count) {
+            order[k] = order[j];
+            memcpy(own[k++], grid[order[j]], sizeof(own[0]));
+        }
+    }
+    pass.grid = (const int32_t(*)[3])own;
     sta_free(grid);
     if (status == STA_OK && !level_init(&boxes[0], &cells[0])) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
@@ -597,7 +613,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                 break;
             }
         }
-        size_t left = fit_level(&pass, &boxes[at], level < top ? &boxes[next] : NULL, n);
+        size_t left = fit_level(&pass, &boxes[at], level < top ? &boxes[next] : NULL);
         if (left == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
         }
@@ -616,6 +632,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     if (status == STA_OK) {
         stats->points += count;
     }
+    sta_free(own);
     sta_free(state);
     sta_free(order);
     return status;
