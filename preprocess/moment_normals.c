@@ -207,8 +207,8 @@ static double box_reach(const sta_normals_chunk *chunk, const int64_t u[3], int 
 {
     double reach = 0.0;
     for (int a = 0; a < 3; a++) {
-        int64_t c = u[a] >> level;
-        int64_t lo = (c - 1) << level, hi = (c + 2) << level;
+        int64_t c = u[a] >> level, cell = (int64_t)1 << level;
+        int64_t lo = (c - 1) * cell, hi = (c + 2) * cell; // (c - 1 may be -1: no shift)
         double d = (double)(u[a] - lo > hi - u[a] ? u[a] - lo : hi - u[a]) * chunk->scale[a];
         reach = d > reach ? d : reach;
     }
