@@ -122,7 +122,7 @@ int main(int argc, char **argv)
           .choices = method_names,
           .help = "--normals from boxes of cell moments sized by the data, from the exact K "
                   "nearest (slower), or from moments with cells half as wide (small features; "
-                  "~2x the CPU); docs/CONVERTER.md" },
+                  "~1.6x the CPU); docs/CONVERTER.md" },
         { .name = "knn",
           .kind = STA_CLI_INT,
           .dest = &options.knn,
