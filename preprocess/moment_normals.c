@@ -24,15 +24,18 @@
 /* A candidate moves up at most this many levels for a flatter box. */
 #define STEPS                2
 /* The base cells are 1/2 to 1 times this many mean spacings wide (the spacing of the
- * scene's points spread over its two widest extents). On the 4 M street (spacing 5.7 cm:
- * cells of 12.8 cm) 2 spacings took 1.7x the CPU and 2x the memory for worse buildings
- * (0.44 / 9.0 degrees median / p95 against 0.21 / 7.8), better trees (9.8 / 46 against
- * 10.5 / 51). */
+ * scene's points spread over its two widest extents; STA_NORMALS_MOMENTS_FINE: half). On
+ * the 20 M street (spacing 62 mm: cells of 128 mm, fine 64 mm) fine takes 1.6x the CPU
+ * and 1.8x the memory for curbs' and cars' p95 of 24 and 34 degrees against 48 and 53
+ * (the 12-16 cm curb face inside the boxes); 1 spacing (cells of 32 mm there) gave worse
+ * roads (boxes of 10 points on one scan line). */
 #define BASE_CELL_SPACINGS   4.0
 /* A candidate moves to the next level's box only when its normal is within this (cosine)
  * of this level's: the same surface, flatter (on a curb face the wider box is flatter,
  * but the road's). */
 #define AGREE                0.94
+/* The blend leaves out the vertex boxes whose normal is more than this (cosine: 30
+ * degrees) from the point's nearest box's: another surface, an edge is not smoothed. */
 #define BLEND_AGREE          0.87
 /* Scanned surfaces are sampled more evenly than uniform random points (profiles, a
  * lattice): their mean distance to the 10 nearest is larger than the uniform expectation

@@ -12,13 +12,16 @@
  * fit are computed once and shared by every point that takes it. The scale is the data's:
  * a point becomes a candidate at the finest level whose next-level cell holding it has at
  * least K points, then moves up while the next level's box is flatter (less surface
- * variation, Pauly et al.'s rule), at most STEPS (2) levels; a box whose plane is nearly
- * linear, edge-on to the scanner or degenerate takes the next level once. The normal is
- * the box's plane fit (normal_fit.h), the radius the expected mean distance to the
- * STA_NORMALS_RADIUS_K nearest at the density of the box's points on its plane. Every
- * sum is of integers or in a fixed order, and every level and cell is the scene's, so the
- * results do not depend on the chunking or the threads (the halo reaches as far as the
- * widest box: sta_moment_normals_reach).
+ * variation, Pauly et al.'s rule) and its normal within 20 degrees of this level's, at
+ * most 2 levels; a box whose plane is nearly linear, edge-on to the scanner or
+ * degenerate takes the next level once. The normal is the trilinear blend (by the
+ * point's place in its cell) of the plane normals (normal_fit.h) of the boxes of its
+ * cell's 8 vertices, leaving out those over 30 degrees from its nearest box's; the radius
+ * 1.15 times the expected mean distance to the STA_NORMALS_RADIUS_K nearest of uniform
+ * points at the density of the nearest box's points on its plane. Every sum is of
+ * integers or in a fixed order, and every level and cell is the scene's, so the results
+ * do not depend on the chunking or the threads (the halo reaches as far as the widest
+ * boxes: sta_moment_normals_reach).
  */
 #ifndef STA_PREPROCESS_MOMENT_NORMALS_H
 #define STA_PREPROCESS_MOMENT_NORMALS_H
