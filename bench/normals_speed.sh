@@ -11,7 +11,8 @@
 #
 # NEW_CONVERT=path: the binary timed as plain and new (default build/release's; a copy
 # keeps rebuilds during the run out of it). THREADS=N: every run with --threads N (a
-# single thread's CPU time is the least disturbed by a shared machine).
+# single thread's CPU time is the least disturbed by a shared machine). FINE=1: one more
+# variant per round, "fine" (NEW with --normals-method moments-fine).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ref=${1:--}
@@ -27,6 +28,7 @@ las="$work/street-$points.las"
 echo "input: $las ($points points), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
 variants="plain new"
 [ "$ref" = - ] || variants="plain ref new"
+[ -z "${FINE:-}" ] || variants="$variants fine"
 : >"$work/speed.txt"
 : >"$work/phases.txt"
 for run in $(seq 1 "$runs"); do
@@ -35,6 +37,7 @@ for run in $(seq 1 "$runs"); do
         plain) cmd=("$new") ;;
         ref) cmd=("$ref" --normals --knn "$k") ;;
         new) cmd=("$new" --normals --knn "$k") ;;
+        fine) cmd=("$new" --normals --knn "$k" --normals-method moments-fine) ;;
         esac
         [ -z "${THREADS:-}" ] || cmd+=(--threads "$THREADS")
         # Not -q: the summary's per-phase wall and CPU (all threads) lines are kept.
@@ -65,8 +68,10 @@ for v in $variants; do
         "$(awk -v t="$v" '$1 == t { print $3 }' "$work/phases.txt" | median) |" \
         "$(awk -v t="$v" '$1 == t { print $4 }' "$work/phases.txt" | median) |"
 done
-echo "per round: new/plain wall, new/plain CPU, and (with a reference) new/ref wall, new/ref CPU:"
-awk '{ w[$1] = $2; c[$1] = $3 }
-     $1 == "new" { printf "  %.2f %.2f", w["new"] / w["plain"], c["new"] / c["plain"]
-                   if ("ref" in w) printf "   %.2f %.2f", w["new"] / w["ref"], c["new"] / c["ref"]
-                   printf "\n" }' "$work/speed.txt"
+echo "per round: new/plain wall, new/plain CPU, (with a reference) new/ref wall, new/ref CPU,"
+echo "(with FINE) fine/plain wall, fine/plain CPU:"
+awk -v last="${variants##* }" '{ w[$1] = $2; c[$1] = $3 }
+     $1 == last { printf "  %.2f %.2f", w["new"] / w["plain"], c["new"] / c["plain"]
+                  if ("ref" in w) printf "   %.2f %.2f", w["new"] / w["ref"], c["new"] / c["ref"]
+                  if ("fine" in w) printf "   %.2f %.2f", w["fine"] / w["plain"], c["fine"] / c["plain"]
+                  printf "\n" }' "$work/speed.txt"

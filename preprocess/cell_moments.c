@@ -127,11 +127,42 @@ bool sta_cell_moments_has(const sta_cell_moments *m, const int64_t cell[3])
     return local_of(m, cell, local) && m->keys[find(m->keys, m->capacity, pack(local))] != 0;
 }
 
+int64_t sta_cell_moments_count(const sta_cell_moments *m, const int64_t cell[3])
+{
+    int64_t local[3];
+    if (!local_of(m, cell, local)) {
+        return 0;
+    }
+    size_t s = find(m->keys, m->capacity, pack(local));
+    return m->keys[s] != 0 ? m->sums[s].n : 0;
+}
+
+// Adds the sums of a run of points of one cell to it.
+static bool add_run(sta_cell_moments *m, const int64_t local[3], const sta_moment_sums *run)
+{
+    sta_moment_sums *c = cell_at(m, local);
+    if (!c) {
+        return false;
+    }
+    c->n += run->n;
+    for (int a = 0; a < 3; a++) {
+        c->s1[a] += run->s1[a];
+    }
+    for (int t = 0; t < 6; t++) {
+        c->s2[t] += run->s2[t];
+    }
+    return true;
+}
+
 sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], size_t n,
-                                const sta_cell_moments *only, sta_error *err)
+                                const uint32_t *order, const sta_cell_moments *only, sta_error *err)
 {
     int level = m->level;
-    for (size_t i = 0; i < n; i++) {
+    // Consecutive points of one cell are summed first (a run: one look-up).
+    int64_t run_cell[3] = { -1, -1, -1 };
+    sta_moment_sums run = { 0 };
+    for (size_t j = 0; j < n; j++) {
+        size_t i = order ? order[j] : j;
         int64_t u[3], local[3], d[3];
         for (int a = 0; a < 3; a++) {
             u[a] = (int64_t)grid[i][a] - m->origin[a];
@@ -146,14 +177,20 @@ sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], s
             local[a] = (u[a] >> level) - m->base[a];
             d[a] = u[a] & (((int64_t)1 << level) - 1);
         }
-        sta_moment_sums *c = cell_at(m, local);
-        if (!c) {
-            return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
+        if (memcmp(local, run_cell, sizeof(local)) != 0) {
+            if (run.n > 0 && !add_run(m, run_cell, &run)) {
+                return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
+            }
+            memcpy(run_cell, local, sizeof(local));
+            memset(&run, 0, sizeof(run));
         }
-        c->n++;
-        c->s1[0] += d[0], c->s1[1] += d[1], c->s1[2] += d[2];
-        c->s2[0] += d[0] * d[0], c->s2[1] += d[0] * d[1], c->s2[2] += d[0] * d[2];
-        c->s2[3] += d[1] * d[1], c->s2[4] += d[1] * d[2], c->s2[5] += d[2] * d[2];
+        run.n++;
+        run.s1[0] += d[0], run.s1[1] += d[1], run.s1[2] += d[2];
+        run.s2[0] += d[0] * d[0], run.s2[1] += d[0] * d[1], run.s2[2] += d[0] * d[2];
+        run.s2[3] += d[1] * d[1], run.s2[4] += d[1] * d[2], run.s2[5] += d[2] * d[2];
+    }
+    if (run.n > 0 && !add_run(m, run_cell, &run)) {
+        return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
     }
     return STA_OK;
 }
@@ -199,4 +236,43 @@ void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], 
             }
         }
     }
+}
+
+sta_status sta_cell_moments_coarsen(const sta_cell_moments *fine, sta_cell_moments *coarse,
+                                    sta_error *err)
+{
+    int level = fine->level;
+    for (size_t s = 0; s < fine->capacity; s++) {
+        if (fine->keys[s] == 0) {
+            continue;
+        }
+        uint64_t packed = fine->keys[s] - 1;
+        int64_t cell[3], local[3], o[3];
+        for (int a = 0; a < 3; a++) {
+            cell[a] =
+                (int64_t)((packed >> (a * STA_MOMENTS_AXIS_BITS)) & AXIS_MASK) + fine->base[a];
+            // The parent's corner is 0 or one fine cell below the child's: sums move by o.
+            o[a] = (cell[a] & 1) << level;
+            local[a] = (cell[a] >> 1) - coarse->base[a];
+        }
+        if (local[0] < 0 || local[1] < 0 || local[2] < 0 || local[0] > (int64_t)AXIS_MASK ||
+            local[1] > (int64_t)AXIS_MASK || local[2] > (int64_t)AXIS_MASK) {
+            continue; // (cannot happen for a set over the same box: its cells stay inside)
+        }
+        sta_moment_sums *p = cell_at(coarse, local);
+        if (!p) {
+            return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
+        }
+        const sta_moment_sums *c = &fine->sums[s];
+        p->n += c->n;
+        for (int r = 0, t = 0; r < 3; r++) {
+            for (int q = r; q < 3; q++, t++) {
+                p->s2[t] += c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
+            }
+        }
+        for (int a = 0; a < 3; a++) {
+            p->s1[a] += c->s1[a] + c->n * o[a];
+        }
+    }
+    return STA_OK;
 }

@@ -56,11 +56,22 @@ bool sta_cell_moments_mark(sta_cell_moments *m, const int64_t cell[3]);
 /* Whether cell `cell` exists. */
 bool sta_cell_moments_has(const sta_cell_moments *m, const int64_t cell[3]);
 
+/* The number of points in cell `cell` (0 when it does not exist). */
+int64_t sta_cell_moments_count(const sta_cell_moments *m, const int64_t cell[3]);
+
 /* Adds the n points `grid` (grid units, inside the box; at most STA_MOMENTS_MAX_POINTS
- * in all) to their cells; when `only` is not NULL, only the points whose cell of
- * only's (coarser or equal) level exists there. */
+ * in all) to their cells, in the order `order` (indices into grid; NULL: 0..n-1; an
+ * order that keeps each cell's points together, cell_order.h, looks each cell up once);
+ * when `only` is not NULL, only the points whose cell of only's (coarser or equal) level
+ * exists there. */
 sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], size_t n,
-                                const sta_cell_moments *only, sta_error *err);
+                                const uint32_t *order, const sta_cell_moments *only,
+                                sta_error *err);
+
+/* Adds the cells of `fine` to `coarse`, a set one level coarser over the same box (its
+ * parents: the sums moved to the parents' corners, exactly). */
+sta_status sta_cell_moments_coarsen(const sta_cell_moments *fine, sta_cell_moments *coarse,
+                                    sta_error *err);
 
 void sta_cell_moments_release(sta_cell_moments *m);
 

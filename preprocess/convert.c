@@ -33,6 +33,7 @@
 #include "inputs.h"
 #include "knn_normals.h"
 #include "las_source.h"
+#include "moment_normals.h"
 #include "node_writer.h"
 #include "path_checks.h"
 #include "progress.h"
@@ -213,7 +214,8 @@ static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index
                                            (uint8_t *)halo, err);
     sta_temp_runs_discard(&job->halo_runs, chunk_index);
     sta_normals_chunk frame;
-    sta_halo_chunk_frame(&job->plan, &job->inputs.grid, chunk_index, job->options->knn, &frame);
+    sta_halo_chunk_frame(&job->plan, &job->inputs.grid, chunk_index, job->options->knn,
+                         job->options->normals_method, &frame);
     frame.up_axis = job->up_axis == STA_STRATA_UP_Y ? 1 : 2;
     frame.trajectory = job->trajectory.usable ? &job->trajectory : NULL;
     sta_normals_stats stats = { 0 };
@@ -560,19 +562,21 @@ static size_t plan_chunk_capacity(uint64_t point_count)
 // Bytes one index worker needs for a chunk of `cap` points: records, index arrays,
 // the node buffers of its largest node (at most a full grid) and the chunk's packed
 // payloads held until their turn (at most the raw records).
-static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2, bool normals)
+static size_t worker_bytes(size_t cap, size_t record_size, int grid_log2,
+                           const sta_normals_method *normals)
 {
     if (normals) {
         // The normals come first and the index scratch is freed before them
-        // (index_worker), so a worker holds the kNN grid (over the chunk and a halo of
-        // up to half as many points) or the index's buffers, never both: besides the
-        // records and the node writer's column buffer, the larger of the two.
+        // (index_worker), so a worker holds the normals' scratch (cells or the kNN grid,
+        // over the chunk and a halo of up to half as many points) or the index's buffers,
+        // never both: besides the records and the node writer's column buffer, the larger.
         size_t grid_cells = (size_t)1 << (3 * grid_log2);
         size_t largest_node = cap < grid_cells ? cap : grid_cells;
         size_t with_halo = cap + cap / 2;
         size_t knn = cap * record_size + largest_node * record_size +
-                     sta_normals_memory_bytes(with_halo) + (cap / 2) * 3 * sizeof(int32_t);
-        size_t plain = worker_bytes(cap, record_size, grid_log2, false);
+                     sta_normals_memory_bytes(*normals, with_halo) +
+                     (cap / 2) * 3 * sizeof(int32_t);
+        size_t plain = worker_bytes(cap, record_size, grid_log2, NULL);
         return knn > plain ? knn : plain;
     }
     size_t grid_cells = (size_t)1 << (3 * grid_log2);
@@ -595,7 +599,8 @@ static size_t budget_bytes(size_t memory_mib)
 // How many chunks are indexed at once within the budget (see docs/CONVERTER.md):
 // the fixed overhead, an eighth for the distribution buffers, the rest for workers.
 static int plan_index_threads(size_t memory_mib, int threads, size_t cap, size_t record_size,
-                              int grid_log2, bool normals, size_t *out_buffer_bytes)
+                              int grid_log2, const sta_normals_method *normals,
+                              size_t *out_buffer_bytes)
 {
     size_t budget = budget_bytes(memory_mib);
     *out_buffer_bytes = budget / 8;
@@ -631,7 +636,7 @@ static bool keep_records_in_memory(convert_job *job, size_t memory_mib, int inde
         }
     }
     const size_t rec = job->inputs.layout.size, cap = job->chunk_capacity;
-    size_t worker = worker_bytes(cap, rec, grid_log2, false) - cap * rec;
+    size_t worker = worker_bytes(cap, rec, grid_log2, NULL) - cap * rec;
     uint64_t need = plan->point_count * rec + (uint64_t)index_threads * worker;
     if (need > budget_bytes(memory_mib)) {
         return false;
@@ -737,9 +742,9 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
             (job.inputs.attributes & ~(uint32_t)STA_ATTR_NORMAL) | STA_ATTR_SPLAT;
         sta_record_layout_init(&job.inputs.layout, job.inputs.attributes, job.inputs.extra_size);
     }
-    int index_threads =
-        plan_index_threads(memory_mib, job.threads, job.chunk_capacity, job.inputs.layout.size,
-                           grid_log2, options->normals, &buffer_bytes);
+    int index_threads = plan_index_threads(
+        memory_mib, job.threads, job.chunk_capacity, job.inputs.layout.size, grid_log2,
+        options->normals ? &options->normals_method : NULL, &buffer_bytes);
 
     // 2. count and plan
     job.progress.enabled = options->progress;
@@ -842,8 +847,8 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         }
         if (status == STA_OK) {
             status = sta_halo_collect(&job.plan, &job.inputs.grid, &job.inputs.layout, &job.runs,
-                                      &job.halo_runs, &job.trajectory, options->knn, index_threads,
-                                      options->cancel, err);
+                                      &job.halo_runs, &job.trajectory, options->knn,
+                                      options->normals_method, index_threads, options->cancel, err);
         }
         if (status != STA_OK) {
             goto out;

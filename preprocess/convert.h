@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "core/status.h"
+#include "knn_normals.h"
 
 /* Defaults (the grid's is STA_STRATA_DEFAULT_CELLS). The zstd level is the
  * converter's own, below the format's STA_STRATA_DEFAULT_ZSTD_LEVEL (3): level 1
@@ -52,10 +53,11 @@ typedef struct sta_convert_options {
     bool salvage;         /* read what is complete of truncated inputs */
     bool normals;         /* compute a normal and splat radius per point (SPLAT attribute) */
     int knn;              /* 0: STA_NORMALS_DEFAULT_K neighbours for --normals */
-    bool progress;        /* draw a progress line (only on a terminal) */
-    const char *mirrors;  /* mirror file: flag ghost points in the MIRROR attribute (keeps
-                             every point; docs/MIRRORS.md), or NULL */
-    atomic_bool *cancel;  /* set from a signal handler to stop; may be NULL */
+    sta_normals_method normals_method; /* 0: STA_NORMALS_MOMENTS (knn_normals.h) */
+    bool progress;                     /* draw a progress line (only on a terminal) */
+    const char *mirrors; /* mirror file: flag ghost points in the MIRROR attribute (keeps
+                            every point; docs/MIRRORS.md), or NULL */
+    atomic_bool *cancel; /* set from a signal handler to stop; may be NULL */
 } sta_convert_options;
 
 /* Fills the zero fields of `options` with their defaults (threads: the cores; the

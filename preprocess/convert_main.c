@@ -14,6 +14,7 @@
 #include "format/layout.h"
 #include "format/strata_writer.h"
 #include "knn_normals.h"
+#include "moment_normals.h"
 
 static atomic_bool cancel_requested;
 
@@ -46,6 +47,8 @@ int main(int argc, char **argv)
     int attributes = -1; // index into attribute_names
     bool quiet = false;
     static const char *const attribute_names[] = { "extra", NULL };
+    static const char *const method_names[] = { "moments", "knn", "moments-fine", NULL };
+    int method = STA_NORMALS_MOMENTS; // index into method_names = sta_normals_method
     const sta_cli_option table[] = {
         { .name = "output",
           .short_name = 'o',
@@ -111,14 +114,23 @@ int main(int argc, char **argv)
         { .name = "normals",
           .kind = STA_CLI_FLAG,
           .dest = &options.normals,
-          .help = "compute a normal and a splat radius per point (kNN plane fit)" },
+          .help = "compute a normal and a splat radius per point (plane fit)" },
+        { .name = "normals-method",
+          .kind = STA_CLI_CHOICE,
+          .dest = &method,
+          .metavar = "moments|knn|moments-fine",
+          .choices = method_names,
+          .help = "--normals from boxes of cell moments sized by the data, from the exact K "
+                  "nearest (slower), or from moments with cells half as wide (small features; "
+                  "~1.6x the CPU); docs/CONVERTER.md" },
         { .name = "knn",
           .kind = STA_CLI_INT,
           .dest = &options.knn,
           .metavar = "K",
           .int_min = 3,
           .int_max = STA_NORMALS_MAX_K,
-          .help = "neighbours of each point for --normals" },
+          .help = "neighbours of each point for --normals (moments: boxes of at least K "
+                  "points)" },
         { .name = "salvage",
           .kind = STA_CLI_FLAG,
           .dest = &options.salvage,
@@ -152,6 +164,7 @@ int main(int argc, char **argv)
     options.memory_mib = (size_t)memory_mib;
     options.leaf_capacity = (size_t)leaf_capacity;
     options.keep_extra = attributes == 0;
+    options.normals_method = (sta_normals_method)method;
     if (r.positional_count == 0 || !options.output) {
         return sta_cli_usage_error(&cli, "%s",
                                    r.positional_count == 0 ? "no input files"
@@ -207,7 +220,17 @@ int main(int argc, char **argv)
                 report.cpu_count, report.cpu_distribute, report.cpu_index, report.cpu_merge,
                 report.cpu_finish);
         fprintf(stderr, "  up axis: %s\n", report.up_why);
-        if (options.normals) {
+        if (options.normals && options.normals_method != STA_NORMALS_KNN) {
+            fprintf(stderr,
+                    "  normals: cell moments, boxes of at least K = %d points, halo pass "
+                    "%.2f s; %" PRIu64 " fallback (degenerate), %" PRIu64
+                    " boxes grown once (nearly linear or edge-on), %" PRIu64
+                    " boxes wider than the halo; walls face %s\n",
+                    options.knn, report.seconds_halo, report.normals_degenerate,
+                    report.normals_widened, report.normals_beyond_halo,
+                    report.normals_trajectory ? "the scanner path (GPS time)"
+                                              : "away from the scene's vertical centre line");
+        } else if (options.normals) {
             fprintf(stderr,
                     "  normals: K = %d, halo pass %.2f s; %" PRIu64
                     " fallback (degenerate), %" PRIu64

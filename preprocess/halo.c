@@ -7,12 +7,30 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "moment_normals.h"
 #include "octree.h"
 
-// A chunk's box (grid units, [min, max)) and its own margin in metres: a multiple of
-// its estimated point spacing, at most its box edge.
+// The moments' finest level, from the whole scene (the same in every chunking).
+static int scene_base_level(const sta_chunk_plan *plan, const sta_grid *grid,
+                            sta_normals_method method)
+{
+    uint64_t points = 0;
+    double extent[3], unit = 0.0;
+    for (size_t c = 0; c < plan->chunk_count; c++) {
+        points += plan->chunks[c].count;
+    }
+    for (int a = 0; a < 3; a++) {
+        extent[a] = (double)(plan->actual_max[a] - plan->actual_min[a]) * grid->scale[a];
+        unit = fmax(unit, grid->scale[a]);
+    }
+    return sta_moment_normals_base_level(method, points, extent, unit);
+}
+
+// A chunk's box (grid units, [min, max)) and its own margin in metres: kNN, a multiple
+// of its estimated point spacing, at most its box edge; moments, the reach of the widest
+// box (the same for every chunk, whatever its size: else a box could reach past it).
 static double own_margin(const sta_chunk_plan *plan, const sta_grid *grid, size_t chunk, int k,
-                         int64_t box[2][3])
+                         sta_normals_method method, int base_level, int64_t box[2][3])
 {
     const sta_chunk *c = &plan->chunks[chunk];
     double edge = 0.0;
@@ -20,6 +38,10 @@ static double own_margin(const sta_chunk_plan *plan, const sta_grid *grid, size_
         box[0][a] = sta_node_min(&plan->space, &c->key, a);
         box[1][a] = box[0][a] + ((int64_t)1 << sta_node_side_log2(&plan->space, c->key.level, a));
         edge = fmax(edge, (double)(box[1][a] - box[0][a]) * grid->scale[a]);
+    }
+    if (method != STA_NORMALS_KNN) {
+        double unit = fmax(grid->scale[0], fmax(grid->scale[1], grid->scale[2]));
+        return sta_moment_normals_reach(base_level, unit);
     }
     double spacing = edge / sqrt(fmax(1.0, (double)c->count));
     // Sized for the widest neighbourhood a point may be widened to (adaptive
@@ -48,18 +70,19 @@ static bool overlaps(int64_t a[2][3], int64_t b[2][3])
 }
 
 void sta_halo_chunk_frame(const sta_chunk_plan *plan, const sta_grid *grid, size_t chunk, int k,
-                          sta_normals_chunk *out)
+                          sta_normals_method method, sta_normals_chunk *out)
 {
     memset(out, 0, sizeof(*out));
     int64_t box[2][3], grown[2][3];
-    double margin = own_margin(plan, grid, chunk, k, box);
+    int base_level = scene_base_level(plan, grid, method);
+    double margin = own_margin(plan, grid, chunk, k, method, base_level, box);
     grow_box(box, margin, grid, grown);
     // What the chunk receives from a neighbour reaches min(its margin, the neighbour's)
     // into it (sta_halo_collect): the smallest over its neighbours bounds every face.
     double effective = margin;
     for (size_t c = 0; c < plan->chunk_count; c++) {
         int64_t other[2][3];
-        double m = own_margin(plan, grid, c, k, other);
+        double m = own_margin(plan, grid, c, k, method, base_level, other);
         if (c != chunk && plan->chunks[c].count > 0 && overlaps(grown, other)) {
             effective = fmin(effective, m);
         }
@@ -74,6 +97,8 @@ void sta_halo_chunk_frame(const sta_chunk_plan *plan, const sta_grid *grid, size
     }
     out->margin = effective;
     out->k = k;
+    out->method = method;
+    out->base_level = base_level;
 }
 
 typedef struct halo_job {
@@ -84,6 +109,8 @@ typedef struct halo_job {
     sta_temp_runs *halo;
     sta_trajectory *trajectory; /* NULL: none wanted (guard: lock) */
     int k;
+    sta_normals_method method;
+    int base_level;
     atomic_bool *cancel;
     int64_t (*box)[2][3];   /* per chunk: its box, grid units [min, max) */
     int64_t (*grown)[2][3]; /* per chunk: box grown by its own margin */
@@ -233,10 +260,13 @@ static void *halo_worker(void *argument)
 
 sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
                             const sta_record_layout *layout, sta_temp_runs *runs,
-                            sta_temp_runs *halo, sta_trajectory *trajectory, int k, int threads,
-                            atomic_bool *cancel, sta_error *err)
+                            sta_temp_runs *halo, sta_trajectory *trajectory, int k,
+                            sta_normals_method method, int threads, atomic_bool *cancel,
+                            sta_error *err)
 {
     halo_job job = { .plan = plan,
+                     .method = method,
+                     .base_level = scene_base_level(plan, grid, method),
                      .trajectory = trajectory,
                      .grid = grid,
                      .layout = layout,
@@ -255,7 +285,7 @@ sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
         return sta_fail(err, STA_ERR_NOMEM, "halo: out of memory");
     }
     for (size_t c = 0; c < plan->chunk_count; c++) {
-        job.margin[c] = own_margin(plan, grid, c, k, job.box[c]);
+        job.margin[c] = own_margin(plan, grid, c, k, method, job.base_level, job.box[c]);
         grow_box(job.box[c], job.margin[c], grid, job.grown[c]);
     }
     atomic_init(&job.next, 0);

@@ -7,7 +7,9 @@
  * chunk's run is read (not discarded) and each point near another chunk's grown box is
  * appended, as 3 x int32, to that chunk's list in a second compressed store. Lists read
  * back in (source chunk, block) order whatever the threads, so the output stays
- * deterministic. The margin of a chunk is a multiple of its estimated point spacing
+ * deterministic. With the moments method (the default) the margin is the reach of the
+ * widest box a point may take (sta_moment_normals_reach), the same for every chunk. With
+ * the kNN method the margin of a chunk is a multiple of its estimated point spacing
  * (box edge / sqrt(points): surfaces) times sqrt(K'), K' the widest neighbourhood a
  * point may be widened to (sta_normals_widest_k: 6 K, at most 64), at most its box edge; a chunk
  * receives from a neighbour the points within the smaller of their two margins (a
@@ -34,7 +36,7 @@
  * them: the margin is the smallest that any face received (up axis and trajectory
  * are left to the caller). */
 void sta_halo_chunk_frame(const sta_chunk_plan *plan, const sta_grid *grid, size_t chunk, int k,
-                          sta_normals_chunk *out);
+                          sta_normals_method method, sta_normals_chunk *out);
 
 /* Fills `halo` (record size 12, one list per chunk, initialised by the caller) from the
  * chunk runs of `runs`, on `threads` threads. When `trajectory` is not NULL (and the
@@ -42,7 +44,8 @@ void sta_halo_chunk_frame(const sta_chunk_plan *plan, const sta_grid *grid, size
  * sta_trajectory_finish decides whether it is usable. `cancel` may be NULL. */
 sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
                             const sta_record_layout *layout, sta_temp_runs *runs,
-                            sta_temp_runs *halo, sta_trajectory *trajectory, int k, int threads,
-                            atomic_bool *cancel, sta_error *err);
+                            sta_temp_runs *halo, sta_trajectory *trajectory, int k,
+                            sta_normals_method method, int threads, atomic_bool *cancel,
+                            sta_error *err);
 
 #endif

@@ -10,49 +10,29 @@
 
 #include "cell_moments.h"
 #include "core/alloc.h"
-#include "core/eigen3.h"
-#include "core/octahedral.h"
 #include "knn_grid.h"
+#include "normal_fit.h"
 
-/* l1 <= COLLINEAR * l2: the neighbours lie on a line, no plane to fit. */
-#define COLLINEAR    1e-6
-/* l1 < LINEAR * l2 (spread across the strip under a tenth of the spread along it): the
- * neighbours are nearly one line (a dense scan line), and noise across it would decide
- * the plane: the neighbourhood is widened. */
-#define LINEAR       0.01
-/* l0 > THICK * l1: across the fitted plane the neighbours spread more than 0.22 of their
- * narrower spread within it (standard deviations): two surfaces close together (a square
- * 1 cm under another) or range noise of the order of the spacing. The wider fit's
- * in-plane spread outgrows the layer's thickness: widened. On strata-synth planes the
- * p95 error falls from 16.7 to 2.3 degrees; 0.1 still left 7.7. */
-#define THICK        0.05
 /* Offsets from the query point summed exactly in int64 (fit_normal) stay below 2^FIT_BITS. */
-#define FIT_BITS     28
-/* |n . v| below this, v the unit direction to the scanner (the trajectory): the fitted
- * plane holds the line of sight (within 10 degrees). No surface is scanned edge-on: this
- * is one profile whose range noise (along the rays) spans the plane; widened. */
-#define EDGE_ON      0.17
+#define FIT_BITS    28
 /* A widened neighbourhood holds this many times K (at most STA_KNN_MAX). On the 20 M
  * street's road (1.5 cm range noise, profiles 5 cm apart) 4 K gave 5.2 degrees median,
  * 6 K 3.8 (4 M street): the wider fit averages the noise over more profiles. */
-#define WIDEN_MAX    6
-/* |n . up| below this: a vertical surface (a wall), oriented by the trajectory or the
- * scene's up-axis line. */
-#define VERTICAL_DOT 0.2
+#define WIDEN_MAX   6
 /* The wide fit's block of cells (cell_moments.h) has an edge of about this many times the
  * K-th neighbour's distance r_K: on a surface where K points lie within r_K (density
  * K / (pi r_K^2)) a square of edge sqrt(6 pi) r_K holds WIDEN_MAX K = 6 K points. */
-#define WIDE_EXTENT  4.34
+#define WIDE_EXTENT 4.34
 /* A block with at most K points (a point far from its block's other points), or whose fit
  * is still linear or edge-on (rules 1 and 2 of too_narrow: the block was sized for even
  * sampling, and scan lines 15 spacings apart need a wider one) moves to the next wider
  * block, at most this many times. */
-#define ESCALATE     2
+#define ESCALATE    2
 /* A box fit thicker than this (smallest eigenvalue over the middle one) is a volume or
  * curved layers (foliage: spheres of 0.2-0.4 m) rather than range noise on a plane: the
  * exact 6 K nearest fit it better (4 M street, trees 4.26 degrees median against 6.54
  * with the box; 0.05: 3.98, but 1.32 M exact searches instead of 0.99 M; 0.1: 4.96). */
-#define BOX_THICK    0.07
+#define BOX_THICK   0.07
 
 int sta_normals_widest_k(int k)
 {
@@ -64,68 +44,13 @@ int sta_normals_widest_k(int k)
  * (88 bytes a slot), and 1.5 times that while it grows. */
 #define CELL_BYTES_PER_POINT 56
 
-size_t sta_normals_memory_bytes(size_t points)
+size_t sta_knn_normals_memory_bytes(size_t points)
 {
     // The search and the cells are not held at once; + the positions, as floats and
     // integers, and the radius and box code of each point.
     size_t search = sta_knn_memory_bytes(points), cells = points * CELL_BYTES_PER_POINT;
     return (search > cells ? search : cells) +
            points * (3 * (sizeof(float) + sizeof(int32_t)) + sizeof(float) + 1);
-}
-
-// The rule of docs/CONVERTER.md: up for surfaces that face up or down; a wall faces the
-// scanner's position when the trajectory knows it, else away from the scene's up-axis
-// line (an object scanned from around it).
-static void orient(const sta_normals_chunk *chunk, const double p[3], const double *gps_time,
-                   double n[3])
-{
-    int up = chunk->up_axis == 1 ? 1 : 2;
-    double sign = n[up];
-    if (fabs(n[up]) < VERTICAL_DOT) {
-        double target[3];
-        bool seen = chunk->trajectory && gps_time &&
-                    sta_trajectory_at(chunk->trajectory, *gps_time, target);
-        sign = 0.0;
-        for (int a = 0; a < 3; a++) {
-            if (seen) {
-                sign += n[a] * (target[a] - p[a]) * chunk->scale[a];
-            } else if (a != up) {
-                sign += n[a] * (p[a] - chunk->scene_centre[a]) * chunk->scale[a];
-            }
-        }
-    }
-    if (sign < 0.0) {
-        for (int a = 0; a < 3; a++) {
-            n[a] = -n[a];
-        }
-    }
-}
-
-// The plane normal of a set of points from its moments (n, sum of offsets from some
-// corner, sum of their products, in grid units x 2^shift; weighted sums are welcome) and
-// the covariance's eigenvalues, ascending (zero when none); false when it is degenerate
-// (duplicates, one point, a line).
-static bool fit_moments(const sta_normals_chunk *chunk, double count, const double s1[3],
-                        const double s2[6], int shift, double n[3], double w[3])
-{
-    double step[3], cov[9] = { 0 };
-    for (int a = 0; a < 3; a++) {
-        step[a] = chunk->scale[a] * (double)((int64_t)1 << shift);
-    }
-    for (int r = 0, t = 0; r < 3; r++) {
-        for (int c = r; c < 3; c++, t++) {
-            double centred = s2[t] - s1[r] * s1[c] / count;
-            cov[3 * r + c] = centred * step[r] * step[c];
-        }
-    }
-    double v[3][3];
-    sta_eigen3_path path = sta_eigen3_sym_d(cov, w, v);
-    if (path == STA_EIGEN3_ZERO || path == STA_EIGEN3_INVALID || !(w[2] > 0.0) ||
-        w[1] <= COLLINEAR * w[2]) {
-        return false;
-    }
-    memcpy(n, v[0], sizeof(v[0]));
-    return isfinite(n[0]) && isfinite(n[1]) && isfinite(n[2]);
 }
 
 // The plane normal of a neighbourhood around grid point q (fit_moments). The sums are of
@@ -171,49 +96,7 @@ static bool fit_normal(const sta_normals_chunk *chunk, const int32_t q[3], const
         s2d[t] = (double)s2[t];
         s1d[t % 3] = (double)s1[t % 3];
     }
-    return fit_moments(chunk, (double)nb->size, s1d, s2d, shift, n, w);
-}
-
-// Distance in metres from grid point p to the outside of the halo (the box grown by the
-// margin, clipped to the scene bounds beyond which no point lies).
-static double halo_reach(const sta_normals_chunk *chunk, const int32_t p[3])
-{
-    double reach = INFINITY;
-    for (int a = 0; a < 3; a++) {
-        double lo = (double)(p[a] - chunk->box_min[a]) * chunk->scale[a] + chunk->margin;
-        double hi = (double)(chunk->box_max[a] - p[a]) * chunk->scale[a] + chunk->margin;
-        if (chunk->box_min[a] > chunk->scene_min[a]) {
-            reach = fmin(reach, lo);
-        }
-        if (chunk->box_max[a] <= chunk->scene_max[a]) {
-            reach = fmin(reach, hi);
-        }
-    }
-    return reach;
-}
-
-// Whether a neighbourhood with this fit should be widened (docs/CONVERTER.md "Adaptive
-// neighbourhoods"): nearly linear, thick across its plane, or a plane that holds the line
-// of sight. `thick`: whether thickness counts (not for the blocks' escalation: a wider
-// block would reach the next layer sooner than average the noise).
-static bool too_narrow(const sta_normals_chunk *chunk, const double p[3], const double *gps_time,
-                       bool ok, const double n[3], const double w[3], bool thick)
-{
-    if (!ok || w[1] < LINEAR * w[2] || (thick && w[0] > THICK * w[1])) {
-        return true;
-    }
-    double target[3];
-    if (!chunk->trajectory || !gps_time ||
-        !sta_trajectory_at(chunk->trajectory, *gps_time, target)) {
-        return false;
-    }
-    double dot = 0.0, len2 = 0.0;
-    for (int a = 0; a < 3; a++) {
-        double v = (target[a] - p[a]) * chunk->scale[a];
-        dot += n[a] * v;
-        len2 += v * v;
-    }
-    return fabs(dot) < EDGE_ON * sqrt(len2);
+    return sta_normal_fit_moments(chunk, (double)nb->size, s1d, s2d, shift, n, w);
 }
 
 // The edge, in grid units, of the boxes of code c: b = 2 + (c & 1) cells of level c / 2.
@@ -236,7 +119,7 @@ static void block_anchor(int code, const int64_t u[3], int64_t anchor[3], double
     }
 }
 
-// What sta_normals_compute shares with the visits of its two passes.
+// What sta_knn_normals_compute shares with the visits of its two passes.
 typedef struct normals_visit {
     const sta_normals_chunk *chunk;
     const sta_record_layout *layout;
@@ -272,27 +155,8 @@ static int block_code(const normals_visit *v, float kth_d2)
 // Orients `normal` (when ok), packs it with the radius into record i's SPLAT bytes.
 static void store(const normals_visit *v, size_t i, bool ok, double normal[3], double radius)
 {
-    const sta_record_layout *layout = v->layout;
-    uint8_t *record = v->records + i * layout->size;
-    int32_t p[3];
-    sta_record_position(record, p);
-    double pd[3] = { p[0], p[1], p[2] };
-    double gps_time;
-    bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
-    if (timed) {
-        memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
-    }
-    if (ok) {
-        orient(v->chunk, pd, timed ? &gps_time : NULL, normal);
-    } else {
-        v->stats->degenerate++;
-        normal[0] = normal[1] = normal[2] = 0.0;
-        normal[v->chunk->up_axis == 1 ? 1 : 2] = 1.0; // the fallback: up
-    }
-    const float nf[3] = { (float)normal[0], (float)normal[1], (float)normal[2] };
-    uint16_t packed[3];
-    sta_splat_pack(nf, (float)radius, packed);
-    memcpy(record + layout->splat_offset, packed, sizeof(packed));
+    sta_normal_store(v->chunk, v->layout, v->records + i * v->layout->size, ok, normal, radius,
+                     v->stats);
 }
 
 static int finish_point(void *user, size_t i, const sta_knn *nb)
@@ -338,7 +202,7 @@ static int finish_point(void *user, size_t i, const sta_knn *nb)
     }
     int widest = sta_normals_widest_k(chunk->k);
     if (k < widest && nb->size == nb->capacity &&
-        too_narrow(chunk, pd, timed ? &gps_time : NULL, ok, normal, w, true)) {
+        sta_normal_too_narrow(chunk, pd, timed ? &gps_time : NULL, ok, normal, w, true)) {
         // The wide fit: from the moments of a block of cells sized for 6 K points (second
         // pass), else (a block too wide for the grid) the exact 6 K nearest.
         int code = block_code(v, farthest);
@@ -353,7 +217,7 @@ static int finish_point(void *user, size_t i, const sta_knn *nb)
         stats->widened++;
         stats->widened_exact++;
     }
-    if (nb->size > 0 && sqrt((double)farthest) > halo_reach(chunk, p)) {
+    if (nb->size > 0 && sqrt((double)farthest) > sta_normal_halo_reach(chunk, p)) {
         stats->beyond_halo++;
     }
     store(v, i, ok, normal, radius);
@@ -426,7 +290,7 @@ static void fit_block(const normals_visit *v, const sta_cell_moments *cells, int
         }
     }
     f->n = n;
-    f->ok = n > 2.0 && fit_moments(v->chunk, n, s1, s2, 0, f->normal, f->w);
+    f->ok = n > 2.0 && sta_normal_fit_moments(v->chunk, n, s1, s2, 0, f->normal, f->w);
 }
 
 // Whether point i's block fit is still linear or edge-on (too_narrow without thickness).
@@ -439,7 +303,8 @@ static bool still_narrow(const normals_visit *v, size_t i, const int32_t p[3], c
     if (timed) {
         memcpy(&gps_time, v->records + i * layout->size + layout->gps_offset, sizeof(gps_time));
     }
-    return too_narrow(v->chunk, pd, timed ? &gps_time : NULL, f->ok, f->normal, f->w, false);
+    return sta_normal_too_narrow(v->chunk, pd, timed ? &gps_time : NULL, f->ok, f->normal, f->w,
+                                 false);
 }
 
 // Distance in metres from grid point p to the farthest corner of the cells a box overlaps.
@@ -498,7 +363,7 @@ static sta_status level_cells(const normals_visit *v, const int32_t (*grid)[3], 
     }
     status = sta_cell_moments_init(cells, level, origin, v->lo, v->hi, err);
     if (status == STA_OK) {
-        status = sta_cell_moments_add(cells, grid, n, &wanted, err);
+        status = sta_cell_moments_add(cells, grid, n, NULL, &wanted, err);
         if (status != STA_OK) {
             sta_cell_moments_release(cells);
         }
@@ -564,7 +429,7 @@ static sta_status fit_blocks(normals_visit *v, const int32_t (*grid)[3], size_t 
                     continue;
                 }
                 v->stats->widened++;
-                if (block_reach(v, grid[i], code, anchor) > halo_reach(chunk, grid[i])) {
+                if (block_reach(v, grid[i], code, anchor) > sta_normal_halo_reach(chunk, grid[i])) {
                     v->stats->beyond_halo++;
                 }
                 double normal[3] = { f->normal[0], f->normal[1], f->normal[2] };
@@ -602,7 +467,7 @@ static int finish_exact(void *user, size_t j, const sta_knn *nb)
     }
     v->stats->widened++;
     v->stats->widened_exact++;
-    if (sqrt((double)farthest) > halo_reach(v->chunk, p)) {
+    if (sqrt((double)farthest) > sta_normal_halo_reach(v->chunk, p)) {
         v->stats->beyond_halo++;
     }
     store(v, i, ok, normal, v->radius[i]);
@@ -662,9 +527,9 @@ static void usable_codes(size_t n, const int64_t span[3], int *min_code, int *ma
                     : 2 * STA_MOMENTS_MAX_LEVEL + 1;
 }
 
-sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_layout *layout,
-                               uint8_t *records, size_t count, const int32_t *halo,
-                               size_t halo_count, sta_normals_stats *stats, sta_error *err)
+sta_status sta_knn_normals_compute(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                                   uint8_t *records, size_t count, const int32_t *halo,
+                                   size_t halo_count, sta_normals_stats *stats, sta_error *err)
 {
     if (!(layout->attributes & STA_ATTR_SPLAT) || chunk->k < 3 || chunk->k > STA_NORMALS_MAX_K) {
         return sta_fail(err, STA_ERR_ARG, "normals: no SPLAT attribute or K outside 3..%d",

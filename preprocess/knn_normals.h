@@ -1,5 +1,7 @@
 /* SPDX-License-Identifier: MIT
- * Normals and splat radii of one chunk's points (strata-convert --normals).
+ * Normals and splat radii of one chunk's points by exact neighbour search
+ * (strata-convert --normals --normals-method knn; the default is moment_normals.h), and
+ * the types both methods share.
  *
  * Design: the K nearest neighbours of each of the chunk's points among the chunk and
  * its halo (points of neighbouring chunks within a margin, preprocess/halo.h), exactly,
@@ -29,9 +31,21 @@
 #define STA_NORMALS_MAX_K     64 /* = STA_KNN_MAX (knn_grid.h) */
 #define STA_NORMALS_RADIUS_K  10 /* the splat radius: mean distance to this many neighbours */
 
+/* How the normals are found (docs/CONVERTER.md "Normals"). */
+typedef enum sta_normals_method {
+    STA_NORMALS_MOMENTS = 0,     /* boxes of cell moments sized by the data (moment_normals.h) */
+    STA_NORMALS_KNN = 1,         /* the exact K nearest, widened where needed (this file) */
+    STA_NORMALS_MOMENTS_FINE = 2 /* moments from base cells half as wide: small features
+                                    (a curb's face, a car's edges) for ~1.6x the CPU */
+} sta_normals_method;
+
 /* Where one chunk's normals are computed; grid units are the output grid's integers. */
 typedef struct sta_normals_chunk {
     int k;                            /* neighbours, 3..STA_NORMALS_MAX_K */
+    sta_normals_method method;        /* 0: STA_NORMALS_MOMENTS */
+    int base_level;                   /* moments: the finest cells are 2^base_level grid
+                                         units (sta_moment_normals_base_level), the same
+                                         for every chunk of a scene */
     double scale[3];                  /* metres per grid unit */
     int64_t box_min[3];               /* the chunk's box, grid units, inclusive */
     int64_t box_max[3];               /* exclusive */
@@ -57,14 +71,14 @@ typedef struct sta_normals_stats {
 /* Computes a normal and radius for each of the `count` records (layout with
  * STA_ATTR_SPLAT) from them and the `halo_count` halo positions (3 x int32 each) and
  * stores them in the records' SPLAT bytes. Adds to `stats`. */
-sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_layout *layout,
-                               uint8_t *records, size_t count, const int32_t *halo,
-                               size_t halo_count, sta_normals_stats *stats, sta_error *err);
+sta_status sta_knn_normals_compute(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                                   uint8_t *records, size_t count, const int32_t *halo,
+                                   size_t halo_count, sta_normals_stats *stats, sta_error *err);
 
 /* The widest neighbourhood a point's K = k neighbourhood is widened to. */
 int sta_normals_widest_k(int k);
 
-/* Bytes of scratch memory sta_normals_compute needs for `points` points (own + halo). */
-size_t sta_normals_memory_bytes(size_t points);
+/* Bytes of scratch memory sta_knn_normals_compute needs for `points` points (own + halo). */
+size_t sta_knn_normals_memory_bytes(size_t points);
 
 #endif

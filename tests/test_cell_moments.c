@@ -3,12 +3,15 @@
  * block holds the sums a brute-force pass over the points gives (offsets from the
  * block's corner), at fine and coarse levels and for blocks reaching past the set;
  * adding only the points of wanted coarser cells keeps those cells whole; a set too
- * wide for the cell coordinates is refused. */
+ * wide for the cell coordinates is refused; a level coarsened from a finer one and the
+ * points added in cell order (cell_order.c) give the same sums as adding the points
+ * directly; the cell order keeps every cell's points together. */
 #include "test_support.h"
 
 #include <string.h>
 
 #include "cell_moments.h"
+#include "cell_order.h"
 #include "core/alloc.h"
 
 enum {
@@ -120,8 +123,8 @@ static void block_sums_match_brute_force(void **state)
         sta_cell_moments m;
         sta_error err = { 0 };
         assert_int_equal(sta_cell_moments_init(&m, levels[l], origin, lo, hi, &err), STA_OK);
-        assert_int_equal(sta_cell_moments_add(&m, (const int32_t(*)[3])grid, POINTS, NULL, &err),
-                         STA_OK);
+        assert_int_equal(
+            sta_cell_moments_add(&m, (const int32_t(*)[3])grid, POINTS, NULL, NULL, &err), STA_OK);
         size_t full = 0;
         for (int cells = 3; cells <= 4; cells++) {
             full += check_blocks(&m, (const int32_t(*)[3])grid, POINTS, origin, cells, 97);
@@ -153,10 +156,11 @@ static void wanted_cells_hold_all_their_points(void **state)
     assert_false(sta_cell_moments_has(&wanted, (const int64_t[3]){ 1, 2, 1 }));
     assert_int_equal(sta_cell_moments_init(&all, 6, origin, lo, hi, &err), STA_OK);
     assert_int_equal(sta_cell_moments_init(&some, 6, origin, lo, hi, &err), STA_OK);
-    assert_int_equal(sta_cell_moments_add(&all, (const int32_t(*)[3])grid, POINTS, NULL, &err),
-                     STA_OK);
-    assert_int_equal(sta_cell_moments_add(&some, (const int32_t(*)[3])grid, POINTS, &wanted, &err),
-                     STA_OK);
+    assert_int_equal(
+        sta_cell_moments_add(&all, (const int32_t(*)[3])grid, POINTS, NULL, NULL, &err), STA_OK);
+    assert_int_equal(
+        sta_cell_moments_add(&some, (const int32_t(*)[3])grid, POINTS, NULL, &wanted, &err),
+        STA_OK);
     // Inside a wanted cell (8 cells of level 6 an axis) every cell equals the full set's;
     // the cells next to it are empty.
     sta_moment_sums a[64], b[64];
@@ -210,10 +214,109 @@ static void too_wide_a_set_is_refused(void **state)
     sta_cell_moments_release(&m);
 }
 
+// Levels 3 to 9: built from the points directly (input order), and each from the level
+// below by coarsening, starting from level 2 built in cell order: every block of both
+// holds the brute-force sums (exact integers: the same whatever the order).
+static void coarsened_levels_match_brute_force(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    uint32_t *order = sta_alloc_array(POINTS, sizeof(*order));
+    assert_non_null(grid);
+    assert_non_null(order);
+    const int32_t corner[3] = { -300000, 4000, 1000000 };
+    random_points(grid, POINTS, corner, 3000, 23);
+    const int64_t origin[3] = { -300100, 3000, 999999 };
+    int32_t lo[3], hi[3];
+    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
+    sta_error err = { 0 };
+    assert_int_equal(sta_cell_order((const int32_t(*)[3])grid, POINTS, lo, 2, order, &err), STA_OK);
+    sta_cell_moments fine;
+    assert_int_equal(sta_cell_moments_init(&fine, 2, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(
+        sta_cell_moments_add(&fine, (const int32_t(*)[3])grid, POINTS, order, NULL, &err), STA_OK);
+    for (int level = 3; level <= 9; level++) {
+        sta_cell_moments coarse, direct;
+        assert_int_equal(sta_cell_moments_init(&coarse, level, origin, lo, hi, &err), STA_OK);
+        assert_int_equal(sta_cell_moments_coarsen(&fine, &coarse, &err), STA_OK);
+        assert_int_equal(sta_cell_moments_init(&direct, level, origin, lo, hi, &err), STA_OK);
+        assert_int_equal(
+            sta_cell_moments_add(&direct, (const int32_t(*)[3])grid, POINTS, NULL, NULL, &err),
+            STA_OK);
+        assert_int_equal(coarse.used, direct.used);
+        assert_true(check_blocks(&coarse, (const int32_t(*)[3])grid, POINTS, origin, 3, 31) > 0);
+        assert_true(check_blocks(&direct, (const int32_t(*)[3])grid, POINTS, origin, 3, 31) > 0);
+        sta_cell_moments_release(&direct);
+        sta_cell_moments_release(&fine);
+        fine = coarse;
+    }
+    sta_cell_moments_release(&fine);
+    sta_free(order);
+    sta_free(grid);
+}
+
+// The order is a permutation in which the points of each cell (of the sorted level and
+// of coarser ones, aligned to `lo`) come together, in input order within a cell.
+static void cell_order_keeps_cells_together(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    uint32_t *order = sta_alloc_array(POINTS, sizeof(*order));
+    uint8_t *seen = sta_calloc(POINTS, 1);
+    assert_non_null(grid);
+    assert_non_null(order);
+    assert_non_null(seen);
+    const int32_t corner[3] = { 5, -77, 123456 };
+    random_points(grid, POINTS, corner, 20000, 5);
+    int32_t lo[3], hi[3];
+    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
+    sta_error err = { 0 };
+    assert_int_equal(sta_cell_order((const int32_t(*)[3])grid, POINTS, lo, 6, order, &err), STA_OK);
+    for (size_t j = 0; j < POINTS; j++) {
+        assert_true(order[j] < POINTS && !seen[order[j]]);
+        seen[order[j]] = 1;
+    }
+    for (int level = 6; level <= 10; level += 2) {
+        // A cell's run, once left, never comes back.
+        size_t runs = 0;
+        for (size_t j = 0; j < POINTS; j++) {
+            int64_t c[3], p[3];
+            for (int a = 0; a < 3; a++) {
+                c[a] = ((int64_t)grid[order[j]][a] - lo[a]) >> level;
+                p[a] = j > 0 ? ((int64_t)grid[order[j - 1]][a] - lo[a]) >> level : -1;
+            }
+            if (memcmp(c, p, sizeof(c)) != 0) {
+                runs++;
+                for (size_t k = j + 1; k < POINTS; k++) { // (4000^2 / runs: small)
+                    int64_t d[3];
+                    for (int a = 0; a < 3; a++) {
+                        d[a] = ((int64_t)grid[order[k]][a] - lo[a]) >> level;
+                    }
+                    bool same = memcmp(c, d, sizeof(c)) == 0;
+                    bool prev_same = true;
+                    for (int a = 0; a < 3; a++) {
+                        prev_same = prev_same &&
+                                    (((int64_t)grid[order[k - 1]][a] - lo[a]) >> level) == c[a];
+                    }
+                    assert_false(same && !prev_same);
+                }
+            } else if (level == 6) {
+                assert_true(order[j] > order[j - 1]); // stable: input order within a cell
+            }
+        }
+        assert_true(runs > 1);
+    }
+    sta_free(seen);
+    sta_free(order);
+    sta_free(grid);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(block_sums_match_brute_force),
     cmocka_unit_test(wanted_cells_hold_all_their_points),
     cmocka_unit_test(too_wide_a_set_is_refused),
+    cmocka_unit_test(coarsened_levels_match_brute_force),
+    cmocka_unit_test(cell_order_keeps_cells_together),
 };
 
 STA_TEST_MAIN(tests)

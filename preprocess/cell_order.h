@@ -1,0 +1,30 @@
+/* SPDX-License-Identifier: MIT
+ * The points of a set in the Morton (Z) order of their cells of one power-of-two level
+ * (strata-convert --normals, moment_normals.c): the points of any cell of that level or a
+ * coarser one come together, so a pass in this order meets each cell once and its
+ * neighbours soon after.
+ *
+ * Design: a key per point (its cell's coordinates from the set's lowest cell, bits
+ * interleaved x, y, z) sorted by a stable least-significant-digit radix sort, 11 bits a
+ * pass, as many passes as the keys have bits. Ties keep the input order, so the order is
+ * a function of the points alone.
+ */
+#ifndef STA_PREPROCESS_CELL_ORDER_H
+#define STA_PREPROCESS_CELL_ORDER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/status.h"
+
+/* Cells an axis the keys address (3 x 21 bits in a 64-bit key). */
+#define STA_CELL_ORDER_AXIS_BITS 21
+
+/* Fills order[n] with the indices 0..n-1 of the points `grid` (grid units) sorted by
+ * their cells of edge 2^level units counted from `lo` (at or below every point). Fails
+ * (STA_ERR_ARG) when the points span more than 2^STA_CELL_ORDER_AXIS_BITS cells an axis
+ * or n does not fit 32 bits; STA_ERR_NOMEM. */
+sta_status sta_cell_order(const int32_t (*grid)[3], size_t n, const int32_t lo[3], int level,
+                          uint32_t *order, sta_error *err);
+
+#endif

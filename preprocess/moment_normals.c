@@ -1,0 +1,650 @@
+/* SPDX-License-Identifier: MIT
+ * Per-chunk normals from cell moments: level by level, each waiting point takes the box of
+ * its nearest grid vertex (one fit shared by the box's points), oriented, its radius from
+ * the box's density. */
+#include "moment_normals.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "cell_moments.h"
+#include "cell_order.h"
+#include "core/alloc.h"
+#include "normal_fit.h"
+
+/* Vertex boxes a level's table starts with (it grows), a power of two. */
+#define FIRST_VERTICES       4096
+#define AXIS_MASK            (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
+/* Per point: done, waiting for its level, or growing (takes the next level whatever it
+ * holds: its box was nearly linear, edge-on or degenerate). */
+#define STATE_WAIT           0
+#define STATE_GROW           1
+#define STATE_DONE           2
+#define STATE_CANDIDATE      3 /* + the levels it moved up for a flatter box */
+/* A candidate moves up at most this many levels for a flatter box. */
+#define STEPS                2
+/* The base cells are 1/2 to 1 times this many mean spacings wide (the spacing of the
+ * scene's points spread over its two widest extents; STA_NORMALS_MOMENTS_FINE: half). On
+ * the 20 M street (spacing 62 mm: cells of 128 mm, fine 64 mm) fine takes 1.6x the CPU
+ * and 1.8x the memory for curbs' and cars' p95 of 24 and 34 degrees against 48 and 53
+ * (the 12-16 cm curb face inside the boxes); 1 spacing (cells of 32 mm there) gave worse
+ * roads (boxes of 10 points on one scan line). */
+#define BASE_CELL_SPACINGS   4.0
+/* A candidate moves to the next level's box only when its normal is within this (cosine)
+ * of this level's: the same surface, flatter (on a curb face the wider box is flatter,
+ * but the road's). */
+#define AGREE                0.94
+/* The blend leaves out the vertex boxes whose normal is more than this (cosine: 30
+ * degrees) from the point's nearest box's: another surface, an edge is not smoothed. */
+#define BLEND_AGREE          0.87
+/* Scanned surfaces are sampled more evenly than uniform random points (profiles, a
+ * lattice): their mean distance to the 10 nearest is larger than the uniform expectation
+ * at the same density. On the 4 M street the exact kNN radius is 1.18-1.22x the uniform
+ * estimate (roads, walls, cars, trees), on a square lattice 1.11x, on strata-synth's
+ * uniform sphere 1.03x; this factor sits between (without it the splats left gaps between
+ * the profiles of sparse walls). */
+#define EVENNESS             1.15
+/* Records asked for this many points ahead of the pass (their GPS time, their SPLAT). */
+#define PREFETCH             8
+/* Newton steps for the smallest eigenvalue (surface_variation). */
+#define VARIATION_STEPS      6
+/* The mean distance to the nearest j of points on a line `spacing` apart: for j = 10, the
+ * nearest two at each of 1..5 spacings. */
+#define LINE_RADIUS_SPACINGS 3.0
+
+/* The moments of the 2 x 2 x 2 cells around a grid vertex, centred. */
+typedef struct vertex_box {
+    double n;
+    double m2[6];     /* sum of (d - mean)(d - mean)^T over the points, grid units^2 */
+    double variation; /* surface variation, < 0 until computed */
+    int fit;          /* 0: not fitted yet, 1: a plane, 2: none (degenerate) */
+    double normal[3], w[3];
+} vertex_box;
+
+/* One level's vertex boxes, computed when first wanted (open addressing). */
+typedef struct vertex_table {
+    size_t capacity, used;
+    uint64_t *keys; /* 0: empty, else packed vertex coordinates + 1 */
+    vertex_box *boxes;
+} vertex_table;
+
+static size_t slot_of(uint64_t key, size_t capacity)
+{
+    return (size_t)((key * 0x9E3779B97F4A7C15ull) >> 17) & (capacity - 1);
+}
+
+static size_t find(const uint64_t *keys, size_t capacity, uint64_t key)
+{
+    size_t s = slot_of(key, capacity);
+    while (keys[s] != 0 && keys[s] != key) {
+        s = (s + 1) & (capacity - 1);
+    }
+    return s;
+}
+
+static bool table_init(vertex_table *t, size_t capacity)
+{
+    t->capacity = capacity;
+    t->used = 0;
+    t->keys = sta_calloc(capacity, sizeof(*t->keys));
+    t->boxes = sta_alloc_array(capacity, sizeof(*t->boxes));
+    return t->keys && t->boxes;
+}
+
+static void table_release(vertex_table *t)
+{
+    sta_free(t->keys);
+    sta_free(t->boxes);
+    memset(t, 0, sizeof(*t));
+}
+
+static bool table_grow(vertex_table *t)
+{
+    vertex_table bigger;
+    if (!table_init(&bigger, 2 * t->capacity)) {
+        table_release(&bigger);
+        return false;
+    }
+    for (size_t s = 0; s < t->capacity; s++) {
+        if (t->keys[s] != 0) {
+            size_t u = find(bigger.keys, bigger.capacity, t->keys[s]);
+            bigger.keys[u] = t->keys[s];
+            bigger.boxes[u] = t->boxes[s];
+        }
+    }
+    bigger.used = t->used;
+    table_release(t);
+    *t = bigger;
+    return true;
+}
+
+// The moments of the 8 cells around vertex v (cell coordinates from the scene corner),
+// centred: from their exact integer sums, so the box is the same bits whatever the
+// chunking. (Offsets from the block's corner stay under 2^17 units: the cancellation in
+// s2 - s1 s1^T / n loses ~2^-53 n 2^34, far below a grid unit squared times n.)
+static void vertex_moments(const sta_cell_moments *cells, const int64_t v[3], vertex_box *box)
+{
+    sta_moment_sums block[8];
+    const int64_t anchor[3] = { v[0] - 1, v[1] - 1, v[2] - 1 };
+    sta_cell_moments_block(cells, anchor, 2, block);
+    int64_t n = 0, s1[3] = { 0, 0, 0 }, s2[6] = { 0, 0, 0, 0, 0, 0 };
+    for (int c = 0; c < 8; c++) {
+        n += block[c].n;
+        for (int a = 0; a < 3; a++) {
+            s1[a] += block[c].s1[a];
+        }
+        for (int t = 0; t < 6; t++) {
+            s2[t] += block[c].s2[t];
+        }
+    }
+    memset(box, 0, sizeof(*box));
+    box->variation = -1.0;
+    if (n == 0) {
+        return;
+    }
+    double nd = (double)n;
+    box->n = nd;
+    for (int r = 0, t = 0; r < 3; r++) {
+        for (int q = r; q < 3; q++, t++) {
+            box->m2[t] = (double)s2[t] - (double)s1[r] * (double)s1[q] / nd;
+        }
+    }
+}
+
+// Vertex v's box, computed when first asked for; NULL when out of memory.
+static vertex_box *vertex_at(vertex_table *t, const sta_cell_moments *cells, const int64_t v[3])
+{
+    uint64_t key = 1;
+    for (int a = 0; a < 3; a++) {
+        // Vertices of the points' cells lie inside the set's addressable range (its base is
+        // one cell below the lowest, cell_moments.c).
+        key += (uint64_t)(v[a] - cells->base[a]) << (a * STA_MOMENTS_AXIS_BITS);
+    }
+    size_t s = find(t->keys, t->capacity, key);
+    if (t->keys[s] == 0) {
+        if (2 * (t->used + 1) > t->capacity) {
+            if (!table_grow(t)) {
+                return NULL;
+            }
+            s = find(t->keys, t->capacity, key);
+        }
+        t->keys[s] = key;
+        t->used++;
+        vertex_moments(cells, v, &t->boxes[s]);
+    }
+    return &t->boxes[s];
+}
+
+// Mean distance to the nearest STA_NORMALS_RADIUS_K of uniform points at unit density on a
+// plane, times sqrt(pi): sum of Gamma(j + 1/2) / Gamma(j), j = 1..K, over K.
+static double plane_radius_factor(void)
+{
+    double sum = 0.0;
+    for (int j = 1; j <= STA_NORMALS_RADIUS_K; j++) {
+        sum += exp(lgamma(j + 0.5) - lgamma(j));
+    }
+    return sum / STA_NORMALS_RADIUS_K;
+}
+
+// The radius from a box's fit: the expected mean distance to the nearest
+// STA_NORMALS_RADIUS_K at the density of its points on the fitted plane (its area from the
+// spread within the plane: a uniform rectangle's variances are a^2/12 and b^2/12), or on
+// its line when that is larger (a wire, a single scan line).
+static double box_radius(double count, const double w[3], double factor)
+{
+    if (!(count >= 2.0) || !(w[2] > 0.0)) {
+        return 0.0;
+    }
+    double var1 = fmax(w[1], 0.0) / count, var2 = w[2] / count;
+    double area = 12.0 * sqrt(var1 * var2);
+    double plane =
+        area > 0.0 ? EVENNESS * factor / sqrt(3.14159265358979323846 * count / area) : 0.0;
+    double line = LINE_RADIUS_SPACINGS * sqrt(12.0 * var2) / count;
+    return plane > line ? plane : line;
+}
+
+// How far in metres the boxes of the 8 vertices of its cell at `level` (the cells from
+// one below to one above its own) reach from grid point u (from the scene corner) along
+// any axis.
+static double box_reach(const sta_normals_chunk *chunk, const int64_t u[3], int level)
+{
+    double reach = 0.0;
+    for (int a = 0; a < 3; a++) {
+        int64_t c = u[a] >> level, cell = (int64_t)1 << level;
+        int64_t lo = (c - 1) * cell, hi = (c + 2) * cell; // (c - 1 may be -1: no shift)
+        double d = (double)(u[a] - lo > hi - u[a] ? u[a] - lo : hi - u[a]) * chunk->scale[a];
+        reach = d > reach ? d : reach;
+    }
+    return reach;
+}
+
+// One level's cells and the vertex boxes computed from them so far.
+typedef struct level_boxes {
+    const sta_cell_moments *cells;
+    vertex_table table;
+    int64_t last[3];      /* the vertex last asked for by nearest_box, */
+    vertex_box *last_box; /* its box (NULL: none) */
+    size_t last_capacity; /* and the table's capacity then (a grown table moves it) */
+    bool corners_valid;   /* the normals of the 8 vertex boxes of cell `corner_cell` */
+    int64_t corner_cell[3];
+    bool corner_ok[8];
+    double corner_normal[8][3];
+} level_boxes;
+
+static bool level_init(level_boxes *l, const sta_cell_moments *cells)
+{
+    size_t expect = (size_t)FIRST_VERTICES;
+    while (expect < cells->used && expect < ((size_t)1 << 40)) {
+        expect *= 2;
+    }
+    l->cells = cells;
+    l->last_box = NULL;
+    l->corners_valid = false;
+    if (!table_init(&l->table, expect)) {
+        table_release(&l->table);
+        return false;
+    }
+    return true;
+}
+
+// The surface variation of a box (Pauly et al.): its smallest eigenvalue over the sum,
+// the smallest root of the characteristic polynomial by Newton's method from 0 (below
+// the root the polynomial is convex and falling: it converges from below, without the
+// eigenvectors' cost).
+static double surface_variation(const sta_normals_chunk *chunk, const double m2[6])
+{
+    const double *s = chunk->scale;
+    double a = m2[0] * s[0] * s[0], b = m2[1] * s[0] * s[1], c = m2[2] * s[0] * s[2];
+    double d = m2[3] * s[1] * s[1], e = m2[4] * s[1] * s[2], f = m2[5] * s[2] * s[2];
+    double c2 = a + d + f, c1 = a * d + a * f + d * f - b * b - c * c - e * e;
+    double c0 = a * (d * f - e * e) - b * (b * f - c * e) + c * (b * e - c * d);
+    if (!(c2 > 0.0)) {
+        return 1.0;
+    }
+    double x = 0.0;
+    for (int i = 0; i < VARIATION_STEPS && c0 > 0.0; i++) {
+        double p = ((-x + c2) * x - c1) * x + c0, dp = (-3.0 * x + 2.0 * c2) * x - c1;
+        if (!(dp < 0.0)) {
+            break;
+        }
+        x -= p / dp;
+    }
+    return x / c2;
+}
+
+// The box of the grid vertex nearest to u (grid units from the scene corner) at this level,
+// with its surface variation; NULL when out of memory.
+static vertex_box *nearest_box(const sta_normals_chunk *chunk, level_boxes *l, const int64_t u[3])
+{
+    int level = l->cells->level;
+    int64_t v[3];
+    for (int a = 0; a < 3; a++) {
+        v[a] = (2 * u[a] + ((int64_t)1 << level)) >> (level + 1);
+    }
+    if (l->last_box && l->last_capacity == l->table.capacity &&
+        memcmp(v, l->last, sizeof(v)) == 0) {
+        return l->last_box;
+    }
+    vertex_box *b = vertex_at(&l->table, l->cells, v);
+    if (b && b->variation < 0.0) {
+        b->variation = surface_variation(chunk, b->m2);
+    }
+    memcpy(l->last, v, sizeof(v));
+    l->last_box = b;
+    l->last_capacity = l->table.capacity;
+    return b;
+}
+
+// Whether box b has a plane, fitted when first asked (one solve for all its points).
+static bool box_fit(const sta_normals_chunk *chunk, vertex_box *b)
+{
+    if (b->fit == 0) {
+        const double zero[3] = { 0, 0, 0 };
+        bool fitted =
+            b->n > 2.0 && sta_normal_fit_moments(chunk, b->n, zero, b->m2, 0, b->normal, b->w);
+        b->fit = fitted ? 1 : 2;
+    }
+    return b->fit == 1;
+}
+
+// The normals of the boxes of the 8 grid vertices of u's cell, blended by the point's place
+// in the cell (trilinear weights), each turned to agree with `normal` (its nearest box's,
+// replaced by the blend): the normal field between the boxes' centres. On a curved surface
+// the nearest box's centre lies up to a quarter of its edge from the point (a 0.3 m leaf
+// sphere, a 15 cm box: 3.7 cm, 7 degrees); on a plane the boxes agree. False when out of
+// memory.
+static bool blend_normals(const sta_normals_chunk *chunk, level_boxes *l, const int64_t u[3],
+                          double normal[3])
+{
+    int level = l->cells->level;
+    int64_t c[3];
+    double f[3];
+    for (int a = 0; a < 3; a++) {
+        c[a] = u[a] >> level;
+        f[a] = (double)(u[a] - (c[a] << level)) / (double)((int64_t)1 << level);
+    }
+    if (!l->corners_valid || memcmp(c, l->corner_cell, sizeof(c)) != 0) {
+        for (int k = 0; k < 8; k++) {
+            const int64_t v[3] = { c[0] + (k & 1), c[1] + (k >> 1 & 1), c[2] + (k >> 2) };
+            vertex_box *b = vertex_at(&l->table, l->cells, v);
+            if (!b) {
+                l->corners_valid = false;
+                return false;
+            }
+            l->corner_ok[k] = box_fit(chunk, b);
+            memcpy(l->corner_normal[k], b->normal, sizeof(b->normal));
+        }
+        memcpy(l->corner_cell, c, sizeof(c));
+        l->corners_valid = true;
+    }
+    double sum[3] = { 0, 0, 0 };
+    for (int k = 0; k < 8; k++) {
+        if (!l->corner_ok[k]) {
+            continue;
+        }
+        const double *nk = l->corner_normal[k];
+        double w = ((k & 1) ? f[0] : 1.0 - f[0]) * ((k >> 1 & 1) ? f[1] : 1.0 - f[1]) *
+                   ((k >> 2) ? f[2] : 1.0 - f[2]);
+        double dot = nk[0] * normal[0] + nk[1] * normal[1] + nk[2] * normal[2];
+        if (fabs(dot) < BLEND_AGREE) {
+            continue; // another surface (an edge, a curb): not blended across
+        }
+        w = dot < 0.0 ? -w : w;
+        for (int a = 0; a < 3; a++) {
+            sum[a] += w * nk[a];
+        }
+    }
+    double len = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+    if (len > 1e-6) {
+        for (int a = 0; a < 3; a++) {
+            normal[a] = sum[a] / len;
+        }
+    }
+    return true;
+}
+
+// What one level's pass over the waiting points shares.
+typedef struct moment_pass {
+    const sta_normals_chunk *chunk;
+    const sta_record_layout *layout;
+    uint8_t *records;
+    sta_normals_stats *stats;
+    uint8_t *state;           /* per own point, in cell order */
+    const uint32_t *order;    /* the own points' records in cell order (cell_order.h) */
+    const int32_t (*grid)[3]; /* their positions, in that order */
+    size_t count;             /* own points */
+    double need;              /* points a box must hold */
+    double factor;            /* plane_radius_factor() */
+} moment_pass;
+
+// The points still waiting at `fine`'s level: those whose cell of the next level (`coarse`,
+// NULL at the last level; the same edge as the box) holds enough points become
+// candidates; a candidate whose box at the next level is flatter (less surface variation)
+// waits for it, at most STEPS levels, else takes this one; a point that grows takes this
+// one. Returns how many are left, or SIZE_MAX when out of memory.
+static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *coarse)
+{
+    const sta_normals_chunk *chunk = m->chunk;
+    const sta_record_layout *layout = m->layout;
+    int64_t last_parent[3] = { -1, -1, -1 }, parent_count = 0;
+    size_t left = 0;
+    bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
+    for (size_t j = 0; j < m->count; j++) {
+        uint8_t state = m->state[j];
+        if (state == STATE_DONE) {
+            continue;
+        }
+        uint8_t *record = m->records + (size_t)m->order[j] * layout->size;
+        const int32_t *p = m->grid[j];
+        if (j + PREFETCH < m->count) { // (records lie in input order: a miss each)
+            __builtin_prefetch(m->records + (size_t)m->order[j + PREFETCH] * layout->size);
+        }
+        int64_t u[3];
+        for (int a = 0; a < 3; a++) {
+            u[a] = (int64_t)p[a] - chunk->scene_min[a];
+        }
+        bool grow = state == STATE_GROW;
+        if (state == STATE_WAIT && coarse) {
+            int level = coarse->cells->level;
+            int64_t parent[3] = { u[0] >> level, u[1] >> level, u[2] >> level };
+            if (memcmp(parent, last_parent, sizeof(parent)) != 0) {
+                memcpy(last_parent, parent, sizeof(parent));
+                parent_count = sta_cell_moments_count(coarse->cells, parent);
+            }
+            if ((double)parent_count < m->need) {
+                left++;
+                continue;
+            }
+            state = STATE_CANDIDATE;
+        }
+        vertex_box *b = nearest_box(chunk, fine, u);
+        if (!b) {
+            return SIZE_MAX;
+        }
+        if (!grow && coarse && state >= STATE_CANDIDATE && state < STATE_CANDIDATE + STEPS) {
+            vertex_box *c = nearest_box(chunk, coarse, u);
+            if (!c) {
+                return SIZE_MAX;
+            }
+            if (c->variation < b->variation && box_fit(chunk, b) && box_fit(chunk, c) &&
+                fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
+                     b->normal[2] * c->normal[2]) > AGREE) {
+                m->state[j] = (uint8_t)(state + 1); // flatter, and the same surface
+                left++;
+                continue;
+            }
+        }
+        box_fit(chunk, b);
+        double n = b->n, normal[3], w[3];
+        bool ok = b->fit == 1;
+        memcpy(normal, b->normal, sizeof(normal));
+        memcpy(w, b->w, sizeof(w));
+        if (!grow && coarse) {
+            double pd[3] = { p[0], p[1], p[2] }, gps_time;
+            if (timed) {
+                memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
+            }
+            if (sta_normal_too_narrow(chunk, pd, timed ? &gps_time : NULL, ok, normal, w, false)) {
+                m->state[j] = STATE_GROW; // nearly linear, edge-on or no plane: once wider
+                m->stats->widened++;
+                left++;
+                continue;
+            }
+        }
+        if (ok && !blend_normals(chunk, fine, u, normal)) {
+            return SIZE_MAX;
+        }
+        if (box_reach(chunk, u, fine->cells->level) > sta_normal_halo_reach(chunk, p)) {
+            m->stats->beyond_halo++;
+        }
+        sta_normal_store(chunk, layout, record, ok, normal, box_radius(n, w, m->factor), m->stats);
+        m->state[j] = STATE_DONE;
+    }
+    return left;
+}
+
+int sta_moment_normals_base_level(sta_normals_method method, uint64_t points,
+                                  const double extent[3], double unit)
+{
+    double spacings =
+        method == STA_NORMALS_MOMENTS_FINE ? BASE_CELL_SPACINGS / 2.0 : BASE_CELL_SPACINGS;
+    double e[3] = { extent[0], extent[1], extent[2] };
+    for (int i = 0; i < 2; i++) { // the two widest first
+        for (int j = i + 1; j < 3; j++) {
+            if (e[j] > e[i]) {
+                double t = e[i];
+                e[i] = e[j];
+                e[j] = t;
+            }
+        }
+    }
+    if (points == 0 || !(unit > 0.0) || !(e[0] * e[1] > 0.0)) {
+        return 0;
+    }
+    double spacing = sqrt(e[0] * e[1] / (double)points) / unit;
+    int level = 0;
+    while (level < STA_MOMENTS_MAX_LEVEL && (double)((int64_t)2 << level) <= spacings * spacing) {
+        level++;
+    }
+    return level;
+}
+
+double sta_moment_normals_reach(int base_level, double unit)
+{
+    // A point blends the boxes of its cell's 8 vertices: they reach 2 cells from it.
+    int top = base_level + STA_MOMENTS_LEVELS_ABOVE_BASE;
+    return 2.0 *
+           (double)((int64_t)1 << (top < STA_MOMENTS_MAX_LEVEL ? top : STA_MOMENTS_MAX_LEVEL)) *
+           unit;
+}
+
+/* Bytes a point of one level's cells and vertex boxes takes at most (measured, see
+ * docs/CONVERTER.md "Memory"), besides its position and state. */
+#define MOMENT_BYTES_PER_POINT 96
+
+size_t sta_normals_memory_bytes(sta_normals_method method, size_t points)
+{
+    size_t knn = sta_knn_normals_memory_bytes(points);
+    size_t moments = points * (MOMENT_BYTES_PER_POINT + 3 * sizeof(int32_t) + 1);
+    // (a set the cells cannot address takes the kNN method: rare, not planned for)
+    return method == STA_NORMALS_KNN ? knn : moments;
+}
+
+sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                               uint8_t *records, size_t count, const int32_t *halo,
+                               size_t halo_count, sta_normals_stats *stats, sta_error *err)
+{
+    if (!(layout->attributes & STA_ATTR_SPLAT) || chunk->k < 3 || chunk->k > STA_NORMALS_MAX_K) {
+        return sta_fail(err, STA_ERR_ARG, "normals: no SPLAT attribute or K outside 3..%d",
+                        STA_NORMALS_MAX_K);
+    }
+    size_t n = count + halo_count;
+    if (chunk->method == STA_NORMALS_KNN || n > STA_MOMENTS_MAX_POINTS) {
+        return sta_knn_normals_compute(chunk, layout, records, count, halo, halo_count, stats, err);
+    }
+    if (count == 0) {
+        return STA_OK;
+    }
+    int32_t(*grid)[3] = sta_alloc_array(n, sizeof(*grid));
+    uint8_t *state = sta_calloc(count, 1);
+    uint32_t *order = sta_alloc_array(n, sizeof(*order));
+    if (!grid || !state || !order) {
+        sta_free(grid);
+        sta_free(state);
+        sta_free(order);
+        return sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", n);
+    }
+    int32_t lo[3] = { INT32_MAX, INT32_MAX, INT32_MAX },
+            hi[3] = { INT32_MIN, INT32_MIN, INT32_MIN };
+    for (size_t i = 0; i < n; i++) {
+        if (i < count) {
+            sta_record_position(records + i * layout->size, grid[i]);
+        } else {
+            memcpy(grid[i], halo + 3 * (i - count), sizeof(grid[i]));
+        }
+        for (int a = 0; a < 3; a++) {
+            lo[a] = grid[i][a] < lo[a] ? grid[i][a] : lo[a];
+            hi[a] = grid[i][a] > hi[a] ? grid[i][a] : hi[a];
+        }
+    }
+    // Levels: from the scene's base (or the finest whose cells stay addressable) to
+    // STA_MOMENTS_LEVELS_ABOVE_BASE above it (the halo's reach): the same in every chunk.
+    int level = chunk->base_level > 0 ? chunk->base_level : 0;
+    for (int a = 0; a < 3; a++) {
+        int64_t span = (int64_t)hi[a] - lo[a];
+        while (level < STA_MOMENTS_MAX_LEVEL &&
+               (span >> level) + 6 >= ((int64_t)1 << STA_MOMENTS_AXIS_BITS)) {
+            level++;
+        }
+    }
+    int top = chunk->base_level + STA_MOMENTS_LEVELS_ABOVE_BASE;
+    top = top < STA_MOMENTS_MAX_LEVEL ? top : STA_MOMENTS_MAX_LEVEL;
+    top = top > level ? top : level;
+    if (level >= STA_MOMENTS_MAX_LEVEL) { // (a set wider than the cells address)
+        sta_free(grid);
+        sta_free(state);
+        sta_free(order);
+        return sta_knn_normals_compute(chunk, layout, records, count, halo, halo_count, stats, err);
+    }
+    moment_pass pass = { .chunk = chunk,
+                         .layout = layout,
+                         .records = records,
+                         .stats = stats,
+                         .state = state,
+                         .order = order,
+                         .count = count,
+                         .need = (double)chunk->k,
+                         .factor = plane_radius_factor() };
+    // Two levels at a time: the one fitted and the next (the scale's counts and the
+    // candidates' flatness); the next becomes the fitted one with its vertex boxes.
+    sta_cell_moments cells[2] = { { 0 } };
+    level_boxes boxes[2] = { { 0 } };
+    int at = 0; // cells[at] is `level`
+    sta_status status = sta_cell_moments_init(&cells[0], level, chunk->scene_min, lo, hi, err);
+    if (status == STA_OK) {
+        // Morton order of the base cells (aligned 8 levels up: nested to there).
+        int32_t corner[3];
+        int align = level + 8;
+        for (int a = 0; a < 3; a++) {
+            int64_t from = (int64_t)lo[a] - chunk->scene_min[a];
+            corner[a] = (int32_t)(chunk->scene_min[a] + ((from >> align) << align));
+        }
+        status = sta_cell_order((const int32_t(*)[3])grid, n, corner, level, order, err);
+    }
+    if (status == STA_OK) {
+        status = sta_cell_moments_add(&cells[0], (const int32_t(*)[3])grid, n, order, NULL, err);
+    }
+    // The own points in cell order with their positions: the passes read them in order.
+    int32_t(*own)[3] = status == STA_OK ? sta_alloc_array(count, sizeof(*own)) : NULL;
+    if (status == STA_OK && !own) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
+    }
+    for (size_t j = 0, k = 0; status == STA_OK && j < n; j++) {
+        if (order[j] < count) {
+            order[k] = order[j];
+            memcpy(own[k++], grid[order[j]], sizeof(own[0]));
+        }
+    }
+    pass.grid = (const int32_t(*)[3])own;
+    sta_free(grid);
+    if (status == STA_OK && !level_init(&boxes[0], &cells[0])) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+    }
+    while (status == STA_OK) {
+        int next = 1 - at;
+        if (level < top) {
+            status = sta_cell_moments_init(&cells[next], level + 1, chunk->scene_min, lo, hi, err);
+            if (status == STA_OK) {
+                status = sta_cell_moments_coarsen(&cells[at], &cells[next], err);
+            }
+            if (status == STA_OK && !level_init(&boxes[next], &cells[next])) {
+                status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+            }
+            if (status != STA_OK) {
+                break;
+            }
+        }
+        size_t left = fit_level(&pass, &boxes[at], level < top ? &boxes[next] : NULL);
+        if (left == SIZE_MAX) {
+            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+        }
+        if (left == 0 || left == SIZE_MAX || level == top) {
+            break;
+        }
+        table_release(&boxes[at].table);
+        sta_cell_moments_release(&cells[at]);
+        at = next;
+        level++;
+    }
+    for (int j = 0; j < 2; j++) {
+        table_release(&boxes[j].table);
+        sta_cell_moments_release(&cells[j]);
+    }
+    if (status == STA_OK) {
+        stats->points += count;
+    }
+    sta_free(own);
+    sta_free(state);
+    sta_free(order);
+    return status;
+}
