@@ -58,8 +58,8 @@ typedef struct vertex_box {
     double m2[6];     /* sum of (d - mean)(d - mean)^T over the points, grid units^2 */
     double variation; /* surface variation, < 0 until computed */
     int fit;          /* 0: not fitted yet, 1: a plane, 2: none (degenerate) */
+    float radius;     /* box_radius as packed (a float), < 0 until computed: once a box */
     double normal[3], w[3];
-    double radius; /* box_radius of the fit, < 0 until computed (once for its points) */
 } vertex_box;
 
 /* One level's vertex boxes, computed when first wanted (open addressing). */
@@ -131,7 +131,7 @@ static void vertex_moments(const sta_cell_moments *cells, const int64_t v[3], ve
     const int64_t *s1 = sum.s1, *s2 = sum.s2;
     memset(box, 0, sizeof(*box));
     box->variation = -1.0;
-    box->radius = -1.0;
+    box->radius = -1.0f;
     if (n == 0) {
         return;
     }
@@ -429,8 +429,8 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
             }
         }
         box_fit(chunk, b);
-        if (b->radius < 0.0) {
-            b->radius = box_radius(b->n, b->w, m->factor);
+        if (b->radius < 0.0f) {
+            b->radius = (float)box_radius(b->n, b->w, m->factor);
         }
         // (b may move: blend_normals can grow the table)
         double radius = b->radius, normal[3], w[3];
