@@ -81,4 +81,10 @@ void sta_cell_moments_release(sta_cell_moments *m);
 void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], int cells,
                             sta_moment_sums *out);
 
+/* The summed moments of the 2 x 2 x 2 cells around grid vertex `vertex` (cell
+ * coordinates from the scene corner: the cells from vertex - 1 to vertex), as offsets from
+ * their block's corner: sta_cell_moments_block's 8 cells added up, in one pass. */
+void sta_cell_moments_vertex(const sta_cell_moments *m, const int64_t vertex[3],
+                             sta_moment_sums *out);
+
 #endif

@@ -58,6 +58,7 @@ typedef struct vertex_box {
     double m2[6];     /* sum of (d - mean)(d - mean)^T over the points, grid units^2 */
     double variation; /* surface variation, < 0 until computed */
     int fit;          /* 0: not fitted yet, 1: a plane, 2: none (degenerate) */
+    float radius;     /* box_radius as packed (a float), < 0 until computed: once a box */
     double normal[3], w[3];
 } vertex_box;
 
@@ -124,21 +125,13 @@ static bool table_grow(vertex_table *t)
 // s2 - s1 s1^T / n loses ~2^-53 n 2^34, far below a grid unit squared times n.)
 static void vertex_moments(const sta_cell_moments *cells, const int64_t v[3], vertex_box *box)
 {
-    sta_moment_sums block[8];
-    const int64_t anchor[3] = { v[0] - 1, v[1] - 1, v[2] - 1 };
-    sta_cell_moments_block(cells, anchor, 2, block);
-    int64_t n = 0, s1[3] = { 0, 0, 0 }, s2[6] = { 0, 0, 0, 0, 0, 0 };
-    for (int c = 0; c < 8; c++) {
-        n += block[c].n;
-        for (int a = 0; a < 3; a++) {
-            s1[a] += block[c].s1[a];
-        }
-        for (int t = 0; t < 6; t++) {
-            s2[t] += block[c].s2[t];
-        }
-    }
+    sta_moment_sums sum;
+    sta_cell_moments_vertex(cells, v, &sum);
+    int64_t n = sum.n;
+    const int64_t *s1 = sum.s1, *s2 = sum.s2;
     memset(box, 0, sizeof(*box));
     box->variation = -1.0;
+    box->radius = -1.0f;
     if (n == 0) {
         return;
     }
@@ -389,6 +382,7 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
     int64_t last_parent[3] = { -1, -1, -1 }, parent_count = 0;
     size_t left = 0;
     bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
+    sta_trajectory_memo memo = { 0 };
     for (size_t j = 0; j < m->count; j++) {
         uint8_t state = m->state[j];
         if (state == STATE_DONE) {
@@ -435,16 +429,24 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
             }
         }
         box_fit(chunk, b);
-        double n = b->n, normal[3], w[3];
+        if (b->radius < 0.0f) {
+            b->radius = (float)box_radius(b->n, b->w, m->factor);
+        }
+        // (b may move: blend_normals can grow the table)
+        double radius = b->radius, normal[3], w[3];
         bool ok = b->fit == 1;
         memcpy(normal, b->normal, sizeof(normal));
         memcpy(w, b->w, sizeof(w));
+        // The scanner's position, looked up once for the edge-on test and the orientation.
+        double pd[3] = { p[0], p[1], p[2] }, at[3];
+        const double *target = NULL;
+        if (timed && chunk->trajectory) {
+            double gps_time;
+            memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
+            target = sta_trajectory_at_memo(chunk->trajectory, &memo, gps_time, at) ? at : NULL;
+        }
         if (!grow && coarse) {
-            double pd[3] = { p[0], p[1], p[2] }, gps_time;
-            if (timed) {
-                memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
-            }
-            if (sta_normal_too_narrow(chunk, pd, timed ? &gps_time : NULL, ok, normal, w, false)) {
+            if (sta_normal_too_narrow_at(chunk, pd, target, ok, normal, w, false)) {
                 m->state[j] = STATE_GROW; // nearly linear, edge-on or no plane: once wider
                 m->stats->widened++;
                 left++;
@@ -457,7 +459,7 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
         if (box_reach(chunk, u, fine->cells->level) > sta_normal_halo_reach(chunk, p)) {
             m->stats->beyond_halo++;
         }
-        sta_normal_store(chunk, layout, record, ok, normal, box_radius(n, w, m->factor), m->stats);
+        sta_normal_store_at(chunk, layout, record, pd, target, ok, normal, radius, m->stats);
         m->state[j] = STATE_DONE;
     }
     return left;

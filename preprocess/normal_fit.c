@@ -12,18 +12,15 @@
 // The rule of docs/CONVERTER.md: up for surfaces that face up or down; a wall faces the
 // scanner's position when the trajectory knows it, else away from the scene's up-axis
 // line (an object scanned from around it).
-void sta_normal_orient(const sta_normals_chunk *chunk, const double p[3], const double *gps_time,
-                       double n[3])
+void sta_normal_orient_at(const sta_normals_chunk *chunk, const double p[3], const double *target,
+                          double n[3])
 {
     int up = chunk->up_axis == 1 ? 1 : 2;
     double sign = n[up];
     if (fabs(n[up]) < STA_NORMALS_VERTICAL_DOT) {
-        double target[3];
-        bool seen = chunk->trajectory && gps_time &&
-                    sta_trajectory_at(chunk->trajectory, *gps_time, target);
         sign = 0.0;
         for (int a = 0; a < 3; a++) {
-            if (seen) {
+            if (target) {
                 sign += n[a] * (target[a] - p[a]) * chunk->scale[a];
             } else if (a != up) {
                 sign += n[a] * (p[a] - chunk->scene_centre[a]) * chunk->scale[a];
@@ -35,6 +32,16 @@ void sta_normal_orient(const sta_normals_chunk *chunk, const double p[3], const 
             n[a] = -n[a];
         }
     }
+}
+
+void sta_normal_orient(const sta_normals_chunk *chunk, const double p[3], const double *gps_time,
+                       double n[3])
+{
+    int up = chunk->up_axis == 1 ? 1 : 2;
+    double target[3];
+    bool seen = fabs(n[up]) < STA_NORMALS_VERTICAL_DOT && chunk->trajectory && gps_time &&
+                sta_trajectory_at(chunk->trajectory, *gps_time, target);
+    sta_normal_orient_at(chunk, p, seen ? target : NULL, n);
 }
 
 // The plane normal of a set of points from its moments (n, sum of offsets from some
@@ -86,16 +93,14 @@ double sta_normal_halo_reach(const sta_normals_chunk *chunk, const int32_t p[3])
 // neighbourhoods"): nearly linear, thick across its plane, or a plane that holds the line
 // of sight. `thick`: whether thickness counts (not for the blocks' escalation: a wider
 // block would reach the next layer sooner than average the noise).
-bool sta_normal_too_narrow(const sta_normals_chunk *chunk, const double p[3],
-                           const double *gps_time, bool ok, const double n[3], const double w[3],
-                           bool thick)
+bool sta_normal_too_narrow_at(const sta_normals_chunk *chunk, const double p[3],
+                              const double *target, bool ok, const double n[3], const double w[3],
+                              bool thick)
 {
     if (!ok || w[1] < STA_NORMALS_LINEAR * w[2] || (thick && w[0] > STA_NORMALS_THICK * w[1])) {
         return true;
     }
-    double target[3];
-    if (!chunk->trajectory || !gps_time ||
-        !sta_trajectory_at(chunk->trajectory, *gps_time, target)) {
+    if (!target) {
         return false;
     }
     double dot = 0.0, len2 = 0.0;
@@ -107,21 +112,22 @@ bool sta_normal_too_narrow(const sta_normals_chunk *chunk, const double p[3],
     return fabs(dot) < STA_NORMALS_EDGE_ON * sqrt(len2);
 }
 
-void sta_normal_store(const sta_normals_chunk *chunk, const sta_record_layout *layout,
-                      uint8_t *record, bool ok, double normal[3], double radius,
-                      sta_normals_stats *stats)
+bool sta_normal_too_narrow(const sta_normals_chunk *chunk, const double p[3],
+                           const double *gps_time, bool ok, const double n[3], const double w[3],
+                           bool thick)
 {
-    int32_t p[3];
-    sta_record_position(record, p);
-    double pd[3] = { p[0], p[1], p[2] };
-    double gps_time;
-    bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
-    if (timed) {
-        memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
-    }
-    if (ok) {
-        sta_normal_orient(chunk, pd, timed ? &gps_time : NULL, normal);
-    } else {
+    double target[3];
+    bool seen =
+        chunk->trajectory && gps_time && sta_trajectory_at(chunk->trajectory, *gps_time, target);
+    return sta_normal_too_narrow_at(chunk, p, seen ? target : NULL, ok, n, w, thick);
+}
+
+// Packs the (oriented) normal, or the up fallback, with the radius into the SPLAT bytes.
+static void pack_splat(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                       uint8_t *record, bool ok, double normal[3], double radius,
+                       sta_normals_stats *stats)
+{
+    if (!ok) {
         stats->degenerate++;
         normal[0] = normal[1] = normal[2] = 0.0;
         normal[chunk->up_axis == 1 ? 1 : 2] = 1.0; // the fallback: up
@@ -130,4 +136,32 @@ void sta_normal_store(const sta_normals_chunk *chunk, const sta_record_layout *l
     uint16_t packed[3];
     sta_splat_pack(nf, (float)radius, packed);
     memcpy(record + layout->splat_offset, packed, sizeof(packed));
+}
+
+void sta_normal_store(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                      uint8_t *record, bool ok, double normal[3], double radius,
+                      sta_normals_stats *stats)
+{
+    if (ok) {
+        int32_t p[3];
+        sta_record_position(record, p);
+        double pd[3] = { p[0], p[1], p[2] };
+        double gps_time;
+        bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
+        if (timed) {
+            memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
+        }
+        sta_normal_orient(chunk, pd, timed ? &gps_time : NULL, normal);
+    }
+    pack_splat(chunk, layout, record, ok, normal, radius, stats);
+}
+
+void sta_normal_store_at(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                         uint8_t *record, const double p[3], const double *target, bool ok,
+                         double normal[3], double radius, sta_normals_stats *stats)
+{
+    if (ok) {
+        sta_normal_orient_at(chunk, p, target, normal);
+    }
+    pack_splat(chunk, layout, record, ok, normal, radius, stats);
 }

@@ -48,9 +48,20 @@ bool sta_normal_too_narrow(const sta_normals_chunk *chunk, const double p[3],
                            const double *gps_time, bool ok, const double n[3], const double w[3],
                            bool thick);
 
+/* sta_normal_too_narrow with the scanner's position (grid units) already looked up:
+ * `target`, NULL when unknown. */
+bool sta_normal_too_narrow_at(const sta_normals_chunk *chunk, const double p[3],
+                              const double *target, bool ok, const double n[3], const double w[3],
+                              bool thick);
+
 /* Orients n (a plane normal) by the rule of docs/CONVERTER.md ("Orientation"). */
 void sta_normal_orient(const sta_normals_chunk *chunk, const double p[3], const double *gps_time,
                        double n[3]);
+
+/* sta_normal_orient with the scanner's position (grid units) already looked up: `target`,
+ * NULL when unknown. */
+void sta_normal_orient_at(const sta_normals_chunk *chunk, const double p[3], const double *target,
+                          double n[3]);
 
 /* Distance in metres from grid point p to the outside of the halo (the chunk's box grown
  * by the margin, clipped to the scene bounds beyond which no point lies). */
@@ -61,5 +72,11 @@ double sta_normal_halo_reach(const sta_normals_chunk *chunk, const int32_t p[3])
 void sta_normal_store(const sta_normals_chunk *chunk, const sta_record_layout *layout,
                       uint8_t *record, bool ok, double normal[3], double radius,
                       sta_normals_stats *stats);
+
+/* sta_normal_store for the record of grid point p with the scanner's position already
+ * looked up (`target`, NULL when unknown). */
+void sta_normal_store_at(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                         uint8_t *record, const double p[3], const double *target, bool ok,
+                         double normal[3], double radius, sta_normals_stats *stats);
 
 #endif

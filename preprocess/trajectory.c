@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/alloc.h"
 
@@ -168,6 +169,24 @@ bool sta_trajectory_at(const sta_trajectory *t, double gps_time, double out[3])
         out[a] = (double)b->sum[a] / (double)b->count;
     }
     return true;
+}
+
+bool sta_trajectory_at_memo(const sta_trajectory *t, sta_trajectory_memo *memo, double gps_time,
+                            double out[3])
+{
+    int64_t key;
+    if (!key_of(gps_time, &key)) {
+        return false;
+    }
+    if (!memo->valid || memo->key != key) {
+        memo->valid = true;
+        memo->key = key;
+        memo->seen = sta_trajectory_at(t, gps_time, memo->at);
+    }
+    if (memo->seen) {
+        memcpy(out, memo->at, sizeof(memo->at));
+    }
+    return memo->seen;
 }
 
 void sta_trajectory_release(sta_trajectory *t)

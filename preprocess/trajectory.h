@@ -49,6 +49,18 @@ void sta_trajectory_finish(sta_trajectory *t, const int64_t scene_min[3],
 /* The centroid (grid units) of the bin of `gps_time`; false when none. */
 bool sta_trajectory_at(const sta_trajectory *t, double gps_time, double out[3]);
 
+/* The last bin sta_trajectory_at_memo found or missed (zero-initialised: none). */
+typedef struct sta_trajectory_memo {
+    bool valid, seen;
+    int64_t key;
+    double at[3];
+} sta_trajectory_memo;
+
+/* sta_trajectory_at, remembering the last bin in `memo` (the same answer: points taken in
+ * space order come in runs of one bin, one look-up a run). */
+bool sta_trajectory_at_memo(const sta_trajectory *t, sta_trajectory_memo *memo, double gps_time,
+                            double out[3]);
+
 void sta_trajectory_release(sta_trajectory *t);
 
 #endif

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT
  * Tests for the per-cell exact moments (preprocess/cell_moments.c): every cell of a
  * block holds the sums a brute-force pass over the points gives (offsets from the
- * block's corner), at fine and coarse levels and for blocks reaching past the set;
+ * block's corner), at fine and coarse levels and for blocks reaching past the set, and
+ * so do the summed 2 x 2 x 2 blocks around grid vertices;
  * adding only the points of wanted coarser cells keeps those cells whole; a set too
  * wide for the cell coordinates is refused; a level coarsened from a finer one and the
  * points added in cell order (cell_order.c) give the same sums as adding the points
@@ -130,6 +131,62 @@ static void block_sums_match_brute_force(void **state)
             full += check_blocks(&m, (const int32_t(*)[3])grid, POINTS, origin, cells, 97);
         }
         assert_true(full > 0);
+        sta_cell_moments_release(&m);
+    }
+    sta_free(grid);
+}
+
+// The summed 2 x 2 x 2 blocks around grid vertices (sta_cell_moments_vertex, the vertex
+// boxes of the moments normals) against brute force: vertices of the points' cells and
+// beside them, and ones at and beyond the set's lowest cells (the general path).
+static void vertex_sums_match_brute_force(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    assert_non_null(grid);
+    const int32_t corner[3] = { -300000, 7000, 123456 };
+    random_points(grid, POINTS, corner, 3000, 5);
+    const int64_t origin[3] = { -300100, 6000, 100000 };
+    int32_t lo[3], hi[3];
+    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
+    const int levels[] = { 0, 5, 9 };
+    for (size_t l = 0; l < sizeof(levels) / sizeof(levels[0]); l++) {
+        sta_cell_moments m;
+        sta_error err = { 0 };
+        assert_int_equal(sta_cell_moments_init(&m, levels[l], origin, lo, hi, &err), STA_OK);
+        assert_int_equal(
+            sta_cell_moments_add(&m, (const int32_t(*)[3])grid, POINTS, NULL, NULL, &err), STA_OK);
+        size_t full = 0, outside = 0;
+        for (size_t s = 0; s < POINTS / 41 + 8; s++) {
+            size_t i = s < POINTS / 41 ? s * 41 : POINTS + s - POINTS / 41;
+            int64_t v[3];
+            for (int a = 0; a < 3; a++) {
+                if (i >= POINTS) { // at and below the set's lowest cell
+                    v[a] = m.base[a] + 1 - (int64_t)((i >> a) & 1);
+                } else {
+                    v[a] = (((int64_t)grid[i][a] - origin[a]) >> m.level) + (int64_t)(i % 3) - 1;
+                }
+            }
+            outside += i >= POINTS;
+            sta_moment_sums got, want = { 0 };
+            sta_cell_moments_vertex(&m, v, &got);
+            const int64_t anchor[3] = { v[0] - 1, v[1] - 1, v[2] - 1 };
+            for (int k = 0; k < 8; k++) {
+                const int xyz[3] = { k & 1, k >> 1 & 1, k >> 2 };
+                sta_moment_sums b =
+                    brute((const int32_t(*)[3])grid, POINTS, origin, m.level, anchor, xyz);
+                want.n += b.n;
+                for (int a = 0; a < 3; a++) {
+                    want.s1[a] += b.s1[a];
+                }
+                for (int t = 0; t < 6; t++) {
+                    want.s2[t] += b.s2[t];
+                }
+            }
+            assert_memory_equal(&got, &want, sizeof(want));
+            full += want.n > 0;
+        }
+        assert_true(full > 0 && outside > 0);
         sta_cell_moments_release(&m);
     }
     sta_free(grid);
@@ -313,6 +370,7 @@ static void cell_order_keeps_cells_together(void **state)
 
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(block_sums_match_brute_force),
+    cmocka_unit_test(vertex_sums_match_brute_force),
     cmocka_unit_test(wanted_cells_hold_all_their_points),
     cmocka_unit_test(too_wide_a_set_is_refused),
     cmocka_unit_test(coarsened_levels_match_brute_force),

@@ -1,0 +1,71 @@
+/* SPDX-License-Identifier: MIT
+ * Tests for the scanner path (preprocess/trajectory.c): a bin's centroid is the mean of
+ * the points measured in it, times in no bin or not finite have none, and the memoised
+ * look-up gives the same answers as the plain one in any order of times. */
+#include "test_support.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "trajectory.h"
+
+static void bins_hold_their_centroids(void **state)
+{
+    (void)state;
+    sta_trajectory t = { 0 };
+    sta_error err = { 0 };
+    const int32_t a[3] = { 10, 20, 30 }, b[3] = { 14, 26, 40 }, c[3] = { -500, 0, 7 };
+    assert_int_equal(sta_trajectory_add(&t, 1.001, a, &err), STA_OK);
+    assert_int_equal(sta_trajectory_add(&t, 1.002, b, &err), STA_OK);
+    assert_int_equal(sta_trajectory_add(&t, 3.0 + STA_TRAJECTORY_BIN_S / 2, c, &err), STA_OK);
+    assert_int_equal(sta_trajectory_add(&t, NAN, c, &err), STA_OK); // ignored
+    double at[3];
+    assert_true(sta_trajectory_at(&t, 1.0 + STA_TRAJECTORY_BIN_S / 2, at));
+    assert_true(at[0] == 12.0 && at[1] == 23.0 && at[2] == 35.0);
+    assert_true(sta_trajectory_at(&t, 3.0 + STA_TRAJECTORY_BIN_S / 4, at));
+    assert_true(at[0] == -500.0 && at[1] == 0.0 && at[2] == 7.0);
+    assert_false(sta_trajectory_at(&t, 2.0, at));
+    assert_false(sta_trajectory_at(&t, INFINITY, at));
+    sta_trajectory_release(&t);
+}
+
+static void memoised_lookups_match(void **state)
+{
+    (void)state;
+    sta_trajectory t = { 0 };
+    sta_error err = { 0 };
+    uint32_t s = 7;
+    for (int i = 0; i < 2000; i++) {
+        s = s * 1664525u + 1013904223u;
+        const int32_t p[3] = { (int32_t)(s >> 20), -(int32_t)(s >> 22), (int32_t)(s >> 24) };
+        // every other bin over 10 s holds points: the look-ups below hit and miss
+        double time = (double)(i % 100) * 2.0 * STA_TRAJECTORY_BIN_S + (double)(s % 997) * 1e-5;
+        assert_int_equal(sta_trajectory_add(&t, time, p, &err), STA_OK);
+    }
+    sta_trajectory_memo memo = { 0 };
+    size_t hits = 0, misses = 0;
+    for (int i = 0; i < 5000; i++) {
+        s = s * 1664525u + 1013904223u;
+        // runs of one time and jumps between bins, some outside any, some not finite
+        double time =
+            (i % 97 == 0) ? (double)NAN : (double)((s >> 8) % 230) * STA_TRAJECTORY_BIN_S * 0.5;
+        double want[3] = { -1, -1, -1 }, got[3] = { -1, -1, -1 };
+        bool w = sta_trajectory_at(&t, time, want);
+        for (int k = 0; k < 3; k++) {
+            bool g = sta_trajectory_at_memo(&t, &memo, time, got);
+            assert_int_equal(g, w);
+            assert_memory_equal(got, want, sizeof(want));
+        }
+        hits += w;
+        misses += !w;
+    }
+    assert_true(hits > 100 && misses > 100);
+    sta_trajectory_release(&t);
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(bins_hold_their_centroids),
+    cmocka_unit_test(memoised_lookups_match),
+};
+
+STA_TEST_MAIN(tests)
