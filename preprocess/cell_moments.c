@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "key_slots.h"
 
 #define FIRST_CAPACITY 1024
 #define AXIS_MASK      (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
@@ -14,21 +15,6 @@ static uint64_t pack(const int64_t local[3])
     return ((uint64_t)local[0] | (uint64_t)local[1] << STA_MOMENTS_AXIS_BITS |
             (uint64_t)local[2] << (2 * STA_MOMENTS_AXIS_BITS)) +
            1;
-}
-
-static size_t slot_of(uint64_t key, size_t capacity)
-{
-    return (size_t)((key * 0x9E3779B97F4A7C15ull) >> 17) & (capacity - 1);
-}
-
-// The slot holding `key`, or the empty one where it would go.
-static size_t find(const uint64_t *keys, size_t capacity, uint64_t key)
-{
-    size_t s = slot_of(key, capacity);
-    while (keys[s] != 0 && keys[s] != key) {
-        s = (s + 1) & (capacity - 1);
-    }
-    return s;
 }
 
 static bool grow(sta_cell_moments *m)
@@ -43,7 +29,7 @@ static bool grow(sta_cell_moments *m)
     }
     for (size_t s = 0; s < m->capacity; s++) {
         if (m->keys[s] != 0) {
-            size_t t = find(keys, capacity, m->keys[s]);
+            size_t t = sta_key_slot(keys, capacity, m->keys[s]);
             keys[t] = m->keys[s];
             sums[t] = m->sums[s];
         }
@@ -60,13 +46,13 @@ static bool grow(sta_cell_moments *m)
 static sta_moment_sums *cell_at(sta_cell_moments *m, const int64_t local[3])
 {
     uint64_t key = pack(local);
-    size_t s = find(m->keys, m->capacity, key);
+    size_t s = sta_key_slot(m->keys, m->capacity, key);
     if (m->keys[s] == 0) {
         if (2 * (m->used + 1) > m->capacity) {
             if (!grow(m)) {
                 return NULL;
             }
-            s = find(m->keys, m->capacity, key);
+            s = sta_key_slot(m->keys, m->capacity, key);
         }
         m->keys[s] = key;
         memset(&m->sums[s], 0, sizeof(m->sums[s]));
@@ -124,7 +110,8 @@ bool sta_cell_moments_mark(sta_cell_moments *m, const int64_t cell[3])
 bool sta_cell_moments_has(const sta_cell_moments *m, const int64_t cell[3])
 {
     int64_t local[3];
-    return local_of(m, cell, local) && m->keys[find(m->keys, m->capacity, pack(local))] != 0;
+    return local_of(m, cell, local) &&
+           m->keys[sta_key_slot(m->keys, m->capacity, pack(local))] != 0;
 }
 
 int64_t sta_cell_moments_count(const sta_cell_moments *m, const int64_t cell[3])
@@ -133,7 +120,7 @@ int64_t sta_cell_moments_count(const sta_cell_moments *m, const int64_t cell[3])
     if (!local_of(m, cell, local)) {
         return 0;
     }
-    size_t s = find(m->keys, m->capacity, pack(local));
+    size_t s = sta_key_slot(m->keys, m->capacity, pack(local));
     return m->keys[s] != 0 ? m->sums[s].n : 0;
 }
 
@@ -215,7 +202,7 @@ void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], 
                     local[1] > (int64_t)AXIS_MASK || local[2] > (int64_t)AXIS_MASK) {
                     continue; // beyond the set: empty
                 }
-                size_t s = find(m->keys, m->capacity, pack(local));
+                size_t s = sta_key_slot(m->keys, m->capacity, pack(local));
                 if (m->keys[s] == 0) {
                     continue;
                 }
@@ -269,9 +256,9 @@ void sta_cell_moments_vertex(const sta_cell_moments *m, const int64_t vertex[3],
     int64_t n = 0, s1[3] = { 0, 0, 0 }, s2[6] = { 0, 0, 0, 0, 0, 0 };
     for (int k = 0; k < 8; k++) {
         const int64_t d[3] = { k & 1, k >> 1 & 1, k >> 2 };
-        size_t s = find(m->keys, m->capacity,
-                        key + ((uint64_t)d[0] | (uint64_t)d[1] << STA_MOMENTS_AXIS_BITS |
-                               (uint64_t)d[2] << (2 * STA_MOMENTS_AXIS_BITS)));
+        size_t s = sta_key_slot(m->keys, m->capacity,
+                                key + ((uint64_t)d[0] | (uint64_t)d[1] << STA_MOMENTS_AXIS_BITS |
+                                       (uint64_t)d[2] << (2 * STA_MOMENTS_AXIS_BITS)));
         if (m->keys[s] == 0) {
             continue;
         }

@@ -531,10 +531,7 @@ sta_status sta_knn_normals_compute(const sta_normals_chunk *chunk, const sta_rec
                                    uint8_t *records, size_t count, const int32_t *halo,
                                    size_t halo_count, sta_normals_stats *stats, sta_error *err)
 {
-    if (!(layout->attributes & STA_ATTR_SPLAT) || chunk->k < 3 || chunk->k > STA_NORMALS_MAX_K) {
-        return sta_fail(err, STA_ERR_ARG, "normals: no SPLAT attribute or K outside 3..%d",
-                        STA_NORMALS_MAX_K);
-    }
+    // (the arguments were checked by sta_normals_compute, the one caller)
     size_t n = count + halo_count;
     if (count == 0) {
         return STA_OK;

@@ -70,7 +70,8 @@ typedef struct sta_normals_stats {
 
 /* Computes a normal and radius for each of the `count` records (layout with
  * STA_ATTR_SPLAT) from them and the `halo_count` halo positions (3 x int32 each) and
- * stores them in the records' SPLAT bytes. Adds to `stats`. */
+ * stores them in the records' SPLAT bytes. Adds to `stats`. Called through
+ * sta_normals_compute (moment_normals.h), which checks the arguments. */
 sta_status sta_knn_normals_compute(const sta_normals_chunk *chunk, const sta_record_layout *layout,
                                    uint8_t *records, size_t count, const int32_t *halo,
                                    size_t halo_count, sta_normals_stats *stats, sta_error *err);

@@ -10,6 +10,7 @@
 #include "cell_moments.h"
 #include "cell_order.h"
 #include "core/alloc.h"
+#include "key_slots.h"
 #include "normal_fit.h"
 
 /* Vertex boxes a level's table starts with (it grows), a power of two. */
@@ -69,20 +70,6 @@ typedef struct vertex_table {
     vertex_box *boxes;
 } vertex_table;
 
-static size_t slot_of(uint64_t key, size_t capacity)
-{
-    return (size_t)((key * 0x9E3779B97F4A7C15ull) >> 17) & (capacity - 1);
-}
-
-static size_t find(const uint64_t *keys, size_t capacity, uint64_t key)
-{
-    size_t s = slot_of(key, capacity);
-    while (keys[s] != 0 && keys[s] != key) {
-        s = (s + 1) & (capacity - 1);
-    }
-    return s;
-}
-
 static bool table_init(vertex_table *t, size_t capacity)
 {
     t->capacity = capacity;
@@ -108,7 +95,7 @@ static bool table_grow(vertex_table *t)
     }
     for (size_t s = 0; s < t->capacity; s++) {
         if (t->keys[s] != 0) {
-            size_t u = find(bigger.keys, bigger.capacity, t->keys[s]);
+            size_t u = sta_key_slot(bigger.keys, bigger.capacity, t->keys[s]);
             bigger.keys[u] = t->keys[s];
             bigger.boxes[u] = t->boxes[s];
         }
@@ -153,13 +140,13 @@ static vertex_box *vertex_at(vertex_table *t, const sta_cell_moments *cells, con
         // one cell below the lowest, cell_moments.c).
         key += (uint64_t)(v[a] - cells->base[a]) << (a * STA_MOMENTS_AXIS_BITS);
     }
-    size_t s = find(t->keys, t->capacity, key);
+    size_t s = sta_key_slot(t->keys, t->capacity, key);
     if (t->keys[s] == 0) {
         if (2 * (t->used + 1) > t->capacity) {
             if (!table_grow(t)) {
                 return NULL;
             }
-            s = find(t->keys, t->capacity, key);
+            s = sta_key_slot(t->keys, t->capacity, key);
         }
         t->keys[s] = key;
         t->used++;

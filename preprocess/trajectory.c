@@ -7,12 +7,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
-
-static size_t slot_of(int64_t key, size_t mask)
-{
-    uint64_t h = (uint64_t)key * 0x9e3779b97f4a7c15ull;
-    return (size_t)(h >> 17) & mask;
-}
+#include "key_slots.h"
 
 static sta_trajectory_bin *find(const sta_trajectory *t, int64_t key)
 {
@@ -20,7 +15,7 @@ static sta_trajectory_bin *find(const sta_trajectory *t, int64_t key)
         return NULL;
     }
     size_t mask = t->capacity - 1;
-    for (size_t s = slot_of(key, mask);; s = (s + 1) & mask) {
+    for (size_t s = sta_key_home_slot((uint64_t)key, mask + 1);; s = (s + 1) & mask) {
         if (t->bins[s].key == key || t->bins[s].key == INT64_MIN) {
             return &t->bins[s];
         }

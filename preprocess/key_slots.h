@@ -1,0 +1,26 @@
+/* SPDX-License-Identifier: MIT
+ * The probe the converter's open-addressing tables share: a power-of-two capacity,
+ * 64-bit keys, 0 marking an empty slot, a Fibonacci hash and linear probing. */
+#ifndef STA_KEY_SLOTS_H
+#define STA_KEY_SLOTS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+// The slot a key's probe starts at (capacity a power of two).
+static inline size_t sta_key_home_slot(uint64_t key, size_t capacity)
+{
+    return (size_t)((key * 0x9E3779B97F4A7C15ull) >> 17) & (capacity - 1);
+}
+
+// The slot holding `key`, or the empty one where it would go.
+static inline size_t sta_key_slot(const uint64_t *keys, size_t capacity, uint64_t key)
+{
+    size_t s = sta_key_home_slot(key, capacity);
+    while (keys[s] != 0 && keys[s] != key) {
+        s = (s + 1) & (capacity - 1);
+    }
+    return s;
+}
+
+#endif
