@@ -550,17 +550,11 @@ sta_status sta_knn_normals_compute(const sta_normals_chunk *chunk, const sta_rec
     memset(code, CODE_DONE, count);
     int32_t lo[3] = { INT32_MAX, INT32_MAX, INT32_MAX },
             hi[3] = { INT32_MIN, INT32_MIN, INT32_MIN };
+    sta_normal_gather_positions(layout, records, count, halo, halo_count, grid, lo, hi);
     for (size_t i = 0; i < n; i++) {
-        if (i < count) {
-            sta_record_position(records + i * layout->size, grid[i]);
-        } else {
-            memcpy(grid[i], halo + 3 * (i - count), sizeof(grid[i]));
-        }
         for (int a = 0; a < 3; a++) {
             // From the scene's corner, not the chunk's: the same floats in every chunking.
             xyz[i][a] = (float)((double)(grid[i][a] - chunk->scene_min[a]) * chunk->scale[a]);
-            lo[a] = grid[i][a] < lo[a] ? grid[i][a] : lo[a];
-            hi[a] = grid[i][a] > hi[a] ? grid[i][a] : hi[a];
         }
     }
     int64_t span[3];

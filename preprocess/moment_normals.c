@@ -525,17 +525,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     }
     int32_t lo[3] = { INT32_MAX, INT32_MAX, INT32_MAX },
             hi[3] = { INT32_MIN, INT32_MIN, INT32_MIN };
-    for (size_t i = 0; i < n; i++) {
-        if (i < count) {
-            sta_record_position(records + i * layout->size, grid[i]);
-        } else {
-            memcpy(grid[i], halo + 3 * (i - count), sizeof(grid[i]));
-        }
-        for (int a = 0; a < 3; a++) {
-            lo[a] = grid[i][a] < lo[a] ? grid[i][a] : lo[a];
-            hi[a] = grid[i][a] > hi[a] ? grid[i][a] : hi[a];
-        }
-    }
+    sta_normal_gather_positions(layout, records, count, halo, halo_count, grid, lo, hi);
     // Levels: from the scene's base (or the finest whose cells stay addressable) to
     // STA_MOMENTS_LEVELS_ABOVE_BASE above it (the halo's reach): the same in every chunk.
     int level = chunk->base_level > 0 ? chunk->base_level : 0;

@@ -165,3 +165,20 @@ void sta_normal_store_at(const sta_normals_chunk *chunk, const sta_record_layout
     }
     pack_splat(chunk, layout, record, ok, normal, radius, stats);
 }
+
+void sta_normal_gather_positions(const sta_record_layout *layout, const uint8_t *records,
+                                 size_t count, const int32_t *halo, size_t halo_count,
+                                 int32_t (*grid)[3], int32_t lo[3], int32_t hi[3])
+{
+    for (size_t i = 0; i < count + halo_count; i++) {
+        if (i < count) {
+            sta_record_position(records + i * layout->size, grid[i]);
+        } else {
+            memcpy(grid[i], halo + 3 * (i - count), sizeof(grid[i]));
+        }
+        for (int a = 0; a < 3; a++) {
+            lo[a] = grid[i][a] < lo[a] ? grid[i][a] : lo[a];
+            hi[a] = grid[i][a] > hi[a] ? grid[i][a] : hi[a];
+        }
+    }
+}

@@ -9,6 +9,7 @@
 #define STA_PREPROCESS_NORMAL_FIT_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "knn_normals.h"
@@ -62,6 +63,12 @@ void sta_normal_orient(const sta_normals_chunk *chunk, const double p[3], const 
  * NULL when unknown. */
 void sta_normal_orient_at(const sta_normals_chunk *chunk, const double p[3], const double *target,
                           double n[3]);
+
+/* Copies the `count` records' positions then the `halo_count` halo positions (3 x int32
+ * each) into `grid` and widens [lo, hi] (start at INT32_MAX / INT32_MIN) to them. */
+void sta_normal_gather_positions(const sta_record_layout *layout, const uint8_t *records,
+                                 size_t count, const int32_t *halo, size_t halo_count,
+                                 int32_t (*grid)[3], int32_t lo[3], int32_t hi[3]);
 
 /* Distance in metres from grid point p to the outside of the halo (the chunk's box grown
  * by the margin, clipped to the scene bounds beyond which no point lies). */
