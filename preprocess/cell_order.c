@@ -2,12 +2,15 @@
  * Morton order of points by their cells: keys and a stable radix sort. */
 #include "cell_order.h"
 
+#include <stdbool.h>
 #include <string.h>
 
 #include "core/alloc.h"
 
 #define DIGIT_BITS 11
 #define BUCKETS    (1u << DIGIT_BITS)
+/* Digits of a key at most (3 axes of STA_CELL_ORDER_AXIS_BITS bits). */
+#define DIGITS     ((3 * STA_CELL_ORDER_AXIS_BITS + DIGIT_BITS - 1) / DIGIT_BITS)
 
 // The 21 low bits of v spread to every third bit.
 static uint64_t spread(uint64_t v)
@@ -29,7 +32,8 @@ sta_status sta_cell_order(const int32_t (*grid)[3], size_t n, const int32_t lo[3
     }
     uint64_t *key = sta_alloc_array(n ? n : 1, 2 * sizeof(*key));
     uint32_t *spare = sta_alloc_array(n ? n : 1, sizeof(*spare));
-    size_t *count = sta_alloc_array(BUCKETS, sizeof(*count));
+    // Every digit's histogram, counted as the keys are made (one pass, not one a digit).
+    size_t *count = sta_calloc((size_t)DIGITS * BUCKETS, sizeof(*count));
     if (!key || !spare || !count) {
         sta_free(key);
         sta_free(spare);
@@ -46,6 +50,9 @@ sta_status sta_cell_order(const int32_t (*grid)[3], size_t n, const int32_t lo[3
         }
         key[i] = k;
         order[i] = (uint32_t)i;
+        for (int d = 0; d < DIGITS; d++) {
+            count[(size_t)d * BUCKETS + ((k >> (d * DIGIT_BITS)) & (BUCKETS - 1))]++;
+        }
     }
     if (widest >> STA_CELL_ORDER_AXIS_BITS) {
         sta_free(key);
@@ -59,19 +66,20 @@ sta_status sta_cell_order(const int32_t (*grid)[3], size_t n, const int32_t lo[3
     }
     uint64_t *from = key, *to_key = key_spare;
     uint32_t *from_order = order, *to_order = spare;
-    for (int shift = 0; shift < 3 * axis_bits; shift += DIGIT_BITS) {
-        memset(count, 0, BUCKETS * sizeof(*count));
-        for (size_t i = 0; i < n; i++) {
-            count[(from[i] >> shift) & (BUCKETS - 1)]++;
-        }
-        size_t sum = 0;
+    for (int shift = 0, d = 0; shift < 3 * axis_bits; shift += DIGIT_BITS, d++) {
+        size_t *digit = count + (size_t)d * BUCKETS, sum = 0;
+        bool one_bucket = false; // all keys share this digit: the pass keeps the order
         for (size_t b = 0; b < BUCKETS; b++) {
-            size_t c = count[b];
-            count[b] = sum;
+            size_t c = digit[b];
+            one_bucket = one_bucket || c == n;
+            digit[b] = sum;
             sum += c;
         }
+        if (one_bucket) {
+            continue;
+        }
         for (size_t i = 0; i < n; i++) {
-            size_t to = count[(from[i] >> shift) & (BUCKETS - 1)]++;
+            size_t to = digit[(from[i] >> shift) & (BUCKETS - 1)]++;
             to_key[to] = from[i];
             to_order[to] = from_order[i];
         }

@@ -33,6 +33,7 @@ static sta_status grow(sta_trajectory *t, sta_error *err)
         return sta_fail(err, STA_ERR_NOMEM, "trajectory: out of memory");
     }
     t->capacity = capacity;
+    t->last = 0;
     for (size_t s = 0; s < capacity; s++) {
         t->bins[s].key = INT64_MIN;
     }
@@ -78,9 +79,15 @@ sta_status sta_trajectory_add(sta_trajectory *t, double gps_time, const int32_t 
     if (!key_of(gps_time, &key)) {
         return STA_OK;
     }
-    sta_trajectory_bin *b = bin_for(t, key, err);
+    // Points come in runs of one bin (scan order): the last slot first, then the hash.
+    sta_trajectory_bin *b =
+        t->last > 0 && t->bins[t->last - 1].key == key ? &t->bins[t->last - 1] : NULL;
     if (!b) {
-        return STA_ERR_NOMEM;
+        b = bin_for(t, key, err);
+        if (!b) {
+            return STA_ERR_NOMEM;
+        }
+        t->last = (size_t)(b - t->bins) + 1;
     }
     for (int a = 0; a < 3; a++) {
         b->sum[a] += xyz[a];
@@ -188,5 +195,5 @@ void sta_trajectory_release(sta_trajectory *t)
 {
     sta_free(t->bins);
     t->bins = NULL;
-    t->capacity = t->count = 0;
+    t->capacity = t->count = t->last = 0;
 }

@@ -33,6 +33,7 @@ typedef struct sta_trajectory {
     sta_trajectory_bin *bins; /* open addressing, power-of-two capacity */
     size_t capacity, count;
     bool usable; /* set by sta_trajectory_finish */
+    size_t last; /* the slot sta_trajectory_add filled last, + 1 (0: none; growing forgets) */
 } sta_trajectory;
 
 /* Adds a point measured at `gps_time` (non-finite times are ignored). */

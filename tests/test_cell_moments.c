@@ -6,9 +6,11 @@
  * adding only the points of wanted coarser cells keeps those cells whole; a set too
  * wide for the cell coordinates is refused; a level coarsened from a finer one and the
  * points added in cell order (cell_order.c) give the same sums as adding the points
- * directly; the cell order keeps every cell's points together. */
+ * directly; the cell order keeps every cell's points together, and is the stable sort by
+ * the cells' Morton keys also when whole digits of the keys are the same for all points. */
 #include "test_support.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "cell_moments.h"
@@ -368,6 +370,74 @@ static void cell_order_keeps_cells_together(void **state)
     sta_free(grid);
 }
 
+// Morton key of a cell (x in bit 0, y in 1, z in 2, then the next bit of each).
+static uint64_t morton(const int64_t c[3])
+{
+    uint64_t k = 0;
+    for (int b = 0; b < 21; b++) {
+        for (int a = 0; a < 3; a++) {
+            k |= (uint64_t)((c[a] >> b) & 1) << (3 * b + a);
+        }
+    }
+    return k;
+}
+
+typedef struct keyed {
+    uint64_t key;
+    uint32_t index;
+} keyed;
+
+static int compare_keyed(const void *a, const void *b)
+{
+    const keyed *x = a, *y = b;
+    if (x->key != y->key) {
+        return x->key < y->key ? -1 : 1;
+    }
+    return x->index < y->index ? -1 : x->index > y->index;
+}
+
+static void cell_order_is_stable_morton_sort(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    uint32_t *order = sta_alloc_array(POINTS, sizeof(*order));
+    keyed *want = sta_alloc_array(POINTS, sizeof(*want));
+    assert_non_null(grid);
+    assert_non_null(order);
+    assert_non_null(want);
+    const int32_t corner[3] = { -3000, 17, 99 };
+    sta_error err = { 0 };
+    // Random cells, then cells on a lattice 16 apart (the keys' low 12 bits, the first
+    // digit of the sort, are 0 for every point), then on a 2-cell lattice spanning many
+    // digits: each the stable sort of the indices by key.
+    for (int round = 0; round < 3; round++) {
+        uint32_t s = 11u + (uint32_t)round;
+        int32_t stride = round == 0 ? 1 : round == 1 ? 16 : 2;
+        int32_t cells = round == 2 ? 60000 : 300;
+        for (size_t i = 0; i < POINTS; i++) {
+            for (int a = 0; a < 3; a++) {
+                grid[i][a] = corner[a] + stride * (int32_t)(next_random(&s) % (uint32_t)cells);
+            }
+        }
+        assert_int_equal(sta_cell_order((const int32_t(*)[3])grid, POINTS, corner, 0, order, &err),
+                         STA_OK);
+        for (size_t i = 0; i < POINTS; i++) {
+            int64_t c[3];
+            for (int a = 0; a < 3; a++) {
+                c[a] = (int64_t)grid[i][a] - corner[a];
+            }
+            want[i] = (keyed){ morton(c), (uint32_t)i };
+        }
+        qsort(want, POINTS, sizeof(*want), compare_keyed);
+        for (size_t j = 0; j < POINTS; j++) {
+            assert_int_equal(order[j], want[j].index);
+        }
+    }
+    sta_free(grid);
+    sta_free(order);
+    sta_free(want);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(block_sums_match_brute_force),
     cmocka_unit_test(vertex_sums_match_brute_force),
@@ -375,6 +445,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(too_wide_a_set_is_refused),
     cmocka_unit_test(coarsened_levels_match_brute_force),
     cmocka_unit_test(cell_order_keeps_cells_together),
+    cmocka_unit_test(cell_order_is_stable_morton_sort),
 };
 
 STA_TEST_MAIN(tests)

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT
  * Tests for the scanner path (preprocess/trajectory.c): a bin's centroid is the mean of
  * the points measured in it, times in no bin or not finite have none, and the memoised
- * look-up gives the same answers as the plain one in any order of times. */
+ * look-up gives the same answers as the plain one in any order of times; points in runs of
+ * one bin (the order sta_trajectory_add shortcuts), over enough bins to grow the table
+ * within runs and coming back to earlier bins, are all counted in their bin. */
 #include "test_support.h"
 
 #include <math.h>
@@ -63,9 +65,44 @@ static void memoised_lookups_match(void **state)
     sta_trajectory_release(&t);
 }
 
+static void runs_across_growth_keep_sums(void **state)
+{
+    (void)state;
+    enum {
+        BINS = 3000,
+        RUN = 3
+    };
+    sta_trajectory t = { 0 };
+    sta_error err = { 0 };
+    // Bin b gets RUN points (x = b, y = 2b, z = k) in one run, then one more (x = b,
+    // y = 2b, z = 4) after bin b + 1's run: its centroid is (b, 2b, (0+1+2+4)/4).
+    for (int b = 0; b < BINS; b++) {
+        double time = ((double)b + 0.5) * STA_TRAJECTORY_BIN_S;
+        for (int k = 0; k < RUN; k++) {
+            const int32_t p[3] = { b, 2 * b, k };
+            assert_int_equal(sta_trajectory_add(&t, time, p, &err), STA_OK);
+        }
+        if (b > 0) {
+            const int32_t p[3] = { b - 1, 2 * (b - 1), 4 };
+            assert_int_equal(sta_trajectory_add(&t, time - STA_TRAJECTORY_BIN_S, p, &err), STA_OK);
+        }
+    }
+    const int32_t p[3] = { BINS - 1, 2 * (BINS - 1), 4 };
+    assert_int_equal(sta_trajectory_add(&t, ((double)BINS - 0.5) * STA_TRAJECTORY_BIN_S, p, &err),
+                     STA_OK);
+    assert_int_equal(t.count, BINS);
+    for (int b = 0; b < BINS; b++) {
+        double at[3];
+        assert_true(sta_trajectory_at(&t, ((double)b + 0.5) * STA_TRAJECTORY_BIN_S, at));
+        assert_true(at[0] == (double)b && at[1] == 2.0 * b && at[2] == 7.0 / 4.0);
+    }
+    sta_trajectory_release(&t);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(bins_hold_their_centroids),
     cmocka_unit_test(memoised_lookups_match),
+    cmocka_unit_test(runs_across_growth_keep_sums),
 };
 
 STA_TEST_MAIN(tests)
