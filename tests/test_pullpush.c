@@ -367,8 +367,6 @@ static void fill_random(frame *f)
 static void check_random_size_with(int w, int h, bool has_label,
                                    const sta_normals_pyramid_params *params)
 {
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     frame f;
     frame_init(&f, w, h);
     f.has_label = has_label;
@@ -394,7 +392,6 @@ static void check_random_size_with(int w, int h, bool has_label,
         }
     }
     case_release(&f, &ref, &got);
-    sta_gl_headless_destroy(&gl);
 }
 
 static void check_random_size(int w, int h, bool has_label)
@@ -442,8 +439,6 @@ static void half_resolution_shader_matches_twin(void **state)
 static void shade_upsample_matches_upsample_then_shade(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     sta_pullpush_pass pp;
     sta_normals_pyramid_pass np;
     init_passes(&pp, &np);
@@ -504,7 +499,6 @@ static void shade_upsample_matches_upsample_then_shade(void **state)
     sta_shade_pass_release(&shade);
     sta_normals_pyramid_pass_release(&np);
     sta_pullpush_pass_release(&pp);
-    sta_gl_headless_destroy(&gl);
 }
 
 /* One pass object over changing view sizes (its pyramid and atlas are reallocated)
@@ -512,8 +506,6 @@ static void shade_upsample_matches_upsample_then_shade(void **state)
 static void passes_follow_view_size_changes(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     sta_pullpush_pass pp;
     sta_normals_pyramid_pass np;
     init_passes(&pp, &np);
@@ -531,7 +523,6 @@ static void passes_follow_view_size_changes(void **state)
     }
     sta_normals_pyramid_pass_release(&np);
     sta_pullpush_pass_release(&pp);
-    sta_gl_headless_destroy(&gl);
 }
 
 /* ---- known truth ---- */
@@ -692,8 +683,6 @@ static truth_stats measure_scene(const scene *s, int w, int h, float fraction, f
 static void half_resolution_normals_stay_close(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     scene s = { 1, { 0.0f, 0.0f, 0.0f }, { 0.5f, -0.3f, -10.0f }, 3.0f };
     sta_normals_pyramid_params half = { .half_resolution = true };
     truth_stats full = measure_scene(&s, 320, 240, 0.3f, 0.07f);
@@ -705,14 +694,11 @@ static void half_resolution_normals_stay_close(void **state)
     assert_true(got.normal_p95 < full.normal_p95 * 1.1 + 0.2);
     assert_true(got.normals >= full.normals - full.normals / 1000);
     assert_true(got.normal_mean != full.normal_mean);
-    sta_gl_headless_destroy(&gl);
 }
 
 static void plane_is_recovered(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     float n[3] = { 0.3f, 0.5f, 1.0f };
     float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     scene s = { 0, { n[0] / len, n[1] / len, n[2] / len }, { 0.0f, 0.0f, -10.0f }, 0.0f };
@@ -726,14 +712,11 @@ static void plane_is_recovered(void **state)
     assert_true(st.surface_max < 1e-5);
     assert_true(st.normal_mean < 1.0);
     assert_true(st.normal_p95 < 2.0);
-    sta_gl_headless_destroy(&gl);
 }
 
 static void sphere_is_recovered(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     scene s = { 1, { 0.0f, 0.0f, 0.0f }, { 0.5f, -0.3f, -10.0f }, 3.0f };
     truth_stats st = measure_scene(&s, 320, 240, 0.3f, 0.07f);
     assert_true(st.depth_mean < 5e-3);
@@ -742,7 +725,6 @@ static void sphere_is_recovered(void **state)
     assert_true(st.normal_mean < 3.0);
     assert_true(st.normal_median < 2.0);
     assert_true(st.normal_p95 < 8.0);
-    sta_gl_headless_destroy(&gl);
 }
 
 /* ---- hard cases ---- */
@@ -750,8 +732,6 @@ static void sphere_is_recovered(void **state)
 static void empty_frame_stays_empty(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     for (int variant = 0; variant < 3; variant++) {
         frame f;
         frame_init(&f, 37, 23);
@@ -781,7 +761,6 @@ static void empty_frame_stays_empty(void **state)
         }
         case_release(&f, &ref, &got);
     }
-    sta_gl_headless_destroy(&gl);
 }
 
 /* A single visible point inside a disc of holes (radius 6 px), the rest background:
@@ -790,8 +769,6 @@ static void empty_frame_stays_empty(void **state)
 static void single_point_fills_its_neighbourhood(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     const int w = 37, h = 23, cx = 20, cy = 9;
     for (int with_labels = 1; with_labels >= 0; with_labels--) {
         frame f;
@@ -833,15 +810,12 @@ static void single_point_fills_its_neighbourhood(void **state)
         }
         case_release(&f, &ref, &got);
     }
-    sta_gl_headless_destroy(&gl);
 }
 
 /* Every pixel a visible point: output = input, and the normals of a plane are exact. */
 static void all_points_pass_through(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     frame f;
     frame_init(&f, 37, 23);
     float pn[3] = { 0.0f, 0.6f, 0.8f }; // plane through (0, 0, -4)
@@ -863,7 +837,6 @@ static void all_points_pass_through(void **state)
         assert_true(angle_deg(&got.normal.data[4 * i], pn) < 0.05);
     }
     case_release(&f, &ref, &got);
-    sta_gl_headless_destroy(&gl);
 }
 
 /* Hidden points (a far wall at 40 m seen through a sparse plane at 10 m) get weight 0:
@@ -871,8 +844,6 @@ static void all_points_pass_through(void **state)
 static void hidden_points_do_not_leak(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     frame with_hidden, without;
     frame_init(&with_hidden, 61, 45);
     frame_init(&without, 61, 45);
@@ -906,7 +877,6 @@ static void hidden_points_do_not_leak(void **state)
     result_release(&got_b);
     frame_release(&with_hidden);
     frame_release(&without);
-    sta_gl_headless_destroy(&gl);
 }
 
 // 30 % of the pixels hold a point: depth 2 inside the square [32, 64) x [16, 48), depth
@@ -930,8 +900,6 @@ static void fill_square_over_plane(frame *f)
 static void depth_discontinuity_stays_bounded(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     const int w = 96, h = 64;
     frame f;
     frame_init(&f, w, h);
@@ -965,7 +933,6 @@ static void depth_discontinuity_stays_bounded(void **state)
     }
     printf("depth discontinuity: %d pixels near the edge mix both depths\n", mixed);
     case_release(&f, &ref, &got);
-    sta_gl_headless_destroy(&gl);
 }
 
 /* The near square over the far plane of depth_discontinuity_stays_bounded, 30 % points:
@@ -976,8 +943,6 @@ static void depth_discontinuity_stays_bounded(void **state)
 static void push_keeps_holes_on_one_surface(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     const int w = 96, h = 64;
     frame f;
     frame_init(&f, w, h);
@@ -997,7 +962,6 @@ static void push_keeps_holes_on_one_surface(void **state)
     printf("push: %d filled pixels more than 5 %% off both surfaces\n", floating);
     assert_true(floating <= MAX_FLOATING);
     case_release(&f, &ref, &got);
-    sta_gl_headless_destroy(&gl);
 }
 
 /* The push's reference: a 16x16 frame of visible points with one column of holes beside
@@ -1015,8 +979,6 @@ static void push_keeps_holes_on_one_surface(void **state)
 static void push_takes_the_surface_of_its_own_coarse_texel(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     frame f;
     frame_init(&f, 16, 16);
     for (int y = 0; y < 16; y++) {
@@ -1041,7 +1003,6 @@ static void push_takes_the_surface_of_its_own_coarse_texel(void **state)
         assert_true(fabsf(d - 20.0f) < 0.2f);
     }
     case_release(&f, &ref, &got);
-    sta_gl_headless_destroy(&gl);
 }
 
 /* The pull's depth weight and its reference: a 14x8 frame of visible points, columns
@@ -1060,8 +1021,6 @@ static void push_takes_the_surface_of_its_own_coarse_texel(void **state)
 static void pull_keeps_coarse_texels_on_one_surface(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     frame f;
     frame_init(&f, 14, 8);
     for (int y = 0; y < 8; y++) {
@@ -1089,15 +1048,12 @@ static void pull_keeps_coarse_texels_on_one_surface(void **state)
         assert_true(t1[3] == 1.0f && t2[3] == 1.0f && t5[3] > 0.0f);
     }
     case_release(&f, &ref, &got);
-    sta_gl_headless_destroy(&gl);
 }
 
 /* Points at the near plane and at 100 km, sparse, in one frame. */
 static void near_plane_and_far_points(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     const int w = 45, h = 31;
     frame f;
     frame_init(&f, w, h);
@@ -1119,7 +1075,6 @@ static void near_plane_and_far_points(void **state)
         assert_true(-p[2] >= f.view.near_m * (1.0f - 1e-6f) && -p[2] <= 1e5f * (1.0f + 1e-6f));
     }
     case_release(&f, &ref, &got);
-    sta_gl_headless_destroy(&gl);
 }
 
 /* The twin rejects images that do not match the view. */
@@ -1225,8 +1180,6 @@ static step_errors measure_step(const sta_normals_pyramid_params *params)
 static void normals_do_not_mix_across_a_step(void **state)
 {
     (void)state;
-    sta_gl_headless gl = { 0 };
-    assert_int_equal(sta_gl_headless_create(&gl, NULL), STA_OK);
     sta_normals_pyramid_params before = { .plane_tolerance = INFINITY, .jump_ratio = INFINITY };
     step_errors old = measure_step(&before), now = measure_step(NULL);
     printf("step edge band (%d pixels): p95 %.2f worst %.2f degrees; before issue 15 p95 %.2f "
@@ -1236,7 +1189,6 @@ static void normals_do_not_mix_across_a_step(void **state)
     assert_true(old.p95 > 60.0); // the band mixes both planes without the tests
     assert_true(now.p95 < 35.0);
     assert_true(now.worst < 60.0);
-    sta_gl_headless_destroy(&gl);
 }
 
 static void normal_defaults_fill_only_zero_fields(void **state)
@@ -1260,27 +1212,49 @@ static void normal_defaults_fill_only_zero_fields(void **state)
     assert_true(params.jump_ratio == STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO);
 }
 
+/* Every GL case runs in one headless context, made current before the case and
+ * destroyed after it. */
+static int gl_setup(void **state)
+{
+    sta_gl_headless *gl = calloc(1, sizeof(*gl));
+    if (!gl || sta_gl_headless_create(gl, NULL) != STA_OK) {
+        free(gl);
+        return -1;
+    }
+    *state = gl;
+    return 0;
+}
+
+static int gl_teardown(void **state)
+{
+    sta_gl_headless_destroy(*state);
+    free(*state);
+    return 0;
+}
+
 static const struct CMUnitTest tests[] = {
-    cmocka_unit_test(shader_matches_twin_37x23),
-    cmocka_unit_test(shader_matches_twin_without_labels),
-    cmocka_unit_test(shader_matches_twin_odd_sizes),
-    cmocka_unit_test(half_resolution_shader_matches_twin),
-    cmocka_unit_test(half_resolution_normals_stay_close),
-    cmocka_unit_test(shade_upsample_matches_upsample_then_shade),
-    cmocka_unit_test(passes_follow_view_size_changes),
-    cmocka_unit_test(plane_is_recovered),
-    cmocka_unit_test(sphere_is_recovered),
-    cmocka_unit_test(empty_frame_stays_empty),
-    cmocka_unit_test(single_point_fills_its_neighbourhood),
-    cmocka_unit_test(all_points_pass_through),
-    cmocka_unit_test(hidden_points_do_not_leak),
-    cmocka_unit_test(depth_discontinuity_stays_bounded),
-    cmocka_unit_test(push_keeps_holes_on_one_surface),
-    cmocka_unit_test(push_takes_the_surface_of_its_own_coarse_texel),
-    cmocka_unit_test(pull_keeps_coarse_texels_on_one_surface),
-    cmocka_unit_test(near_plane_and_far_points),
+    cmocka_unit_test_setup_teardown(shader_matches_twin_37x23, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(shader_matches_twin_without_labels, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(shader_matches_twin_odd_sizes, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(half_resolution_shader_matches_twin, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(half_resolution_normals_stay_close, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(shade_upsample_matches_upsample_then_shade, gl_setup,
+                                    gl_teardown),
+    cmocka_unit_test_setup_teardown(passes_follow_view_size_changes, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(plane_is_recovered, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(sphere_is_recovered, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(empty_frame_stays_empty, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(single_point_fills_its_neighbourhood, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(all_points_pass_through, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(hidden_points_do_not_leak, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(depth_discontinuity_stays_bounded, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(push_keeps_holes_on_one_surface, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(push_takes_the_surface_of_its_own_coarse_texel, gl_setup,
+                                    gl_teardown),
+    cmocka_unit_test_setup_teardown(pull_keeps_coarse_texels_on_one_surface, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(near_plane_and_far_points, gl_setup, gl_teardown),
     cmocka_unit_test(twin_rejects_mismatched_sizes),
-    cmocka_unit_test(normals_do_not_mix_across_a_step),
+    cmocka_unit_test_setup_teardown(normals_do_not_mix_across_a_step, gl_setup, gl_teardown),
     cmocka_unit_test(normal_defaults_fill_only_zero_fields),
 };
 
