@@ -19,6 +19,9 @@ import re
 import subprocess
 import sys
 
+if len(sys.argv) != 3:
+    sys.exit("usage: check_architecture.py SOURCE_DIR BUILD_DIR (the build's object files "
+             "are read for the loop check, e.g. . build/release)")
 src_dir, build_dir = sys.argv[1], sys.argv[2]
 problems = []
 
