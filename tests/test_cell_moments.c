@@ -54,6 +54,17 @@ static void bounds(const int32_t (*grid)[3], size_t n, int32_t lo[3], int32_t hi
     }
 }
 
+// `m` initialised at `level` and holding all POINTS points of `grid` (in `order` when
+// not NULL).
+static void moments_of_all(sta_cell_moments *m, int level, const int64_t origin[3],
+                           const int32_t lo[3], const int32_t hi[3], const int32_t (*grid)[3],
+                           const uint32_t *order)
+{
+    sta_error err = { 0 };
+    assert_int_equal(sta_cell_moments_init(m, level, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(sta_cell_moments_add(m, grid, POINTS, order, NULL, &err), STA_OK);
+}
+
 // The sums of the points in cell (anchor + xyz) of `level`, offsets from the block corner.
 static sta_moment_sums brute(const int32_t (*grid)[3], size_t n, const int64_t origin[3], int level,
                              const int64_t anchor[3], const int xyz[3])
@@ -124,10 +135,7 @@ static void block_sums_match_brute_force(void **state)
     const int levels[] = { 0, 4, 8, 11 };
     for (size_t l = 0; l < sizeof(levels) / sizeof(levels[0]); l++) {
         sta_cell_moments m;
-        sta_error err = { 0 };
-        assert_int_equal(sta_cell_moments_init(&m, levels[l], origin, lo, hi, &err), STA_OK);
-        assert_int_equal(
-            sta_cell_moments_add(&m, (const int32_t(*)[3])grid, POINTS, NULL, NULL, &err), STA_OK);
+        moments_of_all(&m, levels[l], origin, lo, hi, (const int32_t(*)[3])grid, NULL);
         size_t full = 0;
         for (int cells = 3; cells <= 4; cells++) {
             full += check_blocks(&m, (const int32_t(*)[3])grid, POINTS, origin, cells, 97);
@@ -154,10 +162,7 @@ static void vertex_sums_match_brute_force(void **state)
     const int levels[] = { 0, 5, 9 };
     for (size_t l = 0; l < sizeof(levels) / sizeof(levels[0]); l++) {
         sta_cell_moments m;
-        sta_error err = { 0 };
-        assert_int_equal(sta_cell_moments_init(&m, levels[l], origin, lo, hi, &err), STA_OK);
-        assert_int_equal(
-            sta_cell_moments_add(&m, (const int32_t(*)[3])grid, POINTS, NULL, NULL, &err), STA_OK);
+        moments_of_all(&m, levels[l], origin, lo, hi, (const int32_t(*)[3])grid, NULL);
         size_t full = 0, outside = 0;
         for (size_t s = 0; s < POINTS / 41 + 8; s++) {
             size_t i = s < POINTS / 41 ? s * 41 : POINTS + s - POINTS / 41;
@@ -213,10 +218,8 @@ static void wanted_cells_hold_all_their_points(void **state)
         assert_true(sta_cell_moments_has(&wanted, mark[i]));
     }
     assert_false(sta_cell_moments_has(&wanted, (const int64_t[3]){ 1, 2, 1 }));
-    assert_int_equal(sta_cell_moments_init(&all, 6, origin, lo, hi, &err), STA_OK);
+    moments_of_all(&all, 6, origin, lo, hi, (const int32_t(*)[3])grid, NULL);
     assert_int_equal(sta_cell_moments_init(&some, 6, origin, lo, hi, &err), STA_OK);
-    assert_int_equal(
-        sta_cell_moments_add(&all, (const int32_t(*)[3])grid, POINTS, NULL, NULL, &err), STA_OK);
     assert_int_equal(
         sta_cell_moments_add(&some, (const int32_t(*)[3])grid, POINTS, NULL, &wanted, &err),
         STA_OK);
@@ -291,17 +294,12 @@ static void coarsened_levels_match_brute_force(void **state)
     sta_error err = { 0 };
     assert_int_equal(sta_cell_order((const int32_t(*)[3])grid, POINTS, lo, 2, order, &err), STA_OK);
     sta_cell_moments fine;
-    assert_int_equal(sta_cell_moments_init(&fine, 2, origin, lo, hi, &err), STA_OK);
-    assert_int_equal(
-        sta_cell_moments_add(&fine, (const int32_t(*)[3])grid, POINTS, order, NULL, &err), STA_OK);
+    moments_of_all(&fine, 2, origin, lo, hi, (const int32_t(*)[3])grid, order);
     for (int level = 3; level <= 9; level++) {
         sta_cell_moments coarse, direct;
         assert_int_equal(sta_cell_moments_init(&coarse, level, origin, lo, hi, &err), STA_OK);
         assert_int_equal(sta_cell_moments_coarsen(&fine, &coarse, &err), STA_OK);
-        assert_int_equal(sta_cell_moments_init(&direct, level, origin, lo, hi, &err), STA_OK);
-        assert_int_equal(
-            sta_cell_moments_add(&direct, (const int32_t(*)[3])grid, POINTS, NULL, NULL, &err),
-            STA_OK);
+        moments_of_all(&direct, level, origin, lo, hi, (const int32_t(*)[3])grid, NULL);
         assert_int_equal(coarse.used, direct.used);
         assert_true(check_blocks(&coarse, (const int32_t(*)[3])grid, POINTS, origin, 3, 31) > 0);
         assert_true(check_blocks(&direct, (const int32_t(*)[3])grid, POINTS, origin, 3, 31) > 0);
