@@ -8,6 +8,8 @@
 #include "key_slots.h"
 
 #define FIRST_CAPACITY 1024
+/* Points in `order` whose positions are asked for ahead of their sums. */
+#define GATHER_AHEAD   32
 #define AXIS_MASK      (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
 
 static uint64_t pack(const int64_t local[3])
@@ -150,6 +152,9 @@ sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], s
     sta_moment_sums run = { 0 };
     for (size_t j = 0; j < n; j++) {
         size_t i = order ? order[j] : j;
+        if (order && j + GATHER_AHEAD < n) { // (a random read each: asked for early)
+            __builtin_prefetch(grid[order[j + GATHER_AHEAD]]);
+        }
         int64_t u[3], local[3], d[3];
         for (int a = 0; a < 3; a++) {
             u[a] = (int64_t)grid[i][a] - m->origin[a];

@@ -51,6 +51,8 @@
 #define EVENNESS             1.15
 /* Records asked for this many points ahead of the pass (their GPS time, their SPLAT). */
 #define PREFETCH             8
+/* Positions asked for this many points ahead when they are read in cell order. */
+#define POSITIONS_AHEAD      16
 /* Newton steps for the smallest eigenvalue (surface_variation). */
 #define VARIATION_STEPS      6
 /* The mean distance to the nearest j of points on a line `spacing` apart: for j = 10, the
@@ -701,6 +703,9 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
     }
     for (size_t j = 0, k = 0; status == STA_OK && j < n; j++) {
+        if (j + POSITIONS_AHEAD < n) { // (a random read each)
+            __builtin_prefetch(grid[order[j + POSITIONS_AHEAD]]);
+        }
         if (order[j] < count) {
             order[k] = order[j];
             memcpy(own[k], grid[order[j]], sizeof(own[0]));
