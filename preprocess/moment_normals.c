@@ -77,6 +77,7 @@ typedef struct vertex_table {
     uint64_t *keys;                      /* 0: empty, else packed vertex coordinates + 1 */
     uint32_t *index;                     /* per slot: its box */
     vertex_box *boxes;
+    sta_cell_filter filter; /* the level's cells that may exist (the boxes' look-ups) */
 } vertex_table;
 
 static bool table_init(vertex_table *t, size_t capacity, size_t box_capacity)
@@ -84,6 +85,7 @@ static bool table_init(vertex_table *t, size_t capacity, size_t box_capacity)
     t->capacity = capacity;
     t->used = 0;
     t->box_capacity = box_capacity;
+    memset(&t->filter, 0, sizeof(t->filter));
     t->keys = sta_calloc(capacity, sizeof(*t->keys));
     t->index = sta_alloc_array(capacity, sizeof(*t->index));
     t->boxes = sta_alloc_array(box_capacity, sizeof(*t->boxes));
@@ -95,6 +97,7 @@ static void table_release(vertex_table *t)
     sta_free(t->keys);
     sta_free(t->index);
     sta_free(t->boxes);
+    sta_cell_filter_release(&t->filter);
     memset(t, 0, sizeof(*t));
 }
 
@@ -128,10 +131,11 @@ static bool table_grow(vertex_table *t)
 // centred: from their exact integer sums, so the box is the same bits whatever the
 // chunking. (Offsets from the block's corner stay under 2^17 units: the cancellation in
 // s2 - s1 s1^T / n loses ~2^-53 n 2^34, far below a grid unit squared times n.)
-static void vertex_moments(const sta_cell_moments *cells, const int64_t v[3], vertex_box *box)
+static void vertex_moments(const sta_cell_moments *cells, const sta_cell_filter *filter,
+                           const int64_t v[3], vertex_box *box)
 {
     sta_moment_sums sum;
-    sta_cell_moments_vertex(cells, v, &sum);
+    sta_cell_moments_vertex_filtered(cells, filter, v, &sum);
     int64_t n = sum.n;
     const int64_t *s1 = sum.s1, *s2 = sum.s2;
     memset(box, 0, sizeof(*box));
@@ -179,7 +183,7 @@ static vertex_box *vertex_at(vertex_table *t, const sta_cell_moments *cells, con
         }
         t->keys[s] = key;
         t->index[s] = (uint32_t)t->used;
-        vertex_moments(cells, v, &t->boxes[t->used++]);
+        vertex_moments(cells, &t->filter, v, &t->boxes[t->used++]);
     }
     return &t->boxes[t->index[s]];
 }
@@ -250,7 +254,7 @@ static bool level_init(level_boxes *l, const sta_cell_moments *cells)
     l->last_box = NULL;
     l->corners_valid = false;
     size_t boxes = cells->used > FIRST_VERTICES ? cells->used : FIRST_VERTICES;
-    if (!table_init(&l->table, expect, boxes)) {
+    if (!table_init(&l->table, expect, boxes) || !sta_cell_filter_build(cells, &l->table.filter)) {
         table_release(&l->table);
         return false;
     }
