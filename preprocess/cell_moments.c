@@ -8,6 +8,8 @@
 #include "key_slots.h"
 
 #define FIRST_CAPACITY 1024
+/* Points in `order` whose positions are asked for ahead of their sums. */
+#define GATHER_AHEAD   32
 #define AXIS_MASK      (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
 
 static uint64_t pack(const int64_t local[3])
@@ -150,6 +152,9 @@ sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], s
     sta_moment_sums run = { 0 };
     for (size_t j = 0; j < n; j++) {
         size_t i = order ? order[j] : j;
+        if (order && j + GATHER_AHEAD < n) { // (a random read each: asked for early)
+            __builtin_prefetch(grid[order[j + GATHER_AHEAD]]);
+        }
         int64_t u[3], local[3], d[3];
         for (int a = 0; a < 3; a++) {
             u[a] = (int64_t)grid[i][a] - m->origin[a];
@@ -225,8 +230,59 @@ void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], 
     }
 }
 
+// The filter's bit of a packed key (another multiplier than the table's slots).
+static uint64_t filter_bit(const sta_cell_filter *f, uint64_t key)
+{
+    return (key * 0xC2B2AE3D27D4EB4Full) >> f->shift;
+}
+
+static bool filter_may_hold(const sta_cell_filter *f, uint64_t key)
+{
+    uint64_t bit = filter_bit(f, key);
+    return (f->words[bit >> 6] >> (bit & 63)) & 1;
+}
+
+bool sta_cell_filter_build(const sta_cell_moments *m, sta_cell_filter *filter)
+{
+    int log2 = 9; // (at least 512 bits)
+    while (((size_t)1 << log2) < m->used * STA_CELL_FILTER_BITS && log2 < 40) {
+        log2++;
+    }
+    filter->shift = 64 - log2;
+    filter->words = sta_calloc((size_t)1 << (log2 - 6), sizeof(uint64_t));
+    if (!filter->words) {
+        return false;
+    }
+    for (size_t s = 0; s < m->capacity; s++) {
+        if (m->keys[s] != 0) {
+            uint64_t bit = filter_bit(filter, m->keys[s]);
+            filter->words[bit >> 6] |= (uint64_t)1 << (bit & 63);
+        }
+    }
+    return true;
+}
+
+bool sta_cell_filter_may_hold(const sta_cell_moments *m, const sta_cell_filter *filter,
+                              const int64_t cell[3])
+{
+    int64_t local[3];
+    return local_of(m, cell, local) && filter_may_hold(filter, pack(local));
+}
+
+void sta_cell_filter_release(sta_cell_filter *filter)
+{
+    sta_free(filter->words);
+    memset(filter, 0, sizeof(*filter));
+}
+
 void sta_cell_moments_vertex(const sta_cell_moments *m, const int64_t vertex[3],
                              sta_moment_sums *out)
+{
+    sta_cell_moments_vertex_filtered(m, NULL, vertex, out);
+}
+
+void sta_cell_moments_vertex_filtered(const sta_cell_moments *m, const sta_cell_filter *filter,
+                                      const int64_t vertex[3], sta_moment_sums *out)
 {
     int64_t local[3];
     for (int a = 0; a < 3; a++) {
@@ -256,9 +312,12 @@ void sta_cell_moments_vertex(const sta_cell_moments *m, const int64_t vertex[3],
     int64_t n = 0, s1[3] = { 0, 0, 0 }, s2[6] = { 0, 0, 0, 0, 0, 0 };
     for (int k = 0; k < 8; k++) {
         const int64_t d[3] = { k & 1, k >> 1 & 1, k >> 2 };
-        size_t s = sta_key_slot(m->keys, m->capacity,
-                                key + ((uint64_t)d[0] | (uint64_t)d[1] << STA_MOMENTS_AXIS_BITS |
-                                       (uint64_t)d[2] << (2 * STA_MOMENTS_AXIS_BITS)));
+        uint64_t cell = key + ((uint64_t)d[0] | (uint64_t)d[1] << STA_MOMENTS_AXIS_BITS |
+                               (uint64_t)d[2] << (2 * STA_MOMENTS_AXIS_BITS));
+        if (filter && !filter_may_hold(filter, cell)) {
+            continue; // (no such cell: no probe)
+        }
+        size_t s = sta_key_slot(m->keys, m->capacity, cell);
         if (m->keys[s] == 0) {
             continue;
         }

@@ -20,6 +20,7 @@
 #ifndef STA_PREPROCESS_KNN_NORMALS_H
 #define STA_PREPROCESS_KNN_NORMALS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -57,6 +58,8 @@ typedef struct sta_normals_chunk {
                                          line when there is no trajectory */
     const sta_trajectory *trajectory; /* usable scanner path, or NULL: vertical surfaces
                                          face the centroid of their GPS-time bin */
+    bool decide_each_point;           /* tests: the moments' level passes decide each point
+                                         alone, not once a base cell (the reference) */
 } sta_normals_chunk;
 
 /* What happened, summed over chunks. */

@@ -22,6 +22,10 @@
 #define STATE_GROW           1
 #define STATE_DONE           2
 #define STATE_CANDIDATE      3 /* + the levels it moved up for a flatter box */
+#define STATE_MASK           0x7f
+/* Flag in a state byte: the point is the first of its base cell's run (the own points are
+ * in the Morton order of their base cells: a cell's points come together). */
+#define RUN_START            0x80
 /* A candidate moves up at most this many levels for a flatter box. */
 #define STEPS                2
 /* The base cells are 1/2 to 1 times this many mean spacings wide (the spacing of the
@@ -47,6 +51,8 @@
 #define EVENNESS             1.15
 /* Records asked for this many points ahead of the pass (their GPS time, their SPLAT). */
 #define PREFETCH             8
+/* Positions asked for this many points ahead when they are read in cell order. */
+#define POSITIONS_AHEAD      16
 /* Newton steps for the smallest eigenvalue (surface_variation). */
 #define VARIATION_STEPS      6
 /* The mean distance to the nearest j of points on a line `spacing` apart: for j = 10, the
@@ -63,46 +69,61 @@ typedef struct vertex_box {
     double normal[3], w[3];
 } vertex_box;
 
-/* One level's vertex boxes, computed when first wanted (open addressing). */
+/* One level's vertex boxes, computed when first wanted: open addressing over the keys,
+ * the boxes themselves in the order they were made (the points come in cell order, so a
+ * point's boxes lie near each other in memory, not in random slots). */
 typedef struct vertex_table {
-    size_t capacity, used;
-    uint64_t *keys; /* 0: empty, else packed vertex coordinates + 1 */
+    size_t capacity, used, box_capacity; /* slots (a power of two), boxes, room for boxes */
+    uint64_t *keys;                      /* 0: empty, else packed vertex coordinates + 1 */
+    uint32_t *index;                     /* per slot: its box */
     vertex_box *boxes;
+    sta_cell_filter filter; /* the level's cells that may exist (the boxes' look-ups) */
 } vertex_table;
 
-static bool table_init(vertex_table *t, size_t capacity)
+static bool table_init(vertex_table *t, size_t capacity, size_t box_capacity)
 {
     t->capacity = capacity;
     t->used = 0;
+    t->box_capacity = box_capacity;
+    memset(&t->filter, 0, sizeof(t->filter));
     t->keys = sta_calloc(capacity, sizeof(*t->keys));
-    t->boxes = sta_alloc_array(capacity, sizeof(*t->boxes));
-    return t->keys && t->boxes;
+    t->index = sta_alloc_array(capacity, sizeof(*t->index));
+    t->boxes = sta_alloc_array(box_capacity, sizeof(*t->boxes));
+    return t->keys && t->index && t->boxes;
 }
 
 static void table_release(vertex_table *t)
 {
     sta_free(t->keys);
+    sta_free(t->index);
     sta_free(t->boxes);
+    sta_cell_filter_release(&t->filter);
     memset(t, 0, sizeof(*t));
 }
 
+// Twice the slots (the boxes stay where they are).
 static bool table_grow(vertex_table *t)
 {
-    vertex_table bigger;
-    if (!table_init(&bigger, 2 * t->capacity)) {
-        table_release(&bigger);
+    size_t capacity = 2 * t->capacity;
+    uint64_t *keys = sta_calloc(capacity, sizeof(*keys));
+    uint32_t *index = sta_alloc_array(capacity, sizeof(*index));
+    if (!keys || !index) {
+        sta_free(keys);
+        sta_free(index);
         return false;
     }
     for (size_t s = 0; s < t->capacity; s++) {
         if (t->keys[s] != 0) {
-            size_t u = sta_key_slot(bigger.keys, bigger.capacity, t->keys[s]);
-            bigger.keys[u] = t->keys[s];
-            bigger.boxes[u] = t->boxes[s];
+            size_t u = sta_key_slot(keys, capacity, t->keys[s]);
+            keys[u] = t->keys[s];
+            index[u] = t->index[s];
         }
     }
-    bigger.used = t->used;
-    table_release(t);
-    *t = bigger;
+    sta_free(t->keys);
+    sta_free(t->index);
+    t->keys = keys;
+    t->index = index;
+    t->capacity = capacity;
     return true;
 }
 
@@ -110,10 +131,11 @@ static bool table_grow(vertex_table *t)
 // centred: from their exact integer sums, so the box is the same bits whatever the
 // chunking. (Offsets from the block's corner stay under 2^17 units: the cancellation in
 // s2 - s1 s1^T / n loses ~2^-53 n 2^34, far below a grid unit squared times n.)
-static void vertex_moments(const sta_cell_moments *cells, const int64_t v[3], vertex_box *box)
+static void vertex_moments(const sta_cell_moments *cells, const sta_cell_filter *filter,
+                           const int64_t v[3], vertex_box *box)
 {
     sta_moment_sums sum;
-    sta_cell_moments_vertex(cells, v, &sum);
+    sta_cell_moments_vertex_filtered(cells, filter, v, &sum);
     int64_t n = sum.n;
     const int64_t *s1 = sum.s1, *s2 = sum.s2;
     memset(box, 0, sizeof(*box));
@@ -148,11 +170,22 @@ static vertex_box *vertex_at(vertex_table *t, const sta_cell_moments *cells, con
             }
             s = sta_key_slot(t->keys, t->capacity, key);
         }
+        if (t->used == t->box_capacity) { // (moves the boxes: callers copy what they keep)
+            if (t->used >= UINT32_MAX / 2) {
+                return NULL;
+            }
+            vertex_box *boxes = sta_realloc_array(t->boxes, 2 * t->box_capacity, sizeof(*boxes));
+            if (!boxes) {
+                return NULL;
+            }
+            t->boxes = boxes;
+            t->box_capacity *= 2;
+        }
         t->keys[s] = key;
-        t->used++;
-        vertex_moments(cells, v, &t->boxes[s]);
+        t->index[s] = (uint32_t)t->used;
+        vertex_moments(cells, &t->filter, v, &t->boxes[t->used++]);
     }
-    return &t->boxes[s];
+    return &t->boxes[t->index[s]];
 }
 
 // Mean distance to the nearest STA_NORMALS_RADIUS_K of uniform points at unit density on a
@@ -204,7 +237,7 @@ typedef struct level_boxes {
     vertex_table table;
     int64_t last[3];      /* the vertex last asked for by nearest_box, */
     vertex_box *last_box; /* its box (NULL: none) */
-    size_t last_capacity; /* and the table's capacity then (a grown table moves it) */
+    size_t last_capacity; /* and the table's room for boxes then (more moves them) */
     bool corners_valid;   /* the normals of the 8 vertex boxes of cell `corner_cell` */
     int64_t corner_cell[3];
     bool corner_ok[8];
@@ -220,7 +253,8 @@ static bool level_init(level_boxes *l, const sta_cell_moments *cells)
     l->cells = cells;
     l->last_box = NULL;
     l->corners_valid = false;
-    if (!table_init(&l->table, expect)) {
+    size_t boxes = cells->used > FIRST_VERTICES ? cells->used : FIRST_VERTICES;
+    if (!table_init(&l->table, expect, boxes) || !sta_cell_filter_build(cells, &l->table.filter)) {
         table_release(&l->table);
         return false;
     }
@@ -261,7 +295,7 @@ static vertex_box *nearest_box(const sta_normals_chunk *chunk, level_boxes *l, c
     for (int a = 0; a < 3; a++) {
         v[a] = (2 * u[a] + ((int64_t)1 << level)) >> (level + 1);
     }
-    if (l->last_box && l->last_capacity == l->table.capacity &&
+    if (l->last_box && l->last_capacity == l->table.box_capacity &&
         memcmp(v, l->last, sizeof(v)) == 0) {
         return l->last_box;
     }
@@ -271,7 +305,7 @@ static vertex_box *nearest_box(const sta_normals_chunk *chunk, level_boxes *l, c
     }
     memcpy(l->last, v, sizeof(v));
     l->last_box = b;
-    l->last_capacity = l->table.capacity;
+    l->last_capacity = l->table.box_capacity;
     return b;
 }
 
@@ -349,71 +383,146 @@ typedef struct moment_pass {
     const sta_record_layout *layout;
     uint8_t *records;
     sta_normals_stats *stats;
-    uint8_t *state;           /* per own point, in cell order */
+    uint8_t *state;           /* per own point, in cell order, | RUN_START */
     const uint32_t *order;    /* the own points' records in cell order (cell_order.h) */
     const int32_t (*grid)[3]; /* their positions, in that order */
     size_t count;             /* own points */
+    int base_level;           /* the runs' cells (the first pass's level) */
+    uint32_t *finish;         /* scratch: the points a pass finishes, count of them */
     double need;              /* points a box must hold */
     double factor;            /* plane_radius_factor() */
 } moment_pass;
 
-// The points still waiting at `fine`'s level: those whose cell of the next level (`coarse`,
-// NULL at the last level; the same edge as the box) holds enough points become
-// candidates; a candidate whose box at the next level is flatter (less surface variation)
-// waits for it, at most STEPS levels, else takes this one; a point that grows takes this
-// one. Returns how many are left, or SIZE_MAX when out of memory.
-static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *coarse)
+// Point j's grid coordinates from the scene corner.
+static void point_offset(const moment_pass *m, size_t j, int64_t u[3])
 {
-    const sta_normals_chunk *chunk = m->chunk;
-    const sta_record_layout *layout = m->layout;
-    int64_t last_parent[3] = { -1, -1, -1 }, parent_count = 0;
-    size_t left = 0;
-    bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
-    sta_trajectory_memo memo = { 0 };
+    for (int a = 0; a < 3; a++) {
+        u[a] = (int64_t)m->grid[j][a] - m->chunk->scene_min[a];
+    }
+}
+
+// Which half of its cell of `level` u lies in along each axis (a bit an axis): its nearest
+// vertex of that level is the cell's corner plus these bits.
+static unsigned octant_of(const int64_t u[3], int level)
+{
+    if (level == 0) {
+        return 0; // (cells of one unit: the vertex is the cell)
+    }
+    return (unsigned)((u[0] >> (level - 1) & 1) | (u[1] >> (level - 1) & 1) << 1 |
+                      (u[2] >> (level - 1) & 1) << 2);
+}
+
+// Whether a candidate at u moves up: the next level's box is flatter (less surface
+// variation) and its normal agrees with this level's. 1 or 0; -1 when out of memory.
+static int moves_up(const sta_normals_chunk *chunk, level_boxes *fine, level_boxes *coarse,
+                    const int64_t u[3])
+{
+    vertex_box *b = nearest_box(chunk, fine, u), *c = b ? nearest_box(chunk, coarse, u) : NULL;
+    if (!c) {
+        return -1;
+    }
+    return c->variation < b->variation && box_fit(chunk, b) && box_fit(chunk, c) &&
+           fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
+                b->normal[2] * c->normal[2]) > AGREE;
+}
+
+// The decisions of one level for the points still waiting at `fine`'s level: those whose
+// cell of the next level (`coarse`, NULL at the last level; the same edge as the box)
+// holds enough points become candidates; a candidate whose box at the next level is
+// flatter (less surface variation) and agrees waits for it, at most STEPS levels; the
+// others are listed in m->finish (in order) to take this level. Above the base level a
+// base cell lies inside one half of its cell of the level along each axis, so all its
+// points share their nearest vertex of this level and the next, and the parent cell:
+// one decision a run of a base cell's points (and a half cell at the base level), not
+// one a point (the passes' visits are mostly points that only move up). Returns how many
+// wait for the next level, or SIZE_MAX when out of memory; *finishing: how many listed.
+static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes *coarse,
+                           size_t *finishing)
+{
+    int level = fine->cells->level;
+    bool each_point = m->chunk->decide_each_point, at_base = level == m->base_level;
+    size_t left = 0, listed = 0;
+    int enough = -1; // the run's next-level cell holds enough points (-1: not known yet)
+    signed char up[8] = { -1, -1, -1, -1, -1, -1, -1, -1 }; // by octant (-1: not known)
     for (size_t j = 0; j < m->count; j++) {
-        uint8_t state = m->state[j];
+        uint8_t flags = m->state[j], state = flags & STATE_MASK;
+        if ((flags & RUN_START) || each_point) { // a new base cell: nothing known
+            enough = -1;
+            memset(up, -1, sizeof(up));
+        }
         if (state == STATE_DONE) {
             continue;
         }
-        uint8_t *record = m->records + (size_t)m->order[j] * layout->size;
-        const int32_t *p = m->grid[j];
-        if (j + PREFETCH < m->count) { // (records lie in input order: a miss each)
-            __builtin_prefetch(m->records + (size_t)m->order[j + PREFETCH] * layout->size);
-        }
         int64_t u[3];
-        for (int a = 0; a < 3; a++) {
-            u[a] = (int64_t)p[a] - chunk->scene_min[a];
-        }
-        bool grow = state == STATE_GROW;
+        bool have_u = false;
         if (state == STATE_WAIT && coarse) {
-            int level = coarse->cells->level;
-            int64_t parent[3] = { u[0] >> level, u[1] >> level, u[2] >> level };
-            if (memcmp(parent, last_parent, sizeof(parent)) != 0) {
-                memcpy(last_parent, parent, sizeof(parent));
-                parent_count = sta_cell_moments_count(coarse->cells, parent);
+            if (enough < 0) {
+                point_offset(m, j, u);
+                have_u = true;
+                int l = coarse->cells->level;
+                int64_t parent[3] = { u[0] >> l, u[1] >> l, u[2] >> l };
+                enough = (double)sta_cell_moments_count(coarse->cells, parent) >= m->need;
             }
-            if ((double)parent_count < m->need) {
+            if (!enough) {
                 left++;
                 continue;
             }
             state = STATE_CANDIDATE;
         }
-        vertex_box *b = nearest_box(chunk, fine, u);
-        if (!b) {
-            return SIZE_MAX;
-        }
-        if (!grow && coarse && state >= STATE_CANDIDATE && state < STATE_CANDIDATE + STEPS) {
-            vertex_box *c = nearest_box(chunk, coarse, u);
-            if (!c) {
-                return SIZE_MAX;
+        if (state != STATE_GROW && coarse && state >= STATE_CANDIDATE &&
+            state < STATE_CANDIDATE + STEPS) {
+            unsigned k = 0;
+            if (at_base || up[0] < 0) { // (above the base every point has octant 0's)
+                if (!have_u) {
+                    point_offset(m, j, u);
+                }
+                k = at_base ? octant_of(u, level) : 0;
+                if (up[k] < 0) {
+                    int moved = moves_up(m->chunk, fine, coarse, u);
+                    if (moved < 0) {
+                        return SIZE_MAX;
+                    }
+                    up[k] = (signed char)moved;
+                }
             }
-            if (c->variation < b->variation && box_fit(chunk, b) && box_fit(chunk, c) &&
-                fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
-                     b->normal[2] * c->normal[2]) > AGREE) {
-                m->state[j] = (uint8_t)(state + 1); // flatter, and the same surface
+            if (up[k]) {
+                m->state[j] = (uint8_t)((flags & RUN_START) | (state + 1)); // flatter, same surface
                 left++;
                 continue;
             }
+        }
+        m->finish[listed++] = (uint32_t)j;
+    }
+    *finishing = listed;
+    return left;
+}
+
+// The points decide_level listed take `fine`'s level: the nearest box's plane, unless it
+// is nearly linear, edge-on or degenerate (then they take the next level once, when there
+// is one), blended with the boxes of their cell's vertices, oriented, packed with the
+// radius. Returns how many grew, or SIZE_MAX when out of memory.
+static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, size_t listed)
+{
+    const sta_normals_chunk *chunk = m->chunk;
+    const sta_record_layout *layout = m->layout;
+    size_t grew = 0;
+    bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
+    sta_trajectory_memo memo = { 0 };
+    for (size_t i = 0; i < listed; i++) {
+        size_t j = m->finish[i];
+        uint8_t flags = m->state[j];
+        uint8_t *record = m->records + (size_t)m->order[j] * layout->size;
+        const int32_t *p = m->grid[j];
+        if (i + PREFETCH < listed) { // (records lie in input order: a miss each)
+            __builtin_prefetch(m->records +
+                               (size_t)m->order[m->finish[i + PREFETCH]] * layout->size);
+        }
+        int64_t u[3];
+        point_offset(m, j, u);
+        bool grow = (flags & STATE_MASK) == STATE_GROW;
+        vertex_box *b = nearest_box(chunk, fine, u);
+        if (!b) {
+            return SIZE_MAX;
         }
         box_fit(chunk, b);
         if (b->radius < 0.0f) {
@@ -432,11 +541,12 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
             memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
             target = sta_trajectory_at_memo(chunk->trajectory, &memo, gps_time, at) ? at : NULL;
         }
-        if (!grow && coarse) {
+        if (!grow && !last) {
             if (sta_normal_too_narrow_at(chunk, pd, target, ok, normal, w, false)) {
-                m->state[j] = STATE_GROW; // nearly linear, edge-on or no plane: once wider
+                // nearly linear, edge-on or no plane: once wider
+                m->state[j] = (uint8_t)((flags & RUN_START) | STATE_GROW);
                 m->stats->widened++;
-                left++;
+                grew++;
                 continue;
             }
         }
@@ -447,9 +557,21 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
             m->stats->beyond_halo++;
         }
         sta_normal_store_at(chunk, layout, record, pd, target, ok, normal, radius, m->stats);
-        m->state[j] = STATE_DONE;
+        m->state[j] = (uint8_t)((flags & RUN_START) | STATE_DONE);
     }
-    return left;
+    return grew;
+}
+
+// One level's pass (decide_level, then finish_level). Returns how many points are left for
+// the next level, or SIZE_MAX when out of memory.
+static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *coarse)
+{
+    size_t listed = 0, left = decide_level(m, fine, coarse, &listed);
+    if (left == SIZE_MAX) {
+        return SIZE_MAX;
+    }
+    size_t grew = finish_level(m, fine, coarse == NULL, listed);
+    return grew == SIZE_MAX ? SIZE_MAX : left + grew;
 }
 
 int sta_moment_normals_base_level(sta_normals_method method, uint64_t points,
@@ -494,7 +616,8 @@ double sta_moment_normals_reach(int base_level, double unit)
 size_t sta_normals_memory_bytes(sta_normals_method method, size_t points)
 {
     size_t knn = sta_knn_normals_memory_bytes(points);
-    size_t moments = points * (MOMENT_BYTES_PER_POINT + 3 * sizeof(int32_t) + 1);
+    // (+ a state byte and a place in the finish list a point)
+    size_t moments = points * (MOMENT_BYTES_PER_POINT + 3 * sizeof(int32_t) + 1 + sizeof(uint32_t));
     // (a set the cells cannot address takes the kNN method: rare, not planned for)
     return method == STA_NORMALS_KNN ? knn : moments;
 }
@@ -517,10 +640,12 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     int32_t(*grid)[3] = sta_alloc_array(n, sizeof(*grid));
     uint8_t *state = sta_calloc(count, 1);
     uint32_t *order = sta_alloc_array(n, sizeof(*order));
-    if (!grid || !state || !order) {
+    uint32_t *finish = sta_alloc_array(count, sizeof(*finish));
+    if (!grid || !state || !order || !finish) {
         sta_free(grid);
         sta_free(state);
         sta_free(order);
+        sta_free(finish);
         return sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", n);
     }
     int32_t lo[3] = { INT32_MAX, INT32_MAX, INT32_MAX },
@@ -543,6 +668,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         sta_free(grid);
         sta_free(state);
         sta_free(order);
+        sta_free(finish);
         return sta_knn_normals_compute(chunk, layout, records, count, halo, halo_count, stats, err);
     }
     moment_pass pass = { .chunk = chunk,
@@ -552,6 +678,8 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                          .state = state,
                          .order = order,
                          .count = count,
+                         .base_level = level,
+                         .finish = finish,
                          .need = (double)chunk->k,
                          .factor = plane_radius_factor() };
     // Two levels at a time: the one fitted and the next (the scale's counts and the
@@ -579,9 +707,19 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
     }
     for (size_t j = 0, k = 0; status == STA_OK && j < n; j++) {
+        if (j + POSITIONS_AHEAD < n) { // (a random read each)
+            __builtin_prefetch(grid[order[j + POSITIONS_AHEAD]]);
+        }
         if (order[j] < count) {
             order[k] = order[j];
-            memcpy(own[k++], grid[order[j]], sizeof(own[0]));
+            memcpy(own[k], grid[order[j]], sizeof(own[0]));
+            // The runs of one base cell's points (the order keeps a cell's points together).
+            bool same = k > 0;
+            for (int a = 0; a < 3 && same; a++) {
+                same = ((int64_t)own[k][a] - chunk->scene_min[a]) >> level ==
+                       ((int64_t)own[k - 1][a] - chunk->scene_min[a]) >> level;
+            }
+            state[k++] = same ? 0 : RUN_START;
         }
     }
     pass.grid = (const int32_t(*)[3])own;
@@ -625,5 +763,6 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     sta_free(own);
     sta_free(state);
     sta_free(order);
+    sta_free(finish);
     return status;
 }

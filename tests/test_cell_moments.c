@@ -163,6 +163,8 @@ static void vertex_sums_match_brute_force(void **state)
     for (size_t l = 0; l < sizeof(levels) / sizeof(levels[0]); l++) {
         sta_cell_moments m;
         moments_of_all(&m, levels[l], origin, lo, hi, (const int32_t(*)[3])grid, NULL);
+        sta_cell_filter filter;
+        assert_true(sta_cell_filter_build(&m, &filter));
         size_t full = 0, outside = 0;
         for (size_t s = 0; s < POINTS / 41 + 8; s++) {
             size_t i = s < POINTS / 41 ? s * 41 : POINTS + s - POINTS / 41;
@@ -175,8 +177,10 @@ static void vertex_sums_match_brute_force(void **state)
                 }
             }
             outside += i >= POINTS;
-            sta_moment_sums got, want = { 0 };
+            sta_moment_sums got, filtered, want = { 0 };
             sta_cell_moments_vertex(&m, v, &got);
+            sta_cell_moments_vertex_filtered(&m, &filter, v, &filtered);
+            assert_memory_equal(&filtered, &got, sizeof(got));
             const int64_t anchor[3] = { v[0] - 1, v[1] - 1, v[2] - 1 };
             for (int k = 0; k < 8; k++) {
                 const int xyz[3] = { k & 1, k >> 1 & 1, k >> 2 };
@@ -194,8 +198,53 @@ static void vertex_sums_match_brute_force(void **state)
             full += want.n > 0;
         }
         assert_true(full > 0 && outside > 0);
+        sta_cell_filter_release(&filter);
         sta_cell_moments_release(&m);
     }
+    sta_free(grid);
+}
+
+// The cell filter (sta_cell_filter_build) passes every cell of the set and rules out most
+// cells that do not exist (a one-hash Bloom filter of 8 bits a cell: about 12 % pass).
+static void cell_filter_passes_every_cell_and_few_others(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    assert_non_null(grid);
+    const int32_t corner[3] = { 5000, -7000, 300 };
+    random_points(grid, POINTS, corner, 3000, 9);
+    const int64_t origin[3] = { 0, -8000, 0 };
+    int32_t lo[3], hi[3];
+    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
+    sta_cell_moments m;
+    moments_of_all(&m, 6, origin, lo, hi, (const int32_t(*)[3])grid, NULL);
+    sta_cell_filter filter;
+    assert_true(sta_cell_filter_build(&m, &filter));
+    size_t empty = 0, passed = 0;
+    for (size_t i = 0; i < POINTS; i++) {
+        int64_t cell[3], other[3];
+        for (int a = 0; a < 3; a++) {
+            cell[a] = ((int64_t)grid[i][a] - origin[a]) >> m.level;
+            other[a] = cell[a] + (int64_t)((i >> a) % 3) - 1 + (a == 0 ? 40 : 0);
+        }
+        // Every existing cell has its sums through the filter: its 2 x 2 x 2 box's sums
+        // equal the unfiltered ones.
+        const int64_t v[3] = { cell[0] + 1, cell[1] + 1, cell[2] + 1 };
+        sta_moment_sums a, b;
+        sta_cell_moments_vertex(&m, v, &a);
+        sta_cell_moments_vertex_filtered(&m, &filter, v, &b);
+        assert_memory_equal(&a, &b, sizeof(a));
+        if (!sta_cell_moments_has(&m, other)) { // a cell beside the set's, mostly empty
+            empty++;
+            passed += sta_cell_filter_may_hold(&m, &filter, other);
+        }
+        assert_true(sta_cell_filter_may_hold(&m, &filter, cell));
+    }
+    print_message("cell filter: %zu of %zu empty cells pass (%zu cells)\n", passed, empty, m.used);
+    assert_true(empty > 1000);
+    assert_true(passed < empty / 4);
+    sta_cell_filter_release(&filter);
+    sta_cell_moments_release(&m);
     sta_free(grid);
 }
 
@@ -439,6 +488,7 @@ static void cell_order_is_stable_morton_sort(void **state)
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(block_sums_match_brute_force),
     cmocka_unit_test(vertex_sums_match_brute_force),
+    cmocka_unit_test(cell_filter_passes_every_cell_and_few_others),
     cmocka_unit_test(wanted_cells_hold_all_their_points),
     cmocka_unit_test(too_wide_a_set_is_refused),
     cmocka_unit_test(coarsened_levels_match_brute_force),

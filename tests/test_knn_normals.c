@@ -606,6 +606,103 @@ static void moments_scale_follows_the_density(void **state)
     assert_true(rc > 0.85 * 1.37 * 0.040 && rc < 1.15 * 1.37 * 0.040);
 }
 
+// A uniform number in [0, 1) from a 64-bit LCG (Knuth's MMIX constants).
+static double uniform(uint64_t *seed)
+{
+    *seed = *seed * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*seed >> 11) * (1.0 / 9007199254740992.0);
+}
+
+// The SPLAT bytes of the first `own` of the n points (the rest their halo) by the moments,
+// each point decided alone when `each_point`.
+static void moments_splats(const int32_t (*xyz)[3], size_t n, size_t own, bool each_point,
+                           uint16_t (*splat)[3], sta_normals_stats *stats)
+{
+    sta_record_layout layout;
+    sta_record_layout_init(&layout, STA_ATTR_SPLAT, 0);
+    uint8_t *records = sta_calloc(own, layout.size);
+    assert_non_null(records);
+    for (size_t i = 0; i < own; i++) {
+        memcpy(records + i * layout.size, xyz[i], 12);
+    }
+    sta_normals_chunk f = unit_frame();
+    f.decide_each_point = each_point;
+    const double extent[3] = { 2.0, 2.0, 1.0 };
+    f.base_level = sta_moment_normals_base_level(STA_NORMALS_MOMENTS, n, extent, 0.001);
+    sta_error err = { 0 };
+    assert_int_equal(
+        sta_normals_compute(&f, &layout, records, own, &xyz[own][0], n - own, stats, &err), STA_OK);
+    for (size_t i = 0; i < own; i++) {
+        memcpy(splat[i], records + i * layout.size + layout.splat_offset, sizeof(splat[i]));
+    }
+    sta_free(records);
+}
+
+// The level passes decide once a run of a base cell's points (and a half cell at the base
+// level), not once a point: on a cloud whose points take every level (a noisy plane that
+// moves up for flatter boxes, a small sphere that stays fine, sparse points that wait for
+// coarse cells, a dense line that grows, stray halo points among them), every point's bytes
+// and every count equal those of deciding each point alone.
+static void moments_run_decisions_match_each_point(void **state)
+{
+    (void)state;
+    enum {
+        PLANE = 12000,
+        SPHERE = 6000,
+        SPARSE = 400,
+        LINE = 2000,
+        ALL = PLANE + SPHERE + SPARSE + LINE
+    };
+    static int32_t xyz[ALL][3];
+    uint64_t seed = 12;
+    size_t n = 0;
+    for (int i = 0; i < PLANE; i++, n++) { // 1.2 m square, 2 % slope, 4 mm noise
+        double x = 1200.0 * uniform(&seed), y = 1200.0 * uniform(&seed);
+        xyz[n][0] = 100000 + (int32_t)x, xyz[n][1] = 100000 + (int32_t)y;
+        xyz[n][2] = 100000 + (int32_t)(0.02 * x + 8.0 * (uniform(&seed) - 0.5));
+    }
+    for (int i = 0; i < SPHERE; i++, n++) { // r 0.2 m beside it
+        double z = 2.0 * uniform(&seed) - 1.0, a = 6.283185307 * uniform(&seed);
+        double r = sqrt(1.0 - z * z);
+        xyz[n][0] = 101700 + (int32_t)(200.0 * r * cos(a));
+        xyz[n][1] = 100600 + (int32_t)(200.0 * r * sin(a)),
+        xyz[n][2] = 100300 + (int32_t)(200.0 * z);
+    }
+    for (int i = 0; i < SPARSE; i++, n++) { // strays in 2 x 2 x 1 m
+        xyz[n][0] = 100000 + (int32_t)(2000.0 * uniform(&seed));
+        xyz[n][1] = 100000 + (int32_t)(2000.0 * uniform(&seed));
+        xyz[n][2] = 100000 + (int32_t)(1000.0 * uniform(&seed));
+    }
+    for (int i = 0; i < LINE; i++, n++) { // one dense scan line, 0.5 mm apart
+        xyz[n][0] = 100100 + i / 2, xyz[n][1] = 101500 + (i % 3 == 0);
+        xyz[n][2] = 100500 + (int32_t)(2.0 * uniform(&seed));
+    }
+    for (size_t i = n - 1; i > 0; i--) { // input order is not cell order
+        size_t j = (size_t)(uniform(&seed) * (double)(i + 1));
+        int32_t t[3];
+        memcpy(t, xyz[i], sizeof(t));
+        memcpy(xyz[i], xyz[j], sizeof(t));
+        memcpy(xyz[j], t, sizeof(t));
+    }
+    size_t own = n - n / 5; // the last fifth as halo
+    static uint16_t runs[ALL][3], each[ALL][3];
+    sta_normals_stats by_runs = { 0 }, by_each = { 0 };
+    moments_splats((const int32_t(*)[3])xyz, n, own, false, runs, &by_runs);
+    moments_splats((const int32_t(*)[3])xyz, n, own, true, each, &by_each);
+    size_t differ = 0;
+    for (size_t i = 0; i < own; i++) {
+        differ += memcmp(runs[i], each[i], sizeof(runs[i])) != 0;
+    }
+    print_message("run decisions: %zu of %zu points differ; %llu grown, %llu degenerate\n", differ,
+                  own, (unsigned long long)by_runs.widened, (unsigned long long)by_runs.degenerate);
+    assert_int_equal(differ, 0);
+    assert_int_equal(by_runs.points, own);
+    assert_int_equal(by_runs.widened, by_each.widened);
+    assert_int_equal(by_runs.degenerate, by_each.degenerate);
+    assert_int_equal(by_runs.beyond_halo, by_each.beyond_halo);
+    assert_true(by_runs.widened > 0); // the line grew
+}
+
 // Widened neighbourhoods (on the street: edge-on fits against the trajectory) give the
 // same bytes with any thread count.
 static void street_normals_are_deterministic(void **state)
@@ -743,6 +840,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(even_plane_is_not_widened),
     cmocka_unit_test(volume_gets_finite_unit_normals),
     cmocka_unit_test(moments_scale_follows_the_density),
+    cmocka_unit_test(moments_run_decisions_match_each_point),
     cmocka_unit_test(street_normals_are_deterministic),
     cmocka_unit_test(street_widened_normals_have_no_chunk_seams),
     cmocka_unit_test(knn_outside_its_range_is_refused),
