@@ -14,6 +14,7 @@
 #include "render/gl_image.h"
 #include "render/gpu_cache.h"
 #include "render/pass_shade.h"
+#include "render/pass_unproject.h"
 #include "render/pass_volumetric.h"
 #include "render/pipeline.h"
 #include "render/ref/screen_space.h"
@@ -49,14 +50,15 @@ static void put(sta_image *position, sta_image *colour, sta_image *label, int x,
 static void mark_rule_on_small_cases(void **state)
 {
     (void)state;
-    // Pixels: 0 vegetation visible, 1 ground visible, 2 vegetation hidden by HPR (kept),
-    // 3 slot past the table, 4 index past its node's count, 5 empty id.
+    // Pixels: 0 vegetation, 1 ground, 2 vegetation labelled hidden by HPR (the mark runs
+    // before HPR and ignores labels), 3 slot past the table, 4 index past its node's count,
+    // 5 empty id.
     const int w = 6;
-    sta_image position, colour, label, points;
+    sta_image position, colour, label, marked;
     image(&position, w, 1, 4);
     image(&colour, w, 1, 4);
     image(&label, w, 1, 1);
-    image(&points, w, 1, 4);
+    image(&marked, w, 1, 4);
     const float green[3] = { 0.1f, 0.8f, 0.2f };
     for (int x = 0; x < w; x++) {
         put(&position, &colour, &label, x, 0, 4.0f + (float)x, green,
@@ -69,59 +71,77 @@ static void mark_rule_on_small_cases(void **state)
     set_class(in.class_set, 3);
     set_class(in.class_set, 4);
     set_class(in.class_set, 5);
-    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
+    sta_volumetric_mark_ref(&in, &position, &colour, &marked);
 
-    assert_true(label.data[0] == STA_LABEL_HIDDEN); // marked: no seed for the fill
-    assert_true(points.data[1] == green[1] && points.data[3] == 4.0f);
-    assert_true(points.data[4 * 2 + 3] == 6.0f && label.data[2] == STA_LABEL_HIDDEN);
+    // Marked: w = STA_POSITION_W_MARKED (no seed for the fill), the colour copied.
+    assert_true(position.data[3] == STA_POSITION_W_MARKED && position.data[2] == -4.0f);
+    assert_true(marked.data[1] == green[1] && marked.data[3] == 1.0f);
+    assert_true(position.data[4 * 2 + 3] == STA_POSITION_W_MARKED &&
+                marked.data[4 * 2] == green[0]);
     for (int x = 1; x < w; x++) {
-        if (x != 2) { // visible, not marked: an occluder at minus its distance
-            assert_true(points.data[4 * x + 3] == -(4.0f + (float)x));
-            assert_true(points.data[4 * x + 1] == 0.0f);
-            assert_true(label.data[x] == STA_LABEL_VISIBLE);
+        if (x != 2) { // not marked: the position as it was, nothing in the marked image
+            assert_true(position.data[4 * x + 3] == 1.0f);
+            assert_true(position.data[4 * x + 2] == -(4.0f + (float)x));
+            assert_true(marked.data[4 * x + 3] == 0.0f);
         }
     }
-    // Holes and background are never marked, whatever their id says.
-    label.data[0] = STA_LABEL_HOLE;
-    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
-    assert_true(label.data[0] == STA_LABEL_HOLE && points.data[3] == 0.0f);
-    label.data[0] = STA_LABEL_VISIBLE;
+    // Pixels without a point are never marked, whatever their id says.
+    float *p0 = sta_image_at(&position, 0, 0);
+    memset(p0, 0, 4 * sizeof(float));
+    memset(marked.data, 0, 4 * sizeof(float));
+    sta_volumetric_mark_ref(&in, &position, &colour, &marked);
+    assert_true(p0[3] == 0.0f && marked.data[3] == 0.0f);
 
     // An empty class set marks nothing.
+    put(&position, &colour, &label, 0, 0, 4.0f, green, STA_LABEL_VISIBLE);
     memset(in.class_set, 0, sizeof(in.class_set));
-    label.data[0] = STA_LABEL_VISIBLE;
-    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
-    assert_true(label.data[0] == STA_LABEL_VISIBLE && points.data[3] == -4.0f);
+    sta_volumetric_mark_ref(&in, &position, &colour, &marked);
+    assert_true(p0[3] == 1.0f && marked.data[3] == 0.0f);
     // A class above 31 is reachable (the set covers 0..255).
     set_class(in.class_set, 200);
     uint8_t high[5] = { 200, 2, 4, 5, 5 };
     in.classes = high;
-    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
-    assert_true(label.data[0] == STA_LABEL_HIDDEN && points.data[3] == 4.0f);
+    sta_volumetric_mark_ref(&in, &position, &colour, &marked);
+    assert_true(p0[3] == STA_POSITION_W_MARKED && marked.data[3] == 1.0f);
 
     sta_image_release(&position);
     sta_image_release(&colour);
     sta_image_release(&label);
-    sta_image_release(&points);
+    sta_image_release(&marked);
+}
+
+// A point at distance `d` in pixel (x, y) of the overlay's inputs: marked (w = 2, colour
+// `c` in `marked`) or not, with HPR label `l`.
+static void overlay_point(sta_image *position, sta_image *label, sta_image *marked, int x, int y,
+                          float d, const float *c, float l)
+{
+    float *p = sta_image_at(position, x, y);
+    p[2] = -d;
+    p[3] = c ? STA_POSITION_W_MARKED : 1.0f;
+    *sta_image_at(label, x, y) = l;
+    if (c) {
+        memcpy(sta_image_at(marked, x, y), c, 3 * sizeof(float));
+    }
 }
 
 static void overlay_splats_behind_nearer_surfaces(void **state)
 {
     (void)state;
     // One marked point at distance 5 in the middle of a 5 x 3 image; a visible point of
-    // another class (an occluder) at distance 2 to its right, one at 9 to its left.
+    // another class (an occluder) at distance 2 to its right, one at 9 to its left; one
+    // at distance 1 below the marked point that HPR labelled hidden (no occluder).
     const int w = 5, h = 3;
-    sta_image points, out;
-    image(&points, w, h, 4);
+    sta_image position, label, marked, out;
+    image(&position, w, h, 4);
+    image(&label, w, h, 1);
+    image(&marked, w, h, 4);
     image(&out, w, h, 4);
-    float *m = sta_image_at(&points, 2, 1);
-    m[0] = 0.2f;
-    m[1] = 0.9f;
-    m[2] = 0.1f;
-    m[3] = 5.0f;
-    sta_image_at(&points, 3, 1)[3] = -2.0f;
-    sta_image_at(&points, 1, 1)[3] = -9.0f;
-    sta_volumetric_overlay_ref(&points, &out);
+    const float colour[3] = { 0.2f, 0.9f, 0.1f }, red[3] = { 1.0f, 0.0f, 0.0f };
+    overlay_point(&position, &label, &marked, 2, 1, 5.0f, colour, STA_LABEL_VISIBLE);
+    overlay_point(&position, &label, &marked, 3, 1, 2.0f, NULL, STA_LABEL_VISIBLE);
+    overlay_point(&position, &label, &marked, 1, 1, 9.0f, NULL, STA_LABEL_VISIBLE);
+    overlay_point(&position, &label, &marked, 2, 2, 1.0f, NULL, STA_LABEL_HIDDEN);
+    sta_volumetric_overlay_ref(&position, &label, &marked, &out);
 
     // The nearer occluder at (3, 1) hides the splat in every pixel whose 3 x 3 window
     // holds it: columns 2..4. Column 1 sees only the farther one, column 0 no point.
@@ -135,17 +155,24 @@ static void overlay_splats_behind_nearer_surfaces(void **state)
     assert_true(sta_image_at(&out, 1, 1)[1] == 0.9f); // the point's own colour
     // As a marked point (not an occluder) the near one no longer hides the splat and
     // wins the pixels whose window holds it.
-    float *near = sta_image_at(&points, 3, 1);
-    near[0] = 1.0f;
-    near[3] = 2.0f;
+    overlay_point(&position, &label, &marked, 3, 1, 2.0f, red, STA_LABEL_VISIBLE);
     memset(out.data, 0, (size_t)w * h * 4 * sizeof(float));
-    sta_volumetric_overlay_ref(&points, &out);
+    sta_volumetric_overlay_ref(&position, &label, &marked, &out);
     assert_true(sta_image_at(&out, 2, 1)[3] == 1.0f);
     assert_true(sta_image_at(&out, 2, 1)[0] == 1.0f); // the nearest point's colour
     assert_true(sta_image_at(&out, 4, 1)[0] == 1.0f);
     assert_true(sta_image_at(&out, 1, 1)[0] == 0.2f); // only the point at 5 reaches it
     assert_true(sta_image_at(&out, 0, 1)[3] == 0.0f);
-    sta_image_release(&points);
+    // The hidden point at distance 1 hides nothing; labelled visible it hides the splats
+    // of every pixel whose window holds it (columns 1..3 of rows 1 and 2).
+    *sta_image_at(&label, 2, 2) = STA_LABEL_VISIBLE;
+    memset(out.data, 0, (size_t)w * h * 4 * sizeof(float));
+    sta_volumetric_overlay_ref(&position, &label, &marked, &out);
+    assert_true(sta_image_at(&out, 2, 1)[3] == 0.0f && sta_image_at(&out, 1, 2)[3] == 0.0f);
+    assert_true(sta_image_at(&out, 4, 1)[3] == 1.0f && sta_image_at(&out, 2, 0)[3] == 1.0f);
+    sta_image_release(&position);
+    sta_image_release(&label);
+    sta_image_release(&marked);
     sta_image_release(&out);
 }
 
@@ -201,6 +228,40 @@ static uint8_t *read_rgba8(GLuint t, int w, int h)
     return got;
 }
 
+static GLuint class_texture(int w, int h, const uint8_t *classes)
+{
+    GLuint t;
+    glCreateTextures(GL_TEXTURE_2D, 1, &t);
+    glTextureStorage2D(t, 1, GL_R8UI, w, h);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t, 0, 0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_BYTE, classes);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    return t;
+}
+
+static GLuint zero_texture(int w, int h, int channels)
+{
+    sta_image zero;
+    image(&zero, w, h, channels);
+    GLuint t;
+    sta_error err = { 0 };
+    assert_int_equal(sta_gl_texture_from_image(&zero, &t, &err), STA_OK);
+    sta_image_release(&zero);
+    return t;
+}
+
+static void assert_texture_equals(GLuint t, int channels, const sta_image *expected)
+{
+    sta_image got;
+    sta_error err = { 0 };
+    assert_int_equal(sta_gl_texture_to_image(t, 0, channels, &got, &err), STA_OK);
+    assert_memory_equal(got.data, expected->data,
+                        (size_t)expected->width * expected->height * channels * sizeof(float));
+    sta_image_release(&got);
+}
+
+// Both mark shaders (id lookup, class image) and the overlay shader against the twins on
+// random points, ids, classes and labels: the same marks bit for bit.
 static void shaders_match_twins(void **state)
 {
     (void)state;
@@ -217,12 +278,14 @@ static void shaders_match_twins(void **state)
     // Slot 3 is not resident; slot 4's count runs past the arena.
     const uint32_t nodes[2 * NODES] = { 0, 50, 50, 70, 120, 60, 0, 0, 180, 40 };
     uint32_t *ids = malloc((size_t)w * h * 2 * sizeof(uint32_t));
+    uint8_t *pixel_classes = malloc((size_t)w * h);
     assert_non_null(ids);
-    sta_image position, colour, label, points, out;
+    assert_non_null(pixel_classes);
+    sta_image position, colour, label, marked, out;
     image(&position, w, h, 4);
     image(&colour, w, h, 4);
     image(&label, w, h, 1);
-    image(&points, w, h, 4);
+    image(&marked, w, h, 4);
     image(&out, w, h, 4);
     static const float labels[4] = { STA_LABEL_BACKGROUND, STA_LABEL_VISIBLE, STA_LABEL_HIDDEN,
                                      STA_LABEL_HOLE };
@@ -230,6 +293,11 @@ static void shaders_match_twins(void **state)
         bool drawn = sta_test_frand(&s) < 0.7f;
         ids[2 * i] = drawn ? (uint32_t)(sta_test_frand(&s) * (NODES + 1)) : 0xFFFFFFFFu;
         ids[2 * i + 1] = drawn ? (uint32_t)(sta_test_frand(&s) * 75.0f) : 0xFFFFFFFFu;
+        // The class image holds what the id names (255, in no set, where it names none).
+        uint32_t slot = ids[2 * i], index = ids[2 * i + 1];
+        bool valid = slot < NODES && index < nodes[2 * slot + 1] &&
+                     nodes[2 * slot] + index < (uint32_t)POINTS;
+        pixel_classes[i] = valid ? classes[nodes[2 * slot] + index] : 255;
         float *p = &position.data[4 * i], *c = &colour.data[4 * i];
         if (drawn) {
             p[0] = sta_test_frand(&s) - 0.5f;
@@ -246,38 +314,42 @@ static void shaders_match_twins(void **state)
                               : labels[sta_test_frand(&s) < 0.5f ? 0 : 3];
     }
     sta_error err = { 0 };
-    GLuint tp, tc, tl, tpts, tid = id_texture(w, h, ids), arena = arena_buffer(classes, POINTS);
+    GLuint tp[2], tc, tl, tm[2], tid = id_texture(w, h, ids), arena = arena_buffer(classes, POINTS);
+    GLuint tclass = class_texture(w, h, pixel_classes);
     GLuint tout = rgba8_texture(w, h, &out);
-    assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(sta_gl_texture_from_image(&position, &tp[k], &err), STA_OK);
+        tm[k] = zero_texture(w, h, 4);
+    }
     assert_int_equal(sta_gl_texture_from_image(&colour, &tc, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&label, &tl, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &tpts, &err), STA_OK);
 
     sta_volumetric_input in = { ids, nodes, NODES, classes, POINTS, { 0 } };
     set_class(in.class_set, 3);
     set_class(in.class_set, 5);
     set_class(in.class_set, 200);
-    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
-    sta_volumetric_overlay_ref(&points, &out);
-    int marked = 0;
+    sta_volumetric_mark_ref(&in, &position, &colour, &marked);
+    sta_volumetric_overlay_ref(&position, &label, &marked, &out);
+    int nmarked = 0;
     for (int i = 0; i < w * h; i++) {
-        marked += points.data[4 * i + 3] > 0.0f;
+        nmarked += position.data[4 * i + 3] == STA_POSITION_W_MARKED;
     }
-    print_message("%d marked pixels\n", marked);
-    assert_true(marked > 40); // the case exercises the rule
+    print_message("%d marked pixels\n", nmarked);
+    assert_true(nmarked > 40); // the case exercises the rule
 
     sta_volumetric_pass pass;
     assert_int_equal(sta_volumetric_pass_init(&pass, &err), STA_OK);
     sta_volumetric_points src = { tid, arena, nodes, NODES };
-    sta_volumetric_frame frame = { w, h, tp, tc, tl, tpts };
-    assert_int_equal(sta_volumetric_pass_mark(&pass, &src, in.class_set, 0, &frame, &err), STA_OK);
+    for (int k = 0; k < 2; k++) { // k = 0: the id lookup, 1: the class image
+        sta_volumetric_frame frame = { w, h, tp[k], tc, tl, tm[k] };
+        assert_int_equal(
+            sta_volumetric_pass_mark(&pass, &src, in.class_set, k ? tclass : 0, &frame, &err),
+            STA_OK);
+        assert_texture_equals(tp[k], 4, &position);
+        assert_texture_equals(tm[k], 4, &marked);
+    }
+    sta_volumetric_frame frame = { w, h, tp[0], tc, tl, tm[0] };
     sta_volumetric_pass_overlay(&pass, &frame, tout);
-
-    sta_image got_label, got_points;
-    assert_int_equal(sta_gl_texture_to_image(tl, 0, 1, &got_label, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_to_image(tpts, 0, 4, &got_points, &err), STA_OK);
-    assert_memory_equal(got_label.data, label.data, (size_t)w * h * sizeof(float));
-    assert_memory_equal(got_points.data, points.data, (size_t)w * h * 4 * sizeof(float));
     uint8_t *got = read_rgba8(tout, w, h);
     int worst = 0;
     for (int i = 0; i < w * h * 4; i++) {
@@ -288,11 +360,82 @@ static void shaders_match_twins(void **state)
 
     free(got);
     free(ids);
+    free(pixel_classes);
     sta_volumetric_pass_release(&pass);
-    GLuint textures[6] = { tp, tc, tl, tpts, tid, tout };
-    glDeleteTextures(6, textures);
+    GLuint textures[9] = { tp[0], tp[1], tc, tl, tm[0], tm[1], tid, tout, tclass };
+    glDeleteTextures(9, textures);
     glDeleteBuffers(1, &arena);
-    sta_image *images[] = { &position, &colour, &label, &points, &out, &got_label, &got_points };
+    sta_image *images[] = { &position, &colour, &label, &marked, &out };
+    for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
+        sta_image_release(images[i]);
+    }
+}
+
+// The unproject pass with the mark fused into it (what the GL_POINTS pipeline runs)
+// gives the plain pass's positions with the twin's marks, bit for bit: w = 2 and the
+// colour copied where the class image holds a class of the set.
+static void unproject_mark_matches_plain_and_twin(void **state)
+{
+    (void)state;
+    const int w = 45, h = 27; // odd sizes: partial workgroups
+    sta_view_params view = { w, h, 0.9f, 0.05f, 0.01f };
+    sta_image depth, colour, marked;
+    image(&depth, w, h, 1);
+    image(&colour, w, h, 4);
+    image(&marked, w, h, 4);
+    uint8_t *classes = malloc((size_t)w * h);
+    uint32_t *ids = malloc((size_t)w * h * 2 * sizeof(uint32_t));
+    assert_non_null(classes);
+    assert_non_null(ids);
+    uint64_t s = 3;
+    for (int i = 0; i < w * h; i++) {
+        depth.data[i] =
+            sta_test_frand(&s) < 0.3f ? 0.0f : 0.05f / (1.0f + 40.0f * sta_test_frand(&s));
+        // Some empty pixels hold a class of the set: they must stay unmarked.
+        classes[i] = (uint8_t)(sta_test_frand(&s) * 8.0f);
+        ids[2 * i] = 0;
+        ids[2 * i + 1] = (uint32_t)i; // one node: the pixel's own class
+        for (int k = 0; k < 3; k++) {
+            colour.data[4 * i + k] = sta_test_frand(&s);
+        }
+        colour.data[4 * i + 3] = 1.0f;
+    }
+    sta_error err = { 0 };
+    GLuint tdepth, tcolour, tclass = class_texture(w, h, classes);
+    assert_int_equal(sta_gl_texture_from_image(&depth, &tdepth, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&colour, &tcolour, &err), STA_OK);
+    GLuint plain = zero_texture(w, h, 4), fused = zero_texture(w, h, 4);
+    GLuint tmarked = zero_texture(w, h, 4);
+    sta_unproject_pass pass;
+    assert_int_equal(sta_unproject_pass_init(&pass, &err), STA_OK);
+    sta_volumetric_input in = { ids, NULL, 1, classes, (uint32_t)(w * h), { 0 } };
+    uint32_t nodes[2] = { 0, (uint32_t)(w * h) };
+    in.nodes = nodes;
+    set_class(in.class_set, 3);
+    set_class(in.class_set, 5);
+    sta_unproject_pass_run(&pass, &view, tdepth, plain);
+    sta_unproject_mark mark = { tclass, in.class_set, tcolour, tmarked };
+    sta_unproject_pass_run_marked(&pass, &view, tdepth, &mark, fused);
+
+    sta_image expected;
+    assert_int_equal(sta_gl_texture_to_image(plain, 0, 4, &expected, &err), STA_OK);
+    sta_volumetric_mark_ref(&in, &expected, &colour, &marked);
+    int nmarked = 0, drawn = 0;
+    for (int i = 0; i < w * h; i++) {
+        nmarked += expected.data[4 * i + 3] == STA_POSITION_W_MARKED;
+        drawn += expected.data[4 * i + 3] > 0.0f;
+    }
+    print_message("%d of %d drawn pixels marked\n", nmarked, drawn);
+    assert_true(nmarked > drawn / 8 && nmarked < drawn / 2); // the case exercises the rule
+    assert_texture_equals(fused, 4, &expected);
+    assert_texture_equals(tmarked, 4, &marked);
+
+    sta_unproject_pass_release(&pass);
+    GLuint textures[6] = { tdepth, tcolour, tclass, plain, fused, tmarked };
+    glDeleteTextures(6, textures);
+    free(classes);
+    free(ids);
+    sta_image *images[] = { &depth, &colour, &marked, &expected };
     for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
         sta_image_release(images[i]);
     }
@@ -305,15 +448,17 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
 {
     (void)state;
     const int w = 41, h = 29;
-    sta_image position, colour, normal, points;
+    sta_image position, colour, normal, points, label, marked;
     image(&position, w, h, 4);
     image(&colour, w, h, 4);
     image(&normal, w, h, 4);
     image(&points, w, h, 4);
+    image(&label, w, h, 1);
+    image(&marked, w, h, 4);
     uint64_t s = 11;
     for (int i = 0; i < w * h; i++) {
         float *p = &position.data[4 * i], *c = &colour.data[4 * i], *n = &normal.data[4 * i];
-        float *m = &points.data[4 * i];
+        float *q = &points.data[4 * i], *m = &marked.data[4 * i];
         if (sta_test_frand(&s) < 0.85f) {
             p[0] = sta_test_frand(&s) - 0.5f;
             p[1] = sta_test_frand(&s) - 0.5f;
@@ -326,22 +471,28 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
             c[k] = sta_test_frand(&s);
         }
         c[3] = 1.0f;
+        // The drawn points (the unproject's positions): marked, visible or hidden.
         float r = sta_test_frand(&s);
-        if (r < 0.1f) { // a marked point: its colour and distance
-            m[0] = sta_test_frand(&s);
-            m[1] = sta_test_frand(&s);
-            m[2] = sta_test_frand(&s);
-            m[3] = 1.0f + 20.0f * sta_test_frand(&s);
-        } else if (r < 0.3f) { // an occluder: minus its distance
-            m[3] = -(1.0f + 20.0f * sta_test_frand(&s));
+        label.data[i] = STA_LABEL_HOLE;
+        if (r < 0.3f) {
+            q[0] = sta_test_frand(&s) - 0.5f;
+            q[1] = sta_test_frand(&s) - 0.5f;
+            q[2] = -(1.0f + 20.0f * sta_test_frand(&s));
+            q[3] = r < 0.1f ? STA_POSITION_W_MARKED : 1.0f;
+            label.data[i] = r < 0.25f ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN;
+            for (int k = 0; k < 3 && r < 0.1f; k++) {
+                m[k] = sta_test_frand(&s);
+            }
         }
     }
     sta_error err = { 0 };
-    GLuint tp, tc, tn, tpts, split, fused, plain;
+    GLuint tp, tc, tn, tpts, tl, tm, split, fused, plain;
     assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&colour, &tc, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&normal, &tn, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&points, &tpts, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&label, &tl, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&marked, &tm, &err), STA_OK);
     sta_image blank;
     image(&blank, w, h, 4);
     split = rgba8_texture(w, h, &blank);
@@ -352,11 +503,11 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
     assert_int_equal(sta_shade_pass_init(&shade, &err), STA_OK);
     assert_int_equal(sta_volumetric_pass_init(&vol, &err), STA_OK);
     sta_shade_params params = { .background = { 0.1f, 0.2f, 0.3f } };
-    sta_volumetric_frame frame = { w, h, tp, tc, 0, tpts };
-    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, 0, plain);
-    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, 0, split);
+    sta_volumetric_frame frame = { w, h, tpts, tc, tl, tm };
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, NULL, plain);
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, NULL, split);
     sta_volumetric_pass_overlay(&vol, &frame, split);
-    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, tpts, fused);
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, &frame, fused);
     uint8_t *a = read_rgba8(split, w, h), *b = read_rgba8(fused, w, h),
             *c = read_rgba8(plain, w, h);
     assert_memory_equal(a, b, (size_t)w * h * 4);
@@ -371,9 +522,9 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
     free(c);
     sta_shade_pass_release(&shade);
     sta_volumetric_pass_release(&vol);
-    GLuint textures[7] = { tp, tc, tn, tpts, split, fused, plain };
-    glDeleteTextures(7, textures);
-    sta_image *images[] = { &position, &colour, &normal, &points, &blank };
+    GLuint textures[9] = { tp, tc, tn, tpts, tl, tm, split, fused, plain };
+    glDeleteTextures(9, textures);
+    sta_image *images[] = { &position, &colour, &normal, &points, &blank, &label, &marked };
     for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
         sta_image_release(images[i]);
     }
@@ -388,7 +539,9 @@ enum {
     STRIDE = 4
 };
 
-static uint8_t *render_frame(const sta_pipeline_options *options, int mode)
+// class_image: also hand the pipeline the classes as the GL_POINTS pass writes them
+// (then the unproject pass marks them), else it looks them up through the ids.
+static uint8_t *render_frame(const sta_pipeline_options *options, int mode, bool class_image)
 {
     sta_error err = { 0 };
     const float near_m = 0.1f;
@@ -432,6 +585,20 @@ static uint8_t *render_frame(const sta_pipeline_options *options, int mode)
     o.mode = mode;
     sta_view_params view = { PW, PH, 1.0f, near_m, 0.05f };
     assert_int_equal(sta_pipeline_set_points(&pipeline, tid, &cache, &err), STA_OK);
+    if (class_image) {
+        uint8_t pixel_classes[PW * PH];
+        for (int i = 0; i < PW * PH; i++) {
+            pixel_classes[i] = ids[2 * i] == 0 ? classes[ids[2 * i + 1]] : 255;
+        }
+        GLuint position, tclasses;
+        assert_int_equal(
+            sta_pipeline_raster_textures(&pipeline, PW, PH, &position, &tclasses, &err), STA_OK);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTextureSubImage2D(tclasses, 0, 0, 0, PW, PH, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
+                            pixel_classes);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        pipeline.classes_ready = true;
+    }
     assert_int_equal(sta_pipeline_run(&pipeline, &o, &view, tdepth, tcolour, NULL, &err), STA_OK);
     uint8_t *got = read_rgba8(tcolour, PW, PH);
 
@@ -479,13 +646,13 @@ static void flagged_pixels_are_not_filled(void **state)
         filled.no_fill_set = true; // the empty set: canopy filled as a surface
         int gaps_green, gaps, points_green, npoints;
 
-        uint8_t *before = render_frame(&filled, modes[m]);
+        uint8_t *before = render_frame(&filled, modes[m], false);
         count_green(before, &gaps_green, &gaps, &points_green, &npoints);
         assert_true(gaps > 20 && npoints > 20);
         // Filled: the gaps between canopy points turn into a green surface.
         assert_true(gaps_green * 10 >= gaps * 9);
 
-        uint8_t *after = render_frame(&points, modes[m]); // default: classes 3-5
+        uint8_t *after = render_frame(&points, modes[m], false); // default: classes 3-5
         count_green(after, &gaps_green, &gaps, &points_green, &npoints);
         assert_int_equal(gaps_green, 0);         // no canopy surface between the points
         assert_int_equal(points_green, npoints); // the points themselves are drawn
@@ -495,8 +662,13 @@ static void flagged_pixels_are_not_filled(void **state)
                 assert_memory_equal(&before[4 * (y * PW + x)], &after[4 * (y * PW + x)], 4);
             }
         }
+        // The mark inside the unproject pass (the GL_POINTS pipeline's) gives the same
+        // picture as the mark pass.
+        uint8_t *fused = render_frame(&points, modes[m], true);
+        assert_memory_equal(fused, after, (size_t)PW * PH * 4);
         free(before);
         free(after);
+        free(fused);
     }
 }
 
@@ -574,6 +746,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(mark_rule_on_small_cases),
     cmocka_unit_test(overlay_splats_behind_nearer_surfaces),
     cmocka_unit_test_setup_teardown(shaders_match_twins, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(unproject_mark_matches_plain_and_twin, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(shade_overlay_matches_shade_then_overlay, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

@@ -118,7 +118,6 @@ typedef struct sta_pipeline {
     GLint display_size, display_mode, colour_size;
     int width_px, height_px; /* texture size */
     GLuint position, colour, label, pyramid, filled_position, filled_colour, normal, normal2;
-    GLuint points;                    /* volumetric colours (RGBA32F) */
     GLuint classes;                   /* R8UI point classes (from the compute rasteriser) */
     double marks[2 * STA_PASS_COUNT]; /* pass start/end, ms (timing on) */
     int timing_clock;                 /* sta_timing_clock of the marks (0: wall) */

@@ -46,7 +46,7 @@ static texel fetch(const level_source *s, int x, int y)
         p = sta_image_at(s->position, x, y);
         c = sta_image_at(s->colour, x, y);
         bool visible = !s->label || is_label(*sta_image_at(s->label, x, y), STA_LABEL_VISIBLE);
-        t.w = p[3] > 0.0f && visible ? 1.0f : 0.0f;
+        t.w = p[3] > 0.0f && p[3] != STA_POSITION_W_MARKED && visible ? 1.0f : 0.0f;
     }
     for (int k = 0; k < 3; k++) {
         t.p[k] = p[k];

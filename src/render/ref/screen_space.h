@@ -3,7 +3,9 @@
  *
  * Buffers (GL textures; CPU twins use sta_image with the same layout and row order):
  * - position: RGBA32F, camera space (camera at the origin looking down -Z, +X right,
- *   +Y up), xyz in metres, w = 1 where a point was drawn, w = 0 for background.
+ *   +Y up), xyz in metres, w = 1 where a point was drawn, w = 0 for background,
+ *   w = STA_POSITION_W_MARKED where the drawn point has a volumetric class
+ *   (volumetric_ref.h: shown as a point, no seed for the fill).
  *   Made from the reverse-Z depth buffer by the unproject pass.
  * - colour: RGBA32F (RGB in 0..1, A unused) or RGBA8 from the geometry pass.
  * - label: R32F holding one of STA_LABEL_* per pixel (HPR output).
@@ -27,6 +29,11 @@
 #define STA_LABEL_VISIBLE    1.0f /* a point that is visible */
 #define STA_LABEL_HIDDEN     2.0f /* a point seen through a surface in front: removed */
 #define STA_LABEL_HOLE       3.0f /* no point, but inside a surface: pull-push fills it */
+
+/* The position's w of a pixel whose point has a volumetric class (> 0: still a drawn
+ * point, an occluder for HPR; pull-push takes no seed from it). Written by the unproject
+ * pass (or the volumetric mark) before HPR: issue 15, tenth round. */
+#define STA_POSITION_W_MARKED 2.0f
 
 /* HPR: an empty pixel is background (left empty) only when its sector minima average
  * at least this many fully open sectors out of 8 (and at least the threshold); see
