@@ -3,58 +3,41 @@
 // shade pass's overlay variant, shade.comp with STA_SHADE_OVERLAY, which draws the
 // marked points while shading and so saves a full-screen pass): the colour a pixel
 // takes from the marked points (position w = STA_POSITION_W_MARKED) in its window,
-// nearest first, unless a point of another class that HPR labelled visible is in the
-// window and as near. Read from the positions, labels and the marked points' colours
-// (the mark copies those, since the shade pass writes the geometry pass's colour target;
-// no image of marked points and occluders: issue 15, tenth round).
+// nearest first, unless a drawn point of another class is in the window and as near
+// (HPR's labels play no part: a nearer point of another class is a surface in front,
+// kept by HPR or not). Read from the positions and the marked points' colours (the mark
+// copies those, since the shade pass writes the geometry pass's colour target; no image
+// of marked points and occluders: issue 15, tenth round).
 // Twin: src/render/ref/volumetric_ref.c (sta_volumetric_overlay_ref).
 layout(binding = STA_VOLUMETRIC_WINDOW_IMAGE_POSITION,
        rgba32f) readonly uniform image2D u_vw_position;
-layout(binding = STA_VOLUMETRIC_WINDOW_IMAGE_LABEL, r32f) readonly uniform image2D u_vw_label;
 // The marked points' colours (only their pixels are written).
 layout(binding = STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_vw_colour;
 
 const int VW_R = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
 
-// True where a marked point covers p (its colour in `colour`, not clamped). The labels
-// are loaded only where a marked point is in the window: on llvmpipe nine more loads for
-// every pixel cost the shade pass ~17 ms at 1080p, and the street's canopy pixels are
-// few and clustered, so most SIMD groups skip the second loop (issue 15, tenth round).
+// True where a marked point covers p (its colour in `colour`, not clamped).
 bool vw_overlay_colour(ivec2 p, ivec2 size, out vec3 colour)
 {
     float best = 0.0; // nearest marked point's distance, 0: none
     ivec2 best_q = p;
-    for (int dy = -VW_R; dy <= VW_R; dy++) {
-        for (int dx = -VW_R; dx <= VW_R; dx++) {
-            ivec2 q = p + ivec2(dx, dy);
-            bool inside = q.x >= 0 && q.y >= 0 && q.x < size.x && q.y < size.y;
-            vec4 v = imageLoad(u_vw_position, q);
-            float d = -v.z;
-            if (inside && v.w == STA_POSITION_W_MARKED && d > 0.0 && (best <= 0.0 || d < best)) {
-                best = d;
-                best_q = q;
-            }
-        }
-    }
-    colour = vec3(0.0);
-    if (!(best > 0.0)) {
-        return false;
-    }
     float occluder = 0.0; // nearest occluder's distance, 0: none
     for (int dy = -VW_R; dy <= VW_R; dy++) {
         for (int dx = -VW_R; dx <= VW_R; dx++) {
             ivec2 q = p + ivec2(dx, dy);
             bool inside = q.x >= 0 && q.y >= 0 && q.x < size.x && q.y < size.y;
             vec4 v = imageLoad(u_vw_position, q);
-            float l = imageLoad(u_vw_label, q).r;
             float d = -v.z;
-            bool occludes = inside && v.w > 0.0 && v.w != STA_POSITION_W_MARKED && d > 0.0 &&
-                            l == STA_LABEL_VISIBLE;
-            if (occludes && (occluder <= 0.0 || d < occluder)) {
+            bool drawn = inside && v.w > 0.0 && d > 0.0;
+            bool marked = drawn && v.w == STA_POSITION_W_MARKED;
+            if (marked && (best <= 0.0 || d < best)) {
+                best = d;
+                best_q = q;
+            } else if (drawn && !marked && (occluder <= 0.0 || d < occluder)) {
                 occluder = d;
             }
         }
     }
     colour = imageLoad(u_vw_colour, best_q).rgb;
-    return !(occluder > 0.0 && occluder <= best);
+    return best > 0.0 && !(occluder > 0.0 && occluder <= best);
 }

@@ -111,14 +111,13 @@ static void mark_rule_on_small_cases(void **state)
 }
 
 // A point at distance `d` in pixel (x, y) of the overlay's inputs: marked (w = 2, colour
-// `c` in `marked`) or not, with HPR label `l`.
-static void overlay_point(sta_image *position, sta_image *label, sta_image *marked, int x, int y,
-                          float d, const float *c, float l)
+// `c` in `marked`) or not (c NULL).
+static void overlay_point(sta_image *position, sta_image *marked, int x, int y, float d,
+                          const float *c)
 {
     float *p = sta_image_at(position, x, y);
     p[2] = -d;
     p[3] = c ? STA_POSITION_W_MARKED : 1.0f;
-    *sta_image_at(label, x, y) = l;
     if (c) {
         memcpy(sta_image_at(marked, x, y), c, 3 * sizeof(float));
     }
@@ -127,21 +126,18 @@ static void overlay_point(sta_image *position, sta_image *label, sta_image *mark
 static void overlay_splats_behind_nearer_surfaces(void **state)
 {
     (void)state;
-    // One marked point at distance 5 in the middle of a 5 x 3 image; a visible point of
-    // another class (an occluder) at distance 2 to its right, one at 9 to its left; one
-    // at distance 1 below the marked point that HPR labelled hidden (no occluder).
+    // One marked point at distance 5 in the middle of a 5 x 3 image; a point of another
+    // class (an occluder) at distance 2 to its right, one at 9 to its left.
     const int w = 5, h = 3;
-    sta_image position, label, marked, out;
+    sta_image position, marked, out;
     image(&position, w, h, 4);
-    image(&label, w, h, 1);
     image(&marked, w, h, 4);
     image(&out, w, h, 4);
     const float colour[3] = { 0.2f, 0.9f, 0.1f }, red[3] = { 1.0f, 0.0f, 0.0f };
-    overlay_point(&position, &label, &marked, 2, 1, 5.0f, colour, STA_LABEL_VISIBLE);
-    overlay_point(&position, &label, &marked, 3, 1, 2.0f, NULL, STA_LABEL_VISIBLE);
-    overlay_point(&position, &label, &marked, 1, 1, 9.0f, NULL, STA_LABEL_VISIBLE);
-    overlay_point(&position, &label, &marked, 2, 2, 1.0f, NULL, STA_LABEL_HIDDEN);
-    sta_volumetric_overlay_ref(&position, &label, &marked, &out);
+    overlay_point(&position, &marked, 2, 1, 5.0f, colour);
+    overlay_point(&position, &marked, 3, 1, 2.0f, NULL);
+    overlay_point(&position, &marked, 1, 1, 9.0f, NULL);
+    sta_volumetric_overlay_ref(&position, &marked, &out);
 
     // The nearer occluder at (3, 1) hides the splat in every pixel whose 3 x 3 window
     // holds it: columns 2..4. Column 1 sees only the farther one, column 0 no point.
@@ -155,23 +151,21 @@ static void overlay_splats_behind_nearer_surfaces(void **state)
     assert_true(sta_image_at(&out, 1, 1)[1] == 0.9f); // the point's own colour
     // As a marked point (not an occluder) the near one no longer hides the splat and
     // wins the pixels whose window holds it.
-    overlay_point(&position, &label, &marked, 3, 1, 2.0f, red, STA_LABEL_VISIBLE);
+    overlay_point(&position, &marked, 3, 1, 2.0f, red);
     memset(out.data, 0, (size_t)w * h * 4 * sizeof(float));
-    sta_volumetric_overlay_ref(&position, &label, &marked, &out);
+    sta_volumetric_overlay_ref(&position, &marked, &out);
     assert_true(sta_image_at(&out, 2, 1)[3] == 1.0f);
     assert_true(sta_image_at(&out, 2, 1)[0] == 1.0f); // the nearest point's colour
     assert_true(sta_image_at(&out, 4, 1)[0] == 1.0f);
     assert_true(sta_image_at(&out, 1, 1)[0] == 0.2f); // only the point at 5 reaches it
     assert_true(sta_image_at(&out, 0, 1)[3] == 0.0f);
-    // The hidden point at distance 1 hides nothing; labelled visible it hides the splats
-    // of every pixel whose window holds it (columns 1..3 of rows 1 and 2).
-    *sta_image_at(&label, 2, 2) = STA_LABEL_VISIBLE;
+    // An occluder exactly as near as the nearest marked point hides it too.
+    overlay_point(&position, &marked, 2, 2, 2.0f, NULL);
     memset(out.data, 0, (size_t)w * h * 4 * sizeof(float));
-    sta_volumetric_overlay_ref(&position, &label, &marked, &out);
-    assert_true(sta_image_at(&out, 2, 1)[3] == 0.0f && sta_image_at(&out, 1, 2)[3] == 0.0f);
+    sta_volumetric_overlay_ref(&position, &marked, &out);
+    assert_true(sta_image_at(&out, 2, 1)[3] == 0.0f && sta_image_at(&out, 3, 2)[3] == 0.0f);
     assert_true(sta_image_at(&out, 4, 1)[3] == 1.0f && sta_image_at(&out, 2, 0)[3] == 1.0f);
     sta_image_release(&position);
-    sta_image_release(&label);
     sta_image_release(&marked);
     sta_image_release(&out);
 }
@@ -329,7 +323,7 @@ static void shaders_match_twins(void **state)
     set_class(in.class_set, 5);
     set_class(in.class_set, 200);
     sta_volumetric_mark_ref(&in, &position, &colour, &marked);
-    sta_volumetric_overlay_ref(&position, &label, &marked, &out);
+    sta_volumetric_overlay_ref(&position, &marked, &out);
     int nmarked = 0;
     for (int i = 0; i < w * h; i++) {
         nmarked += position.data[4 * i + 3] == STA_POSITION_W_MARKED;
@@ -341,14 +335,14 @@ static void shaders_match_twins(void **state)
     assert_int_equal(sta_volumetric_pass_init(&pass, &err), STA_OK);
     sta_volumetric_points src = { tid, arena, nodes, NODES };
     for (int k = 0; k < 2; k++) { // k = 0: the id lookup, 1: the class image
-        sta_volumetric_frame frame = { w, h, tp[k], tc, tl, tm[k] };
+        sta_volumetric_frame frame = { w, h, tp[k], tc, tm[k] };
         assert_int_equal(
             sta_volumetric_pass_mark(&pass, &src, in.class_set, k ? tclass : 0, &frame, &err),
             STA_OK);
         assert_texture_equals(tp[k], 4, &position);
         assert_texture_equals(tm[k], 4, &marked);
     }
-    sta_volumetric_frame frame = { w, h, tp[0], tc, tl, tm[0] };
+    sta_volumetric_frame frame = { w, h, tp[0], tc, tm[0] };
     sta_volumetric_pass_overlay(&pass, &frame, tout);
     uint8_t *got = read_rgba8(tout, w, h);
     int worst = 0;
@@ -503,7 +497,7 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
     assert_int_equal(sta_shade_pass_init(&shade, &err), STA_OK);
     assert_int_equal(sta_volumetric_pass_init(&vol, &err), STA_OK);
     sta_shade_params params = { .background = { 0.1f, 0.2f, 0.3f } };
-    sta_volumetric_frame frame = { w, h, tpts, tc, tl, tm };
+    sta_volumetric_frame frame = { w, h, tpts, tc, tm };
     sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, NULL, plain);
     sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, NULL, split);
     sta_volumetric_pass_overlay(&vol, &frame, split);

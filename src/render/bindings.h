@@ -159,8 +159,7 @@
 /* volumetric_window.glsl, in volumetric_overlay.comp and shade.comp (STA_SHADE_OVERLAY):
  * above every image unit of both */
 #define STA_VOLUMETRIC_WINDOW_IMAGE_POSITION 4 /* RGBA32F positions, marked: w = 2 */
-#define STA_VOLUMETRIC_WINDOW_IMAGE_LABEL    6 /* R32F HPR labels: the visible occluders */
-#define STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR   7 /* RGBA32F marked points' colours */
+#define STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR   6 /* RGBA32F marked points' colours */
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \
@@ -263,7 +262,6 @@
  X(STA_VOLUMETRIC_MARK_BUFFER_NODES)                                                               \
  X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)                                                               \
  X(STA_VOLUMETRIC_WINDOW_IMAGE_POSITION)                                                           \
- X(STA_VOLUMETRIC_WINDOW_IMAGE_LABEL)                                                              \
  X(STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR)
 
 #endif

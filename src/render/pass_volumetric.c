@@ -149,8 +149,6 @@ void sta_volumetric_window_bind(const sta_volumetric_frame *frame)
 {
     glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_POSITION, frame->position, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_LABEL, frame->label, 0, GL_FALSE, 0,
-                       GL_READ_ONLY, GL_R32F);
     glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR, frame->marked, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
 }

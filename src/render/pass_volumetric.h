@@ -49,7 +49,6 @@ typedef struct sta_volumetric_frame {
     int width, height;
     GLuint position; /* RGBA32F camera-space positions (unproject); marked: w = 2 */
     GLuint colour;   /* point colours, RGBA8 or RGBA32F (sampled by the mark) */
-    GLuint label;    /* R32F HPR labels (the overlay's occluders are the visible points) */
     GLuint marked;   /* RGBA32F: the marked points' colours (written at those pixels only) */
 } sta_volumetric_frame;
 

@@ -344,7 +344,7 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     ran[STA_PASS_UNPROJECT] = true;
     // The marked points' colours go to the float colour image (only the EDL and HPR
     // displays use it otherwise; the shade pass writes colour_rgba8).
-    sta_volumetric_frame vframe = { w, h, p->position, colour_rgba8, p->label, p->colour };
+    sta_volumetric_frame vframe = { w, h, p->position, colour_rgba8, p->colour };
     if (volumetric && !mark_in_unproject) {
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
         s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes,

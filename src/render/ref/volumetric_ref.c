@@ -50,8 +50,7 @@ void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position
     }
 }
 
-void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *label,
-                                const sta_image *marked, sta_image *out)
+void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *marked, sta_image *out)
 {
     const int r = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
     for (int y = 0; y < out->height; y++) {
@@ -71,8 +70,7 @@ void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *labe
                             bx = x + dx;
                             by = y + dy;
                         }
-                    } else if (*sta_image_at(label, x + dx, y + dy) == STA_LABEL_VISIBLE &&
-                               (occluder <= 0.0f || d < occluder)) {
+                    } else if (occluder <= 0.0f || d < occluder) {
                         occluder = d;
                     }
                 }

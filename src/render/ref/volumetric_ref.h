@@ -13,14 +13,14 @@
  * gaps (HPR would remove it and leave black holes between crowns). Overlay (after
  * shading): each marked point is drawn as a square splat of radius
  * STA_VOLUMETRIC_SPLAT_RADIUS_PX: a pixel takes the colour of the nearest marked point in
- * that window unless a point of another class that HPR labelled visible (an occluder) is
- * in the same window and as near or nearer: crowns read as crowns and a wall in front,
- * even a sparsely sampled one, still hides them. (The filled depth is no test: pull-push
+ * that window unless a drawn point of another class (an occluder, HPR-hidden or not: a
+ * nearer point of another class is a surface in front) is in the same window and as
+ * near or nearer: crowns read as crowns and a wall in front, even a sparsely sampled
+ * one, still hides them. (The filled depth is no test: pull-push
  * averages depths across wide gaps.) No lighting: an eye-dome term over the same window
  * does nothing by construction (the splat is the window's nearest point), a wider one
  * would double the reads (docs/PIPELINE.md). Until issue 15's tenth round the mark ran
- * after HPR and wrote an image of marked points and occluders; the pictures are the
- * same.
+ * after HPR and wrote an image of marked points and of the visible points as occluders.
  */
 #ifndef STA_RENDER_REF_VOLUMETRIC_REF_H
 #define STA_RENDER_REF_VOLUMETRIC_REF_H
@@ -58,8 +58,7 @@ static inline bool sta_volumetric_has_class(const uint32_t *set, uint32_t c)
 void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position,
                              const sta_image *colour, sta_image *marked);
 
-/* Overlay: `position` and `marked` from mark, `label` (1 channel) from HPR, `out` RGBA. */
-void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *label,
-                                const sta_image *marked, sta_image *out);
+/* Overlay: `position` and `marked` from mark, `out` RGBA. */
+void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *marked, sta_image *out);
 
 #endif
