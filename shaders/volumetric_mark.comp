@@ -3,8 +3,8 @@
 // through the point-id target in the arena, has a class in u_classes gets
 // w = STA_POSITION_W_MARKED in the position image (screen_space.h): HPR still sees it as
 // a point, pull-push takes no seed from it, and the overlay draws it
-// (volumetric_window.glsl) in its colour, copied to the marked colour image (only
-// marked pixels are written). With STA_VOLUMETRIC_CLASS_IMAGE the class comes from a
+// (volumetric_window.glsl) in its colour, which pull-push keeps in the filled colour's
+// alpha. With STA_VOLUMETRIC_CLASS_IMAGE the class comes from a
 // per-pixel class image (the rasterisers write it with the point) instead of the id and
 // arena lookup: the same marks, without two dependent buffer reads a pixel. The GL_POINTS
 // pipeline marks inside the unproject pass instead (unproject.comp, STA_UNPROJECT_MARK).
@@ -16,9 +16,6 @@ layout(binding = STA_VOLUMETRIC_MARK_IMAGE_CLASS, r8ui) readonly uniform uimage2
 layout(binding = STA_VOLUMETRIC_MARK_IMAGE_ID, rg32ui) readonly uniform uimage2D u_id;
 #endif
 layout(binding = STA_VOLUMETRIC_MARK_IMAGE_POSITION, rgba32f) uniform image2D u_position;
-// The point colours, RGBA8 (the geometry pass's) or RGBA32F.
-layout(binding = STA_VOLUMETRIC_MARK_SAMPLER_COLOUR) uniform sampler2D u_colour;
-layout(binding = STA_VOLUMETRIC_MARK_IMAGE_COLOUR, rgba32f) writeonly uniform image2D u_marked;
 #ifndef STA_VOLUMETRIC_CLASS_IMAGE
 // The arena: 16-byte points (stream/gpu_points.h); classification is byte 11.
 layout(std430, binding = STA_VOLUMETRIC_MARK_BUFFER_ARENA) readonly buffer Arena
@@ -61,6 +58,5 @@ void main()
 #endif
     if (marked) {
         imageStore(u_position, p, vec4(position.xyz, STA_POSITION_W_MARKED));
-        imageStore(u_marked, p, vec4(texelFetch(u_colour, p, 0).rgb, 1.0));
     }
 }

@@ -5,13 +5,15 @@
 // takes from the marked points (position w = STA_POSITION_W_MARKED) in its window,
 // nearest first, unless a drawn point of another class is in the window and as near
 // (HPR's labels play no part: a nearer point of another class is a surface in front,
-// kept by HPR or not). Read from the positions and the marked points' colours (the mark
-// copies those, since the shade pass writes the geometry pass's colour target; no image
-// of marked points and occluders: issue 15, tenth round).
+// kept by HPR or not). Read from the positions and, for the nearest marked point, its
+// colour packed in the filled colour's alpha by pull-push (the shade pass writes the
+// geometry pass's colour target, so the overlay cannot read the point colours there; no
+// image of marked points and occluders: issue 15, tenth round).
 // Twin: src/render/ref/volumetric_ref.c (sta_volumetric_overlay_ref).
 layout(binding = STA_VOLUMETRIC_WINDOW_IMAGE_POSITION,
        rgba32f) readonly uniform image2D u_vw_position;
-// The marked points' colours (only their pixels are written).
+// The filled colours (pull-push): at a marked pixel the alpha holds its point's colour,
+// packed (screen_space.h, sta_marked_colour_pack).
 layout(binding = STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_vw_colour;
 
 const int VW_R = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
@@ -38,6 +40,8 @@ bool vw_overlay_colour(ivec2 p, ivec2 size, out vec3 colour)
             }
         }
     }
-    colour = imageLoad(u_vw_colour, best_q).rgb;
+    float alpha = imageLoad(u_vw_colour, best_q).a;
+    uint rgb8 = best > 0.0 ? uint(-alpha - 1.0) : 0u;
+    colour = vec3(uvec3(rgb8 >> 16u, rgb8 >> 8u, rgb8) & 0xFFu) / 255.0;
     return best > 0.0 && !(occluder > 0.0 && occluder <= best);
 }

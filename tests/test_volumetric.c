@@ -13,10 +13,12 @@
 #include "render/gl.h"
 #include "render/gl_image.h"
 #include "render/gpu_cache.h"
+#include "render/pass_pullpush.h"
 #include "render/pass_shade.h"
 #include "render/pass_unproject.h"
 #include "render/pass_volumetric.h"
 #include "render/pipeline.h"
+#include "render/ref/pullpush_ref.h"
 #include "render/ref/screen_space.h"
 #include "render/ref/volumetric_ref.h"
 #include "render/scene.h"
@@ -54,11 +56,10 @@ static void mark_rule_on_small_cases(void **state)
     // before HPR and ignores labels), 3 slot past the table, 4 index past its node's count,
     // 5 empty id.
     const int w = 6;
-    sta_image position, colour, label, marked;
+    sta_image position, colour, label;
     image(&position, w, 1, 4);
     image(&colour, w, 1, 4);
     image(&label, w, 1, 1);
-    image(&marked, w, 1, 4);
     const float green[3] = { 0.1f, 0.8f, 0.2f };
     for (int x = 0; x < w; x++) {
         put(&position, &colour, &label, x, 0, 4.0f + (float)x, green,
@@ -71,56 +72,71 @@ static void mark_rule_on_small_cases(void **state)
     set_class(in.class_set, 3);
     set_class(in.class_set, 4);
     set_class(in.class_set, 5);
-    sta_volumetric_mark_ref(&in, &position, &colour, &marked);
+    sta_volumetric_mark_ref(&in, &position);
 
-    // Marked: w = STA_POSITION_W_MARKED (no seed for the fill), the colour copied.
+    // Marked: w = STA_POSITION_W_MARKED (no seed for the fill), xyz unchanged.
     assert_true(position.data[3] == STA_POSITION_W_MARKED && position.data[2] == -4.0f);
-    assert_true(marked.data[1] == green[1] && marked.data[3] == 1.0f);
-    assert_true(position.data[4 * 2 + 3] == STA_POSITION_W_MARKED &&
-                marked.data[4 * 2] == green[0]);
+    assert_true(position.data[4 * 2 + 3] == STA_POSITION_W_MARKED);
     for (int x = 1; x < w; x++) {
-        if (x != 2) { // not marked: the position as it was, nothing in the marked image
+        if (x != 2) { // not marked: the position as it was
             assert_true(position.data[4 * x + 3] == 1.0f);
             assert_true(position.data[4 * x + 2] == -(4.0f + (float)x));
-            assert_true(marked.data[4 * x + 3] == 0.0f);
         }
     }
     // Pixels without a point are never marked, whatever their id says.
     float *p0 = sta_image_at(&position, 0, 0);
     memset(p0, 0, 4 * sizeof(float));
-    memset(marked.data, 0, 4 * sizeof(float));
-    sta_volumetric_mark_ref(&in, &position, &colour, &marked);
-    assert_true(p0[3] == 0.0f && marked.data[3] == 0.0f);
+    sta_volumetric_mark_ref(&in, &position);
+    assert_true(p0[3] == 0.0f);
 
     // An empty class set marks nothing.
     put(&position, &colour, &label, 0, 0, 4.0f, green, STA_LABEL_VISIBLE);
     memset(in.class_set, 0, sizeof(in.class_set));
-    sta_volumetric_mark_ref(&in, &position, &colour, &marked);
-    assert_true(p0[3] == 1.0f && marked.data[3] == 0.0f);
+    sta_volumetric_mark_ref(&in, &position);
+    assert_true(p0[3] == 1.0f);
     // A class above 31 is reachable (the set covers 0..255).
     set_class(in.class_set, 200);
     uint8_t high[5] = { 200, 2, 4, 5, 5 };
     in.classes = high;
-    sta_volumetric_mark_ref(&in, &position, &colour, &marked);
-    assert_true(p0[3] == STA_POSITION_W_MARKED && marked.data[3] == 1.0f);
+    sta_volumetric_mark_ref(&in, &position);
+    assert_true(p0[3] == STA_POSITION_W_MARKED);
 
     sta_image_release(&position);
     sta_image_release(&colour);
     sta_image_release(&label);
-    sta_image_release(&marked);
+}
+
+// The packed colour of a marked point survives the round trip exactly for 8-bit colours
+// (what the geometry pass gives), black and white included, and is never a coverage.
+static void marked_colour_packing_round_trips(void **state)
+{
+    (void)state;
+    for (int r = 0; r < 256; r += 15) {
+        for (int g = 0; g < 256; g += 17) {
+            for (int b = 0; b < 256; b += 51) {
+                const float c[3] = { (float)r / 255.0f, (float)g / 255.0f, (float)b / 255.0f };
+                float a = sta_marked_colour_pack(c), back[3];
+                assert_true(a <= -1.0f);
+                sta_marked_colour_unpack(a, back);
+                assert_memory_equal(back, c, sizeof(c));
+            }
+        }
+    }
+    const float over[3] = { -0.5f, 2.0f, 1.0f }, clamped[3] = { 0.0f, 1.0f, 1.0f };
+    float back[3];
+    sta_marked_colour_unpack(sta_marked_colour_pack(over), back);
+    assert_memory_equal(back, clamped, sizeof(back));
 }
 
 // A point at distance `d` in pixel (x, y) of the overlay's inputs: marked (w = 2, colour
-// `c` in `marked`) or not (c NULL).
-static void overlay_point(sta_image *position, sta_image *marked, int x, int y, float d,
+// `c` packed in the filled colour's alpha) or not (c NULL).
+static void overlay_point(sta_image *position, sta_image *filled_colour, int x, int y, float d,
                           const float *c)
 {
     float *p = sta_image_at(position, x, y);
     p[2] = -d;
     p[3] = c ? STA_POSITION_W_MARKED : 1.0f;
-    if (c) {
-        memcpy(sta_image_at(marked, x, y), c, 3 * sizeof(float));
-    }
+    sta_image_at(filled_colour, x, y)[3] = c ? sta_marked_colour_pack(c) : 1.0f;
 }
 
 static void overlay_splats_behind_nearer_surfaces(void **state)
@@ -133,7 +149,8 @@ static void overlay_splats_behind_nearer_surfaces(void **state)
     image(&position, w, h, 4);
     image(&marked, w, h, 4);
     image(&out, w, h, 4);
-    const float colour[3] = { 0.2f, 0.9f, 0.1f }, red[3] = { 1.0f, 0.0f, 0.0f };
+    const float colour[3] = { 51.0f / 255.0f, 229.0f / 255.0f, 26.0f / 255.0f };
+    const float red[3] = { 1.0f, 0.0f, 0.0f };
     overlay_point(&position, &marked, 2, 1, 5.0f, colour);
     overlay_point(&position, &marked, 3, 1, 2.0f, NULL);
     overlay_point(&position, &marked, 1, 1, 9.0f, NULL);
@@ -148,7 +165,7 @@ static void overlay_splats_behind_nearer_surfaces(void **state)
         assert_true(sta_image_at(&out, 1, y)[3] == 1.0f); // splat over the farther surface
         assert_true(sta_image_at(&out, 0, y)[3] == 0.0f); // outside the splat
     }
-    assert_true(sta_image_at(&out, 1, 1)[1] == 0.9f); // the point's own colour
+    assert_true(sta_image_at(&out, 1, 1)[1] == colour[1]); // the point's own colour
     // As a marked point (not an occluder) the near one no longer hides the splat and
     // wins the pixels whose window holds it.
     overlay_point(&position, &marked, 3, 1, 2.0f, red);
@@ -157,7 +174,7 @@ static void overlay_splats_behind_nearer_surfaces(void **state)
     assert_true(sta_image_at(&out, 2, 1)[3] == 1.0f);
     assert_true(sta_image_at(&out, 2, 1)[0] == 1.0f); // the nearest point's colour
     assert_true(sta_image_at(&out, 4, 1)[0] == 1.0f);
-    assert_true(sta_image_at(&out, 1, 1)[0] == 0.2f); // only the point at 5 reaches it
+    assert_true(sta_image_at(&out, 1, 1)[0] == colour[0]); // only the point at 5 reaches it
     assert_true(sta_image_at(&out, 0, 1)[3] == 0.0f);
     // An occluder exactly as near as the nearest marked point hides it too.
     overlay_point(&position, &marked, 2, 2, 2.0f, NULL);
@@ -308,41 +325,46 @@ static void shaders_match_twins(void **state)
                               : labels[sta_test_frand(&s) < 0.5f ? 0 : 3];
     }
     sta_error err = { 0 };
-    GLuint tp[2], tc, tl, tm[2], tid = id_texture(w, h, ids), arena = arena_buffer(classes, POINTS);
+    GLuint tp[2], tid = id_texture(w, h, ids), arena = arena_buffer(classes, POINTS);
     GLuint tclass = class_texture(w, h, pixel_classes);
     GLuint tout = rgba8_texture(w, h, &out);
     for (int k = 0; k < 2; k++) {
         assert_int_equal(sta_gl_texture_from_image(&position, &tp[k], &err), STA_OK);
-        tm[k] = zero_texture(w, h, 4);
     }
-    assert_int_equal(sta_gl_texture_from_image(&colour, &tc, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_from_image(&label, &tl, &err), STA_OK);
 
     sta_volumetric_input in = { ids, nodes, NODES, classes, POINTS, { 0 } };
     set_class(in.class_set, 3);
     set_class(in.class_set, 5);
     set_class(in.class_set, 200);
-    sta_volumetric_mark_ref(&in, &position, &colour, &marked);
-    sta_volumetric_overlay_ref(&position, &marked, &out);
+    sta_volumetric_mark_ref(&in, &position);
+    // The filled colours as pull-push leaves them: a coverage in the alpha, and at the
+    // marked pixels the point's colour packed there.
     int nmarked = 0;
     for (int i = 0; i < w * h; i++) {
-        nmarked += position.data[4 * i + 3] == STA_POSITION_W_MARKED;
+        float *m = &marked.data[4 * i];
+        m[3] = label.data[i] == STA_LABEL_VISIBLE ? 1.0f : 0.5f;
+        if (position.data[4 * i + 3] == STA_POSITION_W_MARKED) {
+            m[3] = sta_marked_colour_pack(&colour.data[4 * i]);
+            nmarked++;
+        }
     }
+    sta_volumetric_overlay_ref(&position, &marked, &out);
     print_message("%d marked pixels\n", nmarked);
     assert_true(nmarked > 40); // the case exercises the rule
+    GLuint tfilled;
+    assert_int_equal(sta_gl_texture_from_image(&marked, &tfilled, &err), STA_OK);
 
     sta_volumetric_pass pass;
     assert_int_equal(sta_volumetric_pass_init(&pass, &err), STA_OK);
     sta_volumetric_points src = { tid, arena, nodes, NODES };
     for (int k = 0; k < 2; k++) { // k = 0: the id lookup, 1: the class image
-        sta_volumetric_frame frame = { w, h, tp[k], tc, tm[k] };
+        sta_volumetric_frame frame = { w, h, tp[k], tfilled };
         assert_int_equal(
             sta_volumetric_pass_mark(&pass, &src, in.class_set, k ? tclass : 0, &frame, &err),
             STA_OK);
         assert_texture_equals(tp[k], 4, &position);
-        assert_texture_equals(tm[k], 4, &marked);
     }
-    sta_volumetric_frame frame = { w, h, tp[0], tc, tm[0] };
+    sta_volumetric_frame frame = { w, h, tp[0], tfilled };
     sta_volumetric_pass_overlay(&pass, &frame, tout);
     uint8_t *got = read_rgba8(tout, w, h);
     int worst = 0;
@@ -356,8 +378,8 @@ static void shaders_match_twins(void **state)
     free(ids);
     free(pixel_classes);
     sta_volumetric_pass_release(&pass);
-    GLuint textures[9] = { tp[0], tp[1], tc, tl, tm[0], tm[1], tid, tout, tclass };
-    glDeleteTextures(9, textures);
+    GLuint textures[6] = { tp[0], tp[1], tid, tout, tclass, tfilled };
+    glDeleteTextures(6, textures);
     glDeleteBuffers(1, &arena);
     sta_image *images[] = { &position, &colour, &label, &marked, &out };
     for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
@@ -366,17 +388,15 @@ static void shaders_match_twins(void **state)
 }
 
 // The unproject pass with the mark fused into it (what the GL_POINTS pipeline runs)
-// gives the plain pass's positions with the twin's marks, bit for bit: w = 2 and the
-// colour copied where the class image holds a class of the set.
+// gives the plain pass's positions with the twin's marks, bit for bit: w = 2 where the
+// class image holds a class of the set.
 static void unproject_mark_matches_plain_and_twin(void **state)
 {
     (void)state;
     const int w = 45, h = 27; // odd sizes: partial workgroups
     sta_view_params view = { w, h, 0.9f, 0.05f, 0.01f };
-    sta_image depth, colour, marked;
+    sta_image depth;
     image(&depth, w, h, 1);
-    image(&colour, w, h, 4);
-    image(&marked, w, h, 4);
     uint8_t *classes = malloc((size_t)w * h);
     uint32_t *ids = malloc((size_t)w * h * 2 * sizeof(uint32_t));
     assert_non_null(classes);
@@ -389,17 +409,12 @@ static void unproject_mark_matches_plain_and_twin(void **state)
         classes[i] = (uint8_t)(sta_test_frand(&s) * 8.0f);
         ids[2 * i] = 0;
         ids[2 * i + 1] = (uint32_t)i; // one node: the pixel's own class
-        for (int k = 0; k < 3; k++) {
-            colour.data[4 * i + k] = sta_test_frand(&s);
-        }
-        colour.data[4 * i + 3] = 1.0f;
     }
     sta_error err = { 0 };
-    GLuint tdepth, tcolour, tclass = class_texture(w, h, classes);
+    GLuint tdepth, tclass = class_texture(w, h, classes);
     assert_int_equal(sta_gl_texture_from_image(&depth, &tdepth, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_from_image(&colour, &tcolour, &err), STA_OK);
     GLuint plain = zero_texture(w, h, 4), fused = zero_texture(w, h, 4);
-    GLuint tmarked = zero_texture(w, h, 4);
+
     sta_unproject_pass pass;
     assert_int_equal(sta_unproject_pass_init(&pass, &err), STA_OK);
     sta_volumetric_input in = { ids, NULL, 1, classes, (uint32_t)(w * h), { 0 } };
@@ -408,12 +423,12 @@ static void unproject_mark_matches_plain_and_twin(void **state)
     set_class(in.class_set, 3);
     set_class(in.class_set, 5);
     sta_unproject_pass_run(&pass, &view, tdepth, plain);
-    sta_unproject_mark mark = { tclass, in.class_set, tcolour, tmarked };
+    sta_unproject_mark mark = { tclass, in.class_set };
     sta_unproject_pass_run_marked(&pass, &view, tdepth, &mark, fused);
 
     sta_image expected;
     assert_int_equal(sta_gl_texture_to_image(plain, 0, 4, &expected, &err), STA_OK);
-    sta_volumetric_mark_ref(&in, &expected, &colour, &marked);
+    sta_volumetric_mark_ref(&in, &expected);
     int nmarked = 0, drawn = 0;
     for (int i = 0; i < w * h; i++) {
         nmarked += expected.data[4 * i + 3] == STA_POSITION_W_MARKED;
@@ -422,14 +437,87 @@ static void unproject_mark_matches_plain_and_twin(void **state)
     print_message("%d of %d drawn pixels marked\n", nmarked, drawn);
     assert_true(nmarked > drawn / 8 && nmarked < drawn / 2); // the case exercises the rule
     assert_texture_equals(fused, 4, &expected);
-    assert_texture_equals(tmarked, 4, &marked);
 
     sta_unproject_pass_release(&pass);
-    GLuint textures[6] = { tdepth, tcolour, tclass, plain, fused, tmarked };
-    glDeleteTextures(6, textures);
+    GLuint textures[4] = { tdepth, tclass, plain, fused };
+    glDeleteTextures(4, textures);
     free(classes);
     free(ids);
-    sta_image *images[] = { &depth, &colour, &marked, &expected };
+    sta_image *images[] = { &depth, &expected };
+    for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
+        sta_image_release(images[i]);
+    }
+}
+
+// Pull-push leaves a marked point's own colour packed in the filled colour's alpha
+// (where the overlay reads it) and takes no seed from it: the shader and the twin agree,
+// the packed colours exactly, on a random frame of visible, hidden and marked points.
+static void pullpush_keeps_marked_colours(void **state)
+{
+    (void)state;
+    const int w = 53, h = 31;
+    sta_view_params view = { w, h, 0.9f, 0.05f, 0.01f };
+    sta_image position, colour, label, want_p, want_c;
+    image(&position, w, h, 4);
+    image(&colour, w, h, 4);
+    image(&label, w, h, 1);
+    image(&want_p, w, h, 4);
+    image(&want_c, w, h, 4);
+    uint64_t s = 5;
+    int nmarked = 0;
+    for (int i = 0; i < w * h; i++) {
+        float *p = &position.data[4 * i], *c = &colour.data[4 * i];
+        for (int k = 0; k < 3; k++) {
+            c[k] = (float)(int)(sta_test_frand(&s) * 255.0f) / 255.0f; // 8-bit colours
+        }
+        c[3] = 1.0f;
+        label.data[i] = sta_test_frand(&s) < 0.5f ? STA_LABEL_HOLE : STA_LABEL_BACKGROUND;
+        if (sta_test_frand(&s) < 0.6f) {
+            p[0] = 0.01f * (float)(i % w) - 0.25f;
+            p[1] = 0.01f * (float)(i / w) - 0.15f;
+            p[2] = -(2.0f + sta_test_frand(&s));
+            bool marked = sta_test_frand(&s) < 0.2f;
+            p[3] = marked ? STA_POSITION_W_MARKED : 1.0f;
+            label.data[i] = sta_test_frand(&s) < 0.8f ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN;
+            nmarked += marked;
+        }
+    }
+    sta_error err = { 0 };
+    assert_int_equal(
+        sta_pullpush_ref(&view, &position, &colour, &label, &want_p, &want_c, NULL, &err), STA_OK);
+    GLuint tp, tl, tc = rgba8_texture(w, h, &colour), out_p, out_c;
+    assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&label, &tl, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_p, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_c, &err), STA_OK);
+    sta_pullpush_pass pp;
+    assert_int_equal(sta_pullpush_pass_init(&pp, &err), STA_OK);
+    assert_int_equal(sta_pullpush_pass_run(&pp, &view, tp, tc, tl, out_p, out_c, &err), STA_OK);
+    sta_image got_p, got_c;
+    assert_int_equal(sta_gl_texture_to_image(out_p, 0, 4, &got_p, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_to_image(out_c, 0, 4, &got_c, &err), STA_OK);
+    print_message("%d marked pixels\n", nmarked);
+    assert_true(nmarked > 100);
+    for (int i = 0; i < w * h; i++) {
+        const float *c = &colour.data[4 * i];
+        if (position.data[4 * i + 3] == STA_POSITION_W_MARKED) {
+            float packed = sta_marked_colour_pack(c);
+            assert_true(want_c.data[4 * i + 3] == packed);
+            assert_true(got_c.data[4 * i + 3] == packed);
+        } else {
+            assert_true(got_c.data[4 * i + 3] >= 0.0f); // a coverage
+            assert_true(fabsf(got_c.data[4 * i + 3] - want_c.data[4 * i + 3]) <= 1e-4f);
+        }
+        // The filled points agree: the marked ones are no seed in either.
+        for (int k = 0; k < 4; k++) {
+            float a = want_p.data[4 * i + k], b = got_p.data[4 * i + k];
+            assert_true(fabsf(a - b) <= 1e-4f * fmaxf(1.0f, fabsf(a)));
+        }
+    }
+    sta_pullpush_pass_release(&pp);
+    GLuint textures[5] = { tp, tl, tc, out_p, out_c };
+    glDeleteTextures(5, textures);
+    sta_image *images[] = { &position, &colour, &label, &want_p, &want_c, &got_p, &got_c };
     for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
         sta_image_release(images[i]);
     }
@@ -442,17 +530,15 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
 {
     (void)state;
     const int w = 41, h = 29;
-    sta_image position, colour, normal, points, label, marked;
+    sta_image position, colour, normal, points;
     image(&position, w, h, 4);
     image(&colour, w, h, 4);
     image(&normal, w, h, 4);
     image(&points, w, h, 4);
-    image(&label, w, h, 1);
-    image(&marked, w, h, 4);
     uint64_t s = 11;
     for (int i = 0; i < w * h; i++) {
         float *p = &position.data[4 * i], *c = &colour.data[4 * i], *n = &normal.data[4 * i];
-        float *q = &points.data[4 * i], *m = &marked.data[4 * i];
+        float *q = &points.data[4 * i];
         if (sta_test_frand(&s) < 0.85f) {
             p[0] = sta_test_frand(&s) - 0.5f;
             p[1] = sta_test_frand(&s) - 0.5f;
@@ -465,28 +551,26 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
             c[k] = sta_test_frand(&s);
         }
         c[3] = 1.0f;
-        // The drawn points (the unproject's positions): marked, visible or hidden.
+        // The drawn points (the unproject's positions): marked or not; a marked point's
+        // colour packed in the filled colour's alpha, as pull-push leaves it.
         float r = sta_test_frand(&s);
-        label.data[i] = STA_LABEL_HOLE;
         if (r < 0.3f) {
             q[0] = sta_test_frand(&s) - 0.5f;
             q[1] = sta_test_frand(&s) - 0.5f;
             q[2] = -(1.0f + 20.0f * sta_test_frand(&s));
             q[3] = r < 0.1f ? STA_POSITION_W_MARKED : 1.0f;
-            label.data[i] = r < 0.25f ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN;
-            for (int k = 0; k < 3 && r < 0.1f; k++) {
-                m[k] = sta_test_frand(&s);
+            if (r < 0.1f) {
+                float m[3] = { sta_test_frand(&s), sta_test_frand(&s), sta_test_frand(&s) };
+                c[3] = sta_marked_colour_pack(m);
             }
         }
     }
     sta_error err = { 0 };
-    GLuint tp, tc, tn, tpts, tl, tm, split, fused, plain;
+    GLuint tp, tc, tn, tpts, split, fused, plain;
     assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&colour, &tc, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&normal, &tn, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&points, &tpts, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_from_image(&label, &tl, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_from_image(&marked, &tm, &err), STA_OK);
     sta_image blank;
     image(&blank, w, h, 4);
     split = rgba8_texture(w, h, &blank);
@@ -497,7 +581,7 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
     assert_int_equal(sta_shade_pass_init(&shade, &err), STA_OK);
     assert_int_equal(sta_volumetric_pass_init(&vol, &err), STA_OK);
     sta_shade_params params = { .background = { 0.1f, 0.2f, 0.3f } };
-    sta_volumetric_frame frame = { w, h, tpts, tc, tm };
+    sta_volumetric_frame frame = { w, h, tpts, tc };
     sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, NULL, plain);
     sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, NULL, split);
     sta_volumetric_pass_overlay(&vol, &frame, split);
@@ -516,9 +600,9 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
     free(c);
     sta_shade_pass_release(&shade);
     sta_volumetric_pass_release(&vol);
-    GLuint textures[9] = { tp, tc, tn, tpts, tl, tm, split, fused, plain };
-    glDeleteTextures(9, textures);
-    sta_image *images[] = { &position, &colour, &normal, &points, &blank, &label, &marked };
+    GLuint textures[7] = { tp, tc, tn, tpts, split, fused, plain };
+    glDeleteTextures(7, textures);
+    sta_image *images[] = { &position, &colour, &normal, &points, &blank };
     for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
         sta_image_release(images[i]);
     }
@@ -738,10 +822,13 @@ static void points_pass_writes_the_classes_of_the_ids(void **state)
 
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(mark_rule_on_small_cases),
+    cmocka_unit_test(marked_colour_packing_round_trips),
     cmocka_unit_test(overlay_splats_behind_nearer_surfaces),
     cmocka_unit_test_setup_teardown(shaders_match_twins, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(unproject_mark_matches_plain_and_twin, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(pullpush_keeps_marked_colours, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(shade_overlay_matches_shade_then_overlay, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

@@ -63,8 +63,6 @@
 #define STA_UNPROJECT_SAMPLER_DEPTH  0 /* reverse-Z depth */
 #define STA_UNPROJECT_IMAGE_POSITION 0 /* RGBA32F out: camera-space positions */
 #define STA_UNPROJECT_IMAGE_CLASS    1 /* R8UI point classes (STA_UNPROJECT_MARK) */
-#define STA_UNPROJECT_SAMPLER_COLOUR 1 /* point colours (STA_UNPROJECT_MARK) */
-#define STA_UNPROJECT_IMAGE_COLOUR   2 /* RGBA32F out: marked points' colours (idem) */
 
 /* Colour conversion of the pipeline's input (colour_to_float.comp). */
 #define STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8 0 /* RGBA8 colour of the geometry pass */
@@ -150,8 +148,6 @@
 /* Volumetric classes shown as points (volumetric_mark.comp, volumetric_overlay.comp). */
 #define STA_VOLUMETRIC_MARK_IMAGE_ID         0 /* RG32UI point ids (render/target.h) */
 #define STA_VOLUMETRIC_MARK_IMAGE_POSITION   4 /* RGBA32F camera-space positions, w updated */
-#define STA_VOLUMETRIC_MARK_SAMPLER_COLOUR   0 /* point colours (RGBA8 or RGBA32F) */
-#define STA_VOLUMETRIC_MARK_IMAGE_COLOUR     3 /* RGBA32F out: marked points' colours */
 #define STA_VOLUMETRIC_MARK_IMAGE_CLASS      5 /* R8UI point classes (STA_VOLUMETRIC_CLASS_IMAGE) */
 #define STA_VOLUMETRIC_MARK_BUFFER_ARENA     0 /* the GPU cache's arena */
 #define STA_VOLUMETRIC_MARK_BUFFER_NODES     1 /* uvec2 per node slot: offset, count */
@@ -159,7 +155,8 @@
 /* volumetric_window.glsl, in volumetric_overlay.comp and shade.comp (STA_SHADE_OVERLAY):
  * above every image unit of both */
 #define STA_VOLUMETRIC_WINDOW_IMAGE_POSITION 4 /* RGBA32F positions, marked: w = 2 */
-#define STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR   6 /* RGBA32F marked points' colours */
+#define STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR                                                         \
+ 6 /* RGBA32F filled colours: alpha = packed marked colour */
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \
@@ -198,8 +195,6 @@
  X(STA_UNPROJECT_SAMPLER_DEPTH)                                                                    \
  X(STA_UNPROJECT_IMAGE_POSITION)                                                                   \
  X(STA_UNPROJECT_IMAGE_CLASS)                                                                      \
- X(STA_UNPROJECT_SAMPLER_COLOUR)                                                                   \
- X(STA_UNPROJECT_IMAGE_COLOUR)                                                                     \
  X(STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8)                                                            \
  X(STA_COLOUR_TO_FLOAT_IMAGE_COLOUR)                                                               \
  X(STA_DISPLAY_IMAGE_POSITION)                                                                     \
@@ -255,8 +250,6 @@
  X(STA_EDL_IMAGE_OUT)                                                                              \
  X(STA_VOLUMETRIC_MARK_IMAGE_ID)                                                                   \
  X(STA_VOLUMETRIC_MARK_IMAGE_POSITION)                                                             \
- X(STA_VOLUMETRIC_MARK_SAMPLER_COLOUR)                                                             \
- X(STA_VOLUMETRIC_MARK_IMAGE_COLOUR)                                                               \
  X(STA_VOLUMETRIC_MARK_IMAGE_CLASS)                                                                \
  X(STA_VOLUMETRIC_MARK_BUFFER_ARENA)                                                               \
  X(STA_VOLUMETRIC_MARK_BUFFER_NODES)                                                               \

@@ -27,17 +27,15 @@ void sta_unproject_pass_release(sta_unproject_pass *pass);
 void sta_unproject_pass_run(const sta_unproject_pass *pass, const sta_view_params *view,
                             GLuint depth_texture, GLuint position_texture);
 
-/* The volumetric mark's inputs and output for sta_unproject_pass_run_marked. */
+/* The volumetric mark's inputs for sta_unproject_pass_run_marked. */
 typedef struct sta_unproject_mark {
     GLuint class_texture;      /* R8UI: the class of each pixel's point (the geometry pass's) */
     const uint32_t *class_set; /* STA_UNPROJECT_CLASS_WORDS words: bit c % 32 of word c / 32 */
-    GLuint colour;             /* the point colours (RGBA8 or RGBA32F, sampled) */
-    GLuint marked;             /* RGBA32F out: the marked points' colours, at their pixels */
 } sta_unproject_mark;
 
 /* The same, and the volumetric mark fused into it (issue 15, tenth round): a drawn pixel
- * whose class is in the set gets w = STA_POSITION_W_MARKED and its colour copied to
- * mark->marked, as sta_volumetric_mark_ref marks it. mark NULL: the plain pass. */
+ * whose class is in the set gets w = STA_POSITION_W_MARKED, as sta_volumetric_mark_ref
+ * marks it. mark NULL: the plain pass. */
 void sta_unproject_pass_run_marked(const sta_unproject_pass *pass, const sta_view_params *view,
                                    GLuint depth_texture, const sta_unproject_mark *mark,
                                    GLuint position_texture);

@@ -138,9 +138,6 @@ sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumet
     }
     glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_POSITION, frame->position, 0, GL_FALSE, 0,
                        GL_READ_WRITE, GL_RGBA32F);
-    glBindTextureUnit(STA_VOLUMETRIC_MARK_SAMPLER_COLOUR, frame->colour);
-    glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_COLOUR, frame->marked, 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RGBA32F);
     sta_gl_dispatch_2d(frame->width, frame->height);
     return sta_gl_check("volumetric mark pass", err);
 }
@@ -149,7 +146,7 @@ void sta_volumetric_window_bind(const sta_volumetric_frame *frame)
 {
     glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_POSITION, frame->position, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR, frame->marked, 0, GL_FALSE, 0,
+    glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR, frame->filled_colour, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
 }
 

@@ -328,7 +328,7 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     // overlay sample the geometry pass's RGBA8 colour (the same values).
     mark(p, t, STA_PASS_UNPROJECT, 0);
     if (!positions_ready) {
-        sta_unproject_mark fused = { p->classes, classes, colour_rgba8, p->colour };
+        sta_unproject_mark fused = { p->classes, classes };
         sta_unproject_pass_run_marked(&p->unproject, view, depth, mark_in_unproject ? &fused : NULL,
                                       p->position);
     }
@@ -342,9 +342,9 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     }
     mark(p, t, STA_PASS_UNPROJECT, 1);
     ran[STA_PASS_UNPROJECT] = true;
-    // The marked points' colours go to the float colour image (only the EDL and HPR
-    // displays use it otherwise; the shade pass writes colour_rgba8).
-    sta_volumetric_frame vframe = { w, h, p->position, colour_rgba8, p->colour };
+    // The overlay reads the marked points' colours from the filled colour's alpha
+    // (screen_space.h: pull-push packs them there).
+    sta_volumetric_frame vframe = { w, h, p->position, p->filled_colour };
     if (volumetric && !mark_in_unproject) {
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
         s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes,

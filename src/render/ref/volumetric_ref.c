@@ -26,8 +26,7 @@ static const float *at_or_null(const sta_image *im, int x, int y)
     return x >= 0 && y >= 0 && x < im->width && y < im->height ? sta_image_at(im, x, y) : NULL;
 }
 
-void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position,
-                             const sta_image *colour, sta_image *marked)
+void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position)
 {
     for (int y = 0; y < position->height; y++) {
         for (int x = 0; x < position->width; x++) {
@@ -39,18 +38,13 @@ void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position
             int cls = pixel_class(in, i);
             if (cls >= 0 && sta_volumetric_has_class(in->class_set, (uint32_t)cls)) {
                 q[3] = STA_POSITION_W_MARKED;
-                float *m = sta_image_at(marked, x, y);
-                const float *c = sta_image_at(colour, x, y);
-                for (int k = 0; k < 3; k++) {
-                    m[k] = c[k];
-                }
-                m[3] = 1.0f;
             }
         }
     }
 }
 
-void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *marked, sta_image *out)
+void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *filled_colour,
+                                sta_image *out)
 {
     const int r = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
     for (int y = 0; y < out->height; y++) {
@@ -79,7 +73,8 @@ void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *mark
                 continue;
             }
             float *o = sta_image_at(out, x, y);
-            const float *c = sta_image_at(marked, bx, by);
+            float c[3];
+            sta_marked_colour_unpack(sta_image_at(filled_colour, bx, by)[3], c);
             for (int k = 0; k < 3; k++) {
                 o[k] = fminf(fmaxf(c[k], 0.0f), 1.0f);
             }

@@ -7,7 +7,7 @@
  * point whose classification is in `classes` gets w = STA_POSITION_W_MARKED
  * (screen_space.h): HPR still sees it as a point (an occluder), pull-push takes no seed
  * from it (the surface behind it, or the background, is reconstructed from the other
- * points), and its colour is copied to `marked` (only marked pixels are written). HPR's
+ * points) and keeps its colour in the filled colour's alpha (screen_space.h). HPR's
  * labels play no part in the mark: HPR-hidden canopy points are kept too, since
  * scattered returns are no closed surface, so canopy behind canopy is seen through the
  * gaps (HPR would remove it and leave black holes between crowns). Overlay (after
@@ -52,13 +52,13 @@ static inline bool sta_volumetric_has_class(const uint32_t *set, uint32_t c)
 }
 
 /* Mark: `position` RGBA (camera space, w > 0 where a point was drawn) read and updated,
- * `colour` RGBA (the point colours), `marked` RGBA written at the marked pixels only;
- * all the same size as the id image. Ids out of range (slot past node_count, index past
- * the node's count or the arena) are ignored. */
-void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position,
-                             const sta_image *colour, sta_image *marked);
+ * the same size as the id image. Ids out of range (slot past node_count, index past the
+ * node's count or the arena) are ignored. */
+void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position);
 
-/* Overlay: `position` and `marked` from mark, `out` RGBA. */
-void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *marked, sta_image *out);
+/* Overlay: `position` from mark, `filled_colour` from pull-push (sta_pullpush_ref: at a
+ * marked pixel its alpha holds the point's colour), `out` RGBA. */
+void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *filled_colour,
+                                sta_image *out);
 
 #endif
