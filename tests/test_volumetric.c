@@ -820,6 +820,75 @@ static void points_pass_writes_the_classes_of_the_ids(void **state)
     sta_scene_close(scene);
 }
 
+/* Both rasterisers' frames come to HPR with the volumetric classes marked in the
+ * positions (w = STA_POSITION_W_MARKED) exactly where the pixel's point has a class of
+ * the set: GL_POINTS through the unproject pass, the compute rasteriser in its resolve
+ * (the mark pass runs in neither). A small synthetic street seen down its middle. */
+static void both_rasterisers_mark_the_classes(void **state)
+{
+    (void)state;
+    enum {
+        SW = 320,
+        SH = 200
+    };
+    sta_synth_params p = { .kind = STA_SYNTH_STREET, .point_count = 300000, .seed = 1 };
+    sta_synth_georef georef;
+    sta_synth_georef_init(p.origin, &georef);
+    char las[4096], path[4096];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("mstreet.las"));
+    snprintf(path, sizeof(path), "%s", sta_test_tmp_path("mstreet.strata"));
+    sta_error err = { 0 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    const char *inputs[] = { las };
+    sta_convert_options o = { .inputs = inputs, .input_count = 1, .output = path, .force = true };
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_OK);
+    for (int raster = STA_RASTER_COMPUTE; raster <= STA_RASTER_POINTS; raster++) {
+        sta_scene *scene = NULL;
+        sta_scene_options options = { .min_spacing_px = 0.01 };
+        assert_int_equal(sta_scene_open(path, &options, &scene, &err), STA_OK);
+        sta_geometry_options g = { .raster = raster };
+        sta_scene_set_raster(scene, &g);
+        sta_pipeline_options pipeline = { .mode = STA_PIPELINE_SHADED }; // default set: 3-5
+        sta_scene_set_pipeline(scene, &pipeline);
+        sta_camera camera = { 0 };
+        camera.position[0] = georef.origin[0] - 6.0;
+        camera.position[1] = georef.origin[1];
+        camera.position[2] = georef.origin[2] + 2.25;
+        camera.yaw = 3.14159265358979;
+        camera.pitch = -0.14;
+        camera.fov_y = 1.2217;
+        camera.near_m = 0.01;
+        camera.width_px = SW;
+        camera.height_px = SH;
+        sta_render_target target = { 0 };
+        sta_fixture_render_complete(scene, &camera, &target);
+        const sta_pipeline *pl = sta_scene_pipeline(scene);
+        static uint8_t classes[SW * SH];
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glGetTextureImage(pl->classes, 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, sizeof(classes),
+                          classes);
+        glPixelStorei(GL_PACK_ALIGNMENT, 4);
+        sta_image position;
+        assert_int_equal(sta_gl_texture_to_image(pl->position, 0, 4, &position, &err), STA_OK);
+        int drawn = 0, marked = 0;
+        for (int i = 0; i < SW * SH; i++) {
+            float w = position.data[4 * i + 3];
+            bool vegetation = classes[i] >= 3 && classes[i] <= 5;
+            drawn += w > 0.0f;
+            marked += w == STA_POSITION_W_MARKED;
+            assert_true(w == 0.0f || w == 1.0f || w == STA_POSITION_W_MARKED);
+            assert_true((w == STA_POSITION_W_MARKED) == (w > 0.0f && vegetation));
+        }
+        print_message("%s: %d drawn pixels, %d marked\n",
+                      raster == STA_RASTER_COMPUTE ? "compute" : "points", drawn, marked);
+        assert_true(drawn > SW * SH / 10);
+        assert_true(marked > 100 && marked < drawn / 2);
+        sta_image_release(&position);
+        sta_render_target_release(&target);
+        sta_scene_close(scene);
+    }
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(mark_rule_on_small_cases),
     cmocka_unit_test(marked_colour_packing_round_trips),
@@ -833,6 +902,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(shade_overlay_matches_shade_then_overlay, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(points_pass_writes_the_classes_of_the_ids, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(both_rasterisers_mark_the_classes, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(flagged_pixels_are_not_filled, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

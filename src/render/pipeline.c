@@ -261,13 +261,12 @@ sta_status sta_pipeline_set_points(sta_pipeline *p, GLuint id_texture, const sta
                                             err);
 }
 
-// The volumetric class set of `o`, or false when it is empty or there is nothing to
-// look classes up in.
-static bool volumetric_classes(const sta_pipeline *p, const sta_pipeline_options *o,
-                               uint32_t set[STA_VOLUMETRIC_CLASS_WORDS])
+bool sta_pipeline_volumetric_set(const sta_pipeline_options *o,
+                                 uint32_t set[STA_VOLUMETRIC_CLASS_WORDS])
 {
     memset(set, 0, STA_VOLUMETRIC_CLASS_WORDS * sizeof(set[0]));
-    if (!p->points_source.id_texture || !p->points_source.arena) {
+    if (o->mode != STA_PIPELINE_FILL && o->mode != STA_PIPELINE_NORMALS &&
+        o->mode != STA_PIPELINE_SHADED) {
         return false;
     }
     uint32_t any = 0;
@@ -280,6 +279,15 @@ static bool volumetric_classes(const sta_pipeline *p, const sta_pipeline_options
         any = set[0];
     }
     return any != 0;
+}
+
+// The volumetric class set of `o`, or false when it is empty, the mode marks nothing or
+// there is nothing to look classes up in (the resolve marked them: no lookup needed).
+static bool volumetric_classes(const sta_pipeline *p, const sta_pipeline_options *o,
+                               bool positions_marked, uint32_t set[STA_VOLUMETRIC_CLASS_WORDS])
+{
+    bool any = sta_pipeline_volumetric_set(o, set);
+    return any && (positions_marked || (p->points_source.id_texture && p->points_source.arena));
 }
 
 static void read_timing(sta_pipeline *p, sta_pipeline_timing *t, const bool *ran)
@@ -303,7 +311,8 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     bool ran[STA_PASS_COUNT] = { false };
     bool positions_ready = p->positions_ready;
     bool classes_ready = positions_ready || p->classes_ready;
-    p->positions_ready = p->classes_ready = false;
+    bool positions_marked = positions_ready && p->positions_marked;
+    p->positions_ready = p->classes_ready = p->positions_marked = false;
     if (t) {
         memset(t, 0, sizeof(*t));
     }
@@ -318,8 +327,7 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     // Volumetric classes (fill, normals and shaded modes): marked in the positions before HPR
     // (w = STA_POSITION_W_MARKED: no seeds for the fill), drawn back as points after shading.
     uint32_t classes[STA_VOLUMETRIC_CLASS_WORDS];
-    bool volumetric = o->mode != STA_PIPELINE_EDL && o->mode != STA_PIPELINE_HPR &&
-                      volumetric_classes(p, o, classes);
+    bool volumetric = volumetric_classes(p, o, positions_marked, classes);
     // Where the geometry pass wrote a class image, the mark runs inside the unproject pass
     // (issue 15, tenth round: one full-screen pass fewer).
     bool mark_in_unproject = volumetric && !positions_ready && classes_ready;
@@ -345,7 +353,7 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     // The overlay reads the marked points' colours from the filled colour's alpha
     // (screen_space.h: pull-push packs them there).
     sta_volumetric_frame vframe = { w, h, p->position, p->filled_colour };
-    if (volumetric && !mark_in_unproject) {
+    if (volumetric && !mark_in_unproject && !positions_marked) {
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
         s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes,
                                      classes_ready ? p->classes : 0, &vframe, err);
