@@ -9,7 +9,8 @@
 // takes one surface, not a depth between both.
 // Twin: src/render/ref/pullpush_ref.c (push_texel). Built twice: with PP_LEVEL0 the
 // fine level is the input, the result goes to the output textures and the background
-// found by HPR is restored; without it a pyramid level is updated in place.
+// found by HPR is restored (and a marked point's own colour packed into the colour's
+// alpha, screen_space.h); without it a pyramid level is updated in place.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 #ifdef PP_LEVEL0
 // Level 0: the outputs.
@@ -114,6 +115,9 @@ void main()
         out_p = vec4(0.0);
         out_c = vec4(0.0);
     }
+    // A marked (volumetric) point keeps its own colour in the alpha for the overlay
+    // (screen_space.h; the input colour is fetched here anyway).
+    out_c.a = t0.w == PP_POSITION_W_MARKED ? pp_marked_colour(fc) : out_c.a;
 #endif
     imageStore(u_position, q, out_p);
     imageStore(u_colour, q, out_c);

@@ -4,7 +4,9 @@
 // colour mode (STA_RASTER_COLOUR_MODE), so that only that mode's branch runs. With
 // STA_RASTER_POSITION also its camera-space position (what the unproject pass would make
 // of the depth written here: unproject_pixel.glsl), so the screen-space pipeline can skip
-// that pass, and its class (the volumetric mark reads it instead of looking the id up).
+// that pass, and its class; a drawn pixel whose class is in u_mark_classes gets
+// w = STA_POSITION_W_MARKED, the volumetric mark (render/ref/volumetric_ref.h) done here
+// (issue 15, tenth round: the mark pass is skipped; all zero: nothing marked).
 uniform vec2 u_elevation;        // (camera z - min z, 1 / (max z - min z))
 uniform float u_intensity_scale; // 1 / largest intensity
 uniform vec3 u_background;       // colour of empty pixels
@@ -14,6 +16,7 @@ layout(location = STA_GEOMETRY_OUT_CLASS) out uint o_class; // for the volumetri
 uniform vec2 u_unproject_size; // as the unproject pass's u_size, u_tan_half, u_near
 uniform vec2 u_tan_half;
 uniform float u_near;
+uniform uint u_mark_classes[8]; // bit c % 32 of word c / 32: class c is volumetric
 #endif
 
 layout(location = STA_GEOMETRY_OUT_COLOUR) out vec4 o_colour;
@@ -58,5 +61,10 @@ void main()
 #if STA_RASTER_POSITION
     o_position = unproject_pixel(p, uintBitsToFloat(bits), u_unproject_size, u_tan_half, u_near);
     o_class = colour_class.w;
+    uint c = colour_class.w & 0xFFu;
+    if (o_position.w > 0.0 && o_position.z < 0.0 &&
+        ((u_mark_classes[c >> 5u] >> (c & 31u)) & 1u) != 0u) {
+        o_position.w = STA_POSITION_W_MARKED;
+    }
 #endif
 }

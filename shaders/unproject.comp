@@ -1,10 +1,18 @@
 // SPDX-License-Identifier: MIT
 // Unproject: reverse-Z depth buffer -> camera-space positions (screen_space.h;
-// unproject_pixel.glsl).
+// unproject_pixel.glsl). With STA_UNPROJECT_MARK it also marks the volumetric classes
+// (the mark of volumetric_mark.comp, fused: one full-screen pass fewer, issue 15 tenth
+// round): a drawn pixel whose class in the geometry pass's class image is in u_classes
+// gets w = STA_POSITION_W_MARKED (pull-push keeps its colour for the overlay). Twins: src/render/ref/unproject_ref.c and
+// sta_volumetric_mark_ref (src/render/ref/volumetric_ref.c).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 // reverse-Z: near / distance, 0 = empty
 layout(binding = STA_UNPROJECT_SAMPLER_DEPTH) uniform sampler2D u_depth;
 layout(binding = STA_UNPROJECT_IMAGE_POSITION, rgba32f) writeonly uniform image2D u_position;
+#ifdef STA_UNPROJECT_MARK
+layout(binding = STA_UNPROJECT_IMAGE_CLASS, r8ui) readonly uniform uimage2D u_class;
+uniform uint u_classes[8]; // bit c % 32 of word c / 32: class c is volumetric
+#endif
 uniform vec2 u_size;     // width, height in pixels
 uniform vec2 u_tan_half; // tan(fov_y / 2) * aspect, tan(fov_y / 2)
 uniform float u_near;
@@ -16,5 +24,14 @@ void main()
         return;
     }
     float d = texelFetch(u_depth, p, 0).r;
-    imageStore(u_position, p, unproject_pixel(p, d, u_size, u_tan_half, u_near));
+    vec4 position = unproject_pixel(p, d, u_size, u_tan_half, u_near);
+#ifdef STA_UNPROJECT_MARK
+    if (position.w > 0.0 && position.z < 0.0) {
+        uint c = imageLoad(u_class, p).x & 0xFFu;
+        if (((u_classes[c >> 5u] >> (c & 31u)) & 1u) != 0u) {
+            position.w = STA_POSITION_W_MARKED;
+        }
+    }
+#endif
+    imageStore(u_position, p, position);
 }

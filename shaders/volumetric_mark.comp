@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
-// Volumetric classes, mark step: a pixel whose drawn point (visible or HPR-hidden),
-// looked up through the point-id target in the arena, has a class in u_classes is
-// relabelled hidden, so pull-push does not grow a surface from it; its colour and
-// distance (-z) go to the points image for the overlay, visible points of the other
-// classes go there as occluders (alpha: minus their distance).
-// With STA_VOLUMETRIC_CLASS_IMAGE the class comes from a per-pixel class image (the
-// compute rasteriser writes it with the point) instead of the id and arena lookup: the
-// same marks, without two dependent buffer reads a pixel.
+// Volumetric classes, mark step (before HPR): a drawn pixel whose point, looked up
+// through the point-id target in the arena, has a class in u_classes gets
+// w = STA_POSITION_W_MARKED in the position image (screen_space.h): HPR still sees it as
+// a point, pull-push takes no seed from it, and the overlay draws it
+// (volumetric_window.glsl) in its colour, which pull-push keeps in the filled colour's
+// alpha. With STA_VOLUMETRIC_CLASS_IMAGE the class comes from a
+// per-pixel class image (the rasterisers write it with the point) instead of the id and
+// arena lookup: the same marks, without two dependent buffer reads a pixel. The GL_POINTS
+// pipeline marks inside the unproject pass instead (unproject.comp, STA_UNPROJECT_MARK).
 // Twin: src/render/ref/volumetric_ref.c (sta_volumetric_mark_ref).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 #ifdef STA_VOLUMETRIC_CLASS_IMAGE
@@ -14,11 +15,7 @@ layout(binding = STA_VOLUMETRIC_MARK_IMAGE_CLASS, r8ui) readonly uniform uimage2
 #else
 layout(binding = STA_VOLUMETRIC_MARK_IMAGE_ID, rg32ui) readonly uniform uimage2D u_id;
 #endif
-layout(binding = STA_VOLUMETRIC_MARK_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
-// The point colours, RGBA8 (the geometry pass's) or RGBA32F.
-layout(binding = STA_VOLUMETRIC_MARK_SAMPLER_COLOUR) uniform sampler2D u_colour;
-layout(binding = STA_VOLUMETRIC_MARK_IMAGE_LABEL, r32f) uniform image2D u_label;
-layout(binding = STA_VOLUMETRIC_MARK_IMAGE_POINTS, rgba32f) writeonly uniform image2D u_points;
+layout(binding = STA_VOLUMETRIC_MARK_IMAGE_POSITION, rgba32f) uniform image2D u_position;
 #ifndef STA_VOLUMETRIC_CLASS_IMAGE
 // The arena: 16-byte points (stream/gpu_points.h); classification is byte 11.
 layout(std430, binding = STA_VOLUMETRIC_MARK_BUFFER_ARENA) readonly buffer Arena
@@ -40,37 +37,26 @@ void main()
     if (p.x >= u_size.x || p.y >= u_size.y) {
         return;
     }
-    float label = imageLoad(u_label, p).r;
-    // Only a point's label is visible or hidden: the position is read for those alone.
-    bool point = label == STA_LABEL_VISIBLE || label == STA_LABEL_HIDDEN;
-    vec4 position = vec4(0.0);
-    if (point) {
-        position = imageLoad(u_position, p);
+    vec4 position = imageLoad(u_position, p);
+    if (!(position.w > 0.0 && position.z < 0.0)) {
+        return; // no point drawn here
     }
-    vec4 points = vec4(0.0);
-    bool drawn = point && position.w > 0.0 && position.z < 0.0;
-    if (drawn) {
-        bool marked = false;
+    bool marked = false;
 #ifdef STA_VOLUMETRIC_CLASS_IMAGE
-        uint c = imageLoad(u_class, p).x & 0xFFu;
-        marked = ((u_classes[c >> 5u] >> (c & 31u)) & 1u) != 0u;
+    uint c = imageLoad(u_class, p).x & 0xFFu;
+    marked = ((u_classes[c >> 5u] >> (c & 31u)) & 1u) != 0u;
 #else
-        uvec2 id = imageLoad(u_id, p).xy;
-        if (id.x < uint(nodes.length())) {
-            uvec2 node = nodes[id.x];
-            uint total = uint(arena.length());
-            if (id.y < node.y && node.x < total && id.y < total - node.x) {
-                uint c = (arena[node.x + id.y].z >> 24u) & 0xFFu;
-                marked = ((u_classes[c >> 5u] >> (c & 31u)) & 1u) != 0u;
-            }
-        }
-#endif
-        if (marked) {
-            points = vec4(texelFetch(u_colour, p, 0).rgb, -position.z);
-            imageStore(u_label, p, vec4(STA_LABEL_HIDDEN));
-        } else if (label == STA_LABEL_VISIBLE) {
-            points.a = position.z; // an occluder: minus its distance
+    uvec2 id = imageLoad(u_id, p).xy;
+    if (id.x < uint(nodes.length())) {
+        uvec2 node = nodes[id.x];
+        uint total = uint(arena.length());
+        if (id.y < node.y && node.x < total && id.y < total - node.x) {
+            uint c = (arena[node.x + id.y].z >> 24u) & 0xFFu;
+            marked = ((u_classes[c >> 5u] >> (c & 31u)) & 1u) != 0u;
         }
     }
-    imageStore(u_points, p, points);
+#endif
+    if (marked) {
+        imageStore(u_position, p, vec4(position.xyz, STA_POSITION_W_MARKED));
+    }
 }

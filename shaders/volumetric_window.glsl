@@ -2,32 +2,46 @@
 // Volumetric classes, the overlay's window (shared by volumetric_overlay.comp and the
 // shade pass's overlay variant, shade.comp with STA_SHADE_OVERLAY, which draws the
 // marked points while shading and so saves a full-screen pass): the colour a pixel
-// takes from the marked points of the points image (volumetric_mark.comp) in its
-// window, nearest first, unless a visible point of another class in the window is as
-// near. Twin: src/render/ref/volumetric_ref.c (sta_volumetric_overlay_ref).
-layout(binding = STA_VOLUMETRIC_WINDOW_IMAGE_POINTS, rgba32f) readonly uniform image2D u_points;
+// takes from the marked points (position w = STA_POSITION_W_MARKED) in its window,
+// nearest first, unless a drawn point of another class is in the window and as near
+// (HPR's labels play no part: a nearer point of another class is a surface in front,
+// kept by HPR or not). Read from the positions and, for the nearest marked point, its
+// colour packed in the filled colour's alpha by pull-push (the shade pass writes the
+// geometry pass's colour target, so the overlay cannot read the point colours there; no
+// image of marked points and occluders: issue 15, tenth round).
+// Twin: src/render/ref/volumetric_ref.c (sta_volumetric_overlay_ref).
+layout(binding = STA_VOLUMETRIC_WINDOW_IMAGE_POSITION,
+       rgba32f) readonly uniform image2D u_vw_position;
+// The filled colours (pull-push): at a marked pixel the alpha holds its point's colour,
+// packed (screen_space.h, sta_marked_colour_pack).
+layout(binding = STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_vw_colour;
 
 const int VW_R = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
 
 // True where a marked point covers p (its colour in `colour`, not clamped).
 bool vw_overlay_colour(ivec2 p, ivec2 size, out vec3 colour)
 {
-    vec4 best = vec4(0.0); // alpha > 0: a marked point, < 0: an occluder, 0: nothing
-    float occluder = 0.0;  // nearest occluder's distance, 0: none
+    float best = 0.0; // nearest marked point's distance, 0: none
+    ivec2 best_q = p;
+    float occluder = 0.0; // nearest occluder's distance, 0: none
     for (int dy = -VW_R; dy <= VW_R; dy++) {
         for (int dx = -VW_R; dx <= VW_R; dx++) {
             ivec2 q = p + ivec2(dx, dy);
-            vec4 v = vec4(0.0);
-            if (q.x >= 0 && q.y >= 0 && q.x < size.x && q.y < size.y) {
-                v = imageLoad(u_points, q);
-            }
-            if (v.a > 0.0 && (best.a <= 0.0 || v.a < best.a)) {
-                best = v;
-            } else if (v.a < 0.0 && (occluder <= 0.0 || -v.a < occluder)) {
-                occluder = -v.a;
+            bool inside = q.x >= 0 && q.y >= 0 && q.x < size.x && q.y < size.y;
+            vec4 v = imageLoad(u_vw_position, q);
+            float d = -v.z;
+            bool drawn = inside && v.w > 0.0 && d > 0.0;
+            bool marked = drawn && v.w == STA_POSITION_W_MARKED;
+            if (marked && (best <= 0.0 || d < best)) {
+                best = d;
+                best_q = q;
+            } else if (drawn && !marked && (occluder <= 0.0 || d < occluder)) {
+                occluder = d;
             }
         }
     }
-    colour = best.rgb;
-    return best.a > 0.0 && !(occluder > 0.0 && occluder <= best.a);
+    float alpha = imageLoad(u_vw_colour, best_q).a;
+    uint rgb8 = best > 0.0 ? uint(-alpha - 1.0) : 0u;
+    colour = vec3(uvec3(rgb8 >> 16u, rgb8 >> 8u, rgb8) & 0xFFu) / 255.0;
+    return best > 0.0 && !(occluder > 0.0 && occluder <= best);
 }

@@ -13,9 +13,12 @@
 #include "render/gl.h"
 #include "render/gl_image.h"
 #include "render/gpu_cache.h"
+#include "render/pass_pullpush.h"
 #include "render/pass_shade.h"
+#include "render/pass_unproject.h"
 #include "render/pass_volumetric.h"
 #include "render/pipeline.h"
+#include "render/ref/pullpush_ref.h"
 #include "render/ref/screen_space.h"
 #include "render/ref/volumetric_ref.h"
 #include "render/scene.h"
@@ -49,14 +52,14 @@ static void put(sta_image *position, sta_image *colour, sta_image *label, int x,
 static void mark_rule_on_small_cases(void **state)
 {
     (void)state;
-    // Pixels: 0 vegetation visible, 1 ground visible, 2 vegetation hidden by HPR (kept),
-    // 3 slot past the table, 4 index past its node's count, 5 empty id.
+    // Pixels: 0 vegetation, 1 ground, 2 vegetation labelled hidden by HPR (the mark runs
+    // before HPR and ignores labels), 3 slot past the table, 4 index past its node's count,
+    // 5 empty id.
     const int w = 6;
-    sta_image position, colour, label, points;
+    sta_image position, colour, label;
     image(&position, w, 1, 4);
     image(&colour, w, 1, 4);
     image(&label, w, 1, 1);
-    image(&points, w, 1, 4);
     const float green[3] = { 0.1f, 0.8f, 0.2f };
     for (int x = 0; x < w; x++) {
         put(&position, &colour, &label, x, 0, 4.0f + (float)x, green,
@@ -69,59 +72,89 @@ static void mark_rule_on_small_cases(void **state)
     set_class(in.class_set, 3);
     set_class(in.class_set, 4);
     set_class(in.class_set, 5);
-    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
+    sta_volumetric_mark_ref(&in, &position);
 
-    assert_true(label.data[0] == STA_LABEL_HIDDEN); // marked: no seed for the fill
-    assert_true(points.data[1] == green[1] && points.data[3] == 4.0f);
-    assert_true(points.data[4 * 2 + 3] == 6.0f && label.data[2] == STA_LABEL_HIDDEN);
+    // Marked: w = STA_POSITION_W_MARKED (no seed for the fill), xyz unchanged.
+    assert_true(position.data[3] == STA_POSITION_W_MARKED && position.data[2] == -4.0f);
+    assert_true(position.data[4 * 2 + 3] == STA_POSITION_W_MARKED);
     for (int x = 1; x < w; x++) {
-        if (x != 2) { // visible, not marked: an occluder at minus its distance
-            assert_true(points.data[4 * x + 3] == -(4.0f + (float)x));
-            assert_true(points.data[4 * x + 1] == 0.0f);
-            assert_true(label.data[x] == STA_LABEL_VISIBLE);
+        if (x != 2) { // not marked: the position as it was
+            assert_true(position.data[4 * x + 3] == 1.0f);
+            assert_true(position.data[4 * x + 2] == -(4.0f + (float)x));
         }
     }
-    // Holes and background are never marked, whatever their id says.
-    label.data[0] = STA_LABEL_HOLE;
-    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
-    assert_true(label.data[0] == STA_LABEL_HOLE && points.data[3] == 0.0f);
-    label.data[0] = STA_LABEL_VISIBLE;
+    // Pixels without a point are never marked, whatever their id says.
+    float *p0 = sta_image_at(&position, 0, 0);
+    memset(p0, 0, 4 * sizeof(float));
+    sta_volumetric_mark_ref(&in, &position);
+    assert_true(p0[3] == 0.0f);
 
     // An empty class set marks nothing.
+    put(&position, &colour, &label, 0, 0, 4.0f, green, STA_LABEL_VISIBLE);
     memset(in.class_set, 0, sizeof(in.class_set));
-    label.data[0] = STA_LABEL_VISIBLE;
-    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
-    assert_true(label.data[0] == STA_LABEL_VISIBLE && points.data[3] == -4.0f);
+    sta_volumetric_mark_ref(&in, &position);
+    assert_true(p0[3] == 1.0f);
     // A class above 31 is reachable (the set covers 0..255).
     set_class(in.class_set, 200);
     uint8_t high[5] = { 200, 2, 4, 5, 5 };
     in.classes = high;
-    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
-    assert_true(label.data[0] == STA_LABEL_HIDDEN && points.data[3] == 4.0f);
+    sta_volumetric_mark_ref(&in, &position);
+    assert_true(p0[3] == STA_POSITION_W_MARKED);
 
     sta_image_release(&position);
     sta_image_release(&colour);
     sta_image_release(&label);
-    sta_image_release(&points);
+}
+
+// The packed colour of a marked point survives the round trip exactly for 8-bit colours
+// (what the geometry pass gives), black and white included, and is never a coverage.
+static void marked_colour_packing_round_trips(void **state)
+{
+    (void)state;
+    for (int r = 0; r < 256; r += 15) {
+        for (int g = 0; g < 256; g += 17) {
+            for (int b = 0; b < 256; b += 51) {
+                const float c[3] = { (float)r / 255.0f, (float)g / 255.0f, (float)b / 255.0f };
+                float a = sta_marked_colour_pack(c), back[3];
+                assert_true(a <= -1.0f);
+                sta_marked_colour_unpack(a, back);
+                assert_memory_equal(back, c, sizeof(c));
+            }
+        }
+    }
+    const float over[3] = { -0.5f, 2.0f, 1.0f }, clamped[3] = { 0.0f, 1.0f, 1.0f };
+    float back[3];
+    sta_marked_colour_unpack(sta_marked_colour_pack(over), back);
+    assert_memory_equal(back, clamped, sizeof(back));
+}
+
+// A point at distance `d` in pixel (x, y) of the overlay's inputs: marked (w = 2, colour
+// `c` packed in the filled colour's alpha) or not (c NULL).
+static void overlay_point(sta_image *position, sta_image *filled_colour, int x, int y, float d,
+                          const float *c)
+{
+    float *p = sta_image_at(position, x, y);
+    p[2] = -d;
+    p[3] = c ? STA_POSITION_W_MARKED : 1.0f;
+    sta_image_at(filled_colour, x, y)[3] = c ? sta_marked_colour_pack(c) : 1.0f;
 }
 
 static void overlay_splats_behind_nearer_surfaces(void **state)
 {
     (void)state;
-    // One marked point at distance 5 in the middle of a 5 x 3 image; a visible point of
-    // another class (an occluder) at distance 2 to its right, one at 9 to its left.
+    // One marked point at distance 5 in the middle of a 5 x 3 image; a point of another
+    // class (an occluder) at distance 2 to its right, one at 9 to its left.
     const int w = 5, h = 3;
-    sta_image points, out;
-    image(&points, w, h, 4);
+    sta_image position, marked, out;
+    image(&position, w, h, 4);
+    image(&marked, w, h, 4);
     image(&out, w, h, 4);
-    float *m = sta_image_at(&points, 2, 1);
-    m[0] = 0.2f;
-    m[1] = 0.9f;
-    m[2] = 0.1f;
-    m[3] = 5.0f;
-    sta_image_at(&points, 3, 1)[3] = -2.0f;
-    sta_image_at(&points, 1, 1)[3] = -9.0f;
-    sta_volumetric_overlay_ref(&points, &out);
+    const float colour[3] = { 51.0f / 255.0f, 229.0f / 255.0f, 26.0f / 255.0f };
+    const float red[3] = { 1.0f, 0.0f, 0.0f };
+    overlay_point(&position, &marked, 2, 1, 5.0f, colour);
+    overlay_point(&position, &marked, 3, 1, 2.0f, NULL);
+    overlay_point(&position, &marked, 1, 1, 9.0f, NULL);
+    sta_volumetric_overlay_ref(&position, &marked, &out);
 
     // The nearer occluder at (3, 1) hides the splat in every pixel whose 3 x 3 window
     // holds it: columns 2..4. Column 1 sees only the farther one, column 0 no point.
@@ -132,20 +165,25 @@ static void overlay_splats_behind_nearer_surfaces(void **state)
         assert_true(sta_image_at(&out, 1, y)[3] == 1.0f); // splat over the farther surface
         assert_true(sta_image_at(&out, 0, y)[3] == 0.0f); // outside the splat
     }
-    assert_true(sta_image_at(&out, 1, 1)[1] == 0.9f); // the point's own colour
+    assert_true(sta_image_at(&out, 1, 1)[1] == colour[1]); // the point's own colour
     // As a marked point (not an occluder) the near one no longer hides the splat and
     // wins the pixels whose window holds it.
-    float *near = sta_image_at(&points, 3, 1);
-    near[0] = 1.0f;
-    near[3] = 2.0f;
+    overlay_point(&position, &marked, 3, 1, 2.0f, red);
     memset(out.data, 0, (size_t)w * h * 4 * sizeof(float));
-    sta_volumetric_overlay_ref(&points, &out);
+    sta_volumetric_overlay_ref(&position, &marked, &out);
     assert_true(sta_image_at(&out, 2, 1)[3] == 1.0f);
     assert_true(sta_image_at(&out, 2, 1)[0] == 1.0f); // the nearest point's colour
     assert_true(sta_image_at(&out, 4, 1)[0] == 1.0f);
-    assert_true(sta_image_at(&out, 1, 1)[0] == 0.2f); // only the point at 5 reaches it
+    assert_true(sta_image_at(&out, 1, 1)[0] == colour[0]); // only the point at 5 reaches it
     assert_true(sta_image_at(&out, 0, 1)[3] == 0.0f);
-    sta_image_release(&points);
+    // An occluder exactly as near as the nearest marked point hides it too.
+    overlay_point(&position, &marked, 2, 2, 2.0f, NULL);
+    memset(out.data, 0, (size_t)w * h * 4 * sizeof(float));
+    sta_volumetric_overlay_ref(&position, &marked, &out);
+    assert_true(sta_image_at(&out, 2, 1)[3] == 0.0f && sta_image_at(&out, 3, 2)[3] == 0.0f);
+    assert_true(sta_image_at(&out, 4, 1)[3] == 1.0f && sta_image_at(&out, 2, 0)[3] == 1.0f);
+    sta_image_release(&position);
+    sta_image_release(&marked);
     sta_image_release(&out);
 }
 
@@ -201,6 +239,40 @@ static uint8_t *read_rgba8(GLuint t, int w, int h)
     return got;
 }
 
+static GLuint class_texture(int w, int h, const uint8_t *classes)
+{
+    GLuint t;
+    glCreateTextures(GL_TEXTURE_2D, 1, &t);
+    glTextureStorage2D(t, 1, GL_R8UI, w, h);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t, 0, 0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_BYTE, classes);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    return t;
+}
+
+static GLuint zero_texture(int w, int h, int channels)
+{
+    sta_image zero;
+    image(&zero, w, h, channels);
+    GLuint t;
+    sta_error err = { 0 };
+    assert_int_equal(sta_gl_texture_from_image(&zero, &t, &err), STA_OK);
+    sta_image_release(&zero);
+    return t;
+}
+
+static void assert_texture_equals(GLuint t, int channels, const sta_image *expected)
+{
+    sta_image got;
+    sta_error err = { 0 };
+    assert_int_equal(sta_gl_texture_to_image(t, 0, channels, &got, &err), STA_OK);
+    assert_memory_equal(got.data, expected->data,
+                        (size_t)expected->width * expected->height * channels * sizeof(float));
+    sta_image_release(&got);
+}
+
+// Both mark shaders (id lookup, class image) and the overlay shader against the twins on
+// random points, ids, classes and labels: the same marks bit for bit.
 static void shaders_match_twins(void **state)
 {
     (void)state;
@@ -217,12 +289,14 @@ static void shaders_match_twins(void **state)
     // Slot 3 is not resident; slot 4's count runs past the arena.
     const uint32_t nodes[2 * NODES] = { 0, 50, 50, 70, 120, 60, 0, 0, 180, 40 };
     uint32_t *ids = malloc((size_t)w * h * 2 * sizeof(uint32_t));
+    uint8_t *pixel_classes = malloc((size_t)w * h);
     assert_non_null(ids);
-    sta_image position, colour, label, points, out;
+    assert_non_null(pixel_classes);
+    sta_image position, colour, label, marked, out;
     image(&position, w, h, 4);
     image(&colour, w, h, 4);
     image(&label, w, h, 1);
-    image(&points, w, h, 4);
+    image(&marked, w, h, 4);
     image(&out, w, h, 4);
     static const float labels[4] = { STA_LABEL_BACKGROUND, STA_LABEL_VISIBLE, STA_LABEL_HIDDEN,
                                      STA_LABEL_HOLE };
@@ -230,6 +304,11 @@ static void shaders_match_twins(void **state)
         bool drawn = sta_test_frand(&s) < 0.7f;
         ids[2 * i] = drawn ? (uint32_t)(sta_test_frand(&s) * (NODES + 1)) : 0xFFFFFFFFu;
         ids[2 * i + 1] = drawn ? (uint32_t)(sta_test_frand(&s) * 75.0f) : 0xFFFFFFFFu;
+        // The class image holds what the id names (255, in no set, where it names none).
+        uint32_t slot = ids[2 * i], index = ids[2 * i + 1];
+        bool valid = slot < NODES && index < nodes[2 * slot + 1] &&
+                     nodes[2 * slot] + index < (uint32_t)POINTS;
+        pixel_classes[i] = valid ? classes[nodes[2 * slot] + index] : 255;
         float *p = &position.data[4 * i], *c = &colour.data[4 * i];
         if (drawn) {
             p[0] = sta_test_frand(&s) - 0.5f;
@@ -246,38 +325,47 @@ static void shaders_match_twins(void **state)
                               : labels[sta_test_frand(&s) < 0.5f ? 0 : 3];
     }
     sta_error err = { 0 };
-    GLuint tp, tc, tl, tpts, tid = id_texture(w, h, ids), arena = arena_buffer(classes, POINTS);
+    GLuint tp[2], tid = id_texture(w, h, ids), arena = arena_buffer(classes, POINTS);
+    GLuint tclass = class_texture(w, h, pixel_classes);
     GLuint tout = rgba8_texture(w, h, &out);
-    assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_from_image(&colour, &tc, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_from_image(&label, &tl, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &tpts, &err), STA_OK);
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(sta_gl_texture_from_image(&position, &tp[k], &err), STA_OK);
+    }
 
     sta_volumetric_input in = { ids, nodes, NODES, classes, POINTS, { 0 } };
     set_class(in.class_set, 3);
     set_class(in.class_set, 5);
     set_class(in.class_set, 200);
-    sta_volumetric_mark_ref(&in, &position, &colour, &label, &points);
-    sta_volumetric_overlay_ref(&points, &out);
-    int marked = 0;
+    sta_volumetric_mark_ref(&in, &position);
+    // The filled colours as pull-push leaves them: a coverage in the alpha, and at the
+    // marked pixels the point's colour packed there.
+    int nmarked = 0;
     for (int i = 0; i < w * h; i++) {
-        marked += points.data[4 * i + 3] > 0.0f;
+        float *m = &marked.data[4 * i];
+        m[3] = label.data[i] == STA_LABEL_VISIBLE ? 1.0f : 0.5f;
+        if (position.data[4 * i + 3] == STA_POSITION_W_MARKED) {
+            m[3] = sta_marked_colour_pack(&colour.data[4 * i]);
+            nmarked++;
+        }
     }
-    print_message("%d marked pixels\n", marked);
-    assert_true(marked > 40); // the case exercises the rule
+    sta_volumetric_overlay_ref(&position, &marked, &out);
+    print_message("%d marked pixels\n", nmarked);
+    assert_true(nmarked > 40); // the case exercises the rule
+    GLuint tfilled;
+    assert_int_equal(sta_gl_texture_from_image(&marked, &tfilled, &err), STA_OK);
 
     sta_volumetric_pass pass;
     assert_int_equal(sta_volumetric_pass_init(&pass, &err), STA_OK);
     sta_volumetric_points src = { tid, arena, nodes, NODES };
-    sta_volumetric_frame frame = { w, h, tp, tc, tl, tpts };
-    assert_int_equal(sta_volumetric_pass_mark(&pass, &src, in.class_set, 0, &frame, &err), STA_OK);
+    for (int k = 0; k < 2; k++) { // k = 0: the id lookup, 1: the class image
+        sta_volumetric_frame frame = { w, h, tp[k], tfilled };
+        assert_int_equal(
+            sta_volumetric_pass_mark(&pass, &src, in.class_set, k ? tclass : 0, &frame, &err),
+            STA_OK);
+        assert_texture_equals(tp[k], 4, &position);
+    }
+    sta_volumetric_frame frame = { w, h, tp[0], tfilled };
     sta_volumetric_pass_overlay(&pass, &frame, tout);
-
-    sta_image got_label, got_points;
-    assert_int_equal(sta_gl_texture_to_image(tl, 0, 1, &got_label, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_to_image(tpts, 0, 4, &got_points, &err), STA_OK);
-    assert_memory_equal(got_label.data, label.data, (size_t)w * h * sizeof(float));
-    assert_memory_equal(got_points.data, points.data, (size_t)w * h * 4 * sizeof(float));
     uint8_t *got = read_rgba8(tout, w, h);
     int worst = 0;
     for (int i = 0; i < w * h * 4; i++) {
@@ -288,11 +376,148 @@ static void shaders_match_twins(void **state)
 
     free(got);
     free(ids);
+    free(pixel_classes);
     sta_volumetric_pass_release(&pass);
-    GLuint textures[6] = { tp, tc, tl, tpts, tid, tout };
+    GLuint textures[6] = { tp[0], tp[1], tid, tout, tclass, tfilled };
     glDeleteTextures(6, textures);
     glDeleteBuffers(1, &arena);
-    sta_image *images[] = { &position, &colour, &label, &points, &out, &got_label, &got_points };
+    sta_image *images[] = { &position, &colour, &label, &marked, &out };
+    for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
+        sta_image_release(images[i]);
+    }
+}
+
+// The unproject pass with the mark fused into it (what the GL_POINTS pipeline runs)
+// gives the plain pass's positions with the twin's marks, bit for bit: w = 2 where the
+// class image holds a class of the set.
+static void unproject_mark_matches_plain_and_twin(void **state)
+{
+    (void)state;
+    const int w = 45, h = 27; // odd sizes: partial workgroups
+    sta_view_params view = { w, h, 0.9f, 0.05f, 0.01f };
+    sta_image depth;
+    image(&depth, w, h, 1);
+    uint8_t *classes = malloc((size_t)w * h);
+    uint32_t *ids = malloc((size_t)w * h * 2 * sizeof(uint32_t));
+    assert_non_null(classes);
+    assert_non_null(ids);
+    uint64_t s = 3;
+    for (int i = 0; i < w * h; i++) {
+        depth.data[i] =
+            sta_test_frand(&s) < 0.3f ? 0.0f : 0.05f / (1.0f + 40.0f * sta_test_frand(&s));
+        // Some empty pixels hold a class of the set: they must stay unmarked.
+        classes[i] = (uint8_t)(sta_test_frand(&s) * 8.0f);
+        ids[2 * i] = 0;
+        ids[2 * i + 1] = (uint32_t)i; // one node: the pixel's own class
+    }
+    sta_error err = { 0 };
+    GLuint tdepth, tclass = class_texture(w, h, classes);
+    assert_int_equal(sta_gl_texture_from_image(&depth, &tdepth, &err), STA_OK);
+    GLuint plain = zero_texture(w, h, 4), fused = zero_texture(w, h, 4);
+
+    sta_unproject_pass pass;
+    assert_int_equal(sta_unproject_pass_init(&pass, &err), STA_OK);
+    sta_volumetric_input in = { ids, NULL, 1, classes, (uint32_t)(w * h), { 0 } };
+    uint32_t nodes[2] = { 0, (uint32_t)(w * h) };
+    in.nodes = nodes;
+    set_class(in.class_set, 3);
+    set_class(in.class_set, 5);
+    sta_unproject_pass_run(&pass, &view, tdepth, plain);
+    sta_unproject_mark mark = { tclass, in.class_set };
+    sta_unproject_pass_run_marked(&pass, &view, tdepth, &mark, fused);
+
+    sta_image expected;
+    assert_int_equal(sta_gl_texture_to_image(plain, 0, 4, &expected, &err), STA_OK);
+    sta_volumetric_mark_ref(&in, &expected);
+    int nmarked = 0, drawn = 0;
+    for (int i = 0; i < w * h; i++) {
+        nmarked += expected.data[4 * i + 3] == STA_POSITION_W_MARKED;
+        drawn += expected.data[4 * i + 3] > 0.0f;
+    }
+    print_message("%d of %d drawn pixels marked\n", nmarked, drawn);
+    assert_true(nmarked > drawn / 8 && nmarked < drawn / 2); // the case exercises the rule
+    assert_texture_equals(fused, 4, &expected);
+
+    sta_unproject_pass_release(&pass);
+    GLuint textures[4] = { tdepth, tclass, plain, fused };
+    glDeleteTextures(4, textures);
+    free(classes);
+    free(ids);
+    sta_image *images[] = { &depth, &expected };
+    for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
+        sta_image_release(images[i]);
+    }
+}
+
+// Pull-push leaves a marked point's own colour packed in the filled colour's alpha
+// (where the overlay reads it) and takes no seed from it: the shader and the twin agree,
+// the packed colours exactly, on a random frame of visible, hidden and marked points.
+static void pullpush_keeps_marked_colours(void **state)
+{
+    (void)state;
+    const int w = 53, h = 31;
+    sta_view_params view = { w, h, 0.9f, 0.05f, 0.01f };
+    sta_image position, colour, label, want_p, want_c;
+    image(&position, w, h, 4);
+    image(&colour, w, h, 4);
+    image(&label, w, h, 1);
+    image(&want_p, w, h, 4);
+    image(&want_c, w, h, 4);
+    uint64_t s = 5;
+    int nmarked = 0;
+    for (int i = 0; i < w * h; i++) {
+        float *p = &position.data[4 * i], *c = &colour.data[4 * i];
+        for (int k = 0; k < 3; k++) {
+            c[k] = (float)(int)(sta_test_frand(&s) * 255.0f) / 255.0f; // 8-bit colours
+        }
+        c[3] = 1.0f;
+        label.data[i] = sta_test_frand(&s) < 0.5f ? STA_LABEL_HOLE : STA_LABEL_BACKGROUND;
+        if (sta_test_frand(&s) < 0.6f) {
+            p[0] = 0.01f * (float)(i % w) - 0.25f;
+            p[1] = 0.01f * (float)(i / w) - 0.15f;
+            p[2] = -(2.0f + sta_test_frand(&s));
+            bool marked = sta_test_frand(&s) < 0.2f;
+            p[3] = marked ? STA_POSITION_W_MARKED : 1.0f;
+            label.data[i] = sta_test_frand(&s) < 0.8f ? STA_LABEL_VISIBLE : STA_LABEL_HIDDEN;
+            nmarked += marked;
+        }
+    }
+    sta_error err = { 0 };
+    assert_int_equal(
+        sta_pullpush_ref(&view, &position, &colour, &label, &want_p, &want_c, NULL, &err), STA_OK);
+    GLuint tp, tl, tc = rgba8_texture(w, h, &colour), out_p, out_c;
+    assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&label, &tl, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_p, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_c, &err), STA_OK);
+    sta_pullpush_pass pp;
+    assert_int_equal(sta_pullpush_pass_init(&pp, &err), STA_OK);
+    assert_int_equal(sta_pullpush_pass_run(&pp, &view, tp, tc, tl, out_p, out_c, &err), STA_OK);
+    sta_image got_p, got_c;
+    assert_int_equal(sta_gl_texture_to_image(out_p, 0, 4, &got_p, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_to_image(out_c, 0, 4, &got_c, &err), STA_OK);
+    print_message("%d marked pixels\n", nmarked);
+    assert_true(nmarked > 100);
+    for (int i = 0; i < w * h; i++) {
+        const float *c = &colour.data[4 * i];
+        if (position.data[4 * i + 3] == STA_POSITION_W_MARKED) {
+            float packed = sta_marked_colour_pack(c);
+            assert_true(want_c.data[4 * i + 3] == packed);
+            assert_true(got_c.data[4 * i + 3] == packed);
+        } else {
+            assert_true(got_c.data[4 * i + 3] >= 0.0f); // a coverage
+            assert_true(fabsf(got_c.data[4 * i + 3] - want_c.data[4 * i + 3]) <= 1e-4f);
+        }
+        // The filled points agree: the marked ones are no seed in either.
+        for (int k = 0; k < 4; k++) {
+            float a = want_p.data[4 * i + k], b = got_p.data[4 * i + k];
+            assert_true(fabsf(a - b) <= 1e-4f * fmaxf(1.0f, fabsf(a)));
+        }
+    }
+    sta_pullpush_pass_release(&pp);
+    GLuint textures[5] = { tp, tl, tc, out_p, out_c };
+    glDeleteTextures(5, textures);
+    sta_image *images[] = { &position, &colour, &label, &want_p, &want_c, &got_p, &got_c };
     for (size_t i = 0; i < sizeof(images) / sizeof(images[0]); i++) {
         sta_image_release(images[i]);
     }
@@ -313,7 +538,7 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
     uint64_t s = 11;
     for (int i = 0; i < w * h; i++) {
         float *p = &position.data[4 * i], *c = &colour.data[4 * i], *n = &normal.data[4 * i];
-        float *m = &points.data[4 * i];
+        float *q = &points.data[4 * i];
         if (sta_test_frand(&s) < 0.85f) {
             p[0] = sta_test_frand(&s) - 0.5f;
             p[1] = sta_test_frand(&s) - 0.5f;
@@ -326,14 +551,18 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
             c[k] = sta_test_frand(&s);
         }
         c[3] = 1.0f;
+        // The drawn points (the unproject's positions): marked or not; a marked point's
+        // colour packed in the filled colour's alpha, as pull-push leaves it.
         float r = sta_test_frand(&s);
-        if (r < 0.1f) { // a marked point: its colour and distance
-            m[0] = sta_test_frand(&s);
-            m[1] = sta_test_frand(&s);
-            m[2] = sta_test_frand(&s);
-            m[3] = 1.0f + 20.0f * sta_test_frand(&s);
-        } else if (r < 0.3f) { // an occluder: minus its distance
-            m[3] = -(1.0f + 20.0f * sta_test_frand(&s));
+        if (r < 0.3f) {
+            q[0] = sta_test_frand(&s) - 0.5f;
+            q[1] = sta_test_frand(&s) - 0.5f;
+            q[2] = -(1.0f + 20.0f * sta_test_frand(&s));
+            q[3] = r < 0.1f ? STA_POSITION_W_MARKED : 1.0f;
+            if (r < 0.1f) {
+                float m[3] = { sta_test_frand(&s), sta_test_frand(&s), sta_test_frand(&s) };
+                c[3] = sta_marked_colour_pack(m);
+            }
         }
     }
     sta_error err = { 0 };
@@ -352,11 +581,11 @@ static void shade_overlay_matches_shade_then_overlay(void **state)
     assert_int_equal(sta_shade_pass_init(&shade, &err), STA_OK);
     assert_int_equal(sta_volumetric_pass_init(&vol, &err), STA_OK);
     sta_shade_params params = { .background = { 0.1f, 0.2f, 0.3f } };
-    sta_volumetric_frame frame = { w, h, tp, tc, 0, tpts };
-    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, 0, plain);
-    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, 0, split);
+    sta_volumetric_frame frame = { w, h, tpts, tc };
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, NULL, plain);
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, NULL, split);
     sta_volumetric_pass_overlay(&vol, &frame, split);
-    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, tpts, fused);
+    sta_shade_pass_run(&shade, &params, w, h, tp, tc, tn, NULL, &frame, fused);
     uint8_t *a = read_rgba8(split, w, h), *b = read_rgba8(fused, w, h),
             *c = read_rgba8(plain, w, h);
     assert_memory_equal(a, b, (size_t)w * h * 4);
@@ -388,7 +617,9 @@ enum {
     STRIDE = 4
 };
 
-static uint8_t *render_frame(const sta_pipeline_options *options, int mode)
+// class_image: also hand the pipeline the classes as the GL_POINTS pass writes them
+// (then the unproject pass marks them), else it looks them up through the ids.
+static uint8_t *render_frame(const sta_pipeline_options *options, int mode, bool class_image)
 {
     sta_error err = { 0 };
     const float near_m = 0.1f;
@@ -432,6 +663,20 @@ static uint8_t *render_frame(const sta_pipeline_options *options, int mode)
     o.mode = mode;
     sta_view_params view = { PW, PH, 1.0f, near_m, 0.05f };
     assert_int_equal(sta_pipeline_set_points(&pipeline, tid, &cache, &err), STA_OK);
+    if (class_image) {
+        uint8_t pixel_classes[PW * PH];
+        for (int i = 0; i < PW * PH; i++) {
+            pixel_classes[i] = ids[2 * i] == 0 ? classes[ids[2 * i + 1]] : 255;
+        }
+        GLuint position, tclasses;
+        assert_int_equal(
+            sta_pipeline_raster_textures(&pipeline, PW, PH, &position, &tclasses, &err), STA_OK);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTextureSubImage2D(tclasses, 0, 0, 0, PW, PH, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
+                            pixel_classes);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        pipeline.classes_ready = true;
+    }
     assert_int_equal(sta_pipeline_run(&pipeline, &o, &view, tdepth, tcolour, NULL, &err), STA_OK);
     uint8_t *got = read_rgba8(tcolour, PW, PH);
 
@@ -479,13 +724,13 @@ static void flagged_pixels_are_not_filled(void **state)
         filled.no_fill_set = true; // the empty set: canopy filled as a surface
         int gaps_green, gaps, points_green, npoints;
 
-        uint8_t *before = render_frame(&filled, modes[m]);
+        uint8_t *before = render_frame(&filled, modes[m], false);
         count_green(before, &gaps_green, &gaps, &points_green, &npoints);
         assert_true(gaps > 20 && npoints > 20);
         // Filled: the gaps between canopy points turn into a green surface.
         assert_true(gaps_green * 10 >= gaps * 9);
 
-        uint8_t *after = render_frame(&points, modes[m]); // default: classes 3-5
+        uint8_t *after = render_frame(&points, modes[m], false); // default: classes 3-5
         count_green(after, &gaps_green, &gaps, &points_green, &npoints);
         assert_int_equal(gaps_green, 0);         // no canopy surface between the points
         assert_int_equal(points_green, npoints); // the points themselves are drawn
@@ -495,8 +740,13 @@ static void flagged_pixels_are_not_filled(void **state)
                 assert_memory_equal(&before[4 * (y * PW + x)], &after[4 * (y * PW + x)], 4);
             }
         }
+        // The mark inside the unproject pass (the GL_POINTS pipeline's) gives the same
+        // picture as the mark pass.
+        uint8_t *fused = render_frame(&points, modes[m], true);
+        assert_memory_equal(fused, after, (size_t)PW * PH * 4);
         free(before);
         free(after);
+        free(fused);
     }
 }
 
@@ -570,14 +820,90 @@ static void points_pass_writes_the_classes_of_the_ids(void **state)
     sta_scene_close(scene);
 }
 
+/* Both rasterisers' frames come to HPR with the volumetric classes marked in the
+ * positions (w = STA_POSITION_W_MARKED) exactly where the pixel's point has a class of
+ * the set: GL_POINTS through the unproject pass, the compute rasteriser in its resolve
+ * (the mark pass runs in neither). A small synthetic street seen down its middle. */
+static void both_rasterisers_mark_the_classes(void **state)
+{
+    (void)state;
+    enum {
+        SW = 320,
+        SH = 200
+    };
+    sta_synth_params p = { .kind = STA_SYNTH_STREET, .point_count = 300000, .seed = 1 };
+    sta_synth_georef georef;
+    sta_synth_georef_init(p.origin, &georef);
+    char las[4096], path[4096];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("mstreet.las"));
+    snprintf(path, sizeof(path), "%s", sta_test_tmp_path("mstreet.strata"));
+    sta_error err = { 0 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    const char *inputs[] = { las };
+    sta_convert_options o = { .inputs = inputs, .input_count = 1, .output = path, .force = true };
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_OK);
+    for (int raster = STA_RASTER_COMPUTE; raster <= STA_RASTER_POINTS; raster++) {
+        sta_scene *scene = NULL;
+        sta_scene_options options = { .min_spacing_px = 0.01 };
+        assert_int_equal(sta_scene_open(path, &options, &scene, &err), STA_OK);
+        sta_geometry_options g = { .raster = raster };
+        sta_scene_set_raster(scene, &g);
+        sta_pipeline_options pipeline = { .mode = STA_PIPELINE_SHADED }; // default set: 3-5
+        sta_scene_set_pipeline(scene, &pipeline);
+        sta_camera camera = { 0 };
+        camera.position[0] = georef.origin[0] - 6.0;
+        camera.position[1] = georef.origin[1];
+        camera.position[2] = georef.origin[2] + 2.25;
+        camera.yaw = 3.14159265358979;
+        camera.pitch = -0.14;
+        camera.fov_y = 1.2217;
+        camera.near_m = 0.01;
+        camera.width_px = SW;
+        camera.height_px = SH;
+        sta_render_target target = { 0 };
+        sta_fixture_render_complete(scene, &camera, &target);
+        const sta_pipeline *pl = sta_scene_pipeline(scene);
+        static uint8_t classes[SW * SH];
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glGetTextureImage(pl->classes, 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, sizeof(classes),
+                          classes);
+        glPixelStorei(GL_PACK_ALIGNMENT, 4);
+        sta_image position;
+        assert_int_equal(sta_gl_texture_to_image(pl->position, 0, 4, &position, &err), STA_OK);
+        int drawn = 0, marked = 0;
+        for (int i = 0; i < SW * SH; i++) {
+            float w = position.data[4 * i + 3];
+            bool vegetation = classes[i] >= 3 && classes[i] <= 5;
+            drawn += w > 0.0f;
+            marked += w == STA_POSITION_W_MARKED;
+            assert_true(w == 0.0f || w == 1.0f || w == STA_POSITION_W_MARKED);
+            assert_true((w == STA_POSITION_W_MARKED) == (w > 0.0f && vegetation));
+        }
+        print_message("%s: %d drawn pixels, %d marked\n",
+                      raster == STA_RASTER_COMPUTE ? "compute" : "points", drawn, marked);
+        assert_true(drawn > SW * SH / 10);
+        assert_true(marked > 100 && marked < drawn / 2);
+        sta_image_release(&position);
+        sta_render_target_release(&target);
+        sta_scene_close(scene);
+    }
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(mark_rule_on_small_cases),
+    cmocka_unit_test(marked_colour_packing_round_trips),
     cmocka_unit_test(overlay_splats_behind_nearer_surfaces),
     cmocka_unit_test_setup_teardown(shaders_match_twins, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(unproject_mark_matches_plain_and_twin, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(pullpush_keeps_marked_colours, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(shade_overlay_matches_shade_then_overlay, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(points_pass_writes_the_classes_of_the_ids, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
+    cmocka_unit_test_setup_teardown(both_rasterisers_mark_the_classes, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(flagged_pixels_are_not_filled, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

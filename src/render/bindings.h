@@ -62,6 +62,7 @@
 /* Unproject (unproject.comp). */
 #define STA_UNPROJECT_SAMPLER_DEPTH  0 /* reverse-Z depth */
 #define STA_UNPROJECT_IMAGE_POSITION 0 /* RGBA32F out: camera-space positions */
+#define STA_UNPROJECT_IMAGE_CLASS    1 /* R8UI point classes (STA_UNPROJECT_MARK) */
 
 /* Colour conversion of the pipeline's input (colour_to_float.comp). */
 #define STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8 0 /* RGBA8 colour of the geometry pass */
@@ -145,18 +146,17 @@
 #define STA_EDL_IMAGE_OUT      3 /* RGBA8 out */
 
 /* Volumetric classes shown as points (volumetric_mark.comp, volumetric_overlay.comp). */
-#define STA_VOLUMETRIC_MARK_IMAGE_ID       0 /* RG32UI point ids (render/target.h) */
-#define STA_VOLUMETRIC_MARK_SAMPLER_COLOUR 0 /* point colours (RGBA8 or RGBA32F) */
-#define STA_VOLUMETRIC_MARK_IMAGE_LABEL    2 /* R32F HPR labels, updated */
-#define STA_VOLUMETRIC_MARK_IMAGE_POINTS   3 /* RGBA32F out: marked colour, distance */
-#define STA_VOLUMETRIC_MARK_IMAGE_POSITION 4 /* RGBA32F camera-space positions */
-#define STA_VOLUMETRIC_MARK_IMAGE_CLASS    5 /* R8UI point classes (STA_VOLUMETRIC_CLASS_IMAGE) */
-#define STA_VOLUMETRIC_MARK_BUFFER_ARENA   0 /* the GPU cache's arena */
-#define STA_VOLUMETRIC_MARK_BUFFER_NODES   1 /* uvec2 per node slot: offset, count */
-#define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT   1 /* RGBA8, written where marked */
+#define STA_VOLUMETRIC_MARK_IMAGE_ID         0 /* RG32UI point ids (render/target.h) */
+#define STA_VOLUMETRIC_MARK_IMAGE_POSITION   4 /* RGBA32F camera-space positions, w updated */
+#define STA_VOLUMETRIC_MARK_IMAGE_CLASS      5 /* R8UI point classes (STA_VOLUMETRIC_CLASS_IMAGE) */
+#define STA_VOLUMETRIC_MARK_BUFFER_ARENA     0 /* the GPU cache's arena */
+#define STA_VOLUMETRIC_MARK_BUFFER_NODES     1 /* uvec2 per node slot: offset, count */
+#define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT     1 /* RGBA8, written where marked */
 /* volumetric_window.glsl, in volumetric_overlay.comp and shade.comp (STA_SHADE_OVERLAY):
  * above every image unit of both */
-#define STA_VOLUMETRIC_WINDOW_IMAGE_POINTS 4 /* RGBA32F marked points and occluders */
+#define STA_VOLUMETRIC_WINDOW_IMAGE_POSITION 4 /* RGBA32F positions, marked: w = 2 */
+#define STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR                                                         \
+ 6 /* RGBA32F filled colours: alpha = packed marked colour */
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \
@@ -194,6 +194,7 @@
  X(STA_HPR_BACKGROUND_OPEN_SECTORS)                                                                \
  X(STA_UNPROJECT_SAMPLER_DEPTH)                                                                    \
  X(STA_UNPROJECT_IMAGE_POSITION)                                                                   \
+ X(STA_UNPROJECT_IMAGE_CLASS)                                                                      \
  X(STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8)                                                            \
  X(STA_COLOUR_TO_FLOAT_IMAGE_COLOUR)                                                               \
  X(STA_DISPLAY_IMAGE_POSITION)                                                                     \
@@ -248,14 +249,12 @@
  X(STA_EDL_IMAGE_COLOUR)                                                                           \
  X(STA_EDL_IMAGE_OUT)                                                                              \
  X(STA_VOLUMETRIC_MARK_IMAGE_ID)                                                                   \
- X(STA_VOLUMETRIC_MARK_SAMPLER_COLOUR)                                                             \
- X(STA_VOLUMETRIC_MARK_IMAGE_LABEL)                                                                \
- X(STA_VOLUMETRIC_MARK_IMAGE_POINTS)                                                               \
  X(STA_VOLUMETRIC_MARK_IMAGE_POSITION)                                                             \
  X(STA_VOLUMETRIC_MARK_IMAGE_CLASS)                                                                \
  X(STA_VOLUMETRIC_MARK_BUFFER_ARENA)                                                               \
  X(STA_VOLUMETRIC_MARK_BUFFER_NODES)                                                               \
  X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)                                                               \
- X(STA_VOLUMETRIC_WINDOW_IMAGE_POINTS)
+ X(STA_VOLUMETRIC_WINDOW_IMAGE_POSITION)                                                           \
+ X(STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR)
 
 #endif

@@ -241,11 +241,13 @@ bool sta_pass_geometry_set_class_out(sta_pass_geometry *p, GLuint class_texture)
 }
 
 bool sta_pass_geometry_set_position_out(sta_pass_geometry *p, GLuint position_texture,
-                                        GLuint class_texture, const sta_view_params *view)
+                                        GLuint class_texture, const sta_view_params *view,
+                                        const uint32_t *mark_classes)
 {
     if (p->choice.raster != STA_RASTER_COMPUTE) {
         return false;
     }
-    sta_raster_compute_set_position_out(&p->compute, position_texture, class_texture, view);
+    sta_raster_compute_set_position_out(&p->compute, position_texture, class_texture, view,
+                                        mark_classes);
     return position_texture != 0;
 }

@@ -93,10 +93,12 @@ void sta_pass_geometry_set_point_size(sta_pass_geometry *pass, const sta_point_s
 /* With the compute rasteriser, the next draws also write the camera-space position of
  * every pixel into `position_texture` (RGBA32F of the target's size, as the unproject
  * pass makes them from the depth: render/raster_compute.h) and each pixel's point class
- * into `class_texture` (R8UI), for `view`; 0 stops it.
+ * into `class_texture` (R8UI), for `view`; 0 stops it. mark_classes (NULL: none): the
+ * volumetric class set whose pixels the resolve marks (sta_raster_compute_set_position_out).
  * Returns whether they will (false with GL_POINTS: then run the unproject pass). */
 bool sta_pass_geometry_set_position_out(sta_pass_geometry *pass, GLuint position_texture,
-                                        GLuint class_texture, const sta_view_params *view);
+                                        GLuint class_texture, const sta_view_params *view,
+                                        const uint32_t *mark_classes);
 
 /* With GL_POINTS, the next draws of one-pixel points also write each pixel's point
  * class into `class_texture` (R8UI of the target's size), so that the volumetric mark

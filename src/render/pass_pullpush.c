@@ -17,9 +17,11 @@ const char *sta_pullpush_shader_defines(void)
     if (!defines[0]) {
         snprintf(defines, sizeof(defines),
                  "#define PP_LABEL_BACKGROUND %.1f\n#define PP_LABEL_VISIBLE %.1f\n"
+                 "#define PP_POSITION_W_MARKED %.1f\n"
                  "#define PP_DEPTH_TAU %.9e\n#define PP_PULL_TAU %.9e\n",
                  (double)STA_LABEL_BACKGROUND, (double)STA_LABEL_VISIBLE,
-                 (double)STA_PULLPUSH_DEPTH_TAU, (double)STA_PULLPUSH_PULL_DEPTH_TAU);
+                 (double)STA_POSITION_W_MARKED, (double)STA_PULLPUSH_DEPTH_TAU,
+                 (double)STA_PULLPUSH_PULL_DEPTH_TAU);
     }
     return defines;
 }

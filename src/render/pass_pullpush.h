@@ -55,7 +55,8 @@ void sta_pullpush_pass_release(sta_pullpush_pass *pass);
  * or 0 for "all points visible, no background restored" (position and label are read
  * as images, so their formats must be exactly these); out_position_tex and
  * out_colour_tex: RGBA32F of the view size, written (filled point xyz / rgb, w = a =
- * coverage 0..1; zero where BACKGROUND or unsupported). Inputs and outputs must be
+ * coverage 0..1; zero where BACKGROUND or unsupported; the colour's alpha at a marked
+ * pixel: its point's colour, as sta_pullpush_ref packs it). Inputs and outputs must be
  * distinct textures. Errors: STA_ERR_ARG for a view outside 1..32768 pixels,
  * STA_ERR_GL when the pyramid cannot be allocated or GL reports an error. */
 sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params *view,

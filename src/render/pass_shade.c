@@ -26,10 +26,13 @@ sta_status sta_shade_pass_init(sta_shade_pass *pass, sta_error *err)
             }
         }
         names[count++] = "shade.comp";
-        char defines[160];
-        snprintf(defines, sizeof(defines), "%s%s#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
+        char defines[256];
+        snprintf(defines, sizeof(defines),
+                 "%s%s#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n#define STA_LABEL_VISIBLE %.1f\n"
+                 "#define STA_POSITION_W_MARKED %.1f\n",
                  v & 1 ? "#define STA_SHADE_OVERLAY 1\n" : "",
-                 v & 2 ? "#define STA_SHADE_UPSAMPLE 1\n" : "", STA_VOLUMETRIC_SPLAT_RADIUS_PX);
+                 v & 2 ? "#define STA_SHADE_UPSAMPLE 1\n" : "", STA_VOLUMETRIC_SPLAT_RADIUS_PX,
+                 (double)STA_LABEL_VISIBLE, (double)STA_POSITION_W_MARKED);
         status = sta_gl_program_create(names, count, defines, &pass->programs[v], err);
         if (status == STA_OK) {
             GLuint program = pass->programs[v];
@@ -68,12 +71,12 @@ void sta_shade_pass_release(sta_shade_pass *pass)
 
 void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *params, int width,
                         int height, GLuint position, GLuint colour, GLuint normal,
-                        const sta_normals_upsample_inputs *upsample, GLuint overlay_points,
-                        GLuint out)
+                        const sta_normals_upsample_inputs *upsample,
+                        const sta_volumetric_frame *overlay, GLuint out)
 {
     sta_shade_params p = *params;
     sta_shade_params_defaults(&p);
-    int i = (overlay_points ? 1 : 0) | (upsample ? 2 : 0);
+    int i = (overlay ? 1 : 0) | (upsample ? 2 : 0);
     glUseProgram(pass->programs[i]);
     if (upsample) {
         sta_normals_upsample_bind(pass->programs[i], &pass->upsample[i], upsample);
@@ -81,9 +84,8 @@ void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *para
     glUniform2f(pass->shade_size[i], (float)width, (float)height);
     glUniform4f(pass->shade_light[i], p.ambient, p.diffuse, p.specular, p.shininess);
     glUniform3f(pass->shade_background[i], p.background[0], p.background[1], p.background[2]);
-    if (overlay_points) {
-        glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_POINTS, overlay_points, 0, GL_FALSE, 0,
-                           GL_READ_ONLY, GL_RGBA32F);
+    if (overlay) {
+        sta_volumetric_window_bind(overlay);
     }
     glBindImageTexture(STA_SHADE_IMAGE_POSITION, position, 0, GL_FALSE, 0, GL_READ_ONLY,
                        GL_RGBA32F);

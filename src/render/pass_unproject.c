@@ -3,6 +3,7 @@
 #include "render/pass_unproject.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "render/bindings.h"
@@ -13,20 +14,32 @@ sta_status sta_unproject_pass_init(sta_unproject_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
     const char *names[] = { "unproject_pixel.glsl", "unproject.comp" };
-    sta_status status = sta_gl_program_create(names, 2, NULL, &pass->program, err);
-    if (status != STA_OK) {
-        return status;
+    char mark[96];
+    snprintf(mark, sizeof(mark),
+             "#define STA_UNPROJECT_MARK 1\n#define STA_POSITION_W_MARKED %.1f\n",
+             (double)STA_POSITION_W_MARKED);
+    // Variant v: 0 plain, 1 with the volumetric mark.
+    for (int v = 0; v < 2; v++) {
+        sta_status status =
+            sta_gl_program_create(names, 2, v ? mark : NULL, &pass->programs[v], err);
+        if (status != STA_OK) {
+            sta_unproject_pass_release(pass);
+            return status;
+        }
+        pass->u_size[v] = glGetUniformLocation(pass->programs[v], "u_size");
+        pass->u_tan_half[v] = glGetUniformLocation(pass->programs[v], "u_tan_half");
+        pass->u_near[v] = glGetUniformLocation(pass->programs[v], "u_near");
     }
-    pass->u_size = glGetUniformLocation(pass->program, "u_size");
-    pass->u_tan_half = glGetUniformLocation(pass->program, "u_tan_half");
-    pass->u_near = glGetUniformLocation(pass->program, "u_near");
+    pass->u_classes = glGetUniformLocation(pass->programs[1], "u_classes");
     return STA_OK;
 }
 
 void sta_unproject_pass_release(sta_unproject_pass *pass)
 {
-    if (pass->program) {
-        glDeleteProgram(pass->program);
+    for (int v = 0; v < 2; v++) {
+        if (pass->programs[v]) {
+            glDeleteProgram(pass->programs[v]);
+        }
     }
     memset(pass, 0, sizeof(*pass));
 }
@@ -34,12 +47,25 @@ void sta_unproject_pass_release(sta_unproject_pass *pass)
 void sta_unproject_pass_run(const sta_unproject_pass *pass, const sta_view_params *view,
                             GLuint depth_texture, GLuint position_texture)
 {
+    sta_unproject_pass_run_marked(pass, view, depth_texture, NULL, position_texture);
+}
+
+void sta_unproject_pass_run_marked(const sta_unproject_pass *pass, const sta_view_params *view,
+                                   GLuint depth_texture, const sta_unproject_mark *mark,
+                                   GLuint position_texture)
+{
     float size[2], tan_half[2];
     sta_unproject_uniforms(view, size, tan_half);
-    glUseProgram(pass->program);
-    glUniform2f(pass->u_size, size[0], size[1]);
-    glUniform2f(pass->u_tan_half, tan_half[0], tan_half[1]);
-    glUniform1f(pass->u_near, view->near_m);
+    int v = mark ? 1 : 0;
+    glUseProgram(pass->programs[v]);
+    glUniform2f(pass->u_size[v], size[0], size[1]);
+    glUniform2f(pass->u_tan_half[v], tan_half[0], tan_half[1]);
+    glUniform1f(pass->u_near[v], view->near_m);
+    if (v) {
+        glUniform1uiv(pass->u_classes, STA_UNPROJECT_CLASS_WORDS, mark->class_set);
+        glBindImageTexture(STA_UNPROJECT_IMAGE_CLASS, mark->class_texture, 0, GL_FALSE, 0,
+                           GL_READ_ONLY, GL_R8UI);
+    }
     glBindTextureUnit(STA_UNPROJECT_SAMPLER_DEPTH, depth_texture);
     glBindImageTexture(STA_UNPROJECT_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,
                        GL_WRITE_ONLY, GL_RGBA32F);

@@ -16,9 +16,10 @@ sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err)
     memset(pass, 0, sizeof(*pass));
     char defines[256];
     snprintf(defines, sizeof(defines),
-             "#define STA_LABEL_VISIBLE %.1f\n#define STA_LABEL_HIDDEN %.1f\n"
+             "#define STA_LABEL_VISIBLE %.1f\n#define STA_POSITION_W_MARKED %.1f\n"
              "#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
-             (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, STA_VOLUMETRIC_SPLAT_RADIUS_PX);
+             (double)STA_LABEL_VISIBLE, (double)STA_POSITION_W_MARKED,
+             STA_VOLUMETRIC_SPLAT_RADIUS_PX);
     const char *mark[] = { "volumetric_mark.comp" };
     const char *overlay[] = { "volumetric_window.glsl", "volumetric_overlay.comp" };
     char image_defines[sizeof(defines) + 48];
@@ -131,17 +132,22 @@ sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumet
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_MARK_BUFFER_NODES,
                          pass->nodes_buffer);
     }
-    glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_ID, src->id_texture, 0, GL_FALSE, 0, GL_READ_ONLY,
-                       GL_RG32UI);
+    if (src->id_texture) {
+        glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_ID, src->id_texture, 0, GL_FALSE, 0,
+                           GL_READ_ONLY, GL_RG32UI);
+    }
     glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_POSITION, frame->position, 0, GL_FALSE, 0,
-                       GL_READ_ONLY, GL_RGBA32F);
-    glBindTextureUnit(STA_VOLUMETRIC_MARK_SAMPLER_COLOUR, frame->colour);
-    glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_LABEL, frame->label, 0, GL_FALSE, 0, GL_READ_WRITE,
-                       GL_R32F);
-    glBindImageTexture(STA_VOLUMETRIC_MARK_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RGBA32F);
+                       GL_READ_WRITE, GL_RGBA32F);
     sta_gl_dispatch_2d(frame->width, frame->height);
     return sta_gl_check("volumetric mark pass", err);
+}
+
+void sta_volumetric_window_bind(const sta_volumetric_frame *frame)
+{
+    glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_POSITION, frame->position, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR, frame->filled_colour, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
 }
 
 void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volumetric_frame *frame,
@@ -149,8 +155,7 @@ void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volu
 {
     glUseProgram(pass->overlay_program);
     glUniform2i(pass->overlay_size, frame->width, frame->height);
-    glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_POINTS, frame->points, 0, GL_FALSE, 0,
-                       GL_READ_ONLY, GL_RGBA32F);
+    sta_volumetric_window_bind(frame);
     glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY,
                        GL_RGBA8);
     sta_gl_dispatch_2d(frame->width, frame->height);

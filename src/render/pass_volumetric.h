@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT
  * Volumetric classes (vegetation) shown as points instead of a filled surface: a mark
- * step after HPR and an overlay after shading (the rule: render/ref/volumetric_ref.h).
+ * step before HPR (fused into the unproject pass where the geometry pass wrote a class
+ * image: pass_unproject.h) and an overlay after shading (the rule:
+ * render/ref/volumetric_ref.h).
  */
 #ifndef STA_RENDER_PASS_VOLUMETRIC_H
 #define STA_RENDER_PASS_VOLUMETRIC_H
@@ -45,13 +47,13 @@ void sta_volumetric_pass_release(sta_volumetric_pass *pass);
 /* The textures of one frame, all width x height. */
 typedef struct sta_volumetric_frame {
     int width, height;
-    GLuint position; /* RGBA32F camera-space positions (unproject) */
-    GLuint colour;   /* point colours, RGBA8 or RGBA32F (sampled) */
-    GLuint label;    /* R32F HPR labels: marked points become hidden */
-    GLuint points;   /* RGBA32F: written by mark, read by overlay */
+    GLuint position;      /* RGBA32F camera-space positions (unproject); marked: w = 2 */
+    GLuint filled_colour; /* RGBA32F pull-push colours; at marked pixels the alpha holds
+                             the point's colour (screen_space.h); read by the overlay */
 } sta_volumetric_frame;
 
-/* Marks the pixels whose point has a class in `class_set`. class_texture: 0 to look each
+/* Marks the pixels whose point has a class in `class_set` (position w set to
+ * STA_POSITION_W_MARKED; before HPR). class_texture: 0 to look each
  * pixel's class up through its point id in `src`, or an R8UI image of the classes of the
  * points drawn (the compute rasteriser's, render/raster_compute.h): the same marks, one
  * image read instead of two dependent buffer reads a pixel. */
@@ -60,7 +62,11 @@ sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumet
                                     GLuint class_texture, const sta_volumetric_frame *frame,
                                     sta_error *err);
 
-/* Splats the marked points over `out` (RGBA8). */
+/* Binds the overlay window's inputs (volumetric_window.glsl) of `frame` to their units
+ * (for the overlay pass and the shade pass's overlay variant). */
+void sta_volumetric_window_bind(const sta_volumetric_frame *frame);
+
+/* Splats the marked points over `out` (RGBA8), after HPR. */
 void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volumetric_frame *frame,
                                  GLuint out);
 

@@ -96,14 +96,14 @@ sta_status sta_pipeline_init(sta_pipeline *p, sta_error *err)
 static void release_textures(sta_pipeline *p)
 {
     GLuint textures[] = { p->position,      p->colour, p->label,   p->pyramid, p->filled_position,
-                          p->filled_colour, p->normal, p->normal2, p->points,  p->classes };
+                          p->filled_colour, p->normal, p->normal2, p->classes };
     for (size_t i = 0; i < sizeof(textures) / sizeof(textures[0]); i++) {
         if (textures[i]) {
             glDeleteTextures(1, &textures[i]);
         }
     }
     p->position = p->colour = p->label = p->pyramid = 0;
-    p->filled_position = p->filled_colour = p->normal = p->normal2 = p->points = p->classes = 0;
+    p->filled_position = p->filled_colour = p->normal = p->normal2 = p->classes = 0;
     p->width_px = p->height_px = 0;
 }
 
@@ -132,8 +132,8 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
         return STA_OK;
     }
     release_textures(p);
-    GLuint *four[] = { &p->position, &p->colour,  &p->filled_position, &p->filled_colour,
-                       &p->normal,   &p->normal2, &p->points };
+    GLuint *four[] = { &p->position,      &p->colour, &p->filled_position,
+                       &p->filled_colour, &p->normal, &p->normal2 };
     sta_status s = STA_OK;
     for (size_t i = 0; i < sizeof(four) / sizeof(four[0]) && s == STA_OK; i++) {
         s = sta_gl_texture_create(w, h, 4, 1, four[i], err);
@@ -261,13 +261,12 @@ sta_status sta_pipeline_set_points(sta_pipeline *p, GLuint id_texture, const sta
                                             err);
 }
 
-// The volumetric class set of `o`, or false when it is empty or there is nothing to
-// look classes up in.
-static bool volumetric_classes(const sta_pipeline *p, const sta_pipeline_options *o,
-                               uint32_t set[STA_VOLUMETRIC_CLASS_WORDS])
+bool sta_pipeline_volumetric_set(const sta_pipeline_options *o,
+                                 uint32_t set[STA_VOLUMETRIC_CLASS_WORDS])
 {
     memset(set, 0, STA_VOLUMETRIC_CLASS_WORDS * sizeof(set[0]));
-    if (!p->points_source.id_texture || !p->points_source.arena) {
+    if (o->mode != STA_PIPELINE_FILL && o->mode != STA_PIPELINE_NORMALS &&
+        o->mode != STA_PIPELINE_SHADED) {
         return false;
     }
     uint32_t any = 0;
@@ -280,6 +279,15 @@ static bool volumetric_classes(const sta_pipeline *p, const sta_pipeline_options
         any = set[0];
     }
     return any != 0;
+}
+
+// The volumetric class set of `o`, or false when it is empty, the mode marks nothing or
+// there is nothing to look classes up in (the resolve marked them: no lookup needed).
+static bool volumetric_classes(const sta_pipeline *p, const sta_pipeline_options *o,
+                               bool positions_marked, uint32_t set[STA_VOLUMETRIC_CLASS_WORDS])
+{
+    bool any = sta_pipeline_volumetric_set(o, set);
+    return any && (positions_marked || (p->points_source.id_texture && p->points_source.arena));
 }
 
 static void read_timing(sta_pipeline *p, sta_pipeline_timing *t, const bool *ran)
@@ -303,7 +311,8 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     bool ran[STA_PASS_COUNT] = { false };
     bool positions_ready = p->positions_ready;
     bool classes_ready = positions_ready || p->classes_ready;
-    p->positions_ready = p->classes_ready = false;
+    bool positions_marked = positions_ready && p->positions_marked;
+    p->positions_ready = p->classes_ready = p->positions_marked = false;
     if (t) {
         memset(t, 0, sizeof(*t));
     }
@@ -315,12 +324,21 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     if (s != STA_OK) {
         return s;
     }
+    // Volumetric classes (fill, normals and shaded modes): marked in the positions before HPR
+    // (w = STA_POSITION_W_MARKED: no seeds for the fill), drawn back as points after shading.
+    uint32_t classes[STA_VOLUMETRIC_CLASS_WORDS];
+    bool volumetric = volumetric_classes(p, o, positions_marked, classes);
+    // Where the geometry pass wrote a class image, the mark runs inside the unproject pass
+    // (issue 15, tenth round: one full-screen pass fewer).
+    bool mark_in_unproject = volumetric && !positions_ready && classes_ready;
     // Inputs: positions from depth (unless the compute rasteriser wrote them); colour as float only
     // for the passes that read it as an image (EDL, the HPR display); pull-push and the volumetric
-    // mark sample the geometry pass's RGBA8 colour (the same values).
+    // overlay sample the geometry pass's RGBA8 colour (the same values).
     mark(p, t, STA_PASS_UNPROJECT, 0);
     if (!positions_ready) {
-        sta_unproject_pass_run(&p->unproject, view, depth, p->position);
+        sta_unproject_mark fused = { p->classes, classes };
+        sta_unproject_pass_run_marked(&p->unproject, view, depth, mark_in_unproject ? &fused : NULL,
+                                      p->position);
     }
     if (o->mode == STA_PIPELINE_EDL || o->mode == STA_PIPELINE_HPR) {
         glUseProgram(p->colour_program);
@@ -332,6 +350,19 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     }
     mark(p, t, STA_PASS_UNPROJECT, 1);
     ran[STA_PASS_UNPROJECT] = true;
+    // The overlay reads the marked points' colours from the filled colour's alpha
+    // (screen_space.h: pull-push packs them there).
+    sta_volumetric_frame vframe = { w, h, p->position, p->filled_colour };
+    if (volumetric && !mark_in_unproject && !positions_marked) {
+        mark(p, t, STA_PASS_VOLUMETRIC, 0);
+        s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes,
+                                     classes_ready ? p->classes : 0, &vframe, err);
+        mark(p, t, STA_PASS_VOLUMETRIC, 1);
+        ran[STA_PASS_VOLUMETRIC] = true;
+        if (s != STA_OK) {
+            return s;
+        }
+    }
 
     if (o->mode == STA_PIPELINE_EDL) {
         mark(p, t, STA_PASS_SHADE, 0);
@@ -361,21 +392,6 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     if (o->mode == STA_PIPELINE_HPR) {
         display(p, 0, w, h, colour_rgba8);
         goto done;
-    }
-
-    // Volumetric classes: no seeds for the fill, drawn back as points after shading.
-    uint32_t classes[STA_VOLUMETRIC_CLASS_WORDS];
-    bool volumetric = volumetric_classes(p, o, classes);
-    sta_volumetric_frame vframe = { w, h, p->position, colour_rgba8, p->label, p->points };
-    if (volumetric) {
-        mark(p, t, STA_PASS_VOLUMETRIC, 0);
-        s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes,
-                                     classes_ready ? p->classes : 0, &vframe, err);
-        mark(p, t, STA_PASS_VOLUMETRIC, 1);
-        ran[STA_PASS_VOLUMETRIC] = true;
-        if (s != STA_OK) {
-            return s;
-        }
     }
 
     mark(p, t, STA_PASS_PULLPUSH, 0);
@@ -411,14 +427,17 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     // The marked volumetric points are drawn inside the shade pass, and the normals'
     // upsample runs there (a full-screen pass fewer each; their time counts as shading).
     sta_shade_pass_run(&p->shade, &shade, w, h, p->filled_position, p->filled_colour, p->normal,
-                       upsampled_in_shade ? &upsample : NULL, volumetric ? p->points : 0,
+                       upsampled_in_shade ? &upsample : NULL, volumetric ? &vframe : NULL,
                        colour_rgba8);
     mark(p, t, STA_PASS_SHADE, 1);
     ran[STA_PASS_SHADE] = true;
     goto done;
 overlay:
     if (volumetric) {
-        double before = p->marks[2 * STA_PASS_VOLUMETRIC + 1] - p->marks[2 * STA_PASS_VOLUMETRIC];
+        double before = ran[STA_PASS_VOLUMETRIC] ? p->marks[2 * STA_PASS_VOLUMETRIC + 1] -
+                                                       p->marks[2 * STA_PASS_VOLUMETRIC]
+                                                 : 0.0;
+        ran[STA_PASS_VOLUMETRIC] = true;
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
         sta_volumetric_pass_overlay(&p->volumetric, &vframe, colour_rgba8);
         mark(p, t, STA_PASS_VOLUMETRIC, 1);

@@ -118,7 +118,6 @@ typedef struct sta_pipeline {
     GLint display_size, display_mode, colour_size;
     int width_px, height_px; /* texture size */
     GLuint position, colour, label, pyramid, filled_position, filled_colour, normal, normal2;
-    GLuint points;                    /* volumetric colours (RGBA32F) */
     GLuint classes;                   /* R8UI point classes (from the compute rasteriser) */
     double marks[2 * STA_PASS_COUNT]; /* pass start/end, ms (timing on) */
     int timing_clock;                 /* sta_timing_clock of the marks (0: wall) */
@@ -131,7 +130,17 @@ typedef struct sta_pipeline {
      * (the GL_POINTS geometry pass wrote them: sta_pass_geometry_set_class_out), so the
      * volumetric mark reads them instead of looking them up; cleared by the run. */
     bool classes_ready;
+    /* Set by the caller for one run, with positions_ready: the resolve also marked the
+     * volumetric classes of sta_pipeline_volumetric_set in the positions, so the mark
+     * pass is skipped; cleared by the run. */
+    bool positions_marked;
 } sta_pipeline;
+
+/* The volumetric class set `options` asks for in a mode that marks them (fill, normals,
+ * shaded) into `set` (STA_VOLUMETRIC_CLASS_WORDS words); false when it is empty or the
+ * mode marks nothing. */
+bool sta_pipeline_volumetric_set(const sta_pipeline_options *options,
+                                 uint32_t set[STA_VOLUMETRIC_CLASS_WORDS]);
 
 sta_status sta_pipeline_init(sta_pipeline *pipeline, sta_error *err);
 void sta_pipeline_release(sta_pipeline *pipeline);

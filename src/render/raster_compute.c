@@ -43,10 +43,11 @@ static sta_status resolve_program(sta_raster_compute *r, int mode, int position,
     if (v->program) {
         return STA_OK;
     }
-    char defines[sizeof(r->resolve_defines) + 96];
+    char defines[sizeof(r->resolve_defines) + 160];
     snprintf(defines, sizeof(defines),
-             "%s#define STA_RASTER_COLOUR_MODE %d\n#define STA_RASTER_POSITION %d\n",
-             r->resolve_defines, mode, position);
+             "%s#define STA_RASTER_COLOUR_MODE %d\n#define STA_RASTER_POSITION %d\n"
+             "#define STA_POSITION_W_MARKED %.1f\n",
+             r->resolve_defines, mode, position, (double)STA_POSITION_W_MARKED);
     const char *sources[] = { "geometry_colour.glsl", "raster_common.glsl", "unproject_pixel.glsl",
                               "raster_resolve.vert", "raster_resolve.frag" };
     sta_status status = sta_gl_program_create(sources, 5, defines, &v->program, err);
@@ -61,6 +62,7 @@ static sta_status resolve_program(sta_raster_compute *r, int mode, int position,
     v->u_intensity_scale = glGetUniformLocation(p, "u_intensity_scale");
     v->u_background = glGetUniformLocation(p, "u_background");
     v->u_unproject_size = glGetUniformLocation(p, "u_unproject_size");
+    v->u_mark_classes = glGetUniformLocation(p, "u_mark_classes");
     v->u_tan_half = glGetUniformLocation(p, "u_tan_half");
     v->u_near = glGetUniformLocation(p, "u_near");
     return STA_OK;
@@ -438,6 +440,7 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
         glUniform2fv(v->u_unproject_size, 1, r->unproject_size);
         glUniform2fv(v->u_tan_half, 1, r->unproject_tan_half);
         glUniform1f(v->u_near, r->unproject_near);
+        glUniform1uiv(v->u_mark_classes, STA_RASTER_MARK_CLASS_WORDS, r->mark_classes);
     }
     glUniformMatrix4fv(v->u_view_rotation, 1, GL_FALSE, rotation);
     glUniformMatrix4fv(v->u_projection, 1, GL_FALSE, projection);
@@ -475,10 +478,14 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
 }
 
 void sta_raster_compute_set_position_out(sta_raster_compute *r, GLuint position_texture,
-                                         GLuint class_texture, const sta_view_params *view)
+                                         GLuint class_texture, const sta_view_params *view,
+                                         const uint32_t *mark_classes)
 {
     r->position_out = position_texture;
     r->class_out = position_texture ? class_texture : 0;
+    for (int i = 0; i < STA_RASTER_MARK_CLASS_WORDS; i++) {
+        r->mark_classes[i] = mark_classes ? mark_classes[i] : 0;
+    }
     if (position_texture) {
         sta_unproject_uniforms(view, r->unproject_size, r->unproject_tan_half);
         r->unproject_near = view->near_m;

@@ -44,10 +44,13 @@
 #include "stream/gpu_points.h"
 
 /* The resolve program of one colour mode and its uniforms. */
+/* Words of a class set (= STA_VOLUMETRIC_CLASS_WORDS). */
+#define STA_RASTER_MARK_CLASS_WORDS 8
+
 typedef struct sta_raster_resolve {
     GLuint program; /* 0: not built yet */
     GLint u_view_rotation, u_projection, u_size, u_elevation, u_intensity_scale, u_background;
-    GLint u_unproject_size, u_tan_half, u_near; /* the position variant's */
+    GLint u_unproject_size, u_tan_half, u_near, u_mark_classes; /* the position variant's */
 } sta_raster_resolve;
 
 /* Point programs: [STA_RASTER_VARIANTS * step + variant]: one-pixel points without a
@@ -91,6 +94,7 @@ typedef struct sta_raster_compute {
      * camera-space positions into (0: none), and the unproject uniforms for it. */
     GLuint position_out, class_out; /* class_out: R8UI */
     float unproject_size[2], unproject_tan_half[2], unproject_near;
+    uint32_t mark_classes[STA_RASTER_MARK_CLASS_WORDS]; /* the volumetric set (0: none) */
 } sta_raster_compute;
 
 /* Builds the programs: the packed one-pass variant when `packed` (needs
@@ -106,9 +110,13 @@ void sta_raster_compute_release(sta_raster_compute *raster);
  * (the target's size and the camera's fov and near plane): attached to the target as a
  * third colour output for the resolve draw only (a fragment output: an image store there
  * cost llvmpipe as much as the unproject pass it saves); and each pixel's point class
- * into `class_texture` (R8UI, 0 where no point), a fourth output. */
+ * into `class_texture` (R8UI, 0 where no point), a fourth output. mark_classes (NULL:
+ * none; STA_RASTER_MARK_CLASS_WORDS words, bit c % 32 of word c / 32): the positions of
+ * points of those classes get w = STA_POSITION_W_MARKED, the volumetric mark
+ * (render/ref/volumetric_ref.h) done in the resolve. */
 void sta_raster_compute_set_position_out(sta_raster_compute *raster, GLuint position_texture,
-                                         GLuint class_texture, const sta_view_params *view);
+                                         GLuint class_texture, const sta_view_params *view,
+                                         const uint32_t *mark_classes);
 
 /* Rasterises nodes `draw[0..count)` into `target` (cleared first) with `footprint`
  * (render/point_size.h; all zero: one pixel per point); same contract as

@@ -326,6 +326,7 @@ static sta_status geometry_positions(sta_scene *s, const sta_camera *camera,
                                      const sta_pipeline_options *pipeline, sta_error *err)
 {
     s->pipeline.positions_ready = s->pipeline.classes_ready = false;
+    s->pipeline.positions_marked = false;
     if (pipeline->mode == STA_PIPELINE_RAW || pipeline->mode == STA_PIPELINE_SPLATS ||
         pipeline->mode == STA_PIPELINE_EDL) {
         return STA_OK;
@@ -343,8 +344,12 @@ static sta_status geometry_positions(sta_scene *s, const sta_camera *camera,
     if (status == STA_OK) {
         sta_view_params view = { camera->width_px, camera->height_px, (float)camera->fov_y,
                                  (float)camera->near_m, 0.0f };
-        s->pipeline.positions_ready =
-            sta_pass_geometry_set_position_out(&s->geometry, position, classes, &view);
+        // The resolve marks the volumetric classes too (the mark pass is then skipped).
+        uint32_t set[STA_VOLUMETRIC_CLASS_WORDS];
+        bool mark = sta_pipeline_volumetric_set(pipeline, set);
+        s->pipeline.positions_ready = sta_pass_geometry_set_position_out(
+            &s->geometry, position, classes, &view, mark ? set : NULL);
+        s->pipeline.positions_marked = s->pipeline.positions_ready && mark;
     }
     return status;
 }
@@ -439,7 +444,7 @@ sta_status sta_scene_render(sta_scene *s, const sta_camera *camera, sta_render_t
             status = sta_pass_geometry_draw(&s->geometry, camera, &colours, &s->cache, s->frames,
                                             frame.draw, frame.draw_count, target, err);
         }
-        sta_pass_geometry_set_position_out(&s->geometry, 0, 0, NULL); // this draw only
+        sta_pass_geometry_set_position_out(&s->geometry, 0, 0, NULL, NULL); // this draw only
         sta_pass_geometry_set_class_out(&s->geometry, 0);
         if (status != STA_OK) {
             return status;

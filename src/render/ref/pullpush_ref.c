@@ -46,7 +46,7 @@ static texel fetch(const level_source *s, int x, int y)
         p = sta_image_at(s->position, x, y);
         c = sta_image_at(s->colour, x, y);
         bool visible = !s->label || is_label(*sta_image_at(s->label, x, y), STA_LABEL_VISIBLE);
-        t.w = p[3] > 0.0f && visible ? 1.0f : 0.0f;
+        t.w = p[3] > 0.0f && p[3] != STA_POSITION_W_MARKED && visible ? 1.0f : 0.0f;
     }
     for (int k = 0; k < 3; k++) {
         t.p[k] = p[k];
@@ -324,6 +324,10 @@ sta_status sta_pullpush_ref(const sta_view_params *view, const sta_image *positi
                 store(out_position, out_colour, i, j, zero3, zero3, 0.0f);
             } else {
                 store(out_position, out_colour, i, j, p, c, nw);
+            }
+            if (sta_image_at(position, i, j)[3] == STA_POSITION_W_MARKED) {
+                sta_image_at(out_colour, i, j)[3] =
+                    sta_marked_colour_pack(sta_image_at(colour, i, j));
             }
         }
     }

@@ -3,12 +3,17 @@
  *
  * Buffers (GL textures; CPU twins use sta_image with the same layout and row order):
  * - position: RGBA32F, camera space (camera at the origin looking down -Z, +X right,
- *   +Y up), xyz in metres, w = 1 where a point was drawn, w = 0 for background.
+ *   +Y up), xyz in metres, w = 1 where a point was drawn, w = 0 for background,
+ *   w = STA_POSITION_W_MARKED where the drawn point has a volumetric class
+ *   (volumetric_ref.h: shown as a point, no seed for the fill).
  *   Made from the reverse-Z depth buffer by the unproject pass.
  * - colour: RGBA32F (RGB in 0..1, A unused) or RGBA8 from the geometry pass.
  * - label: R32F holding one of STA_LABEL_* per pixel (HPR output).
  * - filled: RGBA32F, the pull-push result: xyz camera-space position (or depth in
- *   z only, see pull-push), w = weight / coverage in 0..1.
+ *   z only, see pull-push), w = weight / coverage in 0..1. The filled colour's alpha is
+ *   the same coverage, except at a marked pixel (position w = STA_POSITION_W_MARKED),
+ *   where it holds that point's own colour, packed (sta_marked_colour_pack): the
+ *   volumetric overlay reads it there (issue 15, tenth round).
  * - normal: RGBA32F, xyz a unit camera-space normal facing the camera
  *   (dot(n, -p) >= 0 for the pixel's position p), w = 1 where valid, 0 where none.
  * "Depth" in these passes means the distance along the view axis, d = -z > 0.
@@ -27,6 +32,34 @@
 #define STA_LABEL_VISIBLE    1.0f /* a point that is visible */
 #define STA_LABEL_HIDDEN     2.0f /* a point seen through a surface in front: removed */
 #define STA_LABEL_HOLE       3.0f /* no point, but inside a surface: pull-push fills it */
+
+/* The position's w of a pixel whose point has a volumetric class (> 0: still a drawn
+ * point, an occluder for HPR; pull-push takes no seed from it). Written by the unproject
+ * pass (or the volumetric mark) before HPR: issue 15, tenth round. */
+#define STA_POSITION_W_MARKED 2.0f
+
+/* A marked point's colour (RGB in 0..1) as the filled colour's alpha: -(1 + the 24-bit
+ * RGB8 value), an integer-valued float (exact up to 2^24), negative so it is never a
+ * coverage. The shaders do the same (pullpush_common.glsl, volumetric_window.glsl). */
+static inline float sta_marked_colour_pack(const float rgb[3])
+{
+    long v = 0;
+    for (int k = 0; k < 3; k++) {
+        float c = rgb[k] < 0.0f ? 0.0f : (rgb[k] > 1.0f ? 1.0f : rgb[k]);
+        v = v * 256 + lroundf(c * 255.0f);
+    }
+    return -(1.0f + (float)v);
+}
+
+/* The colour packed in `alpha` (sta_marked_colour_pack). */
+static inline void sta_marked_colour_unpack(float alpha, float rgb[3])
+{
+    long v = (long)(-alpha - 1.0f);
+    for (int k = 2; k >= 0; k--) {
+        rgb[k] = (float)(v % 256) / 255.0f;
+        v /= 256;
+    }
+}
 
 /* HPR: an empty pixel is background (left empty) only when its sector minima average
  * at least this many fully open sectors out of 8 (and at least the threshold); see

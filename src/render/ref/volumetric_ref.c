@@ -26,56 +26,57 @@ static const float *at_or_null(const sta_image *im, int x, int y)
     return x >= 0 && y >= 0 && x < im->width && y < im->height ? sta_image_at(im, x, y) : NULL;
 }
 
-void sta_volumetric_mark_ref(const sta_volumetric_input *in, const sta_image *position,
-                             const sta_image *colour, sta_image *label, sta_image *points)
+void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position)
 {
-    for (int y = 0; y < label->height; y++) {
-        for (int x = 0; x < label->width; x++) {
-            size_t i = (size_t)y * (size_t)label->width + (size_t)x;
-            float *l = sta_image_at(label, x, y), *p = sta_image_at(points, x, y);
-            const float *c = sta_image_at(colour, x, y), *q = sta_image_at(position, x, y);
-            bool drawn =
-                (*l == STA_LABEL_VISIBLE || *l == STA_LABEL_HIDDEN) && q[3] > 0.0f && q[2] < 0.0f;
-            int cls = drawn ? pixel_class(in, i) : -1;
-            bool marked = cls >= 0 && sta_volumetric_has_class(in->class_set, (uint32_t)cls);
-            for (int k = 0; k < 4; k++) {
-                p[k] = marked ? (k < 3 ? c[k] : -q[2]) : 0.0f;
+    for (int y = 0; y < position->height; y++) {
+        for (int x = 0; x < position->width; x++) {
+            size_t i = (size_t)y * (size_t)position->width + (size_t)x;
+            float *q = sta_image_at(position, x, y);
+            if (!(q[3] > 0.0f && q[2] < 0.0f)) {
+                continue; // no point drawn here
             }
-            if (marked) {
-                *l = STA_LABEL_HIDDEN;
-            } else if (drawn && *l == STA_LABEL_VISIBLE) {
-                p[3] = q[2]; // an occluder: minus its distance
+            int cls = pixel_class(in, i);
+            if (cls >= 0 && sta_volumetric_has_class(in->class_set, (uint32_t)cls)) {
+                q[3] = STA_POSITION_W_MARKED;
             }
         }
     }
 }
 
-void sta_volumetric_overlay_ref(const sta_image *points, sta_image *out)
+void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *filled_colour,
+                                sta_image *out)
 {
     const int r = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
     for (int y = 0; y < out->height; y++) {
         for (int x = 0; x < out->width; x++) {
-            const float *best = NULL;
-            float occluder = 0.0f;
+            float best = 0.0f, occluder = 0.0f;
+            int bx = x, by = y;
             for (int dy = -r; dy <= r; dy++) {
                 for (int dx = -r; dx <= r; dx++) {
-                    const float *v = at_or_null(points, x + dx, y + dy);
-                    if (!v) {
+                    const float *v = at_or_null(position, x + dx, y + dy);
+                    if (!v || !(v[3] > 0.0f && -v[2] > 0.0f)) {
                         continue;
                     }
-                    if (v[3] > 0.0f && (!best || v[3] < best[3])) {
-                        best = v;
-                    } else if (v[3] < 0.0f && (occluder <= 0.0f || -v[3] < occluder)) {
-                        occluder = -v[3];
+                    float d = -v[2];
+                    if (v[3] == STA_POSITION_W_MARKED) {
+                        if (best <= 0.0f || d < best) {
+                            best = d;
+                            bx = x + dx;
+                            by = y + dy;
+                        }
+                    } else if (occluder <= 0.0f || d < occluder) {
+                        occluder = d;
                     }
                 }
             }
-            if (!best || (occluder > 0.0f && occluder <= best[3])) {
+            if (!(best > 0.0f) || (occluder > 0.0f && occluder <= best)) {
                 continue;
             }
             float *o = sta_image_at(out, x, y);
+            float c[3];
+            sta_marked_colour_unpack(sta_image_at(filled_colour, bx, by)[3], c);
             for (int k = 0; k < 3; k++) {
-                o[k] = fminf(fmaxf(best[k], 0.0f), 1.0f);
+                o[k] = fminf(fmaxf(c[k], 0.0f), 1.0f);
             }
             o[3] = 1.0f;
         }

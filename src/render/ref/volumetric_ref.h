@@ -3,21 +3,24 @@
  * shown as points, not as a surface. CPU twin of shaders/volumetric_mark.comp and
  * shaders/volumetric_overlay.comp (render/pass_volumetric.c).
  *
- * Mark (after HPR, before pull-push): a pixel whose id names a resident point whose
- * classification is in `classes` and whose label is STA_LABEL_VISIBLE or
- * STA_LABEL_HIDDEN becomes STA_LABEL_HIDDEN (so it seeds no fill: the surface behind
- * it, or the background, is reconstructed from the other points) and its point is
- * kept in `points` (RGB: colour, A: distance along the view axis, -z > 0). A visible
- * point of another class is kept as an occluder (RGB 0, A: minus its distance);
- * every other pixel gets points = 0. Only marked pixels change label. HPR-hidden canopy points are
- * kept too: scattered returns are no closed surface, so canopy behind canopy is seen through the
- * gaps (HPR would remove it and leave black holes between crowns). Overlay (after shading): each
- * marked point is drawn as a square splat of radius STA_VOLUMETRIC_SPLAT_RADIUS_PX: a pixel takes
- * the colour of the nearest marked point in that window unless an occluder in the same window is as
- * near or nearer: crowns read as crowns and a wall in front, even a sparsely sampled one, still
- * hides them. (The filled depth is no test: pull-push averages depths across wide gaps.) No
- * lighting: an eye-dome term over the same window does nothing by construction (the splat is the
- * window's nearest point), a wider one would double the reads (docs/PIPELINE.md).
+ * Mark (before HPR): a drawn pixel (position w > 0, z < 0) whose id names a resident
+ * point whose classification is in `classes` gets w = STA_POSITION_W_MARKED
+ * (screen_space.h): HPR still sees it as a point (an occluder), pull-push takes no seed
+ * from it (the surface behind it, or the background, is reconstructed from the other
+ * points) and keeps its colour in the filled colour's alpha (screen_space.h). HPR's
+ * labels play no part in the mark: HPR-hidden canopy points are kept too, since
+ * scattered returns are no closed surface, so canopy behind canopy is seen through the
+ * gaps (HPR would remove it and leave black holes between crowns). Overlay (after
+ * shading): each marked point is drawn as a square splat of radius
+ * STA_VOLUMETRIC_SPLAT_RADIUS_PX: a pixel takes the colour of the nearest marked point in
+ * that window unless a drawn point of another class (an occluder, HPR-hidden or not: a
+ * nearer point of another class is a surface in front) is in the same window and as
+ * near or nearer: crowns read as crowns and a wall in front, even a sparsely sampled
+ * one, still hides them. (The filled depth is no test: pull-push
+ * averages depths across wide gaps.) No lighting: an eye-dome term over the same window
+ * does nothing by construction (the splat is the window's nearest point), a wider one
+ * would double the reads (docs/PIPELINE.md). Until issue 15's tenth round the mark ran
+ * after HPR and wrote an image of marked points and of the visible points as occluders.
  */
 #ifndef STA_RENDER_REF_VOLUMETRIC_REF_H
 #define STA_RENDER_REF_VOLUMETRIC_REF_H
@@ -48,14 +51,14 @@ static inline bool sta_volumetric_has_class(const uint32_t *set, uint32_t c)
     return c < 32u * STA_VOLUMETRIC_CLASS_WORDS && ((set[c / 32u] >> (c % 32u)) & 1u) != 0;
 }
 
-/* Mark: `position` RGBA (camera space, w > 0 where a point was drawn), `colour` RGBA
- * (the point colours), `label` (1 channel) read and updated,
- * `points` RGBA written; all the same size as the id image. Ids out of range (slot
- * past node_count, index past the node's count or the arena) are ignored. */
-void sta_volumetric_mark_ref(const sta_volumetric_input *in, const sta_image *position,
-                             const sta_image *colour, sta_image *label, sta_image *points);
+/* Mark: `position` RGBA (camera space, w > 0 where a point was drawn) read and updated,
+ * the same size as the id image. Ids out of range (slot past node_count, index past the
+ * node's count or the arena) are ignored. */
+void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position);
 
-/* Overlay: `points` from mark, `out` RGBA. */
-void sta_volumetric_overlay_ref(const sta_image *points, sta_image *out);
+/* Overlay: `position` from mark, `filled_colour` from pull-push (sta_pullpush_ref: at a
+ * marked pixel its alpha holds the point's colour), `out` RGBA. */
+void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *filled_colour,
+                                sta_image *out);
 
 #endif
