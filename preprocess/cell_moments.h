@@ -25,11 +25,16 @@
 #define STA_MOMENTS_AXIS_BITS  21 /* cell coordinates an axis, relative to the set's lowest */
 
 /* The sums of a set of points' offsets d from a corner: n, sum d, sum d d^T (xx xy xz yy
- * yz zz), in grid units. */
+ * yz zz), in grid units; and the higher sums of the algebraic sphere fit (sphere_fit.h),
+ * sum d |d|^2 and sum |d|^4, modulo 2^64 (two's complement): they equal the true sums
+ * where these fit an int64 (n |d|^4 < 2^63, sta_sphere_sums_exact), whatever overflowed
+ * on the way. */
 typedef struct sta_moment_sums {
     int64_t n;
     int64_t s1[3];
     int64_t s2[6];
+    uint64_t s3[3];
+    uint64_t s4;
 } sta_moment_sums;
 
 /* One level's cells. */

@@ -12,6 +12,7 @@
 #include "core/alloc.h"
 #include "key_slots.h"
 #include "normal_fit.h"
+#include "sphere_fit.h"
 
 /* Vertex boxes a level's table starts with (it grows), a power of two. */
 #define FIRST_VERTICES       4096
@@ -52,6 +53,13 @@
 /* The mean distance to the nearest j of points on a line `spacing` apart: for j = 10, the
  * nearest two at each of 1..5 spacings. */
 #define LINE_RADIUS_SPACINGS 3.0
+/* A box whose surface variation exceeds this is not flat: the scale's flatness test takes
+ * its algebraic sphere's residual (sphere_fit.h), and its points the sphere's normal at
+ * them where the sphere fits better than SPHERE_BETTER times the plane (a leaf cluster, a
+ * pole's side; not an edge, which neither fits). On the 4 M street 0.02 gave trees
+ * 3.7 / 42 degrees against 3.4 / 40 (4 M street, docs/BENCHMARKS.md, tenth round). */
+#define SPHERE_VARIATION     0.005
+#define SPHERE_BETTER        0.5
 
 /* The moments of the 2 x 2 x 2 cells around a grid vertex, centred. */
 typedef struct vertex_box {
@@ -61,6 +69,9 @@ typedef struct vertex_box {
     int fit;          /* 0: not fitted yet, 1: a plane, 2: none (degenerate) */
     float radius;     /* box_radius as packed (a float), < 0 until computed: once a box */
     double normal[3], w[3];
+    uint64_t s3[3], s4; /* the points' higher sums (cell_moments.h), from the corner */
+    int sphere_fit;     /* 0: not fitted yet, 1: a sphere, 2: none */
+    sta_sphere sphere;  /* its mean (grid units from the box's corner) set with m2 */
 } vertex_box;
 
 /* One level's vertex boxes, computed when first wanted (open addressing). */
@@ -129,6 +140,12 @@ static void vertex_moments(const sta_cell_moments *cells, const int64_t v[3], ve
             box->m2[t] = (double)s2[t] - (double)s1[r] * (double)s1[q] / nd;
         }
     }
+    for (int a = 0; a < 3; a++) {
+        box->sphere.mean[a] = (double)s1[a] / nd;
+        box->s3[a] = sum.s3[a];
+    }
+    box->s4 = sum.s4;
+    box->sphere.spread = (double)((int64_t)2 << cells->level); // the box's edge, until fitted
 }
 
 // Vertex v's box, computed when first asked for; NULL when out of memory.
@@ -287,6 +304,48 @@ static bool box_fit(const sta_normals_chunk *chunk, vertex_box *b)
     return b->fit == 1;
 }
 
+// Whether box b is not flat and has an algebraic sphere (fitted when first asked).
+static bool box_sphere(const sta_normals_chunk *chunk, vertex_box *b)
+{
+    if (!(b->variation > SPHERE_VARIATION) || !sta_sphere_isotropic(chunk->scale)) {
+        return false;
+    }
+    if (b->sphere_fit == 0) {
+        sta_sphere_moments m;
+        sta_moment_sums higher = { .s3 = { b->s3[0], b->s3[1], b->s3[2] }, .s4 = b->s4 };
+        bool fits =
+            sta_sphere_moments_higher(&higher, b->sphere.spread, b->n, b->sphere.mean, b->m2, &m) &&
+            sta_sphere_fit(&m, &b->sphere);
+        b->sphere_fit = fits ? 1 : 2;
+    }
+    return b->sphere_fit == 1;
+}
+
+// How far box b's points lie from its best model, over their spread squared: the surface
+// variation, or where b is not flat its sphere's residual (the scale's flatness test: a
+// leaf cluster's sphere fits its box better than a wider box's plane or sphere).
+static double box_error(const sta_normals_chunk *chunk, vertex_box *b)
+{
+    return box_sphere(chunk, b) ? b->sphere.residual : b->variation;
+}
+
+// The normal at u of the algebraic sphere of its nearest box b, where b is not flat and
+// the sphere fits it clearly better than the plane; false when the planes' blend decides.
+static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, vertex_box *b,
+                          const int64_t u[3], double normal[3])
+{
+    if (!box_sphere(chunk, b) || !(b->sphere.residual < SPHERE_BETTER * b->variation)) {
+        return false;
+    }
+    int level = l->cells->level;
+    double p[3];
+    for (int a = 0; a < 3; a++) { // u from the box's corner, one cell below its vertex
+        int64_t v = (2 * u[a] + ((int64_t)1 << level)) >> (level + 1);
+        p[a] = (double)(u[a] - ((v - 1) << level));
+    }
+    return sta_sphere_normal(&b->sphere, p, normal);
+}
+
 // The normals of the boxes of the 8 grid vertices of u's cell, blended by the point's place
 // in the cell (trilinear weights), each turned to agree with `normal` (its nearest box's,
 // replaced by the blend): the normal field between the boxes' centres. On a curved surface
@@ -407,7 +466,8 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
             if (!c) {
                 return SIZE_MAX;
             }
-            if (c->variation < b->variation && box_fit(chunk, b) && box_fit(chunk, c) &&
+            if (box_error(chunk, c) < box_error(chunk, b) && box_fit(chunk, b) &&
+                box_fit(chunk, c) &&
                 fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
                      b->normal[2] * c->normal[2]) > AGREE) {
                 m->state[j] = (uint8_t)(state + 1); // flatter, and the same surface
@@ -440,7 +500,8 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
                 continue;
             }
         }
-        if (ok && !blend_normals(chunk, fine, u, normal)) {
+        if (ok && !sphere_normal(chunk, fine, b, u, normal) &&
+            !blend_normals(chunk, fine, u, normal)) {
             return SIZE_MAX;
         }
         if (box_reach(chunk, u, fine->cells->level) > sta_normal_halo_reach(chunk, p)) {

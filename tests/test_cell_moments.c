@@ -90,6 +90,12 @@ static sta_moment_sums brute(const int32_t (*grid)[3], size_t n, const int64_t o
                 m.s2[t] += d[r] * d[c];
             }
         }
+        // the sphere fit's sums, modulo 2^64 as the cells keep them
+        uint64_t dd = (uint64_t)(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int a = 0; a < 3; a++) {
+            m.s3[a] += (uint64_t)d[a] * dd;
+        }
+        m.s4 += dd * dd;
     }
     return m;
 }
@@ -189,6 +195,10 @@ static void vertex_sums_match_brute_force(void **state)
                 for (int t = 0; t < 6; t++) {
                     want.s2[t] += b.s2[t];
                 }
+                for (int a = 0; a < 3; a++) {
+                    want.s3[a] += b.s3[a];
+                }
+                want.s4 += b.s4;
             }
             assert_memory_equal(&got, &want, sizeof(want));
             full += want.n > 0;
