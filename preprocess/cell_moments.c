@@ -176,7 +176,8 @@ sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], s
 {
     int level = m->level;
     // Consecutive points of one cell are summed first (a run: one look-up).
-    int64_t run_cell[3] = { -1, -1, -1 };
+    int64_t run_cell[3] = { -1, -1, -1 }, only_cell[3] = { -1, -1, -1 };
+    bool only_has = false;
     sta_moment_sums run = { 0 };
     for (size_t j = 0; j < n; j++) {
         size_t i = order ? order[j] : j;
@@ -186,7 +187,11 @@ sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], s
         }
         if (only) {
             int64_t cell[3] = { u[0] >> only->level, u[1] >> only->level, u[2] >> only->level };
-            if (!sta_cell_moments_has(only, cell)) {
+            if (memcmp(cell, only_cell, sizeof(cell)) != 0) { // (points come in runs of a cell)
+                memcpy(only_cell, cell, sizeof(cell));
+                only_has = sta_cell_moments_has(only, cell);
+            }
+            if (!only_has) {
                 continue;
             }
         }

@@ -15,51 +15,60 @@
 #include "sphere_fit.h"
 
 /* Vertex boxes a level's table starts with (it grows), a power of two. */
-#define FIRST_VERTICES       4096
-#define AXIS_MASK            (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
+#define FIRST_VERTICES         4096
+#define AXIS_MASK              (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
 /* Per point: done, waiting for its level, or growing (takes the next level whatever it
  * holds: its box was nearly linear, edge-on or degenerate). */
-#define STATE_WAIT           0
-#define STATE_GROW           1
-#define STATE_DONE           2
-#define STATE_CANDIDATE      3 /* + the levels it moved up for a flatter box */
+#define STATE_WAIT             0
+#define STATE_GROW             1
+#define STATE_DONE             2
+#define STATE_CANDIDATE        3 /* + the levels it moved up for a flatter box */
 /* A candidate moves up at most this many levels for a flatter box. */
-#define STEPS                2
+#define STEPS                  2
 /* The base cells are 1/2 to 1 times this many mean spacings wide (the spacing of the
  * scene's points spread over its two widest extents; STA_NORMALS_MOMENTS_FINE: half). On
  * the 20 M street (spacing 62 mm: cells of 128 mm, fine 64 mm) fine takes 1.6x the CPU
  * and 1.8x the memory for curbs' and cars' p95 of 24 and 34 degrees against 48 and 53
  * (the 12-16 cm curb face inside the boxes); 1 spacing (cells of 32 mm there) gave worse
  * roads (boxes of 10 points on one scan line). */
-#define BASE_CELL_SPACINGS   4.0
+#define BASE_CELL_SPACINGS     4.0
 /* A candidate moves to the next level's box only when its normal is within this (cosine)
  * of this level's: the same surface, flatter (on a curb face the wider box is flatter,
  * but the road's). */
-#define AGREE                0.94
+#define AGREE                  0.94
 /* The blend leaves out the vertex boxes whose normal is more than this (cosine: 30
  * degrees) from the point's nearest box's: another surface, an edge is not smoothed. */
-#define BLEND_AGREE          0.87
+#define BLEND_AGREE            0.87
 /* Scanned surfaces are sampled more evenly than uniform random points (profiles, a
  * lattice): their mean distance to the 10 nearest is larger than the uniform expectation
  * at the same density. On the 4 M street the exact kNN radius is 1.18-1.22x the uniform
  * estimate (roads, walls, cars, trees), on a square lattice 1.11x, on strata-synth's
  * uniform sphere 1.03x; this factor sits between (without it the splats left gaps between
  * the profiles of sparse walls). */
-#define EVENNESS             1.15
+#define EVENNESS               1.15
 /* Records asked for this many points ahead of the pass (their GPS time, their SPLAT). */
-#define PREFETCH             8
+#define PREFETCH               8
 /* Newton steps for the smallest eigenvalue (surface_variation). */
-#define VARIATION_STEPS      6
+#define VARIATION_STEPS        6
 /* The mean distance to the nearest j of points on a line `spacing` apart: for j = 10, the
  * nearest two at each of 1..5 spacings. */
-#define LINE_RADIUS_SPACINGS 3.0
-/* A box whose surface variation exceeds this is not flat: the scale's flatness test takes
- * its algebraic sphere's residual (sphere_fit.h), and its points the sphere's normal at
- * them where the sphere fits better than SPHERE_BETTER times the plane (a leaf cluster, a
- * pole's side; not an edge, which neither fits). On the 4 M street 0.02 gave trees
- * 3.7 / 42 degrees against 3.4 / 40 (4 M street, docs/BENCHMARKS.md, tenth round). */
-#define SPHERE_VARIATION     0.005
-#define SPHERE_BETTER        0.5
+#define LINE_RADIUS_SPACINGS   3.0
+/* A box whose surface variation exceeds SPHERE_VARIATION is not flat: its points take the
+ * normal of its algebraic sphere (sphere_fit.h) at them where the sphere fits better than
+ * SPHERE_BETTER times the plane (a leaf cluster, a pole's side; not an edge, which neither
+ * fits well), and above SPHERE_SCALE_VARIATION the scale's flatness test compares its
+ * sphere's residual (a leaf cluster's box is not left for a wider one that only looks
+ * flatter). 4 M street (docs/BENCHMARKS.md, tenth round): trees 5.6 / 42 degrees -> 3.1 /
+ * 37 with the adaptive level below; SPHERE_BETTER 1 lost the buildings' p95 (8.3 -> 9.3). */
+#define SPHERE_VARIATION       0.005
+#define SPHERE_SCALE_VARIATION 0.02
+#define SPHERE_BETTER          0.5
+/* The default method's adaptive fine level: a base cell holding an own point whose nearest
+ * base box's surface variation exceeds this is rough (a curb's step, a car's edge,
+ * foliage); its points first try the boxes of half-size cells, as moments-fine does
+ * everywhere. 4 M street: curbs' p95 47 -> 24 degrees, cars' 50 -> 35; 0.08 lost cars and
+ * poles, 0.03 took more CPU for the same. */
+#define ROUGH_VARIATION        0.05
 
 /* The moments of the 2 x 2 x 2 cells around a grid vertex, centred. */
 typedef struct vertex_box {
@@ -326,6 +335,9 @@ static bool box_sphere(const sta_normals_chunk *chunk, vertex_box *b)
 // leaf cluster's sphere fits its box better than a wider box's plane or sphere).
 static double box_error(const sta_normals_chunk *chunk, vertex_box *b)
 {
+    if (!(b->variation > SPHERE_SCALE_VARIATION)) {
+        return b->variation;
+    }
     return box_sphere(chunk, b) ? b->sphere.residual : b->variation;
 }
 
@@ -412,6 +424,8 @@ typedef struct moment_pass {
     const uint32_t *order;    /* the own points' records in cell order (cell_order.h) */
     const int32_t (*grid)[3]; /* their positions, in that order */
     size_t count;             /* own points */
+    const uint8_t *rough;     /* per own point (cell order): when not NULL, only the waiting
+                                 points marked here take part (the adaptive fine level) */
     double need;              /* points a box must hold */
     double factor;            /* plane_radius_factor() */
 } moment_pass;
@@ -434,14 +448,18 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
         if (state == STATE_DONE) {
             continue;
         }
-        uint8_t *record = m->records + (size_t)m->order[j] * layout->size;
         const int32_t *p = m->grid[j];
-        if (j + PREFETCH < m->count) { // (records lie in input order: a miss each)
-            __builtin_prefetch(m->records + (size_t)m->order[j + PREFETCH] * layout->size);
-        }
         int64_t u[3];
         for (int a = 0; a < 3; a++) {
             u[a] = (int64_t)p[a] - chunk->scene_min[a];
+        }
+        if (m->rough && state == STATE_WAIT && !m->rough[j]) {
+            left++;
+            continue;
+        }
+        uint8_t *record = m->records + (size_t)m->order[j] * layout->size;
+        if (j + PREFETCH < m->count) { // (records lie in input order: a miss each)
+            __builtin_prefetch(m->records + (size_t)m->order[j + PREFETCH] * layout->size);
         }
         bool grow = state == STATE_GROW;
         if (state == STATE_WAIT && coarse) {
@@ -511,6 +529,54 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
         m->state[j] = STATE_DONE;
     }
     return left;
+}
+
+// The adaptive fine level of the default method: marks in rough[k] the own points (the
+// k-th own one in `order`, index below count) whose nearest base box is rough, and adds to
+// `fine` (one level finer, initialised) the points, own and halo, of their base cells and
+// the 26 neighbours (the fine boxes and blends of a point reach one fine cell beyond its
+// base cell). A point's mark depends on its box only, never on which chunk owns it.
+static sta_status rough_points(const sta_normals_chunk *chunk, level_boxes *base,
+                               const int32_t (*grid)[3], size_t n, size_t count,
+                               const uint32_t *order, const int32_t lo[3], const int32_t hi[3],
+                               uint8_t *rough, sta_cell_moments *fine, sta_error *err)
+{
+    int level = base->cells->level;
+    sta_cell_moments wanted;
+    sta_status status = sta_cell_moments_init(&wanted, level, chunk->scene_min, lo, hi, err);
+    int64_t last[3] = { -1, -1, -1 }; // the base cell marked last (with its neighbours)
+    for (size_t j = 0, k = 0; j < n && status == STA_OK; j++) {
+        if (order[j] >= count) {
+            continue;
+        }
+        int64_t u[3], c[3];
+        for (int a = 0; a < 3; a++) {
+            u[a] = (int64_t)grid[order[j]][a] - chunk->scene_min[a];
+            c[a] = u[a] >> level;
+        }
+        vertex_box *b = nearest_box(chunk, base, u);
+        if (!b) {
+            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+            break;
+        }
+        rough[k] = b->variation > ROUGH_VARIATION;
+        if (rough[k++] && memcmp(c, last, sizeof(c)) != 0) {
+            memcpy(last, c, sizeof(c));
+            bool marked = true;
+            for (int q = 0; q < 27 && marked; q++) {
+                const int64_t d[3] = { c[0] + q % 3 - 1, c[1] + q / 3 % 3 - 1, c[2] + q / 9 - 1 };
+                marked = sta_cell_moments_mark(&wanted, d);
+            }
+            if (!marked) {
+                status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
+            }
+        }
+    }
+    if (status == STA_OK) {
+        status = sta_cell_moments_add(fine, grid, n, order, &wanted, err);
+    }
+    sta_cell_moments_release(&wanted);
+    return status;
 }
 
 int sta_moment_normals_base_level(sta_normals_method method, uint64_t points,
@@ -634,6 +700,24 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     if (status == STA_OK) {
         status = sta_cell_moments_add(&cells[0], (const int32_t(*)[3])grid, n, order, NULL, err);
     }
+    // The default method's adaptive fine level (before the halo's positions go).
+    sta_cell_moments fine = { 0 };
+    uint8_t *rough = NULL;
+    level_boxes fine_boxes = { 0 };
+    bool adaptive = chunk->method == STA_NORMALS_MOMENTS && level == chunk->base_level && level > 0;
+    if (status == STA_OK && !level_init(&boxes[0], &cells[0])) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+    }
+    if (status == STA_OK && adaptive) {
+        rough = sta_alloc_array(count, 1);
+        status = rough
+                     ? sta_cell_moments_init(&fine, level - 1, chunk->scene_min, lo, hi, err)
+                     : sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
+        if (status == STA_OK) {
+            status = rough_points(chunk, &boxes[0], (const int32_t(*)[3])grid, n, count, order, lo,
+                                  hi, rough, &fine, err);
+        }
+    }
     // The own points in cell order with their positions: the passes read them in order.
     int32_t(*own)[3] = status == STA_OK ? sta_alloc_array(count, sizeof(*own)) : NULL;
     if (status == STA_OK && !own) {
@@ -647,9 +731,20 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     }
     pass.grid = (const int32_t(*)[3])own;
     sta_free(grid);
-    if (status == STA_OK && !level_init(&boxes[0], &cells[0])) {
-        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+    if (status == STA_OK && adaptive) {
+        if (!level_init(&fine_boxes, &fine)) {
+            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+        } else {
+            pass.rough = rough;
+            if (fit_level(&pass, &fine_boxes, &boxes[0]) == SIZE_MAX) {
+                status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+            }
+            pass.rough = NULL;
+        }
     }
+    table_release(&fine_boxes.table);
+    sta_cell_moments_release(&fine);
+    sta_free(rough);
     while (status == STA_OK) {
         int next = 1 - at;
         if (level < top) {

@@ -5,15 +5,19 @@
 #include <math.h>
 #include <string.h>
 
-/* Cyclic Jacobi sweeps at most (a 4 x 4 converges in 4-6). */
-#define JACOBI_SWEEPS 16
-/* The second smallest eigenvalue at most this times the largest: the smallest is not
- * alone (points on a line, or one point twice), no sphere is decided. */
-#define SPHERE_ALONE  1e-6
+/* Inverse iterations for the smallest eigenvector: each shrinks the others by the ratio of
+ * the eigenvalues; where the sphere is used it fits twice better than the plane. */
+#define SPHERE_ITERATIONS 8
+/* The shift of the inverse iteration, times the trace: an exact sphere's zero eigenvalue
+ * stays factorable. */
+#define SPHERE_SHIFT      1e-12
+/* The scaled second moments' (trace 1) 2 x 2 principal minors summed below this: the points
+ * lie on a line (or are one point), the spheres through them are many. */
+#define SPHERE_LINE       1e-9
 /* Fewer points cannot decide a sphere (4 unknowns) with one to spare. */
-#define SPHERE_POINTS 5.0
+#define SPHERE_POINTS     5.0
 /* n (3 extent^2)^2 below this: sum |d|^4 fits an int64 (2^62: with a margin). */
-#define SPHERE_EXACT  4.611686018427387904e18
+#define SPHERE_EXACT      4.611686018427387904e18
 
 bool sta_sphere_isotropic(const double scale[3])
 {
@@ -69,58 +73,63 @@ bool sta_sphere_moments_of(const sta_moment_sums *sums, double extent, sta_spher
     return sta_sphere_moments_higher(sums, extent, n, mean, c, out);
 }
 
-// Eigenvalues (w) and eigenvectors (columns of v) of the symmetric a, which the rotations
-// destroy.
-static void jacobi4(double a[4][4], double w[4], double v[4][4])
+// The unit eigenvector x of the smallest eigenvalue of the symmetric positive semi-definite
+// a (left as it is), by inverse iteration (Cholesky of a shifted by a trace's 1e-12), and its
+// eigenvalue (the Rayleigh quotient); false when a is not positive semi-definite.
+static bool smallest_eigen4(double a[4][4], double x[4], double *value)
 {
+    double trace = a[0][0] + a[1][1] + a[2][2] + a[3][3], l[4][4] = { { 0 } };
+    if (!(trace > 0.0)) {
+        return false;
+    }
+    for (int j = 0; j < 4; j++) {
+        for (int i = j; i < 4; i++) {
+            double sum = a[i][j] + (i == j ? SPHERE_SHIFT * trace : 0.0);
+            for (int k = 0; k < j; k++) {
+                sum -= l[i][k] * l[j][k];
+            }
+            if (i == j) {
+                if (!(sum > 0.0)) {
+                    return false;
+                }
+                l[j][j] = sqrt(sum);
+            } else {
+                l[i][j] = sum / l[j][j];
+            }
+        }
+    }
+    for (int i = 0; i < 4; i++) {
+        x[i] = 0.5;
+    }
+    for (int it = 0; it < SPHERE_ITERATIONS; it++) {
+        double y[4], len = 0.0;
+        for (int i = 0; i < 4; i++) { // L y = x
+            y[i] = x[i];
+            for (int k = 0; k < i; k++) {
+                y[i] -= l[i][k] * y[k];
+            }
+            y[i] /= l[i][i];
+        }
+        for (int i = 3; i >= 0; i--) { // L^T x = y
+            x[i] = y[i];
+            for (int k = i + 1; k < 4; k++) {
+                x[i] -= l[k][i] * x[k];
+            }
+            x[i] /= l[i][i];
+            len += x[i] * x[i];
+        }
+        len = sqrt(len);
+        for (int i = 0; i < 4; i++) {
+            x[i] /= len;
+        }
+    }
+    *value = 0.0;
     for (int i = 0; i < 4; i++) {
         for (int j = 0; j < 4; j++) {
-            v[i][j] = i == j ? 1.0 : 0.0;
+            *value += x[i] * a[i][j] * x[j];
         }
     }
-    for (int sweep = 0; sweep < JACOBI_SWEEPS; sweep++) {
-        double off = 0.0, diag = 0.0;
-        for (int p = 0; p < 4; p++) {
-            diag += a[p][p] * a[p][p];
-            for (int q = p + 1; q < 4; q++) {
-                off += a[p][q] * a[p][q];
-            }
-        }
-        if (!(off > 1e-28 * diag)) { // (off-diagonal under 1e-14 of the diagonal)
-            break;
-        }
-        for (int p = 0; p < 3; p++) {
-            for (int q = p + 1; q < 4; q++) {
-                if (a[p][q] == 0.0) {
-                    continue;
-                }
-                // The rotation by atan(t) in the (p, q) plane that zeroes a[p][q].
-                double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-                double t = fabs(theta) < 1e100 ? 1.0 / (fabs(theta) + sqrt(theta * theta + 1.0))
-                                               : 0.5 / fabs(theta);
-                t = theta < 0.0 ? -t : t;
-                double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
-                for (int k = 0; k < 4; k++) {
-                    double kp = a[k][p], kq = a[k][q];
-                    a[k][p] = c * kp - s * kq;
-                    a[k][q] = s * kp + c * kq;
-                }
-                for (int k = 0; k < 4; k++) {
-                    double pk = a[p][k], qk = a[q][k];
-                    a[p][k] = c * pk - s * qk;
-                    a[q][k] = s * pk + c * qk;
-                }
-                for (int k = 0; k < 4; k++) {
-                    double kp = v[k][p], kq = v[k][q];
-                    v[k][p] = c * kp - s * kq;
-                    v[k][q] = s * kp + c * kq;
-                }
-            }
-        }
-    }
-    for (int i = 0; i < 4; i++) {
-        w[i] = a[i][i];
-    }
+    return true;
 }
 
 bool sta_sphere_fit(const sta_sphere_moments *m, sta_sphere *out)
@@ -133,7 +142,7 @@ bool sta_sphere_fit(const sta_sphere_moments *m, sta_sphere *out)
     // the constraint |u|^2 + 4 u4^2 = 1 makes y = (u, 2 u4) a unit vector minimising
     // y^T A y: A = [C / (n s^2), t / (2 n s^3); ., (q / (n s^4) - 1) / 4].
     double s2 = trace / n, s = sqrt(s2);
-    double a[4][4], w[4], v[4][4];
+    double a[4][4];
     const int idx[3][3] = { { 0, 1, 2 }, { 1, 3, 4 }, { 2, 4, 5 } };
     for (int r = 0; r < 3; r++) {
         for (int q = 0; q < 3; q++) {
@@ -142,26 +151,20 @@ bool sta_sphere_fit(const sta_sphere_moments *m, sta_sphere *out)
         a[r][3] = a[3][r] = m->t[r] / (2.0 * n * s2 * s);
     }
     a[3][3] = (m->q / (n * s2 * s2) - 1.0) / 4.0;
-    jacobi4(a, w, v);
-    int lo = 0, hi = 0;
-    for (int i = 1; i < 4; i++) {
-        lo = w[i] < w[lo] ? i : lo;
-        hi = w[i] > w[hi] ? i : hi;
-    }
-    double second = INFINITY;
-    for (int i = 0; i < 4; i++) {
-        second = i != lo && w[i] < second ? w[i] : second;
-    }
-    if (!(second > SPHERE_ALONE * w[hi])) {
+    // Points on a line (the second moments of rank 1): the spheres through it are many.
+    double minors = a[0][0] * a[1][1] - a[0][1] * a[0][1] + a[0][0] * a[2][2] - a[0][2] * a[0][2] +
+                    a[1][1] * a[2][2] - a[1][2] * a[1][2];
+    double x[4], value;
+    if (!(minors > SPHERE_LINE) || !smallest_eigen4(a, x, &value)) {
         return false;
     }
     memcpy(out->mean, m->mean, sizeof(out->mean));
     out->spread = s;
     for (int r = 0; r < 3; r++) {
-        out->u[r] = v[r][lo];
+        out->u[r] = x[r];
     }
-    out->u4 = 0.5 * v[3][lo];
-    out->residual = w[lo] > 0.0 ? w[lo] : 0.0;
+    out->u4 = 0.5 * x[3];
+    out->residual = value > 0.0 ? value : 0.0;
     return isfinite(out->u[0]) && isfinite(out->u[1]) && isfinite(out->u[2]) && isfinite(out->u4);
 }
 
