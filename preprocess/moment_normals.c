@@ -424,8 +424,10 @@ typedef struct moment_pass {
     const uint32_t *order;    /* the own points' records in cell order (cell_order.h) */
     const int32_t (*grid)[3]; /* their positions, in that order */
     size_t count;             /* own points */
-    const uint8_t *rough;     /* per own point (cell order): when not NULL, only the waiting
-                                 points marked here take part (the adaptive fine level) */
+    uint8_t *rough;           /* per own point (cell order): the adaptive fine level's */
+    bool defer;               /* the base level's first pass: a new candidate whose box is
+                                 rough is marked in `rough` and left waiting */
+    bool only_rough;          /* only the points marked in `rough` take part */
     double need;              /* points a box must hold */
     double factor;            /* plane_radius_factor() */
 } moment_pass;
@@ -453,8 +455,7 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
         for (int a = 0; a < 3; a++) {
             u[a] = (int64_t)p[a] - chunk->scene_min[a];
         }
-        if (m->rough && state == STATE_WAIT && !m->rough[j]) {
-            left++;
+        if (m->only_rough && !m->rough[j]) {
             continue;
         }
         uint8_t *record = m->records + (size_t)m->order[j] * layout->size;
@@ -478,6 +479,11 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
         vertex_box *b = nearest_box(chunk, fine, u);
         if (!b) {
             return SIZE_MAX;
+        }
+        if (m->defer && state == STATE_CANDIDATE && !grow && b->variation > ROUGH_VARIATION) {
+            m->rough[j] = 1; // (still waiting: the fine level first)
+            left++;
+            continue;
         }
         if (!grow && coarse && state >= STATE_CANDIDATE && state < STATE_CANDIDATE + STEPS) {
             vertex_box *c = nearest_box(chunk, coarse, u);
@@ -531,50 +537,64 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
     return left;
 }
 
-// The adaptive fine level of the default method: marks in rough[k] the own points (the
-// k-th own one in `order`, index below count) whose nearest base box is rough, and adds to
-// `fine` (one level finer, initialised) the points, own and halo, of their base cells and
-// the 26 neighbours (the fine boxes and blends of a point reach one fine cell beyond its
-// base cell). A point's mark depends on its box only, never on which chunk owns it.
-static sta_status rough_points(const sta_normals_chunk *chunk, level_boxes *base,
-                               const int32_t (*grid)[3], size_t n, size_t count,
-                               const uint32_t *order, const int32_t lo[3], const int32_t hi[3],
-                               uint8_t *rough, sta_cell_moments *fine, sta_error *err)
+// The adaptive fine level of the default method, after the base level's first pass marked
+// the rough points in m->rough (a point's mark depends on its nearest base box only, never
+// on which chunk owns it): boxes of half-size cells from the points, own and halo, of the
+// rough points' base cells and their 26 neighbours (the fine boxes and blends of a point
+// reach one fine cell beyond its base cell); the rough points' pass at the fine level,
+// then at the base level again (`base`, `coarse` the next, NULL at the top). Returns
+// false when out of memory.
+static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coarse,
+                            const int32_t *halo, size_t halo_count, const int32_t lo[3],
+                            const int32_t hi[3], sta_error *err)
 {
+    const sta_normals_chunk *chunk = m->chunk;
     int level = base->cells->level;
-    sta_cell_moments wanted;
+    sta_cell_moments wanted = { 0 }, fine = { 0 };
+    level_boxes fine_boxes = { 0 };
     sta_status status = sta_cell_moments_init(&wanted, level, chunk->scene_min, lo, hi, err);
+    if (status == STA_OK) {
+        status = sta_cell_moments_init(&fine, level - 1, chunk->scene_min, lo, hi, err);
+    }
     int64_t last[3] = { -1, -1, -1 }; // the base cell marked last (with its neighbours)
-    for (size_t j = 0, k = 0; j < n && status == STA_OK; j++) {
-        if (order[j] >= count) {
+    for (size_t j = 0; j < m->count && status == STA_OK; j++) {
+        int64_t c[3];
+        for (int a = 0; a < 3; a++) {
+            c[a] = ((int64_t)m->grid[j][a] - chunk->scene_min[a]) >> level;
+        }
+        if (!m->rough[j] || memcmp(c, last, sizeof(c)) == 0) {
             continue;
         }
-        int64_t u[3], c[3];
-        for (int a = 0; a < 3; a++) {
-            u[a] = (int64_t)grid[order[j]][a] - chunk->scene_min[a];
-            c[a] = u[a] >> level;
+        memcpy(last, c, sizeof(c));
+        bool marked = true;
+        for (int q = 0; q < 27 && marked; q++) {
+            const int64_t d[3] = { c[0] + q % 3 - 1, c[1] + q / 3 % 3 - 1, c[2] + q / 9 - 1 };
+            marked = sta_cell_moments_mark(&wanted, d);
         }
-        vertex_box *b = nearest_box(chunk, base, u);
-        if (!b) {
-            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
-            break;
+        if (!marked) {
+            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
         }
-        rough[k] = b->variation > ROUGH_VARIATION;
-        if (rough[k++] && memcmp(c, last, sizeof(c)) != 0) {
-            memcpy(last, c, sizeof(c));
-            bool marked = true;
-            for (int q = 0; q < 27 && marked; q++) {
-                const int64_t d[3] = { c[0] + q % 3 - 1, c[1] + q / 3 % 3 - 1, c[2] + q / 9 - 1 };
-                marked = sta_cell_moments_mark(&wanted, d);
-            }
-            if (!marked) {
-                status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
-            }
-        }
+    }
+    // (the sums are integers: the points' order does not change them)
+    if (status == STA_OK) {
+        status = sta_cell_moments_add(&fine, m->grid, m->count, NULL, &wanted, err);
     }
     if (status == STA_OK) {
-        status = sta_cell_moments_add(fine, grid, n, order, &wanted, err);
+        status =
+            sta_cell_moments_add(&fine, (const int32_t(*)[3])halo, halo_count, NULL, &wanted, err);
     }
+    if (status == STA_OK && !level_init(&fine_boxes, &fine)) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+    }
+    if (status == STA_OK) {
+        m->only_rough = true;
+        if (fit_level(m, &fine_boxes, base) == SIZE_MAX || fit_level(m, base, coarse) == SIZE_MAX) {
+            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+        }
+        m->only_rough = false;
+    }
+    table_release(&fine_boxes.table);
+    sta_cell_moments_release(&fine);
     sta_cell_moments_release(&wanted);
     return status;
 }
@@ -700,23 +720,13 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     if (status == STA_OK) {
         status = sta_cell_moments_add(&cells[0], (const int32_t(*)[3])grid, n, order, NULL, err);
     }
-    // The default method's adaptive fine level (before the halo's positions go).
-    sta_cell_moments fine = { 0 };
-    uint8_t *rough = NULL;
-    level_boxes fine_boxes = { 0 };
+    uint8_t *rough = NULL; // the adaptive fine level's marks (fine_pass)
     bool adaptive = chunk->method == STA_NORMALS_MOMENTS && level == chunk->base_level && level > 0;
     if (status == STA_OK && !level_init(&boxes[0], &cells[0])) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
     }
-    if (status == STA_OK && adaptive) {
-        rough = sta_alloc_array(count, 1);
-        status = rough
-                     ? sta_cell_moments_init(&fine, level - 1, chunk->scene_min, lo, hi, err)
-                     : sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
-        if (status == STA_OK) {
-            status = rough_points(chunk, &boxes[0], (const int32_t(*)[3])grid, n, count, order, lo,
-                                  hi, rough, &fine, err);
-        }
+    if (status == STA_OK && adaptive && !(rough = sta_calloc(count, 1))) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
     }
     // The own points in cell order with their positions: the passes read them in order.
     int32_t(*own)[3] = status == STA_OK ? sta_alloc_array(count, sizeof(*own)) : NULL;
@@ -731,20 +741,6 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     }
     pass.grid = (const int32_t(*)[3])own;
     sta_free(grid);
-    if (status == STA_OK && adaptive) {
-        if (!level_init(&fine_boxes, &fine)) {
-            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
-        } else {
-            pass.rough = rough;
-            if (fit_level(&pass, &fine_boxes, &boxes[0]) == SIZE_MAX) {
-                status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
-            }
-            pass.rough = NULL;
-        }
-    }
-    table_release(&fine_boxes.table);
-    sta_cell_moments_release(&fine);
-    sta_free(rough);
     while (status == STA_OK) {
         int next = 1 - at;
         if (level < top) {
@@ -759,9 +755,20 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                 break;
             }
         }
+        pass.rough = rough;
+        pass.defer = adaptive && level == chunk->base_level;
         size_t left = fit_level(&pass, &boxes[at], level < top ? &boxes[next] : NULL);
+        pass.defer = false;
         if (left == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+        } else if (adaptive && level == chunk->base_level) {
+            status = fine_pass(&pass, &boxes[at], level < top ? &boxes[next] : NULL, halo,
+                               halo_count, lo, hi, err);
+            left = 0; // (the rough points' passes left some waiting: count them)
+            for (size_t j = 0; j < count; j++) {
+                left += state[j] != STATE_DONE;
+            }
+            left = status == STA_OK ? left : SIZE_MAX;
         }
         if (left == 0 || left == SIZE_MAX || level == top) {
             break;
@@ -779,6 +786,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         stats->points += count;
     }
     sta_free(own);
+    sta_free(rough);
     sta_free(state);
     sta_free(order);
     return status;
