@@ -78,9 +78,12 @@ typedef struct vertex_box {
     int fit;          /* 0: not fitted yet, 1: a plane, 2: none (degenerate) */
     float radius;     /* box_radius as packed (a float), < 0 until computed: once a box */
     double normal[3], w[3];
-    uint64_t s3[3], s4; /* the points' higher sums (cell_moments.h), from the corner */
-    int sphere_fit;     /* 0: not fitted yet, 1: a sphere, 2: none */
-    sta_sphere sphere;  /* its mean (grid units from the box's corner) set with m2 */
+    double mean[3];       /* the points' mean, grid units from the box's corner */
+    int sphere_fit;       /* 0: not fitted yet, 1: a sphere, 2: none */
+    union {               /* (a box is sized for two levels of a chunk: kept small) */
+        uint64_t sums[4]; /* until fitted: sum d |d|^2, sum |d|^4 (cell_moments.h) */
+        float fit[6];     /* fitted: the sphere's u[3], u4, residual, spread */
+    } sphere;
 } vertex_box;
 
 /* One level's vertex boxes, computed when first wanted (open addressing). */
@@ -150,11 +153,10 @@ static void vertex_moments(const sta_cell_moments *cells, const int64_t v[3], ve
         }
     }
     for (int a = 0; a < 3; a++) {
-        box->sphere.mean[a] = (double)s1[a] / nd;
-        box->s3[a] = sum.s3[a];
+        box->mean[a] = (double)s1[a] / nd;
+        box->sphere.sums[a] = sum.s3[a];
     }
-    box->s4 = sum.s4;
-    box->sphere.spread = (double)((int64_t)2 << cells->level); // the box's edge, until fitted
+    box->sphere.sums[3] = sum.s4;
 }
 
 // Vertex v's box, computed when first asked for; NULL when out of memory.
@@ -313,19 +315,30 @@ static bool box_fit(const sta_normals_chunk *chunk, vertex_box *b)
     return b->fit == 1;
 }
 
-// Whether box b is not flat and has an algebraic sphere (fitted when first asked).
-static bool box_sphere(const sta_normals_chunk *chunk, vertex_box *b)
+// Whether box b (of level `level`) is not flat and has an algebraic sphere (fitted when
+// first asked).
+static bool box_sphere(const sta_normals_chunk *chunk, int level, vertex_box *b)
 {
     if (!(b->variation > SPHERE_VARIATION) || !sta_sphere_isotropic(chunk->scale)) {
         return false;
     }
     if (b->sphere_fit == 0) {
         sta_sphere_moments m;
-        sta_moment_sums higher = { .s3 = { b->s3[0], b->s3[1], b->s3[2] }, .s4 = b->s4 };
-        bool fits =
-            sta_sphere_moments_higher(&higher, b->sphere.spread, b->n, b->sphere.mean, b->m2, &m) &&
-            sta_sphere_fit(&m, &b->sphere);
+        sta_sphere fitted;
+        const sta_moment_sums higher = { .s3 = { b->sphere.sums[0], b->sphere.sums[1],
+                                                 b->sphere.sums[2] },
+                                         .s4 = b->sphere.sums[3] };
+        bool fits = sta_sphere_moments_higher(&higher, (double)((int64_t)2 << level), b->n, b->mean,
+                                              b->m2, &m) &&
+                    sta_sphere_fit(&m, &fitted);
         b->sphere_fit = fits ? 1 : 2;
+        if (fits) {
+            const double f[6] = { fitted.u[0], fitted.u[1],     fitted.u[2],
+                                  fitted.u4,   fitted.residual, fitted.spread };
+            for (int i = 0; i < 6; i++) {
+                b->sphere.fit[i] = (float)f[i];
+            }
+        }
     }
     return b->sphere_fit == 1;
 }
@@ -333,12 +346,12 @@ static bool box_sphere(const sta_normals_chunk *chunk, vertex_box *b)
 // How far box b's points lie from its best model, over their spread squared: the surface
 // variation, or where b is not flat its sphere's residual (the scale's flatness test: a
 // leaf cluster's sphere fits its box better than a wider box's plane or sphere).
-static double box_error(const sta_normals_chunk *chunk, vertex_box *b)
+static double box_error(const sta_normals_chunk *chunk, int level, vertex_box *b)
 {
     if (!(b->variation > SPHERE_SCALE_VARIATION)) {
         return b->variation;
     }
-    return box_sphere(chunk, b) ? b->sphere.residual : b->variation;
+    return box_sphere(chunk, level, b) ? (double)b->sphere.fit[4] : b->variation;
 }
 
 // The normal at u of the algebraic sphere of its nearest box b, where b is not flat and
@@ -346,16 +359,20 @@ static double box_error(const sta_normals_chunk *chunk, vertex_box *b)
 static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, vertex_box *b,
                           const int64_t u[3], double normal[3])
 {
-    if (!box_sphere(chunk, b) || !(b->sphere.residual < SPHERE_BETTER * b->variation)) {
+    int level = l->cells->level;
+    if (!box_sphere(chunk, level, b) ||
+        !((double)b->sphere.fit[4] < SPHERE_BETTER * b->variation)) {
         return false;
     }
-    int level = l->cells->level;
+    const float *f = b->sphere.fit;
+    sta_sphere s = { .u = { f[0], f[1], f[2] }, .u4 = f[3], .residual = f[4], .spread = f[5] };
     double p[3];
     for (int a = 0; a < 3; a++) { // u from the box's corner, one cell below its vertex
         int64_t v = (2 * u[a] + ((int64_t)1 << level)) >> (level + 1);
         p[a] = (double)(u[a] - ((v - 1) << level));
+        s.mean[a] = b->mean[a];
     }
-    return sta_sphere_normal(&b->sphere, p, normal);
+    return sta_sphere_normal(&s, p, normal);
 }
 
 // The normals of the boxes of the 8 grid vertices of u's cell, blended by the point's place
@@ -490,8 +507,9 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
             if (!c) {
                 return SIZE_MAX;
             }
-            if (box_error(chunk, c) < box_error(chunk, b) && box_fit(chunk, b) &&
-                box_fit(chunk, c) &&
+            if (box_error(chunk, coarse->cells->level, c) <
+                    box_error(chunk, fine->cells->level, b) &&
+                box_fit(chunk, b) && box_fit(chunk, c) &&
                 fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
                      b->normal[2] * c->normal[2]) > AGREE) {
                 m->state[j] = (uint8_t)(state + 1); // flatter, and the same surface
