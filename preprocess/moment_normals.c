@@ -27,10 +27,11 @@
 #define STEPS                  2
 /* The base cells are 1/2 to 1 times this many mean spacings wide (the spacing of the
  * scene's points spread over its two widest extents; STA_NORMALS_MOMENTS_FINE: half). On
- * the 20 M street (spacing 62 mm: cells of 128 mm, fine 64 mm) fine takes 1.6x the CPU
+ * the 20 M street (spacing 62 mm: cells of 128 mm, fine 64 mm) fine took 1.6x the CPU
  * and 1.8x the memory for curbs' and cars' p95 of 24 and 34 degrees against 48 and 53
  * (the 12-16 cm curb face inside the boxes); 1 spacing (cells of 32 mm there) gave worse
- * roads (boxes of 10 points on one scan line). */
+ * roads (boxes of 10 points on one scan line). The default's adaptive fine level now
+ * takes half-size cells only around rough points (ROUGH_VARIATION). */
 #define BASE_CELL_SPACINGS     4.0
 /* A candidate moves to the next level's box only when its normal is within this (cosine)
  * of this level's: the same surface, flatter (on a curb face the wider box is flatter,
@@ -316,11 +317,12 @@ static bool box_fit(const sta_normals_chunk *chunk, vertex_box *b)
 }
 
 // Whether box b (of level `level`) is not flat and has an algebraic sphere (fitted when
-// first asked).
+// first asked); only in the default method.
 static bool box_sphere(const sta_normals_chunk *chunk, int level, vertex_box *b)
 {
-    if (!(b->variation > SPHERE_VARIATION) || !sta_sphere_isotropic(chunk->scale)) {
-        return false;
+    if (chunk->method != STA_NORMALS_MOMENTS || !(b->variation > SPHERE_VARIATION) ||
+        !sta_sphere_isotropic(chunk->scale)) {
+        return false; // (moments-fine stays as it was: the sphere cost it edges, 20 M street)
     }
     if (b->sphere_fit == 0) {
         sta_sphere_moments m;
@@ -653,8 +655,10 @@ double sta_moment_normals_reach(int base_level, double unit)
 }
 
 /* Bytes a point of one level's cells and vertex boxes takes at most (measured, see
- * docs/CONVERTER.md "Memory"), besides its position and state. */
-#define MOMENT_BYTES_PER_POINT 96
+ * docs/CONVERTER.md "Memory"), besides its position and state: 96 before the sphere's sums
+ * and the adaptive fine level, which took the 20 M street's peak from 531 to 832 MB (two
+ * workers of about 3.75 M points with their halos: 40 bytes a point more). */
+#define MOMENT_BYTES_PER_POINT 136
 
 size_t sta_normals_memory_bytes(sta_normals_method method, size_t points)
 {
