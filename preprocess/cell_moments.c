@@ -210,9 +210,11 @@ sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], s
         run.s1[0] += d[0], run.s1[1] += d[1], run.s1[2] += d[2];
         run.s2[0] += d[0] * d[0], run.s2[1] += d[0] * d[1], run.s2[2] += d[0] * d[2];
         run.s2[3] += d[1] * d[1], run.s2[4] += d[1] * d[2], run.s2[5] += d[2] * d[2];
-        uint64_t dd = (uint64_t)(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        run.s3[0] += (uint64_t)d[0] * dd, run.s3[1] += (uint64_t)d[1] * dd;
-        run.s3[2] += (uint64_t)d[2] * dd, run.s4 += dd * dd;
+        if (m->higher) {
+            uint64_t dd = (uint64_t)(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            run.s3[0] += (uint64_t)d[0] * dd, run.s3[1] += (uint64_t)d[1] * dd;
+            run.s3[2] += (uint64_t)d[2] * dd, run.s4 += dd * dd;
+        }
     }
     if (run.n > 0 && !add_run(m, run_cell, &run)) {
         return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
@@ -258,7 +260,9 @@ void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], 
                             c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
                     }
                 }
-                add_higher(&out[i], c, o);
+                if (m->higher) {
+                    add_higher(&out[i], c, o);
+                }
             }
         }
     }
@@ -315,7 +319,9 @@ void sta_cell_moments_vertex(const sta_cell_moments *m, const int64_t vertex[3],
                 s2[t] += c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
             }
         }
-        add_higher(&higher, c, o);
+        if (m->higher) {
+            add_higher(&higher, c, o);
+        }
     }
     out->n = n;
     memcpy(out->s3, higher.s3, sizeof(out->s3));
@@ -356,7 +362,9 @@ sta_status sta_cell_moments_coarsen(const sta_cell_moments *fine, sta_cell_momen
                 p->s2[t] += c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
             }
         }
-        add_higher(p, c, o);
+        if (coarse->higher) {
+            add_higher(p, c, o);
+        }
         for (int a = 0; a < 3; a++) {
             p->s1[a] += c->s1[a] + c->n * o[a];
         }

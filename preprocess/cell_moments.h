@@ -40,6 +40,8 @@ typedef struct sta_moment_sums {
 /* One level's cells. */
 typedef struct sta_cell_moments {
     int level;             /* cells are 2^level grid units wide */
+    bool higher;           /* also the sphere fit's sums s3, s4 (else they stay 0); false
+                              after sta_cell_moments_init: set it before adding */
     int64_t origin[3];     /* the scene's corner, grid units */
     int64_t base[3];       /* the lowest cell of the set, cell coordinates */
     size_t capacity, used; /* slots (a power of two), cells */

@@ -575,6 +575,7 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
     sta_status status = sta_cell_moments_init(&wanted, level, chunk->scene_min, lo, hi, err);
     if (status == STA_OK) {
         status = sta_cell_moments_init(&fine, level - 1, chunk->scene_min, lo, hi, err);
+        fine.higher = true; // (the default method's)
     }
     int64_t last[3] = { -1, -1, -1 }; // the base cell marked last (with its neighbours)
     for (size_t j = 0; j < m->count && status == STA_OK; j++) {
@@ -728,7 +729,10 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     sta_cell_moments cells[2] = { { 0 } };
     level_boxes boxes[2] = { { 0 } };
     int at = 0; // cells[at] is `level`
+    // The sphere's sums: the default method's only (sphere_fit.h).
+    bool higher = chunk->method == STA_NORMALS_MOMENTS;
     sta_status status = sta_cell_moments_init(&cells[0], level, chunk->scene_min, lo, hi, err);
+    cells[0].higher = higher;
     if (status == STA_OK) {
         // Morton order of the base cells (aligned 8 levels up: nested to there).
         int32_t corner[3];
@@ -767,6 +771,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         int next = 1 - at;
         if (level < top) {
             status = sta_cell_moments_init(&cells[next], level + 1, chunk->scene_min, lo, hi, err);
+            cells[next].higher = higher;
             if (status == STA_OK) {
                 status = sta_cell_moments_coarsen(&cells[at], &cells[next], err);
             }

@@ -62,6 +62,7 @@ static void moments_of_all(sta_cell_moments *m, int level, const int64_t origin[
 {
     sta_error err = { 0 };
     assert_int_equal(sta_cell_moments_init(m, level, origin, lo, hi, &err), STA_OK);
+    m->higher = true;
     assert_int_equal(sta_cell_moments_add(m, grid, POINTS, order, NULL, &err), STA_OK);
 }
 
@@ -230,6 +231,7 @@ static void wanted_cells_hold_all_their_points(void **state)
     assert_false(sta_cell_moments_has(&wanted, (const int64_t[3]){ 1, 2, 1 }));
     moments_of_all(&all, 6, origin, lo, hi, (const int32_t(*)[3])grid, NULL);
     assert_int_equal(sta_cell_moments_init(&some, 6, origin, lo, hi, &err), STA_OK);
+    some.higher = true;
     assert_int_equal(
         sta_cell_moments_add(&some, (const int32_t(*)[3])grid, POINTS, NULL, &wanted, &err),
         STA_OK);
@@ -308,6 +310,7 @@ static void coarsened_levels_match_brute_force(void **state)
     for (int level = 3; level <= 9; level++) {
         sta_cell_moments coarse, direct;
         assert_int_equal(sta_cell_moments_init(&coarse, level, origin, lo, hi, &err), STA_OK);
+        coarse.higher = true;
         assert_int_equal(sta_cell_moments_coarsen(&fine, &coarse, &err), STA_OK);
         moments_of_all(&direct, level, origin, lo, hi, (const int32_t(*)[3])grid, NULL);
         assert_int_equal(coarse.used, direct.used);

@@ -129,6 +129,7 @@ static void sphere_from_cell_moments(void **state)
     sta_cell_moments cells;
     sta_error err = { 0 };
     assert_int_equal(sta_cell_moments_init(&cells, level, origin, lo, hi, &err), STA_OK);
+    cells.higher = true;
     assert_int_equal(sta_cell_moments_add(&cells, (const int32_t(*)[3])grid, n, NULL, NULL, &err),
                      STA_OK);
     int64_t v[3], corner[3];
