@@ -371,7 +371,7 @@ static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, 
     double p[3];
     for (int a = 0; a < 3; a++) { // u from the box's corner, one cell below its vertex
         int64_t v = (2 * u[a] + ((int64_t)1 << level)) >> (level + 1);
-        p[a] = (double)(u[a] - ((v - 1) << level));
+        p[a] = (double)(u[a] - (v - 1) * ((int64_t)1 << level)); // (v - 1 may be -1)
         s.mean[a] = b->mean[a];
     }
     return sta_sphere_normal(&s, p, normal);
