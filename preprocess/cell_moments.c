@@ -76,6 +76,32 @@ static bool local_of(const sta_cell_moments *m, const int64_t cell[3], int64_t l
     return true;
 }
 
+// Adds c's higher sums (sum d |d|^2, sum |d|^4) moved by o (d + o: to a corner o below
+// c's) to dst's, modulo 2^64 like the sums themselves.
+static void add_higher(sta_moment_sums *dst, const sta_moment_sums *c, const int64_t o[3])
+{
+    const uint64_t n = (uint64_t)c->n, q[3] = { (uint64_t)o[0], (uint64_t)o[1], (uint64_t)o[2] };
+    const uint64_t s1[3] = { (uint64_t)c->s1[0], (uint64_t)c->s1[1], (uint64_t)c->s1[2] };
+    const uint64_t s2[3][3] = { { (uint64_t)c->s2[0], (uint64_t)c->s2[1], (uint64_t)c->s2[2] },
+                                { (uint64_t)c->s2[1], (uint64_t)c->s2[3], (uint64_t)c->s2[4] },
+                                { (uint64_t)c->s2[2], (uint64_t)c->s2[4], (uint64_t)c->s2[5] } };
+    uint64_t trace = s2[0][0] + s2[1][1] + s2[2][2], qq = 0, qs1 = 0, qs2q = 0, qs3 = 0;
+    uint64_t s2q[3];
+    for (int r = 0; r < 3; r++) {
+        s2q[r] = s2[r][0] * q[0] + s2[r][1] * q[1] + s2[r][2] * q[2];
+        qq += q[r] * q[r];
+        qs1 += q[r] * s1[r];
+        qs3 += q[r] * c->s3[r];
+    }
+    for (int r = 0; r < 3; r++) {
+        qs2q += q[r] * s2q[r];
+        // sum (d + o) |d + o|^2, with |d + o|^2 = |d|^2 + 2 d.o + |o|^2
+        dst->s3[r] +=
+            c->s3[r] + 2 * s2q[r] + qq * s1[r] + q[r] * trace + 2 * q[r] * qs1 + n * q[r] * qq;
+    }
+    dst->s4 += c->s4 + 4 * qs2q + n * qq * qq + 4 * qs3 + 2 * qq * trace + 4 * qq * qs1;
+}
+
 sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t origin[3],
                                  const int32_t lo[3], const int32_t hi[3], sta_error *err)
 {
@@ -140,6 +166,10 @@ static bool add_run(sta_cell_moments *m, const int64_t local[3], const sta_momen
     for (int t = 0; t < 6; t++) {
         c->s2[t] += run->s2[t];
     }
+    for (int a = 0; a < 3; a++) {
+        c->s3[a] += run->s3[a];
+    }
+    c->s4 += run->s4;
     return true;
 }
 
@@ -148,7 +178,8 @@ sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], s
 {
     int level = m->level;
     // Consecutive points of one cell are summed first (a run: one look-up).
-    int64_t run_cell[3] = { -1, -1, -1 };
+    int64_t run_cell[3] = { -1, -1, -1 }, only_cell[3] = { -1, -1, -1 };
+    bool only_has = false;
     sta_moment_sums run = { 0 };
     for (size_t j = 0; j < n; j++) {
         size_t i = order ? order[j] : j;
@@ -161,7 +192,11 @@ sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], s
         }
         if (only) {
             int64_t cell[3] = { u[0] >> only->level, u[1] >> only->level, u[2] >> only->level };
-            if (!sta_cell_moments_has(only, cell)) {
+            if (memcmp(cell, only_cell, sizeof(cell)) != 0) { // (points come in runs of a cell)
+                memcpy(only_cell, cell, sizeof(cell));
+                only_has = sta_cell_moments_has(only, cell);
+            }
+            if (!only_has) {
                 continue;
             }
         }
@@ -180,6 +215,11 @@ sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], s
         run.s1[0] += d[0], run.s1[1] += d[1], run.s1[2] += d[2];
         run.s2[0] += d[0] * d[0], run.s2[1] += d[0] * d[1], run.s2[2] += d[0] * d[2];
         run.s2[3] += d[1] * d[1], run.s2[4] += d[1] * d[2], run.s2[5] += d[2] * d[2];
+        if (m->higher) {
+            uint64_t dd = (uint64_t)(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            run.s3[0] += (uint64_t)d[0] * dd, run.s3[1] += (uint64_t)d[1] * dd;
+            run.s3[2] += (uint64_t)d[2] * dd, run.s4 += dd * dd;
+        }
     }
     if (run.n > 0 && !add_run(m, run_cell, &run)) {
         return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
@@ -224,6 +264,9 @@ void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], 
                         out[i].s2[t] =
                             c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
                     }
+                }
+                if (m->higher) {
+                    add_higher(&out[i], c, o);
                 }
             }
         }
@@ -301,6 +344,10 @@ void sta_cell_moments_vertex_filtered(const sta_cell_moments *m, const sta_cell_
                 for (int t = 0; t < 6; t++) {
                     out->s2[t] += block[c].s2[t];
                 }
+                for (int b = 0; b < 3; b++) {
+                    out->s3[b] += block[c].s3[b];
+                }
+                out->s4 += block[c].s4;
             }
             return;
         }
@@ -310,6 +357,7 @@ void sta_cell_moments_vertex_filtered(const sta_cell_moments *m, const sta_cell_
     // the same sums as sta_cell_moments_block's cells added up, in fewer steps.
     uint64_t key = pack(local);
     int64_t n = 0, s1[3] = { 0, 0, 0 }, s2[6] = { 0, 0, 0, 0, 0, 0 };
+    sta_moment_sums higher = { 0 };
     for (int k = 0; k < 8; k++) {
         const int64_t d[3] = { k & 1, k >> 1 & 1, k >> 2 };
         uint64_t cell = key + ((uint64_t)d[0] | (uint64_t)d[1] << STA_MOMENTS_AXIS_BITS |
@@ -330,8 +378,13 @@ void sta_cell_moments_vertex_filtered(const sta_cell_moments *m, const sta_cell_
                 s2[t] += c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
             }
         }
+        if (m->higher) {
+            add_higher(&higher, c, o);
+        }
     }
     out->n = n;
+    memcpy(out->s3, higher.s3, sizeof(out->s3));
+    out->s4 = higher.s4;
     memcpy(out->s1, s1, sizeof(s1));
     memcpy(out->s2, s2, sizeof(s2));
 }
@@ -367,6 +420,9 @@ sta_status sta_cell_moments_coarsen(const sta_cell_moments *fine, sta_cell_momen
             for (int q = r; q < 3; q++, t++) {
                 p->s2[t] += c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
             }
+        }
+        if (coarse->higher) {
+            add_higher(p, c, o);
         }
         for (int a = 0; a < 3; a++) {
             p->s1[a] += c->s1[a] + c->n * o[a];

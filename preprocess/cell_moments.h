@@ -25,16 +25,23 @@
 #define STA_MOMENTS_AXIS_BITS  21 /* cell coordinates an axis, relative to the set's lowest */
 
 /* The sums of a set of points' offsets d from a corner: n, sum d, sum d d^T (xx xy xz yy
- * yz zz), in grid units. */
+ * yz zz), in grid units; and the higher sums of the algebraic sphere fit (sphere_fit.h),
+ * sum d |d|^2 and sum |d|^4, modulo 2^64 (two's complement): they equal the true sums
+ * where these fit an int64 (n |d|^4 < 2^63, sta_sphere_sums_exact), whatever overflowed
+ * on the way. */
 typedef struct sta_moment_sums {
     int64_t n;
     int64_t s1[3];
     int64_t s2[6];
+    uint64_t s3[3];
+    uint64_t s4;
 } sta_moment_sums;
 
 /* One level's cells. */
 typedef struct sta_cell_moments {
     int level;             /* cells are 2^level grid units wide */
+    bool higher;           /* also the sphere fit's sums s3, s4 (else they stay 0); false
+                              after sta_cell_moments_init: set it before adding */
     int64_t origin[3];     /* the scene's corner, grid units */
     int64_t base[3];       /* the lowest cell of the set, cell coordinates */
     size_t capacity, used; /* slots (a power of two), cells */

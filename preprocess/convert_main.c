@@ -121,8 +121,8 @@ int main(int argc, char **argv)
           .metavar = "moments|knn|moments-fine",
           .choices = method_names,
           .help = "--normals from boxes of cell moments sized by the data, from the exact K "
-                  "nearest (slower), or from moments with cells half as wide (small features; "
-                  "~1.6x the CPU); docs/CONVERTER.md" },
+                  "nearest (slower), or from moments with cells half as wide everywhere "
+                  "(~1.4x the CPU); docs/CONVERTER.md" },
         { .name = "knn",
           .kind = STA_CLI_INT,
           .dest = &options.knn,

@@ -36,8 +36,9 @@
 typedef enum sta_normals_method {
     STA_NORMALS_MOMENTS = 0,     /* boxes of cell moments sized by the data (moment_normals.h) */
     STA_NORMALS_KNN = 1,         /* the exact K nearest, widened where needed (this file) */
-    STA_NORMALS_MOMENTS_FINE = 2 /* moments from base cells half as wide: small features
-                                    (a curb's face, a car's edges) for ~1.6x the CPU */
+    STA_NORMALS_MOMENTS_FINE = 2 /* moments from base cells half as wide everywhere, no
+                                    spheres (the default refines only rough points): ~1.4x
+                                    the default's CPU */
 } sta_normals_method;
 
 /* Where one chunk's normals are computed; grid units are the output grid's integers. */

@@ -12,52 +12,70 @@
 #include "core/alloc.h"
 #include "key_slots.h"
 #include "normal_fit.h"
+#include "sphere_fit.h"
 
 /* Vertex boxes a level's table starts with (it grows), a power of two. */
-#define FIRST_VERTICES       4096
-#define AXIS_MASK            (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
+#define FIRST_VERTICES         4096
+#define AXIS_MASK              (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
 /* Per point: done, waiting for its level, or growing (takes the next level whatever it
  * holds: its box was nearly linear, edge-on or degenerate). */
-#define STATE_WAIT           0
-#define STATE_GROW           1
-#define STATE_DONE           2
-#define STATE_CANDIDATE      3 /* + the levels it moved up for a flatter box */
-#define STATE_MASK           0x7f
+#define STATE_WAIT             0
+#define STATE_GROW             1
+#define STATE_DONE             2
+#define STATE_CANDIDATE        3 /* + the levels it moved up for a flatter box */
+#define STATE_MASK             0x7f
 /* Flag in a state byte: the point is the first of its base cell's run (the own points are
  * in the Morton order of their base cells: a cell's points come together). */
-#define RUN_START            0x80
+#define RUN_START              0x80
 /* A candidate moves up at most this many levels for a flatter box. */
-#define STEPS                2
+#define STEPS                  2
 /* The base cells are 1/2 to 1 times this many mean spacings wide (the spacing of the
  * scene's points spread over its two widest extents; STA_NORMALS_MOMENTS_FINE: half). On
- * the 20 M street (spacing 62 mm: cells of 128 mm, fine 64 mm) fine takes 1.6x the CPU
+ * the 20 M street (spacing 62 mm: cells of 128 mm, fine 64 mm) fine took 1.6x the CPU
  * and 1.8x the memory for curbs' and cars' p95 of 24 and 34 degrees against 48 and 53
  * (the 12-16 cm curb face inside the boxes); 1 spacing (cells of 32 mm there) gave worse
- * roads (boxes of 10 points on one scan line). */
-#define BASE_CELL_SPACINGS   4.0
+ * roads (boxes of 10 points on one scan line). The default's adaptive fine level now
+ * takes half-size cells only around rough points (ROUGH_VARIATION). */
+#define BASE_CELL_SPACINGS     4.0
 /* A candidate moves to the next level's box only when its normal is within this (cosine)
  * of this level's: the same surface, flatter (on a curb face the wider box is flatter,
  * but the road's). */
-#define AGREE                0.94
+#define AGREE                  0.94
 /* The blend leaves out the vertex boxes whose normal is more than this (cosine: 30
  * degrees) from the point's nearest box's: another surface, an edge is not smoothed. */
-#define BLEND_AGREE          0.87
+#define BLEND_AGREE            0.87
 /* Scanned surfaces are sampled more evenly than uniform random points (profiles, a
  * lattice): their mean distance to the 10 nearest is larger than the uniform expectation
  * at the same density. On the 4 M street the exact kNN radius is 1.18-1.22x the uniform
  * estimate (roads, walls, cars, trees), on a square lattice 1.11x, on strata-synth's
  * uniform sphere 1.03x; this factor sits between (without it the splats left gaps between
  * the profiles of sparse walls). */
-#define EVENNESS             1.15
+#define EVENNESS               1.15
 /* Records asked for this many points ahead of the pass (their GPS time, their SPLAT). */
-#define PREFETCH             8
+#define PREFETCH               8
 /* Positions asked for this many points ahead when they are read in cell order. */
-#define POSITIONS_AHEAD      16
+#define POSITIONS_AHEAD        16
 /* Newton steps for the smallest eigenvalue (surface_variation). */
-#define VARIATION_STEPS      6
+#define VARIATION_STEPS        6
 /* The mean distance to the nearest j of points on a line `spacing` apart: for j = 10, the
  * nearest two at each of 1..5 spacings. */
-#define LINE_RADIUS_SPACINGS 3.0
+#define LINE_RADIUS_SPACINGS   3.0
+/* A box whose surface variation exceeds SPHERE_VARIATION is not flat: its points take the
+ * normal of its algebraic sphere (sphere_fit.h) at them where the sphere fits better than
+ * SPHERE_BETTER times the plane (a leaf cluster, a pole's side; not an edge, which neither
+ * fits well), and above SPHERE_SCALE_VARIATION the scale's flatness test compares its
+ * sphere's residual (a leaf cluster's box is not left for a wider one that only looks
+ * flatter). 4 M street (docs/BENCHMARKS.md, tenth round): trees 5.6 / 42 degrees -> 3.1 /
+ * 37 with the adaptive level below; SPHERE_BETTER 1 lost the buildings' p95 (8.3 -> 9.3). */
+#define SPHERE_VARIATION       0.005
+#define SPHERE_SCALE_VARIATION 0.02
+#define SPHERE_BETTER          0.5
+/* The default method's adaptive fine level: a base cell holding an own point whose nearest
+ * base box's surface variation exceeds this is rough (a curb's step, a car's edge,
+ * foliage); its points first try the boxes of half-size cells, as moments-fine does
+ * everywhere. 4 M street: curbs' p95 47 -> 24 degrees, cars' 50 -> 35; 0.08 lost cars and
+ * poles, 0.03 took more CPU for the same. */
+#define ROUGH_VARIATION        0.05
 
 /* The moments of the 2 x 2 x 2 cells around a grid vertex, centred. */
 typedef struct vertex_box {
@@ -67,6 +85,12 @@ typedef struct vertex_box {
     int fit;          /* 0: not fitted yet, 1: a plane, 2: none (degenerate) */
     float radius;     /* box_radius as packed (a float), < 0 until computed: once a box */
     double normal[3], w[3];
+    double mean[3];       /* the points' mean, grid units from the box's corner */
+    int sphere_fit;       /* 0: not fitted yet, 1: a sphere, 2: none */
+    union {               /* (a box is sized for two levels of a chunk: kept small) */
+        uint64_t sums[4]; /* until fitted: sum d |d|^2, sum |d|^4 (cell_moments.h) */
+        float fit[6];     /* fitted: the sphere's u[3], u4, residual, spread */
+    } sphere;
 } vertex_box;
 
 /* One level's vertex boxes, computed when first wanted: open addressing over the keys,
@@ -151,6 +175,11 @@ static void vertex_moments(const sta_cell_moments *cells, const sta_cell_filter 
             box->m2[t] = (double)s2[t] - (double)s1[r] * (double)s1[q] / nd;
         }
     }
+    for (int a = 0; a < 3; a++) {
+        box->mean[a] = (double)s1[a] / nd;
+        box->sphere.sums[a] = sum.s3[a];
+    }
+    box->sphere.sums[3] = sum.s4;
 }
 
 // Vertex v's box, computed when first asked for; NULL when out of memory.
@@ -321,6 +350,67 @@ static bool box_fit(const sta_normals_chunk *chunk, vertex_box *b)
     return b->fit == 1;
 }
 
+// Whether box b (of level `level`) is not flat and has an algebraic sphere (fitted when
+// first asked); only in the default method.
+static bool box_sphere(const sta_normals_chunk *chunk, int level, vertex_box *b)
+{
+    if (chunk->method != STA_NORMALS_MOMENTS || !(b->variation > SPHERE_VARIATION) ||
+        !sta_sphere_isotropic(chunk->scale)) {
+        return false; // (moments-fine stays as it was: the sphere cost it edges, 20 M street)
+    }
+    if (b->sphere_fit == 0) {
+        sta_sphere_moments m;
+        sta_sphere fitted;
+        const sta_moment_sums higher = { .s3 = { b->sphere.sums[0], b->sphere.sums[1],
+                                                 b->sphere.sums[2] },
+                                         .s4 = b->sphere.sums[3] };
+        bool fits = sta_sphere_moments_higher(&higher, (double)((int64_t)2 << level), b->n, b->mean,
+                                              b->m2, &m) &&
+                    sta_sphere_fit(&m, &fitted);
+        b->sphere_fit = fits ? 1 : 2;
+        if (fits) {
+            const double f[6] = { fitted.u[0], fitted.u[1],     fitted.u[2],
+                                  fitted.u4,   fitted.residual, fitted.spread };
+            for (int i = 0; i < 6; i++) {
+                b->sphere.fit[i] = (float)f[i];
+            }
+        }
+    }
+    return b->sphere_fit == 1;
+}
+
+// How far box b's points lie from its best model, over their spread squared: the surface
+// variation, or where b is not flat its sphere's residual (the scale's flatness test: a
+// leaf cluster's sphere fits its box better than a wider box's plane or sphere).
+static double box_error(const sta_normals_chunk *chunk, int level, vertex_box *b)
+{
+    if (!(b->variation > SPHERE_SCALE_VARIATION)) {
+        return b->variation;
+    }
+    return box_sphere(chunk, level, b) ? (double)b->sphere.fit[4] : b->variation;
+}
+
+// The normal at u of the algebraic sphere of its nearest box b, where b is not flat and
+// the sphere fits it clearly better than the plane; false when the planes' blend decides.
+static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, vertex_box *b,
+                          const int64_t u[3], double normal[3])
+{
+    int level = l->cells->level;
+    if (!box_sphere(chunk, level, b) ||
+        !((double)b->sphere.fit[4] < SPHERE_BETTER * b->variation)) {
+        return false;
+    }
+    const float *f = b->sphere.fit;
+    sta_sphere s = { .u = { f[0], f[1], f[2] }, .u4 = f[3], .residual = f[4], .spread = f[5] };
+    double p[3];
+    for (int a = 0; a < 3; a++) { // u from the box's corner, one cell below its vertex
+        int64_t v = (2 * u[a] + ((int64_t)1 << level)) >> (level + 1);
+        p[a] = (double)(u[a] - (v - 1) * ((int64_t)1 << level)); // (v - 1 may be -1)
+        s.mean[a] = b->mean[a];
+    }
+    return sta_sphere_normal(&s, p, normal);
+}
+
 // The normals of the boxes of the 8 grid vertices of u's cell, blended by the point's place
 // in the cell (trilinear weights), each turned to agree with `normal` (its nearest box's,
 // replaced by the blend): the normal field between the boxes' centres. On a curved surface
@@ -389,6 +479,10 @@ typedef struct moment_pass {
     size_t count;             /* own points */
     int base_level;           /* the runs' cells (the first pass's level) */
     uint32_t *finish;         /* scratch: the points a pass finishes, count of them */
+    uint8_t *rough;           /* per own point (cell order): the adaptive fine level's */
+    bool defer;               /* the base level's first pass: a new candidate whose box is
+                                 rough is marked in `rough` and left waiting */
+    bool only_rough;          /* only the points marked in `rough` take part */
     double need;              /* points a box must hold */
     double factor;            /* plane_radius_factor() */
 } moment_pass;
@@ -413,7 +507,8 @@ static unsigned octant_of(const int64_t u[3], int level)
 }
 
 // Whether a candidate at u moves up: the next level's box is flatter (less surface
-// variation) and its normal agrees with this level's. 1 or 0; -1 when out of memory.
+// variation, or sphere residual where not flat: box_error) and its normal agrees with this
+// level's. 1 or 0; -1 when out of memory.
 static int moves_up(const sta_normals_chunk *chunk, level_boxes *fine, level_boxes *coarse,
                     const int64_t u[3])
 {
@@ -421,7 +516,8 @@ static int moves_up(const sta_normals_chunk *chunk, level_boxes *fine, level_box
     if (!c) {
         return -1;
     }
-    return c->variation < b->variation && box_fit(chunk, b) && box_fit(chunk, c) &&
+    return box_error(chunk, coarse->cells->level, c) < box_error(chunk, fine->cells->level, b) &&
+           box_fit(chunk, b) && box_fit(chunk, c) &&
            fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
                 b->normal[2] * c->normal[2]) > AGREE;
 }
@@ -440,17 +536,22 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                            size_t *finishing)
 {
     int level = fine->cells->level;
-    bool each_point = m->chunk->decide_each_point, at_base = level == m->base_level;
+    // (below the base, the adaptive fine level's cells: a base cell's points do not share
+    // their nearest vertex there)
+    bool each_point = m->chunk->decide_each_point || level < m->base_level;
+    bool at_base = level == m->base_level;
     size_t left = 0, listed = 0;
     int enough = -1; // the run's next-level cell holds enough points (-1: not known yet)
-    signed char up[8] = { -1, -1, -1, -1, -1, -1, -1, -1 }; // by octant (-1: not known)
+    signed char up[8] = { -1, -1, -1, -1, -1, -1, -1, -1 };    // by octant (-1: not known)
+    signed char rough[8] = { -1, -1, -1, -1, -1, -1, -1, -1 }; // m->defer's, by octant
     for (size_t j = 0; j < m->count; j++) {
         uint8_t flags = m->state[j], state = flags & STATE_MASK;
         if ((flags & RUN_START) || each_point) { // a new base cell: nothing known
             enough = -1;
             memset(up, -1, sizeof(up));
+            memset(rough, -1, sizeof(rough));
         }
-        if (state == STATE_DONE) {
+        if (state == STATE_DONE || (m->only_rough && !m->rough[j])) {
             continue;
         }
         int64_t u[3];
@@ -468,6 +569,25 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                 continue;
             }
             state = STATE_CANDIDATE;
+        }
+        if (m->defer && state == STATE_CANDIDATE) { // (at the base level: by octant)
+            if (!have_u) {
+                point_offset(m, j, u);
+                have_u = true;
+            }
+            unsigned k = octant_of(u, level);
+            if (rough[k] < 0) {
+                vertex_box *b = nearest_box(m->chunk, fine, u);
+                if (!b) {
+                    return SIZE_MAX;
+                }
+                rough[k] = b->variation > ROUGH_VARIATION;
+            }
+            if (rough[k]) {
+                m->rough[j] = 1; // (still waiting: the fine level first)
+                left++;
+                continue;
+            }
         }
         if (state != STATE_GROW && coarse && state >= STATE_CANDIDATE &&
             state < STATE_CANDIDATE + STEPS) {
@@ -550,7 +670,8 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
                 continue;
             }
         }
-        if (ok && !blend_normals(chunk, fine, u, normal)) {
+        if (ok && !sphere_normal(chunk, fine, b, u, normal) &&
+            !blend_normals(chunk, fine, u, normal)) {
             return SIZE_MAX;
         }
         if (box_reach(chunk, u, fine->cells->level) > sta_normal_halo_reach(chunk, p)) {
@@ -572,6 +693,69 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
     }
     size_t grew = finish_level(m, fine, coarse == NULL, listed);
     return grew == SIZE_MAX ? SIZE_MAX : left + grew;
+}
+
+// The adaptive fine level of the default method, after the base level's first pass marked
+// the rough points in m->rough (a point's mark depends on its nearest base box only, never
+// on which chunk owns it): boxes of half-size cells from the points, own and halo, of the
+// rough points' base cells and their 26 neighbours (the fine boxes and blends of a point
+// reach one fine cell beyond its base cell); the rough points' pass at the fine level,
+// then at the base level again (`base`, `coarse` the next, NULL at the top). Returns
+// false when out of memory.
+static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coarse,
+                            const int32_t *halo, size_t halo_count, const int32_t lo[3],
+                            const int32_t hi[3], sta_error *err)
+{
+    const sta_normals_chunk *chunk = m->chunk;
+    int level = base->cells->level;
+    sta_cell_moments wanted = { 0 }, fine = { 0 };
+    level_boxes fine_boxes = { 0 };
+    sta_status status = sta_cell_moments_init(&wanted, level, chunk->scene_min, lo, hi, err);
+    if (status == STA_OK) {
+        status = sta_cell_moments_init(&fine, level - 1, chunk->scene_min, lo, hi, err);
+        fine.higher = true; // (the default method's)
+    }
+    int64_t last[3] = { -1, -1, -1 }; // the base cell marked last (with its neighbours)
+    for (size_t j = 0; j < m->count && status == STA_OK; j++) {
+        int64_t c[3];
+        for (int a = 0; a < 3; a++) {
+            c[a] = ((int64_t)m->grid[j][a] - chunk->scene_min[a]) >> level;
+        }
+        if (!m->rough[j] || memcmp(c, last, sizeof(c)) == 0) {
+            continue;
+        }
+        memcpy(last, c, sizeof(c));
+        bool marked = true;
+        for (int q = 0; q < 27 && marked; q++) {
+            const int64_t d[3] = { c[0] + q % 3 - 1, c[1] + q / 3 % 3 - 1, c[2] + q / 9 - 1 };
+            marked = sta_cell_moments_mark(&wanted, d);
+        }
+        if (!marked) {
+            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
+        }
+    }
+    // (the sums are integers: the points' order does not change them)
+    if (status == STA_OK) {
+        status = sta_cell_moments_add(&fine, m->grid, m->count, NULL, &wanted, err);
+    }
+    if (status == STA_OK) {
+        status =
+            sta_cell_moments_add(&fine, (const int32_t(*)[3])halo, halo_count, NULL, &wanted, err);
+    }
+    if (status == STA_OK && !level_init(&fine_boxes, &fine)) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+    }
+    if (status == STA_OK) {
+        m->only_rough = true;
+        if (fit_level(m, &fine_boxes, base) == SIZE_MAX || fit_level(m, base, coarse) == SIZE_MAX) {
+            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+        }
+        m->only_rough = false;
+    }
+    table_release(&fine_boxes.table);
+    sta_cell_moments_release(&fine);
+    sta_cell_moments_release(&wanted);
+    return status;
 }
 
 int sta_moment_normals_base_level(sta_normals_method method, uint64_t points,
@@ -610,8 +794,10 @@ double sta_moment_normals_reach(int base_level, double unit)
 }
 
 /* Bytes a point of one level's cells and vertex boxes takes at most (measured, see
- * docs/CONVERTER.md "Memory"), besides its position and state. */
-#define MOMENT_BYTES_PER_POINT 96
+ * docs/CONVERTER.md "Memory"), besides its position and state: 96 before the sphere's sums
+ * and the adaptive fine level, which took the 20 M street's peak from 531 to 832 MB (two
+ * workers of about 3.75 M points with their halos: 40 bytes a point more). */
+#define MOMENT_BYTES_PER_POINT 136
 
 size_t sta_normals_memory_bytes(sta_normals_method method, size_t points)
 {
@@ -687,7 +873,10 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     sta_cell_moments cells[2] = { { 0 } };
     level_boxes boxes[2] = { { 0 } };
     int at = 0; // cells[at] is `level`
+    // The sphere's sums: the default method's only (sphere_fit.h).
+    bool higher = chunk->method == STA_NORMALS_MOMENTS;
     sta_status status = sta_cell_moments_init(&cells[0], level, chunk->scene_min, lo, hi, err);
+    cells[0].higher = higher;
     if (status == STA_OK) {
         // Morton order of the base cells (aligned 8 levels up: nested to there).
         int32_t corner[3];
@@ -700,6 +889,14 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     }
     if (status == STA_OK) {
         status = sta_cell_moments_add(&cells[0], (const int32_t(*)[3])grid, n, order, NULL, err);
+    }
+    uint8_t *rough = NULL; // the adaptive fine level's marks (fine_pass)
+    bool adaptive = chunk->method == STA_NORMALS_MOMENTS && level == chunk->base_level && level > 0;
+    if (status == STA_OK && !level_init(&boxes[0], &cells[0])) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+    }
+    if (status == STA_OK && adaptive && !(rough = sta_calloc(count, 1))) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
     }
     // The own points in cell order with their positions: the passes read them in order.
     int32_t(*own)[3] = status == STA_OK ? sta_alloc_array(count, sizeof(*own)) : NULL;
@@ -724,13 +921,11 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     }
     pass.grid = (const int32_t(*)[3])own;
     sta_free(grid);
-    if (status == STA_OK && !level_init(&boxes[0], &cells[0])) {
-        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
-    }
     while (status == STA_OK) {
         int next = 1 - at;
         if (level < top) {
             status = sta_cell_moments_init(&cells[next], level + 1, chunk->scene_min, lo, hi, err);
+            cells[next].higher = higher;
             if (status == STA_OK) {
                 status = sta_cell_moments_coarsen(&cells[at], &cells[next], err);
             }
@@ -741,9 +936,20 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                 break;
             }
         }
+        pass.rough = rough;
+        pass.defer = adaptive && level == chunk->base_level;
         size_t left = fit_level(&pass, &boxes[at], level < top ? &boxes[next] : NULL);
+        pass.defer = false;
         if (left == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+        } else if (adaptive && level == chunk->base_level) {
+            status = fine_pass(&pass, &boxes[at], level < top ? &boxes[next] : NULL, halo,
+                               halo_count, lo, hi, err);
+            left = 0; // (the rough points' passes left some waiting: count them)
+            for (size_t j = 0; j < count; j++) {
+                left += (state[j] & STATE_MASK) != STATE_DONE;
+            }
+            left = status == STA_OK ? left : SIZE_MAX;
         }
         if (left == 0 || left == SIZE_MAX || level == top) {
             break;
@@ -761,6 +967,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         stats->points += count;
     }
     sta_free(own);
+    sta_free(rough);
     sta_free(state);
     sta_free(order);
     sta_free(finish);

@@ -13,8 +13,13 @@
  * a point becomes a candidate at the finest level whose next-level cell holding it has at
  * least K points, then moves up while the next level's box is flatter (less surface
  * variation, Pauly et al.'s rule) and its normal within 20 degrees of this level's, at
- * most 2 levels; a box whose plane is nearly linear, edge-on to the scanner or
- * degenerate takes the next level once. The normal is the trilinear blend (by the
+ * most 2 levels (a box that is not flat compares its algebraic sphere's residual,
+ * sphere_fit.h); a box whose plane is nearly linear, edge-on to the scanner or
+ * degenerate takes the next level once. The default method first offers the points whose
+ * base box is rough (a curb's step, a car's edge) the boxes of half-size cells (an
+ * adaptive fine level, built only around them). The normal is the gradient at the point
+ * of its nearest box's algebraic sphere where the box is not flat and the sphere fits it
+ * clearly better than the plane (a leaf cluster), else the trilinear blend (by the
  * point's place in its cell) of the plane normals (normal_fit.h) of the boxes of its
  * cell's 8 vertices, leaving out those over 30 degrees from its nearest box's; the radius
  * 1.15 times the expected mean distance to the STA_NORMALS_RADIUS_K nearest of uniform

@@ -62,6 +62,7 @@ static void moments_of_all(sta_cell_moments *m, int level, const int64_t origin[
 {
     sta_error err = { 0 };
     assert_int_equal(sta_cell_moments_init(m, level, origin, lo, hi, &err), STA_OK);
+    m->higher = true;
     assert_int_equal(sta_cell_moments_add(m, grid, POINTS, order, NULL, &err), STA_OK);
 }
 
@@ -90,6 +91,12 @@ static sta_moment_sums brute(const int32_t (*grid)[3], size_t n, const int64_t o
                 m.s2[t] += d[r] * d[c];
             }
         }
+        // the sphere fit's sums, modulo 2^64 as the cells keep them
+        uint64_t dd = (uint64_t)(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int a = 0; a < 3; a++) {
+            m.s3[a] += (uint64_t)d[a] * dd;
+        }
+        m.s4 += dd * dd;
     }
     return m;
 }
@@ -193,6 +200,10 @@ static void vertex_sums_match_brute_force(void **state)
                 for (int t = 0; t < 6; t++) {
                     want.s2[t] += b.s2[t];
                 }
+                for (int a = 0; a < 3; a++) {
+                    want.s3[a] += b.s3[a];
+                }
+                want.s4 += b.s4;
             }
             assert_memory_equal(&got, &want, sizeof(want));
             full += want.n > 0;
@@ -269,6 +280,7 @@ static void wanted_cells_hold_all_their_points(void **state)
     assert_false(sta_cell_moments_has(&wanted, (const int64_t[3]){ 1, 2, 1 }));
     moments_of_all(&all, 6, origin, lo, hi, (const int32_t(*)[3])grid, NULL);
     assert_int_equal(sta_cell_moments_init(&some, 6, origin, lo, hi, &err), STA_OK);
+    some.higher = true;
     assert_int_equal(
         sta_cell_moments_add(&some, (const int32_t(*)[3])grid, POINTS, NULL, &wanted, &err),
         STA_OK);
@@ -347,6 +359,7 @@ static void coarsened_levels_match_brute_force(void **state)
     for (int level = 3; level <= 9; level++) {
         sta_cell_moments coarse, direct;
         assert_int_equal(sta_cell_moments_init(&coarse, level, origin, lo, hi, &err), STA_OK);
+        coarse.higher = true;
         assert_int_equal(sta_cell_moments_coarsen(&fine, &coarse, &err), STA_OK);
         moments_of_all(&direct, level, origin, lo, hi, (const int32_t(*)[3])grid, NULL);
         assert_int_equal(coarse.used, direct.used);
