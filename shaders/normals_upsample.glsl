@@ -30,9 +30,9 @@ vec4 np_upsample(ivec2 q, vec4 p)
         float lambda = min(log2(max(u_radius_px_m / depth, 1.0)), float(u_level_count - 1));
         int level = max(int(lambda), u_anchor_level);
         float tolerance = u_plane_tolerance_m * float(1 << level) * depth;
-        int s = 1 << u_anchor_level;
-        ivec2 i0 = q / s;
-        vec2 f = vec2(q - s * i0) * (1.0 / float(s));
+        // Shifts, not divisions (q >= 0): llvmpipe runs an integer division lane by lane.
+        ivec2 i0 = q >> u_anchor_level;
+        vec2 f = vec2(q - (i0 << u_anchor_level)) * (1.0 / float(1 << u_anchor_level));
         vec3 acc = vec3(0.0), nearest = vec3(0.0);
         float nearest_off = 1e30;
         for (int b = 0; b < 2; b++) {
