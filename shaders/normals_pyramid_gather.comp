@@ -9,7 +9,8 @@
 // (no mixing across depth discontinuities); where neither level has one, the next finer
 // level that does. Twin: src/render/ref/normals_pyramid_ref.c.
 // With NP_ANCHORS (half resolution, sta_normals_pyramid_params.half_resolution) it runs
-// on the even pixels (2i, 2j) only and writes texel (i, j) of the half-resolution image
+// on the anchors (i, j) * 2^u_anchor_level only (every even pixel below 1080 px of view
+// height, every 4th from 1080: sta_normals_anchor_level) and writes texel (i, j) of the image
 // that normals_pyramid_upsample.comp reads: xyz the normal (zero where none), w its
 // tangent plane's offset dot(n, p).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
@@ -24,6 +25,7 @@ uniform ivec2 u_level_size[16];
 uniform float u_radius_px_m; // r_n * H / (2 tan(fov_y / 2)): r_px = u_radius_px_m / depth
 uniform float u_near;
 uniform float u_plane_tolerance_m; // per texel footprint at unit depth
+uniform int u_anchor_level;        // NP_ANCHORS: anchors every 2^u_anchor_level pixels
 uniform float u_jump2;             // squared jump ratio (pn_difference)
 uniform float u_texel_m;           // a level-0 texel's footprint per metre of depth
 
@@ -70,7 +72,7 @@ bool level_normal(int l, ivec2 q, vec3 p, float tolerance_m, out vec3 n)
 void main()
 {
 #ifdef NP_ANCHORS
-    ivec2 q = 2 * ivec2(gl_GlobalInvocationID.xy);
+    ivec2 q = ivec2(gl_GlobalInvocationID.xy) << u_anchor_level;
 #else
     ivec2 q = ivec2(gl_GlobalInvocationID.xy);
 #endif
@@ -116,7 +118,7 @@ void main()
         }
     }
 #ifdef NP_ANCHORS
-    imageStore(u_normal, q / 2,
+    imageStore(u_normal, q >> u_anchor_level,
                result.w > 0.0 ? vec4(result.xyz, dot(result.xyz, p.xyz)) : vec4(0.0));
 #else
     imageStore(u_normal, q, result);

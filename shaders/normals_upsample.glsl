@@ -3,11 +3,11 @@
 // normals_pyramid_upsample.comp, which writes the normal image, and shade.comp with
 // STA_SHADE_UPSAMPLE, which shades from it directly in the shaded pipeline: one
 // full-screen pass fewer). The normal of the pixel q with filled point p (w > 0): bilinear
-// interpolation of the half-resolution normals of the even pixels
-// (normals_pyramid_gather.comp with NP_ANCHORS; anchor (i, j) sits at pixel (2i, 2j), so
-// the weights are 1, 1/2 or 1/4), counting only anchors whose tangent plane passes within
+// interpolation of the normals of the anchors (normals_pyramid_gather.comp with
+// NP_ANCHORS; anchor (i, j) sits at pixel (i, j) * 2^u_anchor_level, so the weights are
+// k / 2^u_anchor_level per axis), counting only anchors whose tangent plane passes within
 // the gather's plane tolerance of p at the finer of the two levels the gather would use
-// here, at least level 1 (the anchors' spacing): no mixing across depth discontinuities,
+// here, at least level u_anchor_level (the anchors' spacing): no mixing across depth discontinuities,
 // and a noisy point still finds its surface's anchors. Where no anchor qualifies (a
 // surface seen only between anchors), the normal of the anchor whose plane passes nearest
 // (the pixel's own level-0 normal there measured as good, but computing it costs every
@@ -16,6 +16,7 @@
 // Twin: src/render/ref/normals_pyramid_ref.c.
 layout(binding = STA_NORMALS_UPSAMPLE_IMAGE_HALF, rgba32f) readonly uniform image2D u_half;
 uniform ivec2 u_half_size;
+uniform int u_anchor_level; // anchor (i, j) sits at pixel (i, j) * 2^u_anchor_level
 uniform float u_upsample_near;
 uniform int u_level_count;
 uniform float u_radius_px_m;       // as the gather's
@@ -27,10 +28,11 @@ vec4 np_upsample(ivec2 q, vec4 p)
     if (p.w > 0.0) {
         float depth = max(-p.z, u_upsample_near);
         float lambda = min(log2(max(u_radius_px_m / depth, 1.0)), float(u_level_count - 1));
-        int level = max(int(lambda), 1);
+        int level = max(int(lambda), u_anchor_level);
         float tolerance = u_plane_tolerance_m * float(1 << level) * depth;
-        ivec2 i0 = q / 2;
-        vec2 f = vec2(q - 2 * i0) * 0.5;
+        // Shifts, not divisions (q >= 0): llvmpipe runs an integer division lane by lane.
+        ivec2 i0 = q >> u_anchor_level;
+        vec2 f = vec2(q - (i0 << u_anchor_level)) * (1.0 / float(1 << u_anchor_level));
         vec3 acc = vec3(0.0), nearest = vec3(0.0);
         float nearest_off = 1e30;
         for (int b = 0; b < 2; b++) {

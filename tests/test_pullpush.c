@@ -420,17 +420,33 @@ static void shader_matches_twin_odd_sizes(void **state)
     }
 }
 
-/* Half-resolution normals (the gather on the even pixels, then the upsample): shader
+/* Half-resolution normals (the gather on the anchors, then the upsample): shader
  * against twin on random frames, odd and even sizes (the last row and column of an odd
- * size have anchors on one side only). */
+ * size have anchors on one side only), anchors every 2nd pixel and, from 1080 px high,
+ * every 4th (33 x 1081) and from 2160 px every 8th (9 x 2163). */
 static void half_resolution_shader_matches_twin(void **state)
 {
     (void)state;
-    const int sizes[][2] = { { 37, 23 }, { 1, 1 }, { 1, 17 }, { 2, 2 }, { 64, 64 }, { 129, 65 } };
+    const int sizes[][2] = { { 37, 23 }, { 1, 1 },    { 1, 17 },    { 2, 2 },
+                             { 64, 64 }, { 129, 65 }, { 33, 1081 }, { 9, 2163 } };
     sta_normals_pyramid_params params = { .half_resolution = true };
     for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
         check_random_size_with(sizes[i][0], sizes[i][1], true, &params);
     }
+}
+
+/* The anchor level follows the view height: every 2nd pixel below 1080 px, every 4th
+ * from 1080, every 8th from 2160 and no sparser. */
+static void anchor_level_follows_view_height(void **state)
+{
+    (void)state;
+    assert_int_equal(sta_normals_anchor_level(1), 1);
+    assert_int_equal(sta_normals_anchor_level(540), 1);
+    assert_int_equal(sta_normals_anchor_level(1079), 1);
+    assert_int_equal(sta_normals_anchor_level(1080), 2);
+    assert_int_equal(sta_normals_anchor_level(2159), 2);
+    assert_int_equal(sta_normals_anchor_level(2160), 3);
+    assert_int_equal(sta_normals_anchor_level(32768), STA_NORMALS_ANCHOR_MAX_LEVEL);
 }
 
 /* The shade pass upsampling half-resolution normals itself (what the shaded pipeline
@@ -445,7 +461,7 @@ static void shade_upsample_matches_upsample_then_shade(void **state)
     sta_shade_pass shade;
     sta_error err = { 0 };
     assert_int_equal(sta_shade_pass_init(&shade, &err), STA_OK);
-    const int sizes[][2] = { { 37, 23 }, { 64, 64 }, { 129, 65 } };
+    const int sizes[][2] = { { 37, 23 }, { 64, 64 }, { 129, 65 }, { 21, 1083 } };
     for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
         int w = sizes[i][0], h = sizes[i][1];
         frame f;
@@ -1238,6 +1254,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(shader_matches_twin_odd_sizes, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(half_resolution_shader_matches_twin, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(half_resolution_normals_stay_close, gl_setup, gl_teardown),
+    cmocka_unit_test(anchor_level_follows_view_height),
     cmocka_unit_test_setup_teardown(shade_upsample_matches_upsample_then_shade, gl_setup,
                                     gl_teardown),
     cmocka_unit_test_setup_teardown(passes_follow_view_size_changes, gl_setup, gl_teardown),

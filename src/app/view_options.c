@@ -545,7 +545,8 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .kind = STA_CLI_FLAG,
           .dest = &a->normals_every_pixel,
           .help = "pyramidal normals gathered on every pixel (by default on a quarter of "
-                  "them, upsampled within each surface: a third cheaper; docs/PULLPUSH.md)" },
+                  "them, a sixteenth from 1080 px high, upsampled within each surface; "
+                  "docs/PULLPUSH.md)" },
         { .name = "hpr",
           .kind = STA_CLI_CHOICE,
           .dest = &hpr,

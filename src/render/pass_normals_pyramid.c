@@ -127,6 +127,7 @@ void sta_normals_upsample_locate(GLuint program, sta_normals_upsample_uniforms *
     u->level_count = glGetUniformLocation(program, "u_level_count");
     u->radius_px_m = glGetUniformLocation(program, "u_radius_px_m");
     u->plane_tolerance_m = glGetUniformLocation(program, "u_plane_tolerance_m");
+    u->anchor_level = glGetUniformLocation(program, "u_anchor_level");
 }
 
 void sta_normals_upsample_bind(GLuint program, const sta_normals_upsample_uniforms *u,
@@ -137,6 +138,7 @@ void sta_normals_upsample_bind(GLuint program, const sta_normals_upsample_unifor
     glProgramUniform1i(program, u->level_count, in->level_count);
     glProgramUniform1f(program, u->radius_px_m, in->radius_px_m);
     glProgramUniform1f(program, u->plane_tolerance_m, in->plane_tolerance_m);
+    glProgramUniform1i(program, u->anchor_level, in->anchor_level);
     glBindImageTexture(STA_NORMALS_UPSAMPLE_IMAGE_HALF, in->half, 0, GL_FALSE, 0, GL_READ_ONLY,
                        GL_RGBA32F);
 }
@@ -185,9 +187,10 @@ static sta_status run(sta_normals_pyramid_pass *pass, const sta_view_params *vie
     }
 
     // Full resolution: the gather on every pixel. Half resolution: the gather on the
-    // even pixels into the half image, then the upsample on every pixel.
+    // anchors into the half image, then the upsample on every pixel.
     const int i = p.half_resolution ? 1 : 0;
-    const int hw = (view->width_px + 1) / 2, hh = (view->height_px + 1) / 2;
+    const int anchor_level = sta_normals_anchor_level(view->height_px), s = 1 << anchor_level;
+    const int hw = (view->width_px + s - 1) / s, hh = (view->height_px + s - 1) / s;
     GLuint gp = i ? pass->anchor_program : pass->gather_program;
     glUseProgram(gp);
     glProgramUniform2i(gp, pass->gather_size[i], view->width_px, view->height_px);
@@ -207,11 +210,13 @@ static sta_status run(sta_normals_pyramid_pass *pass, const sta_view_params *vie
     glBindImageTexture(STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS, pass->atlas, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
     if (i) {
+        glProgramUniform1i(gp, glGetUniformLocation(gp, "u_anchor_level"), anchor_level);
         sta_gl_dispatch_2d(hw, hh);
         sta_normals_upsample_inputs in = { pass->half,
                                            hw,
                                            hh,
                                            count,
+                                           anchor_level,
                                            view->near_m,
                                            sta_normals_pyramid_radius_px_m(view, &p),
                                            sta_normals_pyramid_plane_tolerance_m(view, &p) };

@@ -7,8 +7,9 @@
  * of the view's texels), so that the gather shader can pick a level per pixel; it is
  * (re)allocated when the view size changes. Level-0 normals are computed by the
  * gather shader itself where a pixel uses level 0. At half resolution
- * (params->half_resolution) the gather runs on the even pixels only, into a
- * quarter-size image, and an upsample pass interpolates every pixel from it (the twin's
+ * (params->half_resolution) the gather runs on the anchors only (every even pixel, every
+ * 4th from 1080 px of view height: sta_normals_anchor_level), into a smaller image, and
+ * an upsample pass interpolates every pixel from it (the twin's
  * steps 4-5). Main thread (GL) only.
  */
 #ifndef STA_RENDER_PASS_NORMALS_PYRAMID_H
@@ -26,12 +27,13 @@
 typedef struct sta_normals_upsample_inputs {
     GLuint half; /* RGBA32F, half_width_px x half_height_px: normal, plane offset */
     int half_width_px, half_height_px, level_count;
+    int anchor_level; /* sta_normals_anchor_level: anchors every 2^anchor_level pixels */
     float near_m, radius_px_m, plane_tolerance_m;
 } sta_normals_upsample_inputs;
 
 /* The uniforms of normals_upsample.glsl in one program. */
 typedef struct sta_normals_upsample_uniforms {
-    GLint half_size, near, level_count, radius_px_m, plane_tolerance_m;
+    GLint half_size, near, level_count, radius_px_m, plane_tolerance_m, anchor_level;
 } sta_normals_upsample_uniforms;
 
 /* Finds them in `program` (linked with normals_upsample.glsl). */

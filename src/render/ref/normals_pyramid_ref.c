@@ -234,10 +234,13 @@ static bool upsample_pixel(const gather_input *g, const sta_image *half, int x, 
 {
     float depth = fmaxf(-pt[2], g->view->near_m);
     float lambda = fminf(log2f(fmaxf(g->radius_px_m / depth, 1.0f)), (float)(g->count - 1));
-    int level = (int)lambda > 1 ? (int)lambda : 1;
+    const int anchor_level = sta_normals_anchor_level(g->view->height_px);
+    int level = (int)lambda > anchor_level ? (int)lambda : anchor_level;
     float tolerance = g->tolerance_m * (float)(1 << level) * depth;
-    int i0 = x / 2, j0 = y / 2;
-    float fu = (float)(x - 2 * i0) * 0.5f, fv = (float)(y - 2 * j0) * 0.5f;
+    const int s = 1 << anchor_level;
+    int i0 = x / s, j0 = y / s;
+    float fu = (float)(x - s * i0) * (1.0f / (float)s),
+          fv = (float)(y - s * j0) * (1.0f / (float)s);
     float n[3] = { 0.0f, 0.0f, 0.0f }, nearest[3] = { 0.0f, 0.0f, 0.0f };
     float nearest_off = 1e30f;
     for (int b = 0; b < 2; b++) {
@@ -304,13 +307,14 @@ sta_status sta_normals_pyramid_ref(const sta_view_params *view,
                        sta_normals_pyramid_radius_px_m(view, &p),
                        sta_normals_pyramid_plane_tolerance_m(view, &p) };
     if (status == STA_OK && p.half_resolution) {
-        status = sta_image_init(&half, (w + 1) / 2, (h + 1) / 2, 4, err);
+        const int s = 1 << sta_normals_anchor_level(h);
+        status = sta_image_init(&half, (w + s - 1) / s, (h + s - 1) / s, 4, err);
         for (int j = 0; j < half.height && status == STA_OK; j++) {
             for (int i = 0; i < half.width; i++) {
-                const float *pt = sta_image_at(filled_position, 2 * i, 2 * j);
+                const float *pt = sta_image_at(filled_position, s * i, s * j);
                 float *o = sta_image_at(&half, i, j);
                 o[0] = o[1] = o[2] = o[3] = 0.0f;
-                if (pt[3] > 0.0f && gather_pixel(&g, 2 * i, 2 * j, pt, o)) {
+                if (pt[3] > 0.0f && gather_pixel(&g, s * i, s * j, pt, o)) {
                     o[3] = dot3(o, pt);
                 }
             }

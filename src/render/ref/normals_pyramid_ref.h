@@ -26,13 +26,15 @@
  *    used, down to level 0 (the pixel's own normal, whose plane holds p).
  * At half resolution (half_resolution; issue 20: the gather is most of the pass's cost,
  * and it is per pixel):
- * 4. Steps 2-3 on the even pixels (2i, 2j) only (the anchors), giving a
- *    ceil(W / 2) x ceil(H / 2) image of normals and their tangent planes.
+ * 4. Steps 2-3 on the anchors only, the pixels (s i, s j) with s = 2^a, a the anchor level
+ *    (sta_normals_anchor_level: 1 below 1080 px of view height, 2 from 1080, 3 from 2160;
+ *    issue 15, eleventh round), giving a ceil(W / s) x ceil(H / s) image of normals and
+ *    their tangent planes.
  * 5. Every pixel with a point p: bilinear interpolation of the anchors around it (anchor
- *    (i, j) sits at pixel (2i, 2j): weights 1, 1/2 or 1/4; clamped at the far borders),
+ *    (i, j) sits at pixel (s i, s j): weights k / s per axis; clamped at the far borders),
  *    counting only anchors whose tangent plane passes within plane_tolerance texel
- *    footprints of p at level max(1, floor(lambda)) (step 3's finer level at p, at
- *    least level 1, the anchors' spacing); where none does, the normal of the anchor of non-zero
+ *    footprints of p at level max(a, floor(lambda)) (step 3's finer level at p, at
+ *    least level a, the anchors' spacing); where none does, the normal of the anchor of non-zero
  * weight whose plane passes nearest to p (the first in row order on ties; none where no anchor has
  * one); normalised and oriented towards the camera.
  */
@@ -55,6 +57,25 @@
 #define STA_NORMALS_PYRAMID_DEFAULT_PLANE_TOLERANCE 0.25f
 /* Default jump ratio of step 1. */
 #define STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO      2.5f
+/* Steps 4-5: the anchors are the pixels whose x and y are multiples of 2^a, a = the
+ * anchor level: 1 (every even pixel) below this view height, one more for each doubling
+ * of it (1080 px: every 4th pixel), up to STA_NORMALS_ANCHOR_MAX_LEVEL. The anchors then
+ * keep about the same angular spacing: the gather on every 4th pixel at 1920x1080 gave
+ * the errors of every even pixel there to 0.6 %, on every 4th pixel of 960x540 it did
+ * not (issue 15, eleventh round, docs/BENCHMARKS.md). */
+#define STA_NORMALS_ANCHOR_HEIGHT_PX                540
+#define STA_NORMALS_ANCHOR_MAX_LEVEL                3
+
+/* The anchor level of steps 4-5 for a view `height_px` pixels high (above). */
+static inline int sta_normals_anchor_level(int height_px)
+{
+    int level = 1;
+    while (level < STA_NORMALS_ANCHOR_MAX_LEVEL &&
+           height_px >= (STA_NORMALS_ANCHOR_HEIGHT_PX << level)) {
+        level++;
+    }
+    return level;
+}
 
 /* Zero (or negative) fields mean their defaults. */
 typedef struct sta_normals_pyramid_params {
