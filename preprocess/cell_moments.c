@@ -8,6 +8,8 @@
 #include "key_slots.h"
 
 #define FIRST_CAPACITY 1024
+/* Cells a parent of a surface's cells holds (2 x 2 of its 8), the coarser set's reserve. */
+#define COARSER_CELLS  4
 /* Points in `order` whose positions are asked for ahead of their sums. */
 #define GATHER_AHEAD   32
 #define AXIS_MASK      (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
@@ -23,10 +25,12 @@ static bool grow(sta_cell_moments *m)
 {
     size_t capacity = m->capacity * 2;
     uint64_t *keys = sta_calloc(capacity, sizeof(*keys));
-    sta_moment_sums *sums = sta_alloc_array(capacity, sizeof(*sums));
-    if (!keys || !sums) {
+    sta_cell_sums *sums = sta_alloc_array(capacity, sizeof(*sums));
+    sta_higher_sums *high = m->high ? sta_alloc_array(capacity, sizeof(*high)) : NULL;
+    if (!keys || !sums || (m->high && !high)) {
         sta_free(keys);
         sta_free(sums);
+        sta_free(high);
         return false;
     }
     for (size_t s = 0; s < m->capacity; s++) {
@@ -34,33 +38,45 @@ static bool grow(sta_cell_moments *m)
             size_t t = sta_key_slot(keys, capacity, m->keys[s]);
             keys[t] = m->keys[s];
             sums[t] = m->sums[s];
+            if (high) {
+                high[t] = m->high[s];
+            }
         }
     }
     sta_free(m->keys);
     sta_free(m->sums);
+    sta_free(m->high);
     m->keys = keys;
     m->sums = sums;
+    m->high = high;
     m->capacity = capacity;
     return true;
 }
 
-// The sums of cell `local`, created empty when new; NULL when out of memory.
-static sta_moment_sums *cell_at(sta_cell_moments *m, const int64_t local[3])
+// The slot of cell `local`, created empty when new; SIZE_MAX when out of memory. The
+// higher sums' array comes with the first cell of a set that keeps them.
+static size_t cell_at(sta_cell_moments *m, const int64_t local[3])
 {
+    if (m->higher && !m->high && !(m->high = sta_calloc(m->capacity, sizeof(*m->high)))) {
+        return SIZE_MAX;
+    }
     uint64_t key = pack(local);
     size_t s = sta_key_slot(m->keys, m->capacity, key);
     if (m->keys[s] == 0) {
         if (2 * (m->used + 1) > m->capacity) {
             if (!grow(m)) {
-                return NULL;
+                return SIZE_MAX;
             }
             s = sta_key_slot(m->keys, m->capacity, key);
         }
         m->keys[s] = key;
         memset(&m->sums[s], 0, sizeof(m->sums[s]));
+        if (m->high) {
+            memset(&m->high[s], 0, sizeof(m->high[s]));
+        }
         m->used++;
     }
-    return &m->sums[s];
+    return s;
 }
 
 // Cell coordinates (from the scene corner) relative to the set's lowest cell; false when
@@ -76,9 +92,10 @@ static bool local_of(const sta_cell_moments *m, const int64_t cell[3], int64_t l
     return true;
 }
 
-// Adds c's higher sums (sum d |d|^2, sum |d|^4) moved by o (d + o: to a corner o below
-// c's) to dst's, modulo 2^64 like the sums themselves.
-static void add_higher(sta_moment_sums *dst, const sta_moment_sums *c, const int64_t o[3])
+// Adds the higher sums h (sum d |d|^2, sum |d|^4) of cell c moved by o (d + o: to a corner
+// o below c's) to dst, modulo 2^64 like the sums themselves.
+static void add_higher(sta_higher_sums *dst, const sta_cell_sums *c, const sta_higher_sums *h,
+                       const int64_t o[3])
 {
     const uint64_t n = (uint64_t)c->n, q[3] = { (uint64_t)o[0], (uint64_t)o[1], (uint64_t)o[2] };
     const uint64_t s1[3] = { (uint64_t)c->s1[0], (uint64_t)c->s1[1], (uint64_t)c->s1[2] };
@@ -91,15 +108,15 @@ static void add_higher(sta_moment_sums *dst, const sta_moment_sums *c, const int
         s2q[r] = s2[r][0] * q[0] + s2[r][1] * q[1] + s2[r][2] * q[2];
         qq += q[r] * q[r];
         qs1 += q[r] * s1[r];
-        qs3 += q[r] * c->s3[r];
+        qs3 += q[r] * h->s3[r];
     }
     for (int r = 0; r < 3; r++) {
         qs2q += q[r] * s2q[r];
         // sum (d + o) |d + o|^2, with |d + o|^2 = |d|^2 + 2 d.o + |o|^2
         dst->s3[r] +=
-            c->s3[r] + 2 * s2q[r] + qq * s1[r] + q[r] * trace + 2 * q[r] * qs1 + n * q[r] * qq;
+            h->s3[r] + 2 * s2q[r] + qq * s1[r] + q[r] * trace + 2 * q[r] * qs1 + n * q[r] * qq;
     }
-    dst->s4 += c->s4 + 4 * qs2q + n * qq * qq + 4 * qs3 + 2 * qq * trace + 4 * qq * qs1;
+    dst->s4 += h->s4 + 4 * qs2q + n * qq * qq + 4 * qs3 + 2 * qq * trace + 4 * qq * qs1;
 }
 
 sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t origin[3],
@@ -129,10 +146,20 @@ sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t o
     return STA_OK;
 }
 
+bool sta_cell_moments_reserve(sta_cell_moments *m, size_t cells)
+{
+    while (2 * cells > m->capacity) {
+        if (!grow(m)) {
+            return false;
+        }
+    }
+    return true;
+}
+
 bool sta_cell_moments_mark(sta_cell_moments *m, const int64_t cell[3])
 {
     int64_t local[3];
-    return !local_of(m, cell, local) || cell_at(m, local) != NULL;
+    return !local_of(m, cell, local) || cell_at(m, local) != SIZE_MAX;
 }
 
 bool sta_cell_moments_has(const sta_cell_moments *m, const int64_t cell[3])
@@ -155,10 +182,11 @@ int64_t sta_cell_moments_count(const sta_cell_moments *m, const int64_t cell[3])
 // Adds the sums of a run of points of one cell to it.
 static bool add_run(sta_cell_moments *m, const int64_t local[3], const sta_moment_sums *run)
 {
-    sta_moment_sums *c = cell_at(m, local);
-    if (!c) {
+    size_t s = cell_at(m, local);
+    if (s == SIZE_MAX) {
         return false;
     }
+    sta_cell_sums *c = &m->sums[s];
     c->n += run->n;
     for (int a = 0; a < 3; a++) {
         c->s1[a] += run->s1[a];
@@ -166,10 +194,12 @@ static bool add_run(sta_cell_moments *m, const int64_t local[3], const sta_momen
     for (int t = 0; t < 6; t++) {
         c->s2[t] += run->s2[t];
     }
-    for (int a = 0; a < 3; a++) {
-        c->s3[a] += run->s3[a];
+    if (m->high) {
+        for (int a = 0; a < 3; a++) {
+            m->high[s].s3[a] += run->s3[a];
+        }
+        m->high[s].s4 += run->s4;
     }
-    c->s4 += run->s4;
     return true;
 }
 
@@ -231,6 +261,7 @@ void sta_cell_moments_release(sta_cell_moments *m)
 {
     sta_free(m->keys);
     sta_free(m->sums);
+    sta_free(m->high);
     memset(m, 0, sizeof(*m));
 }
 
@@ -252,7 +283,7 @@ void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], 
                     continue;
                 }
                 // The cell's sums move from its corner to the block's by o (exact).
-                const sta_moment_sums *c = &m->sums[s];
+                const sta_cell_sums *c = &m->sums[s];
                 int64_t o[3] = { (int64_t)x << m->level, (int64_t)y << m->level,
                                  (int64_t)z << m->level };
                 out[i].n = c->n;
@@ -265,8 +296,11 @@ void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], 
                             c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
                     }
                 }
-                if (m->higher) {
-                    add_higher(&out[i], c, o);
+                if (m->high) {
+                    sta_higher_sums h = { { 0 }, 0 };
+                    add_higher(&h, c, &m->high[s], o);
+                    memcpy(out[i].s3, h.s3, sizeof(h.s3));
+                    out[i].s4 = h.s4;
                 }
             }
         }
@@ -327,49 +361,69 @@ void sta_cell_moments_vertex(const sta_cell_moments *m, const int64_t vertex[3],
 void sta_cell_moments_vertex_filtered(const sta_cell_moments *m, const sta_cell_filter *filter,
                                       const int64_t vertex[3], sta_moment_sums *out)
 {
+    sta_cell_moments_vertex_lower(m, filter, vertex, out);
+    sta_cell_moments_vertex_higher(m, filter, vertex, out);
+}
+
+// The packed key of the lowest of vertex's 8 cells; false when they reach beyond the set's
+// addressable cells (then the general block, which skips what lies outside).
+static bool vertex_key(const sta_cell_moments *m, const int64_t vertex[3], uint64_t *key)
+{
     int64_t local[3];
     for (int a = 0; a < 3; a++) {
         local[a] = vertex[a] - 1 - m->base[a];
         if (local[a] < 0 || local[a] + 1 > (int64_t)AXIS_MASK) {
-            // (beyond the set's cells: the general block, which skips what lies outside)
-            sta_moment_sums block[8];
-            const int64_t anchor[3] = { vertex[0] - 1, vertex[1] - 1, vertex[2] - 1 };
-            sta_cell_moments_block(m, anchor, 2, block);
-            memset(out, 0, sizeof(*out));
-            for (int c = 0; c < 8; c++) {
-                out->n += block[c].n;
-                for (int b = 0; b < 3; b++) {
-                    out->s1[b] += block[c].s1[b];
-                }
-                for (int t = 0; t < 6; t++) {
-                    out->s2[t] += block[c].s2[t];
-                }
-                for (int b = 0; b < 3; b++) {
-                    out->s3[b] += block[c].s3[b];
-                }
-                out->s4 += block[c].s4;
-            }
-            return;
+            return false;
         }
     }
-    // The 8 cells' keys are the lowest's plus 0 or 1 an axis (packed coordinates); each
-    // cell's sums move to the block's corner by o (0 or one cell an axis), all in integers:
-    // the same sums as sta_cell_moments_block's cells added up, in fewer steps.
-    uint64_t key = pack(local);
+    *key = pack(local);
+    return true;
+}
+
+// The key of the cell d (0 or 1 an axis) above the lowest of a vertex's 8 (packed
+// coordinates add), and its slot; SIZE_MAX when the cell does not exist.
+static inline size_t corner_slot(const sta_cell_moments *m, const sta_cell_filter *filter,
+                                 uint64_t key, const int64_t d[3])
+{
+    uint64_t cell = key + ((uint64_t)d[0] | (uint64_t)d[1] << STA_MOMENTS_AXIS_BITS |
+                           (uint64_t)d[2] << (2 * STA_MOMENTS_AXIS_BITS));
+    if (filter && !filter_may_hold(filter, cell)) {
+        return SIZE_MAX; // (no such cell: no probe)
+    }
+    size_t s = sta_key_slot(m->keys, m->capacity, cell);
+    return m->keys[s] != 0 ? s : SIZE_MAX;
+}
+
+void sta_cell_moments_vertex_lower(const sta_cell_moments *m, const sta_cell_filter *filter,
+                                   const int64_t vertex[3], sta_moment_sums *out)
+{
+    uint64_t key;
+    memset(out, 0, sizeof(*out));
+    if (!vertex_key(m, vertex, &key)) {
+        sta_moment_sums block[8];
+        const int64_t anchor[3] = { vertex[0] - 1, vertex[1] - 1, vertex[2] - 1 };
+        sta_cell_moments_block(m, anchor, 2, block);
+        for (int c = 0; c < 8; c++) {
+            out->n += block[c].n;
+            for (int b = 0; b < 3; b++) {
+                out->s1[b] += block[c].s1[b];
+            }
+            for (int t = 0; t < 6; t++) {
+                out->s2[t] += block[c].s2[t];
+            }
+        }
+        return;
+    }
+    // Each cell's sums move to the block's corner by o (0 or one cell an axis), all in
+    // integers: the same sums as sta_cell_moments_block's cells added up, in fewer steps.
     int64_t n = 0, s1[3] = { 0, 0, 0 }, s2[6] = { 0, 0, 0, 0, 0, 0 };
-    sta_moment_sums higher = { 0 };
     for (int k = 0; k < 8; k++) {
         const int64_t d[3] = { k & 1, k >> 1 & 1, k >> 2 };
-        uint64_t cell = key + ((uint64_t)d[0] | (uint64_t)d[1] << STA_MOMENTS_AXIS_BITS |
-                               (uint64_t)d[2] << (2 * STA_MOMENTS_AXIS_BITS));
-        if (filter && !filter_may_hold(filter, cell)) {
-            continue; // (no such cell: no probe)
-        }
-        size_t s = sta_key_slot(m->keys, m->capacity, cell);
-        if (m->keys[s] == 0) {
+        size_t s = corner_slot(m, filter, key, d);
+        if (s == SIZE_MAX) {
             continue;
         }
-        const sta_moment_sums *c = &m->sums[s];
+        const sta_cell_sums *c = &m->sums[s];
         const int64_t o[3] = { d[0] << m->level, d[1] << m->level, d[2] << m->level };
         n += c->n;
         for (int r = 0, t = 0; r < 3; r++) {
@@ -378,21 +432,51 @@ void sta_cell_moments_vertex_filtered(const sta_cell_moments *m, const sta_cell_
                 s2[t] += c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
             }
         }
-        if (m->higher) {
-            add_higher(&higher, c, o);
-        }
     }
     out->n = n;
-    memcpy(out->s3, higher.s3, sizeof(out->s3));
-    out->s4 = higher.s4;
     memcpy(out->s1, s1, sizeof(s1));
     memcpy(out->s2, s2, sizeof(s2));
+}
+
+void sta_cell_moments_vertex_higher(const sta_cell_moments *m, const sta_cell_filter *filter,
+                                    const int64_t vertex[3], sta_moment_sums *out)
+{
+    sta_higher_sums h = { { 0 }, 0 };
+    uint64_t key;
+    if (!m->high) {
+        // (no higher sums kept: zero)
+    } else if (!vertex_key(m, vertex, &key)) {
+        sta_moment_sums block[8];
+        const int64_t anchor[3] = { vertex[0] - 1, vertex[1] - 1, vertex[2] - 1 };
+        sta_cell_moments_block(m, anchor, 2, block);
+        for (int c = 0; c < 8; c++) {
+            for (int b = 0; b < 3; b++) {
+                h.s3[b] += block[c].s3[b];
+            }
+            h.s4 += block[c].s4;
+        }
+    } else {
+        for (int k = 0; k < 8; k++) {
+            const int64_t d[3] = { k & 1, k >> 1 & 1, k >> 2 };
+            size_t s = corner_slot(m, filter, key, d);
+            if (s != SIZE_MAX) {
+                const int64_t o[3] = { d[0] << m->level, d[1] << m->level, d[2] << m->level };
+                add_higher(&h, &m->sums[s], &m->high[s], o);
+            }
+        }
+    }
+    memcpy(out->s3, h.s3, sizeof(h.s3));
+    out->s4 = h.s4;
 }
 
 sta_status sta_cell_moments_coarsen(const sta_cell_moments *fine, sta_cell_moments *coarse,
                                     sta_error *err)
 {
     int level = fine->level;
+    // (a surface's cells have about a quarter as many parents; more grow the table)
+    if (coarse->used == 0 && !sta_cell_moments_reserve(coarse, fine->used / COARSER_CELLS)) {
+        return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
+    }
     for (size_t s = 0; s < fine->capacity; s++) {
         if (fine->keys[s] == 0) {
             continue;
@@ -410,19 +494,21 @@ sta_status sta_cell_moments_coarsen(const sta_cell_moments *fine, sta_cell_momen
             local[1] > (int64_t)AXIS_MASK || local[2] > (int64_t)AXIS_MASK) {
             continue; // (cannot happen for a set over the same box: its cells stay inside)
         }
-        sta_moment_sums *p = cell_at(coarse, local);
-        if (!p) {
+        size_t sp = cell_at(coarse, local);
+        if (sp == SIZE_MAX) {
             return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
         }
-        const sta_moment_sums *c = &fine->sums[s];
+        sta_cell_sums *p = &coarse->sums[sp];
+        const sta_cell_sums *c = &fine->sums[s];
         p->n += c->n;
         for (int r = 0, t = 0; r < 3; r++) {
             for (int q = r; q < 3; q++, t++) {
                 p->s2[t] += c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
             }
         }
-        if (coarse->higher) {
-            add_higher(p, c, o);
+        if (coarse->high) { // (a finer set without them: its cells' sums moved, s3 s4 0)
+            static const sta_higher_sums none = { { 0 }, 0 };
+            add_higher(&coarse->high[sp], c, fine->high ? &fine->high[s] : &none, o);
         }
         for (int a = 0; a < 3; a++) {
             p->s1[a] += c->s1[a] + c->n * o[a];

@@ -37,6 +37,20 @@ typedef struct sta_moment_sums {
     uint64_t s4;
 } sta_moment_sums;
 
+/* A cell's own sums: n, s1, s2 of sta_moment_sums (kept apart from the higher ones: a
+ * set without them stays 80 bytes a cell). */
+typedef struct sta_cell_sums {
+    int64_t n;
+    int64_t s1[3];
+    int64_t s2[6];
+} sta_cell_sums;
+
+/* A cell's higher sums: s3, s4 of sta_moment_sums. */
+typedef struct sta_higher_sums {
+    uint64_t s3[3];
+    uint64_t s4;
+} sta_higher_sums;
+
 /* One level's cells. */
 typedef struct sta_cell_moments {
     int level;             /* cells are 2^level grid units wide */
@@ -46,7 +60,8 @@ typedef struct sta_cell_moments {
     int64_t base[3];       /* the lowest cell of the set, cell coordinates */
     size_t capacity, used; /* slots (a power of two), cells */
     uint64_t *keys;        /* 0: empty slot, else packed coordinates + 1 */
-    sta_moment_sums *sums; /* per slot */
+    sta_cell_sums *sums;   /* per slot */
+    sta_higher_sums *high; /* per slot, only when `higher` (else NULL) */
 } sta_cell_moments;
 
 /* An empty level `level` (0..STA_MOMENTS_MAX_LEVEL) for points inside the box lo..hi
@@ -55,6 +70,10 @@ typedef struct sta_cell_moments {
  * sta_cell_moments_release. */
 sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t origin[3],
                                  const int32_t lo[3], const int32_t hi[3], sta_error *err);
+
+/* Room for `cells` cells without growing (the table grows by doubling, rehashing every
+ * cell: a set whose size is known roughly starts near it). False when out of memory. */
+bool sta_cell_moments_reserve(sta_cell_moments *m, size_t cells);
 
 /* Creates cell `cell` (coordinates from the scene corner) empty: a set of wanted cells.
  * False when out of memory. */
@@ -119,5 +138,14 @@ bool sta_cell_filter_may_hold(const sta_cell_moments *m, const sta_cell_filter *
  * the same sums. */
 void sta_cell_moments_vertex_filtered(const sta_cell_moments *m, const sta_cell_filter *filter,
                                       const int64_t vertex[3], sta_moment_sums *out);
+
+/* The two halves of sta_cell_moments_vertex_filtered, for boxes that need the higher sums
+ * rarely (the moments normals: only boxes that are not flat): `lower` sets n, s1 and s2 and
+ * zeroes s3 and s4; `higher` sets only s3 and s4 (0 unless m->higher), probing the cells
+ * again. Together the same sums. */
+void sta_cell_moments_vertex_lower(const sta_cell_moments *m, const sta_cell_filter *filter,
+                                   const int64_t vertex[3], sta_moment_sums *out);
+void sta_cell_moments_vertex_higher(const sta_cell_moments *m, const sta_cell_filter *filter,
+                                    const int64_t vertex[3], sta_moment_sums *out);
 
 #endif

@@ -51,6 +51,9 @@
  * uniform sphere 1.03x; this factor sits between (without it the splats left gaps between
  * the profiles of sparse walls). */
 #define EVENNESS               1.15
+/* The base cells' table starts with room for one cell this many points (it grows when
+ * more): the 4 M street's chunks had one cell for 4 to 15 points, autzen's 1 for 11. */
+#define POINTS_PER_BASE_CELL   16
 /* Records asked for this many points ahead of the pass (their GPS time, their SPLAT). */
 #define PREFETCH               8
 /* Positions asked for this many points ahead when they are read in cell order. */
@@ -85,12 +88,9 @@ typedef struct vertex_box {
     int fit;          /* 0: not fitted yet, 1: a plane, 2: none (degenerate) */
     float radius;     /* box_radius as packed (a float), < 0 until computed: once a box */
     double normal[3], w[3];
-    double mean[3];       /* the points' mean, grid units from the box's corner */
-    int sphere_fit;       /* 0: not fitted yet, 1: a sphere, 2: none */
-    union {               /* (a box is sized for two levels of a chunk: kept small) */
-        uint64_t sums[4]; /* until fitted: sum d |d|^2, sum |d|^4 (cell_moments.h) */
-        float fit[6];     /* fitted: the sphere's u[3], u4, residual, spread */
-    } sphere;
+    double mean[3];  /* the points' mean, grid units from the box's corner */
+    int sphere_fit;  /* 0: not fitted yet, 1: a sphere, 2: none */
+    float sphere[6]; /* fitted: the sphere's u[3], u4, residual, spread */
 } vertex_box;
 
 /* One level's vertex boxes, computed when first wanted: open addressing over the keys,
@@ -154,12 +154,13 @@ static bool table_grow(vertex_table *t)
 // The moments of the 8 cells around vertex v (cell coordinates from the scene corner),
 // centred: from their exact integer sums, so the box is the same bits whatever the
 // chunking. (Offsets from the block's corner stay under 2^17 units: the cancellation in
-// s2 - s1 s1^T / n loses ~2^-53 n 2^34, far below a grid unit squared times n.)
+// s2 - s1 s1^T / n loses ~2^-53 n 2^34, far below a grid unit squared times n.) Not the
+// sphere's higher sums: few boxes need them (box_sphere probes the cells again then).
 static void vertex_moments(const sta_cell_moments *cells, const sta_cell_filter *filter,
                            const int64_t v[3], vertex_box *box)
 {
     sta_moment_sums sum;
-    sta_cell_moments_vertex_filtered(cells, filter, v, &sum);
+    sta_cell_moments_vertex_lower(cells, filter, v, &sum);
     int64_t n = sum.n;
     const int64_t *s1 = sum.s1, *s2 = sum.s2;
     memset(box, 0, sizeof(*box));
@@ -177,9 +178,7 @@ static void vertex_moments(const sta_cell_moments *cells, const sta_cell_filter 
     }
     for (int a = 0; a < 3; a++) {
         box->mean[a] = (double)s1[a] / nd;
-        box->sphere.sums[a] = sum.s3[a];
     }
-    box->sphere.sums[3] = sum.s4;
 }
 
 // Vertex v's box, computed when first asked for; NULL when out of memory.
@@ -315,15 +314,20 @@ static double surface_variation(const sta_normals_chunk *chunk, const double m2[
     return x / c2;
 }
 
+// The grid vertex nearest to u (grid units from the scene corner) at `level`.
+static void nearest_vertex(const int64_t u[3], int level, int64_t v[3])
+{
+    for (int a = 0; a < 3; a++) {
+        v[a] = (2 * u[a] + ((int64_t)1 << level)) >> (level + 1);
+    }
+}
+
 // The box of the grid vertex nearest to u (grid units from the scene corner) at this level,
 // with its surface variation; NULL when out of memory.
 static vertex_box *nearest_box(const sta_normals_chunk *chunk, level_boxes *l, const int64_t u[3])
 {
-    int level = l->cells->level;
     int64_t v[3];
-    for (int a = 0; a < 3; a++) {
-        v[a] = (2 * u[a] + ((int64_t)1 << level)) >> (level + 1);
-    }
+    nearest_vertex(u, l->cells->level, v);
     if (l->last_box && l->last_capacity == l->table.box_capacity &&
         memcmp(v, l->last, sizeof(v)) == 0) {
         return l->last_box;
@@ -350,10 +354,13 @@ static bool box_fit(const sta_normals_chunk *chunk, vertex_box *b)
     return b->fit == 1;
 }
 
-// Whether box b (of level `level`) is not flat and has an algebraic sphere (fitted when
-// first asked); only in the default method.
-static bool box_sphere(const sta_normals_chunk *chunk, int level, vertex_box *b)
+// Whether box b of l, u's nearest (grid units from the scene corner), is not flat and has
+// an algebraic sphere (fitted when first asked, from the box's higher sums, summed from
+// its cells only then); only in the default method.
+static bool box_sphere(const sta_normals_chunk *chunk, const level_boxes *l, vertex_box *b,
+                       const int64_t u[3])
 {
+    int level = l->cells->level;
     if (chunk->method != STA_NORMALS_MOMENTS || !(b->variation > SPHERE_VARIATION) ||
         !sta_sphere_isotropic(chunk->scale)) {
         return false; // (moments-fine stays as it was: the sphere cost it edges, 20 M street)
@@ -361,9 +368,10 @@ static bool box_sphere(const sta_normals_chunk *chunk, int level, vertex_box *b)
     if (b->sphere_fit == 0) {
         sta_sphere_moments m;
         sta_sphere fitted;
-        const sta_moment_sums higher = { .s3 = { b->sphere.sums[0], b->sphere.sums[1],
-                                                 b->sphere.sums[2] },
-                                         .s4 = b->sphere.sums[3] };
+        sta_moment_sums higher;
+        int64_t v[3];
+        nearest_vertex(u, level, v);
+        sta_cell_moments_vertex_higher(l->cells, &l->table.filter, v, &higher);
         bool fits = sta_sphere_moments_higher(&higher, (double)((int64_t)2 << level), b->n, b->mean,
                                               b->m2, &m) &&
                     sta_sphere_fit(&m, &fitted);
@@ -372,7 +380,7 @@ static bool box_sphere(const sta_normals_chunk *chunk, int level, vertex_box *b)
             const double f[6] = { fitted.u[0], fitted.u[1],     fitted.u[2],
                                   fitted.u4,   fitted.residual, fitted.spread };
             for (int i = 0; i < 6; i++) {
-                b->sphere.fit[i] = (float)f[i];
+                b->sphere[i] = (float)f[i];
             }
         }
     }
@@ -382,12 +390,13 @@ static bool box_sphere(const sta_normals_chunk *chunk, int level, vertex_box *b)
 // How far box b's points lie from its best model, over their spread squared: the surface
 // variation, or where b is not flat its sphere's residual (the scale's flatness test: a
 // leaf cluster's sphere fits its box better than a wider box's plane or sphere).
-static double box_error(const sta_normals_chunk *chunk, int level, vertex_box *b)
+static double box_error(const sta_normals_chunk *chunk, const level_boxes *l, vertex_box *b,
+                        const int64_t u[3])
 {
     if (!(b->variation > SPHERE_SCALE_VARIATION)) {
         return b->variation;
     }
-    return box_sphere(chunk, level, b) ? (double)b->sphere.fit[4] : b->variation;
+    return box_sphere(chunk, l, b, u) ? (double)b->sphere[4] : b->variation;
 }
 
 // The normal at u of the algebraic sphere of its nearest box b, where b is not flat and
@@ -396,11 +405,10 @@ static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, 
                           const int64_t u[3], double normal[3])
 {
     int level = l->cells->level;
-    if (!box_sphere(chunk, level, b) ||
-        !((double)b->sphere.fit[4] < SPHERE_BETTER * b->variation)) {
+    if (!box_sphere(chunk, l, b, u) || !((double)b->sphere[4] < SPHERE_BETTER * b->variation)) {
         return false;
     }
-    const float *f = b->sphere.fit;
+    const float *f = b->sphere;
     sta_sphere s = { .u = { f[0], f[1], f[2] }, .u4 = f[3], .residual = f[4], .spread = f[5] };
     double p[3];
     for (int a = 0; a < 3; a++) { // u from the box's corner, one cell below its vertex
@@ -516,8 +524,8 @@ static int moves_up(const sta_normals_chunk *chunk, level_boxes *fine, level_box
     if (!c) {
         return -1;
     }
-    return box_error(chunk, coarse->cells->level, c) < box_error(chunk, fine->cells->level, b) &&
-           box_fit(chunk, b) && box_fit(chunk, c) &&
+    return box_error(chunk, coarse, c, u) < box_error(chunk, fine, b, u) && box_fit(chunk, b) &&
+           box_fit(chunk, c) &&
            fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
                 b->normal[2] * c->normal[2]) > AGREE;
 }
@@ -536,14 +544,19 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                            size_t *finishing)
 {
     int level = fine->cells->level;
-    // (below the base, the adaptive fine level's cells: a base cell's points do not share
-    // their nearest vertex there)
-    bool each_point = m->chunk->decide_each_point || level < m->base_level;
-    bool at_base = level == m->base_level;
+    // At and below the base a base cell's points share their cell of the next level (up to
+    // one level below the base), but not their nearest vertices of this level and the
+    // next: these follow the bits of u from this level's half cell (level - 1; bit 0 at
+    // level 0) to the base's, `bits` an axis (1 at the base, 2 at the adaptive fine level
+    // below it): one decision a run and part of a base cell, keyed by those bits.
+    int low = level > 0 ? level - 1 : 0, bits = level <= m->base_level ? m->base_level - low : 0;
+    bool each_point = m->chunk->decide_each_point || level + 1 < m->base_level || bits > 2;
+    bool keyed = bits > 0;
     size_t left = 0, listed = 0;
-    int enough = -1; // the run's next-level cell holds enough points (-1: not known yet)
-    signed char up[8] = { -1, -1, -1, -1, -1, -1, -1, -1 };    // by octant (-1: not known)
+    int enough = -1;    // the run's next-level cell holds enough points (-1: not known yet)
+    signed char up[64]; // by key (-1: not known)
     signed char rough[8] = { -1, -1, -1, -1, -1, -1, -1, -1 }; // m->defer's, by octant
+    memset(up, -1, sizeof(up));
     for (size_t j = 0; j < m->count; j++) {
         uint8_t flags = m->state[j], state = flags & STATE_MASK;
         if ((flags & RUN_START) || each_point) { // a new base cell: nothing known
@@ -592,11 +605,13 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
         if (state != STATE_GROW && coarse && state >= STATE_CANDIDATE &&
             state < STATE_CANDIDATE + STEPS) {
             unsigned k = 0;
-            if (at_base || up[0] < 0) { // (above the base every point has octant 0's)
+            if (keyed || up[0] < 0) { // (above the base every point has key 0's)
                 if (!have_u) {
                     point_offset(m, j, u);
                 }
-                k = at_base ? octant_of(u, level) : 0;
+                for (int a = 0; keyed && a < 3; a++) {
+                    k |= (unsigned)(u[a] >> low & ((1 << bits) - 1)) << (a * bits);
+                }
                 if (up[k] < 0) {
                     int moved = moves_up(m->chunk, fine, coarse, u);
                     if (moved < 0) {
@@ -886,6 +901,9 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
             corner[a] = (int32_t)(chunk->scene_min[a] + ((from >> align) << align));
         }
         status = sta_cell_order((const int32_t(*)[3])grid, n, corner, level, order, err);
+    }
+    if (status == STA_OK && !sta_cell_moments_reserve(&cells[0], n / POINTS_PER_BASE_CELL)) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
     }
     if (status == STA_OK) {
         status = sta_cell_moments_add(&cells[0], (const int32_t(*)[3])grid, n, order, NULL, err);

@@ -184,10 +184,19 @@ static void vertex_sums_match_brute_force(void **state)
                 }
             }
             outside += i >= POINTS;
-            sta_moment_sums got, filtered, want = { 0 };
+            sta_moment_sums got, filtered, lower, higher, want = { 0 };
             sta_cell_moments_vertex(&m, v, &got);
             sta_cell_moments_vertex_filtered(&m, &filter, v, &filtered);
             assert_memory_equal(&filtered, &got, sizeof(got));
+            // The halves: lower's n, s1, s2 with s3 and s4 zero; higher's s3 and s4 only.
+            memset(&higher, 0x5a, sizeof(higher));
+            sta_cell_moments_vertex_lower(&m, &filter, v, &lower);
+            sta_cell_moments_vertex_higher(&m, &filter, v, &higher);
+            assert_true(lower.s4 == 0 && lower.s3[0] == 0 && lower.s3[1] == 0 && lower.s3[2] == 0);
+            assert_true(higher.n == 0x5a5a5a5a5a5a5a5a); // (left as it was)
+            memcpy(lower.s3, higher.s3, sizeof(lower.s3));
+            lower.s4 = higher.s4;
+            assert_memory_equal(&lower, &got, sizeof(got));
             const int64_t anchor[3] = { v[0] - 1, v[1] - 1, v[2] - 1 };
             for (int k = 0; k < 8; k++) {
                 const int xyz[3] = { k & 1, k >> 1 & 1, k >> 2 };
@@ -498,10 +507,82 @@ static void cell_order_is_stable_morton_sort(void **state)
     sta_free(want);
 }
 
+// A set without the higher sums (moments-fine, kNN) keeps no array for them and returns
+// them as zero; its other sums equal those of a set with them. A reserved set (room made
+// before adding) holds the same cells and sums as one that grew, and so does a coarser set
+// built from it.
+static void lower_only_and_reserved_sets_hold_the_same_sums(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    assert_non_null(grid);
+    const int32_t corner[3] = { 2000, 3000, -4000 };
+    random_points(grid, POINTS, corner, 2500, 31);
+    const int64_t origin[3] = { 0, 0, -5000 };
+    int32_t lo[3], hi[3];
+    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
+    sta_error err = { 0 };
+    sta_cell_moments with, without, reserved, coarse, coarse_reserved;
+    moments_of_all(&with, 5, origin, lo, hi, (const int32_t(*)[3])grid, NULL);
+    assert_int_equal(sta_cell_moments_init(&without, 5, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(
+        sta_cell_moments_add(&without, (const int32_t(*)[3])grid, POINTS, NULL, NULL, &err),
+        STA_OK);
+    assert_null(without.high);
+    assert_non_null(with.high);
+    assert_int_equal(sta_cell_moments_init(&reserved, 5, origin, lo, hi, &err), STA_OK);
+    reserved.higher = true;
+    assert_true(sta_cell_moments_reserve(&reserved, 2 * (size_t)POINTS));
+    assert_true(reserved.capacity >= 4 * (size_t)POINTS && reserved.used == 0);
+    assert_int_equal(
+        sta_cell_moments_add(&reserved, (const int32_t(*)[3])grid, POINTS, NULL, NULL, &err),
+        STA_OK);
+    assert_int_equal(reserved.used, with.used);
+    assert_true(with.capacity < reserved.capacity); // (it grew to less)
+    assert_int_equal(sta_cell_moments_init(&coarse, 6, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(sta_cell_moments_init(&coarse_reserved, 6, origin, lo, hi, &err), STA_OK);
+    coarse.higher = coarse_reserved.higher = true;
+    assert_int_equal(sta_cell_moments_coarsen(&with, &coarse, &err), STA_OK);
+    assert_true(sta_cell_moments_reserve(&coarse_reserved, with.used));
+    assert_int_equal(sta_cell_moments_coarsen(&reserved, &coarse_reserved, &err), STA_OK);
+    size_t full = 0;
+    for (size_t i = 0; i < POINTS; i += 17) {
+        int64_t v[3];
+        for (int a = 0; a < 3; a++) {
+            v[a] = (((int64_t)grid[i][a] - origin[a]) >> with.level) + (int64_t)(i % 2);
+        }
+        sta_moment_sums a, b, c;
+        sta_cell_moments_vertex(&with, v, &a);
+        sta_cell_moments_vertex(&without, v, &b);
+        sta_cell_moments_vertex(&reserved, v, &c);
+        assert_memory_equal(&a, &c, sizeof(a));
+        assert_true(b.s4 == 0 && b.s3[0] == 0 && b.s3[1] == 0 && b.s3[2] == 0);
+        memcpy(b.s3, a.s3, sizeof(b.s3));
+        b.s4 = a.s4;
+        assert_memory_equal(&a, &b, sizeof(a));
+        full += a.n > 0 && a.s4 != 0;
+        for (int k = 0; k < 3; k++) {
+            v[k] >>= 1;
+        }
+        sta_cell_moments_vertex(&coarse, v, &a);
+        sta_cell_moments_vertex(&coarse_reserved, v, &c);
+        assert_memory_equal(&a, &c, sizeof(a));
+    }
+    assert_true(full > 0);
+    assert_int_equal(coarse.used, coarse_reserved.used);
+    sta_cell_moments_release(&coarse_reserved);
+    sta_cell_moments_release(&coarse);
+    sta_cell_moments_release(&reserved);
+    sta_cell_moments_release(&without);
+    sta_cell_moments_release(&with);
+    sta_free(grid);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(block_sums_match_brute_force),
     cmocka_unit_test(vertex_sums_match_brute_force),
     cmocka_unit_test(cell_filter_passes_every_cell_and_few_others),
+    cmocka_unit_test(lower_only_and_reserved_sets_hold_the_same_sums),
     cmocka_unit_test(wanted_cells_hold_all_their_points),
     cmocka_unit_test(too_wide_a_set_is_refused),
     cmocka_unit_test(coarsened_levels_match_brute_force),

@@ -639,19 +639,21 @@ static void moments_splats(const int32_t (*xyz)[3], size_t n, size_t own, bool e
 }
 
 // The level passes decide once a run of a base cell's points (and a half cell at the base
-// level), not once a point: on a cloud whose points take every level (a noisy plane that
-// moves up for flatter boxes, a small sphere that stays fine, sparse points that wait for
-// coarse cells, a dense line that grows, stray halo points among them), every point's bytes
-// and every count equal those of deciding each point alone.
+// level, a quarter at the adaptive fine level), not once a point: on a cloud whose points
+// take every level (a noisy plane that moves up for flatter boxes, a small sphere that
+// stays fine, a step whose rough boxes take the adaptive fine level, sparse points that
+// wait for coarse cells, a dense line that grows, stray halo points among them), every
+// point's bytes and every count equal those of deciding each point alone.
 static void moments_run_decisions_match_each_point(void **state)
 {
     (void)state;
     enum {
         PLANE = 12000,
         SPHERE = 6000,
+        STEP = 4000,
         SPARSE = 400,
         LINE = 2000,
-        ALL = PLANE + SPHERE + SPARSE + LINE
+        ALL = PLANE + SPHERE + STEP + SPARSE + LINE
     };
     static int32_t xyz[ALL][3];
     uint64_t seed = 12;
@@ -667,6 +669,14 @@ static void moments_run_decisions_match_each_point(void **state)
         xyz[n][0] = 101700 + (int32_t)(200.0 * r * cos(a));
         xyz[n][1] = 100600 + (int32_t)(200.0 * r * sin(a)),
         xyz[n][2] = 100300 + (int32_t)(200.0 * z);
+    }
+    for (int i = 0; i < STEP; i++, n++) { // 0.6 x 0.4 m, a 60 mm step at x = 0.3 m, its face
+        double x = 600.0 * uniform(&seed), y = 400.0 * uniform(&seed), z = x < 300.0 ? 0.0 : 60.0;
+        if (i % 8 == 0) { // (the face: an eighth of the points)
+            x = 300.0, z = 60.0 * uniform(&seed);
+        }
+        xyz[n][0] = 100000 + (int32_t)x, xyz[n][1] = 101600 + (int32_t)y;
+        xyz[n][2] = 100600 + (int32_t)z;
     }
     for (int i = 0; i < SPARSE; i++, n++) { // strays in 2 x 2 x 1 m
         xyz[n][0] = 100000 + (int32_t)(2000.0 * uniform(&seed));
