@@ -750,6 +750,44 @@ static void flagged_pixels_are_not_filled(void **state)
     }
 }
 
+/* A small synthetic street (300 k points) converted into `name`.strata, opened with
+ * `raster` and the shaded pipeline, rendered complete from the README's view (down the
+ * street from its middle, trees on both sides) into *target at sw x sh. */
+static sta_scene *render_small_street(const char *name, sta_raster_method raster, int sw, int sh,
+                                      sta_render_target *target)
+{
+    sta_synth_params p = { .kind = STA_SYNTH_STREET, .point_count = 300000, .seed = 1 };
+    sta_synth_georef georef;
+    sta_synth_georef_init(p.origin, &georef);
+    char las[4096], path[4096];
+    snprintf(las, sizeof(las), "%s.las", sta_test_tmp_path(name));
+    snprintf(path, sizeof(path), "%s.strata", sta_test_tmp_path(name));
+    sta_error err = { 0 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    const char *inputs[] = { las };
+    sta_convert_options o = { .inputs = inputs, .input_count = 1, .output = path, .force = true };
+    assert_int_equal(sta_convert(&o, NULL, &err), STA_OK);
+    sta_scene *scene = NULL;
+    sta_scene_options options = { .min_spacing_px = 0.01 };
+    assert_int_equal(sta_scene_open(path, &options, &scene, &err), STA_OK);
+    sta_geometry_options g = { .raster = raster };
+    sta_scene_set_raster(scene, &g);
+    sta_pipeline_options pipeline = { .mode = STA_PIPELINE_SHADED }; // default set: 3-5
+    sta_scene_set_pipeline(scene, &pipeline);
+    sta_camera camera = { 0 };
+    camera.position[0] = georef.origin[0] - 6.0;
+    camera.position[1] = georef.origin[1];
+    camera.position[2] = georef.origin[2] + 2.25;
+    camera.yaw = 3.14159265358979;
+    camera.pitch = -0.14;
+    camera.fov_y = 1.2217;
+    camera.near_m = 0.01;
+    camera.width_px = sw;
+    camera.height_px = sh;
+    sta_fixture_render_complete(scene, &camera, target);
+    return scene;
+}
+
 /* The GL_POINTS geometry pass writes each pixel's point class (for the mark, instead of
  * the id lookup): on a small synthetic street seen from its middle, every drawn pixel's
  * class equals the one its point id gives in the GPU arena, vegetation among them. */
@@ -760,36 +798,8 @@ static void points_pass_writes_the_classes_of_the_ids(void **state)
         SW = 320,
         SH = 200
     };
-    sta_synth_params p = { .kind = STA_SYNTH_STREET, .point_count = 300000, .seed = 1 };
-    sta_synth_georef georef;
-    sta_synth_georef_init(p.origin, &georef);
-    char las[4096], path[4096];
-    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("vstreet.las"));
-    snprintf(path, sizeof(path), "%s", sta_test_tmp_path("vstreet.strata"));
-    sta_error err = { 0 };
-    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
-    const char *inputs[] = { las };
-    sta_convert_options o = { .inputs = inputs, .input_count = 1, .output = path, .force = true };
-    assert_int_equal(sta_convert(&o, NULL, &err), STA_OK);
-    sta_scene *scene = NULL;
-    sta_scene_options options = { .min_spacing_px = 0.01 };
-    assert_int_equal(sta_scene_open(path, &options, &scene, &err), STA_OK);
-    sta_geometry_options g = { .raster = STA_RASTER_POINTS };
-    sta_scene_set_raster(scene, &g);
-    sta_pipeline_options pipeline = { .mode = STA_PIPELINE_SHADED };
-    sta_scene_set_pipeline(scene, &pipeline);
-    sta_camera camera = { 0 }; // the README's view: down the street, trees on both sides
-    camera.position[0] = georef.origin[0] - 6.0;
-    camera.position[1] = georef.origin[1];
-    camera.position[2] = georef.origin[2] + 2.25;
-    camera.yaw = 3.14159265358979;
-    camera.pitch = -0.14;
-    camera.fov_y = 1.2217;
-    camera.near_m = 0.01;
-    camera.width_px = SW;
-    camera.height_px = SH;
     sta_render_target target = { 0 };
-    sta_fixture_render_complete(scene, &camera, &target);
+    sta_scene *scene = render_small_street("vstreet", STA_RASTER_POINTS, SW, SH, &target);
 
     static uint32_t ids[2 * SW * SH];
     static uint8_t classes[SW * SH];
@@ -831,37 +841,11 @@ static void both_rasterisers_mark_the_classes(void **state)
         SW = 320,
         SH = 200
     };
-    sta_synth_params p = { .kind = STA_SYNTH_STREET, .point_count = 300000, .seed = 1 };
-    sta_synth_georef georef;
-    sta_synth_georef_init(p.origin, &georef);
-    char las[4096], path[4096];
-    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("mstreet.las"));
-    snprintf(path, sizeof(path), "%s", sta_test_tmp_path("mstreet.strata"));
     sta_error err = { 0 };
-    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
-    const char *inputs[] = { las };
-    sta_convert_options o = { .inputs = inputs, .input_count = 1, .output = path, .force = true };
-    assert_int_equal(sta_convert(&o, NULL, &err), STA_OK);
     for (int raster = STA_RASTER_COMPUTE; raster <= STA_RASTER_POINTS; raster++) {
-        sta_scene *scene = NULL;
-        sta_scene_options options = { .min_spacing_px = 0.01 };
-        assert_int_equal(sta_scene_open(path, &options, &scene, &err), STA_OK);
-        sta_geometry_options g = { .raster = raster };
-        sta_scene_set_raster(scene, &g);
-        sta_pipeline_options pipeline = { .mode = STA_PIPELINE_SHADED }; // default set: 3-5
-        sta_scene_set_pipeline(scene, &pipeline);
-        sta_camera camera = { 0 };
-        camera.position[0] = georef.origin[0] - 6.0;
-        camera.position[1] = georef.origin[1];
-        camera.position[2] = georef.origin[2] + 2.25;
-        camera.yaw = 3.14159265358979;
-        camera.pitch = -0.14;
-        camera.fov_y = 1.2217;
-        camera.near_m = 0.01;
-        camera.width_px = SW;
-        camera.height_px = SH;
         sta_render_target target = { 0 };
-        sta_fixture_render_complete(scene, &camera, &target);
+        sta_scene *scene =
+            render_small_street("mstreet", (sta_raster_method)raster, SW, SH, &target);
         const sta_pipeline *pl = sta_scene_pipeline(scene);
         static uint8_t classes[SW * SH];
         glPixelStorei(GL_PACK_ALIGNMENT, 1);
