@@ -38,18 +38,25 @@ static sta_normals_chunk unit_frame(void)
     return f;
 }
 
+// Records of the n points with room for their SPLAT (free with sta_free).
+static uint8_t *splat_records(const int32_t (*xyz)[3], size_t n, sta_record_layout *layout)
+{
+    sta_record_layout_init(layout, STA_ATTR_SPLAT, 0);
+    uint8_t *records = sta_calloc(n, layout->size);
+    assert_non_null(records);
+    for (size_t i = 0; i < n; i++) {
+        memcpy(records + i * layout->size, xyz[i], 12);
+    }
+    return records;
+}
+
 // Normals of the points by `method`; the moments' base level is the converter's for these
 // points as a whole scene (halo.c).
 static void compute_by(sta_normals_method method, const int32_t (*xyz)[3], size_t n,
                        float (*normals)[3], float *radii, sta_normals_stats *stats)
 {
     sta_record_layout layout;
-    sta_record_layout_init(&layout, STA_ATTR_SPLAT, 0);
-    uint8_t *records = sta_calloc(n, layout.size);
-    assert_non_null(records);
-    for (size_t i = 0; i < n; i++) {
-        memcpy(records + i * layout.size, xyz[i], 12);
-    }
+    uint8_t *records = splat_records(xyz, n, &layout);
     sta_normals_chunk f = unit_frame();
     f.method = method;
     double extent[3];
@@ -619,12 +626,7 @@ static void moments_splats(const int32_t (*xyz)[3], size_t n, size_t own, bool e
                            uint16_t (*splat)[3], sta_normals_stats *stats)
 {
     sta_record_layout layout;
-    sta_record_layout_init(&layout, STA_ATTR_SPLAT, 0);
-    uint8_t *records = sta_calloc(own, layout.size);
-    assert_non_null(records);
-    for (size_t i = 0; i < own; i++) {
-        memcpy(records + i * layout.size, xyz[i], 12);
-    }
+    uint8_t *records = splat_records(xyz, own, &layout);
     sta_normals_chunk f = unit_frame();
     f.decide_each_point = each_point;
     const double extent[3] = { 2.0, 2.0, 1.0 };
