@@ -37,13 +37,21 @@
  * roads (boxes of 10 points on one scan line). The default's adaptive fine level now
  * takes half-size cells only around rough points (ROUGH_VARIATION). */
 #define BASE_CELL_SPACINGS     4.0
-/* A candidate moves to the next level's box only when its normal is within this (cosine)
- * of this level's: the same surface, flatter (on a curb face the wider box is flatter,
- * but the road's). */
-#define AGREE                  0.94
+/* A candidate moves to the next level's box only when its normal is within this (cosine:
+ * 10 degrees) of this level's: the same surface, flatter (on a curb face the wider box is
+ * flatter, but the road's). 4 M street (docs/BENCHMARKS.md, twelfth round): 0.94 -> 0.985
+ * took poles' median from 17 to 14 degrees and trees', cars' and curbs' p95 down 0.4-0.9;
+ * trees' median 3.10 -> 3.24. */
+#define AGREE                  0.985
 /* The blend leaves out the vertex boxes whose normal is more than this (cosine: 30
- * degrees) from the point's nearest box's: another surface, an edge is not smoothed. */
+ * degrees) from the point's nearest box's: another surface, an edge is not smoothed. Where
+ * the nearest box is flat (surface variation at most SPHERE_VARIATION) BLEND_AGREE_FLAT
+ * (8 degrees): a flat box's normal is already right, and the blend only pulled in the
+ * tilted boxes across an edge (4 M street: cars' median 1.96 -> 0.69 degrees, buildings'
+ * 0.46 -> 0.33, roads' p95 2.0 -> 1.06). (A looser 0.7 above a variation of 0.1 took
+ * cars' p95 from 33.4 to 32.9 but turned more road points at curbs down: dropped.) */
 #define BLEND_AGREE            0.87
+#define BLEND_AGREE_FLAT       0.99
 /* Scanned surfaces are sampled more evenly than uniform random points (profiles, a
  * lattice): their mean distance to the 10 nearest is larger than the uniform expectation
  * at the same density. On the 4 M street the exact kNN radius is 1.18-1.22x the uniform
@@ -69,10 +77,14 @@
  * fits well), and above SPHERE_SCALE_VARIATION the scale's flatness test compares its
  * sphere's residual (a leaf cluster's box is not left for a wider one that only looks
  * flatter). 4 M street (docs/BENCHMARKS.md, tenth round): trees 5.6 / 42 degrees -> 3.1 /
- * 37 with the adaptive level below; SPHERE_BETTER 1 lost the buildings' p95 (8.3 -> 9.3). */
+ * 37 with the adaptive level below; SPHERE_BETTER 1 lost the buildings' p95 (8.3 -> 9.3).
+ * Above ROUGH_VARIATION the sphere must fit better (SPHERE_BETTER_ROUGH): twelfth round,
+ * curbs' p95 22.8 -> 21.9 degrees, cars' 34.0 -> 33.4, trees' median unchanged (0.4
+ * everywhere took trees' median from 3.24 to 3.58; 0.3 above ROUGH_VARIATION lost cars). */
 #define SPHERE_VARIATION       0.005
 #define SPHERE_SCALE_VARIATION 0.02
 #define SPHERE_BETTER          0.5
+#define SPHERE_BETTER_ROUGH    0.4
 /* The default method's adaptive fine level: a base cell holding an own point whose nearest
  * base box's surface variation exceeds this is rough (a curb's step, a car's edge,
  * foliage); its points first try the boxes of half-size cells, as moments-fine does
@@ -405,7 +417,8 @@ static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, 
                           const int64_t u[3], double normal[3])
 {
     int level = l->cells->level;
-    if (!box_sphere(chunk, l, b, u) || !((double)b->sphere[4] < SPHERE_BETTER * b->variation)) {
+    double better = b->variation > ROUGH_VARIATION ? SPHERE_BETTER_ROUGH : SPHERE_BETTER;
+    if (!box_sphere(chunk, l, b, u) || !((double)b->sphere[4] < better * b->variation)) {
         return false;
     }
     const float *f = b->sphere;
@@ -421,13 +434,15 @@ static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, 
 
 // The normals of the boxes of the 8 grid vertices of u's cell, blended by the point's place
 // in the cell (trilinear weights), each turned to agree with `normal` (its nearest box's,
-// replaced by the blend): the normal field between the boxes' centres. On a curved surface
+// of surface variation `variation`; replaced by the blend): the normal field between the
+// boxes' centres. On a curved surface
 // the nearest box's centre lies up to a quarter of its edge from the point (a 0.3 m leaf
 // sphere, a 15 cm box: 3.7 cm, 7 degrees); on a plane the boxes agree. False when out of
 // memory.
 static bool blend_normals(const sta_normals_chunk *chunk, level_boxes *l, const int64_t u[3],
-                          double normal[3])
+                          double normal[3], double variation)
 {
+    double agree = variation > SPHERE_VARIATION ? BLEND_AGREE : BLEND_AGREE_FLAT;
     int level = l->cells->level;
     int64_t c[3];
     double f[3];
@@ -458,7 +473,7 @@ static bool blend_normals(const sta_normals_chunk *chunk, level_boxes *l, const 
         double w = ((k & 1) ? f[0] : 1.0 - f[0]) * ((k >> 1 & 1) ? f[1] : 1.0 - f[1]) *
                    ((k >> 2) ? f[2] : 1.0 - f[2]);
         double dot = nk[0] * normal[0] + nk[1] * normal[1] + nk[2] * normal[2];
-        if (fabs(dot) < BLEND_AGREE) {
+        if (fabs(dot) < agree) {
             continue; // another surface (an edge, a curb): not blended across
         }
         w = dot < 0.0 ? -w : w;
@@ -664,7 +679,7 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
             b->radius = (float)box_radius(b->n, b->w, m->factor);
         }
         // (b may move: blend_normals can grow the table)
-        double radius = b->radius, normal[3], w[3];
+        double radius = b->radius, variation = b->variation, normal[3], w[3];
         bool ok = b->fit == 1;
         memcpy(normal, b->normal, sizeof(normal));
         memcpy(w, b->w, sizeof(w));
@@ -686,7 +701,7 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
             }
         }
         if (ok && !sphere_normal(chunk, fine, b, u, normal) &&
-            !blend_normals(chunk, fine, u, normal)) {
+            !blend_normals(chunk, fine, u, normal, variation)) {
             return SIZE_MAX;
         }
         if (box_reach(chunk, u, fine->cells->level) > sta_normal_halo_reach(chunk, p)) {
