@@ -6,9 +6,8 @@
 // each other pixel of the grid copies the label its nearest anchors of its own kind
 // (point or empty) agree on, when there is at least one such anchor and, for a point,
 // each of them lies within STA_HPR_SPARSE_DEPTH_TAU of its depth (no depth edge);
-// otherwise it goes on the list the operator refines. Points of the steps with a stride
-// above u_point_copy_stride (1 below 1080 px of height, 2 from 1080) are always listed
-// (at 960x540 the operator on every even point keeps each error of the full operator
+// otherwise it goes on the list the operator refines. Points of the coarse steps are
+// always listed (the operator on every even point keeps each error of the full operator
 // within 0.1 %; copying them from anchors 4 px apart did not, docs/BENCHMARKS.md).
 // One invocation per 2x2 block of
 // the grid: the block's anchor and its three other pixels, which share the anchors
@@ -30,8 +29,6 @@ layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH) buffer RefineD
 };
 uniform ivec2 u_size;
 uniform int u_stride; // pixels per grid step
-// Steps with a larger stride list every point (sta_hpr_point_copy_stride of the height).
-uniform int u_point_copy_stride;
 
 bool is_point_label(float label)
 {
@@ -68,7 +65,7 @@ void classify(ivec2 g, ivec2 grid, bool four, vec4 la, vec4 da, inout uint n,
     precise float tau = STA_HPR_SPARSE_DEPTH_TAU * zp;
     int count = 0;
     float label = 0.0;
-    bool ok = !(own_point && u_stride > u_point_copy_stride); // coarse steps list every point
+    bool ok = !(own_point && u_stride > 1); // the coarse pass lists every point
     fold_anchor(la.x, da.x, own_point, zp, tau, count, label, ok);
     fold_anchor(la.y, da.y, own_point, zp, tau, count, label, ok);
     if (four) {

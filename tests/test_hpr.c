@@ -628,40 +628,6 @@ static void sparse_copy_steps_in_turn(void **state)
     sta_image_release(&out);
 }
 
-/* The point-copy stride follows the view height (1 below 1080 px, 2 from 1080, 4 from
- * 2160, no more), and from 1080 px a point on the stride-2 grid copies its agreeing
- * stride-4 anchors instead of being refined. */
-static void sparse_point_copy_stride_follows_height(void **state)
-{
-    (void)state;
-    assert_int_equal(sta_hpr_point_copy_stride(480), 1);
-    assert_int_equal(sta_hpr_point_copy_stride(1079), 1);
-    assert_int_equal(sta_hpr_point_copy_stride(1080), 2);
-    assert_int_equal(sta_hpr_point_copy_stride(2159), 2);
-    assert_int_equal(sta_hpr_point_copy_stride(2160), 4);
-    assert_int_equal(sta_hpr_point_copy_stride(100000), STA_HPR_ANCHOR_STRIDE / 2);
-    const int w = 9;
-    for (int h = 1079; h <= 1080; h++) {
-        sta_image position, full, out;
-        new_image(&position, w, h, 4);
-        new_image(&full, w, h, 1);
-        new_image(&out, w, h, 1);
-        for (int i = 0; i < w * h; i++) {
-            position.data[4 * i + 2] = -10.0f;
-            position.data[4 * i + 3] = 1.0f;
-            full.data[i] = STA_LABEL_VISIBLE;
-        }
-        const int probe = 2 * w + 2; // (2, 2): on the stride-2 grid, not an anchor of it
-        full.data[probe] = STA_LABEL_HIDDEN;
-        sta_hpr_ref_sparse_labels(&position, &full, &out);
-        // 1079 px: refined, keeps its full label; 1080 px: copies its visible anchors.
-        assert_true(out.data[probe] == (h < 1080 ? STA_LABEL_HIDDEN : STA_LABEL_VISIBLE));
-        sta_image_release(&position);
-        sta_image_release(&full);
-        sta_image_release(&out);
-    }
-}
-
 /* The sparse operator on the GPU equals the twin's copy step applied to the GPU's full
  * labels (anchors and refined pixels run the unchanged operator), on the two planes at
  * an even and an odd size; it copies most non-anchor pixels and keeps the truth scores. */
@@ -699,48 +665,6 @@ static void sparse_operator_matches_twin(void **state)
             assert_true(s.hole_r > 0.95 && s.hole_p > 0.95);
             assert_true(s.sky_r > 0.95 && s.sky_p > 0.95);
         }
-        sta_image_release(&position);
-        sta_image_release(&full);
-        sta_image_release(&sparse);
-        sta_image_release(&expected);
-    }
-}
-
-/* From 1080 px of height the GPU copies points at stride 2 as the twin does: a plane at
- * 20 m with a point 0.4 % behind it on every stride-2 pixel between the stride-4 grid's
- * (the full operator hides it; within STA_HPR_SPARSE_DEPTH_TAU of its anchors). 1079 px
- * high: refined, hidden; 1080: copied from its visible anchors. */
-static void sparse_copies_points_at_stride_2_from_1080(void **state)
-{
-    (void)state;
-    for (int h = 1079; h <= 1080; h++) {
-        const int w = 64;
-        sta_view_params view = make_view(w, h);
-        sta_image position, full, sparse, expected;
-        make_plane(&view, 20.0f, 0.0f, &position);
-        for (int y = 2; y < h; y += 4) {
-            for (int x = 2; x < w; x += 4) {
-                set_point(&view, &position, x, y, -1.004f * sta_image_at(&position, x, y)[2]);
-            }
-        }
-        gpu_pyramid(&view, NULL, &position, &full, NULL);
-        sta_hpr_params params = { .sparse = true };
-        gpu_pyramid(&view, &params, &position, &sparse, NULL);
-        new_image(&expected, w, h, 1);
-        sta_hpr_ref_sparse_labels(&position, &full, &expected);
-        assert_memory_equal(expected.data, sparse.data, (size_t)w * (size_t)h * sizeof(float));
-        int hidden = 0, probes = 0;
-        for (int y = 2; y < h; y += 4) {
-            for (int x = 2; x < w; x += 4) {
-                probes++;
-                hidden += *sta_image_at(&full, x, y) == STA_LABEL_HIDDEN;
-                assert_true(*sta_image_at(&sparse, x, y) ==
-                            (h < 1080 ? *sta_image_at(&full, x, y) : STA_LABEL_VISIBLE));
-            }
-        }
-        printf("hpr sparse %dx%d: %d of %d probes hidden by the full operator\n", w, h, hidden,
-               probes);
-        assert_true(hidden > probes / 2);
         sta_image_release(&position);
         sta_image_release(&full);
         sta_image_release(&sparse);
@@ -1296,9 +1220,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(near_plane_over_far_plane_known_truth, setup, teardown),
     cmocka_unit_test(sparse_copy_step_rules),
     cmocka_unit_test(sparse_copy_steps_in_turn),
-    cmocka_unit_test(sparse_point_copy_stride_follows_height),
     cmocka_unit_test_setup_teardown(sparse_operator_matches_twin, setup, teardown),
-    cmocka_unit_test_setup_teardown(sparse_copies_points_at_stride_2_from_1080, setup, teardown),
     cmocka_unit_test_setup_teardown(labels_match_with_thresholds_on_the_means, setup, teardown),
     cmocka_unit_test_setup_teardown(empty_frame_is_background, setup, teardown),
     cmocka_unit_test_setup_teardown(single_point_is_visible, setup, teardown),

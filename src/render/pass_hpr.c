@@ -262,8 +262,6 @@ static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
     glUseProgram(pass->classify_program);
     glUniform2i(glGetUniformLocation(pass->classify_program, "u_size"), w, h);
     glUniform1i(glGetUniformLocation(pass->classify_program, "u_stride"), stride);
-    glUniform1i(glGetUniformLocation(pass->classify_program, "u_point_copy_stride"),
-                sta_hpr_point_copy_stride(h));
     int grid_w = (w + stride - 1) / stride, grid_h = (h + stride - 1) / stride;
     sta_gl_dispatch_2d((grid_w + 1) / 2, (grid_h + 1) / 2); // one invocation per 2x2 block
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |

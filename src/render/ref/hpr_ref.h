@@ -59,29 +59,12 @@
  * this; copy steps with the strides STRIDE / 2, ..., 2, 1 fill the grids in between
  * (issue 15, eighth round: 8 cost 5 % less than 4 and the same errors, 16 no less). */
 #define STA_HPR_ANCHOR_STRIDE        8
-/* Sparse operator: the copy steps with a stride above the point-copy stride refine every
- * point; it is 1 below this view height and doubles with each doubling of it (1080 px:
- * points are copied at stride 2 as well), up to STA_HPR_ANCHOR_STRIDE / 2, so the copied
- * points' anchors keep about the same angular spacing (issue 15, twelfth round: at
- * 1920x1080 copying at stride 2 kept every error, at 960x540 it moved them by 1.3 %). */
-#define STA_HPR_POINT_COPY_HEIGHT_PX 1080
 /* Pyramidal operator: a neighbour closes a sector only when it lies nearer than the
  * pixel's point by more than this many s0 (issue 15, part 2). Noise makes a surface
  * rough in depth, and the paper's operator let a point's own surface neighbours, a few
  * centimetres nearer, hide it (the far road, facades along the street); 1.5 s0 keeps
  * them (docs/HPR.md, docs/BENCHMARKS.md "Sixth round"). */
 #define STA_HPR_OCCLUDER_GAP_S0      1.5f
-
-/* The sparse operator's point-copy stride for a view `height_px` pixels high (above). */
-static inline int sta_hpr_point_copy_stride(int height_px)
-{
-    int stride = 1;
-    while (stride < STA_HPR_ANCHOR_STRIDE / 2 &&
-           height_px >= STA_HPR_POINT_COPY_HEIGHT_PX * stride) {
-        stride *= 2;
-    }
-    return stride;
-}
 
 /* Parameters. Zero means default (resolved by sta_hpr_params_defaults). A negative
  * threshold makes every pixel open (HPR off). s_hpr's default depends on the view: it
@@ -183,9 +166,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
  * up to 4 nearest anchors (clamped to the grid) of its own kind (point: visible /
  * hidden; empty: hole / background) when there is at least one, they all agree and,
  * for a point, each one's depth is within STA_HPR_SPARSE_DEPTH_TAU of its own; else it
- * keeps its full label (refined). In the steps with a stride above
- * sta_hpr_point_copy_stride(height) every point is refined (all but the last below
- * 1080 px of height). A
+ * keeps its full label (refined). In all steps but the last every point is refined. A
  * step's anchors carry the labels of the steps before. out_label: same size. Returns
  * the refined pixel count (all steps). */
 int sta_hpr_ref_sparse_labels(const sta_image *position, const sta_image *full_label,

@@ -27,7 +27,7 @@ static bool copies_anchors(const sta_image *position, const sta_image *label, in
     ay[1] = ay[0] + 2 * (gy & 1) < last_y ? ay[0] + 2 * (gy & 1) : last_y;
     const float *own = sta_image_at(position, gx * stride, gy * stride);
     bool own_point = own[3] > 0.5f;
-    if (own_point && stride > sta_hpr_point_copy_stride(label->height)) {
+    if (own_point && stride > 1) {
         return false; // the coarse step refines every point
     }
     float zp = -own[2], tau = STA_HPR_SPARSE_DEPTH_TAU * zp;
