@@ -42,7 +42,7 @@
 
 /* Pull of level 1 from the inputs: from this view height on, Kraus' 2x2 box (the inner 2x2
  * fine taps, weight 1 each; the coarse texel's own footprint) instead of the 4x4 kernel
- * (issue 15, twelfth round, a trade of time against error: at 1920x1080 -20 to -26 CPU ms,
+ * (issue 15, twelfth round, a trade of time against error: at 1920x1080 -15 to -20 CPU ms,
  * the smooth surfaces' filled-depth p95 +7 to +15 % relative, docs/BENCHMARKS.md). */
 #define STA_PULLPUSH_BOX_PULL_HEIGHT_PX 1080
 
