@@ -6,8 +6,9 @@
 // by the push's depth factor with PP_PULL_TAU against the nearest of the inner 2x2 taps,
 // or of all 16 where those are empty (issue 15).
 // Twin: src/render/ref/pullpush_ref.c (pull_level).
-// Built twice: with PP_FROM_INPUT the fine level is level 0 (the inputs, weights from
-// the HPR labels), without it a pyramid level.
+// Built three times: with PP_FROM_INPUT the fine level is level 0 (the inputs, weights
+// from the HPR labels), and with PP_BOX too for views from STA_PULLPUSH_BOX_PULL_HEIGHT_PX
+// high (the 2x2 box); without them a pyramid level.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_PULLPUSH_IMAGE_OUT_POSITION, rgba32f)
     writeonly uniform image2D u_coarse_position;
@@ -25,7 +26,17 @@ layout(binding = STA_PULLPUSH_IMAGE_FINE_COLOUR, rgba32f) readonly uniform image
 uniform ivec2 u_fine_size;
 uniform ivec2 u_coarse_size;
 
+#ifdef PP_BOX
+// Level 1 of a view from STA_PULLPUSH_BOX_PULL_HEIGHT_PX high: Kraus' 2x2 box, the inner
+// taps only (pullpush_ref.h, sta_pullpush_box_first_pull).
+const float PULL_TAPS[4] = float[4](0.0, 1.0, 1.0, 0.0);
+#define PP_TAP_FIRST 1
+#define PP_TAP_END   3
+#else
 const float PULL_TAPS[4] = float[4](0.25, 0.75, 0.75, 0.25);
+#define PP_TAP_FIRST 0
+#define PP_TAP_END   4
+#endif
 
 void main()
 {
@@ -39,8 +50,8 @@ void main()
     vec4 t[16];
     float w[16];
     float near_d = 0.0, near_inner = 0.0;
-    for (int b = 0; b < 4; b++) {
-        for (int a = 0; a < 4; a++) {
+    for (int b = PP_TAP_FIRST; b < PP_TAP_END; b++) {
+        for (int a = PP_TAP_FIRST; a < PP_TAP_END; a++) {
             ivec2 f = 2 * q - 1 + ivec2(a, b);
             bool inside = f.x >= 0 && f.y >= 0 && f.x < u_fine_size.x && f.y < u_fine_size.y;
             int k = 4 * b + a;
@@ -67,8 +78,8 @@ void main()
     // than a depth between both.
     float sw = 0.0, sv = 0.0;
     vec3 sp = vec3(0.0), sc = vec3(0.0);
-    for (int b = 0; b < 4; b++) {
-        for (int a = 0; a < 4; a++) {
+    for (int b = PP_TAP_FIRST; b < PP_TAP_END; b++) {
+        for (int a = PP_TAP_FIRST; a < PP_TAP_END; a++) {
             int k = 4 * b + a;
             if (w[k] > 0.0) {
                 float kw = PULL_TAPS[a] * PULL_TAPS[b] * w[k];

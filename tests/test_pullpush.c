@@ -435,6 +435,38 @@ static void half_resolution_shader_matches_twin(void **state)
     }
 }
 
+/* From 1080 px of view height level 1 is pulled with the 2x2 box: a lone point in coarse
+ * texel (1, 0)'s footprint covers it fully from 1080 px (the twin; the GL pass against it
+ * in half_resolution_shader_matches_twin, 33 x 1081 and 9 x 2163). */
+static void first_pull_is_a_box_from_1080(void **state)
+{
+    (void)state;
+    assert_false(sta_pullpush_box_first_pull(1079));
+    assert_true(sta_pullpush_box_first_pull(1080));
+    for (int h = 1079; h <= 1080; h++) {
+        frame f;
+        frame_init(&f, 8, h);
+        for (int y = 0; y < h; y++) {
+            for (int x = 0; x < 8; x++) {
+                set_empty(&f, x, y, STA_LABEL_HOLE);
+            }
+        }
+        set_point(&f, 2, 0, 5.0f, STA_LABEL_VISIBLE);
+        result r;
+        sta_normals_pyramid_params params = { 0 };
+        run_ref(&f, &params, &r);
+        float w00 = sta_image_at(&r.levels.position[1], 0, 0)[3];
+        float w10 = sta_image_at(&r.levels.position[1], 1, 0)[3];
+        // Level 1 after the push (the pyramid holds the filled levels): texel (1, 0)
+        // holds the point as an inner tap, with the box fully covered; its pulled
+        // weight under the 4x4 kernel is 9/16, topped up by the push below 1.
+        assert_true(h < 1080 ? w10 < 1.0f : w10 == 1.0f);
+        assert_true(w00 > 0.0f && w00 < 1.0f);
+        result_release(&r);
+        frame_release(&f);
+    }
+}
+
 /* The anchor level follows the view height: every 2nd pixel below 1080 px, every 4th
  * from 1080, every 8th from 2160 and no sparser. */
 static void anchor_level_follows_view_height(void **state)
@@ -1255,6 +1287,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(half_resolution_shader_matches_twin, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(half_resolution_normals_stay_close, gl_setup, gl_teardown),
     cmocka_unit_test(anchor_level_follows_view_height),
+    cmocka_unit_test(first_pull_is_a_box_from_1080),
     cmocka_unit_test_setup_teardown(shade_upsample_matches_upsample_then_shade, gl_setup,
                                     gl_teardown),
     cmocka_unit_test_setup_teardown(passes_follow_view_size_changes, gl_setup, gl_teardown),

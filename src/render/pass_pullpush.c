@@ -29,7 +29,7 @@ const char *sta_pullpush_shader_defines(void)
 static sta_status build(const char *stage, const char *variant, sta_pullpush_program *out,
                         sta_error *err)
 {
-    char defines[320];
+    char defines[384];
     snprintf(defines, sizeof(defines), "%s%s", sta_pullpush_shader_defines(), variant);
     const char *names[] = { "pullpush_common.glsl", stage };
     sta_status status = sta_gl_program_create(names, 2, defines, &out->program, err);
@@ -49,6 +49,10 @@ sta_status sta_pullpush_pass_init(sta_pullpush_pass *pass, sta_error *err)
     memset(pass, 0, sizeof(*pass));
     sta_status status =
         build("pullpush_pull.comp", "#define PP_FROM_INPUT 1\n", &pass->pull_input, err);
+    if (status == STA_OK) {
+        status = build("pullpush_pull.comp", "#define PP_FROM_INPUT 1\n#define PP_BOX 1\n",
+                       &pass->pull_box, err);
+    }
     if (status == STA_OK) {
         status = build("pullpush_pull.comp", "", &pass->pull_level, err);
     }
@@ -79,8 +83,8 @@ static void release_pyramid(sta_pullpush_pyramid *pyramid)
 
 void sta_pullpush_pass_release(sta_pullpush_pass *pass)
 {
-    sta_pullpush_program *programs[] = { &pass->pull_input, &pass->pull_level, &pass->push_level,
-                                         &pass->push_output };
+    sta_pullpush_program *programs[] = { &pass->pull_input, &pass->pull_box, &pass->pull_level,
+                                         &pass->push_level, &pass->push_output };
     for (size_t i = 0; i < sizeof(programs) / sizeof(programs[0]); i++) {
         if (programs[i]->program) {
             glDeleteProgram(programs[i]->program);
@@ -151,7 +155,9 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
 
     // Pull: level 1 from the inputs, level l from level l - 1.
     for (int l = 1; l < count; l++) {
-        const sta_pullpush_program *p = l == 1 ? &pass->pull_input : &pass->pull_level;
+        const sta_pullpush_program *first =
+            sta_pullpush_box_first_pull(view->height_px) ? &pass->pull_box : &pass->pull_input;
+        const sta_pullpush_program *p = l == 1 ? first : &pass->pull_level;
         glUseProgram(p->program);
         if (l == 1) {
             glProgramUniform1i(p->program, p->has_label, has_label);

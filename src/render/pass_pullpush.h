@@ -38,6 +38,7 @@ typedef struct sta_pullpush_program {
 
 typedef struct sta_pullpush_pass {
     sta_pullpush_program pull_input;  /* level 1 from the inputs */
+    sta_pullpush_program pull_box;    /* the same with the 2x2 box (from 1080 px high) */
     sta_pullpush_program pull_level;  /* level l >= 2 from level l - 1 */
     sta_pullpush_program push_level;  /* level l >= 1 in place */
     sta_pullpush_program push_output; /* level 0 into the outputs */

@@ -83,9 +83,12 @@ static float depth_factor(float d, float near_d, float tau)
  * filtered weight sum clamped to 1, its values the filter normalised with each tap's
  * weight divided by the depth factor (STA_PULLPUSH_PULL_DEPTH_TAU) against the nearest
  * tap: a coarse texel over a depth edge keeps the near surface (issue 15, sixth round). */
-static void pull_level(const level_source *fine, int fine_w, int fine_h, const sta_image *out_p,
-                       const sta_image *out_c)
+static void pull_level(const level_source *fine, int fine_w, int fine_h, bool box,
+                       const sta_image *out_p, const sta_image *out_c)
 {
+    /* The 2x2 box: the inner taps with weight 1 (sta_pullpush_box_first_pull). */
+    static const float box_taps[4] = { 0.0f, 1.0f, 1.0f, 0.0f };
+    const float *taps_1d = box ? box_taps : pull_taps;
     for (int j = 0; j < out_p->height; j++) {
         for (int i = 0; i < out_p->width; i++) {
             texel taps[16];
@@ -96,7 +99,8 @@ static void pull_level(const level_source *fine, int fine_w, int fine_h, const s
                 for (int a = 0; a < 4; a++) {
                     int fx = 2 * i - 1 + a, fy = 2 * j - 1 + b;
                     texel *t = &taps[4 * b + a];
-                    if (fx < 0 || fy < 0 || fx >= fine_w || fy >= fine_h) {
+                    bool outer = a == 0 || a == 3 || b == 0 || b == 3;
+                    if (fx < 0 || fy < 0 || fx >= fine_w || fy >= fine_h || (box && outer)) {
                         t->w = 0.0f;
                         continue;
                     }
@@ -120,7 +124,7 @@ static void pull_level(const level_source *fine, int fine_w, int fine_h, const s
                     if (!(t->w > 0.0f)) {
                         continue;
                     }
-                    float kw = pull_taps[a] * pull_taps[b] * t->w;
+                    float kw = taps_1d[a] * taps_1d[b] * t->w;
                     sw += kw;
                     if (near_d > 0.0f) {
                         kw = kw / depth_factor(-t->p[2], near_d, STA_PULLPUSH_PULL_DEPTH_TAU);
@@ -290,7 +294,8 @@ sta_status sta_pullpush_ref(const sta_view_params *view, const sta_image *positi
                                    &levels->colour[l - 1] };
         }
         pull_level(&fine, sta_pullpush_level_size(w, l - 1), sta_pullpush_level_size(h, l - 1),
-                   &levels->position[l], &levels->colour[l]);
+                   l == 1 && sta_pullpush_box_first_pull(h), &levels->position[l],
+                   &levels->colour[l]);
     }
     // Push: level l from level l + 1, in place, down to level 1.
     for (int l = count - 2; l >= 1; l--) {
