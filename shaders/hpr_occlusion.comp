@@ -39,6 +39,9 @@ uniform float u_threshold;
 uniform float u_radius_k;   // K of eq. 1: the neighbourhood radius is K / z pixels
 uniform float u_gap;       // sta_hpr_occluder_gap_m: occluders lie this much nearer
 uniform vec2 u_scale;       // pixels per unit of x / d and y / d: size / (2 tan)
+#ifdef HPR_ANCHORS
+uniform int u_anchor_stride; // sta_hpr_anchor_stride
+#endif
 
 const ivec2 RING[8] = ivec2[8](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-1, 0),
                                ivec2(1, 0), ivec2(-1, 1), ivec2(0, 1), ivec2(1, 1));
@@ -78,7 +81,7 @@ void main()
     p = ivec2(int(u_pixels[i] & 0xffffu), int(u_pixels[i] >> 16));
 #endif
 #ifdef HPR_ANCHORS // sparse operator, first step: the anchors only (x, y multiples of the stride)
-    p *= STA_HPR_ANCHOR_STRIDE;
+    p *= u_anchor_stride;
 #endif
     if (p.x >= u_size.x || p.y >= u_size.y) {
         return;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The sparse HPR operator's copy step (docs/HPR.md, "Sparse operator"), run with the
-// strides u_stride = STA_HPR_ANCHOR_STRIDE / 2, ..., 2, 1 in turn. On the grid of pixels
+// strides u_stride = sta_hpr_anchor_stride / 2, ..., 2, 1 in turn. On the grid of pixels
 // whose x and y are multiples of u_stride, the anchors (x and y multiples of 2 u_stride)
 // are labelled (by the operator or the step before);
 // each other pixel of the grid copies the label its nearest anchors of its own kind

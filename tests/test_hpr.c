@@ -597,6 +597,8 @@ static void sparse_copy_step_rules(void **state)
 static void sparse_copy_steps_in_turn(void **state)
 {
     (void)state;
+    assert_int_equal(sta_hpr_anchor_stride(STA_HPR_ANCHOR_HD_HEIGHT_PX - 1), STA_HPR_ANCHOR_STRIDE);
+    assert_int_equal(sta_hpr_anchor_stride(STA_HPR_ANCHOR_HD_HEIGHT_PX), STA_HPR_ANCHOR_STRIDE_HD);
     const int n = STA_HPR_ANCHOR_STRIDE + 1, half = (n + 1) / 2, centre = (n / 2) * n + n / 2;
     sta_image position, full, out;
     new_image(&position, n, n, 4);
@@ -634,9 +636,10 @@ static void sparse_copy_steps_in_turn(void **state)
 static void sparse_operator_matches_twin(void **state)
 {
     (void)state;
-    const int sizes[2][2] = { { 320, 240 }, { 211, 157 } };
-    static unsigned char truth[320 * 240];
-    for (int k = 0; k < 2; k++) {
+    // The third size is >= STA_HPR_ANCHOR_HD_HEIGHT_PX high: anchors 16 apart.
+    const int sizes[3][2] = { { 320, 240 }, { 211, 157 }, { 1201, 1083 } };
+    static unsigned char truth[1201 * 1083];
+    for (int k = 0; k < 3; k++) {
         int w = sizes[k][0], h = sizes[k][1];
         sta_view_params view = make_view(w, h);
         sta_image position, full, sparse, expected;
@@ -651,11 +654,22 @@ static void sparse_operator_matches_twin(void **state)
         for (int i = 0; i < w * h; i++) {
             differ += full.data[i] != sparse.data[i];
         }
-        const int stride = STA_HPR_ANCHOR_STRIDE; // the anchors: x, y multiples of it
+        const int stride = sta_hpr_anchor_stride(h); // the anchors: x, y multiples of it
+        assert_int_equal(stride, k == 2 ? STA_HPR_ANCHOR_STRIDE_HD : STA_HPR_ANCHOR_STRIDE);
         int others = w * h - ((w + stride - 1) / stride) * ((h + stride - 1) / stride);
-        printf("hpr sparse %dx%d: %d of %d non-anchor pixels refined, %d labels differ from "
-               "the full operator\n",
-               w, h, refined, others, differ);
+        // Pixels of the grid `stride / 2` that copy a label other than their full one:
+        // where the GPU would run the operator with anchors only stride / 2 apart.
+        int coarse_copies = 0;
+        for (int y = 0; y < h; y += stride / 2) {
+            for (int x = 0; x < w; x += stride / 2) {
+                coarse_copies +=
+                    (x % stride || y % stride) && expected.data[y * w + x] != full.data[y * w + x];
+            }
+        }
+        printf("hpr sparse %dx%d, anchors %d apart: %d of %d non-anchor pixels refined, %d "
+               "labels differ from the full operator, %d on the first copy step's grid\n",
+               w, h, stride, refined, others, differ, coarse_copies);
+        assert_true(coarse_copies > 0); // so the comparison above checks the stride
         assert_true(refined > 0 && refined < others / 2);
         assert_true(differ < w * h / 50);
         if (k == 0) {

@@ -273,7 +273,7 @@ static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
 }
 
 // The sparse operator (docs/HPR.md, "Sparse operator"): the operator on the anchors
-// (x and y multiples of STA_HPR_ANCHOR_STRIDE), then copy steps with their refinements
+// (x and y multiples of sta_hpr_anchor_stride), then copy steps with their refinements
 // on ever finer grids, down to every pixel from the even ones.
 static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
                              const sta_hpr_params *p, int levels, const float *level_depth,
@@ -290,7 +290,8 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_READ_WRITE,
                        GL_R32F);
     set_occlusion_uniforms(pass->anchors_program, view, p, levels, level_depth);
-    const int stride = STA_HPR_ANCHOR_STRIDE;
+    const int stride = sta_hpr_anchor_stride(h);
+    glUniform1i(glGetUniformLocation(pass->anchors_program, "u_anchor_stride"), stride);
     sta_gl_dispatch_2d((w + stride - 1) / stride, (h + stride - 1) / stride);
     for (int step = stride / 2; step >= 1; step /= 2) {
         copy_and_refine(pass, view, p, levels, level_depth, step);

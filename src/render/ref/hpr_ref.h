@@ -59,12 +59,24 @@
  * this; copy steps with the strides STRIDE / 2, ..., 2, 1 fill the grids in between
  * (issue 15, eighth round: 8 cost 5 % less than 4 and the same errors, 16 no less). */
 #define STA_HPR_ANCHOR_STRIDE        8
+/* From this view height on the anchors lie STA_HPR_ANCHOR_STRIDE_HD apart (copy steps
+ * 8, 4, 2, 1): at 1080 px the stride-16 anchors are as far apart in angle as the stride-8
+ * ones at 540 px (issue 15, thirteenth round, docs/BENCHMARKS.md). */
+#define STA_HPR_ANCHOR_STRIDE_HD     16
+#define STA_HPR_ANCHOR_HD_HEIGHT_PX  1080
 /* Pyramidal operator: a neighbour closes a sector only when it lies nearer than the
  * pixel's point by more than this many s0 (issue 15, part 2). Noise makes a surface
  * rough in depth, and the paper's operator let a point's own surface neighbours, a few
  * centimetres nearer, hide it (the far road, facades along the street); 1.5 s0 keeps
  * them (docs/HPR.md, docs/BENCHMARKS.md "Sixth round"). */
 #define STA_HPR_OCCLUDER_GAP_S0      1.5f
+
+/* The sparse operator's anchor stride for a view `height_px` pixels high (above). */
+static inline int sta_hpr_anchor_stride(int height_px)
+{
+    return height_px >= STA_HPR_ANCHOR_HD_HEIGHT_PX ? STA_HPR_ANCHOR_STRIDE_HD
+                                                    : STA_HPR_ANCHOR_STRIDE;
+}
 
 /* Parameters. Zero means default (resolved by sta_hpr_params_defaults). A negative
  * threshold makes every pixel open (HPR off). s_hpr's default depends on the view: it
@@ -161,8 +173,8 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
 /* The sparse operator's copy steps (twin of hpr_sparse_classify.comp): `full_label`
  * holds the pyramidal labels of every pixel (the anchors and the refined pixels get
  * exactly those). On the grids of pixels whose x and y are multiples of
- * STA_HPR_ANCHOR_STRIDE / 2, ..., 2, 1 in turn: each pixel of the grid that is not one
- * of its anchors (x and y multiples of twice the grid's step) copies the label of its
+ * sta_hpr_anchor_stride(height) / 2, ..., 2, 1 in turn: each pixel of the grid that is
+ * not one of its anchors (x and y multiples of twice the grid's step) copies the label of its
  * up to 4 nearest anchors (clamped to the grid) of its own kind (point: visible /
  * hidden; empty: hole / background) when there is at least one, they all agree and,
  * for a point, each one's depth is within STA_HPR_SPARSE_DEPTH_TAU of its own; else it

@@ -83,7 +83,7 @@ int sta_hpr_ref_sparse_labels(const sta_image *position, const sta_image *full_l
            (size_t)full_label->width * (size_t)full_label->height * sizeof(float));
     // Within a step the pixels it writes are never anchors of each other (in place).
     int refined = 0;
-    for (int step = STA_HPR_ANCHOR_STRIDE / 2; step >= 1; step /= 2) {
+    for (int step = sta_hpr_anchor_stride(position->height) / 2; step >= 1; step /= 2) {
         refined += copy_step(position, out_label, step);
     }
     return refined;
