@@ -518,15 +518,15 @@ static void point_offset(const moment_pass *m, size_t j, int64_t u[3])
     }
 }
 
-// Which half of its cell of `level` u lies in along each axis (a bit an axis): its nearest
-// vertex of that level is the cell's corner plus these bits.
-static unsigned octant_of(const int64_t u[3], int level)
+// The key of u's part of its base cell in decide_level: `bits` bits an axis from bit
+// `low` (at the base level, one bit: which half of the cell, so its nearest vertex).
+static unsigned run_key(const int64_t u[3], int low, int bits)
 {
-    if (level == 0) {
-        return 0; // (cells of one unit: the vertex is the cell)
+    unsigned k = 0;
+    for (int a = 0; a < 3; a++) {
+        k |= (unsigned)(u[a] >> low & ((1 << bits) - 1)) << (a * bits);
     }
-    return (unsigned)((u[0] >> (level - 1) & 1) | (u[1] >> (level - 1) & 1) << 1 |
-                      (u[2] >> (level - 1) & 1) << 2);
+    return k;
 }
 
 // Whether a candidate at u moves up: the next level's box is flatter (less surface
@@ -603,7 +603,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                 point_offset(m, j, u);
                 have_u = true;
             }
-            unsigned k = octant_of(u, level);
+            unsigned k = run_key(u, low, bits); // (bits is 1 here: an octant)
             if (rough[k] < 0) {
                 vertex_box *b = nearest_box(m->chunk, fine, u);
                 if (!b) {
@@ -624,9 +624,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                 if (!have_u) {
                     point_offset(m, j, u);
                 }
-                for (int a = 0; keyed && a < 3; a++) {
-                    k |= (unsigned)(u[a] >> low & ((1 << bits) - 1)) << (a * bits);
-                }
+                k = keyed ? run_key(u, low, bits) : 0;
                 if (up[k] < 0) {
                     int moved = moves_up(m->chunk, fine, coarse, u);
                     if (moved < 0) {
