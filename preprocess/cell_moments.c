@@ -92,10 +92,8 @@ static bool local_of(const sta_cell_moments *m, const int64_t cell[3], int64_t l
     return true;
 }
 
-// Adds the higher sums h (sum d |d|^2, sum |d|^4) of cell c moved by o (d + o: to a corner
-// o below c's) to dst, modulo 2^64 like the sums themselves.
-static void add_higher(sta_higher_sums *dst, const sta_cell_sums *c, const sta_higher_sums *h,
-                       const int64_t o[3])
+void sta_higher_sums_add_moved(sta_higher_sums *dst, const sta_cell_sums *c,
+                               const sta_higher_sums *h, const int64_t o[3])
 {
     const uint64_t n = (uint64_t)c->n, q[3] = { (uint64_t)o[0], (uint64_t)o[1], (uint64_t)o[2] };
     const uint64_t s1[3] = { (uint64_t)c->s1[0], (uint64_t)c->s1[1], (uint64_t)c->s1[2] };
@@ -298,7 +296,7 @@ void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], 
                 }
                 if (m->high) {
                     sta_higher_sums h = { { 0 }, 0 };
-                    add_higher(&h, c, &m->high[s], o);
+                    sta_higher_sums_add_moved(&h, c, &m->high[s], o);
                     memcpy(out[i].s3, h.s3, sizeof(h.s3));
                     out[i].s4 = h.s4;
                 }
@@ -461,7 +459,7 @@ void sta_cell_moments_vertex_higher(const sta_cell_moments *m, const sta_cell_fi
             size_t s = corner_slot(m, filter, key, d);
             if (s != SIZE_MAX) {
                 const int64_t o[3] = { d[0] << m->level, d[1] << m->level, d[2] << m->level };
-                add_higher(&h, &m->sums[s], &m->high[s], o);
+                sta_higher_sums_add_moved(&h, &m->sums[s], &m->high[s], o);
             }
         }
     }
@@ -508,7 +506,7 @@ sta_status sta_cell_moments_coarsen(const sta_cell_moments *fine, sta_cell_momen
         }
         if (coarse->high) { // (a finer set without them: its cells' sums moved, s3 s4 0)
             static const sta_higher_sums none = { { 0 }, 0 };
-            add_higher(&coarse->high[sp], c, fine->high ? &fine->high[s] : &none, o);
+            sta_higher_sums_add_moved(&coarse->high[sp], c, fine->high ? &fine->high[s] : &none, o);
         }
         for (int a = 0; a < 3; a++) {
             p->s1[a] += c->s1[a] + c->n * o[a];

@@ -51,6 +51,11 @@ typedef struct sta_higher_sums {
     uint64_t s4;
 } sta_higher_sums;
 
+/* Adds the higher sums h of a cell whose own sums are c, moved by o grid units (d + o: to
+ * a corner o below the cell's), to dst, modulo 2^64 like the sums themselves. */
+void sta_higher_sums_add_moved(sta_higher_sums *dst, const sta_cell_sums *c,
+                               const sta_higher_sums *h, const int64_t o[3]);
+
 /* One level's cells. */
 typedef struct sta_cell_moments {
     int level;             /* cells are 2^level grid units wide */
