@@ -425,6 +425,101 @@ sta_status sta_cell_blocks_coarsen(const sta_cell_blocks *fine, sta_cell_blocks 
     return seal(coarse, err);
 }
 
+// Whether cell a (coordinates >= 0) comes before cell b in Morton order: the axis whose
+// coordinates differ in the highest bit decides, z before y before x on the same bit.
+static bool morton_less(const int64_t a[3], const int64_t b[3])
+{
+    int axis = 2;
+    uint64_t top = (uint64_t)(a[2] ^ b[2]);
+    for (int k = 1; k >= 0; k--) {
+        uint64_t x = (uint64_t)(a[k] ^ b[k]);
+        if (top < x && top < (x ^ top)) { // (x's highest bit above top's)
+            axis = k;
+            top = x;
+        }
+    }
+    return a[axis] < b[axis];
+}
+
+// Adds point p (offsets d in its cell) to the sums s.
+static void add_point(sta_moment_sums *s, const int64_t d[3], bool higher)
+{
+    s->n++;
+    s->s1[0] += d[0], s->s1[1] += d[1], s->s1[2] += d[2];
+    s->s2[0] += d[0] * d[0], s->s2[1] += d[0] * d[1], s->s2[2] += d[0] * d[2];
+    s->s2[3] += d[1] * d[1], s->s2[4] += d[1] * d[2], s->s2[5] += d[2] * d[2];
+    if (higher) {
+        uint64_t dd = (uint64_t)(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        s->s3[0] += (uint64_t)d[0] * dd, s->s3[1] += (uint64_t)d[1] * dd;
+        s->s3[2] += (uint64_t)d[2] * dd, s->s4 += dd * dd;
+    }
+}
+
+sta_status sta_cell_blocks_add_children(sta_cell_blocks *m, const int32_t (*a)[3], size_t na,
+                                        const int32_t (*b)[3], size_t nb, const int32_t corner[3],
+                                        const sta_cell_moments *wanted, sta_error *err)
+{
+    const int level = m->level, up = level + 1;
+    const int32_t(*list[2])[3] = { a, b };
+    const size_t count[2] = { na, nb };
+    size_t at[2] = { 0, 0 };
+    while (at[0] < na || at[1] < nb) {
+        // The lists' next parents, from the corner (the Morton order's) and the scene's.
+        int64_t from_corner[2][3], parent[2][3];
+        for (int l = 0; l < 2; l++) {
+            for (int a2 = 0; a2 < 3 && at[l] < count[l]; a2++) {
+                int32_t c = list[l][at[l]][a2];
+                from_corner[l][a2] = ((int64_t)c - corner[a2]) >> up;
+                parent[l][a2] = ((int64_t)c - m->origin[a2]) >> up;
+            }
+        }
+        int first = at[0] >= na ? 1 : at[1] >= nb ? 0 : morton_less(from_corner[1], from_corner[0]);
+        const int64_t *p = parent[first];
+        bool take = !wanted || sta_cell_moments_has(wanted, p);
+        sta_moment_sums child[8];
+        memset(child, 0, sizeof(child));
+        for (int l = 0; l < 2; l++) { // (both lists may hold points of this parent)
+            for (; at[l] < count[l]; at[l]++) {
+                const int32_t *q = list[l][at[l]];
+                int64_t u[3] = { (int64_t)q[0] - m->origin[0], (int64_t)q[1] - m->origin[1],
+                                 (int64_t)q[2] - m->origin[2] };
+                if ((u[0] >> up) != p[0] || (u[1] >> up) != p[1] || (u[2] >> up) != p[2]) {
+                    break;
+                }
+                if (take) {
+                    const int64_t d[3] = { u[0] & (((int64_t)1 << level) - 1),
+                                           u[1] & (((int64_t)1 << level) - 1),
+                                           u[2] & (((int64_t)1 << level) - 1) };
+                    int k = (int)((u[0] >> level & 1) | (u[1] >> level & 1) << 1 |
+                                  (u[2] >> level & 1) << 2);
+                    add_point(&child[k], d, m->higher);
+                }
+            }
+        }
+        for (int k = 0; take && k < 8; k++) { // (in their place's order: k is its low bits)
+            if (child[k].n == 0) {
+                continue;
+            }
+            const int64_t local[3] = { 2 * p[0] + (k & 1) - m->base[0],
+                                       2 * p[1] + (k >> 1 & 1) - m->base[1],
+                                       2 * p[2] + (k >> 2) - m->base[2] };
+            const sta_moment_sums *r = &child[k];
+            const sta_cell_sums c = { .n = r->n,
+                                      .s1 = { r->s1[0], r->s1[1], r->s1[2] },
+                                      .s2 = { r->s2[0], r->s2[1], r->s2[2], r->s2[3], r->s2[4],
+                                              r->s2[5] } };
+            const sta_higher_sums h = { .s3 = { r->s3[0], r->s3[1], r->s3[2] }, .s4 = r->s4 };
+            if (!inside(local)) {
+                return sta_fail(err, STA_ERR_ARG, "cell blocks: a point outside the set's box");
+            }
+            if (!add_cell(m, local, &c, &h)) {
+                return sta_fail(err, STA_ERR_NOMEM, "cell blocks: out of memory");
+            }
+        }
+    }
+    return seal(m, err);
+}
+
 sta_status sta_cell_blocks_add_moments(sta_cell_blocks *m, const sta_cell_moments *cells,
                                        sta_error *err)
 {

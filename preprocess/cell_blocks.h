@@ -70,6 +70,16 @@ sta_status sta_cell_blocks_add(sta_cell_blocks *m, const int32_t (*grid)[3], siz
 sta_status sta_cell_blocks_coarsen(const sta_cell_blocks *fine, sta_cell_blocks *coarse,
                                    sta_error *err);
 
+/* Adds the points of the lists a[na] and b[nb] (grid units, inside the box), each in the
+ * Morton order of their cells one level up (m->level + 1) counted from `corner` (at or
+ * below every point; a multiple of 2 such cells from the scene corner keeps the blocks in
+ * order), whose cell one level up `wanted` (a hashed set of that level; NULL: all) holds,
+ * and seals the set: a parent's children are summed together and appended in their
+ * blocks' order (no sort), whichever list its points are in. */
+sta_status sta_cell_blocks_add_children(sta_cell_blocks *m, const int32_t (*a)[3], size_t na,
+                                        const int32_t (*b)[3], size_t nb, const int32_t corner[3],
+                                        const sta_cell_moments *wanted, sta_error *err);
+
 /* Adds the cells of the hashed set `cells` (same level and scene corner, a box inside
  * m's) to m, and seals it. */
 sta_status sta_cell_blocks_add_moments(sta_cell_blocks *m, const sta_cell_moments *cells,

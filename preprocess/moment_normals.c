@@ -728,19 +728,15 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
 // then at the base level again (`base`, `coarse` the next, NULL at the top). Returns
 // false when out of memory.
 static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coarse,
-                            const int32_t *halo, size_t halo_count, const int32_t lo[3],
-                            const int32_t hi[3], sta_error *err)
+                            const int32_t (*halo)[3], size_t halo_count, const int32_t corner[3],
+                            const int32_t lo[3], const int32_t hi[3], sta_error *err)
 {
     const sta_normals_chunk *chunk = m->chunk;
     int level = base->cells->level;
-    sta_cell_moments wanted = { 0 }, fine = { 0 };
+    sta_cell_moments wanted = { 0 };
     sta_cell_blocks fine_cells = { 0 };
     level_boxes fine_boxes = { 0 };
     sta_status status = sta_cell_moments_init(&wanted, level, chunk->scene_min, lo, hi, err);
-    if (status == STA_OK) {
-        status = sta_cell_moments_init(&fine, level - 1, chunk->scene_min, lo, hi, err);
-        fine.higher = true; // (the default method's)
-    }
     int64_t last[3] = { -1, -1, -1 }; // the base cell marked last (with its neighbours)
     for (size_t j = 0; j < m->count && status == STA_OK; j++) {
         int64_t c[3];
@@ -760,21 +756,15 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
         }
     }
-    // (the sums are integers: the points' order does not change them)
+    // The own points and the halo's, both in the Morton order of their base cells: the
+    // wanted cells' children in order, with the sphere's sums (the default method's).
     if (status == STA_OK) {
-        status = sta_cell_moments_add(&fine, m->grid, m->count, NULL, &wanted, err);
-    }
-    if (status == STA_OK) {
-        status =
-            sta_cell_moments_add(&fine, (const int32_t(*)[3])halo, halo_count, NULL, &wanted, err);
-    }
-    if (status == STA_OK) { // (the fine cells are few: hashed, then put in blocks)
         status = sta_cell_blocks_init(&fine_cells, level - 1, true, chunk->scene_min, lo, hi, err);
     }
     if (status == STA_OK) {
-        status = sta_cell_blocks_add_moments(&fine_cells, &fine, err);
+        status = sta_cell_blocks_add_children(&fine_cells, m->grid, m->count, halo, halo_count,
+                                              corner, &wanted, err);
     }
-    sta_cell_moments_release(&fine);
     if (status == STA_OK && !level_init(&fine_boxes, &fine_cells)) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
     }
@@ -911,9 +901,9 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     bool higher = chunk->method == STA_NORMALS_MOMENTS;
     sta_status status =
         sta_cell_blocks_init(&cells[0], level, higher, chunk->scene_min, lo, hi, err);
+    int32_t corner[3]; // the cell order's (aligned 8 levels up: nested to there)
     if (status == STA_OK) {
-        // Morton order of the base cells (aligned 8 levels up: nested to there).
-        int32_t corner[3];
+        // Morton order of the base cells.
         int align = level + 8;
         for (int a = 0; a < 3; a++) {
             int64_t from = (int64_t)lo[a] - chunk->scene_min[a];
@@ -935,12 +925,15 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     if (status == STA_OK && adaptive && !(rough = sta_calloc(count, 1))) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
     }
-    // The own points in cell order with their positions: the passes read them in order.
+    // The own points in cell order with their positions: the passes read them in order (and
+    // the adaptive fine level's cells are summed from them and the halo's in that order).
     int32_t(*own)[3] = status == STA_OK ? sta_alloc_array(count, sizeof(*own)) : NULL;
-    if (status == STA_OK && !own) {
-        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
+    int32_t(*halo_sorted)[3] =
+        status == STA_OK && adaptive ? sta_alloc_array(halo_count + 1, sizeof(*halo_sorted)) : NULL;
+    if (status == STA_OK && (!own || (adaptive && !halo_sorted))) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", n);
     }
-    for (size_t j = 0, k = 0; status == STA_OK && j < n; j++) {
+    for (size_t j = 0, k = 0, h = 0; status == STA_OK && j < n; j++) {
         if (j + POSITIONS_AHEAD < n) { // (a random read each)
             __builtin_prefetch(grid[order[j + POSITIONS_AHEAD]]);
         }
@@ -954,6 +947,8 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                        ((int64_t)own[k - 1][a] - chunk->scene_min[a]) >> level;
             }
             state[k++] = same ? 0 : RUN_START;
+        } else if (halo_sorted) {
+            memcpy(halo_sorted[h++], grid[order[j]], sizeof(halo_sorted[0]));
         }
     }
     pass.grid = (const int32_t(*)[3])own;
@@ -980,8 +975,8 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         if (left == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
         } else if (adaptive && level == chunk->base_level) {
-            status = fine_pass(&pass, &boxes[at], level < top ? &boxes[next] : NULL, halo,
-                               halo_count, lo, hi, err);
+            status = fine_pass(&pass, &boxes[at], level < top ? &boxes[next] : NULL,
+                               (const int32_t(*)[3])halo_sorted, halo_count, corner, lo, hi, err);
             left = 0; // (the rough points' passes left some waiting: count them)
             for (size_t j = 0; j < count; j++) {
                 left += (state[j] & STATE_MASK) != STATE_DONE;
@@ -1004,6 +999,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         stats->points += count;
     }
     sta_free(own);
+    sta_free(halo_sorted);
     sta_free(rough);
     sta_free(state);
     sta_free(order);

@@ -4,6 +4,7 @@
  * points added in Morton order, in input order and from a hashed set give the same cells,
  * counts and vertex sums (lower and higher halves) at fine and coarse levels, at and below
  * the set's lowest cells; levels coarsened from a finer one equal levels added directly;
+ * the children of wanted cells summed from two sorted lists equal the hashed set of them;
  * a set too wide for the cell coordinates and a point outside the box are refused. */
 #include "test_support.h"
 
@@ -198,6 +199,78 @@ static void coarsened_levels_match_direct(void **state)
     sta_free(grid);
 }
 
+// The children of the wanted cells one level up from two lists in Morton order of those
+// cells (points of one parent in both lists), and from the lists in input order: the
+// same cells as the hashed set of the wanted cells' points; NULL wanted: all points.
+static void children_of_wanted_cells_from_two_lists(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    int32_t(*lists)[3] = sta_alloc_array(POINTS, sizeof(*lists));
+    uint32_t *order = sta_alloc_array(POINTS, sizeof(*order));
+    assert_non_null(grid);
+    assert_non_null(lists);
+    assert_non_null(order);
+    const int32_t corner[3] = { 40000, -9000, 77 };
+    random_points(grid, POINTS, corner, 4000, 17);
+    const int64_t origin[3] = { 39001, -9500, -3 };
+    int32_t lo[3], hi[3], from[3];
+    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
+    sta_error err = { 0 };
+    for (int level = 2; level <= 6; level += 4) {
+        int align = level + 1 + 8;
+        for (int a = 0; a < 3; a++) {
+            from[a] = (int32_t)(origin[a] + ((((int64_t)lo[a] - origin[a]) >> align) << align));
+        }
+        sta_cell_moments wanted, want, all;
+        assert_int_equal(sta_cell_moments_init(&wanted, level + 1, origin, lo, hi, &err), STA_OK);
+        for (size_t i = 0; i < POINTS; i += 3) { // (about a third of the parents)
+            const int64_t cell[3] = { ((int64_t)grid[i][0] - origin[0]) >> (level + 1),
+                                      ((int64_t)grid[i][1] - origin[1]) >> (level + 1),
+                                      ((int64_t)grid[i][2] - origin[2]) >> (level + 1) };
+            assert_true(sta_cell_moments_mark(&wanted, cell));
+        }
+        assert_int_equal(sta_cell_moments_init(&want, level, origin, lo, hi, &err), STA_OK);
+        want.higher = true;
+        assert_int_equal(
+            sta_cell_moments_add(&want, (const int32_t(*)[3])grid, POINTS, NULL, &wanted, &err),
+            STA_OK);
+        assert_true(want.used > 0 && want.used < POINTS);
+        hashed(&all, level, origin, lo, hi, (const int32_t(*)[3])grid);
+        assert_int_equal(
+            sta_cell_order((const int32_t(*)[3])grid, POINTS, from, level + 1, order, &err),
+            STA_OK);
+        for (int sorted = 0; sorted < 2; sorted++) {
+            // Every third point to the second list, the rest to the first (each in order).
+            size_t na = 0, nb = 0, second = POINTS - POINTS / 3;
+            for (size_t j = 0; j < POINTS; j++) {
+                size_t i = sorted ? order[j] : j;
+                memcpy(lists[j % 3 == 2 ? second + nb++ : na++], grid[i], sizeof(lists[0]));
+            }
+            assert_int_equal(na, second);
+            for (int every = 0; every < 2; every++) {
+                sta_cell_blocks m;
+                assert_int_equal(sta_cell_blocks_init(&m, level, true, origin, lo, hi, &err),
+                                 STA_OK);
+                assert_int_equal(sta_cell_blocks_add_children(&m, (const int32_t(*)[3])lists, na,
+                                                              (const int32_t(*)[3])lists + second,
+                                                              nb, from, every ? NULL : &wanted,
+                                                              &err),
+                                 STA_OK);
+                assert_true(
+                    check_same(&m, every ? &all : &want, (const int32_t(*)[3])grid, origin) > 0);
+                sta_cell_blocks_release(&m);
+            }
+        }
+        sta_cell_moments_release(&all);
+        sta_cell_moments_release(&want);
+        sta_cell_moments_release(&wanted);
+    }
+    sta_free(order);
+    sta_free(lists);
+    sta_free(grid);
+}
+
 static void bad_boxes_are_refused(void **state)
 {
     (void)state;
@@ -220,6 +293,7 @@ static void bad_boxes_are_refused(void **state)
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(every_order_holds_the_hashed_sums),
     cmocka_unit_test(coarsened_levels_match_direct),
+    cmocka_unit_test(children_of_wanted_cells_from_two_lists),
     cmocka_unit_test(bad_boxes_are_refused),
 };
 
