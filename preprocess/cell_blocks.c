@@ -586,37 +586,31 @@ int64_t sta_cell_blocks_count(const sta_cell_blocks *m, const int64_t cell[3])
     return c ? c->n : 0;
 }
 
-// The cells of the 8 around `vertex` that exist: their indices and their offsets (0 or 1
-// an axis) from the lowest; returns how many.
+// The cells of the 8 around `vertex` that exist: their indices and their offsets k (bit a:
+// one cell up along axis a) from the lowest; returns how many. The 8 lie in 1, 2, 4 or 8
+// blocks (an axis crosses into the next block where the lowest cell is a block's last):
+// each block probed once.
 static int vertex_cells(const sta_cell_blocks *m, const int64_t vertex[3], size_t index[8],
                         int offset[8])
 {
     int64_t lo[3];
-    bool one_block = m->capacity > 0;
+    unsigned cross = 0; // (bit a: axis a crosses)
     for (int a = 0; a < 3; a++) {
         lo[a] = vertex[a] - 1 - m->base[a];
-        // (all 8 in the lowest's block unless an axis crosses into the next block)
-        one_block = one_block && lo[a] >= 0 && (lo[a] & 3) != 3 && lo[a] + 1 <= (int64_t)AXIS_MASK;
+        cross |= (unsigned)((lo[a] & 3) == 3) << a;
     }
+    const sta_cell_block *blocks[8];
+    unsigned probed = 0;
     int found = 0;
-    if (one_block) {
-        const sta_cell_block *b = block_of(m, lo);
-        if (!b) {
-            return 0;
-        }
-        for (int k = 0; k < 8; k++) {
-            const int64_t c[3] = { lo[0] + (k & 1), lo[1] + (k >> 1 & 1), lo[2] + (k >> 2) };
-            unsigned p = place(c);
-            if ((b->mask >> p) & 1) {
-                index[found] = cell_index(b, p);
-                offset[found++] = k;
-            }
-        }
-        return found;
-    }
     for (int k = 0; k < 8; k++) {
         const int64_t c[3] = { lo[0] + (k & 1), lo[1] + (k >> 1 & 1), lo[2] + (k >> 2) };
-        const sta_cell_block *b = inside(c) && m->capacity ? block_of(m, c) : NULL;
+        unsigned j = (unsigned)k & cross; // the cell's block among the 8's (blocks are
+                                          // wholly inside or outside the set's range)
+        if (!((probed >> j) & 1)) {
+            blocks[j] = inside(c) && m->capacity ? block_of(m, c) : NULL;
+            probed |= 1u << j;
+        }
+        const sta_cell_block *b = blocks[j];
         unsigned p = place(c);
         if (b && ((b->mask >> p) & 1)) {
             index[found] = cell_index(b, p);
