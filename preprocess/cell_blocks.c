@@ -308,7 +308,7 @@ sta_status sta_cell_blocks_init(sta_cell_blocks *m, int level, bool higher, cons
         m->origin[a] = origin[a];
         // One empty cell below and two above stay addressable (vertex boxes reach past the
         // set), the first block's corner a multiple of 4 cells from the scene corner.
-        m->base[a] = (((((int64_t)lo[a] - origin[a]) >> level) - 1) >> 2) << 2;
+        m->base[a] = (((((int64_t)lo[a] - origin[a]) >> level) - 1) >> 2) * 4; // (floored)
         int64_t top = ((int64_t)hi[a] - origin[a]) >> level;
         if (top - m->base[a] + 3 > (int64_t)AXIS_MASK) {
             return sta_fail(err, STA_ERR_ARG, "cell blocks: level %d spans too many cells", level);
