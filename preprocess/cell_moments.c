@@ -92,10 +92,8 @@ static bool local_of(const sta_cell_moments *m, const int64_t cell[3], int64_t l
     return true;
 }
 
-// Adds the higher sums h (sum d |d|^2, sum |d|^4) of cell c moved by o (d + o: to a corner
-// o below c's) to dst, modulo 2^64 like the sums themselves.
-static void add_higher(sta_higher_sums *dst, const sta_cell_sums *c, const sta_higher_sums *h,
-                       const int64_t o[3])
+void sta_higher_sums_add_moved(sta_higher_sums *dst, const sta_cell_sums *c,
+                               const sta_higher_sums *h, const int64_t o[3])
 {
     const uint64_t n = (uint64_t)c->n, q[3] = { (uint64_t)o[0], (uint64_t)o[1], (uint64_t)o[2] };
     const uint64_t s1[3] = { (uint64_t)c->s1[0], (uint64_t)c->s1[1], (uint64_t)c->s1[2] };
@@ -298,71 +296,13 @@ void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], 
                 }
                 if (m->high) {
                     sta_higher_sums h = { { 0 }, 0 };
-                    add_higher(&h, c, &m->high[s], o);
+                    sta_higher_sums_add_moved(&h, c, &m->high[s], o);
                     memcpy(out[i].s3, h.s3, sizeof(h.s3));
                     out[i].s4 = h.s4;
                 }
             }
         }
     }
-}
-
-// The filter's bit of a packed key (another multiplier than the table's slots).
-static uint64_t filter_bit(const sta_cell_filter *f, uint64_t key)
-{
-    return (key * 0xC2B2AE3D27D4EB4Full) >> f->shift;
-}
-
-static bool filter_may_hold(const sta_cell_filter *f, uint64_t key)
-{
-    uint64_t bit = filter_bit(f, key);
-    return (f->words[bit >> 6] >> (bit & 63)) & 1;
-}
-
-bool sta_cell_filter_build(const sta_cell_moments *m, sta_cell_filter *filter)
-{
-    int log2 = 9; // (at least 512 bits)
-    while (((size_t)1 << log2) < m->used * STA_CELL_FILTER_BITS && log2 < 40) {
-        log2++;
-    }
-    filter->shift = 64 - log2;
-    filter->words = sta_calloc((size_t)1 << (log2 - 6), sizeof(uint64_t));
-    if (!filter->words) {
-        return false;
-    }
-    for (size_t s = 0; s < m->capacity; s++) {
-        if (m->keys[s] != 0) {
-            uint64_t bit = filter_bit(filter, m->keys[s]);
-            filter->words[bit >> 6] |= (uint64_t)1 << (bit & 63);
-        }
-    }
-    return true;
-}
-
-bool sta_cell_filter_may_hold(const sta_cell_moments *m, const sta_cell_filter *filter,
-                              const int64_t cell[3])
-{
-    int64_t local[3];
-    return local_of(m, cell, local) && filter_may_hold(filter, pack(local));
-}
-
-void sta_cell_filter_release(sta_cell_filter *filter)
-{
-    sta_free(filter->words);
-    memset(filter, 0, sizeof(*filter));
-}
-
-void sta_cell_moments_vertex(const sta_cell_moments *m, const int64_t vertex[3],
-                             sta_moment_sums *out)
-{
-    sta_cell_moments_vertex_filtered(m, NULL, vertex, out);
-}
-
-void sta_cell_moments_vertex_filtered(const sta_cell_moments *m, const sta_cell_filter *filter,
-                                      const int64_t vertex[3], sta_moment_sums *out)
-{
-    sta_cell_moments_vertex_lower(m, filter, vertex, out);
-    sta_cell_moments_vertex_higher(m, filter, vertex, out);
 }
 
 // The packed key of the lowest of vertex's 8 cells; false when they reach beyond the set's
@@ -382,20 +322,16 @@ static bool vertex_key(const sta_cell_moments *m, const int64_t vertex[3], uint6
 
 // The key of the cell d (0 or 1 an axis) above the lowest of a vertex's 8 (packed
 // coordinates add), and its slot; SIZE_MAX when the cell does not exist.
-static inline size_t corner_slot(const sta_cell_moments *m, const sta_cell_filter *filter,
-                                 uint64_t key, const int64_t d[3])
+static inline size_t corner_slot(const sta_cell_moments *m, uint64_t key, const int64_t d[3])
 {
     uint64_t cell = key + ((uint64_t)d[0] | (uint64_t)d[1] << STA_MOMENTS_AXIS_BITS |
                            (uint64_t)d[2] << (2 * STA_MOMENTS_AXIS_BITS));
-    if (filter && !filter_may_hold(filter, cell)) {
-        return SIZE_MAX; // (no such cell: no probe)
-    }
     size_t s = sta_key_slot(m->keys, m->capacity, cell);
     return m->keys[s] != 0 ? s : SIZE_MAX;
 }
 
-void sta_cell_moments_vertex_lower(const sta_cell_moments *m, const sta_cell_filter *filter,
-                                   const int64_t vertex[3], sta_moment_sums *out)
+// n, s1 and s2 of sta_cell_moments_vertex (s3, s4 zero).
+static void vertex_lower(const sta_cell_moments *m, const int64_t vertex[3], sta_moment_sums *out)
 {
     uint64_t key;
     memset(out, 0, sizeof(*out));
@@ -419,7 +355,7 @@ void sta_cell_moments_vertex_lower(const sta_cell_moments *m, const sta_cell_fil
     int64_t n = 0, s1[3] = { 0, 0, 0 }, s2[6] = { 0, 0, 0, 0, 0, 0 };
     for (int k = 0; k < 8; k++) {
         const int64_t d[3] = { k & 1, k >> 1 & 1, k >> 2 };
-        size_t s = corner_slot(m, filter, key, d);
+        size_t s = corner_slot(m, key, d);
         if (s == SIZE_MAX) {
             continue;
         }
@@ -438,8 +374,8 @@ void sta_cell_moments_vertex_lower(const sta_cell_moments *m, const sta_cell_fil
     memcpy(out->s2, s2, sizeof(s2));
 }
 
-void sta_cell_moments_vertex_higher(const sta_cell_moments *m, const sta_cell_filter *filter,
-                                    const int64_t vertex[3], sta_moment_sums *out)
+// s3 and s4 of sta_cell_moments_vertex (the rest left as it is).
+static void vertex_higher(const sta_cell_moments *m, const int64_t vertex[3], sta_moment_sums *out)
 {
     sta_higher_sums h = { { 0 }, 0 };
     uint64_t key;
@@ -458,15 +394,22 @@ void sta_cell_moments_vertex_higher(const sta_cell_moments *m, const sta_cell_fi
     } else {
         for (int k = 0; k < 8; k++) {
             const int64_t d[3] = { k & 1, k >> 1 & 1, k >> 2 };
-            size_t s = corner_slot(m, filter, key, d);
+            size_t s = corner_slot(m, key, d);
             if (s != SIZE_MAX) {
                 const int64_t o[3] = { d[0] << m->level, d[1] << m->level, d[2] << m->level };
-                add_higher(&h, &m->sums[s], &m->high[s], o);
+                sta_higher_sums_add_moved(&h, &m->sums[s], &m->high[s], o);
             }
         }
     }
     memcpy(out->s3, h.s3, sizeof(h.s3));
     out->s4 = h.s4;
+}
+
+void sta_cell_moments_vertex(const sta_cell_moments *m, const int64_t vertex[3],
+                             sta_moment_sums *out)
+{
+    vertex_lower(m, vertex, out);
+    vertex_higher(m, vertex, out);
 }
 
 sta_status sta_cell_moments_coarsen(const sta_cell_moments *fine, sta_cell_moments *coarse,
@@ -508,7 +451,7 @@ sta_status sta_cell_moments_coarsen(const sta_cell_moments *fine, sta_cell_momen
         }
         if (coarse->high) { // (a finer set without them: its cells' sums moved, s3 s4 0)
             static const sta_higher_sums none = { { 0 }, 0 };
-            add_higher(&coarse->high[sp], c, fine->high ? &fine->high[s] : &none, o);
+            sta_higher_sums_add_moved(&coarse->high[sp], c, fine->high ? &fine->high[s] : &none, o);
         }
         for (int a = 0; a < 3; a++) {
             p->s1[a] += c->s1[a] + c->n * o[a];

@@ -51,6 +51,11 @@ typedef struct sta_higher_sums {
     uint64_t s4;
 } sta_higher_sums;
 
+/* Adds the higher sums h of a cell whose own sums are c, moved by o grid units (d + o: to
+ * a corner o below the cell's), to dst, modulo 2^64 like the sums themselves. */
+void sta_higher_sums_add_moved(sta_higher_sums *dst, const sta_cell_sums *c,
+                               const sta_higher_sums *h, const int64_t o[3]);
+
 /* One level's cells. */
 typedef struct sta_cell_moments {
     int level;             /* cells are 2^level grid units wide */
@@ -112,40 +117,5 @@ void sta_cell_moments_block(const sta_cell_moments *m, const int64_t anchor[3], 
  * their block's corner: sta_cell_moments_block's 8 cells added up, in one pass. */
 void sta_cell_moments_vertex(const sta_cell_moments *m, const int64_t vertex[3],
                              sta_moment_sums *out);
-
-/* Which cells of a level may exist: a Bloom filter with one hash, STA_CELL_FILTER_BITS bits
- * a cell, small enough to stay in cache where the table does not. A clear bit: the cell
- * does not exist (about half the cells of a surface's vertex boxes are empty, and each
- * cost the table a probe of a random slot). */
-#define STA_CELL_FILTER_BITS 8
-typedef struct sta_cell_filter {
-    uint64_t *words;
-    int shift; /* a key's bit: (key x multiplier) >> shift */
-} sta_cell_filter;
-
-/* The filter of m's cells as they are now (build it after the last cell is added). False
- * when out of memory. Release with sta_cell_filter_release. */
-bool sta_cell_filter_build(const sta_cell_moments *m, sta_cell_filter *filter);
-
-void sta_cell_filter_release(sta_cell_filter *filter);
-
-/* False when cell `cell` (coordinates from the scene corner) of m, whose filter this is,
- * does not exist; true when it may. */
-bool sta_cell_filter_may_hold(const sta_cell_moments *m, const sta_cell_filter *filter,
-                              const int64_t cell[3]);
-
-/* sta_cell_moments_vertex that looks up only the cells `filter` (m's) does not rule out:
- * the same sums. */
-void sta_cell_moments_vertex_filtered(const sta_cell_moments *m, const sta_cell_filter *filter,
-                                      const int64_t vertex[3], sta_moment_sums *out);
-
-/* The two halves of sta_cell_moments_vertex_filtered, for boxes that need the higher sums
- * rarely (the moments normals: only boxes that are not flat): `lower` sets n, s1 and s2 and
- * zeroes s3 and s4; `higher` sets only s3 and s4 (0 unless m->higher), probing the cells
- * again. Together the same sums. */
-void sta_cell_moments_vertex_lower(const sta_cell_moments *m, const sta_cell_filter *filter,
-                                   const int64_t vertex[3], sta_moment_sums *out);
-void sta_cell_moments_vertex_higher(const sta_cell_moments *m, const sta_cell_filter *filter,
-                                    const int64_t vertex[3], sta_moment_sums *out);
 
 #endif

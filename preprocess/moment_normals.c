@@ -7,6 +7,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "cell_blocks.h"
 #include "cell_moments.h"
 #include "cell_order.h"
 #include "core/alloc.h"
@@ -113,7 +114,6 @@ typedef struct vertex_table {
     uint64_t *keys;                      /* 0: empty, else packed vertex coordinates + 1 */
     uint32_t *index;                     /* per slot: its box */
     vertex_box *boxes;
-    sta_cell_filter filter; /* the level's cells that may exist (the boxes' look-ups) */
 } vertex_table;
 
 static bool table_init(vertex_table *t, size_t capacity, size_t box_capacity)
@@ -121,7 +121,6 @@ static bool table_init(vertex_table *t, size_t capacity, size_t box_capacity)
     t->capacity = capacity;
     t->used = 0;
     t->box_capacity = box_capacity;
-    memset(&t->filter, 0, sizeof(t->filter));
     t->keys = sta_calloc(capacity, sizeof(*t->keys));
     t->index = sta_alloc_array(capacity, sizeof(*t->index));
     t->boxes = sta_alloc_array(box_capacity, sizeof(*t->boxes));
@@ -133,7 +132,6 @@ static void table_release(vertex_table *t)
     sta_free(t->keys);
     sta_free(t->index);
     sta_free(t->boxes);
-    sta_cell_filter_release(&t->filter);
     memset(t, 0, sizeof(*t));
 }
 
@@ -168,11 +166,10 @@ static bool table_grow(vertex_table *t)
 // chunking. (Offsets from the block's corner stay under 2^17 units: the cancellation in
 // s2 - s1 s1^T / n loses ~2^-53 n 2^34, far below a grid unit squared times n.) Not the
 // sphere's higher sums: few boxes need them (box_sphere probes the cells again then).
-static void vertex_moments(const sta_cell_moments *cells, const sta_cell_filter *filter,
-                           const int64_t v[3], vertex_box *box)
+static void vertex_moments(const sta_cell_blocks *cells, const int64_t v[3], vertex_box *box)
 {
     sta_moment_sums sum;
-    sta_cell_moments_vertex_lower(cells, filter, v, &sum);
+    sta_cell_blocks_vertex_lower(cells, v, &sum);
     int64_t n = sum.n;
     const int64_t *s1 = sum.s1, *s2 = sum.s2;
     memset(box, 0, sizeof(*box));
@@ -194,12 +191,12 @@ static void vertex_moments(const sta_cell_moments *cells, const sta_cell_filter 
 }
 
 // Vertex v's box, computed when first asked for; NULL when out of memory.
-static vertex_box *vertex_at(vertex_table *t, const sta_cell_moments *cells, const int64_t v[3])
+static vertex_box *vertex_at(vertex_table *t, const sta_cell_blocks *cells, const int64_t v[3])
 {
     uint64_t key = 1;
     for (int a = 0; a < 3; a++) {
         // Vertices of the points' cells lie inside the set's addressable range (its base is
-        // one cell below the lowest, cell_moments.c).
+        // at least one cell below the lowest, cell_blocks.h).
         key += (uint64_t)(v[a] - cells->base[a]) << (a * STA_MOMENTS_AXIS_BITS);
     }
     size_t s = sta_key_slot(t->keys, t->capacity, key);
@@ -223,7 +220,7 @@ static vertex_box *vertex_at(vertex_table *t, const sta_cell_moments *cells, con
         }
         t->keys[s] = key;
         t->index[s] = (uint32_t)t->used;
-        vertex_moments(cells, &t->filter, v, &t->boxes[t->used++]);
+        vertex_moments(cells, v, &t->boxes[t->used++]);
     }
     return &t->boxes[t->index[s]];
 }
@@ -273,7 +270,7 @@ static double box_reach(const sta_normals_chunk *chunk, const int64_t u[3], int 
 
 // One level's cells and the vertex boxes computed from them so far.
 typedef struct level_boxes {
-    const sta_cell_moments *cells;
+    const sta_cell_blocks *cells;
     vertex_table table;
     int64_t last[3];      /* the vertex last asked for by nearest_box, */
     vertex_box *last_box; /* its box (NULL: none) */
@@ -284,7 +281,7 @@ typedef struct level_boxes {
     double corner_normal[8][3];
 } level_boxes;
 
-static bool level_init(level_boxes *l, const sta_cell_moments *cells)
+static bool level_init(level_boxes *l, const sta_cell_blocks *cells)
 {
     size_t expect = (size_t)FIRST_VERTICES;
     while (expect < cells->used && expect < ((size_t)1 << 40)) {
@@ -294,7 +291,7 @@ static bool level_init(level_boxes *l, const sta_cell_moments *cells)
     l->last_box = NULL;
     l->corners_valid = false;
     size_t boxes = cells->used > FIRST_VERTICES ? cells->used : FIRST_VERTICES;
-    if (!table_init(&l->table, expect, boxes) || !sta_cell_filter_build(cells, &l->table.filter)) {
+    if (!table_init(&l->table, expect, boxes)) {
         table_release(&l->table);
         return false;
     }
@@ -383,7 +380,7 @@ static bool box_sphere(const sta_normals_chunk *chunk, const level_boxes *l, ver
         sta_moment_sums higher;
         int64_t v[3];
         nearest_vertex(u, level, v);
-        sta_cell_moments_vertex_higher(l->cells, &l->table.filter, v, &higher);
+        sta_cell_blocks_vertex_higher(l->cells, v, &higher);
         bool fits = sta_sphere_moments_higher(&higher, (double)((int64_t)2 << level), b->n, b->mean,
                                               b->m2, &m) &&
                     sta_sphere_fit(&m, &fitted);
@@ -590,7 +587,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                 have_u = true;
                 int l = coarse->cells->level;
                 int64_t parent[3] = { u[0] >> l, u[1] >> l, u[2] >> l };
-                enough = (double)sta_cell_moments_count(coarse->cells, parent) >= m->need;
+                enough = (double)sta_cell_blocks_count(coarse->cells, parent) >= m->need;
             }
             if (!enough) {
                 left++;
@@ -731,18 +728,15 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
 // then at the base level again (`base`, `coarse` the next, NULL at the top). Returns
 // false when out of memory.
 static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coarse,
-                            const int32_t *halo, size_t halo_count, const int32_t lo[3],
-                            const int32_t hi[3], sta_error *err)
+                            const int32_t (*halo)[3], size_t halo_count, const int32_t corner[3],
+                            const int32_t lo[3], const int32_t hi[3], sta_error *err)
 {
     const sta_normals_chunk *chunk = m->chunk;
     int level = base->cells->level;
-    sta_cell_moments wanted = { 0 }, fine = { 0 };
+    sta_cell_moments wanted = { 0 };
+    sta_cell_blocks fine_cells = { 0 };
     level_boxes fine_boxes = { 0 };
     sta_status status = sta_cell_moments_init(&wanted, level, chunk->scene_min, lo, hi, err);
-    if (status == STA_OK) {
-        status = sta_cell_moments_init(&fine, level - 1, chunk->scene_min, lo, hi, err);
-        fine.higher = true; // (the default method's)
-    }
     int64_t last[3] = { -1, -1, -1 }; // the base cell marked last (with its neighbours)
     for (size_t j = 0; j < m->count && status == STA_OK; j++) {
         int64_t c[3];
@@ -762,15 +756,16 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
         }
     }
-    // (the sums are integers: the points' order does not change them)
+    // The own points and the halo's, both in the Morton order of their base cells: the
+    // wanted cells' children in order, with the sphere's sums (the default method's).
     if (status == STA_OK) {
-        status = sta_cell_moments_add(&fine, m->grid, m->count, NULL, &wanted, err);
+        status = sta_cell_blocks_init(&fine_cells, level - 1, true, chunk->scene_min, lo, hi, err);
     }
     if (status == STA_OK) {
-        status =
-            sta_cell_moments_add(&fine, (const int32_t(*)[3])halo, halo_count, NULL, &wanted, err);
+        status = sta_cell_blocks_add_children(&fine_cells, m->grid, m->count, halo, halo_count,
+                                              corner, &wanted, err);
     }
-    if (status == STA_OK && !level_init(&fine_boxes, &fine)) {
+    if (status == STA_OK && !level_init(&fine_boxes, &fine_cells)) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
     }
     if (status == STA_OK) {
@@ -781,7 +776,7 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
         m->only_rough = false;
     }
     table_release(&fine_boxes.table);
-    sta_cell_moments_release(&fine);
+    sta_cell_blocks_release(&fine_cells);
     sta_cell_moments_release(&wanted);
     return status;
 }
@@ -867,11 +862,12 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     sta_normal_gather_positions(layout, records, count, halo, halo_count, grid, lo, hi);
     // Levels: from the scene's base (or the finest whose cells stay addressable) to
     // STA_MOMENTS_LEVELS_ABOVE_BASE above it (the halo's reach): the same in every chunk.
+    // (10 cells of margin: the first block starts up to 4 below the lowest, 3 above stay)
     int level = chunk->base_level > 0 ? chunk->base_level : 0;
     for (int a = 0; a < 3; a++) {
         int64_t span = (int64_t)hi[a] - lo[a];
         while (level < STA_MOMENTS_MAX_LEVEL &&
-               (span >> level) + 6 >= ((int64_t)1 << STA_MOMENTS_AXIS_BITS)) {
+               (span >> level) + 10 >= ((int64_t)1 << STA_MOMENTS_AXIS_BITS)) {
             level++;
         }
     }
@@ -898,16 +894,16 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                          .factor = plane_radius_factor() };
     // Two levels at a time: the one fitted and the next (the scale's counts and the
     // candidates' flatness); the next becomes the fitted one with its vertex boxes.
-    sta_cell_moments cells[2] = { { 0 } };
+    sta_cell_blocks cells[2] = { { 0 } };
     level_boxes boxes[2] = { { 0 } };
     int at = 0; // cells[at] is `level`
     // The sphere's sums: the default method's only (sphere_fit.h).
     bool higher = chunk->method == STA_NORMALS_MOMENTS;
-    sta_status status = sta_cell_moments_init(&cells[0], level, chunk->scene_min, lo, hi, err);
-    cells[0].higher = higher;
+    sta_status status =
+        sta_cell_blocks_init(&cells[0], level, higher, chunk->scene_min, lo, hi, err);
+    int32_t corner[3]; // the cell order's (aligned 8 levels up: nested to there)
     if (status == STA_OK) {
-        // Morton order of the base cells (aligned 8 levels up: nested to there).
-        int32_t corner[3];
+        // Morton order of the base cells.
         int align = level + 8;
         for (int a = 0; a < 3; a++) {
             int64_t from = (int64_t)lo[a] - chunk->scene_min[a];
@@ -915,11 +911,11 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         }
         status = sta_cell_order((const int32_t(*)[3])grid, n, corner, level, order, err);
     }
-    if (status == STA_OK && !sta_cell_moments_reserve(&cells[0], n / POINTS_PER_BASE_CELL)) {
+    if (status == STA_OK && !sta_cell_blocks_reserve(&cells[0], n / POINTS_PER_BASE_CELL)) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
     }
     if (status == STA_OK) {
-        status = sta_cell_moments_add(&cells[0], (const int32_t(*)[3])grid, n, order, NULL, err);
+        status = sta_cell_blocks_add(&cells[0], (const int32_t(*)[3])grid, n, order, err);
     }
     uint8_t *rough = NULL; // the adaptive fine level's marks (fine_pass)
     bool adaptive = chunk->method == STA_NORMALS_MOMENTS && level == chunk->base_level && level > 0;
@@ -929,12 +925,15 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     if (status == STA_OK && adaptive && !(rough = sta_calloc(count, 1))) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
     }
-    // The own points in cell order with their positions: the passes read them in order.
+    // The own points in cell order with their positions: the passes read them in order (and
+    // the adaptive fine level's cells are summed from them and the halo's in that order).
     int32_t(*own)[3] = status == STA_OK ? sta_alloc_array(count, sizeof(*own)) : NULL;
-    if (status == STA_OK && !own) {
-        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", count);
+    int32_t(*halo_sorted)[3] =
+        status == STA_OK && adaptive ? sta_alloc_array(halo_count + 1, sizeof(*halo_sorted)) : NULL;
+    if (status == STA_OK && (!own || (adaptive && !halo_sorted))) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", n);
     }
-    for (size_t j = 0, k = 0; status == STA_OK && j < n; j++) {
+    for (size_t j = 0, k = 0, h = 0; status == STA_OK && j < n; j++) {
         if (j + POSITIONS_AHEAD < n) { // (a random read each)
             __builtin_prefetch(grid[order[j + POSITIONS_AHEAD]]);
         }
@@ -948,6 +947,8 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                        ((int64_t)own[k - 1][a] - chunk->scene_min[a]) >> level;
             }
             state[k++] = same ? 0 : RUN_START;
+        } else if (halo_sorted) {
+            memcpy(halo_sorted[h++], grid[order[j]], sizeof(halo_sorted[0]));
         }
     }
     pass.grid = (const int32_t(*)[3])own;
@@ -955,10 +956,10 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     while (status == STA_OK) {
         int next = 1 - at;
         if (level < top) {
-            status = sta_cell_moments_init(&cells[next], level + 1, chunk->scene_min, lo, hi, err);
-            cells[next].higher = higher;
+            status = sta_cell_blocks_init(&cells[next], level + 1, higher, chunk->scene_min, lo, hi,
+                                          err);
             if (status == STA_OK) {
-                status = sta_cell_moments_coarsen(&cells[at], &cells[next], err);
+                status = sta_cell_blocks_coarsen(&cells[at], &cells[next], err);
             }
             if (status == STA_OK && !level_init(&boxes[next], &cells[next])) {
                 status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
@@ -974,8 +975,8 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         if (left == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
         } else if (adaptive && level == chunk->base_level) {
-            status = fine_pass(&pass, &boxes[at], level < top ? &boxes[next] : NULL, halo,
-                               halo_count, lo, hi, err);
+            status = fine_pass(&pass, &boxes[at], level < top ? &boxes[next] : NULL,
+                               (const int32_t(*)[3])halo_sorted, halo_count, corner, lo, hi, err);
             left = 0; // (the rough points' passes left some waiting: count them)
             for (size_t j = 0; j < count; j++) {
                 left += (state[j] & STATE_MASK) != STATE_DONE;
@@ -986,18 +987,19 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
             break;
         }
         table_release(&boxes[at].table);
-        sta_cell_moments_release(&cells[at]);
+        sta_cell_blocks_release(&cells[at]);
         at = next;
         level++;
     }
     for (int j = 0; j < 2; j++) {
         table_release(&boxes[j].table);
-        sta_cell_moments_release(&cells[j]);
+        sta_cell_blocks_release(&cells[j]);
     }
     if (status == STA_OK) {
         stats->points += count;
     }
     sta_free(own);
+    sta_free(halo_sorted);
     sta_free(rough);
     sta_free(state);
     sta_free(order);

@@ -170,8 +170,6 @@ static void vertex_sums_match_brute_force(void **state)
     for (size_t l = 0; l < sizeof(levels) / sizeof(levels[0]); l++) {
         sta_cell_moments m;
         moments_of_all(&m, levels[l], origin, lo, hi, (const int32_t(*)[3])grid, NULL);
-        sta_cell_filter filter;
-        assert_true(sta_cell_filter_build(&m, &filter));
         size_t full = 0, outside = 0;
         for (size_t s = 0; s < POINTS / 41 + 8; s++) {
             size_t i = s < POINTS / 41 ? s * 41 : POINTS + s - POINTS / 41;
@@ -184,19 +182,8 @@ static void vertex_sums_match_brute_force(void **state)
                 }
             }
             outside += i >= POINTS;
-            sta_moment_sums got, filtered, lower, higher, want = { 0 };
+            sta_moment_sums got, want = { 0 };
             sta_cell_moments_vertex(&m, v, &got);
-            sta_cell_moments_vertex_filtered(&m, &filter, v, &filtered);
-            assert_memory_equal(&filtered, &got, sizeof(got));
-            // The halves: lower's n, s1, s2 with s3 and s4 zero; higher's s3 and s4 only.
-            memset(&higher, 0x5a, sizeof(higher));
-            sta_cell_moments_vertex_lower(&m, &filter, v, &lower);
-            sta_cell_moments_vertex_higher(&m, &filter, v, &higher);
-            assert_true(lower.s4 == 0 && lower.s3[0] == 0 && lower.s3[1] == 0 && lower.s3[2] == 0);
-            assert_true(higher.n == 0x5a5a5a5a5a5a5a5a); // (left as it was)
-            memcpy(lower.s3, higher.s3, sizeof(lower.s3));
-            lower.s4 = higher.s4;
-            assert_memory_equal(&lower, &got, sizeof(got));
             const int64_t anchor[3] = { v[0] - 1, v[1] - 1, v[2] - 1 };
             for (int k = 0; k < 8; k++) {
                 const int xyz[3] = { k & 1, k >> 1 & 1, k >> 2 };
@@ -218,53 +205,8 @@ static void vertex_sums_match_brute_force(void **state)
             full += want.n > 0;
         }
         assert_true(full > 0 && outside > 0);
-        sta_cell_filter_release(&filter);
         sta_cell_moments_release(&m);
     }
-    sta_free(grid);
-}
-
-// The cell filter (sta_cell_filter_build) passes every cell of the set and rules out most
-// cells that do not exist (a one-hash Bloom filter of 8 bits a cell: about 12 % pass).
-static void cell_filter_passes_every_cell_and_few_others(void **state)
-{
-    (void)state;
-    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
-    assert_non_null(grid);
-    const int32_t corner[3] = { 5000, -7000, 300 };
-    random_points(grid, POINTS, corner, 3000, 9);
-    const int64_t origin[3] = { 0, -8000, 0 };
-    int32_t lo[3], hi[3];
-    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
-    sta_cell_moments m;
-    moments_of_all(&m, 6, origin, lo, hi, (const int32_t(*)[3])grid, NULL);
-    sta_cell_filter filter;
-    assert_true(sta_cell_filter_build(&m, &filter));
-    size_t empty = 0, passed = 0;
-    for (size_t i = 0; i < POINTS; i++) {
-        int64_t cell[3], other[3];
-        for (int a = 0; a < 3; a++) {
-            cell[a] = ((int64_t)grid[i][a] - origin[a]) >> m.level;
-            other[a] = cell[a] + (int64_t)((i >> a) % 3) - 1 + (a == 0 ? 40 : 0);
-        }
-        // Every existing cell has its sums through the filter: its 2 x 2 x 2 box's sums
-        // equal the unfiltered ones.
-        const int64_t v[3] = { cell[0] + 1, cell[1] + 1, cell[2] + 1 };
-        sta_moment_sums a, b;
-        sta_cell_moments_vertex(&m, v, &a);
-        sta_cell_moments_vertex_filtered(&m, &filter, v, &b);
-        assert_memory_equal(&a, &b, sizeof(a));
-        if (!sta_cell_moments_has(&m, other)) { // a cell beside the set's, mostly empty
-            empty++;
-            passed += sta_cell_filter_may_hold(&m, &filter, other);
-        }
-        assert_true(sta_cell_filter_may_hold(&m, &filter, cell));
-    }
-    print_message("cell filter: %zu of %zu empty cells pass (%zu cells)\n", passed, empty, m.used);
-    assert_true(empty > 1000);
-    assert_true(passed < empty / 4);
-    sta_cell_filter_release(&filter);
-    sta_cell_moments_release(&m);
     sta_free(grid);
 }
 
@@ -581,7 +523,6 @@ static void lower_only_and_reserved_sets_hold_the_same_sums(void **state)
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(block_sums_match_brute_force),
     cmocka_unit_test(vertex_sums_match_brute_force),
-    cmocka_unit_test(cell_filter_passes_every_cell_and_few_others),
     cmocka_unit_test(lower_only_and_reserved_sets_hold_the_same_sums),
     cmocka_unit_test(wanted_cells_hold_all_their_points),
     cmocka_unit_test(too_wide_a_set_is_refused),
