@@ -13,6 +13,7 @@
 #include "core/alloc.h"
 #include "key_slots.h"
 #include "normal_fit.h"
+#include "quadric_fit.h"
 #include "sphere_fit.h"
 
 /* Vertex boxes a level's table starts with (it grows), a power of two. */
@@ -92,6 +93,24 @@
  * everywhere. 4 M street: curbs' p95 47 -> 24 degrees, cars' 50 -> 35; 0.08 lost cars and
  * poles, 0.03 took more CPU for the same. */
 #define ROUGH_VARIATION        0.05
+/* A rough point's base box (surface variation above ROUGH_VARIATION) takes its quadric's
+ * gradient at the point (quadric_fit.h; the box's moment tensors are summed in fine_pass,
+ * around the rough points only) where the quadric's residual is under QUADRIC_BETTER
+ * times the plane's surface variation and the sphere's residual, and the gradient there
+ * is at least QUADRIC_GRADIENT times its root mean square over the box (not near an
+ * edge's line, where it vanishes). A quadric holds a box's two faces across an edge and a
+ * pole's or trunk's cylinder. Thirteenth round of docs/BENCHMARKS.md (20 M street): cars'
+ * p95 34.5 -> 33.8 degrees, trees' 33.3 -> 31.2, curbs' 23.4 -> 20.8; the quadric at the
+ * adaptive fine level too (guided or not) lost cars and poles: its boxes hold too few
+ * points for 9 unknowns against 15 mm of range noise. */
+#define QUADRIC_BETTER         0.5
+#define QUADRIC_GRADIENT       0.3
+/* A candidate does not move up to a box whose spread along its widest axis exceeds
+ * ELONGATED times that along its second (a pole's, a strip's) when this level's box is
+ * not elongated: the surface variation of a long box over a pole is small however badly
+ * its plane fits across the pole (thirteenth round: poles' p95 50.7 -> 47.1 degrees on
+ * the 20 M street, trees' 31.2 -> 30.9). */
+#define ELONGATED              3.0
 
 /* The moments of the 2 x 2 x 2 cells around a grid vertex, centred. */
 typedef struct vertex_box {
@@ -104,7 +123,16 @@ typedef struct vertex_box {
     double mean[3];  /* the points' mean, grid units from the box's corner */
     int sphere_fit;  /* 0: not fitted yet, 1: a sphere, 2: none */
     float sphere[6]; /* fitted: the sphere's u[3], u4, residual, spread */
+    int32_t quadric; /* 0: not fitted yet, -1: none, else 1 + its place in box_quadrics */
 } vertex_box;
+
+/* The base level's moment tensors around the rough points and the quadrics fitted from
+ * them (quadric_normal; fine_pass). */
+typedef struct box_quadrics {
+    sta_cell_tensors tensors;
+    sta_quadric *fits;
+    size_t used, capacity;
+} box_quadrics;
 
 /* One level's vertex boxes, computed when first wanted: open addressing over the keys,
  * the boxes themselves in the order they were made (the points come in cell order, so a
@@ -503,6 +531,7 @@ typedef struct moment_pass {
     bool defer;               /* the base level's first pass: a new candidate whose box is
                                  rough is marked in `rough` and left waiting */
     bool only_rough;          /* only the points marked in `rough` take part */
+    box_quadrics *quadrics;   /* the rough points' base pass (else NULL) */
     double need;              /* points a box must hold */
     double factor;            /* plane_radius_factor() */
 } moment_pass;
@@ -513,6 +542,60 @@ static void point_offset(const moment_pass *m, size_t j, int64_t u[3])
     for (int a = 0; a < 3; a++) {
         u[a] = (int64_t)m->grid[j][a] - m->chunk->scene_min[a];
     }
+}
+
+// The normal at u of the quadric of its nearest box b, at the level of m->quadrics'
+// tensors (the rough points' base pass), where b is rough and the quadric fits it clearly
+// better than its plane and sphere, and its gradient at u is not near zero (an edge's
+// line). 1: `normal` set, 0: the other rules decide, -1: out of memory.
+static int quadric_normal(const moment_pass *m, const level_boxes *l, vertex_box *b,
+                          const int64_t u[3], double normal[3])
+{
+    box_quadrics *q = m->quadrics;
+    int level = l->cells->level;
+    if (!q || q->tensors.level != level || !(b->variation > ROUGH_VARIATION) ||
+        !sta_sphere_isotropic(m->chunk->scale)) {
+        return 0;
+    }
+    int64_t v[3];
+    nearest_vertex(u, level, v);
+    if (b->quadric == 0) {
+        sta_tensor_sums sums;
+        sta_quadric fit;
+        sta_cell_tensors_vertex(&q->tensors, v, &sums);
+        b->quadric = -1;
+        if (sta_quadric_fit(&sums, (double)((int64_t)2 << level), &fit)) {
+            if (q->used == q->capacity) {
+                size_t capacity = q->capacity ? 2 * q->capacity : FIRST_VERTICES;
+                sta_quadric *fits = sta_realloc_array(q->fits, capacity, sizeof(*fits));
+                if (!fits) {
+                    return -1;
+                }
+                q->fits = fits;
+                q->capacity = capacity;
+            }
+            q->fits[q->used++] = fit;
+            b->quadric = (int32_t)q->used;
+        }
+    }
+    if (b->quadric < 0) {
+        return 0;
+    }
+    const sta_quadric *fit = &q->fits[b->quadric - 1];
+    double best = b->variation;
+    if (box_sphere(m->chunk, l, b, u) && (double)b->sphere[4] < best) {
+        best = (double)b->sphere[4];
+    }
+    double p[3], length, n[3];
+    for (int a = 0; a < 3; a++) { // u from the box's corner, one cell below its vertex
+        p[a] = (double)(u[a] - (v[a] - 1) * ((int64_t)1 << level));
+    }
+    if (!(fit->residual < QUADRIC_BETTER * best) || !sta_quadric_normal(fit, p, n, &length) ||
+        !(length > QUADRIC_GRADIENT)) {
+        return 0;
+    }
+    memcpy(normal, n, sizeof(n));
+    return 1;
 }
 
 // The key of u's part of its base cell in decide_level: `bits` bits an axis from bit
@@ -539,7 +622,9 @@ static int moves_up(const sta_normals_chunk *chunk, level_boxes *fine, level_box
     return box_error(chunk, coarse, c, u) < box_error(chunk, fine, b, u) && box_fit(chunk, b) &&
            box_fit(chunk, c) &&
            fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
-                b->normal[2] * c->normal[2]) > AGREE;
+                b->normal[2] * c->normal[2]) > AGREE &&
+           (chunk->method != STA_NORMALS_MOMENTS || !(c->w[2] > ELONGATED * c->w[1]) ||
+            b->w[2] > ELONGATED * b->w[1]); // (moments-fine stays as it was)
 }
 
 // The decisions of one level for the points still waiting at `fine`'s level: those whose
@@ -695,8 +780,9 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
                 continue;
             }
         }
-        if (ok && !sphere_normal(chunk, fine, b, u, normal) &&
-            !blend_normals(chunk, fine, u, normal, variation)) {
+        int quadric = ok ? quadric_normal(m, fine, b, u, normal) : 0;
+        if (quadric < 0 || (ok && quadric == 0 && !sphere_normal(chunk, fine, b, u, normal) &&
+                            !blend_normals(chunk, fine, u, normal, variation))) {
             return SIZE_MAX;
         }
         if (box_reach(chunk, u, fine->cells->level) > sta_normal_halo_reach(chunk, p)) {
@@ -725,8 +811,9 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
 // on which chunk owns it): boxes of half-size cells from the points, own and halo, of the
 // rough points' base cells and their 26 neighbours (the fine boxes and blends of a point
 // reach one fine cell beyond its base cell); the rough points' pass at the fine level,
-// then at the base level again (`base`, `coarse` the next, NULL at the top). Returns
-// false when out of memory.
+// then at the base level again (`base`, `coarse` the next, NULL at the top), where their
+// base boxes also have quadrics (quadric_normal; the moment tensors of the 8 base cells of
+// each rough point's box, from the same points). Returns false when out of memory.
 static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coarse,
                             const int32_t (*halo)[3], size_t halo_count, const int32_t corner[3],
                             const int32_t lo[3], const int32_t hi[3], sta_error *err)
@@ -736,14 +823,36 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
     sta_cell_moments wanted = { 0 };
     sta_cell_blocks fine_cells = { 0 };
     level_boxes fine_boxes = { 0 };
+    box_quadrics quadrics = { 0 };
     sta_status status = sta_cell_moments_init(&wanted, level, chunk->scene_min, lo, hi, err);
+    // The base level's moment tensors of the 8 cells of each rough point's base box: their
+    // quadrics (quadric_normal).
+    if (status == STA_OK) {
+        status = sta_cell_tensors_init(&quadrics.tensors, level, chunk->scene_min, lo, hi, err);
+    }
     int64_t last[3] = { -1, -1, -1 }; // the base cell marked last (with its neighbours)
+    int64_t last_vertex[3] = { -1, -1, -1 };
     for (size_t j = 0; j < m->count && status == STA_OK; j++) {
-        int64_t c[3];
-        for (int a = 0; a < 3; a++) {
-            c[a] = ((int64_t)m->grid[j][a] - chunk->scene_min[a]) >> level;
+        int64_t c[3], u[3], v[3];
+        if (!m->rough[j]) {
+            continue;
         }
-        if (!m->rough[j] || memcmp(c, last, sizeof(c)) == 0) {
+        point_offset(m, j, u);
+        nearest_vertex(u, level, v);
+        for (int a = 0; a < 3; a++) {
+            c[a] = u[a] >> level;
+        }
+        if (memcmp(v, last_vertex, sizeof(v)) != 0) {
+            memcpy(last_vertex, v, sizeof(v));
+            for (int q = 0; q < 8 && status == STA_OK; q++) {
+                const int64_t d[3] = { v[0] - 1 + (q & 1), v[1] - 1 + (q >> 1 & 1),
+                                       v[2] - 1 + (q >> 2) };
+                if (!sta_cell_tensors_mark(&quadrics.tensors, d)) {
+                    status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
+                }
+            }
+        }
+        if (memcmp(c, last, sizeof(c)) == 0) {
             continue;
         }
         memcpy(last, c, sizeof(c));
@@ -765,18 +874,27 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
         status = sta_cell_blocks_add_children(&fine_cells, m->grid, m->count, halo, halo_count,
                                               corner, &wanted, err);
     }
+    if (status == STA_OK) {
+        sta_cell_tensors_add(&quadrics.tensors, m->grid, m->count);
+        sta_cell_tensors_add(&quadrics.tensors, halo, halo_count);
+    }
     if (status == STA_OK && !level_init(&fine_boxes, &fine_cells)) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
     }
     if (status == STA_OK) {
         m->only_rough = true;
-        if (fit_level(m, &fine_boxes, base) == SIZE_MAX || fit_level(m, base, coarse) == SIZE_MAX) {
+        bool fitted = fit_level(m, &fine_boxes, base) != SIZE_MAX;
+        m->quadrics = &quadrics;
+        if (!fitted || fit_level(m, base, coarse) == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
         }
         m->only_rough = false;
+        m->quadrics = NULL;
     }
     table_release(&fine_boxes.table);
     sta_cell_blocks_release(&fine_cells);
+    sta_cell_tensors_release(&quadrics.tensors);
+    sta_free(quadrics.fits);
     sta_cell_moments_release(&wanted);
     return status;
 }

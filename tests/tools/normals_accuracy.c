@@ -9,6 +9,9 @@
  * The second form scores another tool's normals: NORMALS.txt holds "nx ny nz" per line
  * in the order of the points of SCENE.las (CloudCompare, PCL; bench/normals.sh).
  *
+ * --by-material (street): groups by the truth surface's material (synth.h's
+ * sta_synth_material: a tree's trunk and its leaf clusters apart) instead of the class.
+ *
  * SCENE, POINTS, SEED (default 1) and ORIGIN (default utm) as given to strata-synth,
  * with its default noise. Truth: sphere radial; planes +z; nested the box face or inner
  * sphere of the point's user_data (primitive id); street the surface the scanner's ray
@@ -110,6 +113,7 @@ static double border_distance(const sta_strata_info *info, const sta_point *p, i
 }
 
 static group groups[MAX_GROUPS];
+static bool by_material; /* --by-material: street groups by the truth's material */
 
 // Adds one point's error to its group; false when the truth has no surface for it.
 static bool account(const sta_synth_params *params, sta_synth_scene *scene,
@@ -161,7 +165,7 @@ static bool account(const sta_synth_params *params, sta_synth_scene *scene,
             truth[a] = flip * hit.normal[a];
             seen_from[a] = -d[a];
         }
-        g = p->classification;
+        g = by_material ? hit.material : p->classification;
     }
     (void)seen_from;
     group *gr = &groups[g];
@@ -197,13 +201,17 @@ int main(int argc, char **argv)
         argv += 2;
         argc -= 2;
     }
+    if (argc >= 2 && strcmp(argv[argc - 1], "--by-material") == 0) {
+        by_material = true;
+        argc--;
+    }
     if (argc >= 3 && strcmp(argv[argc - 2], "--border-level") == 0) {
         border_level = atoi(argv[argc - 1]);
         argc -= 2;
     }
     if (argc < 4 || strcmp(argv[1], "--help") == 0) {
         fprintf(stderr, "usage: normals_accuracy [--peer NORMALS.txt SCENE.las] FILE.strata SCENE "
-                        "POINTS [SEED] [ORIGIN] [--border-level L]\n");
+                        "POINTS [SEED] [ORIGIN] [--border-level L] [--by-material]\n");
         return argc >= 2 && strcmp(argv[1], "--help") == 0 ? 0 : 2;
     }
     sta_synth_params params = { .seed = argc > 4 ? strtoull(argv[4], NULL, 10) : 1,
@@ -297,7 +305,7 @@ int main(int argc, char **argv)
         }
         char name[32];
         if (params.kind == STA_SYNTH_STREET) {
-            snprintf(name, sizeof(name), "class %d", g);
+            snprintf(name, sizeof(name), by_material ? "material %d" : "class %d", g);
         } else if (params.kind == STA_SYNTH_NESTED) {
             snprintf(name, sizeof(name), "%s", g ? "inner sphere" : "box");
         } else {

@@ -1,0 +1,229 @@
+/* SPDX-License-Identifier: MIT
+ * Per-cell moment tensors up to the fourth order, and their exact sums around a vertex. */
+#include "cell_tensors.h"
+
+#include <string.h>
+
+#include "core/alloc.h"
+#include "key_slots.h"
+
+#define FIRST_CAPACITY 1024
+#define AXIS_MASK      (((uint64_t)1 << STA_MOMENTS_AXIS_BITS) - 1)
+
+// (by degree: 1; x, y, z; the 6 of degree 2; the 10 of degree 3; the 15 of degree 4)
+const uint8_t sta_tensor_exponent[STA_TENSOR_TERMS][3] = {
+    { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 2, 0, 0 }, { 1, 1, 0 }, { 1, 0, 1 },
+    { 0, 2, 0 }, { 0, 1, 1 }, { 0, 0, 2 }, { 3, 0, 0 }, { 2, 1, 0 }, { 2, 0, 1 }, { 1, 2, 0 },
+    { 1, 1, 1 }, { 1, 0, 2 }, { 0, 3, 0 }, { 0, 2, 1 }, { 0, 1, 2 }, { 0, 0, 3 }, { 4, 0, 0 },
+    { 3, 1, 0 }, { 3, 0, 1 }, { 2, 2, 0 }, { 2, 1, 1 }, { 2, 0, 2 }, { 1, 3, 0 }, { 1, 2, 1 },
+    { 1, 1, 2 }, { 1, 0, 3 }, { 0, 4, 0 }, { 0, 3, 1 }, { 0, 2, 2 }, { 0, 1, 3 }, { 0, 0, 4 },
+};
+
+static uint64_t pack(const int64_t local[3])
+{
+    return ((uint64_t)local[0] | (uint64_t)local[1] << STA_MOMENTS_AXIS_BITS |
+            (uint64_t)local[2] << (2 * STA_MOMENTS_AXIS_BITS)) +
+           1;
+}
+
+static bool local_of(const sta_cell_tensors *t, const int64_t cell[3], int64_t local[3])
+{
+    for (int a = 0; a < 3; a++) {
+        local[a] = cell[a] - t->base[a];
+        if (local[a] < 0 || local[a] > (int64_t)AXIS_MASK) {
+            return false;
+        }
+    }
+    return true;
+}
+
+sta_status sta_cell_tensors_init(sta_cell_tensors *t, int level, const int64_t origin[3],
+                                 const int32_t lo[3], const int32_t hi[3], sta_error *err)
+{
+    memset(t, 0, sizeof(*t));
+    if (level < 0 || level > STA_MOMENTS_MAX_LEVEL) {
+        return sta_fail(err, STA_ERR_ARG, "cell tensors: level %d out of range", level);
+    }
+    t->level = level;
+    for (int k = 0; k < STA_TENSOR_TERMS; k++) {
+        const uint8_t *e = sta_tensor_exponent[k];
+        t->index[e[0]][e[1]][e[2]] = (int8_t)k;
+    }
+    for (int a = 0; a < 3; a++) {
+        t->origin[a] = origin[a];
+        // One empty cell below and two above stay addressable (vertex boxes reach past).
+        t->base[a] = (((int64_t)lo[a] - origin[a]) >> level) - 1;
+        int64_t top = ((int64_t)hi[a] - origin[a]) >> level;
+        if (top - t->base[a] + 3 > (int64_t)AXIS_MASK) {
+            return sta_fail(err, STA_ERR_ARG, "cell tensors: level %d spans too many cells", level);
+        }
+    }
+    t->capacity = FIRST_CAPACITY;
+    t->keys = sta_calloc(t->capacity, sizeof(*t->keys));
+    t->sums = sta_alloc_array(t->capacity, sizeof(*t->sums));
+    if (!t->keys || !t->sums) {
+        sta_cell_tensors_release(t);
+        return sta_fail(err, STA_ERR_NOMEM, "cell tensors: out of memory");
+    }
+    return STA_OK;
+}
+
+void sta_cell_tensors_release(sta_cell_tensors *t)
+{
+    sta_free(t->keys);
+    sta_free(t->sums);
+    memset(t, 0, sizeof(*t));
+}
+
+static bool grow(sta_cell_tensors *t)
+{
+    size_t capacity = t->capacity * 2;
+    uint64_t *keys = sta_calloc(capacity, sizeof(*keys));
+    sta_tensor_sums *sums = sta_alloc_array(capacity, sizeof(*sums));
+    if (!keys || !sums) {
+        sta_free(keys);
+        sta_free(sums);
+        return false;
+    }
+    for (size_t s = 0; s < t->capacity; s++) {
+        if (t->keys[s] != 0) {
+            size_t u = sta_key_slot(keys, capacity, t->keys[s]);
+            keys[u] = t->keys[s];
+            sums[u] = t->sums[s];
+        }
+    }
+    sta_free(t->keys);
+    sta_free(t->sums);
+    t->keys = keys;
+    t->sums = sums;
+    t->capacity = capacity;
+    return true;
+}
+
+// The sums of cell `local`, created empty when new; NULL when out of memory.
+static sta_tensor_sums *cell_at(sta_cell_tensors *t, const int64_t local[3])
+{
+    uint64_t key = pack(local);
+    size_t s = sta_key_slot(t->keys, t->capacity, key);
+    if (t->keys[s] == 0) {
+        if (2 * (t->used + 1) > t->capacity) {
+            if (!grow(t)) {
+                return NULL;
+            }
+            s = sta_key_slot(t->keys, t->capacity, key);
+        }
+        t->keys[s] = key;
+        memset(&t->sums[s], 0, sizeof(t->sums[s]));
+        t->used++;
+    }
+    return &t->sums[s];
+}
+
+// Adds the monomials of offset d (modulo 2^64) to sums.
+static void add_point(sta_tensor_sums *sums, const uint64_t d[3])
+{
+    uint64_t p[3][5];
+    for (int a = 0; a < 3; a++) {
+        p[a][0] = 1;
+        for (int e = 1; e < 5; e++) {
+            p[a][e] = p[a][e - 1] * d[a];
+        }
+    }
+    for (int k = 0; k < STA_TENSOR_TERMS; k++) {
+        const uint8_t *e = sta_tensor_exponent[k];
+        sums->s[k] += p[0][e[0]] * p[1][e[1]] * p[2][e[2]];
+    }
+}
+
+bool sta_cell_tensors_mark(sta_cell_tensors *t, const int64_t cell[3])
+{
+    int64_t local[3];
+    return !local_of(t, cell, local) || cell_at(t, local) != NULL;
+}
+
+void sta_cell_tensors_add(sta_cell_tensors *t, const int32_t (*grid)[3], size_t n)
+{
+    int level = t->level;
+    int64_t mask = ((int64_t)1 << level) - 1;
+    // Points of one cell mostly come together (cell order): its look-up is kept.
+    int64_t last[3] = { INT64_MIN, 0, 0 };
+    sta_tensor_sums *sums = NULL;
+    for (size_t j = 0; j < n; j++) {
+        int64_t u[3], local[3];
+        uint64_t d[3];
+        for (int a = 0; a < 3; a++) {
+            u[a] = (int64_t)grid[j][a] - t->origin[a];
+            local[a] = (u[a] >> level) - t->base[a];
+            d[a] = (uint64_t)(u[a] & mask);
+        }
+        if (memcmp(local, last, sizeof(local)) != 0) {
+            memcpy(last, local, sizeof(local));
+            sums = NULL;
+            bool inside = true;
+            for (int a = 0; a < 3; a++) {
+                inside = inside && local[a] >= 0 && local[a] <= (int64_t)AXIS_MASK;
+            }
+            if (inside) {
+                size_t s = sta_key_slot(t->keys, t->capacity, pack(local));
+                sums = t->keys[s] != 0 ? &t->sums[s] : NULL;
+            }
+        }
+        if (sums) {
+            add_point(sums, d);
+        }
+    }
+}
+
+// Adds c, a cell's sums, moved by o (d + o: to a corner o below the cell's) to dst, one
+// axis at a time: sum (x + o)^i y^j z^k = sum over i' <= i of C(i, i') o^(i - i') sum x^i'
+// y^j z^k, modulo 2^64 like the sums.
+static void add_moved(const sta_cell_tensors *t, sta_tensor_sums *dst, const sta_tensor_sums *c,
+                      const uint64_t o[3])
+{
+    static const uint64_t binomial[5][5] = { { 1, 0, 0, 0, 0 },
+                                             { 1, 1, 0, 0, 0 },
+                                             { 1, 2, 1, 0, 0 },
+                                             { 1, 3, 3, 1, 0 },
+                                             { 1, 4, 6, 4, 1 } };
+    sta_tensor_sums moved = *c;
+    for (int a = 0; a < 3; a++) {
+        if (o[a] == 0) {
+            continue;
+        }
+        uint64_t p[5] = { 1, o[a], o[a] * o[a], o[a] * o[a] * o[a], o[a] * o[a] * o[a] * o[a] };
+        sta_tensor_sums from = moved;
+        for (int k = 0; k < STA_TENSOR_TERMS; k++) {
+            const uint8_t *e = sta_tensor_exponent[k];
+            uint64_t sum = 0;
+            int f[3] = { e[0], e[1], e[2] };
+            for (f[a] = 0; f[a] <= e[a]; f[a]++) {
+                sum += binomial[e[a]][f[a]] * p[e[a] - f[a]] * from.s[t->index[f[0]][f[1]][f[2]]];
+            }
+            moved.s[k] = sum;
+        }
+    }
+    for (int k = 0; k < STA_TENSOR_TERMS; k++) {
+        dst->s[k] += moved.s[k];
+    }
+}
+
+void sta_cell_tensors_vertex(const sta_cell_tensors *t, const int64_t vertex[3],
+                             sta_tensor_sums *out)
+{
+    memset(out, 0, sizeof(*out));
+    uint64_t edge = (uint64_t)1 << t->level;
+    for (int c = 0; c < 8; c++) {
+        const int64_t cell[3] = { vertex[0] - 1 + (c & 1), vertex[1] - 1 + (c >> 1 & 1),
+                                  vertex[2] - 1 + (c >> 2) };
+        int64_t local[3];
+        if (!local_of(t, cell, local)) {
+            continue;
+        }
+        size_t s = sta_key_slot(t->keys, t->capacity, pack(local));
+        if (t->keys[s] == 0) {
+            continue;
+        }
+        const uint64_t o[3] = { (c & 1) ? edge : 0, (c >> 1 & 1) ? edge : 0, (c >> 2) ? edge : 0 };
+        add_moved(t, out, &t->sums[s], o);
+    }
+}

@@ -1,0 +1,148 @@
+/* SPDX-License-Identifier: MIT
+ * Tests for the cells' moment tensors (preprocess/cell_tensors.c): the 8 cells around a
+ * vertex, each summed from its own corner and moved to the box's corner in 64-bit
+ * integers, give exactly the sums of the box's points taken directly (every term, with
+ * points in all 8 cells: a wrong binomial term of one axis or a mixed one shows); only
+ * marked cells take points; the sums do not depend on the points' order. */
+#include "test_support.h"
+
+#include <string.h>
+
+#include "cell_tensors.h"
+
+enum {
+    POINTS = 3000
+};
+
+// A small deterministic generator (the test's own points).
+static uint32_t next(uint32_t *s)
+{
+    *s = *s * 1664525u + 1013904223u;
+    return *s >> 8;
+}
+
+// The sums of points p (grid units) as offsets from `corner`.
+static sta_tensor_sums direct(const int32_t (*p)[3], size_t n, const int64_t corner[3])
+{
+    sta_tensor_sums s = { { 0 } };
+    for (size_t i = 0; i < n; i++) {
+        for (int t = 0; t < STA_TENSOR_TERMS; t++) {
+            const uint8_t *e = sta_tensor_exponent[t];
+            uint64_t v = 1;
+            for (int a = 0; a < 3; a++) {
+                for (int k = 0; k < e[a]; k++) {
+                    v *= (uint64_t)((int64_t)p[i][a] - corner[a]);
+                }
+            }
+            s.s[t] += v;
+        }
+    }
+    return s;
+}
+
+// Points scattered over the 2 x 2 x 2 cells of level 6 around vertex (16, 17, 18) of a
+// scene whose corner is `origin`.
+static size_t scatter(int32_t (*p)[3], const int64_t origin[3], uint32_t seed)
+{
+    const int64_t v[3] = { 16, 17, 18 };
+    for (size_t i = 0; i < POINTS; i++) {
+        for (int a = 0; a < 3; a++) {
+            p[i][a] = (int32_t)(origin[a] + ((v[a] - 1) << 6) + (int64_t)(next(&seed) % 128u));
+        }
+    }
+    return POINTS;
+}
+
+static void vertex_sums_equal_direct_sums(void **state)
+{
+    (void)state;
+    static int32_t p[POINTS][3];
+    const int64_t origin[3] = { -1000, 2000, 37 }, v[3] = { 16, 17, 18 };
+    size_t n = scatter(p, origin, 7u);
+    const int32_t lo[3] = { -1000, 2000, 37 }, hi[3] = { 3000, 6000, 4037 };
+    sta_cell_tensors t;
+    sta_error err = { 0 };
+    assert_int_equal(sta_cell_tensors_init(&t, 6, origin, lo, hi, &err), STA_OK);
+    for (int c = 0; c < 8; c++) {
+        const int64_t cell[3] = { v[0] - 1 + (c & 1), v[1] - 1 + (c >> 1 & 1),
+                                  v[2] - 1 + (c >> 2) };
+        assert_true(sta_cell_tensors_mark(&t, cell));
+    }
+    sta_cell_tensors_add(&t, (const int32_t(*)[3])p, n);
+    sta_tensor_sums box;
+    sta_cell_tensors_vertex(&t, v, &box);
+    int64_t corner[3];
+    for (int a = 0; a < 3; a++) {
+        corner[a] = origin[a] + ((v[a] - 1) << 6);
+    }
+    sta_tensor_sums want = direct((const int32_t(*)[3])p, n, corner);
+    assert_int_equal(box.s[0], n);
+    assert_memory_equal(&box, &want, sizeof(box));
+    // In another order (reversed: each cell's points no longer together), the same bits.
+    sta_cell_tensors r;
+    assert_int_equal(sta_cell_tensors_init(&r, 6, origin, lo, hi, &err), STA_OK);
+    for (int c = 7; c >= 0; c--) {
+        const int64_t cell[3] = { v[0] - 1 + (c & 1), v[1] - 1 + (c >> 1 & 1),
+                                  v[2] - 1 + (c >> 2) };
+        assert_true(sta_cell_tensors_mark(&r, cell));
+    }
+    static int32_t q[POINTS][3];
+    for (size_t i = 0; i < n; i++) {
+        memcpy(q[i], p[n - 1 - i], sizeof(q[i]));
+    }
+    sta_cell_tensors_add(&r, (const int32_t(*)[3])q, n);
+    sta_tensor_sums again;
+    sta_cell_tensors_vertex(&r, v, &again);
+    assert_memory_equal(&again, &box, sizeof(box));
+    sta_cell_tensors_release(&r);
+    sta_cell_tensors_release(&t);
+}
+
+// Only marked cells take points: with one of the 8 cells unmarked its points are left
+// out, the box's sums are those of the other seven's points.
+static void unmarked_cells_take_no_points(void **state)
+{
+    (void)state;
+    static int32_t p[POINTS][3], kept[POINTS][3];
+    const int64_t origin[3] = { 0, 0, 0 }, v[3] = { 16, 17, 18 };
+    size_t n = scatter(p, origin, 11u), m = 0;
+    const int32_t lo[3] = { 0, 0, 0 }, hi[3] = { 4000, 4000, 4000 };
+    sta_cell_tensors t;
+    sta_error err = { 0 };
+    assert_int_equal(sta_cell_tensors_init(&t, 6, origin, lo, hi, &err), STA_OK);
+    for (int c = 1; c < 8; c++) { // (not the lowest cell)
+        const int64_t cell[3] = { v[0] - 1 + (c & 1), v[1] - 1 + (c >> 1 & 1),
+                                  v[2] - 1 + (c >> 2) };
+        assert_true(sta_cell_tensors_mark(&t, cell));
+    }
+    for (size_t i = 0; i < n; i++) {
+        bool lowest = true;
+        for (int a = 0; a < 3; a++) {
+            lowest = lowest && (p[i][a] >> 6) == v[a] - 1;
+        }
+        if (!lowest) {
+            memcpy(kept[m++], p[i], sizeof(p[i]));
+        }
+    }
+    assert_true(m < n && m > n / 2);
+    sta_cell_tensors_add(&t, (const int32_t(*)[3])p, n);
+    sta_tensor_sums box;
+    sta_cell_tensors_vertex(&t, v, &box);
+    const int64_t corner[3] = { (v[0] - 1) << 6, (v[1] - 1) << 6, (v[2] - 1) << 6 };
+    sta_tensor_sums want = direct((const int32_t(*)[3])kept, m, corner);
+    assert_memory_equal(&box, &want, sizeof(box));
+    // A vertex whose cells hold nothing: zero sums.
+    const int64_t far[3] = { 40, 40, 40 };
+    sta_cell_tensors_vertex(&t, far, &box);
+    for (int k = 0; k < STA_TENSOR_TERMS; k++) {
+        assert_int_equal(box.s[k], 0);
+    }
+    sta_cell_tensors_release(&t);
+}
+
+static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(vertex_sums_equal_direct_sums),
+    cmocka_unit_test(unmarked_cells_take_no_points),
+};
+
+STA_TEST_MAIN(tests)
