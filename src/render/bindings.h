@@ -79,17 +79,20 @@
 #define STA_HPR_PYRAMID_IMAGE_SRC 0 /* RGBA32F level l - 1 */
 #define STA_HPR_PYRAMID_IMAGE_DST 1 /* RGBA32F out: level l */
 
-/* HPR pyramidal occlusion (hpr_occlusion.comp). */
-#define STA_HPR_OCCLUSION_SAMPLER_POSITION 0 /* level 0 */
-#define STA_HPR_OCCLUSION_SAMPLER_PYRAMID  1 /* level l >= 1 at mip l - 1 */
-#define STA_HPR_OCCLUSION_IMAGE_LABEL      0 /* R32F out */
-#define STA_HPR_OCCLUSION_BUFFER_LIST      0 /* HPR_REFINE: the pixels to refine */
+/* HPR pyramidal occlusion (hpr_occlusion.comp). Positions and pyramid are read as images,
+ * not sampled: llvmpipe's imageLoad costs ~2.5x less than its texelFetch (issue 15,
+ * fourteenth round). */
+#define STA_HPR_OCCLUSION_IMAGE_LABEL    0 /* R32F out */
+#define STA_HPR_OCCLUSION_IMAGE_POSITION 1 /* RGBA32F level 0 */
+#define STA_HPR_OCCLUSION_IMAGE_PYRAMID  2 /* RGBA32F levels >= 1 side by side (pass_hpr.h) */
+#define STA_HPR_OCCLUSION_BUFFER_LIST    0 /* HPR_REFINE: the pixels to refine */
 
-/* Sparse HPR copy step (hpr_sparse_classify.comp). */
-#define STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION 0
-#define STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL      0 /* R32F: anchors in, the rest out */
-#define STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST      0 /* the pixels to refine (appended) */
-#define STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH  1 /* the refinement's indirect dispatch */
+/* Sparse HPR copy step (hpr_sparse_classify.comp); the label and position units are the
+ * occlusion's (bound once for the anchors, the copy steps and the refinements). */
+#define STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL     0 /* R32F: anchors in, the rest out */
+#define STA_HPR_SPARSE_CLASSIFY_IMAGE_POSITION  1 /* RGBA32F */
+#define STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST     0 /* the pixels to refine (appended) */
+#define STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH 1 /* the refinement's indirect dispatch */
 
 /* HPR exhaustive occlusion (hpr_exhaustive.comp). */
 #define STA_HPR_EXHAUSTIVE_SAMPLER_POSITION 0
@@ -204,12 +207,12 @@
  X(STA_DISPLAY_IMAGE_OUT)                                                                          \
  X(STA_HPR_PYRAMID_IMAGE_SRC)                                                                      \
  X(STA_HPR_PYRAMID_IMAGE_DST)                                                                      \
- X(STA_HPR_OCCLUSION_SAMPLER_POSITION)                                                             \
- X(STA_HPR_OCCLUSION_SAMPLER_PYRAMID)                                                              \
  X(STA_HPR_OCCLUSION_IMAGE_LABEL)                                                                  \
+ X(STA_HPR_OCCLUSION_IMAGE_POSITION)                                                               \
+ X(STA_HPR_OCCLUSION_IMAGE_PYRAMID)                                                                \
  X(STA_HPR_OCCLUSION_BUFFER_LIST)                                                                  \
- X(STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION)                                                       \
  X(STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL)                                                            \
+ X(STA_HPR_SPARSE_CLASSIFY_IMAGE_POSITION)                                                         \
  X(STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST)                                                            \
  X(STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH)                                                        \
  X(STA_HPR_EXHAUSTIVE_SAMPLER_POSITION)                                                            \
