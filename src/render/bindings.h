@@ -63,6 +63,7 @@
 #define STA_UNPROJECT_SAMPLER_DEPTH  0 /* reverse-Z depth */
 #define STA_UNPROJECT_IMAGE_POSITION 0 /* RGBA32F out: camera-space positions */
 #define STA_UNPROJECT_IMAGE_CLASS    1 /* R8UI point classes (STA_UNPROJECT_MARK) */
+#define STA_UNPROJECT_IMAGE_TILES    2 /* R32UI out: 1 per tile with a marked pixel (MARK) */
 
 /* Colour conversion of the pipeline's input (colour_to_float.comp). */
 #define STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8 0 /* RGBA8 colour of the geometry pass */
@@ -155,8 +156,13 @@
 #define STA_VOLUMETRIC_MARK_BUFFER_ARENA     0 /* the GPU cache's arena */
 #define STA_VOLUMETRIC_MARK_BUFFER_NODES     1 /* uvec2 per node slot: offset, count */
 #define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT     1 /* RGBA8, written where marked */
-/* volumetric_window.glsl, in volumetric_overlay.comp and shade.comp (STA_SHADE_OVERLAY):
- * above every image unit of both */
+/* The overlay's tile list (volumetric_tiles.comp writes it, volumetric_overlay.comp reads
+ * it; the first three words are the overlay's indirect dispatch). */
+#define STA_VOLUMETRIC_TILES_BUFFER_LIST     0
+#define STA_VOLUMETRIC_TILES_IMAGE_FLAGS     5 /* R32UI tiles with a marked pixel (VW_FLAGS) */
+#define STA_VOLUMETRIC_OVERLAY_BUFFER_TILES  0
+/* volumetric_window.glsl, in volumetric_overlay.comp (and the positions of
+ * volumetric_tiles.comp): above the image units of both */
 #define STA_VOLUMETRIC_WINDOW_IMAGE_POSITION 4 /* RGBA32F positions, marked: w = 2 */
 #define STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR                                                         \
  6 /* RGBA32F filled colours: alpha = packed marked colour */
@@ -198,6 +204,7 @@
  X(STA_UNPROJECT_SAMPLER_DEPTH)                                                                    \
  X(STA_UNPROJECT_IMAGE_POSITION)                                                                   \
  X(STA_UNPROJECT_IMAGE_CLASS)                                                                      \
+ X(STA_UNPROJECT_IMAGE_TILES)                                                                      \
  X(STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8)                                                            \
  X(STA_COLOUR_TO_FLOAT_IMAGE_COLOUR)                                                               \
  X(STA_DISPLAY_IMAGE_POSITION)                                                                     \
@@ -257,6 +264,9 @@
  X(STA_VOLUMETRIC_MARK_BUFFER_ARENA)                                                               \
  X(STA_VOLUMETRIC_MARK_BUFFER_NODES)                                                               \
  X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)                                                               \
+ X(STA_VOLUMETRIC_TILES_BUFFER_LIST)                                                               \
+ X(STA_VOLUMETRIC_TILES_IMAGE_FLAGS)                                                               \
+ X(STA_VOLUMETRIC_OVERLAY_BUFFER_TILES)                                                            \
  X(STA_VOLUMETRIC_WINDOW_IMAGE_POSITION)                                                           \
  X(STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR)
 
