@@ -5,7 +5,7 @@
 // tile or within STA_VOLUMETRIC_SPLAT_RADIUS_PX of it) is appended to the list, and
 // volumetric_overlay.comp runs one workgroup per listed tile. On llvmpipe a shader runs
 // every branch for every pixel, so the overlay's 3 x 3 window costs each pixel of a pass
-// it is in (~18 CPU ms of the shade pass at 1080p); on the README view only ~7 % of the
+// it is in (~16 CPU ms of the shade pass at 1080p); on the README view only ~7 % of the
 // tiles hold a splat. With VW_FLAGS the unproject pass has set a flag per tile holding a
 // marked pixel (unproject.comp), and a tile is listed where it or one of its 8
 // neighbours is flagged (the splat radius is at most a tile); without it (the compute
