@@ -13,14 +13,16 @@
 // gives (the twin runs every level). Most empty pixels inside a surface settle after
 // the first levels.
 //
-// Neighbours are fetched from the textures, not staged in shared memory: on llvmpipe a
-// shared-memory version was 3x slower (per-lane gathers), and on GPUs the texture cache
-// serves the overlapping rings of a workgroup.
+// Neighbours are loaded from the images, not staged in shared memory: on llvmpipe a
+// shared-memory version was 3x slower (per-lane gathers), and on GPUs the cache serves
+// the overlapping rings of a workgroup. imageLoad, not texelFetch: the same texels, and
+// on llvmpipe (Mesa 22.3) a float texelFetch costs ~2.5x an imageLoad (issue 15,
+// fourteenth round), so the pyramid's levels lie side by side in one image.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 // level 0 (RGBA32F, screen_space.h)
-layout(binding = STA_HPR_OCCLUSION_SAMPLER_POSITION) uniform sampler2D u_position;
-// level l >= 1 at mip level l - 1
-layout(binding = STA_HPR_OCCLUSION_SAMPLER_PYRAMID) uniform sampler2D u_pyramid;
+layout(binding = STA_HPR_OCCLUSION_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
+// level l >= 1 at u_level_origin[l] (pass_hpr.h)
+layout(binding = STA_HPR_OCCLUSION_IMAGE_PYRAMID, rgba32f) readonly uniform image2D u_pyramid;
 layout(binding = STA_HPR_OCCLUSION_IMAGE_LABEL, r32f) writeonly uniform image2D u_label;
 #ifdef HPR_REFINE // sparse operator, last step: the listed pixels only
 layout(std430, binding = STA_HPR_OCCLUSION_BUFFER_LIST) readonly buffer RefineList
@@ -33,6 +35,7 @@ uniform ivec2 u_size;       // width, height in pixels
 uniform int u_level_count;  // pyramid levels, level 0 included (>= 2)
 uniform int u_coarse_level; // already clamped to [1, u_level_count - 1]
 uniform float u_level_depth[STA_HPR_MAX_LEVELS]; // sta_hpr_level_depths
+uniform ivec2 u_level_origin[STA_HPR_MAX_LEVELS]; // level l's texel (0, 0) in u_pyramid
 uniform vec2 u_tan_half;    // tan(fov_y / 2) * aspect, tan(fov_y / 2)
 uniform float u_far;        // depth of background pixels, metres
 uniform float u_threshold;
@@ -90,7 +93,7 @@ void main()
     // point, else the far depth. Level: the largest l with z <= u_level_depth[l].
     float z = u_far;
     for (int k = u_coarse_level; k < u_level_count; k++) {
-        vec4 a = texelFetch(u_pyramid, p >> k, k - 1);
+        vec4 a = imageLoad(u_pyramid, u_level_origin[k] + (p >> k));
         if (a.w > 0.5) {
             z = -a.z;
             break;
@@ -107,7 +110,7 @@ void main()
     precise float cut = STA_HPR_CUT_FACTOR * radius;
     precise float cut2 = cut * cut;
 
-    vec4 own = texelFetch(u_position, p, 0);
+    vec4 own = imageLoad(u_position, p);
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
     precise float limit = -x.z - u_gap;
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
@@ -120,10 +123,11 @@ void main()
     for (int k = level; k >= 1 && !settled; k--) {
         ivec2 a = p >> k;
         ivec2 size_k = (u_size + (1 << k) - 1) >> k;
+        ivec2 origin = u_level_origin[k];
         for (int i = 0; i < 8; i++) {
             ivec2 n = a + RING[i];
             if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
-                add_neighbour(texelFetch(u_pyramid, n, k - 1), RING[i], p, x, true, cut2, limit,
+                add_neighbour(imageLoad(u_pyramid, origin + n), RING[i], p, x, true, cut2, limit,
                               min_lo, min_hi);
             } else {
                 // Outside the image: its sector may have been closed out there.
@@ -136,7 +140,7 @@ void main()
     for (int i = 0; i < 8 && !settled; i++) {
         ivec2 n = p + RING[i];
         if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
-            add_neighbour(texelFetch(u_position, n, 0), RING[i], p, x, false, cut2, limit, min_lo,
+            add_neighbour(imageLoad(u_position, n), RING[i], p, x, false, cut2, limit, min_lo,
                           min_hi);
         } else {
             outside |= 1 << hpr_sector(2 * RING[i]);

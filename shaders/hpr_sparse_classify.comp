@@ -14,7 +14,9 @@
 // (x, y), (x + 2, y), (x, y + 2), (x + 2, y + 2) in grid steps.
 // Twin: sta_hpr_ref_sparse_labels (src/render/ref/hpr_sparse_ref.c).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
-layout(binding = STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION) uniform sampler2D u_position;
+// imageLoad, not texelFetch: cheaper on llvmpipe (hpr_occlusion.comp)
+layout(binding = STA_HPR_SPARSE_CLASSIFY_IMAGE_POSITION,
+       rgba32f) readonly uniform image2D u_position;
 layout(binding = STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL, r32f) uniform image2D u_label;
 layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST) buffer RefineList
 {
@@ -59,7 +61,7 @@ void classify(ivec2 g, ivec2 grid, bool four, vec4 la, vec4 da, inout uint n,
         return;
     }
     ivec2 p = g * u_stride;
-    vec4 own = texelFetch(u_position, p, 0);
+    vec4 own = imageLoad(u_position, p);
     bool own_point = own.w > 0.5;
     precise float zp = -own.z;
     precise float tau = STA_HPR_SPARSE_DEPTH_TAU * zp;
@@ -99,16 +101,16 @@ void main()
         // own): not fetched for the others (copy step at stride 1: 22 -> 20 CPU ms).
         vec4 da = vec4(0.0);
         if (is_point_label(la.x)) {
-            da.x = -texelFetch(u_position, q0, 0).z;
+            da.x = -imageLoad(u_position, q0).z;
         }
         if (is_point_label(la.y)) {
-            da.y = -texelFetch(u_position, q1, 0).z;
+            da.y = -imageLoad(u_position, q1).z;
         }
         if (is_point_label(la.z)) {
-            da.z = -texelFetch(u_position, q2, 0).z;
+            da.z = -imageLoad(u_position, q2).z;
         }
         if (is_point_label(la.w)) {
-            da.w = -texelFetch(u_position, q3, 0).z;
+            da.w = -imageLoad(u_position, q3).z;
         }
         // (x + 1, y): anchors 0 and 1; (x, y + 1): 0 and 2; (x + 1, y + 1): all four.
         classify(a0 + ivec2(1, 0), grid, false, la, da, n, listed);

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Deferred shading: Blinn-Phong with a headlight from the reconstructed positions and
 // normals and the (filled) point colours. Pixels without a surface get the background.
-// With STA_SHADE_OVERLAY (and volumetric_window.glsl) the volumetric classes' marked
-// points are drawn over the result here, as volumetric_overlay.comp would after it: the
-// same picture, one full-screen pass fewer. With STA_SHADE_UPSAMPLE (and
+// The volumetric classes' marked points are drawn over the result afterwards, on the
+// tiles they reach (volumetric_overlay.comp). With STA_SHADE_UPSAMPLE (and
 // normals_upsample.glsl) the half-resolution normals are upsampled here instead of read
 // from the normal image: again the same picture, one full-screen pass fewer.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
@@ -43,11 +42,5 @@ void main()
             result = albedo * (u_light.x + u_light.y); // no normal: unlit, as if facing us
         }
     }
-#ifdef STA_SHADE_OVERLAY
-    vec3 marked;
-    if (vw_overlay_colour(p, ivec2(u_size), marked)) {
-        result = marked;
-    }
-#endif
     imageStore(u_out, p, vec4(clamp(result, 0.0, 1.0), 1.0));
 }

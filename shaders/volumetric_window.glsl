@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Volumetric classes, the overlay's window (shared by volumetric_overlay.comp and the
-// shade pass's overlay variant, shade.comp with STA_SHADE_OVERLAY, which draws the
-// marked points while shading and so saves a full-screen pass): the colour a pixel
+// Volumetric classes, the overlay's window (volumetric_overlay.comp; the tile list,
+// volumetric_tiles.comp, reads the same positions): the colour a pixel
 // takes from the marked points (position w = STA_POSITION_W_MARKED) in its window,
 // nearest first, unless a drawn point of another class is in the window and as near
 // (HPR's labels play no part: a nearer point of another class is a surface in front,

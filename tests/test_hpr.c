@@ -214,19 +214,21 @@ static void gpu_pyramid(const sta_view_params *view, const sta_hpr_params *param
     if (out_pyramid) {
         memset(out_pyramid, 0, sizeof(*out_pyramid));
         out_pyramid->level_count = sta_hpr_pyramid_levels(view->width_px, view->height_px);
+        sta_image atlas;
+        assert_int_equal(sta_gl_texture_to_image(pyramid_tex, 0, 4, &atlas, &err), STA_OK);
         for (int l = 1; l < out_pyramid->level_count; l++) {
-            sta_image mip;
-            assert_int_equal(sta_gl_texture_to_image(pyramid_tex, l - 1, 4, &mip, &err), STA_OK);
             int w = sta_hpr_level_size(view->width_px, l),
-                h = sta_hpr_level_size(view->height_px, l);
-            assert_true(mip.width >= w && mip.height >= h);
+                h = sta_hpr_level_size(view->height_px, l), origin[2];
+            sta_hpr_pyramid_level_origin(view->width_px, view->height_px, l, origin);
+            assert_true(origin[0] + w <= atlas.width && origin[1] + h <= atlas.height);
             new_image(&out_pyramid->levels[l], w, h, 4);
             for (int y = 0; y < h; y++) {
-                memcpy(sta_image_at(&out_pyramid->levels[l], 0, y), sta_image_at(&mip, 0, y),
+                memcpy(sta_image_at(&out_pyramid->levels[l], 0, y),
+                       sta_image_at(&atlas, origin[0], origin[1] + y),
                        (size_t)w * 4 * sizeof(float));
             }
-            sta_image_release(&mip);
         }
+        sta_image_release(&atlas);
     }
     glDeleteTextures(1, &position_tex);
     glDeleteTextures(1, &pyramid_tex);
@@ -360,6 +362,32 @@ static int count_label(const sta_image *label, float value)
 
 /* ---- tests ---- */
 
+// The pyramid texture of a width x height image holds every level, no two overlapping.
+static void check_pyramid_layout(int width, int height)
+{
+    int tw, th;
+    sta_hpr_pyramid_texture_size(width, height, &tw, &th);
+    int levels = sta_hpr_pyramid_levels(width, height);
+    assert_true(levels >= 2);
+    assert_true(sta_hpr_level_size(width, levels - 1) == 1);
+    assert_true(sta_hpr_level_size(height, levels - 1) == 1);
+    int box[STA_HPR_MAX_LEVELS][4];
+    for (int l = 1; l < levels; l++) {
+        int origin[2];
+        sta_hpr_pyramid_level_origin(width, height, l, origin);
+        box[l][0] = origin[0];
+        box[l][1] = origin[1];
+        box[l][2] = origin[0] + sta_hpr_level_size(width, l);
+        box[l][3] = origin[1] + sta_hpr_level_size(height, l);
+        assert_true(box[l][0] >= 0 && box[l][1] >= 0 && box[l][2] <= tw && box[l][3] <= th);
+        for (int k = 1; k < l; k++) {
+            bool apart = box[k][2] <= box[l][0] || box[l][2] <= box[k][0] ||
+                         box[k][3] <= box[l][1] || box[l][3] <= box[k][1];
+            assert_true(apart);
+        }
+    }
+}
+
 static void pyramid_sizes_and_levels(void **state)
 {
     (void)state;
@@ -374,32 +402,24 @@ static void pyramid_sizes_and_levels(void **state)
     assert_int_equal(sta_hpr_level_size(37, 1), 19);
     assert_int_equal(sta_hpr_level_size(37, 5), 2);
     assert_int_equal(sta_hpr_level_size(37, 6), 1);
-    int tw, th, mips;
-    sta_hpr_pyramid_texture_size(1920, 1080, &tw, &th, &mips);
-    assert_int_equal(tw, 1024);
-    assert_int_equal(th, 1024);
-    assert_int_equal(mips, 11);
-    // Every GL mip (floor halving, at least 1) holds its logical level, and the mip
-    // count fits the texture, for all sizes up to 130.
+    int tw, th;
+    sta_hpr_pyramid_texture_size(1920, 1080, &tw, &th);
+    assert_int_equal(tw, 1440);
+    assert_int_equal(th, 544);
+    sta_hpr_pyramid_texture_size(32769, 5, &tw, &th);
+    assert_int_equal(tw, 0);
+    assert_int_equal(th, 0);
+    // Every level lies inside the texture and no two levels share a texel, for all
+    // sizes up to 130 and a few large ones.
     for (int w = 1; w <= 130; w++) {
         for (int h = 1; h <= 130; h += (w % 7) + 1) {
-            sta_hpr_pyramid_texture_size(w, h, &tw, &th, &mips);
-            int levels = sta_hpr_pyramid_levels(w, h);
-            assert_int_equal(mips, levels - 1);
-            assert_true(sta_hpr_level_size(w, levels - 1) == 1);
-            assert_true(sta_hpr_level_size(h, levels - 1) == 1);
-            int largest = tw > th ? tw : th, max_mips = 1;
-            while ((1 << max_mips) <= largest) {
-                max_mips++;
-            }
-            assert_true(mips <= max_mips);
-            for (int g = 0; g < mips; g++) {
-                int mw = tw >> g, mh = th >> g;
-                assert_true((mw > 1 ? mw : 1) >= sta_hpr_level_size(w, g + 1));
-                assert_true((mh > 1 ? mh : 1) >= sta_hpr_level_size(h, g + 1));
-            }
+            check_pyramid_layout(w, h);
         }
     }
+    check_pyramid_layout(1920, 1080);
+    check_pyramid_layout(1201, 1083);
+    check_pyramid_layout(4097, 3);
+    check_pyramid_layout(5, 2163);
 }
 
 static void sectors_follow_the_angle(void **state)

@@ -517,12 +517,12 @@ static void shade_upsample_matches_upsample_then_shade(void **state)
         sta_shade_params params = { .background = { 0.1f, 0.2f, 0.3f } };
         assert_int_equal(
             sta_normals_pyramid_pass_run(&np, &f.view, &half, pyr, filled, normal, &err), STA_OK);
-        sta_shade_pass_run(&shade, &params, w, h, filled, filled_colour, normal, NULL, 0, split);
+        sta_shade_pass_run(&shade, &params, w, h, filled, filled_colour, normal, NULL, split);
         sta_normals_upsample_inputs up;
         assert_int_equal(
             sta_normals_pyramid_pass_run_deferred(&np, &f.view, &half, pyr, filled, &up, &err),
             STA_OK);
-        sta_shade_pass_run(&shade, &params, w, h, filled, filled_colour, 0, &up, 0, fused);
+        sta_shade_pass_run(&shade, &params, w, h, filled, filled_colour, 0, &up, fused);
         size_t bytes = (size_t)w * h * 4;
         uint8_t *a = malloc(bytes), *b = malloc(bytes);
         assert_non_null(a);

@@ -109,7 +109,7 @@ static void shaders_match_twins(void **state)
     sta_shade_params shade = { .background = { 0.1f, 0.2f, 0.3f } };
     sta_shade_params_defaults(&shade);
     sta_shade_ref(&shade, &position, &colour, &normal, &expected);
-    sta_shade_pass_run(&pass, &shade, w, h, tp, tc, tn, NULL, 0, out);
+    sta_shade_pass_run(&pass, &shade, w, h, tp, tc, tn, NULL, out);
     // Tolerance: one 8-bit step (rounding of values computed in float on both sides).
     assert_true(max_difference(out, &expected) <= 1);
 
@@ -200,7 +200,7 @@ static void empty_frame_is_background(void **state)
     sta_shade_pass pass;
     assert_int_equal(sta_shade_pass_init(&pass, &err), STA_OK);
     sta_shade_params shade = { .background = { 0.2f, 0.4f, 0.6f } };
-    sta_shade_pass_run(&pass, &shade, w, h, tp, tc, tn, NULL, 0, out);
+    sta_shade_pass_run(&pass, &shade, w, h, tp, tc, tn, NULL, out);
     for (int i = 0; i < w * h; i++) {
         float *e = expected.data + 4 * i;
         e[0] = 0.2f;

@@ -63,6 +63,7 @@
 #define STA_UNPROJECT_SAMPLER_DEPTH  0 /* reverse-Z depth */
 #define STA_UNPROJECT_IMAGE_POSITION 0 /* RGBA32F out: camera-space positions */
 #define STA_UNPROJECT_IMAGE_CLASS    1 /* R8UI point classes (STA_UNPROJECT_MARK) */
+#define STA_UNPROJECT_IMAGE_TILES    2 /* R32UI out: 1 per tile with a marked pixel (MARK) */
 
 /* Colour conversion of the pipeline's input (colour_to_float.comp). */
 #define STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8 0 /* RGBA8 colour of the geometry pass */
@@ -79,17 +80,20 @@
 #define STA_HPR_PYRAMID_IMAGE_SRC 0 /* RGBA32F level l - 1 */
 #define STA_HPR_PYRAMID_IMAGE_DST 1 /* RGBA32F out: level l */
 
-/* HPR pyramidal occlusion (hpr_occlusion.comp). */
-#define STA_HPR_OCCLUSION_SAMPLER_POSITION 0 /* level 0 */
-#define STA_HPR_OCCLUSION_SAMPLER_PYRAMID  1 /* level l >= 1 at mip l - 1 */
-#define STA_HPR_OCCLUSION_IMAGE_LABEL      0 /* R32F out */
-#define STA_HPR_OCCLUSION_BUFFER_LIST      0 /* HPR_REFINE: the pixels to refine */
+/* HPR pyramidal occlusion (hpr_occlusion.comp). Positions and pyramid are read as images,
+ * not sampled: llvmpipe's imageLoad costs ~2.5x less than its texelFetch (issue 15,
+ * fourteenth round). */
+#define STA_HPR_OCCLUSION_IMAGE_LABEL    0 /* R32F out */
+#define STA_HPR_OCCLUSION_IMAGE_POSITION 1 /* RGBA32F level 0 */
+#define STA_HPR_OCCLUSION_IMAGE_PYRAMID  2 /* RGBA32F levels >= 1 side by side (pass_hpr.h) */
+#define STA_HPR_OCCLUSION_BUFFER_LIST    0 /* HPR_REFINE: the pixels to refine */
 
-/* Sparse HPR copy step (hpr_sparse_classify.comp). */
-#define STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION 0
-#define STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL      0 /* R32F: anchors in, the rest out */
-#define STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST      0 /* the pixels to refine (appended) */
-#define STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH  1 /* the refinement's indirect dispatch */
+/* Sparse HPR copy step (hpr_sparse_classify.comp); the label and position units are the
+ * occlusion's (bound once for the anchors, the copy steps and the refinements). */
+#define STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL     0 /* R32F: anchors in, the rest out */
+#define STA_HPR_SPARSE_CLASSIFY_IMAGE_POSITION  1 /* RGBA32F */
+#define STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST     0 /* the pixels to refine (appended) */
+#define STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH 1 /* the refinement's indirect dispatch */
 
 /* HPR exhaustive occlusion (hpr_exhaustive.comp). */
 #define STA_HPR_EXHAUSTIVE_SAMPLER_POSITION 0
@@ -152,8 +156,13 @@
 #define STA_VOLUMETRIC_MARK_BUFFER_ARENA     0 /* the GPU cache's arena */
 #define STA_VOLUMETRIC_MARK_BUFFER_NODES     1 /* uvec2 per node slot: offset, count */
 #define STA_VOLUMETRIC_OVERLAY_IMAGE_OUT     1 /* RGBA8, written where marked */
-/* volumetric_window.glsl, in volumetric_overlay.comp and shade.comp (STA_SHADE_OVERLAY):
- * above every image unit of both */
+/* The overlay's tile list (volumetric_tiles.comp writes it, volumetric_overlay.comp reads
+ * it; the first three words are the overlay's indirect dispatch). */
+#define STA_VOLUMETRIC_TILES_BUFFER_LIST     0
+#define STA_VOLUMETRIC_TILES_IMAGE_FLAGS     5 /* R32UI tiles with a marked pixel (VW_FLAGS) */
+#define STA_VOLUMETRIC_OVERLAY_BUFFER_TILES  0
+/* volumetric_window.glsl, in volumetric_overlay.comp (and the positions of
+ * volumetric_tiles.comp): above the image units of both */
 #define STA_VOLUMETRIC_WINDOW_IMAGE_POSITION 4 /* RGBA32F positions, marked: w = 2 */
 #define STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR                                                         \
  6 /* RGBA32F filled colours: alpha = packed marked colour */
@@ -195,6 +204,7 @@
  X(STA_UNPROJECT_SAMPLER_DEPTH)                                                                    \
  X(STA_UNPROJECT_IMAGE_POSITION)                                                                   \
  X(STA_UNPROJECT_IMAGE_CLASS)                                                                      \
+ X(STA_UNPROJECT_IMAGE_TILES)                                                                      \
  X(STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8)                                                            \
  X(STA_COLOUR_TO_FLOAT_IMAGE_COLOUR)                                                               \
  X(STA_DISPLAY_IMAGE_POSITION)                                                                     \
@@ -204,12 +214,12 @@
  X(STA_DISPLAY_IMAGE_OUT)                                                                          \
  X(STA_HPR_PYRAMID_IMAGE_SRC)                                                                      \
  X(STA_HPR_PYRAMID_IMAGE_DST)                                                                      \
- X(STA_HPR_OCCLUSION_SAMPLER_POSITION)                                                             \
- X(STA_HPR_OCCLUSION_SAMPLER_PYRAMID)                                                              \
  X(STA_HPR_OCCLUSION_IMAGE_LABEL)                                                                  \
+ X(STA_HPR_OCCLUSION_IMAGE_POSITION)                                                               \
+ X(STA_HPR_OCCLUSION_IMAGE_PYRAMID)                                                                \
  X(STA_HPR_OCCLUSION_BUFFER_LIST)                                                                  \
- X(STA_HPR_SPARSE_CLASSIFY_SAMPLER_POSITION)                                                       \
  X(STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL)                                                            \
+ X(STA_HPR_SPARSE_CLASSIFY_IMAGE_POSITION)                                                         \
  X(STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST)                                                            \
  X(STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH)                                                        \
  X(STA_HPR_EXHAUSTIVE_SAMPLER_POSITION)                                                            \
@@ -254,6 +264,9 @@
  X(STA_VOLUMETRIC_MARK_BUFFER_ARENA)                                                               \
  X(STA_VOLUMETRIC_MARK_BUFFER_NODES)                                                               \
  X(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT)                                                               \
+ X(STA_VOLUMETRIC_TILES_BUFFER_LIST)                                                               \
+ X(STA_VOLUMETRIC_TILES_IMAGE_FLAGS)                                                               \
+ X(STA_VOLUMETRIC_OVERLAY_BUFFER_TILES)                                                            \
  X(STA_VOLUMETRIC_WINDOW_IMAGE_POSITION)                                                           \
  X(STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR)
 

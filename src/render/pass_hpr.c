@@ -80,6 +80,8 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
     GLuint p = pass->pyramid_program;
     pass->pyr_src_size = glGetUniformLocation(p, "u_src_size");
     pass->pyr_dst_size = glGetUniformLocation(p, "u_dst_size");
+    pass->pyr_src_origin = glGetUniformLocation(p, "u_src_origin");
+    pass->pyr_dst_origin = glGetUniformLocation(p, "u_dst_origin");
     p = pass->exhaustive_program;
     pass->exh_size = glGetUniformLocation(p, "u_size");
     pass->exh_radius = glGetUniformLocation(p, "u_radius");
@@ -107,44 +109,45 @@ void sta_hpr_pass_release(sta_hpr_pass *pass)
     memset(pass, 0, sizeof(*pass));
 }
 
-// Smallest mip-0 extent along one axis such that mip g (floor halving, at least 1)
-// holds pyramid level g + 1 for every mip g < mip_levels.
-static int padded_extent(int size_px, int mip_levels)
+void sta_hpr_pyramid_level_origin(int width_px, int height_px, int level, int out_origin[2])
 {
-    int extent = 1;
-    for (int g = 0; g < mip_levels; g++) {
-        int need = sta_hpr_level_size(size_px, g + 1);
-        if (need >= 2 && (need << g) > extent) {
-            extent = need << g;
+    out_origin[0] = out_origin[1] = 0;
+    if (level >= 2) {
+        out_origin[0] = sta_hpr_level_size(width_px, 1);
+        for (int l = 2; l < level; l++) {
+            out_origin[1] += sta_hpr_level_size(height_px, l);
         }
     }
-    return extent;
 }
 
-void sta_hpr_pyramid_texture_size(int width_px, int height_px, int *out_width, int *out_height,
-                                  int *out_mip_levels)
+void sta_hpr_pyramid_texture_size(int width_px, int height_px, int *out_width, int *out_height)
 {
     int levels = sta_hpr_pyramid_levels(width_px, height_px);
+    *out_width = *out_height = 0;
     if (levels == 0) {
-        *out_width = *out_height = *out_mip_levels = 0;
         return;
     }
-    *out_mip_levels = levels - 1;
-    *out_width = padded_extent(width_px, levels - 1);
-    *out_height = padded_extent(height_px, levels - 1);
+    int column_h = 0; // levels >= 2, one below the other
+    for (int l = 2; l < levels; l++) {
+        column_h += sta_hpr_level_size(height_px, l);
+    }
+    int level1_h = sta_hpr_level_size(height_px, 1);
+    *out_width =
+        sta_hpr_level_size(width_px, 1) + (levels > 2 ? sta_hpr_level_size(width_px, 2) : 0);
+    *out_height = column_h > level1_h ? column_h : level1_h;
 }
 
 sta_status sta_hpr_pyramid_texture_create(int width_px, int height_px, GLuint *out_texture,
                                           sta_error *err)
 {
     *out_texture = 0;
-    int w, h, mips;
-    sta_hpr_pyramid_texture_size(width_px, height_px, &w, &h, &mips);
-    if (mips == 0) {
+    int w, h;
+    sta_hpr_pyramid_texture_size(width_px, height_px, &w, &h);
+    if (w == 0) {
         return sta_fail(err, STA_ERR_ARG, "hpr: no pyramid for a %dx%d image (1..%d px a side)",
                         width_px, height_px, 1 << (STA_HPR_MAX_LEVELS - 1));
     }
-    return sta_gl_texture_create(w, h, 4, mips, out_texture, err);
+    return sta_gl_texture_create(w, h, 4, 1, out_texture, err);
 }
 
 // STA_ERR_ARG unless `texture` level `level` is at least width x height.
@@ -170,26 +173,34 @@ sta_status sta_hpr_pass_build_pyramid(const sta_hpr_pass *pass, const sta_view_p
     if (levels == 0) {
         return sta_fail(err, STA_ERR_ARG, "hpr: view %dx%d has no pyramid", w, h);
     }
+    int atlas_w, atlas_h;
+    sta_hpr_pyramid_texture_size(w, h, &atlas_w, &atlas_h);
     sta_status status = check_size(position_texture, 0, w, h, "position", err);
-    for (int l = 1; l < levels && status == STA_OK; l++) {
-        status = check_size(pyramid_texture, l - 1, sta_hpr_level_size(w, l),
-                            sta_hpr_level_size(h, l), "pyramid", err);
+    if (status == STA_OK) {
+        status = check_size(pyramid_texture, 0, atlas_w, atlas_h, "pyramid", err);
     }
     if (status != STA_OK) {
         return status;
     }
     glUseProgram(pass->pyramid_program);
+    glBindImageTexture(STA_HPR_PYRAMID_IMAGE_DST, pyramid_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_RGBA32F);
+    int src_origin[2] = { 0, 0 }, dst_origin[2];
     for (int l = 1; l < levels; l++) {
+        // Level 1 from the positions, level l from level l - 1 of the same texture (the
+        // regions do not overlap).
         GLuint src = l == 1 ? position_texture : pyramid_texture;
-        GLint src_mip = l == 1 ? 0 : l - 2;
         int dst_w = sta_hpr_level_size(w, l), dst_h = sta_hpr_level_size(h, l);
+        sta_hpr_pyramid_level_origin(w, h, l, dst_origin);
         glUniform2i(pass->pyr_src_size, sta_hpr_level_size(w, l - 1), sta_hpr_level_size(h, l - 1));
         glUniform2i(pass->pyr_dst_size, dst_w, dst_h);
-        glBindImageTexture(STA_HPR_PYRAMID_IMAGE_SRC, src, src_mip, GL_FALSE, 0, GL_READ_ONLY,
+        glUniform2i(pass->pyr_src_origin, src_origin[0], src_origin[1]);
+        glUniform2i(pass->pyr_dst_origin, dst_origin[0], dst_origin[1]);
+        glBindImageTexture(STA_HPR_PYRAMID_IMAGE_SRC, src, 0, GL_FALSE, 0, GL_READ_ONLY,
                            GL_RGBA32F);
-        glBindImageTexture(STA_HPR_PYRAMID_IMAGE_DST, pyramid_texture, l - 1, GL_FALSE, 0,
-                           GL_WRITE_ONLY, GL_RGBA32F);
         sta_gl_dispatch_2d(dst_w, dst_h);
+        src_origin[0] = dst_origin[0];
+        src_origin[1] = dst_origin[1];
     }
     return sta_gl_check("hpr pyramid", err);
 }
@@ -213,6 +224,11 @@ static void set_occlusion_uniforms(GLuint program, const sta_view_params *view,
     glUniform1i(glGetUniformLocation(program, "u_level_count"), levels);
     glUniform1i(glGetUniformLocation(program, "u_coarse_level"), coarse);
     glUniform1fv(glGetUniformLocation(program, "u_level_depth"), levels, level_depth);
+    GLint origins[2 * STA_HPR_MAX_LEVELS] = { 0 };
+    for (int l = 1; l < levels; l++) {
+        sta_hpr_pyramid_level_origin(view->width_px, view->height_px, l, origins + 2 * l);
+    }
+    glUniform2iv(glGetUniformLocation(program, "u_level_origin"), levels, origins);
     glUniform2f(glGetUniformLocation(program, "u_tan_half"), th[0], th[1]);
     glUniform1f(glGetUniformLocation(program, "u_far"), p->far_m);
     glUniform1f(glGetUniformLocation(program, "u_threshold"), p->threshold);
@@ -320,8 +336,10 @@ sta_status sta_hpr_pass_run_pyramid(sta_hpr_pass *pass, const sta_view_params *v
     int levels = sta_hpr_pyramid_levels(view->width_px, view->height_px);
     float level_depth[STA_HPR_MAX_LEVELS];
     sta_hpr_level_depths(view, &p, levels, level_depth);
-    glBindTextureUnit(STA_HPR_OCCLUSION_SAMPLER_POSITION, position_texture);
-    glBindTextureUnit(STA_HPR_OCCLUSION_SAMPLER_PYRAMID, pyramid_texture);
+    glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_PYRAMID, pyramid_texture, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
     if (p.sparse) {
         return run_sparse(pass, view, &p, levels, level_depth, label_texture, err);
     }

@@ -5,11 +5,13 @@
  * and their CPU twin are in render/ref/hpr_ref.h; docs/HPR.md explains every choice.
  * Main thread (GL) only.
  *
- * Pyramid texture layout: level 0 of the pyramid is the position texture itself; level
- * l >= 1 lives at mip level l - 1 of one RGBA32F texture whose mip level 0 is large
- * enough that every GL mip size (floor halving) holds the logical level size
- * max(1, ceil(w / 2^l)) x max(1, ceil(h / 2^l)) in its lower-left corner. Texels beyond
- * the logical size are never read or written.
+ * Pyramid texture layout: level 0 of the pyramid is the position texture itself; levels
+ * l >= 1, of logical size max(1, ceil(w / 2^l)) x max(1, ceil(h / 2^l)), lie side by
+ * side in one RGBA32F texture of one mip level: level 1 at (0, 0), levels 2, 3, ... in a
+ * column to its right, each below the one before (sta_hpr_pyramid_level_origin). The
+ * shaders read them with imageLoad, which llvmpipe runs ~2.5x cheaper than a texelFetch
+ * from mip levels (issue 15, fourteenth round). Texels outside the levels are never
+ * read or written.
  */
 #ifndef STA_RENDER_PASS_HPR_H
 #define STA_RENDER_PASS_HPR_H
@@ -30,7 +32,7 @@ typedef struct sta_hpr_pass {
     GLuint list_buffer;     /* count, then the pixels to refine; grown as needed */
     int list_pixels;        /* pixels the list buffer holds */
     GLuint dispatch_buffer; /* the refinement's indirect dispatch, sized by the classify step */
-    GLint pyr_src_size, pyr_dst_size;
+    GLint pyr_src_size, pyr_dst_size, pyr_src_origin, pyr_dst_origin;
     GLint exh_size, exh_radius, exh_tan_half, exh_far, exh_threshold;
 } sta_hpr_pass;
 
@@ -40,11 +42,13 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err);
 /* Deletes the programs; a zeroed pass is a no-op. */
 void sta_hpr_pass_release(sta_hpr_pass *pass);
 
-/* Mip level 0 size and mip level count of the pyramid texture for a width x height
- * image (see the layout above); all three are 0 for sizes sta_hpr_pyramid_levels
- * rejects. For 1920x1080: 1024x1024, 11 mip levels (22 MiB). */
-void sta_hpr_pyramid_texture_size(int width_px, int height_px, int *out_width, int *out_height,
-                                  int *out_mip_levels);
+/* Size of the pyramid texture for a width x height image (see the layout above); both 0
+ * for sizes sta_hpr_pyramid_levels rejects. For 1920x1080: 1440x544 (12 MiB). */
+void sta_hpr_pyramid_texture_size(int width_px, int height_px, int *out_width, int *out_height);
+
+/* Texel (0, 0) of pyramid level `level` (1 .. sta_hpr_pyramid_levels - 1) in the
+ * pyramid texture of a width x height image. */
+void sta_hpr_pyramid_level_origin(int width_px, int height_px, int level, int out_origin[2]);
 
 /* Creates the caller-owned pyramid texture for a width x height image (RGBA32F, the
  * size above). Reuse it for every frame of that size; delete with glDeleteTextures. */

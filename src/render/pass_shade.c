@@ -8,32 +8,17 @@
 #include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
-#include "render/ref/volumetric_ref.h"
 
 sta_status sta_shade_pass_init(sta_shade_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
     const char *edl[] = { "edl.comp" };
-    // Variant v: bit 0 the volumetric overlay, bit 1 the normals upsampled here.
-    const char *libraries[] = { "volumetric_window.glsl", "normals_upsample.glsl" };
     sta_status status = STA_OK;
     for (int v = 0; v < STA_SHADE_VARIANTS && status == STA_OK; v++) {
-        const char *names[3];
-        size_t count = 0;
-        for (int k = 0; k < 2; k++) {
-            if (v & (1 << k)) {
-                names[count++] = libraries[k];
-            }
-        }
-        names[count++] = "shade.comp";
-        char defines[256];
-        snprintf(defines, sizeof(defines),
-                 "%s%s#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n#define STA_LABEL_VISIBLE %.1f\n"
-                 "#define STA_POSITION_W_MARKED %.1f\n",
-                 v & 1 ? "#define STA_SHADE_OVERLAY 1\n" : "",
-                 v & 2 ? "#define STA_SHADE_UPSAMPLE 1\n" : "", STA_VOLUMETRIC_SPLAT_RADIUS_PX,
-                 (double)STA_LABEL_VISIBLE, (double)STA_POSITION_W_MARKED);
-        status = sta_gl_program_create(names, count, defines, &pass->programs[v], err);
+        const char *names[] = { "normals_upsample.glsl", "shade.comp" };
+        status = sta_gl_program_create(names + (v ? 0 : 1), v ? 2 : 1,
+                                       v ? "#define STA_SHADE_UPSAMPLE 1\n" : NULL,
+                                       &pass->programs[v], err);
         if (status == STA_OK) {
             GLuint program = pass->programs[v];
             pass->shade_size[v] = glGetUniformLocation(program, "u_size");
@@ -71,12 +56,11 @@ void sta_shade_pass_release(sta_shade_pass *pass)
 
 void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *params, int width,
                         int height, GLuint position, GLuint colour, GLuint normal,
-                        const sta_normals_upsample_inputs *upsample,
-                        const sta_volumetric_frame *overlay, GLuint out)
+                        const sta_normals_upsample_inputs *upsample, GLuint out)
 {
     sta_shade_params p = *params;
     sta_shade_params_defaults(&p);
-    int i = (overlay ? 1 : 0) | (upsample ? 2 : 0);
+    int i = upsample ? 1 : 0;
     glUseProgram(pass->programs[i]);
     if (upsample) {
         sta_normals_upsample_bind(pass->programs[i], &pass->upsample[i], upsample);
@@ -84,9 +68,6 @@ void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *para
     glUniform2f(pass->shade_size[i], (float)width, (float)height);
     glUniform4f(pass->shade_light[i], p.ambient, p.diffuse, p.specular, p.shininess);
     glUniform3f(pass->shade_background[i], p.background[0], p.background[1], p.background[2]);
-    if (overlay) {
-        sta_volumetric_window_bind(overlay);
-    }
     glBindImageTexture(STA_SHADE_IMAGE_POSITION, position, 0, GL_FALSE, 0, GL_READ_ONLY,
                        GL_RGBA32F);
     glBindImageTexture(STA_SHADE_IMAGE_COLOUR, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);

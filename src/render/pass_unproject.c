@@ -65,6 +65,8 @@ void sta_unproject_pass_run_marked(const sta_unproject_pass *pass, const sta_vie
         glUniform1uiv(pass->u_classes, STA_UNPROJECT_CLASS_WORDS, mark->class_set);
         glBindImageTexture(STA_UNPROJECT_IMAGE_CLASS, mark->class_texture, 0, GL_FALSE, 0,
                            GL_READ_ONLY, GL_R8UI);
+        glBindImageTexture(STA_UNPROJECT_IMAGE_TILES, mark->tile_flags, 0, GL_FALSE, 0,
+                           GL_WRITE_ONLY, GL_R32UI);
     }
     glBindTextureUnit(STA_UNPROJECT_SAMPLER_DEPTH, depth_texture);
     glBindImageTexture(STA_UNPROJECT_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,

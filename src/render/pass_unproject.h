@@ -31,6 +31,9 @@ void sta_unproject_pass_run(const sta_unproject_pass *pass, const sta_view_param
 typedef struct sta_unproject_mark {
     GLuint class_texture;      /* R8UI: the class of each pixel's point (the geometry pass's) */
     const uint32_t *class_set; /* STA_UNPROJECT_CLASS_WORDS words: bit c % 32 of word c / 32 */
+    GLuint tile_flags;         /* R32UI, a texel per STA_WORKGROUP_SIZE_X x _Y tile: set to 1 where
+                                  a pixel is marked (cleared by the caller; the overlay's tile list,
+                                  render/pass_volumetric.h) */
 } sta_unproject_mark;
 
 /* The same, and the volumetric mark fused into it (issue 15, tenth round): a drawn pixel

@@ -11,17 +11,21 @@
 #include "render/gl_image.h"
 #include "render/ref/screen_space.h"
 
+/* Listed tiles per row of the overlay's indirect dispatch. */
+#define STA_VOLUMETRIC_TILE_ROW 64
+
 sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
     char defines[256];
     snprintf(defines, sizeof(defines),
              "#define STA_LABEL_VISIBLE %.1f\n#define STA_POSITION_W_MARKED %.1f\n"
-             "#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n",
+             "#define STA_VOLUMETRIC_SPLAT_RADIUS_PX %d\n#define STA_VOLUMETRIC_TILE_ROW %d\n",
              (double)STA_LABEL_VISIBLE, (double)STA_POSITION_W_MARKED,
-             STA_VOLUMETRIC_SPLAT_RADIUS_PX);
+             STA_VOLUMETRIC_SPLAT_RADIUS_PX, STA_VOLUMETRIC_TILE_ROW);
     const char *mark[] = { "volumetric_mark.comp" };
     const char *overlay[] = { "volumetric_window.glsl", "volumetric_overlay.comp" };
+    const char *tiles[] = { "volumetric_tiles.comp" };
     char image_defines[sizeof(defines) + 48];
     snprintf(image_defines, sizeof(image_defines), "%s#define STA_VOLUMETRIC_CLASS_IMAGE 1\n",
              defines);
@@ -32,6 +36,12 @@ sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err)
     if (s == STA_OK) {
         s = sta_gl_program_create(overlay, 2, defines, &pass->overlay_program, err);
     }
+    char flag_defines[sizeof(defines) + 32];
+    snprintf(flag_defines, sizeof(flag_defines), "%s#define VW_FLAGS 1\n", defines);
+    for (int v = 0; v < 2 && s == STA_OK; v++) {
+        s = sta_gl_program_create(tiles, 1, v ? flag_defines : defines, &pass->tiles_programs[v],
+                                  err);
+    }
     if (s != STA_OK) {
         sta_volumetric_pass_release(pass);
         return s;
@@ -41,6 +51,9 @@ sta_status sta_volumetric_pass_init(sta_volumetric_pass *pass, sta_error *err)
     pass->mark_image_size = glGetUniformLocation(pass->mark_image_program, "u_size");
     pass->mark_image_classes = glGetUniformLocation(pass->mark_image_program, "u_classes");
     pass->overlay_size = glGetUniformLocation(pass->overlay_program, "u_size");
+    for (int v = 0; v < 2; v++) {
+        pass->tiles_size[v] = glGetUniformLocation(pass->tiles_programs[v], "u_size");
+    }
     return STA_OK;
 }
 
@@ -55,8 +68,19 @@ void sta_volumetric_pass_release(sta_volumetric_pass *pass)
     if (pass->mark_image_program) {
         glDeleteProgram(pass->mark_image_program);
     }
+    for (int v = 0; v < 2; v++) {
+        if (pass->tiles_programs[v]) {
+            glDeleteProgram(pass->tiles_programs[v]);
+        }
+    }
+    if (pass->tile_flags) {
+        glDeleteTextures(1, &pass->tile_flags);
+    }
     if (pass->nodes_buffer) {
         glDeleteBuffers(1, &pass->nodes_buffer);
+    }
+    if (pass->tile_buffer) {
+        glDeleteBuffers(1, &pass->tile_buffer);
     }
     sta_free(pass->host_nodes);
     memset(pass, 0, sizeof(*pass));
@@ -150,13 +174,79 @@ void sta_volumetric_window_bind(const sta_volumetric_frame *frame)
                        GL_READ_ONLY, GL_RGBA32F);
 }
 
-void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volumetric_frame *frame,
-                                 GLuint out)
+// The splat of a marked pixel reaches at most the 8 tiles around its own (VW_FLAGS).
+_Static_assert(STA_VOLUMETRIC_SPLAT_RADIUS_PX <= STA_WORKGROUP_SIZE_X &&
+                   STA_VOLUMETRIC_SPLAT_RADIUS_PX <= STA_WORKGROUP_SIZE_Y,
+               "the overlay's tile flags assume a splat radius of at most a tile");
+
+static int tile_count(int pixels, int tile)
 {
+    return (pixels + tile - 1) / tile;
+}
+
+sta_status sta_volumetric_pass_tile_flags(sta_volumetric_pass *pass, int width, int height,
+                                          GLuint *out, sta_error *err)
+{
+    if (!pass->tile_flags || pass->flags_width != width || pass->flags_height != height) {
+        if (pass->tile_flags) {
+            glDeleteTextures(1, &pass->tile_flags);
+        }
+        glCreateTextures(GL_TEXTURE_2D, 1, &pass->tile_flags);
+        glTextureStorage2D(pass->tile_flags, 1, GL_R32UI, tile_count(width, STA_WORKGROUP_SIZE_X),
+                           tile_count(height, STA_WORKGROUP_SIZE_Y));
+        pass->flags_width = width;
+        pass->flags_height = height;
+    }
+    const GLuint zero = 0;
+    glClearTexImage(pass->tile_flags, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    *out = pass->tile_flags;
+    return sta_gl_check("volumetric tile flags", err);
+}
+
+sta_status sta_volumetric_pass_overlay(sta_volumetric_pass *pass, const sta_volumetric_frame *frame,
+                                       bool flags_set, GLuint out, sta_error *err)
+{
+    GLuint tiles_x = (GLuint)tile_count(frame->width, STA_WORKGROUP_SIZE_X);
+    GLuint tiles_y = (GLuint)tile_count(frame->height, STA_WORKGROUP_SIZE_Y);
+    uint32_t tiles = tiles_x * tiles_y;
+    if (!pass->tile_buffer || pass->tile_capacity < tiles) {
+        if (pass->tile_buffer) {
+            glDeleteBuffers(1, &pass->tile_buffer);
+        }
+        glCreateBuffers(1, &pass->tile_buffer);
+        glNamedBufferStorage(pass->tile_buffer, (GLsizeiptr)(4 + (size_t)tiles) * sizeof(GLuint),
+                             NULL, GL_DYNAMIC_STORAGE_BIT);
+        pass->tile_capacity = tiles;
+    }
+    // Indirect dispatch (rows added as tiles are listed), then the count.
+    const GLuint reset[4] = { STA_VOLUMETRIC_TILE_ROW, 0, 1, 0 };
+    glNamedBufferSubData(pass->tile_buffer, 0, sizeof(reset), reset);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_TILES_BUFFER_LIST, pass->tile_buffer);
+    sta_volumetric_window_bind(frame);
+    int v = flags_set && pass->tile_flags && pass->flags_width == frame->width &&
+                    pass->flags_height == frame->height
+                ? 1
+                : 0;
+    if (v) {
+        glBindImageTexture(STA_VOLUMETRIC_TILES_IMAGE_FLAGS, pass->tile_flags, 0, GL_FALSE, 0,
+                           GL_READ_ONLY, GL_R32UI);
+    }
+    glUseProgram(pass->tiles_programs[v]);
+    glUniform2i(pass->tiles_size[v], frame->width, frame->height);
+    sta_gl_dispatch_2d((int)tiles_x, (int)tiles_y); // one invocation per tile
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+
     glUseProgram(pass->overlay_program);
     glUniform2i(pass->overlay_size, frame->width, frame->height);
-    sta_volumetric_window_bind(frame);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_OVERLAY_BUFFER_TILES,
+                     pass->tile_buffer);
     glBindImageTexture(STA_VOLUMETRIC_OVERLAY_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY,
                        GL_RGBA8);
-    sta_gl_dispatch_2d(frame->width, frame->height);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pass->tile_buffer);
+    glDispatchComputeIndirect(0);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                    GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_VOLUMETRIC_OVERLAY_BUFFER_TILES, 0);
+    return sta_gl_check("volumetric overlay", err);
 }

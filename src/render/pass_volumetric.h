@@ -8,6 +8,7 @@
 #define STA_RENDER_PASS_VOLUMETRIC_H
 
 #include <epoxy/gl.h>
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "core/status.h"
@@ -16,7 +17,15 @@
 
 typedef struct sta_volumetric_pass {
     GLuint mark_program, overlay_program;
-    GLuint mark_image_program; /* the mark reading a class image (STA_VOLUMETRIC_CLASS_IMAGE) */
+    /* volumetric_tiles.comp, the overlay's tile list: [0] from the positions, [1] from
+     * the unproject pass's tile flags (VW_FLAGS) */
+    GLuint tiles_programs[2];
+    GLint tiles_size[2];           /* their u_size */
+    GLuint tile_buffer;            /* indirect dispatch, count, tiles; grown as needed */
+    uint32_t tile_capacity;        /* tiles the buffer holds */
+    GLuint tile_flags;             /* R32UI, a texel per tile (sta_volumetric_pass_tile_flags) */
+    int flags_width, flags_height; /* the frame size it was made for */
+    GLuint mark_image_program;     /* the mark reading a class image (STA_VOLUMETRIC_CLASS_IMAGE) */
     GLint mark_size, mark_classes, overlay_size;
     GLint mark_image_size, mark_image_classes;
     GLuint nodes_buffer;     /* uvec2 per node slot */
@@ -66,8 +75,17 @@ sta_status sta_volumetric_pass_mark(sta_volumetric_pass *pass, const sta_volumet
  * (for the overlay pass and the shade pass's overlay variant). */
 void sta_volumetric_window_bind(const sta_volumetric_frame *frame);
 
-/* Splats the marked points over `out` (RGBA8), after HPR. */
-void sta_volumetric_pass_overlay(const sta_volumetric_pass *pass, const sta_volumetric_frame *frame,
-                                 GLuint out);
+/* The pass's tile-flag texture for a width x height frame (R32UI, a texel per tile of
+ * STA_WORKGROUP_SIZE_X x _Y pixels), cleared to 0, for the unproject pass's mark to set
+ * where a pixel is marked (pass_unproject.h). Errors: STA_ERR_GL. */
+sta_status sta_volumetric_pass_tile_flags(sta_volumetric_pass *pass, int width, int height,
+                                          GLuint *out, sta_error *err);
+
+/* Splats the marked points over `out` (RGBA8), after HPR: lists the tiles of
+ * STA_WORKGROUP_SIZE_X x _Y pixels a splat can reach (from the tile flags when
+ * `flags_set`, the unproject pass having set them this frame; else from the positions),
+ * then runs the overlay on those only (one indirect dispatch). Errors: STA_ERR_GL. */
+sta_status sta_volumetric_pass_overlay(sta_volumetric_pass *pass, const sta_volumetric_frame *frame,
+                                       bool flags_set, GLuint out, sta_error *err);
 
 #endif

@@ -336,7 +336,13 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     // overlay sample the geometry pass's RGBA8 colour (the same values).
     mark(p, t, STA_PASS_UNPROJECT, 0);
     if (!positions_ready) {
-        sta_unproject_mark fused = { p->classes, classes };
+        sta_unproject_mark fused = { p->classes, classes, 0 };
+        if (mark_in_unproject) {
+            s = sta_volumetric_pass_tile_flags(&p->volumetric, w, h, &fused.tile_flags, err);
+            if (s != STA_OK) {
+                return s;
+            }
+        }
         sta_unproject_pass_run_marked(&p->unproject, view, depth, mark_in_unproject ? &fused : NULL,
                                       p->position);
     }
@@ -424,13 +430,20 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     mark(p, t, STA_PASS_SHADE, 0);
     sta_shade_params shade = { .background = { o->background[0], o->background[1],
                                                o->background[2] } };
-    // The marked volumetric points are drawn inside the shade pass, and the normals'
-    // upsample runs there (a full-screen pass fewer each; their time counts as shading).
+    // The normals' upsample runs inside the shade pass (a full-screen pass fewer), the
+    // marked volumetric points are drawn after it on the tiles they reach (issue 15,
+    // fourteenth round); both count as shading.
     sta_shade_pass_run(&p->shade, &shade, w, h, p->filled_position, p->filled_colour, p->normal,
-                       upsampled_in_shade ? &upsample : NULL, volumetric ? &vframe : NULL,
-                       colour_rgba8);
+                       upsampled_in_shade ? &upsample : NULL, colour_rgba8);
+    if (volumetric) {
+        s = sta_volumetric_pass_overlay(&p->volumetric, &vframe, mark_in_unproject, colour_rgba8,
+                                        err);
+    }
     mark(p, t, STA_PASS_SHADE, 1);
     ran[STA_PASS_SHADE] = true;
+    if (s != STA_OK) {
+        return s;
+    }
     goto done;
 overlay:
     if (volumetric) {
@@ -439,8 +452,12 @@ overlay:
                                                  : 0.0;
         ran[STA_PASS_VOLUMETRIC] = true;
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
-        sta_volumetric_pass_overlay(&p->volumetric, &vframe, colour_rgba8);
+        s = sta_volumetric_pass_overlay(&p->volumetric, &vframe, mark_in_unproject, colour_rgba8,
+                                        err);
         mark(p, t, STA_PASS_VOLUMETRIC, 1);
+        if (s != STA_OK) {
+            return s;
+        }
         if (t) {
             p->marks[2 * STA_PASS_VOLUMETRIC] -= before; // mark and overlay together
         }
