@@ -22,6 +22,13 @@ int hpr_sector(ivec2 v2)
     return v2.y > 0 ? 3 : 5;
 }
 
+// True when a texel holds a point that closes sectors: drawn (w > 0.5) and not marked
+// as a volumetric class (w = STA_POSITION_W_MARKED; twin: sta_position_occludes).
+bool hpr_occludes(float w)
+{
+    return w > 0.5 && w < STA_POSITION_W_OCCLUDER_MAX;
+}
+
 // The pixel's own point, or for background the point at depth far_m on its ray.
 vec3 hpr_centre_point(vec4 own, ivec2 p, ivec2 size, vec2 tan_half, float far_m)
 {

@@ -38,6 +38,7 @@ uniform float u_far;        // depth of background pixels, metres
 uniform float u_threshold;
 uniform float u_radius_k;   // K of eq. 1: the neighbourhood radius is K / z pixels
 uniform float u_gap;       // sta_hpr_occluder_gap_m: occluders lie this much nearer
+uniform float u_marked_reach; // sta_hpr_marked_reach_px_m: a marked point's reach times depth
 uniform vec2 u_scale;       // pixels per unit of x / d and y / d: size / (2 tan)
 #ifdef HPR_ANCHORS
 uniform int u_anchor_stride; // sta_hpr_anchor_stride
@@ -50,7 +51,9 @@ const ivec2 RING[8] = ivec2[8](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(
 // position is one sector, as in the paper's Figure 3). Ring candidates of levels >= 1
 // (`cut`) whose points land farther than the cut radius (squared: cut2) from pixel p's
 // centre are dropped, which makes the decision per pixel rather than per block, and so
-// are neighbours not nearer than `limit` (the centre's depth less the occluder gap).
+// are neighbours not nearer than `limit` (the centre's depth less the occluder gap), and
+// marked points (volumetric classes) landing beyond their reach, u_marked_reach / depth
+// pixels: scattered returns hide what lies right behind them, their gaps are no surface.
 void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, float limit,
                    inout vec4 min_lo, inout vec4 min_hi)
 {
@@ -61,6 +64,10 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, fl
     precise float vx = y.x * inv * u_scale.x + 0.5 * float(u_size.x) - (float(p.x) + 0.5);
     precise float vy = y.y * inv * u_scale.y + 0.5 * float(u_size.y) - (float(p.y) + 0.5);
     precise float dist2 = vx * vx + vy * vy;
+    precise float reach = u_marked_reach * inv;
+    if (!hpr_occludes(y.w) && !(dist2 <= reach * reach)) {
+        return;
+    }
     float value;
     if ((!cut || dist2 <= cut2) && hpr_occlusion(x, y.xyz, value)) {
         hpr_lower_sector(hpr_sector(2 * ring), value, min_lo, min_hi);

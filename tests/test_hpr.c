@@ -1170,6 +1170,115 @@ static void occluder_gap_keeps_noisy_surfaces(void **state)
     sta_image_release(&noisy);
 }
 
+// Scene of marked_points_hide_only_nearby: a dense wall at 10 m on the left (x < 100),
+// sky on the right; a sparse canopy of marked points (volumetric class) at 4 m every 8
+// px; a dense marked cluster over the wall at [16, 44)^2 with a wall point every 4 px
+// seen through it; a dense near surface (unmarked, 2 m) at [56, 84)^2 with a marked
+// point every 4 px seen through it.
+enum marked_kind {
+    M_WALL,
+    M_CANOPY,
+    M_CLUSTER_WALL,
+    M_PATCH_MARKED,
+    M_SKY,
+    M_OTHER
+};
+
+static bool in_square(int x, int y, int lo, int hi)
+{
+    return x >= lo && x < hi && y >= lo && y < hi;
+}
+
+static enum marked_kind marked_point(const sta_view_params *view, sta_image *position, int x, int y)
+{
+    bool grid4 = x % 4 == 0 && y % 4 == 0;
+    float *p = sta_image_at(position, x, y);
+    if (in_square(x, y, 56, 84)) {
+        set_point(view, position, x, y, grid4 ? 4.0f : 2.0f);
+        p[3] = grid4 ? STA_POSITION_W_MARKED : 1.0f;
+        return grid4 && in_square(x, y, 60, 80) ? M_PATCH_MARKED : M_OTHER;
+    }
+    if (in_square(x, y, 16, 44)) {
+        set_point(view, position, x, y, grid4 ? 10.0f : 4.0f);
+        p[3] = grid4 ? 1.0f : STA_POSITION_W_MARKED;
+        return grid4 && in_square(x, y, 20, 40) ? M_CLUSTER_WALL : M_OTHER;
+    }
+    bool canopy = x % 8 == 4 && y % 8 == 4 && x >= 8 && x < 152 && y >= 8 && y < 112;
+    if (canopy) {
+        set_point(view, position, x, y, 4.0f);
+        p[3] = STA_POSITION_W_MARKED;
+        bool clear = !in_square(x, y, 12, 48) && !in_square(x, y, 52, 88);
+        return clear ? M_CANOPY : M_OTHER;
+    }
+    if (x < 100) {
+        set_point(view, position, x, y, 10.0f);
+        bool clear = !in_square(x, y, 12, 48) && !in_square(x, y, 52, 88) && x >= 4 && y >= 4 &&
+                     x < 96 && y < 116;
+        return clear ? M_WALL : M_OTHER;
+    }
+    p[0] = p[1] = p[2] = p[3] = 0.0f;
+    return x >= 108 && x < 152 && y >= 8 && y < 112 ? M_SKY : M_OTHER;
+}
+
+// Marked points (position w = STA_POSITION_W_MARKED, a volumetric class) are labelled
+// like any point but close a sector only within STA_HPR_MARKED_REACH_S0 s0 of the pixel:
+// a wall behind a sparse canopy stays visible (with an unlimited reach, the rule before,
+// it is hidden), a wall point seen through a dense marked cluster is still hidden, a
+// marked point behind a dense surface is hidden, and the sky between canopy points is
+// background, not a hole to fill. Shader and twin agree label for label.
+static void marked_points_hide_only_nearby(void **state)
+{
+    (void)state;
+    sta_view_params view = make_view(160, 120);
+    view.s0 = 0.01f; // the reach at 4 m: 8 s0 = 2.8 px
+    // A neighbourhood of 30 s0 (10.6 px at 4 m, candidates up to twice that), so that
+    // the canopy's points 8 px apart would close every sector of the wall behind.
+    sta_image position;
+    new_image(&position, 160, 120, 4);
+    unsigned char *kind = sta_alloc_array(160 * 120, 1);
+    assert_non_null(kind);
+    for (int y = 0; y < 120; y++) {
+        for (int x = 0; x < 160; x++) {
+            kind[y * 160 + x] = (unsigned char)marked_point(&view, &position, x, y);
+        }
+    }
+    sta_hpr_params wide = { .s_hpr = 30.0f * view.s0 };
+    sta_hpr_params unlimited = { .s_hpr = wide.s_hpr, .marked_reach_s0 = -1.0f };
+    both_result rule, before;
+    assert_int_equal(run_both("marked", &view, &wide, &position, -1, &rule), 0);
+    assert_int_equal(run_both("marked, any reach", &view, &unlimited, &position, -1, &before), 0);
+    int count[M_OTHER] = { 0 }, want[M_OTHER] = { 0 }, before_want[M_OTHER] = { 0 };
+    const float expect[M_OTHER] = { STA_LABEL_VISIBLE, STA_LABEL_VISIBLE, STA_LABEL_HIDDEN,
+                                    STA_LABEL_HIDDEN, STA_LABEL_BACKGROUND };
+    for (int i = 0; i < 160 * 120; i++) {
+        if (kind[i] == M_OTHER) {
+            continue;
+        }
+        count[kind[i]]++;
+        want[kind[i]] += rule.pyramid_label.data[i] == expect[kind[i]];
+        before_want[kind[i]] += before.pyramid_label.data[i] == expect[kind[i]];
+    }
+    const char *names[M_OTHER] = { "wall behind canopy visible", "canopy visible",
+                                   "wall in cluster hidden", "marked behind surface hidden",
+                                   "sky between canopy background" };
+    for (int k = 0; k < M_OTHER; k++) {
+        printf("%-32s %4d of %4d (any reach: %4d)\n", names[k], want[k], count[k], before_want[k]);
+        assert_true(count[k] > 0);
+    }
+    // Every wall point and canopy point visible, every sky pixel background; the
+    // cluster's wall points and the marked points behind the surface hidden.
+    for (int k = 0; k < M_OTHER; k++) {
+        assert_int_equal(want[k], count[k]);
+    }
+    // Before the rule the canopy hid most of the wall and closed the sky.
+    assert_true(before_want[M_WALL] < count[M_WALL] / 2);
+    assert_true(before_want[M_SKY] < count[M_SKY] / 2);
+    both_release(&rule);
+    both_release(&before);
+    sta_image_release(&position);
+    sta_free(kind);
+}
+
 static void allocation_failures_are_clean(void **state)
 {
     (void)state;
@@ -1245,6 +1354,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(surfaces_fill_to_the_image_edge, setup, teardown),
     cmocka_unit_test_setup_teardown(gaps_have_no_block_edges, setup, teardown),
     cmocka_unit_test_setup_teardown(occluder_gap_keeps_noisy_surfaces, setup, teardown),
+    cmocka_unit_test_setup_teardown(marked_points_hide_only_nearby, setup, teardown),
     cmocka_unit_test(allocation_failures_are_clean),
     cmocka_unit_test_setup_teardown(bad_arguments_are_refused, setup, teardown),
 };

@@ -26,6 +26,16 @@ void sta_hpr_params_defaults(sta_hpr_params *config)
     if (config->occluder_gap_s0 == 0.0f) {
         config->occluder_gap_s0 = STA_HPR_OCCLUDER_GAP_S0;
     }
+    if (config->marked_reach_s0 == 0.0f) {
+        config->marked_reach_s0 = STA_HPR_MARKED_REACH_S0;
+    }
+}
+
+float sta_hpr_marked_reach_px_m(const sta_view_params *view, const sta_hpr_params *resolved)
+{
+    float scale_y = 0.5f * (float)view->height_px / tanf(0.5f * view->fov_y);
+    float reach = resolved->marked_reach_s0 * view->s0 * scale_y;
+    return resolved->marked_reach_s0 > 0.0f && reach > 0.0f && isfinite(reach) ? reach : FLT_MAX;
 }
 
 float sta_hpr_occluder_gap_m(const sta_view_params *view, const sta_hpr_params *resolved)
@@ -296,6 +306,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
     sta_hpr_level_depths(view, &p, level_count, level_depth);
     float radius_k = sta_hpr_radius_k(view, &p);
     float gap_m = sta_hpr_occluder_gap_m(view, &p);
+    float marked_reach = sta_hpr_marked_reach_px_m(view, &p);
     // Level 1 at least (coarse_level >= 1 and level_count >= 2).
     int coarse = p.coarse_level < level_count - 1 ? p.coarse_level : level_count - 1;
     for (int py = 0; py < f.height; py++) {
@@ -354,6 +365,12 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                         }
                         float dist2 = v[0] * v[0] + v[1] * v[1];
                         if (k > 0 && dist2 > cut2) {
+                            continue;
+                        }
+                        // A marked point (scattered returns) occludes only near its own
+                        // position on screen: the gaps between such points are no surface.
+                        float reach = marked_reach * (1.0f / -y[2]);
+                        if (!sta_position_occludes(y[3]) && !(dist2 <= reach * reach)) {
                             continue;
                         }
                         // Each ring position is its own sector (Figure 3's colours). The
