@@ -64,9 +64,11 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, fl
     precise float vx = y.x * inv * u_scale.x + 0.5 * float(u_size.x) - (float(p.x) + 0.5);
     precise float vy = y.y * inv * u_scale.y + 0.5 * float(u_size.y) - (float(p.y) + 0.5);
     precise float dist2 = vx * vx + vy * vy;
-    precise float reach = u_marked_reach * inv;
-    if (!hpr_occludes(y.w) && !(dist2 <= reach * reach)) {
-        return;
+    if (!hpr_occludes(y.w)) {
+        precise float reach = u_marked_reach * inv;
+        if (!(dist2 <= reach * reach)) {
+            return;
+        }
     }
     float value;
     if ((!cut || dist2 <= cut2) && hpr_occlusion(x, y.xyz, value)) {
