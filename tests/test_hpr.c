@@ -1273,6 +1273,26 @@ static void marked_points_hide_only_nearby(void **state)
     // Before the rule the canopy hid most of the wall and closed the sky.
     assert_true(before_want[M_WALL] < count[M_WALL] / 2);
     assert_true(before_want[M_SKY] < count[M_SKY] / 2);
+    // The sparse operator's anchor and refinement programs apply the rule too: the
+    // GPU's sparse labels are the twin's copy steps over the GPU's full labels, and the
+    // wall behind the canopy stays visible there as well.
+    sta_image full, sparse, expected;
+    gpu_pyramid(&view, &wide, &position, &full, NULL);
+    assert_memory_equal(full.data, rule.pyramid_label.data, sizeof(float) * 160 * 120);
+    sta_hpr_params wide_sparse = wide;
+    wide_sparse.sparse = true;
+    gpu_pyramid(&view, &wide_sparse, &position, &sparse, NULL);
+    new_image(&expected, 160, 120, 1);
+    sta_hpr_ref_sparse_labels(&position, &full, &expected);
+    assert_memory_equal(expected.data, sparse.data, sizeof(float) * 160 * 120);
+    for (int i = 0; i < 160 * 120; i++) {
+        if (kind[i] == M_WALL) {
+            assert_true(sparse.data[i] == STA_LABEL_VISIBLE);
+        }
+    }
+    sta_image_release(&full);
+    sta_image_release(&sparse);
+    sta_image_release(&expected);
     both_release(&rule);
     both_release(&before);
     sta_image_release(&position);
