@@ -76,6 +76,20 @@
  * (canopy) hide what lies right behind them, but the gaps between them are no surface
  * (issue 15, fourteenth round, docs/HPR.md). */
 #define STA_HPR_MARKED_REACH_S0      8.0f
+/* Pyramidal operator, own-surface rule: a point whose direct neighbours (at least
+ * STA_HPR_SURFACE_MIN_POINTS of the 8, spread so that the least-squares system's
+ * determinant is at least STA_HPR_SURFACE_MIN_DET px^4) fit a plane through it, in
+ * inverse depth over the screen, within STA_HPR_SURFACE_FIT_S0 s0 (root of the summed
+ * squared residuals) lies on a surface; a neighbour then closes a sector only when it
+ * lies nearer than that surface where it lands by more than
+ * STA_HPR_SURFACE_FRONT_SHARE times that tolerance. Along a facade seen at a grazing
+ * angle the facade's own nearer points no longer hide it. 6 s0 / 3 s0 from a sweep
+ * (1.5 ... 48 s0) on the street: F1 rises up to 12 s0 and flattens, the bunny's far
+ * view loses from 8 s0 on (issue 15, fourteenth round, second part, docs/HPR.md). */
+#define STA_HPR_SURFACE_FIT_S0       6.0f
+#define STA_HPR_SURFACE_FRONT_SHARE  0.5f
+#define STA_HPR_SURFACE_MIN_POINTS   5
+#define STA_HPR_SURFACE_MIN_DET      1.0f
 
 /* The sparse operator's anchor stride for a view `height_px` pixels high (above). */
 static inline int sta_hpr_anchor_stride(int height_px)
@@ -104,6 +118,9 @@ typedef struct sta_hpr_params {
                               occludes only within this many s0 of the pixel's centre;
                               0: STA_HPR_MARKED_REACH_S0; < 0: at any distance, as an
                               unmarked point. The exhaustive operator has no reach */
+    float surface_fit_s0;  /* pyramidal operator: the own-surface tolerance in s0 (above);
+                              0: STA_HPR_SURFACE_FIT_S0; < 0: off (a neighbour is compared
+                              with the pixel's depth only). The exhaustive operator has none */
     bool sparse;           /* pyramidal operator on the even (x, y) anchors, the other pixels
                               copy agreeing anchors or are refined (sta_hpr_ref_sparse_labels);
                               false (default): every pixel */
@@ -129,6 +146,10 @@ float sta_hpr_occluder_gap_m(const sta_view_params *view, const sta_hpr_params *
  * reaches this / d pixels. FLT_MAX when the reach is off (negative) or s0 is not
  * positive. */
 float sta_hpr_marked_reach_px_m(const sta_view_params *view, const sta_hpr_params *resolved);
+
+/* The own-surface tolerance in metres (surface_fit_s0 * view->s0); 0 when the rule is
+ * off (negative) or s0 is not positive. */
+float sta_hpr_surface_tol_m(const sta_view_params *view, const sta_hpr_params *resolved);
 
 /* Number of pyramid levels for a width x height image, level 0 (the image) included:
  * max(2, 1 + ceil(log2(max(width, height)))), so the last level is 1 x 1 and level 1
