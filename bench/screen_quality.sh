@@ -5,8 +5,12 @@
 # surface, strata-bench's depth_sampled_*; and over those with window glass accepted as a
 # surface, depth_glass_*) and pyramidal normal median / p95 on the three street
 # views (960x540, 2 M points, seed 1) and two orbit views of sphere, nested and the
-# bunny (640x480, 200 k points, seed 1). One line per view; errors are deterministic on
-# llvmpipe, so two builds are compared by running the script once per build.
+# bunny (640x480, 200 k points, seed 1); since issue 15's fourteenth round also the F1
+# under the face rule and the face and glass rules (hpr_face_f1, hpr_face_glass_f1) and
+# the normals under the face rule (normal_face_*; docs/BENCH.md). strata-bench runs the
+# viewer's volumetric classes; EXTRA=--fill-every-class gives the measure before. One
+# line per view; errors are deterministic on llvmpipe, so two builds are compared by
+# running the script once per build.
 # usage: bench/screen_quality.sh [BUILD=build/release] [LABEL]
 #   (EXTRA: more strata-bench options; BENCH_DIR: work folder, default /tmp/strata-quality;
 #    BUNNY: the bunny PLY, default ../shared/data/models/bun_zipper.ply)
@@ -39,10 +43,12 @@ run() { # scene, views option, size
     awk -F, -v label="$label" -v scene="$1" '
         NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
         { glass = ("depth_glass_rel_p95" in col) ? sprintf("%.2f %%", 100 * $col["depth_glass_rel_p95"]) : "n/a"
-          printf "%s %s view %s: F1 %.4f depth p95 %.2f %% (sampled %.2f %%, glass rule %s) normals %.2f / %.1f deg\n",
-              label, scene, $col["camera"], $col["hpr_f1"], 100 * $col["depth_rel_p95"],
+          face_f1 = ("hpr_face_f1" in col) ? sprintf("%.4f / %.4f", $col["hpr_face_f1"], $col["hpr_face_glass_f1"]) : "n/a"
+          face_n = ("normal_face_p95_deg" in col) ? sprintf("%.2f / %.1f", $col["normal_face_median_deg"], $col["normal_face_p95_deg"]) : "n/a"
+          printf "%s %s view %s: F1 %.4f (face rule, + glass: %s) depth p95 %.2f %% (sampled %.2f %%, glass rule %s) normals %.2f / %.1f deg (face rule %s)\n",
+              label, scene, $col["camera"], $col["hpr_f1"], face_f1, 100 * $col["depth_rel_p95"],
               100 * $col["depth_sampled_rel_p95"], glass,
-              $col["normal_median_deg"], $col["normal_p95_deg"] }' "$out/results.csv"
+              $col["normal_median_deg"], $col["normal_p95_deg"], face_n }' "$out/results.csv"
 }
 run street "--street 3" 960x540
 for scene in sphere nested bunny; do

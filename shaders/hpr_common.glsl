@@ -22,6 +22,13 @@ int hpr_sector(ivec2 v2)
     return v2.y > 0 ? 3 : 5;
 }
 
+// True when a texel holds a point that closes sectors: drawn (w > 0.5) and not marked
+// as a volumetric class (w = STA_POSITION_W_MARKED; twin: sta_position_occludes).
+bool hpr_occludes(float w)
+{
+    return w > 0.5 && w < STA_POSITION_W_OCCLUDER_MAX;
+}
+
 // The pixel's own point, or for background the point at depth far_m on its ray.
 vec3 hpr_centre_point(vec4 own, ivec2 p, ivec2 size, vec2 tan_half, float far_m)
 {
@@ -52,6 +59,54 @@ bool hpr_occlusion(vec3 x, vec3 y, out float value)
     precise float v = 1.0 - c * (1.0 / sqrt(dd)) * (1.0 / sqrt(yy));
     value = v;
     return true;
+}
+
+// The pixel's own surface (twin: own_surface, fit_own_surface): a plane through its
+// point in inverse depth over the screen, d0 / d = 1 + g . (v - v0), fitted by least
+// squares to its direct neighbours. sums: dx dx, dx dy, dy dy, dx dw, dy dw, dw dw over
+// n neighbours (dx, dy: offset from the point on screen, dw: d0 / d - 1). `ok` when they
+// fit within tol_m (root of the summed squared residuals); an occluder must then lie
+// front_m = STA_HPR_SURFACE_FRONT_SHARE tol_m in front of the surface (docs/HPR.md).
+struct HprSurface {
+    bool ok;
+    vec2 v0;
+    vec2 g;
+    float d0;
+    float tol_m;
+    float front_m;
+};
+
+HprSurface hpr_surface_solve(vec2 v0, float d0, float tol_m, int n, float sums[6])
+{
+    HprSurface s;
+    s.ok = false;
+    s.v0 = v0;
+    s.g = vec2(0.0);
+    s.d0 = d0;
+    s.tol_m = tol_m;
+    s.front_m = STA_HPR_SURFACE_FRONT_SHARE * tol_m;
+    precise float det = sums[0] * sums[2] - sums[1] * sums[1];
+    if (n < STA_HPR_SURFACE_MIN_POINTS || !(det >= STA_HPR_SURFACE_MIN_DET)) {
+        return s;
+    }
+    precise float gx = (sums[2] * sums[3] - sums[1] * sums[4]) / det;
+    precise float gy = (sums[0] * sums[4] - sums[1] * sums[3]) / det;
+    precise float ssr = sums[5] - gx * sums[3] - gy * sums[4];
+    precise float tol = tol_m / d0;
+    s.g = vec2(gx, gy);
+    s.ok = ssr <= tol * tol;
+    return s;
+}
+
+// True when a point at depth d landing at v (pixels from the pixel's centre) lies nearer
+// than the surface there by more than its tolerance, or where the surface does not reach
+// (inverse depth not positive). Twin: in_front_of_surface.
+bool hpr_in_front_of_surface(HprSurface s, float d, float vx, float vy)
+{
+    precise float w = 1.0 + s.g.x * (vx - s.v0.x) + s.g.y * (vy - s.v0.y);
+    precise float lhs = d * w;
+    precise float rhs = s.d0 - s.front_m * w;
+    return !(w > 0.0) || lhs < rhs; // d < d0 / w - front_m, without a division
 }
 
 // The label from the point flag and the mean of the 8 sector minima.

@@ -5,7 +5,9 @@
 // level 0..level, keeps the least occlusion value per sector and compares their mean
 // with the threshold. Ring candidates farther than STA_HPR_CUT_FACTOR K / z pixels are
 // dropped, and for empty pixels sectors with ring texels outside the image that nothing
-// closes are left out of the mean (docs/HPR.md). Twin: sta_hpr_ref_pyramid_labels.
+// closes are left out of the mean (docs/HPR.md). A point whose direct neighbours fit a
+// plane through it (its own surface) is hidden only by candidates in front of that
+// surface (the own-surface rule, fit_own_surface). Twin: sta_hpr_ref_pyramid_labels.
 //
 // Early exit: the sector minima only fall as neighbours are added, so once a pixel's
 // mean is below its bound (HIDDEN or HOLE) no further level can open it again; the
@@ -41,7 +43,9 @@ uniform float u_far;        // depth of background pixels, metres
 uniform float u_threshold;
 uniform float u_radius_k;   // K of eq. 1: the neighbourhood radius is K / z pixels
 uniform float u_gap;       // sta_hpr_occluder_gap_m: occluders lie this much nearer
+uniform float u_marked_reach; // sta_hpr_marked_reach_px_m: a marked point's reach times depth
 uniform vec2 u_scale;       // pixels per unit of x / d and y / d: size / (2 tan)
+uniform float u_surface_tol; // sta_hpr_surface_tol_m: own-surface tolerance, 0: rule off
 #ifdef HPR_ANCHORS
 uniform int u_anchor_stride; // sta_hpr_anchor_stride
 #endif
@@ -49,11 +53,17 @@ uniform int u_anchor_stride; // sta_hpr_anchor_stride
 const ivec2 RING[8] = ivec2[8](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-1, 0),
                                ivec2(1, 0), ivec2(-1, 1), ivec2(0, 1), ivec2(1, 1));
 
+// The pixel's own surface (fit_own_surface), while the own-surface rule applies.
+HprSurface g_surface;
+
 // Lowers the sector minima by neighbour y at ring offset `ring` (its sector: each ring
 // position is one sector, as in the paper's Figure 3). Ring candidates of levels >= 1
 // (`cut`) whose points land farther than the cut radius (squared: cut2) from pixel p's
 // centre are dropped, which makes the decision per pixel rather than per block, and so
-// are neighbours not nearer than `limit` (the centre's depth less the occluder gap).
+// are neighbours not nearer than `limit` (the centre's depth less the occluder gap), and
+// marked points (volumetric classes) landing beyond their reach, u_marked_reach / depth
+// pixels: scattered returns hide what lies right behind them, their gaps are no surface.
+// On the pixel's own surface (g_surface.ok) a neighbour must lie in front of that surface.
 void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, float limit,
                    inout vec4 min_lo, inout vec4 min_hi)
 {
@@ -64,10 +74,63 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, fl
     precise float vx = y.x * inv * u_scale.x + 0.5 * float(u_size.x) - (float(p.x) + 0.5);
     precise float vy = y.y * inv * u_scale.y + 0.5 * float(u_size.y) - (float(p.y) + 0.5);
     precise float dist2 = vx * vx + vy * vy;
+    if (!hpr_occludes(y.w)) {
+        precise float reach = u_marked_reach * inv;
+        if (!(dist2 <= reach * reach)) {
+            return;
+        }
+    }
     float value;
-    if ((!cut || dist2 <= cut2) && hpr_occlusion(x, y.xyz, value)) {
+    if ((!cut || dist2 <= cut2) &&
+        !(g_surface.ok && !hpr_in_front_of_surface(g_surface, -y.z, vx, vy)) &&
+        hpr_occlusion(x, y.xyz, value)) {
         hpr_lower_sector(hpr_sector(2 * ring), value, min_lo, min_hi);
     }
+}
+
+// Where point y lands, in pixels from pixel p's centre (y in front of the eye).
+vec2 screen_offset(vec4 y, ivec2 p)
+{
+    precise float inv = 1.0 / -y.z;
+    precise float vx = y.x * inv * u_scale.x + 0.5 * float(u_size.x) - (float(p.x) + 0.5);
+    precise float vy = y.y * inv * u_scale.y + 0.5 * float(u_size.y) - (float(p.y) + 0.5);
+    return vec2(vx, vy);
+}
+
+// The pixel's own surface from its 8 direct neighbours (hpr_surface_solve); not ok for
+// an empty pixel, a marked point or with the rule off. Twin: fit_own_surface.
+HprSurface fit_own_surface(vec4 own, ivec2 p)
+{
+    float d0 = -own.z;
+    bool on = u_surface_tol > 0.0 && hpr_occludes(own.w) && d0 > 0.0;
+    vec2 v0 = on ? screen_offset(own, p) : vec2(0.0);
+    precise float sums[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    int n = 0;
+    for (int i = 0; i < 8 && on; i++) {
+        ivec2 q = p + RING[i];
+        if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, u_size))) {
+            continue;
+        }
+        vec4 y = imageLoad(u_position, q);
+        if (!hpr_occludes(y.w) || !(-y.z > 0.0)) {
+            continue;
+        }
+        vec2 v = screen_offset(y, p);
+        precise float dx = v.x - v0.x;
+        precise float dy = v.y - v0.y;
+        precise float dw = d0 * (1.0 / -y.z) - 1.0;
+        sums[0] += dx * dx;
+        sums[1] += dx * dy;
+        sums[2] += dy * dy;
+        sums[3] += dx * dw;
+        sums[4] += dy * dw;
+        sums[5] += dw * dw;
+        n++;
+    }
+    if (!on) {
+        n = 0;
+    }
+    return hpr_surface_solve(v0, d0, u_surface_tol, n, sums);
 }
 
 void main()
@@ -113,6 +176,7 @@ void main()
     vec4 own = imageLoad(u_position, p);
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
     precise float limit = -x.z - u_gap;
+    g_surface = fit_own_surface(own, p);
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
     int outside = 0; // sectors with ring texels outside the image within the reach
     bool is_point = own.w > 0.5;

@@ -1126,9 +1126,9 @@ static void coincident_points_are_skipped(void **state)
 
 // A plane seen at a grazing angle (tilted 80 deg) whose points are moved along their
 // rays by up to +-0.5 s0 (the depth noise of a scanned road seen from eye height), on
-// 60 % of the pixels. The paper's operator hides points behind their own surface's
-// neighbours a few centimetres nearer; with the occluder gap (1.5 s0) every point stays
-// visible.
+// 60 % of the pixels. The paper's operator (no gap, no own-surface rule) hides points
+// behind their own surface's neighbours a few centimetres nearer; with the occluder gap
+// (1.5 s0) every point stays visible.
 static void occluder_gap_keeps_noisy_surfaces(void **state)
 {
     (void)state;
@@ -1149,7 +1149,7 @@ static void occluder_gap_keeps_noisy_surfaces(void **state)
             }
         }
     }
-    sta_hpr_params paper = { .occluder_gap_s0 = -1.0f };
+    sta_hpr_params paper = { .occluder_gap_s0 = -1.0f, .surface_fit_s0 = -1.0f };
     both_result off, on;
     assert_int_equal(run_both("noisy, no gap", &view, &paper, &noisy, -1, &off), 0);
     assert_int_equal(run_both("noisy, gap", &view, NULL, &noisy, -1, &on), 0);
@@ -1188,6 +1188,243 @@ static void occluder_gap_keeps_noisy_surfaces(void **state)
     sta_image_release(&layered);
     sta_image_release(&plane);
     sta_image_release(&noisy);
+}
+
+// Scene of marked_points_hide_only_nearby: a dense wall at 10 m on the left (x < 100),
+// sky on the right; a sparse canopy of marked points (volumetric class) at 4 m every 8
+// px; a dense marked cluster over the wall at [16, 44)^2 with a wall point every 4 px
+// seen through it; a dense near surface (unmarked, 2 m) at [56, 84)^2 with a marked
+// point every 4 px seen through it.
+enum marked_kind {
+    M_WALL,
+    M_CANOPY,
+    M_CLUSTER_WALL,
+    M_PATCH_MARKED,
+    M_SKY,
+    M_OTHER
+};
+
+static bool in_square(int x, int y, int lo, int hi)
+{
+    return x >= lo && x < hi && y >= lo && y < hi;
+}
+
+static enum marked_kind marked_point(const sta_view_params *view, sta_image *position, int x, int y)
+{
+    bool grid4 = x % 4 == 0 && y % 4 == 0;
+    float *p = sta_image_at(position, x, y);
+    if (in_square(x, y, 56, 84)) {
+        set_point(view, position, x, y, grid4 ? 4.0f : 2.0f);
+        p[3] = grid4 ? STA_POSITION_W_MARKED : 1.0f;
+        return grid4 && in_square(x, y, 60, 80) ? M_PATCH_MARKED : M_OTHER;
+    }
+    if (in_square(x, y, 16, 44)) {
+        set_point(view, position, x, y, grid4 ? 10.0f : 4.0f);
+        p[3] = grid4 ? 1.0f : STA_POSITION_W_MARKED;
+        return grid4 && in_square(x, y, 20, 40) ? M_CLUSTER_WALL : M_OTHER;
+    }
+    bool canopy = x % 8 == 4 && y % 8 == 4 && x >= 8 && x < 152 && y >= 8 && y < 112;
+    if (canopy) {
+        set_point(view, position, x, y, 4.0f);
+        p[3] = STA_POSITION_W_MARKED;
+        bool clear = !in_square(x, y, 12, 48) && !in_square(x, y, 52, 88);
+        return clear ? M_CANOPY : M_OTHER;
+    }
+    if (x < 100) {
+        set_point(view, position, x, y, 10.0f);
+        bool clear = !in_square(x, y, 12, 48) && !in_square(x, y, 52, 88) && x >= 4 && y >= 4 &&
+                     x < 96 && y < 116;
+        return clear ? M_WALL : M_OTHER;
+    }
+    p[0] = p[1] = p[2] = p[3] = 0.0f;
+    return x >= 108 && x < 152 && y >= 8 && y < 112 ? M_SKY : M_OTHER;
+}
+
+// A plane seen at a grazing angle, points on 60 % of its pixels moved along their rays
+// by up to +-NOISE s0: the coarse rings bring the plane's own nearer points (the nearest
+// of each block) to every pixel, and with the occluder gap alone part of the plane is
+// hidden; with the own-surface rule every point stays visible. A real occluder still
+// hides it: a fronto-parallel square 1 m nearer on every other pixel of its footprint
+// (a wire mesh in front of a facade) hides all the plane's points behind it.
+#define GRAZING_WALL_X_M 1.0f  /* the wall: the plane x = -1 m, along the view direction */
+#define GRAZING_FAR_M    40.0f /* no points beyond (it would reach the horizon) */
+#define GRAZING_NOISE_S0 0.5f  /* depth noise, +- this many s0 along the ray */
+#define GRAZING_POLE_X   40    /* the pole's column (the wall 3.5 m away there) */
+
+// Depth of the wall x = -GRAZING_WALL_X_M on pixel column px's rays; 0 where it misses.
+static float wall_depth(const sta_view_params *view, int px)
+{
+    float tan_x = tanf(0.5f * view->fov_y) * (float)view->width_px / (float)view->height_px;
+    float ndc_x = ((float)px + 0.5f) / (float)view->width_px * 2.0f - 1.0f;
+    float d = ndc_x < 0.0f ? GRAZING_WALL_X_M / (-ndc_x * tan_x) : 0.0f;
+    return d <= GRAZING_FAR_M ? d : 0.0f;
+}
+
+// Hidden points among the wall's points (position w = 1 and depth within 0.5 m of the
+// wall) in columns [x0, x1) and rows 8..111.
+static int wall_hidden(const sta_view_params *view, const sta_image *scene, const sta_image *label,
+                       int x0, int x1, int *points)
+{
+    int hidden = 0;
+    *points = 0;
+    for (int y = 8; y < 112; y++) {
+        for (int x = x0; x < x1; x++) {
+            const float *p = sta_image_at(scene, x, y);
+            if (p[3] > 0.5f && fabsf(-p[2] - wall_depth(view, x)) < 0.5f) {
+                (*points)++;
+                hidden += *sta_image_at(label, x, y) == STA_LABEL_HIDDEN;
+            }
+        }
+    }
+    return hidden;
+}
+
+// A wall along the view direction (seen at a grazing angle, as the street's facades),
+// a point on every pixel moved along its ray by up to +-GRAZING_NOISE_S0 s0, and a pole
+// 1 m in front of it (every other pixel of one column). With the occluder gap alone the
+// wall's points on the pole's near side are hidden: the pole closes the sectors towards
+// it, the wall's own nearer points (the nearest of each coarse block) all the others.
+// With the own-surface rule those points stay visible. A real occluder still hides the
+// wall: a square 1 m in front of it on every other pixel (a wire mesh) hides every wall
+// point between its points. Shader and twin agree label for label.
+static void own_surface_keeps_grazing_planes(void **state)
+{
+    (void)state;
+    sta_view_params view = make_view(160, 120);
+    sta_image scene;
+    new_image(&scene, 160, 120, 4);
+    rng_state = 7;
+    for (int y = 0; y < 120; y++) {
+        for (int x = 0; x < 160; x++) {
+            float noise = (float)(rng_uniform() - 0.5) * 2.0f * GRAZING_NOISE_S0 * view.s0;
+            float d = wall_depth(&view, x);
+            if (x == GRAZING_POLE_X && y % 2 == 0) {
+                set_point(&view, &scene, x, y, d - 1.0f);
+            } else if (d > 0.0f) {
+                set_point(&view, &scene, x, y, d + noise);
+            }
+        }
+    }
+    sta_hpr_params gap_only = { .surface_fit_s0 = -1.0f };
+    both_result off, on;
+    assert_int_equal(run_both("pole, gap only", &view, &gap_only, &scene, -1, &off), 0);
+    assert_int_equal(run_both("pole, own surface", &view, NULL, &scene, -1, &on), 0);
+    int near_side, all;
+    int hidden_off = wall_hidden(&view, &scene, &off.pyramid_label, GRAZING_POLE_X - 6,
+                                 GRAZING_POLE_X - 1, &near_side);
+    int hidden_on = wall_hidden(&view, &scene, &on.pyramid_label, GRAZING_POLE_X - 6,
+                                GRAZING_POLE_X - 1, &near_side);
+    int hidden_all = wall_hidden(&view, &scene, &on.pyramid_label, 0, 160, &all);
+    printf("wall beside the pole (2-6 px on its near side), %d points: %d hidden with the gap "
+           "alone, %d with the own surface (%d of all %d wall points)\n",
+           near_side, hidden_off, hidden_on, hidden_all, all);
+    assert_true(hidden_off > near_side / 2); // the defect the rule removes is there
+    assert_int_equal(hidden_on, 0);
+    both_release(&off);
+    both_release(&on);
+
+    // The mesh: x in [44, 60) (the wall 4.0 ... 7.3 m away), y in [40, 80), on the
+    // pixels with x + y even.
+    for (int y = 40; y < 80; y++) {
+        for (int x = 44; x < 60; x++) {
+            if ((x + y) % 2 == 0) {
+                set_point(&view, &scene, x, y, wall_depth(&view, x) - 1.0f);
+            }
+        }
+    }
+    assert_int_equal(run_both("mesh in front", &view, NULL, &scene, -1, &on), 0);
+    int behind = 0, behind_hidden = 0;
+    for (int y = 42; y < 78; y++) {
+        for (int x = 46; x < 58; x++) {
+            if ((x + y) % 2 == 1) {
+                behind++;
+                behind_hidden += *sta_image_at(&on.pyramid_label, x, y) == STA_LABEL_HIDDEN;
+            }
+        }
+    }
+    printf("mesh: %d of %d wall points behind it hidden\n", behind_hidden, behind);
+    assert_int_equal(behind_hidden, behind);
+    both_release(&on);
+    sta_image_release(&scene);
+}
+
+// Marked points (position w = STA_POSITION_W_MARKED, a volumetric class) are labelled
+// like any point but close a sector only within STA_HPR_MARKED_REACH_S0 s0 of the pixel:
+// a wall behind a sparse canopy stays visible (with an unlimited reach, the rule before,
+// it is hidden), a wall point seen through a dense marked cluster is still hidden, a
+// marked point behind a dense surface is hidden, and the sky between canopy points is
+// background, not a hole to fill. Shader and twin agree label for label.
+static void marked_points_hide_only_nearby(void **state)
+{
+    (void)state;
+    sta_view_params view = make_view(160, 120);
+    view.s0 = 0.01f; // the reach at 4 m: 8 s0 = 2.8 px
+    // A neighbourhood of 30 s0 (10.6 px at 4 m, candidates up to twice that), so that
+    // the canopy's points 8 px apart would close every sector of the wall behind.
+    sta_image position;
+    new_image(&position, 160, 120, 4);
+    unsigned char *kind = sta_alloc_array(160 * 120, 1);
+    assert_non_null(kind);
+    for (int y = 0; y < 120; y++) {
+        for (int x = 0; x < 160; x++) {
+            kind[y * 160 + x] = (unsigned char)marked_point(&view, &position, x, y);
+        }
+    }
+    sta_hpr_params wide = { .s_hpr = 30.0f * view.s0 };
+    sta_hpr_params unlimited = { .s_hpr = wide.s_hpr, .marked_reach_s0 = -1.0f };
+    both_result rule, before;
+    assert_int_equal(run_both("marked", &view, &wide, &position, -1, &rule), 0);
+    assert_int_equal(run_both("marked, any reach", &view, &unlimited, &position, -1, &before), 0);
+    int count[M_OTHER] = { 0 }, want[M_OTHER] = { 0 }, before_want[M_OTHER] = { 0 };
+    const float expect[M_OTHER] = { STA_LABEL_VISIBLE, STA_LABEL_VISIBLE, STA_LABEL_HIDDEN,
+                                    STA_LABEL_HIDDEN, STA_LABEL_BACKGROUND };
+    for (int i = 0; i < 160 * 120; i++) {
+        if (kind[i] == M_OTHER) {
+            continue;
+        }
+        count[kind[i]]++;
+        want[kind[i]] += rule.pyramid_label.data[i] == expect[kind[i]];
+        before_want[kind[i]] += before.pyramid_label.data[i] == expect[kind[i]];
+    }
+    const char *names[M_OTHER] = { "wall behind canopy visible", "canopy visible",
+                                   "wall in cluster hidden", "marked behind surface hidden",
+                                   "sky between canopy background" };
+    for (int k = 0; k < M_OTHER; k++) {
+        printf("%-32s %4d of %4d (any reach: %4d)\n", names[k], want[k], count[k], before_want[k]);
+        assert_true(count[k] > 0);
+    }
+    // Every wall point and canopy point visible, every sky pixel background; the
+    // cluster's wall points and the marked points behind the surface hidden.
+    for (int k = 0; k < M_OTHER; k++) {
+        assert_int_equal(want[k], count[k]);
+    }
+    // Before the rule the canopy hid most of the wall and closed the sky.
+    assert_true(before_want[M_WALL] < count[M_WALL] / 2);
+    assert_true(before_want[M_SKY] < count[M_SKY] / 2);
+    // The sparse operator's anchor and refinement programs apply the rule too: the
+    // GPU's sparse labels are the twin's copy steps over the GPU's full labels, and the
+    // wall behind the canopy stays visible there as well.
+    sta_image full, sparse, expected;
+    gpu_pyramid(&view, &wide, &position, &full, NULL);
+    assert_memory_equal(full.data, rule.pyramid_label.data, sizeof(float) * 160 * 120);
+    sta_hpr_params wide_sparse = wide;
+    wide_sparse.sparse = true;
+    gpu_pyramid(&view, &wide_sparse, &position, &sparse, NULL);
+    new_image(&expected, 160, 120, 1);
+    sta_hpr_ref_sparse_labels(&position, &full, &expected);
+    assert_memory_equal(expected.data, sparse.data, sizeof(float) * 160 * 120);
+    for (int i = 0; i < 160 * 120; i++) {
+        if (kind[i] == M_WALL) {
+            assert_true(sparse.data[i] == STA_LABEL_VISIBLE);
+        }
+    }
+    sta_image_release(&full);
+    sta_image_release(&sparse);
+    sta_image_release(&expected);
+    both_release(&rule);
+    both_release(&before);
+    sta_image_release(&position);
+    sta_free(kind);
 }
 
 static void allocation_failures_are_clean(void **state)
@@ -1265,6 +1502,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(surfaces_fill_to_the_image_edge, setup, teardown),
     cmocka_unit_test_setup_teardown(gaps_have_no_block_edges, setup, teardown),
     cmocka_unit_test_setup_teardown(occluder_gap_keeps_noisy_surfaces, setup, teardown),
+    cmocka_unit_test_setup_teardown(marked_points_hide_only_nearby, setup, teardown),
+    cmocka_unit_test_setup_teardown(own_surface_keeps_grazing_planes, setup, teardown),
     cmocka_unit_test(allocation_failures_are_clean),
     cmocka_unit_test_setup_teardown(bad_arguments_are_refused, setup, teardown),
 };

@@ -483,6 +483,13 @@ int main(int argc, char **argv)
           .help = "pyramidal normals gathered on every pixel instead of on a quarter of "
                   "them (a sixteenth from 1080 px high) and upsampled within each surface "
                   "(docs/PULLPUSH.md)" },
+        { .name = "fill-every-class",
+          .kind = STA_CLI_FLAG,
+          .dest = &o.fill_every_class,
+          .help = "no volumetric classes: fill and score every class (the measure before "
+                  "issue 15's fourteenth round); by default the viewer's classes 3-5 are drawn "
+                  "as points and their true surfaces left out of the fill metrics "
+                  "(fill_left_out; docs/BENCH.md)" },
         { .name = "smooth",
           .kind = STA_CLI_FLAG,
           .dest = &o.smooth,

@@ -14,6 +14,7 @@
 #include "bench/drawn_points.h"
 #include "bench/katz_local.h"
 #include "bench/metrics.h"
+#include "bench/pixel_masks.h"
 #include "bench/splat_score.h"
 #include "bench/view_eval.h"
 #include "core/alloc.h"
@@ -283,9 +284,9 @@ static void set_pipeline(const scene_run *run, sta_scene *scene, const sta_bench
                                .hpr_radius_px = o->hpr_radius_px,
                                .hpr_threshold = o->hpr_threshold,
                                .s0_m = (float)o->s0_m,
-                               // The metrics measure the fill of every class against the
-                               // truth; vegetation drawn as points would hide it.
-                               .no_fill_set = true };
+                               // The viewer's volumetric classes (drawn as points, no fill)
+                               // unless every class is to be filled (docs/BENCH.md).
+                               .no_fill_set = o->fill_every_class };
     sta_scene_set_pipeline(scene, &p);
     sta_scene_set_point_size(scene, &st->point_size);
 }
@@ -375,9 +376,14 @@ out_free:
 // Reads one pipeline texture and scores it.
 static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_bench_setting *st,
                                 const sta_camera *camera, const sta_view_truth *view_truth,
-                                const sta_view_points *points, const uint8_t *sampled,
+                                const sta_view_points *points, const sta_pixel_masks *masks,
                                 sta_bench_row *row, sta_error *err)
 {
+    // The fill metrics' pixels: with volumetric classes, not their true surfaces.
+    const bool leave_out = masks->counted && mode_runs_fill(st->mode);
+    const uint8_t *counted = leave_out ? masks->counted : NULL;
+    const uint8_t *sampled = leave_out ? masks->sampled_counted : masks->sampled;
+    row->fill_left_out = leave_out ? masks->left_out : 0;
     if (st->mode == STA_PIPELINE_SPLATS && run->has_truth) {
         sta_error_summary depth, normal;
         sta_status s =
@@ -412,6 +418,12 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
             row->hpr_precision = sta_confusion_precision(&c);
             row->hpr_recall = sta_confusion_recall(&c);
             row->hpr_f1 = sta_confusion_f1(&c);
+            sta_eval_hpr_masked(points, &image, masks->hpr_face, &c);
+            row->hpr_face_points = c.tp + c.fp + c.fn + c.tn;
+            row->hpr_face_f1 = sta_confusion_f1(&c);
+            sta_eval_hpr_masked(points, &image, masks->hpr_face_glass, &c);
+            row->hpr_face_glass_points = c.tp + c.fp + c.fn + c.tn;
+            row->hpr_face_glass_f1 = sta_confusion_f1(&c);
         }
         sta_image_release(&image);
     }
@@ -419,7 +431,7 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
         s = sta_gl_texture_to_image(p->filled_position, 0, 4, &image, err);
         sta_error_summary e;
         if (s == STA_OK) {
-            s = sta_eval_depth(view_truth, &image, NULL, &e, err);
+            s = sta_eval_depth(view_truth, &image, counted, &e, err);
         }
         if (s == STA_OK) {
             row->depth_count = e.count;
@@ -451,7 +463,7 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
         s = sta_gl_texture_to_image(p->normal, 0, 4, &image, err);
         sta_error_summary e;
         if (s == STA_OK) {
-            s = sta_eval_normals(view_truth, &image, NULL, &e, err);
+            s = sta_eval_normals(view_truth, &image, counted, &e, err);
         }
         if (s == STA_OK) {
             row->normal_count = e.count;
@@ -465,6 +477,13 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
             row->normal_sampled_mean_deg = e.mean;
             row->normal_sampled_median_deg = e.median;
             row->normal_sampled_p95_deg = e.p95;
+            s = sta_eval_normals(view_truth, &image, masks->face_counted, &e, err);
+        }
+        if (s == STA_OK) {
+            row->normal_face_count = e.count;
+            row->normal_face_mean_deg = e.mean;
+            row->normal_face_median_deg = e.median;
+            row->normal_face_p95_deg = e.p95;
         }
         sta_image_release(&image);
     }
@@ -477,6 +496,9 @@ static void clear_errors(sta_bench_row *row)
     row->normal_mean_deg = row->normal_median_deg = row->normal_p95_deg = (double)NAN;
     row->normal_sampled_mean_deg = row->normal_sampled_median_deg = row->normal_sampled_p95_deg =
         (double)NAN;
+    row->normal_face_mean_deg = row->normal_face_median_deg = row->normal_face_p95_deg =
+        (double)NAN;
+    row->hpr_face_f1 = row->hpr_face_glass_f1 = (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
     row->depth_sampled_rel_mean = row->depth_sampled_rel_median = row->depth_sampled_rel_p95 =
         (double)NAN;
@@ -764,19 +786,20 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         double s0 = o->s0_m > 0 ? o->s0_m : (double)stats.s0_m;
         tolerance_m = o->tolerance_s0 * s0 + (run->has_truth ? 3.0 * run->truth.noise_m : 0.0);
     }
-    uint8_t *sampled = NULL;
-    if (s == STA_OK && run->has_truth) {
-        sampled = sta_alloc_array(
-            view_truth->width ? (size_t)view_truth->width * (size_t)view_truth->height : 1, 1);
-        s = sampled ? sta_view_truth_sampled(view_truth, camera, &points, tolerance_m, sampled, err)
-                    : sta_fail(err, STA_ERR_NOMEM, "out of memory for the sampled pixels");
-    }
+    sta_pixel_masks masks = { 0 };
     if (s == STA_OK && run->has_truth) {
         sta_view_points_classify(&run->truth, camera, tolerance_m, &points);
         base.truth_points = points.count;
         for (size_t i = 0; i < points.count; i++) {
             base.truly_hidden += !points.visible[i];
         }
+        // With the viewer's volumetric classes, the fill metrics leave their true surfaces
+        // out (they are drawn as points, not filled).
+        uint32_t set[STA_VOLUMETRIC_CLASS_WORDS];
+        sta_pipeline_options viewer = { .mode = STA_PIPELINE_SHADED };
+        bool classes = !o->fill_every_class && sta_pipeline_volumetric_set(&viewer, set);
+        s = sta_pixel_masks_compute(view_truth, camera, &points, tolerance_m, classes ? set : NULL,
+                                    STA_VOLUMETRIC_CLASS_WORDS, &masks, err);
     }
     if (s == STA_OK && o->katz) {
         progress(run, cam_index + 1, run->camera_count, "Katz HPR");
@@ -808,7 +831,7 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         s = timed_frames(run, scene, camera, &row, err);
         if (s == STA_OK) {
             sta_render_target_read_rgba(&run->target, run->rgba);
-            s = score_buffers(run, scene, st, camera, view_truth, &points, sampled, &row, err);
+            s = score_buffers(run, scene, st, camera, view_truth, &points, &masks, &row, err);
         }
         if (s == STA_OK && run->has_truth && mode_draws_sized(st->mode)) {
             sta_render_target_read_depth(&run->target, run->depth);
@@ -838,7 +861,7 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         s = run_katz_live(run, scene, camera, tolerance_m, &base, results, err);
     }
     sta_view_points_release(&points);
-    sta_free(sampled);
+    sta_pixel_masks_release(&masks);
     return s;
 }
 

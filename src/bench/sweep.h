@@ -58,6 +58,10 @@ typedef struct sta_bench_options {
     bool hpr_every_pixel;                 /* the pyramid variant on every pixel, not sparse */
     bool normals_every_pixel;             /* pyramidal normals gathered on every pixel */
     bool smooth;                          /* normal smoothing pass */
+    bool fill_every_class;                /* no volumetric classes: every class filled and
+                                             scored (before issue 15's fourteenth round);
+                                             false: the viewer's default classes are drawn
+                                             as points and left out of the fill metrics */
     int hpr_radius_px;                    /* exhaustive radius; 0: the pipeline's 8 */
     float hpr_threshold;                  /* 0: the pipeline's 0.1 */
     double s0_m;                          /* 0: the scene's estimate */
@@ -117,11 +121,18 @@ typedef struct sta_bench_row {
     uint64_t truly_hidden;
     uint64_t hpr_tp, hpr_fp, hpr_fn, hpr_tn;
     double hpr_precision, hpr_recall, hpr_f1;
+    uint64_t hpr_face_points; /* points scored by the face rule (sta_pixel_masks hpr_face) */
+    double hpr_face_f1;
+    uint64_t hpr_face_glass_points; /* ... by the face and glass rules (hpr_face_glass) */
+    double hpr_face_glass_f1;
     uint64_t normal_count;
     double normal_mean_deg, normal_median_deg, normal_p95_deg;
     uint64_t normal_sampled_count; /* the same over pixels whose true surface the drawn
                                       points sample (sta_view_truth_sampled) */
     double normal_sampled_mean_deg, normal_sampled_median_deg, normal_sampled_p95_deg;
+    uint64_t normal_face_count; /* the same over pixels whose true face the drawn points
+                                   sample (sta_view_truth_face_sampled: the face rule) */
+    double normal_face_mean_deg, normal_face_median_deg, normal_face_p95_deg;
     uint64_t depth_count;
     double depth_rel_mean, depth_rel_median, depth_rel_p95;
     char point_size[24];     /* "1 px", "3 px", "adaptive 1-8 px" (raw and edl) */
@@ -131,9 +142,11 @@ typedef struct sta_bench_row {
     double depth_sampled_rel_mean, depth_sampled_rel_median, depth_sampled_rel_p95;
     uint64_t depth_glass_count; /* the same with window glass a surface (sta_eval_depth_glass) */
     double depth_glass_rel_mean, depth_glass_rel_median, depth_glass_rel_p95;
-    uint64_t border_count; /* sta_eval_border: band pixels whose ray hits the scene */
-    double border_empty;   /* the share of them the fill leaves empty */
-    double psnr_db;        /* +inf for identical images */
+    uint64_t fill_left_out; /* pixels whose true surface has a volumetric class, left out
+                               of the depth, normal and border metrics (docs/BENCH.md) */
+    uint64_t border_count;  /* sta_eval_border: band pixels whose ray hits the scene */
+    double border_empty;    /* the share of them the fill leaves empty */
+    double psnr_db;         /* +inf for identical images */
     double ssim;
     double katz_ms;
     double katz_radius_m;         /* Katz's sphere radius R used (sta_katz_view_radius) */

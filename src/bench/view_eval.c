@@ -18,7 +18,8 @@ sta_status sta_view_truth_compute(sta_bench_truth *truth, const sta_camera *came
     out->depth_m = sta_alloc_array(n, sizeof(float));
     out->normal = sta_alloc_array(n, 3 * sizeof(float));
     out->glass_depth_m = sta_alloc_array(n, sizeof(float));
-    if (!out->depth_m || !out->normal || !out->glass_depth_m) {
+    out->classification = sta_calloc(n ? n : 1, 1);
+    if (!out->depth_m || !out->normal || !out->glass_depth_m || !out->classification) {
         sta_view_truth_release(out);
         return sta_fail(err, STA_ERR_NOMEM, "out of memory for the truth of a %dx%d view", w, h);
     }
@@ -39,6 +40,7 @@ sta_status sta_view_truth_compute(sta_bench_truth *truth, const sta_camera *came
                 continue;
             }
             out->hit_count++;
+            out->classification[i] = hit.classification;
             out->depth_m[i] = (float)(hit.t * cosine);
             sta_synth_hit glass;
             out->glass_depth_m[i] =
@@ -60,7 +62,25 @@ void sta_view_truth_release(sta_view_truth *v)
     sta_free(v->depth_m);
     sta_free(v->normal);
     sta_free(v->glass_depth_m);
+    sta_free(v->classification);
     memset(v, 0, sizeof(*v));
+}
+
+uint64_t sta_view_truth_leave_out_classes(const sta_view_truth *v, const uint32_t *set, int words,
+                                          uint8_t *counted, uint8_t *sampled)
+{
+    const size_t n = (size_t)v->width * (size_t)v->height;
+    uint64_t left_out = 0;
+    for (size_t i = 0; i < n; i++) {
+        int c = v->classification && !isnan(v->depth_m[i]) ? v->classification[i] : -1;
+        bool out = c >= 0 && c / 32 < words && ((set[c / 32] >> (c % 32)) & 1u);
+        counted[i] = !out;
+        if (sampled && out) {
+            sampled[i] = 0;
+        }
+        left_out += out;
+    }
+    return left_out;
 }
 
 sta_status sta_view_points_from_depth(const sta_camera *camera, const float *depth,
@@ -124,8 +144,17 @@ void sta_view_points_release(sta_view_points *p)
 
 void sta_eval_hpr(const sta_view_points *points, const sta_image *label, sta_confusion *out)
 {
+    sta_eval_hpr_masked(points, label, NULL, out);
+}
+
+void sta_eval_hpr_masked(const sta_view_points *points, const sta_image *label,
+                         const uint8_t *scored, sta_confusion *out)
+{
     memset(out, 0, sizeof(*out));
     for (size_t i = 0; i < points->count; i++) {
+        if (scored && !scored[points->pixel[i]]) {
+            continue;
+        }
         float l = label->data[(size_t)points->pixel[i] * (size_t)label->channels];
         sta_confusion_add(out, l == STA_LABEL_VISIBLE, points->visible[i]);
     }
@@ -141,9 +170,27 @@ static sta_status check_size(const sta_view_truth *v, const sta_image *image, co
     return STA_OK;
 }
 
-sta_status sta_view_truth_sampled(const sta_view_truth *v, const sta_camera *camera,
-                                  const sta_view_points *points, double radius_m,
-                                  uint8_t *out_sampled, sta_error *err)
+// The point the ray through pixel (x, y) truly hits, world coordinates; false on a miss.
+static bool truth_hit(const sta_view_truth *v, const sta_camera *camera, int x, int y,
+                      double out[3])
+{
+    double depth = (double)v->depth_m[(size_t)y * (size_t)v->width + (size_t)x];
+    if (!(depth > 0.0)) {
+        return false;
+    }
+    double dir[3], cosine;
+    sta_bench_pixel_ray(camera, x, y, dir, &cosine);
+    for (int a = 0; a < 3; a++) {
+        out[a] = camera->position[a] + dir[a] * (depth / cosine);
+    }
+    return true;
+}
+
+// Marks the pixels sampled by a view point within radius_m of the true hit; with
+// `face`, only by points on their own pixel's true surface whose normal agrees.
+static sta_status sampled_search(const sta_view_truth *v, const sta_camera *camera,
+                                 const sta_view_points *points, double radius_m, bool face,
+                                 uint8_t *out_sampled, sta_error *err)
 {
     const int w = v->width, h = v->height;
     const size_t n = (size_t)w * (size_t)h;
@@ -155,23 +202,34 @@ sta_status sta_view_truth_sampled(const sta_view_truth *v, const sta_camera *cam
     for (size_t i = 0; i < n; i++) {
         at[i] = -1;
     }
-    for (size_t k = 0; k < points->count; k++) {
-        at[points->pixel[k]] = (int32_t)k;
-    }
-    const double px_per_m = (double)h / (2.0 * tan(0.5 * camera->fov_y)); // at depth 1
     const double r2 = radius_m * radius_m;
+    for (size_t k = 0; k < points->count; k++) {
+        uint32_t p = points->pixel[k];
+        double own[3], d2 = 0.0;
+        if (face) { // on its own pixel's true surface, else it samples no face
+            if (!truth_hit(v, camera, (int)(p % (uint32_t)w), (int)(p / (uint32_t)w), own)) {
+                continue;
+            }
+            for (int a = 0; a < 3; a++) {
+                double d = points->world[k][a] - own[a];
+                d2 += d * d;
+            }
+            if (!(d2 <= r2)) {
+                continue;
+            }
+        }
+        at[p] = (int32_t)k;
+    }
+    const double face_cos = cos(STA_VIEW_FACE_ANGLE_DEG * 3.14159265358979323846 / 180.0);
+    const double px_per_m = (double)h / (2.0 * tan(0.5 * camera->fov_y)); // at depth 1
     for (int y = 0; y < h; y++) {
         for (int x = 0; x < w; x++) {
             size_t i = (size_t)y * (size_t)w + (size_t)x;
-            double depth = (double)v->depth_m[i];
-            if (!(depth > 0.0)) {
+            double depth = (double)v->depth_m[i], hit[3];
+            if (!truth_hit(v, camera, x, y, hit)) {
                 continue;
             }
-            double dir[3], cosine, hit[3];
-            sta_bench_pixel_ray(camera, x, y, dir, &cosine);
-            for (int a = 0; a < 3; a++) {
-                hit[a] = camera->position[a] + dir[a] * (depth / cosine);
-            }
+            const float *normal = v->normal + 3 * i;
             double reach = ceil(radius_m * px_per_m / depth);
             int r_px = reach < 1.0 ? 1
                                    : (reach > STA_VIEW_SAMPLED_MAX_PX ? STA_VIEW_SAMPLED_MAX_PX
@@ -185,9 +243,19 @@ sta_status sta_view_truth_sampled(const sta_view_truth *v, const sta_camera *cam
                         if (xx < 0 || yy < 0 || xx >= w || yy >= h) {
                             continue;
                         }
-                        int32_t k = at[(size_t)yy * (size_t)w + (size_t)xx];
+                        size_t q = (size_t)yy * (size_t)w + (size_t)xx;
+                        int32_t k = at[q];
                         if (k < 0) {
                             continue;
+                        }
+                        if (face) {
+                            const float *m = v->normal + 3 * q;
+                            double dot = (double)normal[0] * (double)m[0] +
+                                         (double)normal[1] * (double)m[1] +
+                                         (double)normal[2] * (double)m[2];
+                            if (!(dot >= face_cos)) {
+                                continue;
+                            }
                         }
                         double d2 = 0.0;
                         for (int a = 0; a < 3; a++) {
@@ -203,6 +271,20 @@ sta_status sta_view_truth_sampled(const sta_view_truth *v, const sta_camera *cam
     }
     sta_free(at);
     return STA_OK;
+}
+
+sta_status sta_view_truth_sampled(const sta_view_truth *v, const sta_camera *camera,
+                                  const sta_view_points *points, double radius_m,
+                                  uint8_t *out_sampled, sta_error *err)
+{
+    return sampled_search(v, camera, points, radius_m, false, out_sampled, err);
+}
+
+sta_status sta_view_truth_face_sampled(const sta_view_truth *v, const sta_camera *camera,
+                                       const sta_view_points *points, double radius_m,
+                                       uint8_t *out_sampled, sta_error *err)
+{
+    return sampled_search(v, camera, points, radius_m, true, out_sampled, err);
 }
 
 sta_status sta_eval_normals(const sta_view_truth *v, const sta_image *normal,

@@ -25,8 +25,18 @@ typedef struct sta_view_truth {
     float *glass_depth_m; /* per pixel: the true depth with window glass as a surface
                              (sta_bench_truth_ray_glass): less than depth_m where the
                              ray passes a window, depth_m elsewhere; NULL: as depth_m */
+    uint8_t *classification; /* per pixel: LAS class of the true surface (0 on a miss);
+                                NULL: unknown */
     uint64_t hit_count;
 } sta_view_truth;
+
+/* Leaves the pixels whose true surface has a class of `set` (bit c % 32 of word c / 32
+ * is class c; `words` words) out of the fill metrics: counted[i] = 0 there and 1
+ * elsewhere, and sampled[i] (may be NULL) is cleared there too. The viewer fills no
+ * surface for those classes (volumetric classes, docs/BENCH.md). Returns the number
+ * of pixels with a truth hit left out; with no classification, none. */
+uint64_t sta_view_truth_leave_out_classes(const sta_view_truth *view_truth, const uint32_t *set,
+                                          int words, uint8_t *counted, uint8_t *sampled);
 
 /* Casts one ray through each pixel centre. */
 sta_status sta_view_truth_compute(sta_bench_truth *truth, const sta_camera *camera,
@@ -72,6 +82,9 @@ void sta_view_points_release(sta_view_points *points);
 /* HPR labels (R32F, STA_LABEL_*) against the points' truth: a point pixel labelled
  * STA_LABEL_VISIBLE counts as labelled visible, any other label as hidden. */
 void sta_eval_hpr(const sta_view_points *points, const sta_image *label, sta_confusion *out);
+/* The same over the points whose pixel has scored[pixel] != 0 (NULL: all). */
+void sta_eval_hpr_masked(const sta_view_points *points, const sta_image *label,
+                         const uint8_t *scored, sta_confusion *out);
 
 /* Farthest pixel offset sta_view_truth_sampled searches. */
 #define STA_VIEW_SAMPLED_MAX_PX 16
@@ -86,6 +99,19 @@ void sta_eval_hpr(const sta_view_points *points, const sta_image *label, sta_con
 sta_status sta_view_truth_sampled(const sta_view_truth *view_truth, const sta_camera *camera,
                                   const sta_view_points *points, double radius_m,
                                   uint8_t *out_sampled, sta_error *err);
+
+/* Two true normals belong to one face when they are within this angle. */
+#define STA_VIEW_FACE_ANGLE_DEG 30.0
+
+/* As sta_view_truth_sampled, but a view point counts only when it lies on the true
+ * surface of its own pixel (within radius_m of that pixel's hit) and that surface's
+ * normal is within STA_VIEW_FACE_ANGLE_DEG of the pixel's true normal: the pixel's
+ * true face is sampled. A window reveal or a car's back, which the profiler sees
+ * edge-on, lies within the tolerance of points on the facade or the car's side, but no
+ * point lies on the face itself (the face-sampled rule, docs/BENCH.md). */
+sta_status sta_view_truth_face_sampled(const sta_view_truth *view_truth, const sta_camera *camera,
+                                       const sta_view_points *points, double radius_m,
+                                       uint8_t *out_sampled, sta_error *err);
 
 /* Angle (degrees) between the normal buffer (RGBA32F, w > 0.5 valid) and the true
  * normal, over pixels with a valid normal whose ray hits the scene and, when `sampled`

@@ -34,13 +34,18 @@ static void shader_defines(char *out, size_t size)
              "#define STA_HPR_CUT_FACTOR %.9e\n"
              "#define STA_HPR_SPARSE_DEPTH_TAU %.9e\n"
              "#define STA_HPR_LIST_WIDTH %d\n"
-             "#define STA_HPR_ANCHOR_STRIDE %d\n",
+             "#define STA_HPR_ANCHOR_STRIDE %d\n"
+             "#define STA_POSITION_W_OCCLUDER_MAX %.9e\n"
+             "#define STA_HPR_SURFACE_MIN_POINTS %d\n"
+             "#define STA_HPR_SURFACE_MIN_DET %.9e\n"
+             "#define STA_HPR_SURFACE_FRONT_SHARE %.9e\n",
              STA_HPR_MAX_LEVELS, STA_HPR_SECTOR_TAN_NUM, STA_HPR_SECTOR_TAN_DEN,
              (double)STA_HPR_MIN_LENGTH2_M2, (double)STA_LABEL_BACKGROUND,
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
              (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_MAX_REACH_PX,
              (double)STA_HPR_CUT_FACTOR, (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH,
-             STA_HPR_ANCHOR_STRIDE);
+             STA_HPR_ANCHOR_STRIDE, (double)STA_POSITION_W_OCCLUDER_MAX, STA_HPR_SURFACE_MIN_POINTS,
+             (double)STA_HPR_SURFACE_MIN_DET, (double)STA_HPR_SURFACE_FRONT_SHARE);
 }
 
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
@@ -234,6 +239,9 @@ static void set_occlusion_uniforms(GLuint program, const sta_view_params *view,
     glUniform1f(glGetUniformLocation(program, "u_threshold"), p->threshold);
     glUniform1f(glGetUniformLocation(program, "u_radius_k"), sta_hpr_radius_k(view, p));
     glUniform1f(glGetUniformLocation(program, "u_gap"), sta_hpr_occluder_gap_m(view, p));
+    glUniform1f(glGetUniformLocation(program, "u_marked_reach"),
+                sta_hpr_marked_reach_px_m(view, p));
+    glUniform1f(glGetUniformLocation(program, "u_surface_tol"), sta_hpr_surface_tol_m(view, p));
     // As the twin (hpr_ref.c frame_of): pixels per unit of x / d and y / d.
     glUniform2f(glGetUniformLocation(program, "u_scale"), 0.5f * (float)view->width_px / th[0],
                 0.5f * (float)view->height_px / th[1]);

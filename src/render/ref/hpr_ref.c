@@ -26,6 +26,25 @@ void sta_hpr_params_defaults(sta_hpr_params *config)
     if (config->occluder_gap_s0 == 0.0f) {
         config->occluder_gap_s0 = STA_HPR_OCCLUDER_GAP_S0;
     }
+    if (config->marked_reach_s0 == 0.0f) {
+        config->marked_reach_s0 = STA_HPR_MARKED_REACH_S0;
+    }
+    if (config->surface_fit_s0 == 0.0f) {
+        config->surface_fit_s0 = STA_HPR_SURFACE_FIT_S0;
+    }
+}
+
+float sta_hpr_surface_tol_m(const sta_view_params *view, const sta_hpr_params *resolved)
+{
+    float tol = resolved->surface_fit_s0 * view->s0;
+    return resolved->surface_fit_s0 > 0.0f && tol > 0.0f && isfinite(tol) ? tol : 0.0f;
+}
+
+float sta_hpr_marked_reach_px_m(const sta_view_params *view, const sta_hpr_params *resolved)
+{
+    float scale_y = 0.5f * (float)view->height_px / tanf(0.5f * view->fov_y);
+    float reach = resolved->marked_reach_s0 * view->s0 * scale_y;
+    return resolved->marked_reach_s0 > 0.0f && reach > 0.0f && isfinite(reach) ? reach : FLT_MAX;
 }
 
 float sta_hpr_occluder_gap_m(const sta_view_params *view, const sta_hpr_params *resolved)
@@ -233,6 +252,76 @@ static bool screen_offset(const occlusion_frame *f, const float *y, int px, int 
     return true;
 }
 
+// The pixel's own surface: a plane through its point in inverse depth over the screen,
+// w(v) = 1 + g . (v - v0) times 1 / d0 (exact for a plane under perspective), fitted by
+// least squares to its direct neighbours; `ok` when they fit within the tolerance.
+typedef struct own_surface {
+    bool ok;
+    float v0[2];   // where the pixel's point lands, pixels from the pixel's centre
+    float g[2];    // gradient of d0 / d per pixel
+    float d0;      // the point's depth
+    float tol_m;   // the fit's tolerance, metres
+    float front_m; // how much nearer than the surface an occluder lies
+} own_surface;
+
+static const int ring_offset[8][2] = { { -1, -1 }, { 0, -1 }, { 1, -1 }, { -1, 0 },
+                                       { 1, 0 },   { -1, 1 }, { 0, 1 },  { 1, 1 } };
+
+static own_surface fit_own_surface(const occlusion_frame *f, const sta_image *level0, int px,
+                                   int py, float tol_m)
+{
+    own_surface s = { 0 };
+    const float *own = sta_image_at(level0, px, py);
+    if (!(tol_m > 0.0f) || !sta_position_occludes(own[3]) || !screen_offset(f, own, px, py, s.v0)) {
+        return s;
+    }
+    s.d0 = -own[2];
+    s.tol_m = tol_m;
+    s.front_m = STA_HPR_SURFACE_FRONT_SHARE * tol_m;
+    float sxx = 0.0f, sxy = 0.0f, syy = 0.0f, sxw = 0.0f, syw = 0.0f, sww = 0.0f;
+    int n = 0;
+    for (int i = 0; i < 8; i++) {
+        int nx = px + ring_offset[i][0], ny = py + ring_offset[i][1];
+        if (nx < 0 || ny < 0 || nx >= f->width || ny >= f->height) {
+            continue;
+        }
+        const float *y = sta_image_at(level0, nx, ny);
+        float v[2];
+        if (!sta_position_occludes(y[3]) || !screen_offset(f, y, px, py, v)) {
+            continue;
+        }
+        float dx = v[0] - s.v0[0], dy = v[1] - s.v0[1];
+        float dw = s.d0 * (1.0f / -y[2]) - 1.0f;
+        sxx += dx * dx;
+        sxy += dx * dy;
+        syy += dy * dy;
+        sxw += dx * dw;
+        syw += dy * dw;
+        sww += dw * dw;
+        n++;
+    }
+    float det = sxx * syy - sxy * sxy;
+    if (n < STA_HPR_SURFACE_MIN_POINTS || !(det >= STA_HPR_SURFACE_MIN_DET)) {
+        return s;
+    }
+    s.g[0] = (syy * sxw - sxy * syw) / det;
+    s.g[1] = (sxx * syw - sxy * sxw) / det;
+    // The squared residuals' sum, in units of d0 / d: within (tol / d0)^2.
+    float ssr = sww - s.g[0] * sxw - s.g[1] * syw;
+    float tol = tol_m / s.d0;
+    s.ok = ssr <= tol * tol;
+    return s;
+}
+
+// True when point y, landing at v (pixels from the pixel's centre), lies nearer than the
+// pixel's own surface there by more than the tolerance (or the surface does not reach
+// that far: its inverse depth is not positive there).
+static bool in_front_of_surface(const own_surface *s, const float *y, const float v[2])
+{
+    float w = 1.0f + s->g[0] * (v[0] - s->v0[0]) + s->g[1] * (v[1] - s->v0[1]);
+    return !(w > 0.0f) || -y[2] * w < s->d0 - s->front_m * w; // d < d0 / w - front
+}
+
 // For an empty pixel, sector s is unknown when nothing in it closes it and part of its
 // neighbourhood lies outside the image (bit s of `outside`): what lies there could have
 // closed it, so it is left out of the mean rather than counted open (surfaces running
@@ -296,6 +385,8 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
     sta_hpr_level_depths(view, &p, level_count, level_depth);
     float radius_k = sta_hpr_radius_k(view, &p);
     float gap_m = sta_hpr_occluder_gap_m(view, &p);
+    float marked_reach = sta_hpr_marked_reach_px_m(view, &p);
+    float surface_tol = sta_hpr_surface_tol_m(view, &p);
     // Level 1 at least (coarse_level >= 1 and level_count >= 2).
     int coarse = p.coarse_level < level_count - 1 ? p.coarse_level : level_count - 1;
     for (int py = 0; py < f.height; py++) {
@@ -329,6 +420,8 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             float cut2 = cut * cut;
             // Only neighbours nearer than the centre point by more than the gap occlude.
             float occluder_limit = -x[2] - gap_m;
+            // On its own surface, a neighbour must also lie in front of that surface.
+            own_surface surface = fit_own_surface(&f, &pyramid->levels[0], px, py, surface_tol);
             float sector_min[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
             unsigned outside = 0;
             for (int k = 0; k <= level; k++) {
@@ -354,6 +447,15 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                         }
                         float dist2 = v[0] * v[0] + v[1] * v[1];
                         if (k > 0 && dist2 > cut2) {
+                            continue;
+                        }
+                        if (surface.ok && !in_front_of_surface(&surface, y, v)) {
+                            continue;
+                        }
+                        // A marked point (scattered returns) occludes only near its own
+                        // position on screen: the gaps between such points are no surface.
+                        float reach = marked_reach * (1.0f / -y[2]);
+                        if (!sta_position_occludes(y[3]) && !(dist2 <= reach * reach)) {
                             continue;
                         }
                         // Each ring position is its own sector (Figure 3's colours). The

@@ -70,6 +70,26 @@
  * centimetres nearer, hide it (the far road, facades along the street); 1.5 s0 keeps
  * them (docs/HPR.md, docs/BENCHMARKS.md "Sixth round"). */
 #define STA_HPR_OCCLUDER_GAP_S0      1.5f
+/* Pyramidal operator: a marked point (a volumetric class, position w =
+ * STA_POSITION_W_MARKED) closes a sector only when it lands within this many s0 of the
+ * pixel's centre, measured on screen at the marked point's depth. Scattered returns
+ * (canopy) hide what lies right behind them, but the gaps between them are no surface
+ * (issue 15, fourteenth round, docs/HPR.md). */
+#define STA_HPR_MARKED_REACH_S0      8.0f
+/* Pyramidal operator, own-surface rule: a point whose direct neighbours (at least
+ * STA_HPR_SURFACE_MIN_POINTS of the 8, spread so that the least-squares system's
+ * determinant is at least STA_HPR_SURFACE_MIN_DET px^4) fit a plane through it, in
+ * inverse depth over the screen, within STA_HPR_SURFACE_FIT_S0 s0 (root of the summed
+ * squared residuals) lies on a surface; a neighbour then closes a sector only when it
+ * lies nearer than that surface where it lands by more than
+ * STA_HPR_SURFACE_FRONT_SHARE times that tolerance. Along a facade seen at a grazing
+ * angle the facade's own nearer points no longer hide it. 6 s0 / 3 s0 from a sweep
+ * (1.5 ... 48 s0) on the street: F1 rises up to 12 s0 and flattens, the bunny's far
+ * view loses from 8 s0 on (issue 15, fourteenth round, second part, docs/HPR.md). */
+#define STA_HPR_SURFACE_FIT_S0       6.0f
+#define STA_HPR_SURFACE_FRONT_SHARE  0.5f
+#define STA_HPR_SURFACE_MIN_POINTS   5
+#define STA_HPR_SURFACE_MIN_DET      1.0f
 
 /* The sparse operator's anchor stride for a view `height_px` pixels high (above). */
 static inline int sta_hpr_anchor_stride(int height_px)
@@ -94,14 +114,21 @@ typedef struct sta_hpr_params {
                               depth is below the pixel's by more than this many s0;
                               0: STA_HPR_OCCLUDER_GAP_S0; < 0: every neighbour (the
                               paper's operator). The exhaustive operator has no gap */
+    float marked_reach_s0; /* pyramidal operator: a marked point (volumetric class)
+                              occludes only within this many s0 of the pixel's centre;
+                              0: STA_HPR_MARKED_REACH_S0; < 0: at any distance, as an
+                              unmarked point. The exhaustive operator has no reach */
+    float surface_fit_s0;  /* pyramidal operator: the own-surface tolerance in s0 (above);
+                              0: STA_HPR_SURFACE_FIT_S0; < 0: off (a neighbour is compared
+                              with the pixel's depth only). The exhaustive operator has none */
     bool sparse;           /* pyramidal operator on the even (x, y) anchors, the other pixels
                               copy agreeing anchors or are refined (sta_hpr_ref_sparse_labels);
                               false (default): every pixel */
 } sta_hpr_params;
 
-/* Fills threshold, coarse_level, far_m and occluder_gap_s0 of `config` with their defaults where
- * they are zero (or, as documented above, out of range), in place; other fields stay as they are.
- * s_hpr stays 0 when it is 0 (its default needs the view). */
+/* Fills threshold, coarse_level, far_m, occluder_gap_s0 and marked_reach_s0 of `config` with their
+ * defaults where they are zero (or, as documented above, out of range), in place; other fields stay
+ * as they are. s_hpr stays 0 when it is 0 (its default needs the view). */
 void sta_hpr_params_defaults(sta_hpr_params *config);
 
 /* s_hpr in metres: config->s_hpr, or STA_HPR_DEFAULT_S_HPR_FACTOR * view->s0 when it
@@ -113,6 +140,16 @@ float sta_hpr_s_hpr_m(const sta_view_params *view, const sta_hpr_params *config)
  * so that every neighbour takes part. A neighbour y of a pixel whose centre point has
  * depth d is a candidate only when -y.z < d - gap. */
 float sta_hpr_occluder_gap_m(const sta_view_params *view, const sta_hpr_params *resolved);
+
+/* A marked neighbour's reach as pixels times metres (`resolved`
+ * marked_reach_s0 * view->s0 * the view's pixels per unit of y / d): at depth d it
+ * reaches this / d pixels. FLT_MAX when the reach is off (negative) or s0 is not
+ * positive. */
+float sta_hpr_marked_reach_px_m(const sta_view_params *view, const sta_hpr_params *resolved);
+
+/* The own-surface tolerance in metres (surface_fit_s0 * view->s0); 0 when the rule is
+ * off (negative) or s0 is not positive. */
+float sta_hpr_surface_tol_m(const sta_view_params *view, const sta_hpr_params *resolved);
 
 /* Number of pyramid levels for a width x height image, level 0 (the image) included:
  * max(2, 1 + ceil(log2(max(width, height)))), so the last level is 1 x 1 and level 1

@@ -34,9 +34,20 @@
 #define STA_LABEL_HOLE       3.0f /* no point, but inside a surface: pull-push fills it */
 
 /* The position's w of a pixel whose point has a volumetric class (> 0: still a drawn
- * point, an occluder for HPR; pull-push takes no seed from it). Written by the unproject
+ * point that HPR labels; pull-push takes no seed from it). Written by the unproject
  * pass (or the volumetric mark) before HPR: issue 15, tenth round. */
 #define STA_POSITION_W_MARKED 2.0f
+
+/* A drawn point closes other pixels' HPR sectors only when its w lies in
+ * (0.5, STA_POSITION_W_OCCLUDER_MAX): w = 1, not marked. Scattered returns (canopy) are
+ * no surface, so they hide nothing behind them (issue 15, fourteenth round). */
+#define STA_POSITION_W_OCCLUDER_MAX 1.5f
+
+/* True when a position's w is a point that occludes for HPR (see above). */
+static inline int sta_position_occludes(float w)
+{
+    return w > 0.5f && w < STA_POSITION_W_OCCLUDER_MAX;
+}
 
 /* A marked point's colour (RGB in 0..1) as the filled colour's alpha: -(1 + the 24-bit
  * RGB8 value), an integer-valued float (exact up to 2^24), negative so it is never a
