@@ -626,20 +626,43 @@ void sta_cell_blocks_vertex_lower(const sta_cell_blocks *m, const int64_t vertex
     size_t index[8];
     int offset[8];
     int found = vertex_cells(m, vertex, index, offset);
-    // Each cell's sums move to the box's corner by o (0 or one cell an axis), in integers.
+    // Each cell's sums move to the box's corner by o (0 or one cell, w, an axis), in
+    // integers: s1 + n o and s2 + o s1^T + s1 o^T + n o o^T. The moved parts are summed per
+    // axis over the cells moved along it (their n, s1; and n over those moved along two
+    // axes) and scaled by w once: the same integers, fewer products.
     int64_t n = 0, s1[3] = { 0, 0, 0 }, s2[6] = { 0, 0, 0, 0, 0, 0 };
+    int64_t moved_n[3] = { 0, 0, 0 }, moved_s1[3][3] = { { 0 } }, both_n[3] = { 0, 0, 0 };
     for (int i = 0; i < found; i++) {
         int k = offset[i];
         const sta_cell_sums *c = &m->sums[index[i]];
-        const int64_t o[3] = { (int64_t)(k & 1) << m->level, (int64_t)(k >> 1 & 1) << m->level,
-                               (int64_t)(k >> 2) << m->level };
         n += c->n;
-        for (int r = 0, t = 0; r < 3; r++) {
-            s1[r] += c->s1[r] + c->n * o[r];
-            for (int q = r; q < 3; q++, t++) {
-                s2[t] += c->s2[t] + o[r] * c->s1[q] + o[q] * c->s1[r] + c->n * o[r] * o[q];
+        for (int t = 0; t < 3; t++) {
+            s1[t] += c->s1[t];
+        }
+        for (int t = 0; t < 6; t++) {
+            s2[t] += c->s2[t];
+        }
+        for (int r = 0; r < 3; r++) {
+            if (k >> r & 1) {
+                moved_n[r] += c->n;
+                for (int q = 0; q < 3; q++) {
+                    moved_s1[r][q] += c->s1[q];
+                }
             }
         }
+        both_n[0] += (k & 3) == 3 ? c->n : 0; // axes 0 and 1
+        both_n[1] += (k & 5) == 5 ? c->n : 0; // 0 and 2
+        both_n[2] += (k & 6) == 6 ? c->n : 0; // 1 and 2
+    }
+    const int64_t w = (int64_t)1 << m->level;
+    for (int r = 0, t = 0; r < 3; r++) {
+        for (int q = r; q < 3; q++, t++) {
+            int64_t nn = r == q ? moved_n[r] : both_n[r + q - 1];
+            s2[t] += w * (moved_s1[r][q] + moved_s1[q][r]) + w * w * nn;
+        }
+    }
+    for (int r = 0; r < 3; r++) {
+        s1[r] += w * moved_n[r];
     }
     memset(out, 0, sizeof(*out));
     out->n = n;

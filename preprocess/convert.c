@@ -289,7 +289,8 @@ static void *index_worker(void *argument)
         const uint8_t *data = in_memory ? in_memory : records;
         if (status == STA_OK && job->options->normals) {
             sta_index_scratch_release(&scratch); // never both at once (worker_bytes)
-            status = chunk_normals(job, args->index, job->chunk_order[i], records, count, &err);
+            status = chunk_normals(job, args->index, job->chunk_order[i],
+                                   in_memory ? in_memory : records, count, &err);
         }
         sta_pending_node root = { 0 };
         if (status == STA_OK) {
@@ -618,15 +619,16 @@ static int plan_index_threads(size_t memory_mib, int threads, size_t cap, size_t
 
 // Keeps the distributed records in memory, one array per chunk (no temporary runs),
 // when they fit the budget beside the index workers (each then needs no records
-// buffer of its own), no chunk has to be split (refine.c works on runs) and no halo
-// is read from the runs (--normals). On false, or when an array cannot be had, the
-// records go through the temporary runs; the output is the same either way.
+// buffer of its own; with --normals the normals' scratch: worker_bytes) and no chunk
+// has to be split (refine.c works on runs); the halo pass then reads the arrays. On
+// false, or when an array cannot be had, the records go through the temporary runs;
+// the output is the same either way.
 static bool keep_records_in_memory(convert_job *job, size_t memory_mib, int index_threads,
                                    int grid_log2)
 {
     const sta_convert_options *o = job->options;
     const sta_chunk_plan *plan = &job->plan;
-    if (o->runs_on_disk || o->normals || plan->chunk_count == 0) {
+    if (o->runs_on_disk || plan->chunk_count == 0) {
         return false;
     }
     for (size_t c = 0; c < plan->chunk_count; c++) {
@@ -636,7 +638,8 @@ static bool keep_records_in_memory(convert_job *job, size_t memory_mib, int inde
         }
     }
     const size_t rec = job->inputs.layout.size, cap = job->chunk_capacity;
-    size_t worker = worker_bytes(cap, rec, grid_log2, NULL) - cap * rec;
+    size_t worker =
+        worker_bytes(cap, rec, grid_log2, o->normals ? &o->normals_method : NULL) - cap * rec;
     uint64_t need = plan->point_count * rec + (uint64_t)index_threads * worker;
     if (need > budget_bytes(memory_mib)) {
         return false;
@@ -846,9 +849,10 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
             job.halo_runs.usage = &job.temp_usage;
         }
         if (status == STA_OK) {
-            status = sta_halo_collect(&job.plan, &job.inputs.grid, &job.inputs.layout, &job.runs,
-                                      &job.halo_runs, &job.trajectory, options->knn,
-                                      options->normals_method, index_threads, options->cancel, err);
+            status =
+                sta_halo_collect(&job.plan, &job.inputs.grid, &job.inputs.layout, &job.runs,
+                                 job.chunk_records, &job.halo_runs, &job.trajectory, options->knn,
+                                 options->normals_method, index_threads, options->cancel, err);
         }
         if (status != STA_OK) {
             goto out;

@@ -106,6 +106,7 @@ typedef struct halo_job {
     const sta_grid *grid;
     const sta_record_layout *layout;
     sta_temp_runs *runs;
+    uint8_t *const *in_memory; /* NULL: the records are read from `runs` */
     sta_temp_runs *halo;
     sta_trajectory *trajectory; /* NULL: none wanted (guard: lock) */
     int k;
@@ -174,7 +175,8 @@ static sta_status one_chunk(halo_job *job, sta_run_codec *codec, size_t s, uint8
     }
     sta_status status = STA_OK;
     bool timed = path && (job->layout->attributes & STA_ATTR_GPS_TIME);
-    if ((out_count > 0 || timed) && count > 0) {
+    const uint8_t *data = job->in_memory ? job->in_memory[s] : NULL;
+    if ((out_count > 0 || timed) && count > 0 && !data) {
         if (count > *capacity) {
             sta_free(*records);
             *records = sta_alloc_array(count, rec);
@@ -183,13 +185,14 @@ static sta_status one_chunk(halo_job *job, sta_run_codec *codec, size_t s, uint8
         status = *records
                      ? sta_temp_runs_read(job->runs, codec, chunk->list, *records, err)
                      : sta_fail(err, STA_ERR_NOMEM, "halo: out of memory for %zu points", count);
+        data = *records;
     }
     for (size_t i = 0; status == STA_OK && (out_count > 0 || timed) && i < count; i++) {
         int32_t p[3];
-        sta_record_position(*records + i * rec, p);
+        sta_record_position(data + i * rec, p);
         if (timed) {
             double t;
-            memcpy(&t, *records + i * rec + job->layout->gps_offset, sizeof(t));
+            memcpy(&t, data + i * rec + job->layout->gps_offset, sizeof(t));
             status = sta_trajectory_add(path, t, p, err);
         }
         for (size_t o = 0; o < out_count; o++) {
@@ -260,9 +263,9 @@ static void *halo_worker(void *argument)
 
 sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
                             const sta_record_layout *layout, sta_temp_runs *runs,
-                            sta_temp_runs *halo, sta_trajectory *trajectory, int k,
-                            sta_normals_method method, int threads, atomic_bool *cancel,
-                            sta_error *err)
+                            uint8_t *const *in_memory, sta_temp_runs *halo,
+                            sta_trajectory *trajectory, int k, sta_normals_method method,
+                            int threads, atomic_bool *cancel, sta_error *err)
 {
     halo_job job = { .plan = plan,
                      .method = method,
@@ -271,6 +274,7 @@ sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
                      .grid = grid,
                      .layout = layout,
                      .runs = runs,
+                     .in_memory = in_memory,
                      .halo = halo,
                      .k = k,
                      .cancel = cancel };

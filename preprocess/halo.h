@@ -39,13 +39,14 @@ void sta_halo_chunk_frame(const sta_chunk_plan *plan, const sta_grid *grid, size
                           sta_normals_method method, sta_normals_chunk *out);
 
 /* Fills `halo` (record size 12, one list per chunk, initialised by the caller) from the
- * chunk runs of `runs`, on `threads` threads. When `trajectory` is not NULL (and the
+ * chunk runs of `runs` (or, when `in_memory` is not NULL, from its array of each chunk's
+ * records: no run is read), on `threads` threads. When `trajectory` is not NULL (and the
  * records have GPS time) every point is also added to it (trajectory.h) and
  * sta_trajectory_finish decides whether it is usable. `cancel` may be NULL. */
 sta_status sta_halo_collect(const sta_chunk_plan *plan, const sta_grid *grid,
                             const sta_record_layout *layout, sta_temp_runs *runs,
-                            sta_temp_runs *halo, sta_trajectory *trajectory, int k,
-                            sta_normals_method method, int threads, atomic_bool *cancel,
-                            sta_error *err);
+                            uint8_t *const *in_memory, sta_temp_runs *halo,
+                            sta_trajectory *trajectory, int k, sta_normals_method method,
+                            int threads, atomic_bool *cancel, sta_error *err);
 
 #endif

@@ -853,6 +853,65 @@ static void records_in_memory_match_the_runs(void **state)
     unlink(out);
 }
 
+/* --normals with the records kept in memory (the halo pass reads the chunks' arrays) gives
+ * the same file as with the temporary runs (several chunks: halos cross them), on 1 and 3
+ * threads; a budget too small for the records and the normals' workers takes the runs. */
+static void normals_from_memory_match_the_runs(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char path[4096], out[4096];
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    snprintf(out, sizeof(out), "%s/normals-mem.strata", sta_test_tmpdir());
+    const char *one[] = { path };
+    static const struct {
+        int threads;
+        size_t memory_mib;
+        bool on_disk;
+        bool in_memory; /* expected */
+    } runs[] = {
+        { 2, 2048, true, false }, /* the reference: temporary runs */
+        { 1, 2048, false, true },
+        { 3, 2048, false, true },
+        { 2, 100, false, false }, /* the records and two normals workers need more */
+    };
+    uint8_t *reference = NULL;
+    size_t reference_size = 0;
+    for (size_t i = 0; i < sizeof(runs) / sizeof(runs[0]); i++) {
+        sta_convert_options o = { .inputs = one,
+                                  .input_count = 1,
+                                  .output = out,
+                                  .threads = runs[i].threads,
+                                  .memory_mib = runs[i].memory_mib,
+                                  .chunk_points = 30000,
+                                  .runs_on_disk = runs[i].on_disk,
+                                  .normals = true,
+                                  .knn = 10,
+                                  .force = true };
+        sta_convert_report report;
+        char what[32];
+        snprintf(what, sizeof(what), "normals run %zu", i);
+        convert_quietly(&o, &report, what);
+        if (report.records_in_memory != runs[i].in_memory) {
+            fail_msg("run %zu: records %s memory", i, report.records_in_memory ? "in" : "not in");
+        }
+        size_t size = 0;
+        uint8_t *bytes = sta_test_read_file(out, &size);
+        if (!reference) {
+            reference = bytes;
+            reference_size = size;
+            continue;
+        }
+        if (size != reference_size || memcmp(bytes, reference, size) != 0) {
+            fail_msg("run %zu (%d threads, %s) differs from the runs'", i, runs[i].threads,
+                     report.records_in_memory ? "in memory" : "runs");
+        }
+        free(bytes);
+    }
+    free(reference);
+    unlink(out);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shared_las_files_round_trip),
     cmocka_unit_test(up_axis_from_the_source),
@@ -869,6 +928,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(temporary_disk_is_bounded_and_outlier_proof),
     cmocka_unit_test(output_is_byte_identical_across_threads_and_memory),
     cmocka_unit_test(records_in_memory_match_the_runs),
+    cmocka_unit_test(normals_from_memory_match_the_runs),
     cmocka_unit_test(different_grids_merge_losslessly),
     cmocka_unit_test(different_grids_convert_into_one_scene),
 };
