@@ -4,6 +4,7 @@
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_DISPLAY_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
 layout(binding = STA_DISPLAY_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_colour;
+layout(binding = STA_DISPLAY_IMAGE_FILLED_COLOUR, rgba8) readonly uniform image2D u_filled_colour;
 layout(binding = STA_DISPLAY_IMAGE_LABEL, r32f) readonly uniform image2D u_label;
 layout(binding = STA_DISPLAY_IMAGE_NORMAL, rgba32f) readonly uniform image2D u_normal;
 layout(binding = STA_DISPLAY_IMAGE_OUT, rgba8) writeonly uniform image2D u_out;
@@ -27,8 +28,9 @@ void main()
             result = vec3(0.1, 0.35, 0.1);              // hole: to be filled
         }
     } else if (u_mode == 1) {
-        if (imageLoad(u_position, p).w > 0.0) {
-            result = imageLoad(u_colour, p).rgb;
+        vec4 c = imageLoad(u_filled_colour, p); // alpha 1: the overlay's marked point
+        if (imageLoad(u_position, p).w > 0.0 || c.a > 0.5) {
+            result = c.rgb;
         }
     } else {
         vec4 n = imageLoad(u_normal, p);

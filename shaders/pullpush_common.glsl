@@ -16,11 +16,3 @@ float pp_input_weight(vec4 point, float label, bool has_label)
     bool visible = !has_label || pp_is_label(label, PP_LABEL_VISIBLE);
     return point.w > 0.0 && point.w != PP_POSITION_W_MARKED && visible ? 1.0 : 0.0;
 }
-
-// A marked point's colour as the filled colour's alpha (screen_space.h,
-// sta_marked_colour_pack): -(1 + its 24-bit RGB8 value).
-float pp_marked_colour(vec3 c)
-{
-    uvec3 b = uvec3(round(clamp(c, 0.0, 1.0) * 255.0));
-    return -(1.0 + float((b.r << 16u) | (b.g << 8u) | b.b));
-}

@@ -9,13 +9,13 @@
 // takes one surface, not a depth between both.
 // Twin: src/render/ref/pullpush_ref.c (push_texel). Built twice: with PP_LEVEL0 the
 // fine level is the input, the result goes to the output textures and the background
-// found by HPR is restored (and a marked point's own colour packed into the colour's
-// alpha, screen_space.h); without it a pyramid level is updated in place.
+// found by HPR is restored and the colour goes to the RGBA8 filled colour with alpha 0
+// (screen_space.h); without it a pyramid level is updated in place.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 #ifdef PP_LEVEL0
 // Level 0: the outputs.
 layout(binding = STA_PULLPUSH_IMAGE_OUT_POSITION, rgba32f) writeonly uniform image2D u_position;
-layout(binding = STA_PULLPUSH_IMAGE_OUT_COLOUR, rgba32f) writeonly uniform image2D u_colour;
+layout(binding = STA_PULLPUSH_IMAGE_OUT_COLOUR, rgba8) writeonly uniform image2D u_colour;
 layout(binding = STA_PULLPUSH_IMAGE_FINE_POSITION, rgba32f)
     readonly uniform image2D u_input_position;
 // The input colour, RGBA32F or RGBA8.
@@ -117,7 +117,7 @@ void main()
     }
     // A marked (volumetric) point keeps its own colour in the alpha for the overlay
     // (screen_space.h; the input colour is fetched here anyway).
-    out_c.a = t0.w == PP_POSITION_W_MARKED ? pp_marked_colour(fc) : out_c.a;
+    out_c.a = 0.0; // 1 only where the overlay draws a marked point (volumetric_window.glsl)
 #endif
     imageStore(u_position, q, out_p);
     imageStore(u_colour, q, out_c);

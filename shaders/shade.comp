@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Deferred shading: Blinn-Phong with a headlight from the reconstructed positions and
 // normals and the (filled) point colours. Pixels without a surface get the background.
-// The volumetric classes' marked points are drawn over the result afterwards, on the
-// tiles they reach (volumetric_overlay.comp). With STA_SHADE_UPSAMPLE (and
+// The volumetric classes' marked points were drawn into the filled colour before, on the
+// tiles they reach (volumetric_overlay.comp): alpha 1, shown unlit (screen_space.h). With STA_SHADE_UPSAMPLE (and
 // normals_upsample.glsl) the half-resolution normals are upsampled here instead of read
 // from the normal image: again the same picture, one full-screen pass fewer.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_SHADE_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
-layout(binding = STA_SHADE_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_colour;
+layout(binding = STA_SHADE_IMAGE_COLOUR, rgba8) readonly uniform image2D u_colour;
 #ifndef STA_SHADE_UPSAMPLE
 layout(binding = STA_SHADE_IMAGE_NORMAL, rgba32f) readonly uniform image2D u_normal;
 #endif
@@ -29,8 +29,9 @@ void main()
     vec4 normal = imageLoad(u_normal, p);
 #endif
     vec3 result = u_background;
+    vec4 colour = imageLoad(u_colour, p);
     if (position.w > 0.0) {
-        vec3 albedo = imageLoad(u_colour, p).rgb;
+        vec3 albedo = colour.rgb;
         float len = length(position.xyz);
         vec3 to_eye = len > 0.0 ? -position.xyz / len : vec3(0.0, 0.0, 1.0);
         if (normal.w > 0.0) {
@@ -42,5 +43,6 @@ void main()
             result = albedo * (u_light.x + u_light.y); // no normal: unlit, as if facing us
         }
     }
+    result = colour.a > 0.5 ? colour.rgb : result; // the overlay's marked point, unlit
     imageStore(u_out, p, vec4(clamp(result, 0.0, 1.0), 1.0));
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Volumetric classes, overlay step: each marked point is drawn over the shaded picture
-// as a square splat in its own colour, nearest point first, unless a visible point of
+// Volumetric classes, overlay step: each marked point is drawn into the RGBA8 filled
+// colour with alpha 1 (the shade pass and the fill display show it unlit, as if drawn
+// over their picture; screen_space.h) as a square splat in its own colour, nearest point first, unless a visible point of
 // another class in the window is as near (the filled depth is no test: pull-push
 // averages depths across wide gaps). One image read per window pixel
 // (volumetric_window.glsl). One workgroup per tile that volumetric_tiles.comp listed (an

@@ -5,15 +5,13 @@
 // nearest first, unless a drawn point of another class is in the window and as near
 // (HPR's labels play no part: a nearer point of another class is a surface in front,
 // kept by HPR or not). Read from the positions and, for the nearest marked point, its
-// colour packed in the filled colour's alpha by pull-push (the shade pass writes the
-// geometry pass's colour target, so the overlay cannot read the point colours there; no
-// image of marked points and occluders: issue 15, tenth round).
+// colour from the geometry pass's colour target (the overlay runs before the shade pass
+// overwrites it; issue 15, fourteenth round), rounded to 8 bits (sta_unorm8).
 // Twin: src/render/ref/volumetric_ref.c (sta_volumetric_overlay_ref).
 layout(binding = STA_VOLUMETRIC_WINDOW_IMAGE_POSITION,
        rgba32f) readonly uniform image2D u_vw_position;
-// The filled colours (pull-push): at a marked pixel the alpha holds its point's colour,
-// packed (screen_space.h, sta_marked_colour_pack).
-layout(binding = STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_vw_colour;
+// The point colours of the geometry pass (RGBA8 or float).
+layout(binding = STA_VOLUMETRIC_WINDOW_SAMPLER_COLOUR) uniform sampler2D u_vw_colour;
 
 const int VW_R = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
 
@@ -39,8 +37,7 @@ bool vw_overlay_colour(ivec2 p, ivec2 size, out vec3 colour)
             }
         }
     }
-    float alpha = imageLoad(u_vw_colour, best_q).a;
-    uint rgb8 = best > 0.0 ? uint(-alpha - 1.0) : 0u;
-    colour = vec3(uvec3(rgb8 >> 16u, rgb8 >> 8u, rgb8) & 0xFFu) / 255.0;
+    vec3 c = texelFetch(u_vw_colour, best_q, 0).rgb;
+    colour = round(clamp(c, 0.0, 1.0) * 255.0) / 255.0;
     return best > 0.0 && !(occluder > 0.0 && occluder <= best);
 }

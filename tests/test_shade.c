@@ -4,12 +4,14 @@
 #include "test_support.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "render/gl.h"
 #include "render/gl_image.h"
 #include "render/pass_shade.h"
+#include "render/ref/screen_space.h"
 #include "render/ref/shade_ref.h"
 
 static sta_gl_headless gl;
@@ -51,7 +53,6 @@ static void make_buffers(int w, int h, sta_image *position, sta_image *colour, s
             c[0] = sta_test_frand(&s);
             c[1] = sta_test_frand(&s);
             c[2] = sta_test_frand(&s);
-            c[3] = 1.0f;
             if (sta_test_frand(&s) < 0.9f) {
                 float v[3] = { sta_test_frand(&s) - 0.5f, sta_test_frand(&s) - 0.5f,
                                sta_test_frand(&s) };
@@ -62,6 +63,24 @@ static void make_buffers(int w, int h, sta_image *position, sta_image *colour, s
                 n[3] = 1.0f;
             }
         }
+    }
+    // Pixels where the volumetric overlay drew a marked point (filled colour alpha 1,
+    // screen_space.h), some of them on background: shaded unlit, as they are.
+    for (int i = 0; i < w * h; i += 7) {
+        float *c = colour->data + 4 * i;
+        c[0] = 0.25f + 0.5f * sta_test_frand(&s);
+        c[1] = sta_test_frand(&s);
+        c[2] = 0.75f;
+        c[3] = 1.0f;
+    }
+}
+
+// The colour as the pipeline's RGBA8 filled colour holds it (screen_space.h).
+static void round_to_rgba8(sta_image *colour)
+{
+    size_t n = (size_t)colour->width * (size_t)colour->height * 4;
+    for (size_t i = 0; i < n; i++) {
+        colour->data[i] = sta_unorm8(colour->data[i]);
     }
 }
 
@@ -99,9 +118,11 @@ static void shaders_match_twins(void **state)
     make_buffers(w, h, &position, &colour, &normal);
     sta_error err = { 0 };
     assert_int_equal(sta_image_init(&expected, w, h, 4, &err), STA_OK);
-    GLuint tp, tc, tn, out = rgba8_texture(w, h);
+    round_to_rgba8(&colour);
+    GLuint tp, tc, tc8, tn, out = rgba8_texture(w, h);
     assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&colour, &tc, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_rgba8_from_image(&colour, &tc8, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&normal, &tn, &err), STA_OK);
     sta_shade_pass pass;
     assert_int_equal(sta_shade_pass_init(&pass, &err), STA_OK);
@@ -109,9 +130,25 @@ static void shaders_match_twins(void **state)
     sta_shade_params shade = { .background = { 0.1f, 0.2f, 0.3f } };
     sta_shade_params_defaults(&shade);
     sta_shade_ref(&shade, &position, &colour, &normal, &expected);
-    sta_shade_pass_run(&pass, &shade, w, h, tp, tc, tn, NULL, out);
+    sta_shade_pass_run(&pass, &shade, w, h, tp, tc8, tn, NULL, out);
     // Tolerance: one 8-bit step (rounding of values computed in float on both sides).
     assert_true(max_difference(out, &expected) <= 1);
+    // The overlay's pixels (alpha 1) come out as their colour, exactly.
+    uint8_t *got = malloc((size_t)w * h * 4);
+    assert_non_null(got);
+    glGetTextureImage(out, 0, GL_RGBA, GL_UNSIGNED_BYTE, w * h * 4, got);
+    int overlaid = 0;
+    for (int i = 0; i < w * h; i++) {
+        if (colour.data[4 * i + 3] == 1.0f) {
+            for (int k = 0; k < 3; k++) {
+                assert_int_equal(got[4 * i + k], lrintf(colour.data[4 * i + k] * 255.0f));
+                assert_true(expected.data[4 * i + k] == colour.data[4 * i + k]);
+            }
+            overlaid++;
+        }
+    }
+    assert_int_equal(overlaid, (w * h + 6) / 7);
+    free(got);
 
     sta_edl_params edl = { .background = { 0.0f, 0.0f, 0.0f } };
     sta_edl_params_defaults(&edl);
@@ -120,8 +157,8 @@ static void shaders_match_twins(void **state)
     assert_true(max_difference(out, &expected) <= 1);
 
     sta_shade_pass_release(&pass);
-    GLuint textures[4] = { tp, tc, tn, out };
-    glDeleteTextures(4, textures);
+    GLuint textures[5] = { tp, tc, tc8, tn, out };
+    glDeleteTextures(5, textures);
     sta_image_release(&position);
     sta_image_release(&colour);
     sta_image_release(&normal);
@@ -195,7 +232,7 @@ static void empty_frame_is_background(void **state)
     assert_int_equal(sta_image_init(&expected, w, h, 4, &err), STA_OK);
     GLuint tp, tc, tn, out = rgba8_texture(w, h);
     assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_from_image(&colour, &tc, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_rgba8_from_image(&colour, &tc, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&normal, &tn, &err), STA_OK);
     sta_shade_pass pass;
     assert_int_equal(sta_shade_pass_init(&pass, &err), STA_OK);

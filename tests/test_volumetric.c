@@ -107,37 +107,32 @@ static void mark_rule_on_small_cases(void **state)
     sta_image_release(&label);
 }
 
-// The packed colour of a marked point survives the round trip exactly for 8-bit colours
-// (what the geometry pass gives), black and white included, and is never a coverage.
-static void marked_colour_packing_round_trips(void **state)
+// A channel as an RGBA8 texel holds it (the filled colour, the overlay's colours): 8-bit
+// values unchanged, others to the nearest step, out-of-range ones clamped.
+static void unorm8_rounds_to_the_nearest_step(void **state)
 {
     (void)state;
-    for (int r = 0; r < 256; r += 15) {
-        for (int g = 0; g < 256; g += 17) {
-            for (int b = 0; b < 256; b += 51) {
-                const float c[3] = { (float)r / 255.0f, (float)g / 255.0f, (float)b / 255.0f };
-                float a = sta_marked_colour_pack(c), back[3];
-                assert_true(a <= -1.0f);
-                sta_marked_colour_unpack(a, back);
-                assert_memory_equal(back, c, sizeof(c));
-            }
+    for (int v = 0; v < 256; v++) {
+        assert_true(sta_unorm8((float)v / 255.0f) == (float)v / 255.0f);
+        assert_true(sta_unorm8(((float)v + 0.49f) / 255.0f) == (float)v / 255.0f);
+        if (v < 255) {
+            assert_true(sta_unorm8(((float)v + 0.51f) / 255.0f) == (float)(v + 1) / 255.0f);
         }
     }
-    const float over[3] = { -0.5f, 2.0f, 1.0f }, clamped[3] = { 0.0f, 1.0f, 1.0f };
-    float back[3];
-    sta_marked_colour_unpack(sta_marked_colour_pack(over), back);
-    assert_memory_equal(back, clamped, sizeof(back));
+    assert_true(sta_unorm8(-0.5f) == 0.0f && sta_unorm8(2.0f) == 1.0f);
 }
 
 // A point at distance `d` in pixel (x, y) of the overlay's inputs: marked (w = 2, colour
-// `c` packed in the filled colour's alpha) or not (c NULL).
-static void overlay_point(sta_image *position, sta_image *filled_colour, int x, int y, float d,
+// `c` in the point colours) or not (c NULL).
+static void overlay_point(sta_image *position, sta_image *colour, int x, int y, float d,
                           const float *c)
 {
     float *p = sta_image_at(position, x, y);
     p[2] = -d;
     p[3] = c ? STA_POSITION_W_MARKED : 1.0f;
-    sta_image_at(filled_colour, x, y)[3] = c ? sta_marked_colour_pack(c) : 1.0f;
+    if (c) {
+        memcpy(sta_image_at(colour, x, y), c, 3 * sizeof(float));
+    }
 }
 
 static void overlay_splats_behind_nearer_surfaces(void **state)
@@ -338,22 +333,16 @@ static void shaders_match_twins(void **state)
     set_class(in.class_set, 5);
     set_class(in.class_set, 200);
     sta_volumetric_mark_ref(&in, &position);
-    // The filled colours as pull-push leaves them: a coverage in the alpha, and at the
-    // marked pixels the point's colour packed there.
+    // The overlay reads the marked points' colours from the point colours (float here).
     int nmarked = 0;
     for (int i = 0; i < w * h; i++) {
-        float *m = &marked.data[4 * i];
-        m[3] = label.data[i] == STA_LABEL_VISIBLE ? 1.0f : 0.5f;
-        if (position.data[4 * i + 3] == STA_POSITION_W_MARKED) {
-            m[3] = sta_marked_colour_pack(&colour.data[4 * i]);
-            nmarked++;
-        }
+        nmarked += position.data[4 * i + 3] == STA_POSITION_W_MARKED;
     }
-    sta_volumetric_overlay_ref(&position, &marked, &out);
+    sta_volumetric_overlay_ref(&position, &colour, &out);
     print_message("%d marked pixels\n", nmarked);
     assert_true(nmarked > 40); // the case exercises the rule
     GLuint tfilled;
-    assert_int_equal(sta_gl_texture_from_image(&marked, &tfilled, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_from_image(&colour, &tfilled, &err), STA_OK);
 
     sta_volumetric_pass pass;
     assert_int_equal(sta_volumetric_pass_init(&pass, &err), STA_OK);
@@ -474,10 +463,10 @@ static void unproject_mark_matches_plain_and_twin(void **state)
     }
 }
 
-// Pull-push leaves a marked point's own colour packed in the filled colour's alpha
-// (where the overlay reads it) and takes no seed from it: the shader and the twin agree,
-// the packed colours exactly, on a random frame of visible, hidden and marked points.
-static void pullpush_keeps_marked_colours(void **state)
+// Pull-push takes no seed from a marked point and leaves the RGBA8 filled colour's alpha
+// 0 (the overlay sets it where it draws): the shader and the twin agree on a random
+// frame of visible, hidden and marked points.
+static void pullpush_takes_no_seed_from_marked_points(void **state)
 {
     (void)state;
     const int w = 53, h = 31;
@@ -514,7 +503,7 @@ static void pullpush_keeps_marked_colours(void **state)
     assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&label, &tl, &err), STA_OK);
     assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_p, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_c, &err), STA_OK);
+    assert_int_equal(sta_gl_texture_create_rgba8(w, h, &out_c, &err), STA_OK);
     sta_pullpush_pass pp;
     assert_int_equal(sta_pullpush_pass_init(&pp, &err), STA_OK);
     assert_int_equal(sta_pullpush_pass_run(&pp, &view, tp, tc, tl, out_p, out_c, &err), STA_OK);
@@ -524,14 +513,12 @@ static void pullpush_keeps_marked_colours(void **state)
     print_message("%d marked pixels\n", nmarked);
     assert_true(nmarked > 100);
     for (int i = 0; i < w * h; i++) {
-        const float *c = &colour.data[4 * i];
-        if (position.data[4 * i + 3] == STA_POSITION_W_MARKED) {
-            float packed = sta_marked_colour_pack(c);
-            assert_true(want_c.data[4 * i + 3] == packed);
-            assert_true(got_c.data[4 * i + 3] == packed);
-        } else {
-            assert_true(got_c.data[4 * i + 3] >= 0.0f); // a coverage
-            assert_true(fabsf(got_c.data[4 * i + 3] - want_c.data[4 * i + 3]) <= 1e-4f);
+        // The RGBA8 filled colour: alpha 0 (the overlay's flag), rgb within one 8-bit
+        // step (the same float maths within 1e-4, rounded).
+        assert_true(want_c.data[4 * i + 3] == 0.0f && got_c.data[4 * i + 3] == 0.0f);
+        for (int k = 0; k < 3; k++) {
+            float a = want_c.data[4 * i + k], b = got_c.data[4 * i + k];
+            assert_true(a == sta_unorm8(a) && fabsf(a - b) <= 1.0f / 255.0f + 1e-6f);
         }
         // The filled points agree: the marked ones are no seed in either.
         for (int k = 0; k < 4; k++) {
@@ -598,8 +585,10 @@ static void overlay_on_listed_tiles_matches_twin(int w, int h, uint64_t seed)
             q[1] = sta_test_frand(&s) - 0.5f;
             q[2] = -(1.0f + 20.0f * sta_test_frand(&s));
             q[3] = STA_POSITION_W_MARKED;
-            float c[3] = { sta_test_frand(&s), sta_test_frand(&s), sta_test_frand(&s) };
-            filled.data[4 * ((size_t)y * w + x) + 3] = sta_marked_colour_pack(c);
+            float *c = &filled.data[4 * ((size_t)y * w + x)]; // the point colours
+            for (int j = 0; j < 3; j++) {
+                c[j] = sta_test_frand(&s);
+            }
             flags[t] = 1;
             marked++;
         }
@@ -929,13 +918,13 @@ static void both_rasterisers_mark_the_classes(void **state)
 
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(mark_rule_on_small_cases),
-    cmocka_unit_test(marked_colour_packing_round_trips),
+    cmocka_unit_test(unorm8_rounds_to_the_nearest_step),
     cmocka_unit_test(overlay_splats_behind_nearer_surfaces),
     cmocka_unit_test_setup_teardown(shaders_match_twins, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(unproject_mark_matches_plain_and_twin, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
-    cmocka_unit_test_setup_teardown(pullpush_keeps_marked_colours, sta_fixture_gl_setup,
+    cmocka_unit_test_setup_teardown(pullpush_takes_no_seed_from_marked_points, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),
     cmocka_unit_test_setup_teardown(overlay_runs_on_listed_tiles, sta_fixture_gl_setup,
                                     sta_fixture_gl_teardown),

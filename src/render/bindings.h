@@ -70,11 +70,12 @@
 #define STA_COLOUR_TO_FLOAT_IMAGE_COLOUR    0 /* RGBA32F out */
 
 /* Debug views of the pipeline's buffers (display.comp). */
-#define STA_DISPLAY_IMAGE_POSITION 0 /* RGBA32F */
-#define STA_DISPLAY_IMAGE_COLOUR   1 /* RGBA32F */
-#define STA_DISPLAY_IMAGE_LABEL    2 /* R32F, STA_LABEL_* */
-#define STA_DISPLAY_IMAGE_NORMAL   3 /* RGBA32F */
-#define STA_DISPLAY_IMAGE_OUT      4 /* RGBA8 out */
+#define STA_DISPLAY_IMAGE_POSITION      0 /* RGBA32F */
+#define STA_DISPLAY_IMAGE_COLOUR        1 /* RGBA32F */
+#define STA_DISPLAY_IMAGE_LABEL         2 /* R32F, STA_LABEL_* */
+#define STA_DISPLAY_IMAGE_NORMAL        3 /* RGBA32F */
+#define STA_DISPLAY_IMAGE_OUT           4 /* RGBA8 out */
+#define STA_DISPLAY_IMAGE_FILLED_COLOUR 5 /* RGBA8 pull-push colour, alpha 1: the overlay's */
 
 /* HPR point pyramid, one level per dispatch (hpr_pyramid.comp). */
 #define STA_HPR_PYRAMID_IMAGE_SRC 0 /* RGBA32F level l - 1 */
@@ -164,8 +165,7 @@
 /* volumetric_window.glsl, in volumetric_overlay.comp (and the positions of
  * volumetric_tiles.comp): above the image units of both */
 #define STA_VOLUMETRIC_WINDOW_IMAGE_POSITION 4 /* RGBA32F positions, marked: w = 2 */
-#define STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR                                                         \
- 6 /* RGBA32F filled colours: alpha = packed marked colour */
+#define STA_VOLUMETRIC_WINDOW_SAMPLER_COLOUR 0 /* the geometry pass's colour (RGBA8 or float) */
 
 /* Every define above, as "name value" pairs for the shader preamble. */
 #define STA_BINDING_DEFINES                                                                        \
@@ -212,6 +212,7 @@
  X(STA_DISPLAY_IMAGE_LABEL)                                                                        \
  X(STA_DISPLAY_IMAGE_NORMAL)                                                                       \
  X(STA_DISPLAY_IMAGE_OUT)                                                                          \
+ X(STA_DISPLAY_IMAGE_FILLED_COLOUR)                                                                \
  X(STA_HPR_PYRAMID_IMAGE_SRC)                                                                      \
  X(STA_HPR_PYRAMID_IMAGE_DST)                                                                      \
  X(STA_HPR_OCCLUSION_IMAGE_LABEL)                                                                  \
@@ -268,6 +269,6 @@
  X(STA_VOLUMETRIC_TILES_IMAGE_FLAGS)                                                               \
  X(STA_VOLUMETRIC_OVERLAY_BUFFER_TILES)                                                            \
  X(STA_VOLUMETRIC_WINDOW_IMAGE_POSITION)                                                           \
- X(STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR)
+ X(STA_VOLUMETRIC_WINDOW_SAMPLER_COLOUR)
 
 #endif

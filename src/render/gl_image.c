@@ -33,7 +33,7 @@ static GLenum pixel_format(int channels)
     }
 }
 
-sta_status sta_gl_texture_create(int width, int height, int channels, int levels,
+static sta_status texture_create(int width, int height, GLenum format, int levels,
                                  GLuint *out_texture, sta_error *err)
 {
     *out_texture = 0;
@@ -43,17 +43,44 @@ sta_status sta_gl_texture_create(int width, int height, int channels, int levels
     }
     GLuint texture;
     glCreateTextures(GL_TEXTURE_2D, 1, &texture);
-    glTextureStorage2D(texture, levels, sta_gl_float_format(channels), width, height);
+    glTextureStorage2D(texture, levels, format, width, height);
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
     glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     if (glGetError() != GL_NO_ERROR) {
         glDeleteTextures(1, &texture);
-        return sta_fail(err, STA_ERR_GL, "cannot create a %dx%d float texture", width, height);
+        return sta_fail(err, STA_ERR_GL, "cannot create a %dx%d texture", width, height);
     }
     *out_texture = texture;
     return STA_OK;
+}
+
+sta_status sta_gl_texture_create(int width, int height, int channels, int levels,
+                                 GLuint *out_texture, sta_error *err)
+{
+    return texture_create(width, height, sta_gl_float_format(channels), levels, out_texture, err);
+}
+
+sta_status sta_gl_texture_create_rgba8(int width, int height, GLuint *out_texture, sta_error *err)
+{
+    return texture_create(width, height, GL_RGBA8, 1, out_texture, err);
+}
+
+sta_status sta_gl_texture_rgba8_from_image(const sta_image *image, GLuint *out_texture,
+                                           sta_error *err)
+{
+    if (image->channels != 4) {
+        return sta_fail(err, STA_ERR_ARG, "an RGBA8 texture needs a 4-channel image, not %d",
+                        image->channels);
+    }
+    sta_status status = sta_gl_texture_create_rgba8(image->width, image->height, out_texture, err);
+    if (status == STA_OK) {
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTextureSubImage2D(*out_texture, 0, 0, 0, image->width, image->height, GL_RGBA, GL_FLOAT,
+                            image->data);
+    }
+    return status;
 }
 
 sta_status sta_gl_texture_from_image(const sta_image *image, GLuint *out_texture, sta_error *err)

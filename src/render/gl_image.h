@@ -21,7 +21,15 @@ sta_status sta_gl_texture_from_image(const sta_image *image, GLuint *out_texture
 sta_status sta_gl_texture_create(int width, int height, int channels, int levels,
                                  GLuint *out_texture, sta_error *err);
 
-/* Reads level `level` of a float texture into `out` (allocated here with `channels`
+/* An empty RGBA8 texture (1 level): the pipeline's filled colour (screen_space.h). */
+sta_status sta_gl_texture_create_rgba8(int width, int height, GLuint *out_texture, sta_error *err);
+
+/* An RGBA8 texture holding a 4-channel `image` (each value clamped and rounded to 8 bits
+ * by GL, as sta_unorm8 does). */
+sta_status sta_gl_texture_rgba8_from_image(const sta_image *image, GLuint *out_texture,
+                                           sta_error *err);
+
+/* Reads level `level` of a float or RGBA8 texture into `out` (allocated here with `channels`
  * per pixel; the level's own size). */
 sta_status sta_gl_texture_to_image(GLuint texture, int level, int channels, sta_image *out,
                                    sta_error *err);

@@ -196,7 +196,7 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
     glProgramUniform1i(p->program, p->has_coarse, count > 1);
     bind_image(STA_PULLPUSH_IMAGE_FINE_POSITION, position_tex, GL_READ_ONLY, GL_RGBA32F);
     bind_image(STA_PULLPUSH_IMAGE_OUT_POSITION, out_position_tex, GL_WRITE_ONLY, GL_RGBA32F);
-    bind_image(STA_PULLPUSH_IMAGE_OUT_COLOUR, out_colour_tex, GL_WRITE_ONLY, GL_RGBA32F);
+    bind_image(STA_PULLPUSH_IMAGE_OUT_COLOUR, out_colour_tex, GL_WRITE_ONLY, GL_RGBA8);
     bind_image(STA_PULLPUSH_IMAGE_COARSE_POSITION, count > 1 ? pyr->position[1] : 0, GL_READ_ONLY,
                GL_RGBA32F);
     bind_image(STA_PULLPUSH_IMAGE_COARSE_COLOUR, count > 1 ? pyr->colour[1] : 0, GL_READ_ONLY,

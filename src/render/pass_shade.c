@@ -70,7 +70,7 @@ void sta_shade_pass_run(const sta_shade_pass *pass, const sta_shade_params *para
     glUniform3f(pass->shade_background[i], p.background[0], p.background[1], p.background[2]);
     glBindImageTexture(STA_SHADE_IMAGE_POSITION, position, 0, GL_FALSE, 0, GL_READ_ONLY,
                        GL_RGBA32F);
-    glBindImageTexture(STA_SHADE_IMAGE_COLOUR, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_SHADE_IMAGE_COLOUR, colour, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA8);
     if (!upsample) {
         glBindImageTexture(STA_SHADE_IMAGE_NORMAL, normal, 0, GL_FALSE, 0, GL_READ_ONLY,
                            GL_RGBA32F);

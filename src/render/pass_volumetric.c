@@ -170,8 +170,7 @@ void sta_volumetric_window_bind(const sta_volumetric_frame *frame)
 {
     glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_POSITION, frame->position, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(STA_VOLUMETRIC_WINDOW_IMAGE_COLOUR, frame->filled_colour, 0, GL_FALSE, 0,
-                       GL_READ_ONLY, GL_RGBA32F);
+    glBindTextureUnit(STA_VOLUMETRIC_WINDOW_SAMPLER_COLOUR, frame->colour);
 }
 
 // The splat of a marked pixel reaches at most the 8 tiles around its own (VW_FLAGS).

@@ -56,9 +56,9 @@ void sta_volumetric_pass_release(sta_volumetric_pass *pass);
 /* The textures of one frame, all width x height. */
 typedef struct sta_volumetric_frame {
     int width, height;
-    GLuint position;      /* RGBA32F camera-space positions (unproject); marked: w = 2 */
-    GLuint filled_colour; /* RGBA32F pull-push colours; at marked pixels the alpha holds
-                             the point's colour (screen_space.h); read by the overlay */
+    GLuint position; /* RGBA32F camera-space positions (unproject); marked: w = 2 */
+    GLuint colour;   /* the geometry pass's colour (RGBA8 or float): the marked
+                        points' own colours, read by the overlay */
 } sta_volumetric_frame;
 
 /* Marks the pixels whose point has a class in `class_set` (position w set to

@@ -132,11 +132,13 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
         return STA_OK;
     }
     release_textures(p);
-    GLuint *four[] = { &p->position,      &p->colour, &p->filled_position,
-                       &p->filled_colour, &p->normal, &p->normal2 };
+    GLuint *four[] = { &p->position, &p->colour, &p->filled_position, &p->normal, &p->normal2 };
     sta_status s = STA_OK;
     for (size_t i = 0; i < sizeof(four) / sizeof(four[0]) && s == STA_OK; i++) {
         s = sta_gl_texture_create(w, h, 4, 1, four[i], err);
+    }
+    if (s == STA_OK) {
+        s = sta_gl_texture_create_rgba8(w, h, &p->filled_colour, err);
     }
     if (s == STA_OK) {
         s = sta_gl_texture_create(w, h, 1, 1, &p->label, err);
@@ -194,8 +196,10 @@ static void display(sta_pipeline *p, int mode, int w, int h, GLuint out)
     glUniform1i(p->display_mode, mode);
     glBindImageTexture(STA_DISPLAY_IMAGE_POSITION, mode == 1 ? p->filled_position : p->position, 0,
                        GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(STA_DISPLAY_IMAGE_COLOUR, mode == 1 ? p->filled_colour : p->colour, 0,
-                       GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(STA_DISPLAY_IMAGE_COLOUR, p->colour, 0, GL_FALSE, 0, GL_READ_ONLY,
+                       GL_RGBA32F);
+    glBindImageTexture(STA_DISPLAY_IMAGE_FILLED_COLOUR, p->filled_colour, 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA8);
     glBindImageTexture(STA_DISPLAY_IMAGE_LABEL, p->label, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     glBindImageTexture(STA_DISPLAY_IMAGE_NORMAL, p->normal, 0, GL_FALSE, 0, GL_READ_ONLY,
                        GL_RGBA32F);
@@ -356,9 +360,10 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     }
     mark(p, t, STA_PASS_UNPROJECT, 1);
     ran[STA_PASS_UNPROJECT] = true;
-    // The overlay reads the marked points' colours from the filled colour's alpha
-    // (screen_space.h: pull-push packs them there).
-    sta_volumetric_frame vframe = { w, h, p->position, p->filled_colour };
+    // The overlay reads the marked points' colours from the geometry pass's colour (it runs
+    // before the shade pass or the fill display overwrites it) and draws them into the
+    // RGBA8 filled colour with alpha 1, which both show unlit (screen_space.h).
+    sta_volumetric_frame vframe = { w, h, p->position, colour_rgba8 };
     if (volumetric && !mark_in_unproject && !positions_marked) {
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
         s = sta_volumetric_pass_mark(&p->volumetric, &p->points_source, classes,
@@ -409,7 +414,6 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
         return s;
     }
     if (o->mode == STA_PIPELINE_FILL) {
-        display(p, 1, w, h, colour_rgba8);
         goto overlay;
     }
 
@@ -431,14 +435,14 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     sta_shade_params shade = { .background = { o->background[0], o->background[1],
                                                o->background[2] } };
     // The normals' upsample runs inside the shade pass (a full-screen pass fewer), the
-    // marked volumetric points are drawn after it on the tiles they reach (issue 15,
-    // fourteenth round); both count as shading.
+    // marked volumetric points are drawn before it into the filled colour, on the tiles
+    // they reach (issue 15, fourteenth round); both count as shading.
+    if (volumetric) {
+        s = sta_volumetric_pass_overlay(&p->volumetric, &vframe, mark_in_unproject,
+                                        p->filled_colour, err);
+    }
     sta_shade_pass_run(&p->shade, &shade, w, h, p->filled_position, p->filled_colour, p->normal,
                        upsampled_in_shade ? &upsample : NULL, colour_rgba8);
-    if (volumetric) {
-        s = sta_volumetric_pass_overlay(&p->volumetric, &vframe, mark_in_unproject, colour_rgba8,
-                                        err);
-    }
     mark(p, t, STA_PASS_SHADE, 1);
     ran[STA_PASS_SHADE] = true;
     if (s != STA_OK) {
@@ -452,8 +456,8 @@ overlay:
                                                  : 0.0;
         ran[STA_PASS_VOLUMETRIC] = true;
         mark(p, t, STA_PASS_VOLUMETRIC, 0);
-        s = sta_volumetric_pass_overlay(&p->volumetric, &vframe, mark_in_unproject, colour_rgba8,
-                                        err);
+        s = sta_volumetric_pass_overlay(&p->volumetric, &vframe, mark_in_unproject,
+                                        p->filled_colour, err);
         mark(p, t, STA_PASS_VOLUMETRIC, 1);
         if (s != STA_OK) {
             return s;
@@ -462,6 +466,7 @@ overlay:
             p->marks[2 * STA_PASS_VOLUMETRIC] -= before; // mark and overlay together
         }
     }
+    display(p, 1, w, h, colour_rgba8);
 done:
     if (t) {
         read_timing(p, t, ran);

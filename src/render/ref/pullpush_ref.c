@@ -330,10 +330,11 @@ sta_status sta_pullpush_ref(const sta_view_params *view, const sta_image *positi
             } else {
                 store(out_position, out_colour, i, j, p, c, nw);
             }
-            if (sta_image_at(position, i, j)[3] == STA_POSITION_W_MARKED) {
-                sta_image_at(out_colour, i, j)[3] =
-                    sta_marked_colour_pack(sta_image_at(colour, i, j));
+            float *oc = sta_image_at(out_colour, i, j); // RGBA8 (screen_space.h)
+            for (int k = 0; k < 3; k++) {
+                oc[k] = sta_unorm8(oc[k]);
             }
+            oc[3] = 0.0f;
         }
     }
     sta_pullpush_levels_release(&local);

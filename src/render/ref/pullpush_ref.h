@@ -82,10 +82,9 @@ void sta_pullpush_levels_release(sta_pullpush_levels *levels);
  * STA_LABEL_* from HPR, or NULL for "every point visible, no background to restore".
  * Initial weight: 1 where a point is drawn (w > 0) and labelled VISIBLE, else 0.
  * out_position / out_colour: initialised 4-channel images of the view size, written:
- * the filled point (xyz) and colour with w = a = coverage in 0..1; pixels labelled
- * BACKGROUND and pixels without any support are zero. At a marked pixel (position w =
- * STA_POSITION_W_MARKED: no seed) the colour's alpha holds the point's own colour
- * instead (sta_marked_colour_pack, screen_space.h). out_levels (may be NULL):
+ * the filled point (xyz) with w = coverage in 0..1, and the colour as the RGBA8 filled
+ * colour holds it (rgb rounded to 8 bits, sta_unorm8; alpha 0: screen_space.h); pixels
+ * labelled BACKGROUND and pixels without any support are zero. out_levels (may be NULL):
  * zeroed or released struct, receives levels 1..count-1 after the push (owned by the
  * caller, free with sta_pullpush_levels_release). Errors: STA_ERR_ARG for mismatched
  * sizes, STA_ERR_NOMEM. */

@@ -10,10 +10,11 @@
  * - colour: RGBA32F (RGB in 0..1, A unused) or RGBA8 from the geometry pass.
  * - label: R32F holding one of STA_LABEL_* per pixel (HPR output).
  * - filled: RGBA32F, the pull-push result: xyz camera-space position (or depth in
- *   z only, see pull-push), w = weight / coverage in 0..1. The filled colour's alpha is
- *   the same coverage, except at a marked pixel (position w = STA_POSITION_W_MARKED),
- *   where it holds that point's own colour, packed (sta_marked_colour_pack): the
- *   volumetric overlay reads it there (issue 15, tenth round).
+ *   z only, see pull-push), w = weight / coverage in 0..1.
+ * - filled colour: RGBA8 (issue 15, fourteenth round: an RGBA8 store costs llvmpipe
+ *   half an RGBA32F one), rgb the pull-push colour rounded to 8 bits
+ *   (sta_unorm8), alpha 0, except where the volumetric overlay drew a marked point
+ *   (rgb its colour, alpha 1: the shade pass and the fill display show it unlit).
  * - normal: RGBA32F, xyz a unit camera-space normal facing the camera
  *   (dot(n, -p) >= 0 for the pixel's position p), w = 1 where valid, 0 where none.
  * "Depth" in these passes means the distance along the view axis, d = -z > 0.
@@ -38,9 +39,10 @@
  * pass (or the volumetric mark) before HPR: issue 15, tenth round. */
 #define STA_POSITION_W_MARKED 2.0f
 
-/* A drawn point closes other pixels' HPR sectors only when its w lies in
+/* A drawn point closes other pixels' HPR sectors at any distance only when its w lies in
  * (0.5, STA_POSITION_W_OCCLUDER_MAX): w = 1, not marked. Scattered returns (canopy) are
- * no surface, so they hide nothing behind them (issue 15, fourteenth round). */
+ * no surface: a marked point hides only what lies right behind it, within
+ * STA_HPR_MARKED_REACH_S0 (hpr_ref.h; issue 15, fourteenth round). */
 #define STA_POSITION_W_OCCLUDER_MAX 1.5f
 
 /* True when a position's w is a point that occludes for HPR (see above). */
@@ -49,27 +51,12 @@ static inline int sta_position_occludes(float w)
     return w > 0.5f && w < STA_POSITION_W_OCCLUDER_MAX;
 }
 
-/* A marked point's colour (RGB in 0..1) as the filled colour's alpha: -(1 + the 24-bit
- * RGB8 value), an integer-valued float (exact up to 2^24), negative so it is never a
- * coverage. The shaders do the same (pullpush_common.glsl, volumetric_window.glsl). */
-static inline float sta_marked_colour_pack(const float rgb[3])
+/* A colour channel as an RGBA8 texel holds it (what a GL store into RGBA8 writes and a
+ * load returns): clamped to 0..1, the nearest of the 256 steps. */
+static inline float sta_unorm8(float c)
 {
-    long v = 0;
-    for (int k = 0; k < 3; k++) {
-        float c = rgb[k] < 0.0f ? 0.0f : (rgb[k] > 1.0f ? 1.0f : rgb[k]);
-        v = v * 256 + lroundf(c * 255.0f);
-    }
-    return -(1.0f + (float)v);
-}
-
-/* The colour packed in `alpha` (sta_marked_colour_pack). */
-static inline void sta_marked_colour_unpack(float alpha, float rgb[3])
-{
-    long v = (long)(-alpha - 1.0f);
-    for (int k = 2; k >= 0; k--) {
-        rgb[k] = (float)(v % 256) / 255.0f;
-        v /= 256;
-    }
+    c = c < 0.0f ? 0.0f : (c > 1.0f ? 1.0f : c);
+    return (float)lrintf(c * 255.0f) / 255.0f;
 }
 
 /* HPR: an empty pixel is background (left empty) only when its sector minima average

@@ -54,6 +54,11 @@ void sta_shade_ref(const sta_shade_params *params, const sta_image *position,
                     }
                 }
             }
+            if (colour->channels == 4 && c[3] > 0.5f) {
+                for (int k = 0; k < 3; k++) { // the overlay's marked point, unlit
+                    result[k] = c[k];
+                }
+            }
             o[0] = clamp01(result[0]);
             o[1] = clamp01(result[1]);
             o[2] = clamp01(result[2]);

@@ -43,8 +43,7 @@ void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position
     }
 }
 
-void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *filled_colour,
-                                sta_image *out)
+void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *colour, sta_image *out)
 {
     const int r = STA_VOLUMETRIC_SPLAT_RADIUS_PX;
     for (int y = 0; y < out->height; y++) {
@@ -73,10 +72,9 @@ void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *fill
                 continue;
             }
             float *o = sta_image_at(out, x, y);
-            float c[3];
-            sta_marked_colour_unpack(sta_image_at(filled_colour, bx, by)[3], c);
+            const float *c = sta_image_at(colour, bx, by);
             for (int k = 0; k < 3; k++) {
-                o[k] = fminf(fmaxf(c[k], 0.0f), 1.0f);
+                o[k] = sta_unorm8(c[k]);
             }
             o[3] = 1.0f;
         }

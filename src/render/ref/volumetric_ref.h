@@ -56,9 +56,10 @@ static inline bool sta_volumetric_has_class(const uint32_t *set, uint32_t c)
  * node's count or the arena) are ignored. */
 void sta_volumetric_mark_ref(const sta_volumetric_input *in, sta_image *position);
 
-/* Overlay: `position` from mark, `filled_colour` from pull-push (sta_pullpush_ref: at a
- * marked pixel its alpha holds the point's colour), `out` RGBA. */
-void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *filled_colour,
-                                sta_image *out);
+/* Overlay: `position` from mark, `colour` the geometry pass's point colours (rgb in
+ * 0..1; a marked point's is drawn rounded to 8 bits, sta_unorm8), `out` RGBA: covered
+ * pixels get the colour and alpha 1, the others are left alone (the GL pass writes the
+ * RGBA8 filled colour, screen_space.h). */
+void sta_volumetric_overlay_ref(const sta_image *position, const sta_image *colour, sta_image *out);
 
 #endif
