@@ -23,33 +23,14 @@ static uint64_t pack(const int64_t local[3])
 
 static bool grow(sta_cell_moments *m)
 {
-    size_t capacity = m->capacity * 2;
-    uint64_t *keys = sta_calloc(capacity, sizeof(*keys));
-    sta_cell_sums *sums = sta_alloc_array(capacity, sizeof(*sums));
-    sta_higher_sums *high = m->high ? sta_alloc_array(capacity, sizeof(*high)) : NULL;
-    if (!keys || !sums || (m->high && !high)) {
-        sta_free(keys);
-        sta_free(sums);
-        sta_free(high);
+    void *const values[] = { m->sums, m->high };
+    const size_t sizes[] = { sizeof(*m->sums), sizeof(*m->high) };
+    void *grown[2];
+    if (!sta_key_slots_double(&m->keys, &m->capacity, values, sizes, grown, 2)) {
         return false;
     }
-    for (size_t s = 0; s < m->capacity; s++) {
-        if (m->keys[s] != 0) {
-            size_t t = sta_key_slot(keys, capacity, m->keys[s]);
-            keys[t] = m->keys[s];
-            sums[t] = m->sums[s];
-            if (high) {
-                high[t] = m->high[s];
-            }
-        }
-    }
-    sta_free(m->keys);
-    sta_free(m->sums);
-    sta_free(m->high);
-    m->keys = keys;
-    m->sums = sums;
-    m->high = high;
-    m->capacity = capacity;
+    m->sums = grown[0];
+    m->high = grown[1];
     return true;
 }
 

@@ -77,26 +77,13 @@ void sta_cell_tensors_release(sta_cell_tensors *t)
 
 static bool grow(sta_cell_tensors *t)
 {
-    size_t capacity = t->capacity * 2;
-    uint64_t *keys = sta_calloc(capacity, sizeof(*keys));
-    sta_tensor_sums *sums = sta_alloc_array(capacity, sizeof(*sums));
-    if (!keys || !sums) {
-        sta_free(keys);
-        sta_free(sums);
+    void *const values[] = { t->sums };
+    const size_t sizes[] = { sizeof(*t->sums) };
+    void *grown[1];
+    if (!sta_key_slots_double(&t->keys, &t->capacity, values, sizes, grown, 1)) {
         return false;
     }
-    for (size_t s = 0; s < t->capacity; s++) {
-        if (t->keys[s] != 0) {
-            size_t u = sta_key_slot(keys, capacity, t->keys[s]);
-            keys[u] = t->keys[s];
-            sums[u] = t->sums[s];
-        }
-    }
-    sta_free(t->keys);
-    sta_free(t->sums);
-    t->keys = keys;
-    t->sums = sums;
-    t->capacity = capacity;
+    t->sums = grown[0];
     return true;
 }
 

@@ -4,6 +4,7 @@
 #ifndef STA_KEY_SLOTS_H
 #define STA_KEY_SLOTS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -22,5 +23,13 @@ static inline size_t sta_key_slot(const uint64_t *keys, size_t capacity, uint64_
     }
     return s;
 }
+
+/* Doubles a table: its keys (`*keys`, `*capacity` slots) and `count` value arrays beside
+ * them (`values[i]`, `sizes[i]` bytes a slot; a NULL array stays NULL) move to new arrays
+ * of twice the slots, each key and its values to the key's new slot. On success the old
+ * arrays are freed, `grown[i]` holds the new value arrays, and the keys and capacity are
+ * updated. Returns false, the table as it was, when out of memory. */
+bool sta_key_slots_double(uint64_t **keys, size_t *capacity, void *const values[],
+                          const size_t sizes[], void *grown[], int count);
 
 #endif

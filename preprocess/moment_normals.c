@@ -166,26 +166,13 @@ static void table_release(vertex_table *t)
 // Twice the slots (the boxes stay where they are).
 static bool table_grow(vertex_table *t)
 {
-    size_t capacity = 2 * t->capacity;
-    uint64_t *keys = sta_calloc(capacity, sizeof(*keys));
-    uint32_t *index = sta_alloc_array(capacity, sizeof(*index));
-    if (!keys || !index) {
-        sta_free(keys);
-        sta_free(index);
+    void *const values[] = { t->index };
+    const size_t sizes[] = { sizeof(*t->index) };
+    void *grown[1];
+    if (!sta_key_slots_double(&t->keys, &t->capacity, values, sizes, grown, 1)) {
         return false;
     }
-    for (size_t s = 0; s < t->capacity; s++) {
-        if (t->keys[s] != 0) {
-            size_t u = sta_key_slot(keys, capacity, t->keys[s]);
-            keys[u] = t->keys[s];
-            index[u] = t->index[s];
-        }
-    }
-    sta_free(t->keys);
-    sta_free(t->index);
-    t->keys = keys;
-    t->index = index;
-    t->capacity = capacity;
+    t->index = grown[0];
     return true;
 }
 
