@@ -87,6 +87,14 @@
 #define SPHERE_SCALE_VARIATION 0.02
 #define SPHERE_BETTER          0.5
 #define SPHERE_BETTER_ROUGH    0.4
+/* A slightly rough box (surface variation above SPHERE_SCALE_VARIATION, at most
+ * ROUGH_VARIATION) at the base level or above takes its sphere wherever the sphere fits
+ * better than the plane (SPHERE_BETTER_SLIGHT); SPHERE_BETTER kept half the leaf clusters'
+ * and poles' such boxes in the planes' blend, which fits a plane across a pole.
+ * Thirteenth round, second part (4 M street): poles' p95 44.5 -> 33.8 degrees, trees'
+ * 24.7 -> 23.9; buildings' p95 6.7 -> 7.3, cars' 31.9 -> 32.9 (docs/BENCHMARKS.md). The
+ * adaptive fine level's boxes keep SPHERE_BETTER: there 1.2 lost trees' p95. */
+#define SPHERE_BETTER_SLIGHT   1.0
 /* The default method's adaptive fine level: a base cell holding an own point whose nearest
  * base box's surface variation exceeds this is rough (a curb's step, a car's edge,
  * foliage); its points first try the boxes of half-size cells, as moments-fine does
@@ -111,6 +119,14 @@
  * its plane fits across the pole (thirteenth round: poles' p95 50.7 -> 47.1 degrees on
  * the 20 M street, trees' 31.2 -> 30.9). */
 #define ELONGATED              3.0
+/* The default method's candidates need a next-level cell of this share of K (--knn)
+ * points, at least NEED_LEAST: sparse leaf clusters (a crown's far sides) otherwise wait
+ * for 0.5-1 m boxes across several clusters. Thirteenth round (20 M street, K 10 -> 4):
+ * trees' p95 30.9 -> 24.0 degrees, poles' 47.1 -> 44.2, cars' 33.7 -> 32.9, buildings'
+ * 7.4 -> 7.0; 3 (4 M street) gave trees 0.8 degrees more and curbs' median 0.088 ->
+ * 0.095. */
+#define NEED_SHARE             0.4
+#define NEED_LEAST             3
 
 /* The moments of the 2 x 2 x 2 cells around a grid vertex, centred. */
 typedef struct vertex_box {
@@ -436,14 +452,27 @@ static double box_error(const sta_normals_chunk *chunk, const level_boxes *l, ve
     return box_sphere(chunk, l, b, u) ? (double)b->sphere[4] : b->variation;
 }
 
-// The normal at u of the algebraic sphere of its nearest box b, where b is not flat and
-// the sphere fits it clearly better than the plane; false when the planes' blend decides.
+// Whether box b of l (u's nearest) is not flat and its sphere fits it clearly better than
+// its plane (by the bound for b's surface variation and l's level against the pass's base
+// level): where its points take the sphere's normal.
+static bool sphere_taken(const sta_normals_chunk *chunk, const level_boxes *l, vertex_box *b,
+                         const int64_t u[3], int base_level)
+{
+    double better = b->variation > ROUGH_VARIATION ? SPHERE_BETTER_ROUGH : SPHERE_BETTER;
+    if (chunk->method == STA_NORMALS_MOMENTS && b->variation > SPHERE_SCALE_VARIATION &&
+        b->variation <= ROUGH_VARIATION && l->cells->level >= base_level) {
+        better = SPHERE_BETTER_SLIGHT;
+    }
+    return box_sphere(chunk, l, b, u) && (double)b->sphere[4] < better * b->variation;
+}
+
+// The normal at u of the algebraic sphere of its nearest box b, where sphere_taken; false
+// when the planes' blend decides.
 static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, vertex_box *b,
-                          const int64_t u[3], double normal[3])
+                          const int64_t u[3], int base_level, double normal[3])
 {
     int level = l->cells->level;
-    double better = b->variation > ROUGH_VARIATION ? SPHERE_BETTER_ROUGH : SPHERE_BETTER;
-    if (!box_sphere(chunk, l, b, u) || !((double)b->sphere[4] < better * b->variation)) {
+    if (!sphere_taken(chunk, l, b, u, base_level)) {
         return false;
     }
     const float *f = b->sphere;
@@ -611,13 +640,23 @@ static unsigned run_key(const int64_t u[3], int low, int bits)
 
 // Whether a candidate at u moves up: the next level's box is flatter (less surface
 // variation, or sphere residual where not flat: box_error) and its normal agrees with this
-// level's. 1 or 0; -1 when out of memory.
+// level's; or, at the default method's adaptive fine level (below `base_level`), its box
+// is not flat and would take its sphere: then it waits for the base level (quadric,
+// sphere or blend there). The fine boxes are too small to tell a leaf cluster's or a
+// car's curve from the range noise: 84 % of the tree points and 73 % of the car points
+// that took a rough fine box's sphere were more than 20 degrees off (4 M street);
+// thirteenth round, second part: cars' p95 31.9 -> 30.9 degrees, trees' 24.7 -> 24.1,
+// curbs' 19.4 -> 19.1, nothing worse. 1 or 0; -1 when out of memory.
 static int moves_up(const sta_normals_chunk *chunk, level_boxes *fine, level_boxes *coarse,
-                    const int64_t u[3])
+                    const int64_t u[3], int base_level)
 {
     vertex_box *b = nearest_box(chunk, fine, u), *c = b ? nearest_box(chunk, coarse, u) : NULL;
     if (!c) {
         return -1;
+    }
+    if (chunk->method == STA_NORMALS_MOMENTS && fine->cells->level < base_level &&
+        b->variation > SPHERE_SCALE_VARIATION && sphere_taken(chunk, fine, b, u, base_level)) {
+        return 1;
     }
     return box_error(chunk, coarse, c, u) < box_error(chunk, fine, b, u) && box_fit(chunk, b) &&
            box_fit(chunk, c) &&
@@ -708,7 +747,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                 }
                 k = keyed ? run_key(u, low, bits) : 0;
                 if (up[k] < 0) {
-                    int moved = moves_up(m->chunk, fine, coarse, u);
+                    int moved = moves_up(m->chunk, fine, coarse, u, m->base_level);
                     if (moved < 0) {
                         return SIZE_MAX;
                     }
@@ -781,8 +820,9 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
             }
         }
         int quadric = ok ? quadric_normal(m, fine, b, u, normal) : 0;
-        if (quadric < 0 || (ok && quadric == 0 && !sphere_normal(chunk, fine, b, u, normal) &&
-                            !blend_normals(chunk, fine, u, normal, variation))) {
+        if (quadric < 0 ||
+            (ok && quadric == 0 && !sphere_normal(chunk, fine, b, u, m->base_level, normal) &&
+             !blend_normals(chunk, fine, u, normal, variation))) {
             return SIZE_MAX;
         }
         if (box_reach(chunk, u, fine->cells->level) > sta_normal_halo_reach(chunk, p)) {
@@ -925,6 +965,15 @@ int sta_moment_normals_base_level(sta_normals_method method, uint64_t points,
     return level;
 }
 
+int sta_moment_normals_need(sta_normals_method method, int k)
+{
+    if (method != STA_NORMALS_MOMENTS) {
+        return k; // (moments-fine stays as it was)
+    }
+    int need = (int)ceil(NEED_SHARE * (double)k - 1e-9); // (10 -> 4 whatever the rounding)
+    return need > NEED_LEAST ? need : NEED_LEAST;
+}
+
 double sta_moment_normals_reach(int base_level, double unit)
 {
     // A point blends the boxes of its cell's 8 vertices: they reach 2 cells from it.
@@ -1008,7 +1057,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                          .count = count,
                          .base_level = level,
                          .finish = finish,
-                         .need = (double)chunk->k,
+                         .need = (double)sta_moment_normals_need(chunk->method, chunk->k),
                          .factor = plane_radius_factor() };
     // Two levels at a time: the one fitted and the next (the scale's counts and the
     // candidates' flatness); the next becomes the fitted one with its vertex boxes.
