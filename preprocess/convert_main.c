@@ -129,8 +129,8 @@ int main(int argc, char **argv)
           .metavar = "K",
           .int_min = 3,
           .int_max = STA_NORMALS_MAX_K,
-          .help = "neighbours of each point for --normals (moments: boxes of at least K "
-                  "points)" },
+          .help = "neighbours of each point for --normals (moments: a point starts where its "
+                  "cells hold K/10 points, at least 1; moments-fine: K)" },
         { .name = "salvage",
           .kind = STA_CLI_FLAG,
           .dest = &options.salvage,
@@ -222,12 +222,13 @@ int main(int argc, char **argv)
         fprintf(stderr, "  up axis: %s\n", report.up_why);
         if (options.normals && options.normals_method != STA_NORMALS_KNN) {
             fprintf(stderr,
-                    "  normals: cell moments, boxes of at least K = %d points, halo pass "
+                    "  normals: cell moments, start at cells of %d+ points (K = %d), halo pass "
                     "%.2f s; %" PRIu64 " fallback (degenerate), %" PRIu64
-                    " boxes grown once (nearly linear or edge-on), %" PRIu64
+                    " boxes grown (nearly linear, edge-on or degenerate), %" PRIu64
                     " boxes wider than the halo; walls face %s\n",
-                    options.knn, report.seconds_halo, report.normals_degenerate,
-                    report.normals_widened, report.normals_beyond_halo,
+                    sta_moment_normals_need(options.normals_method, options.knn), options.knn,
+                    report.seconds_halo, report.normals_degenerate, report.normals_widened,
+                    report.normals_beyond_halo,
                     report.normals_trajectory ? "the scanner path (GPS time)"
                                               : "away from the scene's vertical centre line");
         } else if (options.normals) {

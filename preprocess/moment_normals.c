@@ -87,6 +87,21 @@
 #define SPHERE_SCALE_VARIATION 0.02
 #define SPHERE_BETTER          0.5
 #define SPHERE_BETTER_ROUGH    0.4
+/* A slightly rough box (surface variation above SPHERE_SCALE_VARIATION, at most
+ * ROUGH_VARIATION) at the base level or above takes its sphere wherever the sphere fits
+ * better than the plane (SPHERE_BETTER_SLIGHT); SPHERE_BETTER kept half the leaf clusters'
+ * and poles' such boxes in the planes' blend, which fits a plane across a pole.
+ * Thirteenth round, second part (4 M street): poles' p95 44.5 -> 33.8 degrees, trees'
+ * 24.7 -> 23.9; buildings' p95 6.7 -> 7.3, cars' 31.9 -> 32.9 (docs/BENCHMARKS.md). The
+ * adaptive fine level's boxes keep SPHERE_BETTER: there 1.2 lost trees' p95. */
+#define SPHERE_BETTER_SLIGHT   1.0
+/* Above the base level a rough box (variation above ROUGH_VARIATION) takes its sphere where
+ * it fits better than the plane too (SPHERE_BETTER_ABOVE; at the base level the quadric
+ * and SPHERE_BETTER_ROUGH decide): sparse leaf points that reach such boxes had the
+ * planes' blend, 80-99 % of them more than 20 degrees off (4 M street). With the start
+ * below and the no-growing rule of finish_level (before FLAT_ENOUGH), 20 M street: trees'
+ * p95 20.62 -> 20.57 degrees, cars' 31.42 -> 31.77, curbs' 20.64 -> 21.05. */
+#define SPHERE_BETTER_ABOVE    1.0
 /* The default method's adaptive fine level: a base cell holding an own point whose nearest
  * base box's surface variation exceeds this is rough (a curb's step, a car's edge,
  * foliage); its points first try the boxes of half-size cells, as moments-fine does
@@ -111,6 +126,23 @@
  * its plane fits across the pole (thirteenth round: poles' p95 50.7 -> 47.1 degrees on
  * the 20 M street, trees' 31.2 -> 30.9). */
 #define ELONGATED              3.0
+/* A candidate of the default method does not move up to a box whose surface variation
+ * exceeds FLAT_ENOUGH: a wider box that is not flat either straddles leaf clusters (its
+ * sphere's residual can still be smaller than this level's). Thirteenth round, second
+ * part (20 M street, with the start below, SPHERE_BETTER_ABOVE and degenerate boxes grown
+ * until they fit): trees' p95 20.57 -> 20.35 degrees, buildings' 7.96 -> 7.11; 0.01 took
+ * the analytic planes' p95 to 5.9 degrees (a box at two planes' edge cannot move up),
+ * 0.0125 gives 1.46, 0.02 trees 20.39 (docs/BENCHMARKS.md). */
+#define FLAT_ENOUGH            0.0125
+/* The default method's candidates need a next-level cell of this share of K (--knn)
+ * points, at least NEED_LEAST (K = 10: 1, every point starts at its first level): sparse
+ * leaf clusters (a crown's far sides) otherwise wait for 0.5-1 m boxes across several
+ * clusters. Thirteenth round (20 M street, K 10 -> 4): trees' p95 30.9 -> 24.0 degrees,
+ * poles' 47.1 -> 44.2, cars' 33.7 -> 32.9, buildings' 7.4 -> 7.0; its second part, with
+ * the other rules of that part: 4 -> 1 took trees' p95 from 22.04 to 20.62, buildings'
+ * from 7.54 to 7.95 (docs/BENCHMARKS.md). */
+#define NEED_SHARE             0.1
+#define NEED_LEAST             1
 
 /* The moments of the 2 x 2 x 2 cells around a grid vertex, centred. */
 typedef struct vertex_box {
@@ -423,14 +455,30 @@ static double box_error(const sta_normals_chunk *chunk, const level_boxes *l, ve
     return box_sphere(chunk, l, b, u) ? (double)b->sphere[4] : b->variation;
 }
 
-// The normal at u of the algebraic sphere of its nearest box b, where b is not flat and
-// the sphere fits it clearly better than the plane; false when the planes' blend decides.
+// Whether box b of l (u's nearest) is not flat and its sphere fits it clearly better than
+// its plane (by the bound for b's surface variation and l's level against the pass's base
+// level): where its points take the sphere's normal.
+static bool sphere_taken(const sta_normals_chunk *chunk, const level_boxes *l, vertex_box *b,
+                         const int64_t u[3], int base_level)
+{
+    double better = b->variation > ROUGH_VARIATION ? SPHERE_BETTER_ROUGH : SPHERE_BETTER;
+    if (chunk->method == STA_NORMALS_MOMENTS && b->variation > SPHERE_SCALE_VARIATION &&
+        b->variation <= ROUGH_VARIATION && l->cells->level >= base_level) {
+        better = SPHERE_BETTER_SLIGHT;
+    }
+    if (b->variation > ROUGH_VARIATION && l->cells->level > base_level) {
+        better = SPHERE_BETTER_ABOVE; // (moments-fine: box_sphere refuses)
+    }
+    return box_sphere(chunk, l, b, u) && (double)b->sphere[4] < better * b->variation;
+}
+
+// The normal at u of the algebraic sphere of its nearest box b, where sphere_taken; false
+// when the planes' blend decides.
 static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, vertex_box *b,
-                          const int64_t u[3], double normal[3])
+                          const int64_t u[3], int base_level, double normal[3])
 {
     int level = l->cells->level;
-    double better = b->variation > ROUGH_VARIATION ? SPHERE_BETTER_ROUGH : SPHERE_BETTER;
-    if (!box_sphere(chunk, l, b, u) || !((double)b->sphere[4] < better * b->variation)) {
+    if (!sphere_taken(chunk, l, b, u, base_level)) {
         return false;
     }
     const float *f = b->sphere;
@@ -598,13 +646,27 @@ static unsigned run_key(const int64_t u[3], int low, int bits)
 
 // Whether a candidate at u moves up: the next level's box is flatter (less surface
 // variation, or sphere residual where not flat: box_error) and its normal agrees with this
-// level's. 1 or 0; -1 when out of memory.
+// level's; or, at the default method's adaptive fine level (below `base_level`), its box
+// is not flat and would take its sphere: then it waits for the base level (quadric,
+// sphere or blend there). The fine boxes are too small to tell a leaf cluster's or a
+// car's curve from the range noise: 84 % of the tree points and 73 % of the car points
+// that took a rough fine box's sphere were more than 20 degrees off (4 M street);
+// thirteenth round, second part, for the rough fine boxes alone: cars' p95 31.9 -> 30.9
+// degrees, trees' 24.7 -> 24.1, curbs' 19.4 -> 19.1, nothing worse; the slightly rough
+// ones too: trees' 23.3 -> 23.1. 1 or 0; -1 when out of memory.
 static int moves_up(const sta_normals_chunk *chunk, level_boxes *fine, level_boxes *coarse,
-                    const int64_t u[3])
+                    const int64_t u[3], int base_level)
 {
     vertex_box *b = nearest_box(chunk, fine, u), *c = b ? nearest_box(chunk, coarse, u) : NULL;
     if (!c) {
         return -1;
+    }
+    if (chunk->method == STA_NORMALS_MOMENTS && fine->cells->level < base_level &&
+        b->variation > SPHERE_SCALE_VARIATION && sphere_taken(chunk, fine, b, u, base_level)) {
+        return 1;
+    }
+    if (chunk->method == STA_NORMALS_MOMENTS && c->variation > FLAT_ENOUGH) {
+        return 0;
     }
     return box_error(chunk, coarse, c, u) < box_error(chunk, fine, b, u) && box_fit(chunk, b) &&
            box_fit(chunk, c) &&
@@ -695,7 +757,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                 }
                 k = keyed ? run_key(u, low, bits) : 0;
                 if (up[k] < 0) {
-                    int moved = moves_up(m->chunk, fine, coarse, u);
+                    int moved = moves_up(m->chunk, fine, coarse, u, m->base_level);
                     if (moved < 0) {
                         return SIZE_MAX;
                     }
@@ -758,7 +820,17 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
             memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
             target = sta_trajectory_at_memo(chunk->trajectory, &memo, gps_time, at) ? at : NULL;
         }
-        if (!grow && !last) {
+        // A box that takes its sphere, or is rough, is not grown for being edge-on or nearly
+        // linear (default method): a leaf cluster's silhouette is edge-on to the scanner, and
+        // 78-93 % of the points grown from such boxes were more than 20 degrees off (4 M
+        // street; thirteenth round, second part: trees' p95 22.23 -> 22.04 on the 20 M).
+        bool keep = chunk->method == STA_NORMALS_MOMENTS && ok &&
+                    variation > SPHERE_SCALE_VARIATION &&
+                    (variation > ROUGH_VARIATION || sphere_taken(chunk, fine, b, u, m->base_level));
+        // A degenerate box (fewer than 3 points, a line) grows until it fits, not once
+        // (default method: its start at 1 point leaves sparse points in such boxes).
+        bool regrow = chunk->method == STA_NORMALS_MOMENTS && !ok;
+        if ((!grow || regrow) && !last && !keep) {
             if (sta_normal_too_narrow_at(chunk, pd, target, ok, normal, w, false)) {
                 // nearly linear, edge-on or no plane: once wider
                 m->state[j] = (uint8_t)((flags & RUN_START) | STATE_GROW);
@@ -768,8 +840,9 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
             }
         }
         int quadric = ok ? quadric_normal(m, fine, b, u, normal) : 0;
-        if (quadric < 0 || (ok && quadric == 0 && !sphere_normal(chunk, fine, b, u, normal) &&
-                            !blend_normals(chunk, fine, u, normal, variation))) {
+        if (quadric < 0 ||
+            (ok && quadric == 0 && !sphere_normal(chunk, fine, b, u, m->base_level, normal) &&
+             !blend_normals(chunk, fine, u, normal, variation))) {
             return SIZE_MAX;
         }
         if (box_reach(chunk, u, fine->cells->level) > sta_normal_halo_reach(chunk, p)) {
@@ -912,6 +985,15 @@ int sta_moment_normals_base_level(sta_normals_method method, uint64_t points,
     return level;
 }
 
+int sta_moment_normals_need(sta_normals_method method, int k)
+{
+    if (method != STA_NORMALS_MOMENTS) {
+        return k; // (moments-fine stays as it was)
+    }
+    int need = (int)ceil(NEED_SHARE * (double)k - 1e-9); // (10 -> 1 whatever the rounding)
+    return need > NEED_LEAST ? need : NEED_LEAST;
+}
+
 double sta_moment_normals_reach(int base_level, double unit)
 {
     // A point blends the boxes of its cell's 8 vertices: they reach 2 cells from it.
@@ -995,7 +1077,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                          .count = count,
                          .base_level = level,
                          .finish = finish,
-                         .need = (double)chunk->k,
+                         .need = (double)sta_moment_normals_need(chunk->method, chunk->k),
                          .factor = plane_radius_factor() };
     // Two levels at a time: the one fitted and the next (the scale's counts and the
     // candidates' flatness); the next becomes the fitted one with its vertex boxes.

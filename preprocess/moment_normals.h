@@ -57,6 +57,11 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
 int sta_moment_normals_base_level(sta_normals_method method, uint64_t points,
                                   const double extent[3], double unit);
 
+/* The points a point's cell of the next level must hold before the point takes a box at
+ * a level (the scale's start, docs/CONVERTER.md "The moments method"), for `--knn` k:
+ * k with moments-fine; a tenth of it, at least 1, with the default method. */
+int sta_moment_normals_need(sta_normals_method method, int k);
+
 /* How far (metres, along any axis) the widest box of a point reaches from it: the halo
  * margin of the moments method. */
 double sta_moment_normals_reach(int base_level, double unit);
