@@ -5,6 +5,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "cholesky.h"
+
 /* Unknowns once the constant term is eliminated. */
 #define UNKNOWNS       9
 /* Fewer points cannot decide a quadric (9 unknowns) with one to spare. */
@@ -27,52 +29,6 @@
 static const int monomial[10][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
                                      { 2, 0, 0 }, { 0, 2, 0 }, { 0, 0, 2 }, { 1, 1, 0 },
                                      { 1, 0, 1 }, { 0, 1, 1 } };
-
-// Cholesky factor l of the symmetric n x n a (row-major, stride UNKNOWNS); false when a is
-// not positive definite.
-static bool cholesky(const double a[UNKNOWNS][UNKNOWNS], double l[UNKNOWNS][UNKNOWNS])
-{
-    memset(l, 0, sizeof(double) * UNKNOWNS * UNKNOWNS);
-    for (int j = 0; j < UNKNOWNS; j++) {
-        for (int i = j; i < UNKNOWNS; i++) {
-            double sum = a[i][j];
-            for (int k = 0; k < j; k++) {
-                sum -= l[i][k] * l[j][k];
-            }
-            if (i == j) {
-                if (!(sum > 0.0)) {
-                    return false;
-                }
-                l[j][j] = sqrt(sum);
-            } else {
-                l[i][j] = sum / l[j][j];
-            }
-        }
-    }
-    return true;
-}
-
-// Solves l y = x (lower) in place.
-static void solve_lower(const double l[UNKNOWNS][UNKNOWNS], double x[UNKNOWNS])
-{
-    for (int i = 0; i < UNKNOWNS; i++) {
-        for (int k = 0; k < i; k++) {
-            x[i] -= l[i][k] * x[k];
-        }
-        x[i] /= l[i][i];
-    }
-}
-
-// Solves l^T y = x (upper) in place.
-static void solve_upper(const double l[UNKNOWNS][UNKNOWNS], double x[UNKNOWNS])
-{
-    for (int i = UNKNOWNS - 1; i >= 0; i--) {
-        for (int k = i + 1; k < UNKNOWNS; k++) {
-            x[i] -= l[k][i] * x[k];
-        }
-        x[i] /= l[i][i];
-    }
-}
 
 // The terms' places by exponents (i + j + k <= 4).
 typedef struct term_index {
@@ -181,11 +137,11 @@ bool sta_quadric_fit(const sta_tensor_sums *sums, double extent, sta_quadric *ou
     }
     // C = L^-1 A L^-T with B = L L^T: the smallest eigenvector w of C gives v = L^-T w.
     double l[UNKNOWNS][UNKNOWNS], c[UNKNOWNS][UNKNOWNS], x[UNKNOWNS][UNKNOWNS];
-    if (!cholesky((const double(*)[UNKNOWNS])b, l)) {
+    if (!sta_cholesky(&b[0][0], UNKNOWNS, 0.0, &l[0][0])) {
         return false;
     }
     for (int j = 0; j < UNKNOWNS; j++) { // x = L^-1 A, column by column (A symmetric: rows)
-        solve_lower((const double(*)[UNKNOWNS])l, memcpy(x[j], a[j], sizeof(x[j])));
+        sta_cholesky_solve_lower(&l[0][0], UNKNOWNS, memcpy(x[j], a[j], sizeof(x[j])));
     }
     double ctrace = 0.0;
     for (int j = 0; j < UNKNOWNS; j++) { // c = L^-1 x^T: x[j] is column j of L^-1 A
@@ -193,7 +149,7 @@ bool sta_quadric_fit(const sta_tensor_sums *sums, double extent, sta_quadric *ou
         for (int i = 0; i < UNKNOWNS; i++) {
             col[i] = x[i][j];
         }
-        solve_lower((const double(*)[UNKNOWNS])l, col);
+        sta_cholesky_solve_lower(&l[0][0], UNKNOWNS, col);
         for (int i = 0; i < UNKNOWNS; i++) {
             c[i][j] = col[i];
         }
@@ -213,12 +169,12 @@ bool sta_quadric_fit(const sta_tensor_sums *sums, double extent, sta_quadric *ou
         shifted[i][i] += QUADRIC_SHIFT * ctrace;
         w[i] = 1.0 - 0.07 * i; // (no special direction)
     }
-    if (!cholesky((const double(*)[UNKNOWNS])shifted, lc)) {
+    if (!sta_cholesky(&shifted[0][0], UNKNOWNS, 0.0, &lc[0][0])) {
         return false;
     }
     for (int it = 0; it < QUADRIC_STEPS; it++) {
-        solve_lower((const double(*)[UNKNOWNS])lc, w);
-        solve_upper((const double(*)[UNKNOWNS])lc, w);
+        sta_cholesky_solve_lower(&lc[0][0], UNKNOWNS, w);
+        sta_cholesky_solve_upper(&lc[0][0], UNKNOWNS, w);
         double len = 0.0;
         for (int i = 0; i < UNKNOWNS; i++) {
             len += w[i] * w[i];
@@ -237,7 +193,7 @@ bool sta_quadric_fit(const sta_tensor_sums *sums, double extent, sta_quadric *ou
             value += w[i] * c[i][j] * w[j];
         }
     }
-    solve_upper((const double(*)[UNKNOWNS])l, w);
+    sta_cholesky_solve_upper(&l[0][0], UNKNOWNS, w);
     double v0 = 0.0;
     for (int i = 0; i < UNKNOWNS; i++) {
         out->v[i + 1] = w[i];

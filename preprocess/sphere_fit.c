@@ -5,6 +5,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "cholesky.h"
+
 /* Inverse iterations for the smallest eigenvector: each shrinks the others by the ratio of
  * the eigenvalues; where the sphere is used it fits twice better than the plane. */
 #define SPHERE_ITERATIONS 8
@@ -78,44 +80,18 @@ bool sta_sphere_moments_of(const sta_moment_sums *sums, double extent, sta_spher
 // eigenvalue (the Rayleigh quotient); false when a is not positive semi-definite.
 static bool smallest_eigen4(double a[4][4], double x[4], double *value)
 {
-    double trace = a[0][0] + a[1][1] + a[2][2] + a[3][3], l[4][4] = { { 0 } };
-    if (!(trace > 0.0)) {
+    double trace = a[0][0] + a[1][1] + a[2][2] + a[3][3], l[4][4];
+    if (!(trace > 0.0) || !sta_cholesky(&a[0][0], 4, SPHERE_SHIFT * trace, &l[0][0])) {
         return false;
-    }
-    for (int j = 0; j < 4; j++) {
-        for (int i = j; i < 4; i++) {
-            double sum = a[i][j] + (i == j ? SPHERE_SHIFT * trace : 0.0);
-            for (int k = 0; k < j; k++) {
-                sum -= l[i][k] * l[j][k];
-            }
-            if (i == j) {
-                if (!(sum > 0.0)) {
-                    return false;
-                }
-                l[j][j] = sqrt(sum);
-            } else {
-                l[i][j] = sum / l[j][j];
-            }
-        }
     }
     for (int i = 0; i < 4; i++) {
         x[i] = 0.5;
     }
     for (int it = 0; it < SPHERE_ITERATIONS; it++) {
-        double y[4], len = 0.0;
-        for (int i = 0; i < 4; i++) { // L y = x
-            y[i] = x[i];
-            for (int k = 0; k < i; k++) {
-                y[i] -= l[i][k] * y[k];
-            }
-            y[i] /= l[i][i];
-        }
-        for (int i = 3; i >= 0; i--) { // L^T x = y
-            x[i] = y[i];
-            for (int k = i + 1; k < 4; k++) {
-                x[i] -= l[k][i] * x[k];
-            }
-            x[i] /= l[i][i];
+        sta_cholesky_solve_lower(&l[0][0], 4, x);
+        sta_cholesky_solve_upper(&l[0][0], 4, x);
+        double len = 0.0;
+        for (int i = 3; i >= 0; i--) {
             len += x[i] * x[i];
         }
         len = sqrt(len);
