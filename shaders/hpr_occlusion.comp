@@ -25,7 +25,7 @@ layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y)
 layout(binding = STA_HPR_OCCLUSION_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
 // level l >= 1 at u_level_origin[l] (pass_hpr.h)
 layout(binding = STA_HPR_OCCLUSION_IMAGE_PYRAMID, rgba32f) readonly uniform image2D u_pyramid;
-layout(binding = STA_HPR_OCCLUSION_IMAGE_LABEL, r32f) writeonly uniform image2D u_label;
+layout(binding = STA_HPR_OCCLUSION_IMAGE_LABEL, r16f) writeonly uniform image2D u_label;
 #ifdef HPR_REFINE // sparse operator, last step: the listed pixels only
 layout(std430, binding = STA_HPR_OCCLUSION_BUFFER_LIST) readonly buffer RefineList
 {

@@ -203,7 +203,7 @@ static void gpu_pyramid(const sta_view_params *view, const sta_hpr_params *param
     assert_int_equal(
         sta_hpr_pyramid_texture_create(view->width_px, view->height_px, &pyramid_tex, &err),
         STA_OK);
-    assert_int_equal(sta_gl_texture_create(view->width_px, view->height_px, 1, 1, &label_tex, &err),
+    assert_int_equal(sta_gl_label_texture_create(view->width_px, view->height_px, &label_tex, &err),
                      STA_OK);
     sta_status status =
         sta_hpr_pass_run_pyramid(&pass, view, params, position_tex, pyramid_tex, label_tex, &err);
@@ -241,7 +241,7 @@ static void gpu_exhaustive(const sta_view_params *view, const sta_hpr_params *pa
     sta_error err = { 0 };
     GLuint position_tex, label_tex;
     assert_int_equal(sta_gl_texture_from_image(position, &position_tex, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_create(view->width_px, view->height_px, 1, 1, &label_tex, &err),
+    assert_int_equal(sta_gl_label_texture_create(view->width_px, view->height_px, &label_tex, &err),
                      STA_OK);
     sta_status status =
         sta_hpr_pass_run_exhaustive(&pass, view, params, radius, position_tex, label_tex, &err);
@@ -1464,7 +1464,7 @@ static void bad_arguments_are_refused(void **state)
     GLuint position_tex, small_pyramid, label_tex;
     assert_int_equal(sta_gl_texture_create(40, 30, 4, 1, &position_tex, &err), STA_OK);
     assert_int_equal(sta_hpr_pyramid_texture_create(20, 30, &small_pyramid, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_create(40, 30, 1, 1, &label_tex, &err), STA_OK);
+    assert_int_equal(sta_gl_label_texture_create(40, 30, &label_tex, &err), STA_OK);
     assert_int_equal(
         sta_hpr_pass_run_pyramid(&pass, &view, NULL, position_tex, small_pyramid, label_tex, &err),
         STA_ERR_ARG);
