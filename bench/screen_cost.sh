@@ -10,7 +10,8 @@
 #    EXTRA_A / EXTRA_B: more strata-view options for one side, e.g. to compare settings;
 #    CLOCK: cpu (default: the CPU time of the viewer's threads per pass, which other work
 #    on a shared machine does not inflate) or wall; a build without --stats-clock times
-#    wall clock)
+#    wall clock; PER_ROUND: passes to list round by round as well, e.g. "hpr pullpush",
+#    to pair the two builds' rounds)
 set -euo pipefail
 a=$1 b=$2
 work=${BENCH_DIR:-/tmp/strata-bench}
@@ -57,5 +58,11 @@ print(sys.argv[2], ' '.join('%s %.1f' % (k, v) for k, v in med.items()),
       '| screen %.1f ms = %.2fx geometry (rounds %s)' % (screen, screen / med['geometry'],
       ', '.join('%.2f' % s for s in spread)))
 PY
+done
+for pass in ${PER_ROUND:-}; do
+    for side in a b; do
+        echo "$side $pass per round: $(grep -o "$pass [0-9.]* ms" "$out/$side" | cut -d' ' -f2 |
+            tr '\n' ' ')"
+    done
 done
 rm -rf "$out"

@@ -5,7 +5,7 @@ layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y)
 layout(binding = STA_DISPLAY_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
 layout(binding = STA_DISPLAY_IMAGE_COLOUR, rgba32f) readonly uniform image2D u_colour;
 layout(binding = STA_DISPLAY_IMAGE_FILLED_COLOUR, rgba8) readonly uniform image2D u_filled_colour;
-layout(binding = STA_DISPLAY_IMAGE_LABEL, r32f) readonly uniform image2D u_label;
+layout(binding = STA_DISPLAY_IMAGE_LABEL, r16f) readonly uniform image2D u_label;
 layout(binding = STA_DISPLAY_IMAGE_NORMAL, rgba32f) readonly uniform image2D u_normal;
 layout(binding = STA_DISPLAY_IMAGE_OUT, rgba8) writeonly uniform image2D u_out;
 uniform vec2 u_size;

@@ -5,7 +5,7 @@
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 // RGBA32F, screen_space.h
 layout(binding = STA_HPR_EXHAUSTIVE_SAMPLER_POSITION) uniform sampler2D u_position;
-layout(binding = STA_HPR_EXHAUSTIVE_IMAGE_LABEL, r32f) writeonly uniform image2D u_label;
+layout(binding = STA_HPR_EXHAUSTIVE_IMAGE_LABEL, r16f) writeonly uniform image2D u_label;
 uniform ivec2 u_size;    // width, height in pixels
 uniform int u_radius;    // pixels
 uniform vec2 u_tan_half; // tan(fov_y / 2) * aspect, tan(fov_y / 2)

@@ -25,7 +25,7 @@ layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y)
 layout(binding = STA_HPR_OCCLUSION_IMAGE_POSITION, rgba32f) readonly uniform image2D u_position;
 // level l >= 1 at u_level_origin[l] (pass_hpr.h)
 layout(binding = STA_HPR_OCCLUSION_IMAGE_PYRAMID, rgba32f) readonly uniform image2D u_pyramid;
-layout(binding = STA_HPR_OCCLUSION_IMAGE_LABEL, r32f) writeonly uniform image2D u_label;
+layout(binding = STA_HPR_OCCLUSION_IMAGE_LABEL, r16f) writeonly uniform image2D u_label;
 #ifdef HPR_REFINE // sparse operator, last step: the listed pixels only
 layout(std430, binding = STA_HPR_OCCLUSION_BUFFER_LIST) readonly buffer RefineList
 {
@@ -97,21 +97,17 @@ vec2 screen_offset(vec4 y, ivec2 p)
     return vec2(vx, vy);
 }
 
-// The pixel's own surface from its 8 direct neighbours (hpr_surface_solve); not ok for
-// an empty pixel, a marked point or with the rule off. Twin: fit_own_surface.
-HprSurface fit_own_surface(vec4 own, ivec2 p)
+// The pixel's own surface from its 8 direct neighbours `nb` (hpr_surface_solve; texels
+// outside the image hold w = 0); not ok for an empty pixel, a marked point or with the
+// rule off (`on` false). Twin: fit_own_surface.
+HprSurface fit_own_surface(vec4 own, ivec2 p, bool on, vec4 nb[8])
 {
     float d0 = -own.z;
-    bool on = u_surface_tol > 0.0 && hpr_occludes(own.w) && d0 > 0.0;
     vec2 v0 = on ? screen_offset(own, p) : vec2(0.0);
     precise float sums[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     int n = 0;
     for (int i = 0; i < 8 && on; i++) {
-        ivec2 q = p + RING[i];
-        if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, u_size))) {
-            continue;
-        }
-        vec4 y = imageLoad(u_position, q);
+        vec4 y = nb[i];
         if (!hpr_occludes(y.w) || !(-y.z > 0.0)) {
             continue;
         }
@@ -176,7 +172,16 @@ void main()
     vec4 own = imageLoad(u_position, p);
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
     precise float limit = -x.z - u_gap;
-    g_surface = fit_own_surface(own, p);
+    // The 8 direct neighbours, loaded once for the fit and level 0 when the own-surface
+    // rule applies; otherwise level 0 loads them if the pixel gets there.
+    bool on = u_surface_tol > 0.0 && hpr_occludes(own.w) && -own.z > 0.0;
+    vec4 nb[8];
+    for (int i = 0; i < 8; i++) {
+        ivec2 n = p + RING[i];
+        bool inside = all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size));
+        nb[i] = on && inside ? imageLoad(u_position, n) : vec4(0.0);
+    }
+    g_surface = fit_own_surface(own, p, on, nb);
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
     int outside = 0; // sectors with ring texels outside the image within the reach
     bool is_point = own.w > 0.5;
@@ -204,8 +209,8 @@ void main()
     for (int i = 0; i < 8 && !settled; i++) {
         ivec2 n = p + RING[i];
         if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
-            add_neighbour(imageLoad(u_position, n), RING[i], p, x, false, cut2, limit, min_lo,
-                          min_hi);
+            vec4 y = on ? nb[i] : imageLoad(u_position, n);
+            add_neighbour(y, RING[i], p, x, false, cut2, limit, min_lo, min_hi);
         } else {
             outside |= 1 << hpr_sector(2 * RING[i]);
         }

@@ -17,7 +17,7 @@ layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y)
 // imageLoad, not texelFetch: cheaper on llvmpipe (hpr_occlusion.comp)
 layout(binding = STA_HPR_SPARSE_CLASSIFY_IMAGE_POSITION,
        rgba32f) readonly uniform image2D u_position;
-layout(binding = STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL, r32f) uniform image2D u_label;
+layout(binding = STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL, r16f) uniform image2D u_label;
 layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST) buffer RefineList
 {
     uint u_count;

@@ -20,7 +20,7 @@ layout(binding = STA_PULLPUSH_IMAGE_FINE_POSITION, rgba32f)
     readonly uniform image2D u_input_position;
 // The input colour, RGBA32F or RGBA8.
 layout(binding = STA_PULLPUSH_SAMPLER_INPUT_COLOUR) uniform sampler2D u_input_colour;
-layout(binding = STA_PULLPUSH_IMAGE_LABEL, r32f) readonly uniform image2D u_label;
+layout(binding = STA_PULLPUSH_IMAGE_LABEL, r16f) readonly uniform image2D u_label;
 uniform bool u_has_label;
 #else
 // Level l, updated in place.

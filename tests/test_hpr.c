@@ -203,7 +203,7 @@ static void gpu_pyramid(const sta_view_params *view, const sta_hpr_params *param
     assert_int_equal(
         sta_hpr_pyramid_texture_create(view->width_px, view->height_px, &pyramid_tex, &err),
         STA_OK);
-    assert_int_equal(sta_gl_texture_create(view->width_px, view->height_px, 1, 1, &label_tex, &err),
+    assert_int_equal(sta_gl_label_texture_create(view->width_px, view->height_px, &label_tex, &err),
                      STA_OK);
     sta_status status =
         sta_hpr_pass_run_pyramid(&pass, view, params, position_tex, pyramid_tex, label_tex, &err);
@@ -241,7 +241,7 @@ static void gpu_exhaustive(const sta_view_params *view, const sta_hpr_params *pa
     sta_error err = { 0 };
     GLuint position_tex, label_tex;
     assert_int_equal(sta_gl_texture_from_image(position, &position_tex, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_create(view->width_px, view->height_px, 1, 1, &label_tex, &err),
+    assert_int_equal(sta_gl_label_texture_create(view->width_px, view->height_px, &label_tex, &err),
                      STA_OK);
     sta_status status =
         sta_hpr_pass_run_exhaustive(&pass, view, params, radius, position_tex, label_tex, &err);
@@ -1453,6 +1453,36 @@ static void allocation_failures_are_clean(void **state)
     sta_image_release(&position);
 }
 
+// Label textures are R16F (STA_GL_LABEL_FORMAT): every STA_LABEL_* value goes there and
+// back unchanged, and an image of other than 1 channel is refused.
+static void label_texture_round_trip(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    const float labels[] = { STA_LABEL_VISIBLE, STA_LABEL_HIDDEN, STA_LABEL_HOLE,
+                             STA_LABEL_BACKGROUND };
+    sta_image in, out;
+    new_image(&in, 7, 5, 1);
+    for (int i = 0; i < 7 * 5; i++) {
+        in.data[i] = labels[(i * 7 / 3) % 4];
+    }
+    GLuint texture = 0;
+    assert_int_equal(sta_gl_label_texture_from_image(&in, &texture, &err), STA_OK);
+    GLint format = 0;
+    glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+    assert_int_equal(format, STA_GL_LABEL_FORMAT);
+    assert_int_equal(sta_gl_texture_to_image(texture, 0, 1, &out, &err), STA_OK);
+    assert_memory_equal(out.data, in.data, sizeof(float) * 7 * 5);
+    glDeleteTextures(1, &texture);
+    sta_image_release(&out);
+    sta_image_release(&in);
+    sta_image rgb;
+    new_image(&rgb, 2, 2, 3);
+    assert_int_equal(sta_gl_label_texture_from_image(&rgb, &texture, &err), STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "1-channel"));
+    sta_image_release(&rgb);
+}
+
 static void bad_arguments_are_refused(void **state)
 {
     (void)state;
@@ -1464,7 +1494,7 @@ static void bad_arguments_are_refused(void **state)
     GLuint position_tex, small_pyramid, label_tex;
     assert_int_equal(sta_gl_texture_create(40, 30, 4, 1, &position_tex, &err), STA_OK);
     assert_int_equal(sta_hpr_pyramid_texture_create(20, 30, &small_pyramid, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_create(40, 30, 1, 1, &label_tex, &err), STA_OK);
+    assert_int_equal(sta_gl_label_texture_create(40, 30, &label_tex, &err), STA_OK);
     assert_int_equal(
         sta_hpr_pass_run_pyramid(&pass, &view, NULL, position_tex, small_pyramid, label_tex, &err),
         STA_ERR_ARG);
@@ -1505,6 +1535,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(marked_points_hide_only_nearby, setup, teardown),
     cmocka_unit_test_setup_teardown(own_surface_keeps_grazing_planes, setup, teardown),
     cmocka_unit_test(allocation_failures_are_clean),
+    cmocka_unit_test_setup_teardown(label_texture_round_trip, setup, teardown),
     cmocka_unit_test_setup_teardown(bad_arguments_are_refused, setup, teardown),
 };
 

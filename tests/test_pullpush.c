@@ -150,7 +150,7 @@ static void run_gl_with(sta_pullpush_pass *pp, sta_normals_pyramid_pass *np, con
     assert_int_equal(sta_gl_texture_from_image(&f->position, &position, &err), STA_OK);
     assert_int_equal(sta_gl_texture_from_image(&f->colour, &colour, &err), STA_OK);
     if (f->has_label) {
-        assert_int_equal(sta_gl_texture_from_image(&f->label, &label, &err), STA_OK);
+        assert_int_equal(sta_gl_label_texture_from_image(&f->label, &label, &err), STA_OK);
     }
     assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_position, &err), STA_OK);
     assert_int_equal(sta_gl_texture_create_rgba8(w, h, &out_colour, &err), STA_OK);

@@ -501,7 +501,7 @@ static void pullpush_takes_no_seed_from_marked_points(void **state)
         sta_pullpush_ref(&view, &position, &colour, &label, &want_p, &want_c, NULL, &err), STA_OK);
     GLuint tp, tl, tc = rgba8_texture(w, h, &colour), out_p, out_c;
     assert_int_equal(sta_gl_texture_from_image(&position, &tp, &err), STA_OK);
-    assert_int_equal(sta_gl_texture_from_image(&label, &tl, &err), STA_OK);
+    assert_int_equal(sta_gl_label_texture_from_image(&label, &tl, &err), STA_OK);
     assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &out_p, &err), STA_OK);
     assert_int_equal(sta_gl_texture_create_rgba8(w, h, &out_c, &err), STA_OK);
     sta_pullpush_pass pp;

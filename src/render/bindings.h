@@ -72,7 +72,7 @@
 /* Debug views of the pipeline's buffers (display.comp). */
 #define STA_DISPLAY_IMAGE_POSITION      0 /* RGBA32F */
 #define STA_DISPLAY_IMAGE_COLOUR        1 /* RGBA32F */
-#define STA_DISPLAY_IMAGE_LABEL         2 /* R32F, STA_LABEL_* */
+#define STA_DISPLAY_IMAGE_LABEL         2 /* R16F, STA_LABEL_* */
 #define STA_DISPLAY_IMAGE_NORMAL        3 /* RGBA32F */
 #define STA_DISPLAY_IMAGE_OUT           4 /* RGBA8 out */
 #define STA_DISPLAY_IMAGE_FILLED_COLOUR 5 /* RGBA8 pull-push colour, alpha 1: the overlay's */
@@ -84,21 +84,21 @@
 /* HPR pyramidal occlusion (hpr_occlusion.comp). Positions and pyramid are read as images,
  * not sampled: llvmpipe's imageLoad costs ~2.5x less than its texelFetch (issue 15,
  * fourteenth round). */
-#define STA_HPR_OCCLUSION_IMAGE_LABEL    0 /* R32F out */
+#define STA_HPR_OCCLUSION_IMAGE_LABEL    0 /* R16F out */
 #define STA_HPR_OCCLUSION_IMAGE_POSITION 1 /* RGBA32F level 0 */
 #define STA_HPR_OCCLUSION_IMAGE_PYRAMID  2 /* RGBA32F levels >= 1 side by side (pass_hpr.h) */
 #define STA_HPR_OCCLUSION_BUFFER_LIST    0 /* HPR_REFINE: the pixels to refine */
 
 /* Sparse HPR copy step (hpr_sparse_classify.comp); the label and position units are the
  * occlusion's (bound once for the anchors, the copy steps and the refinements). */
-#define STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL     0 /* R32F: anchors in, the rest out */
+#define STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL     0 /* R16F: anchors in, the rest out */
 #define STA_HPR_SPARSE_CLASSIFY_IMAGE_POSITION  1 /* RGBA32F */
 #define STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST     0 /* the pixels to refine (appended) */
 #define STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH 1 /* the refinement's indirect dispatch */
 
 /* HPR exhaustive occlusion (hpr_exhaustive.comp). */
 #define STA_HPR_EXHAUSTIVE_SAMPLER_POSITION 0
-#define STA_HPR_EXHAUSTIVE_IMAGE_LABEL      0 /* R32F out */
+#define STA_HPR_EXHAUSTIVE_IMAGE_LABEL      0 /* R16F out */
 
 /* Pull-push (pullpush_pull.comp, pullpush_push.comp): one layout for both, so that a
  * level bound for one dispatch stays valid for the next. */
@@ -106,7 +106,7 @@
 #define STA_PULLPUSH_IMAGE_OUT_COLOUR      1
 #define STA_PULLPUSH_IMAGE_FINE_POSITION   2 /* pull's fine level; push's input (level 0) */
 #define STA_PULLPUSH_IMAGE_FINE_COLOUR     3 /* pull's fine level above level 0 */
-#define STA_PULLPUSH_IMAGE_LABEL           4 /* R32F HPR labels of the input */
+#define STA_PULLPUSH_IMAGE_LABEL           4 /* R16F HPR labels of the input */
 #define STA_PULLPUSH_IMAGE_COARSE_POSITION 5 /* push: the pushed level l + 1 */
 #define STA_PULLPUSH_IMAGE_COARSE_COLOUR   6
 #define STA_PULLPUSH_IMAGE_LAST            6 /* highest image unit above */

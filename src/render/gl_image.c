@@ -67,6 +67,27 @@ sta_status sta_gl_texture_create_rgba8(int width, int height, GLuint *out_textur
     return texture_create(width, height, GL_RGBA8, 1, out_texture, err);
 }
 
+sta_status sta_gl_label_texture_create(int width, int height, GLuint *out_texture, sta_error *err)
+{
+    return texture_create(width, height, STA_GL_LABEL_FORMAT, 1, out_texture, err);
+}
+
+sta_status sta_gl_label_texture_from_image(const sta_image *image, GLuint *out_texture,
+                                           sta_error *err)
+{
+    if (image->channels != 1) {
+        return sta_fail(err, STA_ERR_ARG, "a label texture needs a 1-channel image, not %d",
+                        image->channels);
+    }
+    sta_status status = sta_gl_label_texture_create(image->width, image->height, out_texture, err);
+    if (status == STA_OK) {
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTextureSubImage2D(*out_texture, 0, 0, 0, image->width, image->height, GL_RED, GL_FLOAT,
+                            image->data);
+    }
+    return status;
+}
+
 sta_status sta_gl_texture_rgba8_from_image(const sta_image *image, GLuint *out_texture,
                                            sta_error *err)
 {

@@ -21,6 +21,19 @@ sta_status sta_gl_texture_from_image(const sta_image *image, GLuint *out_texture
 sta_status sta_gl_texture_create(int width, int height, int channels, int levels,
                                  GLuint *out_texture, sta_error *err);
 
+/* The format of HPR's label textures: STA_LABEL_* (0..3) are exact in a 16-bit float,
+ * which halves the labels' traffic against R32F (issue 15, fourteenth round, third part
+ * of docs/BENCHMARKS.md). Readers bind them with this format (r16f in the shaders). */
+#define STA_GL_LABEL_FORMAT GL_R16F
+
+/* An empty label texture (1 level, STA_GL_LABEL_FORMAT); read back with
+ * sta_gl_texture_to_image and 1 channel. */
+sta_status sta_gl_label_texture_create(int width, int height, GLuint *out_texture, sta_error *err);
+
+/* A label texture holding a 1-channel `image` of STA_LABEL_* values. */
+sta_status sta_gl_label_texture_from_image(const sta_image *image, GLuint *out_texture,
+                                           sta_error *err);
+
 /* An empty RGBA8 texture (1 level): the pipeline's filled colour (screen_space.h). */
 sta_status sta_gl_texture_create_rgba8(int width, int height, GLuint *out_texture, sta_error *err);
 

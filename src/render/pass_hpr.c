@@ -312,7 +312,7 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH,
                      pass->dispatch_buffer);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_READ_WRITE,
-                       GL_R32F);
+                       STA_GL_LABEL_FORMAT);
     set_occlusion_uniforms(pass->anchors_program, view, p, levels, level_depth);
     const int stride = sta_hpr_anchor_stride(h);
     glUniform1i(glGetUniformLocation(pass->anchors_program, "u_anchor_stride"), stride);
@@ -353,7 +353,7 @@ sta_status sta_hpr_pass_run_pyramid(sta_hpr_pass *pass, const sta_view_params *v
     }
     set_occlusion_uniforms(pass->occlusion_program, view, &p, levels, level_depth);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       GL_R32F);
+                       STA_GL_LABEL_FORMAT);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     return sta_gl_check("hpr pyramidal occlusion", err);
 }
@@ -387,7 +387,7 @@ sta_status sta_hpr_pass_run_exhaustive(const sta_hpr_pass *pass, const sta_view_
     glUniform1f(pass->exh_threshold, p.threshold);
     glBindTextureUnit(STA_HPR_EXHAUSTIVE_SAMPLER_POSITION, position_texture);
     glBindImageTexture(STA_HPR_EXHAUSTIVE_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       GL_R32F);
+                       STA_GL_LABEL_FORMAT);
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     return sta_gl_check("hpr exhaustive occlusion", err);
 }

@@ -63,7 +63,7 @@ sta_status sta_hpr_pass_build_pyramid(const sta_hpr_pass *pass, const sta_view_p
                                       sta_error *err);
 
 /* The pyramidal operator: builds the pyramid, then writes STA_LABEL_* into
- * `label_texture` (R32F, view's size). params may be NULL (all defaults). With
+ * `label_texture` (STA_GL_LABEL_FORMAT, view's size). params may be NULL (all defaults). With
  * params->sparse: the operator on the even (x, y) anchors, the copy step, the operator
  * on the refined pixels (the list buffer is grown here; its count is read back). */
 sta_status sta_hpr_pass_run_pyramid(sta_hpr_pass *pass, const sta_view_params *view,

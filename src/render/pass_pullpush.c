@@ -151,7 +151,7 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
     int count = pyr->level_count;
     GLint has_label = label_tex != 0;
     glBindTextureUnit(STA_PULLPUSH_SAMPLER_INPUT_COLOUR, colour_tex);
-    bind_image(STA_PULLPUSH_IMAGE_LABEL, label_tex, GL_READ_ONLY, GL_R32F);
+    bind_image(STA_PULLPUSH_IMAGE_LABEL, label_tex, GL_READ_ONLY, STA_GL_LABEL_FORMAT);
 
     // Pull: level 1 from the inputs, level l from level l - 1.
     for (int l = 1; l < count; l++) {

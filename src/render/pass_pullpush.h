@@ -52,14 +52,14 @@ sta_status sta_pullpush_pass_init(sta_pullpush_pass *pass, sta_error *err);
 void sta_pullpush_pass_release(sta_pullpush_pass *pass);
 
 /* Runs pull and push. position_tex: RGBA32F camera-space points (w = 1 point, 0
- * empty); colour_tex: RGBA32F or RGBA8 (rgb used); label_tex: R32F STA_LABEL_* of HPR,
- * or 0 for "all points visible, no background restored" (position and label are read
- * as images, so their formats must be exactly these); out_position_tex:
- * RGBA32F of the view size, written (filled point xyz, w = coverage 0..1; zero where
- * BACKGROUND or unsupported); out_colour_tex: RGBA8 (sta_gl_texture_create_rgba8) of the
- * view size, written (filled rgb, alpha 0: screen_space.h; zero where the position is). Inputs and
- * outputs must be distinct textures. Errors: STA_ERR_ARG for a view outside 1..32768 pixels,
- * STA_ERR_GL when the pyramid cannot be allocated or GL reports an error. */
+ * empty); colour_tex: RGBA32F or RGBA8 (rgb used); label_tex: STA_GL_LABEL_FORMAT STA_LABEL_* of
+ * HPR, or 0 for "all points visible, no background restored" (position and label are read as
+ * images, so their formats must be exactly these); out_position_tex: RGBA32F of the view size,
+ * written (filled point xyz, w = coverage 0..1; zero where BACKGROUND or unsupported);
+ * out_colour_tex: RGBA8 (sta_gl_texture_create_rgba8) of the view size, written (filled rgb, alpha
+ * 0: screen_space.h; zero where the position is). Inputs and outputs must be distinct textures.
+ * Errors: STA_ERR_ARG for a view outside 1..32768 pixels, STA_ERR_GL when the pyramid cannot be
+ * allocated or GL reports an error. */
 sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params *view,
                                  GLuint position_tex, GLuint colour_tex, GLuint label_tex,
                                  GLuint out_position_tex, GLuint out_colour_tex, sta_error *err);

@@ -141,7 +141,7 @@ static sta_status resize(sta_pipeline *p, int w, int h, sta_error *err)
         s = sta_gl_texture_create_rgba8(w, h, &p->filled_colour, err);
     }
     if (s == STA_OK) {
-        s = sta_gl_texture_create(w, h, 1, 1, &p->label, err);
+        s = sta_gl_label_texture_create(w, h, &p->label, err);
     }
     if (s == STA_OK) {
         glCreateTextures(GL_TEXTURE_2D, 1, &p->classes);
@@ -200,7 +200,8 @@ static void display(sta_pipeline *p, int mode, int w, int h, GLuint out)
                        GL_RGBA32F);
     glBindImageTexture(STA_DISPLAY_IMAGE_FILLED_COLOUR, p->filled_colour, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA8);
-    glBindImageTexture(STA_DISPLAY_IMAGE_LABEL, p->label, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(STA_DISPLAY_IMAGE_LABEL, p->label, 0, GL_FALSE, 0, GL_READ_ONLY,
+                       STA_GL_LABEL_FORMAT);
     glBindImageTexture(STA_DISPLAY_IMAGE_NORMAL, p->normal, 0, GL_FALSE, 0, GL_READ_ONLY,
                        GL_RGBA32F);
     glBindImageTexture(STA_DISPLAY_IMAGE_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
