@@ -20,31 +20,6 @@ enum {
     POINTS = 5000
 };
 
-static uint32_t next_random(uint32_t *state)
-{
-    *state = *state * 1664525u + 1013904223u;
-    return *state >> 8;
-}
-
-// Random points in a box of `side` grid units from `corner`, a fifth of them on a few
-// shared positions (duplicates), half of the rest on a tilted plane (a surface's cells).
-static void random_points(int32_t (*grid)[3], size_t n, const int32_t corner[3], int32_t side,
-                          uint32_t seed)
-{
-    uint32_t s = seed;
-    for (size_t i = 0; i < n; i++) {
-        for (int a = 0; a < 3; a++) {
-            grid[i][a] = corner[a] + (int32_t)(next_random(&s) % (uint32_t)side);
-        }
-        if (i % 2 == 1) {
-            grid[i][2] = corner[2] + (grid[i][0] - corner[0]) / 3 + (grid[i][1] - corner[1]) / 5;
-        }
-        if (i % 5 == 4) {
-            memcpy(grid[i], grid[(i / 50) * 5], sizeof(grid[i]));
-        }
-    }
-}
-
 static void bounds(const int32_t (*grid)[3], size_t n, int32_t lo[3], int32_t hi[3])
 {
     for (int a = 0; a < 3; a++) {
@@ -123,7 +98,7 @@ static void every_order_holds_the_hashed_sums(void **state)
     assert_non_null(grid);
     assert_non_null(order);
     const int32_t corner[3] = { -300000, 7000, 123456 };
-    random_points(grid, POINTS, corner, 3000, 5);
+    sta_test_random_grid(grid, POINTS, corner, 3000, 5, true);
     const int64_t origin[3] = { -300101, 6003, 100000 };
     int32_t lo[3], hi[3];
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
@@ -169,7 +144,7 @@ static void coarsened_levels_match_direct(void **state)
     assert_non_null(grid);
     assert_non_null(order);
     const int32_t corner[3] = { 1000000, -2000000, 37 };
-    random_points(grid, POINTS, corner, 5000, 11);
+    sta_test_random_grid(grid, POINTS, corner, 5000, 11, true);
     const int64_t origin[3] = { 999000, -2000500, 0 };
     int32_t lo[3], hi[3];
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
@@ -212,7 +187,7 @@ static void children_of_wanted_cells_from_two_lists(void **state)
     assert_non_null(lists);
     assert_non_null(order);
     const int32_t corner[3] = { 40000, -9000, 77 };
-    random_points(grid, POINTS, corner, 4000, 17);
+    sta_test_random_grid(grid, POINTS, corner, 4000, 17, true);
     const int64_t origin[3] = { 39001, -9500, -3 };
     int32_t lo[3], hi[3], from[3];
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);

@@ -21,28 +21,6 @@ enum {
     POINTS = 4000
 };
 
-static uint32_t next_random(uint32_t *state)
-{
-    *state = *state * 1664525u + 1013904223u;
-    return *state >> 8;
-}
-
-// Random points in a box of `side` grid units from `corner`, a fifth of them on a few
-// shared positions (duplicates).
-static void random_points(int32_t (*grid)[3], size_t n, const int32_t corner[3], int32_t side,
-                          uint32_t seed)
-{
-    uint32_t s = seed;
-    for (size_t i = 0; i < n; i++) {
-        for (int a = 0; a < 3; a++) {
-            grid[i][a] = corner[a] + (int32_t)(next_random(&s) % (uint32_t)side);
-        }
-        if (i % 5 == 4) {
-            memcpy(grid[i], grid[(i / 50) * 5], sizeof(grid[i]));
-        }
-    }
-}
-
 static void bounds(const int32_t (*grid)[3], size_t n, int32_t lo[3], int32_t hi[3])
 {
     for (int a = 0; a < 3; a++) {
@@ -135,7 +113,7 @@ static void block_sums_match_brute_force(void **state)
     int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
     assert_non_null(grid);
     const int32_t corner[3] = { 1000000, -2000000, 37 };
-    random_points(grid, POINTS, corner, 5000, 11);
+    sta_test_random_grid(grid, POINTS, corner, 5000, 11, false);
     const int64_t origin[3] = { 999000, -2000500, 0 }; // the scene's corner: below every point
     int32_t lo[3], hi[3];
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
@@ -162,7 +140,7 @@ static void vertex_sums_match_brute_force(void **state)
     int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
     assert_non_null(grid);
     const int32_t corner[3] = { -300000, 7000, 123456 };
-    random_points(grid, POINTS, corner, 3000, 5);
+    sta_test_random_grid(grid, POINTS, corner, 3000, 5, false);
     const int64_t origin[3] = { -300100, 6000, 100000 };
     int32_t lo[3], hi[3];
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
@@ -216,7 +194,7 @@ static void wanted_cells_hold_all_their_points(void **state)
     int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
     assert_non_null(grid);
     const int32_t corner[3] = { 0, 0, 0 };
-    random_points(grid, POINTS, corner, 3000, 5);
+    sta_test_random_grid(grid, POINTS, corner, 3000, 5, false);
     const int64_t origin[3] = { 0, 0, 0 };
     int32_t lo[3], hi[3];
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
@@ -299,7 +277,7 @@ static void coarsened_levels_match_brute_force(void **state)
     assert_non_null(grid);
     assert_non_null(order);
     const int32_t corner[3] = { -300000, 4000, 1000000 };
-    random_points(grid, POINTS, corner, 3000, 23);
+    sta_test_random_grid(grid, POINTS, corner, 3000, 23, false);
     const int64_t origin[3] = { -300100, 3000, 999999 };
     int32_t lo[3], hi[3];
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
@@ -337,7 +315,7 @@ static void cell_order_keeps_cells_together(void **state)
     assert_non_null(order);
     assert_non_null(seen);
     const int32_t corner[3] = { 5, -77, 123456 };
-    random_points(grid, POINTS, corner, 20000, 5);
+    sta_test_random_grid(grid, POINTS, corner, 20000, 5, false);
     int32_t lo[3], hi[3];
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
     sta_error err = { 0 };
@@ -427,7 +405,8 @@ static void cell_order_is_stable_morton_sort(void **state)
         int32_t cells = round == 2 ? 60000 : 300;
         for (size_t i = 0; i < POINTS; i++) {
             for (int a = 0; a < 3; a++) {
-                grid[i][a] = corner[a] + stride * (int32_t)(next_random(&s) % (uint32_t)cells);
+                grid[i][a] =
+                    corner[a] + stride * (int32_t)(sta_test_next_random(&s) % (uint32_t)cells);
             }
         }
         assert_int_equal(sta_cell_order((const int32_t(*)[3])grid, POINTS, corner, 0, order, &err),
@@ -459,7 +438,7 @@ static void lower_only_and_reserved_sets_hold_the_same_sums(void **state)
     int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
     assert_non_null(grid);
     const int32_t corner[3] = { 2000, 3000, -4000 };
-    random_points(grid, POINTS, corner, 2500, 31);
+    sta_test_random_grid(grid, POINTS, corner, 2500, 31, false);
     const int64_t origin[3] = { 0, 0, -5000 };
     int32_t lo[3], hi[3];
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);

@@ -14,13 +14,6 @@ enum {
     POINTS = 3000
 };
 
-// A small deterministic generator (the test's own points).
-static uint32_t next(uint32_t *s)
-{
-    *s = *s * 1664525u + 1013904223u;
-    return *s >> 8;
-}
-
 // The sums of points p (grid units) as offsets from `corner`.
 static sta_tensor_sums direct(const int32_t (*p)[3], size_t n, const int64_t corner[3])
 {
@@ -47,7 +40,8 @@ static size_t scatter(int32_t (*p)[3], const int64_t origin[3], uint32_t seed)
     const int64_t v[3] = { 16, 17, 18 };
     for (size_t i = 0; i < POINTS; i++) {
         for (int a = 0; a < 3; a++) {
-            p[i][a] = (int32_t)(origin[a] + ((v[a] - 1) << 6) + (int64_t)(next(&seed) % 128u));
+            p[i][a] = (int32_t)(origin[a] + ((v[a] - 1) << 6) +
+                                (int64_t)(sta_test_next_random(&seed) % 128u));
         }
     }
     return POINTS;

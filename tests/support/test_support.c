@@ -166,3 +166,20 @@ int sta_test_run(const char *group, const struct CMUnitTest *tests, size_t count
     }
     return _cmocka_run_group_tests(group, tests, count, NULL, NULL);
 }
+
+void sta_test_random_grid(int32_t (*grid)[3], size_t n, const int32_t corner[3], int32_t side,
+                          uint32_t seed, bool plane)
+{
+    uint32_t s = seed;
+    for (size_t i = 0; i < n; i++) {
+        for (int a = 0; a < 3; a++) {
+            grid[i][a] = corner[a] + (int32_t)(sta_test_next_random(&s) % (uint32_t)side);
+        }
+        if (plane && i % 2 == 1) {
+            grid[i][2] = corner[2] + (grid[i][0] - corner[0]) / 3 + (grid[i][1] - corner[1]) / 5;
+        }
+        if (i % 5 == 4) {
+            memcpy(grid[i], grid[(i / 50) * 5], sizeof(grid[i]));
+        }
+    }
+}

@@ -64,6 +64,19 @@ static inline float sta_test_frand(uint64_t *state)
     return (float)(*state >> 40) / 16777216.0f;
 }
 
+/* The converter tests' integer generator (a 32-bit LCG's top 24 bits). */
+static inline uint32_t sta_test_next_random(uint32_t *state)
+{
+    *state = *state * 1664525u + 1013904223u;
+    return *state >> 8;
+}
+
+/* Random grid points in a box of `side` grid units from `corner`, a fifth of them on a few
+ * shared positions (duplicates); with `plane`, half of the others on a tilted plane (a
+ * surface's cells). */
+void sta_test_random_grid(int32_t (*grid)[3], size_t n, const int32_t corner[3], int32_t side,
+                          uint32_t seed, bool plane);
+
 int sta_test_run(const char *group, const struct CMUnitTest *tests, size_t count, int argc,
                  char **argv);
 
