@@ -9,11 +9,17 @@
 // otherwise it goes on the list the operator refines. Points of the coarse steps are
 // always listed (the operator on every even point keeps each error of the full operator
 // within 0.1 %; copying them from anchors 4 px apart did not, docs/BENCHMARKS.md).
-// One invocation per 2x2 block of
-// the grid: the block's anchor and its three other pixels, which share the anchors
-// (x, y), (x + 2, y), (x, y + 2), (x + 2, y + 2) in grid steps.
+// One invocation per tile of
+// STA_HPR_CLASSIFY_TILE x STA_HPR_CLASSIFY_TILE 2x2 blocks of the grid, block by block:
+// the block's anchor and its three other pixels, which share the anchors (x, y),
+// (x + 2, y), (x, y + 2), (x + 2, y + 2) in grid steps. The tile's listed pixels go on
+// the list together (one atomic), so the refinement's workgroups, which take the list's
+// entries in order, get neighbouring pixels: with an invocation per block, the
+// workgroups running at the same time interleaved their entries, and HPR took 4.5-10
+// CPU ms more at 1080p on llvmpipe (docs/BENCHMARKS.md, issue 15, fourteenth round).
 // Twin: sta_hpr_ref_sparse_labels (src/render/ref/hpr_sparse_ref.c).
-layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
+// A workgroup is a row of tiles, so that the list takes whole rows of tiles in order.
+layout(local_size_x = STA_HPR_CLASSIFY_GROUP_TILES, local_size_y = 1) in;
 // imageLoad, not texelFetch: cheaper on llvmpipe (hpr_occlusion.comp)
 layout(binding = STA_HPR_SPARSE_CLASSIFY_IMAGE_POSITION,
        rgba32f) readonly uniform image2D u_position;
@@ -31,6 +37,11 @@ layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH) buffer RefineD
 };
 uniform ivec2 u_size;
 uniform int u_stride; // pixels per grid step
+
+// STA_HPR_CLASSIFY_TILE (pass_hpr.c): 2x2 blocks per tile side.
+// The tile's listed pixels (x | y << 16), at most 3 a block.
+uint g_listed[3 * STA_HPR_CLASSIFY_TILE * STA_HPR_CLASSIFY_TILE];
+uint g_count = 0u;
 
 bool is_point_label(float label)
 {
@@ -53,9 +64,8 @@ void fold_anchor(float la, float da, bool own_point, float zp, float tau, inout 
 }
 
 // Grid pixel g: copies the label of its anchors of its kind (2 or 4 of the block's: .x
-// and .y of la / da always, .z and .w when `four`), or lists it for refinement.
-void classify(ivec2 g, ivec2 grid, bool four, vec4 la, vec4 da, inout uint n,
-              inout uvec3 listed)
+// and .y of la / da always, .z and .w when `four`), or adds it to g_listed.
+void classify(ivec2 g, ivec2 grid, bool four, vec4 la, vec4 da)
 {
     if (g.x >= grid.x || g.y >= grid.y) {
         return;
@@ -78,55 +88,63 @@ void classify(ivec2 g, ivec2 grid, bool four, vec4 la, vec4 da, inout uint n,
         imageStore(u_label, p, vec4(label, 0.0, 0.0, 0.0));
         return;
     }
-    uint entry = uint(p.x) | (uint(p.y) << 16);
-    listed = n == 0u ? uvec3(entry, listed.yz) : n == 1u ? uvec3(listed.x, entry, listed.z)
-                                                         : uvec3(listed.xy, entry);
-    n++;
+    g_listed[g_count] = uint(p.x) | (uint(p.y) << 16);
+    g_count++;
+}
+
+// The 2x2 block whose anchor is a0 (in grid steps).
+void classify_block(ivec2 a0, ivec2 grid)
+{
+    // The 4 anchors, clamped to the grid's last even row and column (as the twin).
+    ivec2 a1 = min(a0 + 2, (grid - 1) & ~1);
+    ivec2 q0 = a0 * u_stride, q3 = a1 * u_stride;
+    ivec2 q1 = ivec2(q3.x, q0.y), q2 = ivec2(q0.x, q3.y);
+    vec4 la = vec4(imageLoad(u_label, q0).x, imageLoad(u_label, q1).x, imageLoad(u_label, q2).x,
+                   imageLoad(u_label, q3).x);
+    // Anchor depths matter only for point anchors (a point compares them with its
+    // own): not fetched for the others (copy step at stride 1: 22 -> 20 CPU ms).
+    vec4 da = vec4(0.0);
+    if (is_point_label(la.x)) {
+        da.x = -imageLoad(u_position, q0).z;
+    }
+    if (is_point_label(la.y)) {
+        da.y = -imageLoad(u_position, q1).z;
+    }
+    if (is_point_label(la.z)) {
+        da.z = -imageLoad(u_position, q2).z;
+    }
+    if (is_point_label(la.w)) {
+        da.w = -imageLoad(u_position, q3).z;
+    }
+    // (x + 1, y): anchors 0 and 1; (x, y + 1): 0 and 2; (x + 1, y + 1): all four.
+    classify(a0 + ivec2(1, 0), grid, false, la, da);
+    classify(a0 + ivec2(0, 1), grid, false, la.xzyw, da.xzyw);
+    classify(a0 + ivec2(1, 1), grid, true, la, da);
 }
 
 void main()
 {
     ivec2 grid = (u_size + u_stride - 1) / u_stride; // the grid's size
-    ivec2 a0 = 2 * ivec2(gl_GlobalInvocationID.xy); // the block's anchor, in grid steps
-    uvec3 listed = uvec3(0u);
-    uint n = 0u;
-    if (a0.x < grid.x && a0.y < grid.y) {
-        // The 4 anchors, clamped to the grid's last even row and column (as the twin).
-        ivec2 a1 = min(a0 + 2, (grid - 1) & ~1);
-        ivec2 q0 = a0 * u_stride, q3 = a1 * u_stride;
-        ivec2 q1 = ivec2(q3.x, q0.y), q2 = ivec2(q0.x, q3.y);
-        vec4 la = vec4(imageLoad(u_label, q0).x, imageLoad(u_label, q1).x,
-                       imageLoad(u_label, q2).x, imageLoad(u_label, q3).x);
-        // Anchor depths matter only for point anchors (a point compares them with its
-        // own): not fetched for the others (copy step at stride 1: 22 -> 20 CPU ms).
-        vec4 da = vec4(0.0);
-        if (is_point_label(la.x)) {
-            da.x = -imageLoad(u_position, q0).z;
+    // The tile's first block anchor, in grid steps.
+    ivec2 t0 = 2 * STA_HPR_CLASSIFY_TILE * ivec2(gl_GlobalInvocationID.xy);
+    for (int by = 0; by < STA_HPR_CLASSIFY_TILE; by++) {
+        for (int bx = 0; bx < STA_HPR_CLASSIFY_TILE; bx++) {
+            ivec2 a0 = t0 + 2 * ivec2(bx, by);
+            if (a0.x < grid.x && a0.y < grid.y) {
+                classify_block(a0, grid);
+            }
         }
-        if (is_point_label(la.y)) {
-            da.y = -imageLoad(u_position, q1).z;
-        }
-        if (is_point_label(la.z)) {
-            da.z = -imageLoad(u_position, q2).z;
-        }
-        if (is_point_label(la.w)) {
-            da.w = -imageLoad(u_position, q3).z;
-        }
-        // (x + 1, y): anchors 0 and 1; (x, y + 1): 0 and 2; (x + 1, y + 1): all four.
-        classify(a0 + ivec2(1, 0), grid, false, la, da, n, listed);
-        classify(a0 + ivec2(0, 1), grid, false, la.xzyw, da.xzyw, n, listed);
-        classify(a0 + ivec2(1, 1), grid, true, la, da, n, listed);
     }
-    if (n == 0u) {
+    if (g_count == 0u) {
         return;
     }
-    uint base = atomicAdd(u_count, n);
+    uint base = atomicAdd(u_count, g_count);
     // The entries are 0..count-1 without gaps, so the entry that opens a dispatch row
     // alone raises the row count: one atomic per row, not per pixel.
     const uint row = uint(STA_HPR_LIST_WIDTH * STA_WORKGROUP_SIZE_Y);
-    for (uint i = 0u; i < n; i++) {
+    for (uint i = 0u; i < g_count; i++) {
         uint k = base + i;
-        u_pixels[k] = i == 0u ? listed.x : i == 1u ? listed.y : listed.z;
+        u_pixels[k] = g_listed[i];
         if (k % row == 0u) {
             atomicMax(u_groups[1], k / row + 1u);
         }

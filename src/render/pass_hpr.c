@@ -14,7 +14,11 @@
 #include "render/gl_image.h"
 
 /* Entries of the refinement list per dispatch row. */
-#define STA_HPR_LIST_WIDTH 1024
+#define STA_HPR_LIST_WIDTH           1024
+/* 2x2 blocks per side of a copy step's tile (hpr_sparse_classify.comp): 8 x 8 grid pixels. */
+#define STA_HPR_CLASSIFY_TILE        4
+/* Tiles per workgroup of the copy step: a row of them. */
+#define STA_HPR_CLASSIFY_GROUP_TILES (STA_WORKGROUP_SIZE_X * STA_WORKGROUP_SIZE_Y)
 
 // The constants of hpr_ref.h and screen_space.h the shaders use, as #defines.
 static void shader_defines(char *out, size_t size)
@@ -38,20 +42,23 @@ static void shader_defines(char *out, size_t size)
              "#define STA_POSITION_W_OCCLUDER_MAX %.9e\n"
              "#define STA_HPR_SURFACE_MIN_POINTS %d\n"
              "#define STA_HPR_SURFACE_MIN_DET %.9e\n"
-             "#define STA_HPR_SURFACE_FRONT_SHARE %.9e\n",
+             "#define STA_HPR_SURFACE_FRONT_SHARE %.9e\n"
+             "#define STA_HPR_CLASSIFY_TILE %d\n"
+             "#define STA_HPR_CLASSIFY_GROUP_TILES %d\n",
              STA_HPR_MAX_LEVELS, STA_HPR_SECTOR_TAN_NUM, STA_HPR_SECTOR_TAN_DEN,
              (double)STA_HPR_MIN_LENGTH2_M2, (double)STA_LABEL_BACKGROUND,
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
              (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_MAX_REACH_PX,
              (double)STA_HPR_CUT_FACTOR, (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH,
              STA_HPR_ANCHOR_STRIDE, (double)STA_POSITION_W_OCCLUDER_MAX, STA_HPR_SURFACE_MIN_POINTS,
-             (double)STA_HPR_SURFACE_MIN_DET, (double)STA_HPR_SURFACE_FRONT_SHARE);
+             (double)STA_HPR_SURFACE_MIN_DET, (double)STA_HPR_SURFACE_FRONT_SHARE,
+             STA_HPR_CLASSIFY_TILE, STA_HPR_CLASSIFY_GROUP_TILES);
 }
 
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
-    char defines[1024];
+    char defines[1536];
     shader_defines(defines, sizeof(defines));
     const char *pyramid[] = { "hpr_pyramid.comp" };
     const char *occlusion[] = { "hpr_common.glsl", "hpr_occlusion.comp" };
@@ -287,7 +294,13 @@ static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
     glUniform2i(glGetUniformLocation(pass->classify_program, "u_size"), w, h);
     glUniform1i(glGetUniformLocation(pass->classify_program, "u_stride"), stride);
     int grid_w = (w + stride - 1) / stride, grid_h = (h + stride - 1) / stride;
-    sta_gl_dispatch_2d((grid_w + 1) / 2, (grid_h + 1) / 2); // one invocation per 2x2 block
+    // One invocation per tile of STA_HPR_CLASSIFY_TILE x STA_HPR_CLASSIFY_TILE 2x2 blocks,
+    // a workgroup per row of STA_HPR_CLASSIFY_GROUP_TILES tiles.
+    const int tile = 2 * STA_HPR_CLASSIFY_TILE;
+    const int tiles_w = (grid_w + tile - 1) / tile, tiles_h = (grid_h + tile - 1) / tile;
+    glDispatchCompute(
+        (GLuint)((tiles_w + STA_HPR_CLASSIFY_GROUP_TILES - 1) / STA_HPR_CLASSIFY_GROUP_TILES),
+        (GLuint)tiles_h, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
                     GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     set_occlusion_uniforms(pass->refine_program, view, p, levels, level_depth);
