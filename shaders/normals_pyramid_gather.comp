@@ -38,7 +38,7 @@ vec3 g_n0;
 
 bool level_normal(int l, ivec2 q, vec3 p, float tolerance_m, out vec3 n)
 {
-    vec3 acc = vec3(0.0);
+    precise vec3 acc = vec3(0.0);
     if (l == 0) {
         if (g_has_n0) {
             acc += 1.0 * g_n0; // the twin's bilinear weights at a level-0 centre: 1, 0, 0, 0
@@ -53,14 +53,14 @@ bool level_normal(int l, ivec2 q, vec3 p, float tolerance_m, out vec3 n)
             for (int a = 0; a < 2; a++) {
                 ivec2 t = clamp(i0 + ivec2(a, b), ivec2(0), u_level_size[l] - 1);
                 vec4 m = imageLoad(u_atlas, u_level_offset[l] + t);
-                if (dot(m.xyz, m.xyz) > 0.5 && abs(dot(m.xyz, p) - m.w) <= tolerance_m) {
+                if (np_dot(m.xyz, m.xyz) > 0.5 && abs(np_dot(m.xyz, p) - m.w) <= tolerance_m) {
                     float bw = (a == 1 ? f.x : 1.0 - f.x) * (b == 1 ? f.y : 1.0 - f.y);
                     acc += bw * m.xyz;
                 }
             }
         }
     }
-    float a2 = dot(acc, acc);
+    float a2 = np_dot(acc, acc);
     n = vec3(0.0);
     if (!(a2 > 1e-12)) {
         return false;
@@ -85,11 +85,11 @@ void main()
     if (p.w > 0.0) {
         float depth = max(-p.z, u_near);
         float r_px = u_radius_px_m / depth;
-        float lambda = min(log2(max(r_px, 1.0)), float(u_level_count - 1));
-        int la = int(lambda);
+        float t;
+        int la = np_level_of_detail(r_px, u_level_count, t);
         int lb = min(la + 1, u_level_count - 1);
-        float t = lambda - float(la);
-        vec3 na, nb, n = vec3(0.0);
+        vec3 na, nb;
+        precise vec3 n = vec3(0.0);
         float ta = u_plane_tolerance_m * float(1 << la) * depth;
         float tb = u_plane_tolerance_m * float(1 << lb) * depth;
         bool va = level_normal(la, q, p.xyz, ta, na);
@@ -110,16 +110,16 @@ void main()
                 ok = level_normal(l, q, p.xyz, tl, n);
             }
         }
-        float n2 = dot(n, n);
+        float n2 = np_dot(n, n);
         if (ok && n2 > 1e-12) {
             float len = sqrt(n2);
-            float s = dot(n, p.xyz) > 0.0 ? -1.0 : 1.0;
+            float s = np_facing_sign(n, p.xyz);
             result = vec4(s * (n / len), 1.0);
         }
     }
 #ifdef NP_ANCHORS
     imageStore(u_normal, q >> u_anchor_level,
-               result.w > 0.0 ? vec4(result.xyz, dot(result.xyz, p.xyz)) : vec4(0.0));
+               result.w > 0.0 ? vec4(result.xyz, np_dot(result.xyz, p.xyz)) : vec4(0.0));
 #else
     imageStore(u_normal, q, result);
 #endif

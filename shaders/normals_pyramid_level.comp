@@ -19,5 +19,5 @@ void main()
     vec3 n;
     bool valid = pn_point_normal(q, u_size, u_jump2, u_texel_m, n);
     vec3 p = imageLoad(u_points, q).xyz;
-    imageStore(u_atlas, u_offset + q, valid ? vec4(n, dot(n, p)) : vec4(0.0));
+    imageStore(u_atlas, u_offset + q, valid ? vec4(n, np_dot(n, p)) : vec4(0.0));
 }

@@ -27,21 +27,22 @@ vec4 np_upsample(ivec2 q, vec4 p)
     vec4 result = vec4(0.0);
     if (p.w > 0.0) {
         float depth = max(-p.z, u_upsample_near);
-        float lambda = min(log2(max(u_radius_px_m / depth, 1.0)), float(u_level_count - 1));
-        int level = max(int(lambda), u_anchor_level);
+        float t;
+        int level = max(np_level_of_detail(u_radius_px_m / depth, u_level_count, t), u_anchor_level);
         float tolerance = u_plane_tolerance_m * float(1 << level) * depth;
         // Shifts, not divisions (q >= 0): llvmpipe runs an integer division lane by lane.
         ivec2 i0 = q >> u_anchor_level;
         vec2 f = vec2(q - (i0 << u_anchor_level)) * (1.0 / float(1 << u_anchor_level));
-        vec3 acc = vec3(0.0), nearest = vec3(0.0);
+        precise vec3 acc = vec3(0.0);
+        vec3 nearest = vec3(0.0);
         float nearest_off = 1e30;
         for (int b = 0; b < 2; b++) {
             for (int a = 0; a < 2; a++) {
                 ivec2 t = min(i0 + ivec2(a, b), u_half_size - 1);
                 vec4 m = imageLoad(u_half, t);
                 float bw = (a == 1 ? f.x : 1.0 - f.x) * (b == 1 ? f.y : 1.0 - f.y);
-                float off = abs(dot(m.xyz, p.xyz) - m.w);
-                bool valid = dot(m.xyz, m.xyz) > 0.5;
+                float off = abs(np_dot(m.xyz, p.xyz) - m.w);
+                bool valid = np_dot(m.xyz, m.xyz) > 0.5;
                 if (valid && off <= tolerance) {
                     acc += bw * m.xyz;
                 }
@@ -51,11 +52,11 @@ vec4 np_upsample(ivec2 q, vec4 p)
                 }
             }
         }
-        vec3 n = dot(acc, acc) > 1e-12 ? acc : nearest;
-        float n2 = dot(n, n);
+        vec3 n = np_dot(acc, acc) > 1e-12 ? acc : nearest;
+        float n2 = np_dot(n, n);
         if (n2 > 1e-12) {
             float len = sqrt(n2);
-            float s = dot(n, p.xyz) > 0.0 ? -1.0 : 1.0;
+            float s = np_facing_sign(n, p.xyz);
             result = vec4(s * (n / len), 1.0);
         }
     }

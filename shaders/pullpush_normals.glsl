@@ -17,13 +17,13 @@ vec4 pn_point_at(ivec2 q, ivec2 size)
 // where one does, none otherwise. A neighbour more than sqrt(jump2) times as far from p
 // as the other one and as the texel's footprint (floor2 = its square) lies across a
 // depth discontinuity: then the near side alone.
-bool pn_difference(vec4 next, vec4 prev, vec3 p, float jump2, float floor2, out vec3 d)
+bool pn_difference(vec4 next, vec4 prev, vec3 p, float jump2, float floor2, out precise vec3 d)
 {
     d = vec3(0.0);
     bool has_next = next.w > 0.0, has_prev = prev.w > 0.0;
     if (has_next && has_prev) {
-        vec3 fa = next.xyz - p, fb = p - prev.xyz;
-        float la = dot(fa, fa), lb = dot(fb, fb);
+        precise vec3 fa = next.xyz - p, fb = p - prev.xyz;
+        float la = np_dot(fa, fa), lb = np_dot(fb, fb);
         has_next = !(la > jump2 * max(lb, floor2));
         has_prev = !(lb > jump2 * max(la, floor2));
     }
@@ -47,8 +47,8 @@ bool pn_point_normal(ivec2 q, ivec2 size, float jump2, float texel_m, out vec3 n
     n = vec3(0.0);
     vec4 p = imageLoad(u_points, q);
     vec3 dx, dy;
-    float footprint = texel_m * -p.z;
-    float floor2 = footprint * footprint;
+    precise float footprint = texel_m * -p.z;
+    precise float floor2 = footprint * footprint;
     if (!(p.w > 0.0) ||
         !pn_difference(pn_point_at(q + ivec2(1, 0), size), pn_point_at(q - ivec2(1, 0), size),
                        p.xyz, jump2, floor2, dx) ||
@@ -56,16 +56,16 @@ bool pn_point_normal(ivec2 q, ivec2 size, float jump2, float texel_m, out vec3 n
                        p.xyz, jump2, floor2, dy)) {
         return false;
     }
-    vec3 c = vec3(dx.y * dy.z - dy.y * dx.z, dx.z * dy.x - dy.z * dx.x, dx.x * dy.y - dy.x * dx.y);
-    float n2 = dot(c, c), dx2 = dot(dx, dx), dy2 = dot(dy, dy);
+    precise vec3 c = vec3(dx.y * dy.z - dy.y * dx.z, dx.z * dy.x - dy.z * dx.x, dx.x * dy.y - dy.x * dx.y);
+    float n2 = np_dot(c, c), dx2 = np_dot(dx, dx), dy2 = np_dot(dy, dy);
     // No normal from differences that are float noise (below ~3e-6 of the point's
     // distance: copies of one sample) or parallel (sin^2 below 1e-12).
-    float min_d2 = 1e-11 * dot(p.xyz, p.xyz);
+    float min_d2 = 1e-11 * np_dot(p.xyz, p.xyz);
     if (!(dx2 > min_d2 && dy2 > min_d2 && n2 > 1e-12 * dx2 * dy2)) {
         return false;
     }
     float len = sqrt(n2);
-    float s = dot(c, p.xyz) > 0.0 ? -1.0 : 1.0;
+    float s = np_facing_sign(c, p.xyz);
     n = s * (c / len);
     return true;
 }

@@ -25,6 +25,8 @@
 #define WEIGHT_TOLERANCE     1e-5f
 #define COLOUR_TOLERANCE     1e-5f
 #define NORMAL_TOLERANCE_DEG 0.05
+// How far (cosine of the angle to the ray) a unit normal may face away by rounding.
+#define FACING_TOLERANCE     1e-6f
 /* push_keeps_holes_on_one_surface: 19 with the push's reference on its own coarse texel
  * and the pull's on the inner 2x2 taps and tolerances 0.2 / 0.15 (issue 15, eighth
  * round; 20 with 0.3 / 0.5), 59 with the pull's reference alone, 217 with the nearest taps as
@@ -313,7 +315,12 @@ static void assert_normals_valid(const sta_image *normal, const sta_image *posit
             assert_true(p[3] > 0.0f);
             float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
             assert_true(fabsf(len - 1.0f) < 1e-5f);
-            assert_true(-(n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) >= 0.0f);
+            // Edge-on (n perpendicular to the ray) the facing test is a tie decided on
+            // the unnormalised normal: the unit one may face away by rounding (31 x 1080:
+            // n . p = 4.8e-7 at a depth of 14.7 m).
+            float np = n[0] * p[0] + n[1] * p[1] + n[2] * p[2];
+            float plen = sqrtf(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+            assert_true(-np >= -FACING_TOLERANCE * plen);
         }
     }
 }
@@ -424,10 +431,42 @@ static void shader_matches_twin_without_labels(void **state)
 static void shader_matches_twin_odd_sizes(void **state)
 {
     (void)state;
-    const int sizes[][2] = { { 1, 1 }, { 1, 17 }, { 17, 1 }, { 2, 2 }, { 64, 64 }, { 129, 65 } };
+    // 23 x 1080 (issue 15): at one pixel the normal lay edge-on (n . p == 0 in the twin,
+    // > 0 from the shader's fused dot product) and the facing test flipped it.
+    const int sizes[][2] = { { 1, 1 },   { 1, 17 },   { 17, 1 },   { 2, 2 },
+                             { 64, 64 }, { 129, 65 }, { 23, 1080 } };
     for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
         check_random_size(sizes[i][0], sizes[i][1], true);
     }
+}
+
+/* Every width 1..40 at heights 1079..1081 (full resolution, or half with
+ * `half_resolution`): each pixel's decisions (facing, plane and jump tests, the level of
+ * detail) on random frames at the view heights where the first pull switches to the 2x2
+ * box and the anchors to every 4th pixel. With the facing tie fixed alone, 12 x 1079
+ * still failed (a plane test near its tolerance, while the shader's dot products were
+ * fused) and, with exact dot products, 31 x 1081 at half resolution (the level of
+ * detail from log2 within ulps of 7). */
+static void check_sizes_near_1080(bool half_resolution)
+{
+    sta_normals_pyramid_params params = { .half_resolution = half_resolution };
+    for (int w = 1; w <= 40; w++) {
+        for (int h = 1079; h <= 1081; h++) {
+            check_random_size_with(w, h, true, &params);
+        }
+    }
+}
+
+static void shader_matches_twin_near_1080(void **state)
+{
+    (void)state;
+    check_sizes_near_1080(false);
+}
+
+static void half_resolution_shader_matches_twin_near_1080(void **state)
+{
+    (void)state;
+    check_sizes_near_1080(true);
 }
 
 /* Half-resolution normals (the gather on the anchors, then the upsample): shader
@@ -1302,6 +1341,9 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(shader_matches_twin_without_labels, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(shader_matches_twin_odd_sizes, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(half_resolution_shader_matches_twin, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(shader_matches_twin_near_1080, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(half_resolution_shader_matches_twin_near_1080, gl_setup,
+                                    gl_teardown),
     cmocka_unit_test_setup_teardown(half_resolution_normals_stay_close, gl_setup, gl_teardown),
     cmocka_unit_test(anchor_level_follows_view_height),
     cmocka_unit_test(first_pull_is_a_box_from_1080),

@@ -12,20 +12,23 @@
 sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
-    const char *level[] = { "pullpush_normals.glsl", "normals_pyramid_level.comp" };
-    const char *gather[] = { "pullpush_normals.glsl", "normals_pyramid_gather.comp" };
-    const char *upsample[] = { "pullpush_normals.glsl", "normals_upsample.glsl",
+    const char *level[] = { "normals_exact.glsl", "pullpush_normals.glsl",
+                            "normals_pyramid_level.comp" };
+    const char *gather[] = { "normals_exact.glsl", "pullpush_normals.glsl",
+                             "normals_pyramid_gather.comp" };
+    const char *upsample[] = { "normals_exact.glsl", "pullpush_normals.glsl",
+                               "normals_upsample.glsl",
                                "normals_pyramid_upsample.comp" }; // u_points, np_upsample
-    sta_status status = sta_gl_program_create(level, 2, NULL, &pass->level_program, err);
+    sta_status status = sta_gl_program_create(level, 3, NULL, &pass->level_program, err);
     if (status == STA_OK) {
-        status = sta_gl_program_create(gather, 2, NULL, &pass->gather_program, err);
+        status = sta_gl_program_create(gather, 3, NULL, &pass->gather_program, err);
     }
     if (status == STA_OK) {
         status =
-            sta_gl_program_create(gather, 2, "#define NP_ANCHORS 1\n", &pass->anchor_program, err);
+            sta_gl_program_create(gather, 3, "#define NP_ANCHORS 1\n", &pass->anchor_program, err);
     }
     if (status == STA_OK) {
-        status = sta_gl_program_create(upsample, 3, NULL, &pass->upsample_program, err);
+        status = sta_gl_program_create(upsample, 4, NULL, &pass->upsample_program, err);
     }
     if (status != STA_OK) {
         sta_normals_pyramid_pass_release(pass);

@@ -15,8 +15,8 @@ sta_status sta_shade_pass_init(sta_shade_pass *pass, sta_error *err)
     const char *edl[] = { "edl.comp" };
     sta_status status = STA_OK;
     for (int v = 0; v < STA_SHADE_VARIANTS && status == STA_OK; v++) {
-        const char *names[] = { "normals_upsample.glsl", "shade.comp" };
-        status = sta_gl_program_create(names + (v ? 0 : 1), v ? 2 : 1,
+        const char *names[] = { "normals_exact.glsl", "normals_upsample.glsl", "shade.comp" };
+        status = sta_gl_program_create(names + (v ? 0 : 2), v ? 3 : 1,
                                        v ? "#define STA_SHADE_UPSAMPLE 1\n" : NULL,
                                        &pass->programs[v], err);
         if (status == STA_OK) {

@@ -35,6 +35,16 @@ static float dot3(const float a[3], const float b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+// -1 where the normal n of the point p faces away from the camera at the origin, else
+// 1. Edge-on, n . p is a tie within rounding: the shader (np_facing_sign in
+// shaders/normals_exact.glsl) computes it `precise` in this order of terms, and C11
+// without extensions does not contract a * b + c into an fma, so both break the tie
+// identically (n . p == 0 keeps +n).
+static float facing_sign(const float n[3], const float p[3])
+{
+    return dot3(n, p) > 0.0f ? -1.0f : 1.0f;
+}
+
 // d = a - b, the difference along one axis: central, one-sided or none. A neighbour
 // more than sqrt(jump2) times as far from the point as the other one and as the
 // texel's footprint (floor2 = its square) lies across a depth discontinuity: then the
@@ -102,13 +112,28 @@ void sta_normals_pyramid_level_ref(const sta_image *points, float jump_ratio, fl
                 continue;
             }
             float len = sqrtf(n2);
-            float s = dot3(n, p) > 0.0f ? -1.0f : 1.0f; // face the camera at the origin
+            float s = facing_sign(n, p); // face the camera at the origin
             for (int k = 0; k < 3; k++) {
                 o[k] = s * (n[k] / len);
             }
             o[3] = 1.0f;
         }
     }
+}
+
+// The level of detail of a normal radius of r_px pixels: lambda = log2(r_px) (at least
+// 0, at most count - 1) split into its level (returned) and fraction *t. The level is
+// the float's exponent, exact here and in the shader (np_level_of_detail in
+// shaders/normals_exact.glsl), where log2 is an approximation: from log2 the level
+// flipped where r_px lies within a few ulp of a power of 2.
+static int level_of_detail(float r_px, int count, float *t)
+{
+    float x = fmaxf(r_px, 1.0f);
+    int e;
+    (void)frexpf(x, &e); // x = m * 2^e, m in [0.5, 1)
+    int la = e - 1 < count - 1 ? e - 1 : count - 1;
+    *t = la == count - 1 ? 0.0f : fminf(fmaxf(log2f(x) - (float)la, 0.0f), 1.0f);
+    return la;
 }
 
 static int clamp_int(int v, int lo, int hi)
@@ -180,7 +205,7 @@ static bool orient_unit(const float n[3], const float pt[3], float o[3])
         return false;
     }
     float len = sqrtf(n2);
-    float s = dot3(n, pt) > 0.0f ? -1.0f : 1.0f;
+    float s = facing_sign(n, pt);
     for (int k = 0; k < 3; k++) {
         o[k] = s * (n[k] / len);
     }
@@ -194,10 +219,9 @@ static bool gather_pixel(const gather_input *g, int x, int y, const float pt[3],
     const int count = g->count;
     float depth = fmaxf(-pt[2], g->view->near_m);
     float r_px = g->radius_px_m / depth;
-    float lambda = fminf(log2f(fmaxf(r_px, 1.0f)), (float)(count - 1));
-    int la = (int)lambda;
+    float t;
+    int la = level_of_detail(r_px, count, &t);
     int lb = la + 1 < count ? la + 1 : la;
-    float t = lambda - (float)la;
     float na[3], nb[3], n[3];
     const sta_image *pa = la == 0 ? g->filled_position : &g->levels->position[la];
     const sta_image *pb = lb == 0 ? g->filled_position : &g->levels->position[lb];
@@ -233,9 +257,10 @@ static bool upsample_pixel(const gather_input *g, const sta_image *half, int x, 
                            const float pt[3], float o[3])
 {
     float depth = fmaxf(-pt[2], g->view->near_m);
-    float lambda = fminf(log2f(fmaxf(g->radius_px_m / depth, 1.0f)), (float)(g->count - 1));
+    float t;
+    int lod = level_of_detail(g->radius_px_m / depth, g->count, &t);
     const int anchor_level = sta_normals_anchor_level(g->view->height_px);
-    int level = (int)lambda > anchor_level ? (int)lambda : anchor_level;
+    int level = lod > anchor_level ? lod : anchor_level;
     float tolerance = g->tolerance_m * (float)(1 << level) * depth;
     const int s = 1 << anchor_level;
     int i0 = x / s, j0 = y / s;
