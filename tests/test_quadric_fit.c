@@ -61,15 +61,7 @@ static void cylinder_side_gets_radial_normals(void **state)
     (void)state;
     static int64_t d[MAX_POINTS][3];
     const double centre[3] = { 300.0, 300.0, 300.0 };
-    size_t n = 0;
-    for (int k = 0; k < 21; k++) {
-        for (int j = 0; j < 60; j++, n++) {
-            double phi = (-80.0 + 160.0 * (double)j / 59.0) * PI / 180.0;
-            d[n][0] = (int64_t)llround(centre[0] + 110.0 * cos(phi));
-            d[n][1] = (int64_t)llround(centre[1] + 110.0 * sin(phi));
-            d[n][2] = (int64_t)llround(centre[2] - 50.0 + 5.0 * k);
-        }
-    }
+    size_t n = sta_test_pole_side(d, centre);
     sta_tensor_sums sums = sums_of((const int64_t(*)[3])d, n);
     sta_quadric q;
     assert_true(sta_quadric_fit(&sums, 1024.0, &q));

@@ -166,15 +166,7 @@ static void cylinder_side_gets_radial_normals_across(void **state)
     (void)state;
     static int64_t d[MAX_POINTS][3];
     const double centre[3] = { 300.0, 300.0, 300.0 }, across[3] = { 1, 1, 0 };
-    size_t n = 0;
-    for (int k = 0; k < 21; k++) {
-        for (int j = 0; j < 60; j++, n++) {
-            double phi = (-80.0 + 160.0 * (double)j / 59.0) * PI / 180.0;
-            d[n][0] = (int64_t)llround(centre[0] + 110.0 * cos(phi));
-            d[n][1] = (int64_t)llround(centre[1] + 110.0 * sin(phi));
-            d[n][2] = (int64_t)llround(centre[2] - 50.0 + 5.0 * k);
-        }
-    }
+    size_t n = sta_test_pole_side(d, centre);
     sta_moment_sums sums = sums_of((const int64_t(*)[3])d, n);
     sta_sphere_moments m;
     assert_true(sta_sphere_moments_of(&sums, 1024.0, &m));

@@ -3,6 +3,7 @@
 #include "test_support.h"
 
 #include <dirent.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -182,4 +183,19 @@ void sta_test_random_grid(int32_t (*grid)[3], size_t n, const int32_t corner[3],
             memcpy(grid[i], grid[(i / 50) * 5], sizeof(grid[i]));
         }
     }
+}
+
+size_t sta_test_pole_side(int64_t (*d)[3], const double centre[3])
+{
+    const double pi = 3.14159265358979323846;
+    size_t n = 0;
+    for (int k = 0; k < 21; k++) {
+        for (int j = 0; j < 60; j++, n++) {
+            double phi = (-80.0 + 160.0 * (double)j / 59.0) * pi / 180.0;
+            d[n][0] = (int64_t)llround(centre[0] + 110.0 * cos(phi));
+            d[n][1] = (int64_t)llround(centre[1] + 110.0 * sin(phi));
+            d[n][2] = (int64_t)llround(centre[2] - 50.0 + 5.0 * k);
+        }
+    }
+    return n;
 }

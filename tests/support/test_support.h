@@ -77,6 +77,11 @@ static inline uint32_t sta_test_next_random(uint32_t *state)
 void sta_test_random_grid(int32_t (*grid)[3], size_t n, const int32_t corner[3], int32_t side,
                           uint32_t seed, bool plane);
 
+/* The front 160 degrees of a pole of 110 grid units' radius around `centre` (axis z), in
+ * a box 100 units tall: 21 rings of 60 points, rounded to the grid, into d (room for
+ * 1260). Returns the count. The sphere and quadric fit tests share it. */
+size_t sta_test_pole_side(int64_t (*d)[3], const double centre[3]);
+
 int sta_test_run(const char *group, const struct CMUnitTest *tests, size_t count, int argc,
                  char **argv);
 
