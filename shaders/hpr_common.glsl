@@ -22,6 +22,42 @@ int hpr_sector(ivec2 v2)
     return v2.y > 0 ? 3 : 5;
 }
 
+// The sectors an empty pixel's candidate landing at v (pixels from the pixel's centre)
+// closes, as bits: the two whose axes (multiples of 45 deg) enclose its direction, and
+// where it lies within STA_HPR_AXIS_TOL (tangent) of an axis, the three around that
+// axis, so that points on a regular grid close the same sectors whatever the rounding.
+// Twin: landing_sectors.
+int hpr_landing_sectors(vec2 v)
+{
+    vec2 a = abs(v);
+    int o; // octant: the direction lies in [o 45 deg, (o + 1) 45 deg)
+    if (v.y >= 0.0) {
+        o = v.x > 0.0 ? (v.y < v.x ? 0 : 1) : (v.y > -v.x ? 2 : 3);
+    } else {
+        o = v.x < 0.0 ? (-v.y < -v.x ? 4 : 5) : (-v.y > v.x ? 6 : 7);
+    }
+    int bits = (1 << o) | (1 << ((o + 1) & 7));
+    int axis = -1;
+    if (min(a.x, a.y) <= STA_HPR_AXIS_TOL * max(a.x, a.y)) {
+        axis = a.x >= a.y ? (v.x >= 0.0 ? 0 : 4) : (v.y > 0.0 ? 2 : 6);
+    } else if (abs(a.x - a.y) <= STA_HPR_AXIS_TOL * (a.x + a.y)) {
+        axis = v.x > 0.0 ? (v.y > 0.0 ? 1 : 7) : (v.y > 0.0 ? 3 : 5);
+    }
+    if (axis >= 0) {
+        bits |= (1 << ((axis + 7) & 7)) | (1 << axis) | (1 << ((axis + 1) & 7));
+    }
+    return bits;
+}
+
+// For an empty pixel, whose candidates close the sectors on either side of where they
+// land, sector s spans the directions of sectors s - 1 .. s + 1: it is unknown when a
+// ring texel of any of those lies outside the image (twin: wedge_outside).
+int hpr_wedge_outside(int outside, bool is_point)
+{
+    int wide = outside | (outside << 1) | (outside >> 1) | (outside << 7) | (outside >> 7);
+    return is_point ? outside : wide & 255;
+}
+
 // True when a texel holds a point that closes sectors: drawn (w > 0.5) and not marked
 // as a volumetric class (w = STA_POSITION_W_MARKED; twin: sta_position_occludes).
 bool hpr_occludes(float w)
@@ -175,6 +211,18 @@ float hpr_closed_bound(bool is_point, float threshold)
 {
     float background = float(STA_HPR_BACKGROUND_OPEN_SECTORS) * 0.125;
     return is_point ? threshold : max(threshold, background);
+}
+
+// hpr_lower_sector for every sector whose bit is set in `bits`.
+void hpr_lower_sectors(int bits, float value, inout vec4 min_lo, inout vec4 min_hi)
+{
+    const ivec4 lo = ivec4(1, 2, 4, 8), hi = ivec4(16, 32, 64, 128);
+    bvec4 take_lo = bvec4(uvec4(notEqual(ivec4(bits) & lo, ivec4(0))) &
+                          uvec4(lessThan(vec4(value), min_lo)));
+    bvec4 take_hi = bvec4(uvec4(notEqual(ivec4(bits) & hi, ivec4(0))) &
+                          uvec4(lessThan(vec4(value), min_hi)));
+    min_lo = mix(min_lo, vec4(value), take_lo);
+    min_hi = mix(min_hi, vec4(value), take_hi);
 }
 
 // True when the pixel is closed whatever further neighbours add: the plain mean of all

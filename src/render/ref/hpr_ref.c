@@ -10,6 +10,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stdlib.h>
 #include <string.h>
 
 void sta_hpr_params_defaults(sta_hpr_params *config)
@@ -238,6 +239,55 @@ static void add_neighbour(const float x[3], const float *y, int sector, float se
     }
 }
 
+// The sectors an empty pixel's candidate landing at v (pixels from the pixel's centre)
+// closes, as bits: the two whose axes (multiples of 45 deg) enclose its direction, and
+// where it lies within STA_HPR_AXIS_TOL (tangent) of an axis, the three around that
+// axis, so that points on a regular grid close the same sectors whatever the rounding
+// (shader: hpr_landing_sectors).
+static unsigned landing_sectors(const float v[2])
+{
+    float ax = fabsf(v[0]), ay = fabsf(v[1]);
+    int o; // octant: the direction lies in [o 45 deg, (o + 1) 45 deg)
+    if (v[1] >= 0.0f) {
+        o = v[0] > 0.0f ? (v[1] < v[0] ? 0 : 1) : (v[1] > -v[0] ? 2 : 3);
+    } else {
+        o = v[0] < 0.0f ? (-v[1] < -v[0] ? 4 : 5) : (-v[1] > v[0] ? 6 : 7);
+    }
+    unsigned bits = (1u << o) | (1u << ((o + 1) & 7));
+    int axis = -1;
+    if (fminf(ax, ay) <= STA_HPR_AXIS_TOL * fmaxf(ax, ay)) {
+        axis = ax >= ay ? (v[0] >= 0.0f ? 0 : 4) : (v[1] > 0.0f ? 2 : 6);
+    } else if (fabsf(ax - ay) <= STA_HPR_AXIS_TOL * (ax + ay)) {
+        axis = v[0] > 0.0f ? (v[1] > 0.0f ? 1 : 7) : (v[1] > 0.0f ? 3 : 5);
+    }
+    if (axis >= 0) {
+        bits |= (1u << ((axis + 7) & 7)) | (1u << axis) | (1u << ((axis + 1) & 7));
+    }
+    return bits;
+}
+
+// For an empty pixel, whose candidates close the sectors on either side of where they
+// land, sector s spans the directions of sectors s - 1 .. s + 1: it is unknown when a
+// ring texel of any of those lies outside the image (shader: hpr_wedge_outside).
+static unsigned wedge_outside(unsigned outside, bool is_point)
+{
+    unsigned wide = outside | (outside << 1) | (outside >> 1) | (outside << 7) | (outside >> 7);
+    return is_point ? outside : wide & 255u;
+}
+
+// True when ring offset (dx, dy) (each in -2..2) is a candidate at level k: the 8-texel
+// ring, and for an empty pixel below its top level also the 8 texels of the ring of
+// radius 2 along the same directions (issue 15, part 2: a block's nearest point sits at
+// its near edge on a receding surface, so the radius-1 ring alone leaves a pixel at a
+// block's edge without a candidate straight across it; a radius-2 texel lies within
+// 45 deg of its direction from every pixel of the ancestor block).
+static bool in_rings(int dx, int dy, bool radius2)
+{
+    int ax = abs(dx), ay = abs(dy);
+    int r = ax > ay ? ax : ay;
+    return r == 1 || (radius2 && r == 2 && (ax == ay || ax == 0 || ay == 0));
+}
+
 // Where point y lands on screen relative to pixel (px, py)'s centre, in pixels; false
 // for a point not in front of the eye.
 static bool screen_offset(const occlusion_frame *f, const float *y, int px, int py, float v[2])
@@ -418,6 +468,15 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             float radius = radius_k / z;
             float cut = STA_HPR_CUT_FACTOR * radius;
             float cut2 = cut * cut;
+            bool is_point = own[3] > 0.5f;
+            if (!is_point) {
+                // An empty pixel's candidates count within 2^level pixels at most: each
+                // non-empty block that near has a candidate in its rings wherever the
+                // pixel sits in its ancestor blocks, so the decision follows the points,
+                // not the blocks (issue 15, part 2; docs/HPR.md).
+                float reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(1 << level));
+                cut2 = reach * reach;
+            }
             // Only neighbours nearer than the centre point by more than the gap occlude.
             float occluder_limit = -x[2] - gap_m;
             // On its own surface, a neighbour must also lie in front of that surface.
@@ -427,16 +486,20 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             for (int k = 0; k <= level; k++) {
                 const sta_image *lk = &pyramid->levels[k];
                 int ax = px >> k, ay = py >> k;
-                for (int dy = -1; dy <= 1; dy++) {
-                    for (int dx = -1; dx <= 1; dx++) {
+                // An empty pixel's candidates close sectors by where they land.
+                bool by_landing = !is_point;
+                for (int dy = -2; dy <= 2; dy++) {
+                    for (int dx = -2; dx <= 2; dx++) {
                         int nx = ax + dx, ny = ay + dy;
-                        if (dx == 0 && dy == 0) {
+                        if (!in_rings(dx, dy, by_landing && k > 0 && k < level)) {
                             continue;
                         }
                         if (nx < 0 || ny < 0 || nx >= lk->width || ny >= lk->height) {
                             // A ring texel outside the image: its sector may have been
                             // closed out there.
-                            outside |= 1u << sta_hpr_sector(2 * dx, 2 * dy);
+                            if (abs(dx) <= 1 && abs(dy) <= 1) {
+                                outside |= 1u << sta_hpr_sector(2 * dx, 2 * dy);
+                            }
                             continue;
                         }
                         const float *y = sta_image_at(lk, nx, ny);
@@ -458,15 +521,25 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                         if (!sta_position_occludes(y[3]) && !(dist2 <= reach * reach)) {
                             continue;
                         }
-                        // Each ring position is its own sector (Figure 3's colours). The
-                        // direction from the pixel to where the point lands would leave
+                        if (by_landing) {
+                            // The sectors around where it lands.
+                            unsigned bits = landing_sectors(v);
+                            for (int s = 0; s < 8; s++) {
+                                if ((bits >> s) & 1u) {
+                                    add_neighbour(x, y, s, sector_min);
+                                }
+                            }
+                            continue;
+                        }
+                        // Each ring position is its own sector (Figure 3's colours). For a
+                        // point, the direction to where the neighbour lands would leave
                         // sectors empty (the ring's points cluster), opening holes.
                         add_neighbour(x, y, sta_hpr_sector(2 * dx, 2 * dy), sector_min);
                     }
                 }
             }
-            float mean = sector_mean(sector_min, own[3] > 0.5f, outside);
-            *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
+            float mean = sector_mean(sector_min, is_point, wedge_outside(outside, is_point));
+            *sta_image_at(out_label, px, py) = label_of(is_point, mean, f.threshold);
             if (out_mean) {
                 *sta_image_at(out_mean, px, py) = mean;
             }

@@ -14,8 +14,10 @@
  * minima reaches a threshold. Issue 15 added: ring candidates landing farther than
  * STA_HPR_CUT_FACTOR K / z pixels from the pixel are dropped (a per-pixel decision),
  * and for empty pixels a sector whose neighbourhood leaves the image and that nothing
- * closes is unknown, not open (surfaces run on to the image edge). docs/HPR.md gives
- * every rule.
+ * closes is unknown, not open (surfaces run on to the image edge); an empty pixel's
+ * candidates close sectors by where they land, within 2^level pixels (hole and
+ * background part along the points, not the pyramid's blocks). docs/HPR.md gives every
+ * rule.
  *
  * Based on: H. Bouchiba, J.-E. Deschaud, F. Goulette, "Raw point cloud deferred
  * shading through screen space pyramidal operators", Eurographics 2018 (short), section 3.1,
@@ -51,6 +53,15 @@
 /* Pyramidal operator: ring candidates (levels >= 1) landing farther than this many
  * neighbourhood radii K / z from the pixel are dropped (per-pixel decision). */
 #define STA_HPR_CUT_FACTOR           2.0f
+/* Pyramidal operator, empty pixels: candidates of levels >= 1 count within this many
+ * top-level blocks 2^level of the pixel at most (and within the cut above), where the
+ * rings hold a candidate from every non-empty block whatever the pixel's place in its
+ * ancestor blocks (issue 15, part 2, docs/HPR.md). */
+#define STA_HPR_EMPTY_CUT_BLOCKS     1.0f
+/* Pyramidal operator, empty pixels: a candidate landing within this tangent of a sector's
+ * axis closes the three sectors around that axis, not two (points on a regular grid
+ * land on the axes, and rounding would pick either pair). */
+#define STA_HPR_AXIS_TOL             0.015625f
 /* Sparse operator: a point copies its anchors' label only when every anchor's depth is
  * within this fraction of its own (no depth edge in the 2 x 2 neighbourhood). 0.005:
  * the error of the full operator to 0.3 % at the cost of 0.02 (docs/BENCHMARKS.md). */
