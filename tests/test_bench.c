@@ -11,6 +11,7 @@
 
 #include "bench/bench_truth.h"
 #include "bench/drawn_points.h"
+#include "bench/gap_blocks.h"
 #include "bench/katz_local.h"
 #include "bench/metrics.h"
 #include "bench/report.h"
@@ -459,6 +460,61 @@ static void street_truth_has_glass_before_rooms(void **state)
     printf("street: %d of %d pixels meet glass first\n", glass_first, 8 * 64 * 48);
     assert_true(glass_first > 0);
     sta_bench_truth_release(&t);
+}
+
+// A label image of W x H: background where `gap` says so, hole elsewhere, and a point
+// (VISIBLE) on every 5th pixel of each row.
+static void gap_labels(sta_image *label, int w, int h, int shape)
+{
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(label, w, h, 1, &err), STA_OK);
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            bool gap;
+            if (shape == 0) { // a rectangle on 16-px block lines, stair steps of 16 px
+                gap = x >= 16 && x < 48 + (y >= 32 ? 16 : 0) && y >= 16 && y < 64;
+            } else { // a disc and a slanted band: borders that follow no block line
+                float dx = (float)x - 30.3f, dy = (float)y - 41.7f;
+                gap = dx * dx + dy * dy < 17.0f * 17.0f || (2 * x - y >= 90 && 2 * x - y < 120);
+            }
+            float l = gap ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE;
+            label->data[y * w + x] = (x + 3 * y) % 5 == 0 ? STA_LABEL_VISIBLE : l;
+        }
+    }
+}
+
+static void gap_block_ratio_sees_block_lines(void **state)
+{
+    (void)state;
+    // A gap cut along 16-px block lines changes hole/background only on those lines
+    // (each change on a line multiple of 16 and 8, none on odd lines but its own
+    // jitter-free edges): the ratio is large at 8 and 16 px. A gap with a round and a
+    // slanted border changes about as often on block lines as on odd lines.
+    sta_image label;
+    gap_labels(&label, 96, 80, 0);
+    // No change across odd lines at all: no ratio.
+    assert_true(isnan(sta_eval_gap_block_ratio(&label, 16)));
+    sta_image_release(&label);
+    gap_labels(&label, 96, 80, 1);
+    double r8 = sta_eval_gap_block_ratio(&label, 8), r16 = sta_eval_gap_block_ratio(&label, 16);
+    printf("gap block ratio, round and slanted gap: 8 px %.2f, 16 px %.2f\n", r8, r16);
+    assert_true(r8 > 0.5 && r8 < 1.5);
+    assert_true(r16 > 0.3 && r16 < 1.7);
+    // Stair steps on 16-px lines added to the round gap: its ratio rises.
+    for (int y = 0; y < 80; y++) {
+        for (int x = 64; x < 96; x++) {
+            bool step = x < 80 + (y / 16 % 2) * 16 && y >= 16 && y < 64;
+            float *l = &label.data[y * 96 + x];
+            if (*l != STA_LABEL_VISIBLE) {
+                *l = step ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE;
+            }
+        }
+    }
+    double stepped = sta_eval_gap_block_ratio(&label, 16);
+    printf("with stair steps on 16-px lines: 16 px %.2f\n", stepped);
+    assert_true(stepped > 2.0 * r16);
+    assert_true(isnan(sta_eval_gap_block_ratio(&label, 1)));
+    sta_image_release(&label);
 }
 
 static void border_metric_counts_band_surface_pixels(void **state)
@@ -1075,6 +1131,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(eval_buffers_hand_made),
     cmocka_unit_test(sampled_pixels_need_a_point_near_the_hit),
     cmocka_unit_test(border_metric_counts_band_surface_pixels),
+    cmocka_unit_test(gap_block_ratio_sees_block_lines),
     cmocka_unit_test(depth_error_accepts_glass_or_behind),
     cmocka_unit_test(street_truth_has_glass_before_rooms),
     cmocka_unit_test(settings_expand),

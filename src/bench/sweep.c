@@ -12,6 +12,7 @@
 #include "bench/bench_cameras.h"
 #include "bench/bench_truth.h"
 #include "bench/drawn_points.h"
+#include "bench/gap_blocks.h"
 #include "bench/katz_local.h"
 #include "bench/metrics.h"
 #include "bench/pixel_masks.h"
@@ -424,6 +425,9 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
             sta_eval_hpr_masked(points, &image, masks->hpr_face_glass, &c);
             row->hpr_face_glass_points = c.tp + c.fp + c.fn + c.tn;
             row->hpr_face_glass_f1 = sta_confusion_f1(&c);
+            row->gap_blocks_8 = sta_eval_gap_block_ratio(&image, 8);
+            row->gap_blocks_16 = sta_eval_gap_block_ratio(&image, 16);
+            row->gap_blocks_32 = sta_eval_gap_block_ratio(&image, 32);
         }
         sta_image_release(&image);
     }
@@ -505,6 +509,7 @@ static void clear_errors(sta_bench_row *row)
     row->depth_glass_rel_mean = row->depth_glass_rel_median = row->depth_glass_rel_p95 =
         (double)NAN;
     row->border_empty = (double)NAN;
+    row->gap_blocks_8 = row->gap_blocks_16 = row->gap_blocks_32 = (double)NAN;
     row->psnr_db = row->ssim = (double)NAN;
     row->surface_hole = row->surface_see_through = row->surface_bleed = row->surface_error =
         (double)NAN;

@@ -146,6 +146,9 @@ typedef struct sta_bench_row {
                                of the depth, normal and border metrics (docs/BENCH.md) */
     uint64_t border_count;  /* sta_eval_border: band pixels whose ray hits the scene */
     double border_empty;    /* the share of them the fill leaves empty */
+    double gap_blocks_8;    /* sta_eval_gap_block_ratio of the HPR labels, 8-px lines */
+    double gap_blocks_16;   /* the same, 16-px lines */
+    double gap_blocks_32;   /* the same, 32-px lines */
     double psnr_db;         /* +inf for identical images */
     double ssim;
     double katz_ms;
