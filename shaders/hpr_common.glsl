@@ -49,9 +49,9 @@ int hpr_landing_sectors(vec2 v)
     return bits;
 }
 
-// For an empty pixel, whose candidates close the sectors on either side of where they
-// land, sector s spans the directions of sectors s - 1 .. s + 1: it is unknown when a
-// ring texel of any of those lies outside the image (twin: wedge_outside).
+// For an empty pixel, whose candidates close the sectors around where they land,
+// sector s spans the directions of sectors s - 1 .. s + 1: it is unknown when any of
+// those leaves the image (bits of `outside`, hpr_reach_outside; twin: wedge_outside).
 int hpr_wedge_outside(int outside, bool is_point)
 {
     int wide = outside | (outside << 1) | (outside >> 1) | (outside << 7) | (outside >> 7);

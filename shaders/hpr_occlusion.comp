@@ -194,13 +194,18 @@ void main()
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
     int outside = 0; // sectors with ring texels outside the image within the reach
     bool is_point = own.w > 0.5;
+    int empty_outside = 0;
     if (!is_point) {
         // An empty pixel's candidates count within 2^level pixels at most: each
         // non-empty block that near has a candidate in its rings wherever the pixel sits
         // in its ancestor blocks, so the decision follows the points, not the blocks
-        // (issue 15, part 2; docs/HPR.md).
+        // (issue 15, part 2; docs/HPR.md). Its unknown sectors: those whose wedge leaves
+        // the image within that reach, up to STA_HPR_EMPTY_BORDER_PX (per pixel; the
+        // ring texels outside would give the blocks' shape to the unknown sectors).
         precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(1 << level));
         cut2 = reach * reach;
+        float border = clamp(reach, STA_HPR_MIN_REACH_PX, STA_HPR_EMPTY_BORDER_PX);
+        empty_outside = hpr_wedge_outside(hpr_reach_outside(p, u_size, border), false);
     }
     float bound = hpr_closed_bound(is_point, u_threshold);
     // Levels level..1, coarse first (their rings close an empty pixel inside a surface
@@ -228,7 +233,7 @@ void main()
                 }
             }
         }
-        settled = hpr_settled(min_lo, min_hi, is_point, hpr_wedge_outside(outside, is_point), bound);
+        settled = hpr_settled(min_lo, min_hi, is_point, is_point ? outside : empty_outside, bound);
     }
     // Level 0: the 8 direct neighbours, from the position texture.
     for (int i = 0; i < 8 && !settled; i++) {
@@ -240,6 +245,6 @@ void main()
             outside |= 1 << hpr_sector(2 * RING[i]);
         }
     }
-    float mean = hpr_sector_mean(min_lo, min_hi, is_point, hpr_wedge_outside(outside, is_point));
+    float mean = hpr_sector_mean(min_lo, min_hi, is_point, is_point ? outside : empty_outside);
     imageStore(u_label, p, vec4(hpr_label(is_point, mean, u_threshold), 0.0, 0.0, 0.0));
 }

@@ -38,6 +38,7 @@ static void shader_defines(char *out, size_t size)
              "#define STA_HPR_CUT_FACTOR %.9e\n"
              "#define STA_HPR_EMPTY_CUT_BLOCKS %.9e\n"
              "#define STA_HPR_AXIS_TOL %.9e\n"
+             "#define STA_HPR_EMPTY_BORDER_PX %.9e\n"
              "#define STA_HPR_SPARSE_DEPTH_TAU %.9e\n"
              "#define STA_HPR_LIST_WIDTH %d\n"
              "#define STA_HPR_ANCHOR_STRIDE %d\n"
@@ -52,8 +53,8 @@ static void shader_defines(char *out, size_t size)
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
              (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_MAX_REACH_PX,
              (double)STA_HPR_CUT_FACTOR, (double)STA_HPR_EMPTY_CUT_BLOCKS, (double)STA_HPR_AXIS_TOL,
-             (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH, STA_HPR_ANCHOR_STRIDE,
-             (double)STA_POSITION_W_OCCLUDER_MAX, STA_HPR_SURFACE_MIN_POINTS,
+             (double)STA_HPR_EMPTY_BORDER_PX, (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH,
+             STA_HPR_ANCHOR_STRIDE, (double)STA_POSITION_W_OCCLUDER_MAX, STA_HPR_SURFACE_MIN_POINTS,
              (double)STA_HPR_SURFACE_MIN_DET, (double)STA_HPR_SURFACE_FRONT_SHARE,
              STA_HPR_CLASSIFY_TILE, STA_HPR_CLASSIFY_GROUP_TILES);
 }

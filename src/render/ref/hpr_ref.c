@@ -266,9 +266,9 @@ static unsigned landing_sectors(const float v[2])
     return bits;
 }
 
-// For an empty pixel, whose candidates close the sectors on either side of where they
-// land, sector s spans the directions of sectors s - 1 .. s + 1: it is unknown when a
-// ring texel of any of those lies outside the image (shader: hpr_wedge_outside).
+// For an empty pixel, whose candidates close the sectors around where they land,
+// sector s spans the directions of sectors s - 1 .. s + 1: it is unknown when any of
+// those leaves the image (bits of `outside`, reach_outside; shader: hpr_wedge_outside).
 static unsigned wedge_outside(unsigned outside, bool is_point)
 {
     unsigned wide = outside | (outside << 1) | (outside >> 1) | (outside << 7) | (outside >> 7);
@@ -469,6 +469,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             float cut = STA_HPR_CUT_FACTOR * radius;
             float cut2 = cut * cut;
             bool is_point = own[3] > 0.5f;
+            unsigned empty_outside = 0;
             if (!is_point) {
                 // An empty pixel's candidates count within 2^level pixels at most: each
                 // non-empty block that near has a candidate in its rings wherever the
@@ -476,6 +477,10 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                 // not the blocks (issue 15, part 2; docs/HPR.md).
                 float reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(1 << level));
                 cut2 = reach * reach;
+                // Its unknown sectors: those whose wedge leaves the image within that
+                // reach (the ring texels outside would give them the blocks' shape).
+                empty_outside = wedge_outside(
+                    reach_outside(&f, px, py, fmaxf(reach, STA_HPR_MIN_REACH_PX)), false);
             }
             // Only neighbours nearer than the centre point by more than the gap occlude.
             float occluder_limit = -x[2] - gap_m;
@@ -538,7 +543,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                     }
                 }
             }
-            float mean = sector_mean(sector_min, is_point, wedge_outside(outside, is_point));
+            float mean = sector_mean(sector_min, is_point, is_point ? outside : empty_outside);
             *sta_image_at(out_label, px, py) = label_of(is_point, mean, f.threshold);
             if (out_mean) {
                 *sta_image_at(out_mean, px, py) = mean;
