@@ -26,27 +26,32 @@ int hpr_sector(ivec2 v2)
 // closes, as bits: the two whose axes (multiples of 45 deg) enclose its direction, and
 // where it lies within STA_HPR_AXIS_TOL (tangent) of an axis, the three around that
 // axis, so that points on a regular grid close the same sectors whatever the rounding.
-// Twin: landing_sectors.
+// Selects and shifts only (no branches: llvmpipe runs both sides). Twin: landing_sectors.
 int hpr_landing_sectors(vec2 v)
 {
     vec2 a = abs(v);
-    int o; // octant: the direction lies in [o 45 deg, (o + 1) 45 deg)
-    if (v.y >= 0.0) {
-        o = v.x > 0.0 ? (v.y < v.x ? 0 : 1) : (v.y > -v.x ? 2 : 3);
-    } else {
-        o = v.x < 0.0 ? (-v.y < -v.x ? 4 : 5) : (-v.y > v.x ? 6 : 7);
-    }
-    int bits = (1 << o) | (1 << ((o + 1) & 7));
-    int axis = -1;
-    if (min(a.x, a.y) <= STA_HPR_AXIS_TOL * max(a.x, a.y)) {
-        axis = a.x >= a.y ? (v.x >= 0.0 ? 0 : 4) : (v.y > 0.0 ? 2 : 6);
-    } else if (abs(a.x - a.y) <= STA_HPR_AXIS_TOL * (a.x + a.y)) {
-        axis = v.x > 0.0 ? (v.y > 0.0 ? 1 : 7) : (v.y > 0.0 ? 3 : 5);
-    }
-    if (axis >= 0) {
-        bits |= (1 << ((axis + 7) & 7)) | (1 << axis) | (1 << ((axis + 1) & 7));
-    }
-    return bits;
+    // Octant o: the direction lies in [o 45 deg, (o + 1) 45 deg).
+    int o = v.y >= 0.0 ? (v.x > 0.0 ? (v.y < v.x ? 0 : 1) : (v.y > -v.x ? 2 : 3))
+                       : (v.x < 0.0 ? (-v.y < -v.x ? 4 : 5) : (-v.y > v.x ? 6 : 7));
+    int pair = 3 << o;
+    int bits = (pair | (pair >> 8)) & 255;
+    bool on_axis = min(a.x, a.y) <= STA_HPR_AXIS_TOL * max(a.x, a.y);
+    bool on_diagonal = abs(a.x - a.y) <= STA_HPR_AXIS_TOL * (a.x + a.y);
+    int axis = on_axis ? (a.x >= a.y ? (v.x >= 0.0 ? 0 : 4) : (v.y > 0.0 ? 2 : 6))
+                       : (v.x > 0.0 ? (v.y > 0.0 ? 1 : 7) : (v.y > 0.0 ? 3 : 5));
+    int three = 7 << ((axis + 7) & 7);
+    three = (three | (three >> 8)) & 255;
+    return bits | (on_axis || on_diagonal ? three : 0);
+}
+
+// An empty pixel's mean: the share of its known sectors that are open (bits: `closed`
+// by a candidate, `outside` unknown unless closed); 1 when none is known. Twin:
+// empty_mean.
+float hpr_empty_mean(int closed, int outside)
+{
+    int known = closed | (~outside & 255);
+    int n = bitCount(known);
+    return n > 0 ? float(bitCount(known & ~closed)) / float(n) : 1.0;
 }
 
 // For an empty pixel, whose candidates close the sectors around where they land,
@@ -211,18 +216,6 @@ float hpr_closed_bound(bool is_point, float threshold)
 {
     float background = float(STA_HPR_BACKGROUND_OPEN_SECTORS) * 0.125;
     return is_point ? threshold : max(threshold, background);
-}
-
-// hpr_lower_sector for every sector whose bit is set in `bits`.
-void hpr_lower_sectors(int bits, float value, inout vec4 min_lo, inout vec4 min_hi)
-{
-    const ivec4 lo = ivec4(1, 2, 4, 8), hi = ivec4(16, 32, 64, 128);
-    bvec4 take_lo = bvec4(uvec4(notEqual(ivec4(bits) & lo, ivec4(0))) &
-                          uvec4(lessThan(vec4(value), min_lo)));
-    bvec4 take_hi = bvec4(uvec4(notEqual(ivec4(bits) & hi, ivec4(0))) &
-                          uvec4(lessThan(vec4(value), min_hi)));
-    min_lo = mix(min_lo, vec4(value), take_lo);
-    min_hi = mix(min_hi, vec4(value), take_hi);
 }
 
 // True when the pixel is closed whatever further neighbours add: the plain mean of all

@@ -10,7 +10,9 @@
 // surface (the own-surface rule, fit_own_surface). An empty pixel's candidates close
 // the sectors around where they land, within 2^level pixels, with the radius-2 ring
 // below the top level, so that hole and background part along the points, not along
-// the pyramid's blocks (issue 15, part 2). Twin: sta_hpr_ref_pyramid_labels.
+// the pyramid's blocks (issue 15, part 2; docs/HPR.md "Empty pixels"). Points and empty
+// pixels share the loops: on llvmpipe a SIMD group of both kinds runs two separate
+// paths one after the other (+35 % HPR at 1080p). Twin: sta_hpr_ref_pyramid_labels.
 //
 // Early exit: the sector minima only fall as neighbours are added, so once a pixel's
 // mean is below its bound (HIDDEN or HOLE) no further level can open it again; the
@@ -67,10 +69,11 @@ HprSurface g_surface;
 // marked points (volumetric classes) landing beyond their reach, u_marked_reach / depth
 // pixels: scattered returns hide what lies right behind them, their gaps are no surface.
 // On the pixel's own surface (g_surface.ok) a neighbour must lie in front of that surface.
-// `by_landing` (an empty pixel's candidates, issue 15 part 2): the neighbour closes the
-// sectors around where it lands (hpr_landing_sectors), not its ring position's.
+// For an empty pixel (`is_point` false) the neighbour closes the sectors around where it
+// lands (bits in `closed`, hpr_landing_sectors) instead: seen from the far centre point
+// every nearer candidate closes, no occlusion value is needed.
 void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, float limit,
-                   bool by_landing, inout vec4 min_lo, inout vec4 min_hi)
+                   bool is_point, inout int closed, inout vec4 min_lo, inout vec4 min_hi)
 {
     if (!(y.w > 0.5) || !(-y.z > 0.0) || !(-y.z < limit)) {
         return;
@@ -86,14 +89,14 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, fl
         }
     }
     float value;
-    if ((!cut || dist2 <= cut2) &&
-        !(g_surface.ok && !hpr_in_front_of_surface(g_surface, -y.z, vx, vy)) &&
-        hpr_occlusion(x, y.xyz, value)) {
-        if (by_landing) {
-            hpr_lower_sectors(hpr_landing_sectors(vec2(vx, vy)), value, min_lo, min_hi);
-        } else {
-            hpr_lower_sector(hpr_sector(2 * ring), value, min_lo, min_hi);
-        }
+    if (!(!cut || dist2 <= cut2)) {
+        return;
+    }
+    if (!is_point) {
+        closed |= hpr_landing_sectors(vec2(vx, vy));
+    } else if (!(g_surface.ok && !hpr_in_front_of_surface(g_surface, -y.z, vx, vy)) &&
+               hpr_occlusion(x, y.xyz, value)) {
+        hpr_lower_sector(hpr_sector(2 * ring), value, min_lo, min_hi);
     }
 }
 
@@ -194,57 +197,62 @@ void main()
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
     int outside = 0; // sectors with ring texels outside the image within the reach
     bool is_point = own.w > 0.5;
+    float bound = hpr_closed_bound(is_point, u_threshold);
+    // An empty pixel (issue 15, part 2): candidates of levels >= 1 count within
+    // min(cut, 2^level) pixels, where every non-empty block has a candidate in the rings
+    // wherever the pixel sits in its ancestor blocks; a sector is unknown where its wedge
+    // leaves the image within that reach, up to STA_HPR_EMPTY_BORDER_PX (per pixel, not
+    // from the ring texels outside, which are block-shaped).
+    int closed = 0;
     int empty_outside = 0;
     if (!is_point) {
-        // An empty pixel's candidates count within 2^level pixels at most: each
-        // non-empty block that near has a candidate in its rings wherever the pixel sits
-        // in its ancestor blocks, so the decision follows the points, not the blocks
-        // (issue 15, part 2; docs/HPR.md). Its unknown sectors: those whose wedge leaves
-        // the image within that reach, up to STA_HPR_EMPTY_BORDER_PX (per pixel; the
-        // ring texels outside would give the blocks' shape to the unknown sectors).
         precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(1 << level));
         cut2 = reach * reach;
         float border = clamp(reach, STA_HPR_MIN_REACH_PX, STA_HPR_EMPTY_BORDER_PX);
         empty_outside = hpr_wedge_outside(hpr_reach_outside(p, u_size, border), false);
     }
-    float bound = hpr_closed_bound(is_point, u_threshold);
     // Levels level..1, coarse first (their rings close an empty pixel inside a surface
     // at once, so it settles early): the ring around the ancestor, from the pyramid. An
     // empty pixel also takes the ring of radius 2 below the top level: a block's point is
     // its nearest, which on a receding surface sits at the block's near edge, so the
     // radius-1 ring alone leaves a pixel at a block's edge without a candidate straight
-    // across it (black specks along block lines); a radius-2 texel lies within 45 deg of
-    // its ring direction from every pixel of the ancestor block.
+    // across it; a radius-2 texel lies within 45 deg of its direction from every pixel of
+    // the ancestor block.
     bool settled = false;
     for (int k = level; k >= 1 && !settled; k--) {
         ivec2 a = p >> k;
         ivec2 size_k = (u_size + (1 << k) - 1) >> k;
         ivec2 origin = u_level_origin[k];
-        int rings = is_point || k == level ? 1 : 2;
-        for (int r = 1; r <= rings; r++) {
-            for (int i = 0; i < 8; i++) {
-                ivec2 n = a + r * RING[i];
-                if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
-                    add_neighbour(imageLoad(u_pyramid, origin + n), RING[i], p, x, true, cut2,
-                                  limit, !is_point, min_lo, min_hi);
-                } else if (r == 1) {
-                    // Outside the image: its sector may have been closed out there.
-                    outside |= 1 << hpr_sector(2 * RING[i]);
-                }
+        for (int i = 0; i < 8; i++) {
+            ivec2 n = a + RING[i];
+            if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
+                add_neighbour(imageLoad(u_pyramid, origin + n), RING[i], p, x, true, cut2, limit,
+                              is_point, closed, min_lo, min_hi);
+            } else {
+                // Outside the image: its sector may have been closed out there.
+                outside |= 1 << hpr_sector(2 * RING[i]);
             }
         }
-        settled = hpr_settled(min_lo, min_hi, is_point, is_point ? outside : empty_outside, bound);
+        for (int i = 0; i < 8 && !is_point && k < level; i++) {
+            ivec2 n = a + 2 * RING[i];
+            if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
+                add_neighbour(imageLoad(u_pyramid, origin + n), RING[i], p, x, true, cut2, limit,
+                              false, closed, min_lo, min_hi);
+            }
+        }
+        settled = is_point ? hpr_settled(min_lo, min_hi, true, outside, bound) : closed == 255;
     }
     // Level 0: the 8 direct neighbours, from the position texture.
     for (int i = 0; i < 8 && !settled; i++) {
         ivec2 n = p + RING[i];
         if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
             vec4 y = on ? nb[i] : imageLoad(u_position, n);
-            add_neighbour(y, RING[i], p, x, false, cut2, limit, !is_point, min_lo, min_hi);
+            add_neighbour(y, RING[i], p, x, false, cut2, limit, is_point, closed, min_lo, min_hi);
         } else {
             outside |= 1 << hpr_sector(2 * RING[i]);
         }
     }
-    float mean = hpr_sector_mean(min_lo, min_hi, is_point, is_point ? outside : empty_outside);
+    float mean = is_point ? hpr_sector_mean(min_lo, min_hi, true, outside)
+                          : hpr_empty_mean(closed, empty_outside);
     imageStore(u_label, p, vec4(hpr_label(is_point, mean, u_threshold), 0.0, 0.0, 0.0));
 }

@@ -10,7 +10,6 @@
 #include <float.h>
 #include <math.h>
 #include <stdbool.h>
-#include <stdlib.h>
 #include <string.h>
 
 void sta_hpr_params_defaults(sta_hpr_params *config)
@@ -253,39 +252,15 @@ static unsigned landing_sectors(const float v[2])
     } else {
         o = v[0] < 0.0f ? (-v[1] < -v[0] ? 4 : 5) : (-v[1] > v[0] ? 6 : 7);
     }
-    unsigned bits = (1u << o) | (1u << ((o + 1) & 7));
-    int axis = -1;
-    if (fminf(ax, ay) <= STA_HPR_AXIS_TOL * fmaxf(ax, ay)) {
-        axis = ax >= ay ? (v[0] >= 0.0f ? 0 : 4) : (v[1] > 0.0f ? 2 : 6);
-    } else if (fabsf(ax - ay) <= STA_HPR_AXIS_TOL * (ax + ay)) {
-        axis = v[0] > 0.0f ? (v[1] > 0.0f ? 1 : 7) : (v[1] > 0.0f ? 3 : 5);
-    }
-    if (axis >= 0) {
-        bits |= (1u << ((axis + 7) & 7)) | (1u << axis) | (1u << ((axis + 1) & 7));
-    }
-    return bits;
-}
-
-// For an empty pixel, whose candidates close the sectors around where they land,
-// sector s spans the directions of sectors s - 1 .. s + 1: it is unknown when any of
-// those leaves the image (bits of `outside`, reach_outside; shader: hpr_wedge_outside).
-static unsigned wedge_outside(unsigned outside, bool is_point)
-{
-    unsigned wide = outside | (outside << 1) | (outside >> 1) | (outside << 7) | (outside >> 7);
-    return is_point ? outside : wide & 255u;
-}
-
-// True when ring offset (dx, dy) (each in -2..2) is a candidate at level k: the 8-texel
-// ring, and for an empty pixel below its top level also the 8 texels of the ring of
-// radius 2 along the same directions (issue 15, part 2: a block's nearest point sits at
-// its near edge on a receding surface, so the radius-1 ring alone leaves a pixel at a
-// block's edge without a candidate straight across it; a radius-2 texel lies within
-// 45 deg of its direction from every pixel of the ancestor block).
-static bool in_rings(int dx, int dy, bool radius2)
-{
-    int ax = abs(dx), ay = abs(dy);
-    int r = ax > ay ? ax : ay;
-    return r == 1 || (radius2 && r == 2 && (ax == ay || ax == 0 || ay == 0));
+    unsigned pair = 3u << o;
+    unsigned bits = (pair | (pair >> 8)) & 255u;
+    bool on_axis = fminf(ax, ay) <= STA_HPR_AXIS_TOL * fmaxf(ax, ay);
+    bool on_diagonal = fabsf(ax - ay) <= STA_HPR_AXIS_TOL * (ax + ay);
+    int axis = on_axis ? (ax >= ay ? (v[0] >= 0.0f ? 0 : 4) : (v[1] > 0.0f ? 2 : 6))
+                       : (v[0] > 0.0f ? (v[1] > 0.0f ? 1 : 7) : (v[1] > 0.0f ? 3 : 5));
+    unsigned three = 7u << ((axis + 7) & 7);
+    three = (three | (three >> 8)) & 255u;
+    return bits | (on_axis || on_diagonal ? three : 0u);
 }
 
 // Where point y lands on screen relative to pixel (px, py)'s centre, in pixels; false
@@ -424,6 +399,65 @@ static float label_of(bool is_point, float mean, float threshold)
     return mean >= fmaxf(threshold, background) ? STA_LABEL_BACKGROUND : STA_LABEL_HOLE;
 }
 
+// Sector s of an empty pixel spans the directions of sectors s - 1 .. s + 1 (its
+// candidates close the sectors around where they land): unknown when any of those
+// leaves the image within `reach_px` (shader: hpr_wedge_outside of hpr_reach_outside).
+static unsigned wedge_outside(const occlusion_frame *f, int px, int py, float reach_px)
+{
+    unsigned o = reach_outside(f, px, py, reach_px);
+    return (o | (o << 1) | (o >> 1) | (o << 7) | (o >> 7)) & 255u;
+}
+
+// An empty pixel's mean (shader: empty_pixel_mean, docs/HPR.md "Empty pixels"): the
+// share of its known sectors that no candidate closes. A candidate closes the sectors
+// around where it lands (landing_sectors) when it is drawn, nearer than
+// `occluder_limit`, within min(cut, 2^level) pixels (levels >= 1) and, for a marked
+// point, within its reach; the rings are those of the radius 1 and, below the top level,
+// 2; a sector is unknown where its wedge leaves the image within that reach, up to
+// STA_HPR_EMPTY_BORDER_PX.
+static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *pyramid, int px,
+                              int py, int level, float cut, float occluder_limit,
+                              float marked_reach)
+{
+    float reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(1 << level));
+    float reach2 = reach * reach;
+    float border = fminf(fmaxf(reach, STA_HPR_MIN_REACH_PX), STA_HPR_EMPTY_BORDER_PX);
+    unsigned outside = wedge_outside(f, px, py, border);
+    unsigned closed = 0;
+    for (int k = 0; k <= level; k++) {
+        const sta_image *lk = &pyramid->levels[k];
+        int ax = px >> k, ay = py >> k;
+        int rings = k > 0 && k < level ? 2 : 1;
+        float cut2 = k > 0 ? reach2 : INFINITY; // level 0: the direct neighbours, no cut
+        for (int r = 1; r <= rings; r++) {
+            for (int dy = -1; dy <= 1; dy++) {
+                for (int dx = -1; dx <= 1; dx++) {
+                    int nx = ax + r * dx, ny = ay + r * dy;
+                    if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= lk->width ||
+                        ny >= lk->height) {
+                        continue;
+                    }
+                    const float *y = sta_image_at(lk, nx, ny);
+                    float v[2];
+                    if (y[3] <= 0.5f || !screen_offset(f, y, px, py, v) ||
+                        !(-y[2] < occluder_limit)) {
+                        continue;
+                    }
+                    float dist2 = v[0] * v[0] + v[1] * v[1];
+                    float marked = marked_reach * (1.0f / -y[2]);
+                    bool reached = sta_position_occludes(y[3]) || dist2 <= marked * marked;
+                    if (reached && dist2 <= cut2) {
+                        closed |= landing_sectors(v);
+                    }
+                }
+            }
+        }
+    }
+    unsigned known = closed | (~outside & 255u);
+    int n = __builtin_popcount(known);
+    return n > 0 ? (float)__builtin_popcount(known & ~closed) / (float)n : 1.0f;
+}
+
 void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_params *params,
                                 const sta_hpr_pyramid *pyramid, sta_image *out_label,
                                 sta_image *out_mean, sta_image *out_level)
@@ -468,22 +502,20 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             float radius = radius_k / z;
             float cut = STA_HPR_CUT_FACTOR * radius;
             float cut2 = cut * cut;
-            bool is_point = own[3] > 0.5f;
-            unsigned empty_outside = 0;
-            if (!is_point) {
-                // An empty pixel's candidates count within 2^level pixels at most: each
-                // non-empty block that near has a candidate in its rings wherever the
-                // pixel sits in its ancestor blocks, so the decision follows the points,
-                // not the blocks (issue 15, part 2; docs/HPR.md).
-                float reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(1 << level));
-                cut2 = reach * reach;
-                // Its unknown sectors: those whose wedge leaves the image within that
-                // reach (the ring texels outside would give them the blocks' shape).
-                empty_outside = wedge_outside(
-                    reach_outside(&f, px, py, fmaxf(reach, STA_HPR_MIN_REACH_PX)), false);
-            }
             // Only neighbours nearer than the centre point by more than the gap occlude.
             float occluder_limit = -x[2] - gap_m;
+            if (!(own[3] > 0.5f)) {
+                float mean =
+                    empty_pixel_mean(&f, pyramid, px, py, level, cut, occluder_limit, marked_reach);
+                *sta_image_at(out_label, px, py) = label_of(false, mean, f.threshold);
+                if (out_mean) {
+                    *sta_image_at(out_mean, px, py) = mean;
+                }
+                if (out_level) {
+                    *sta_image_at(out_level, px, py) = (float)level;
+                }
+                continue;
+            }
             // On its own surface, a neighbour must also lie in front of that surface.
             own_surface surface = fit_own_surface(&f, &pyramid->levels[0], px, py, surface_tol);
             float sector_min[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
@@ -491,20 +523,16 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             for (int k = 0; k <= level; k++) {
                 const sta_image *lk = &pyramid->levels[k];
                 int ax = px >> k, ay = py >> k;
-                // An empty pixel's candidates close sectors by where they land.
-                bool by_landing = !is_point;
-                for (int dy = -2; dy <= 2; dy++) {
-                    for (int dx = -2; dx <= 2; dx++) {
+                for (int dy = -1; dy <= 1; dy++) {
+                    for (int dx = -1; dx <= 1; dx++) {
                         int nx = ax + dx, ny = ay + dy;
-                        if (!in_rings(dx, dy, by_landing && k > 0 && k < level)) {
+                        if (dx == 0 && dy == 0) {
                             continue;
                         }
                         if (nx < 0 || ny < 0 || nx >= lk->width || ny >= lk->height) {
                             // A ring texel outside the image: its sector may have been
                             // closed out there.
-                            if (abs(dx) <= 1 && abs(dy) <= 1) {
-                                outside |= 1u << sta_hpr_sector(2 * dx, 2 * dy);
-                            }
+                            outside |= 1u << sta_hpr_sector(2 * dx, 2 * dy);
                             continue;
                         }
                         const float *y = sta_image_at(lk, nx, ny);
@@ -526,25 +554,15 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                         if (!sta_position_occludes(y[3]) && !(dist2 <= reach * reach)) {
                             continue;
                         }
-                        if (by_landing) {
-                            // The sectors around where it lands.
-                            unsigned bits = landing_sectors(v);
-                            for (int s = 0; s < 8; s++) {
-                                if ((bits >> s) & 1u) {
-                                    add_neighbour(x, y, s, sector_min);
-                                }
-                            }
-                            continue;
-                        }
-                        // Each ring position is its own sector (Figure 3's colours). For a
-                        // point, the direction to where the neighbour lands would leave
+                        // Each ring position is its own sector (Figure 3's colours). The
+                        // direction from the pixel to where the point lands would leave
                         // sectors empty (the ring's points cluster), opening holes.
                         add_neighbour(x, y, sta_hpr_sector(2 * dx, 2 * dy), sector_min);
                     }
                 }
             }
-            float mean = sector_mean(sector_min, is_point, is_point ? outside : empty_outside);
-            *sta_image_at(out_label, px, py) = label_of(is_point, mean, f.threshold);
+            float mean = sector_mean(sector_min, own[3] > 0.5f, outside);
+            *sta_image_at(out_label, px, py) = label_of(own[3] > 0.5f, mean, f.threshold);
             if (out_mean) {
                 *sta_image_at(out_mean, px, py) = mean;
             }
