@@ -57,6 +57,8 @@ uniform int u_anchor_stride; // sta_hpr_anchor_stride
 
 const ivec2 RING[8] = ivec2[8](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-1, 0),
                                ivec2(1, 0), ivec2(-1, 1), ivec2(0, 1), ivec2(1, 1));
+// The ring's axis directions (an empty pixel's radius-2 texels).
+const ivec2 AXES[4] = ivec2[4](ivec2(0, -1), ivec2(-1, 0), ivec2(1, 0), ivec2(0, 1));
 
 // The pixel's own surface (fit_own_surface), while the own-surface rule applies.
 HprSurface g_surface;
@@ -213,11 +215,11 @@ void main()
     }
     // Levels level..1, coarse first (their rings close an empty pixel inside a surface
     // at once, so it settles early): the ring around the ancestor, from the pyramid. An
-    // empty pixel also takes the ring of radius 2 below the top level: a block's point is
-    // its nearest, which on a receding surface sits at the block's near edge, so the
-    // radius-1 ring alone leaves a pixel at a block's edge without a candidate straight
-    // across it; a radius-2 texel lies within 45 deg of its direction from every pixel of
-    // the ancestor block.
+    // empty pixel also takes the 4 texels 2 away along the axes below the top level: a
+    // block's point is its nearest, which on a receding surface sits at the block's near
+    // edge, so the axis texels of the ring alone leave a pixel at a block's edge without a
+    // candidate straight across it; a texel 2 away lies within 45 deg of its axis from
+    // every pixel of the ancestor block (a diagonal ring texel always does).
     bool settled = false;
     for (int k = level; k >= 1 && !settled; k--) {
         ivec2 a = p >> k;
@@ -233,10 +235,10 @@ void main()
                 outside |= 1 << hpr_sector(2 * RING[i]);
             }
         }
-        for (int i = 0; i < 8 && !is_point && k < level; i++) {
-            ivec2 n = a + 2 * RING[i];
+        for (int i = 0; i < 4 && !is_point && k < level; i++) {
+            ivec2 n = a + 2 * AXES[i];
             if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
-                add_neighbour(imageLoad(u_pyramid, origin + n), RING[i], p, x, true, cut2, limit,
+                add_neighbour(imageLoad(u_pyramid, origin + n), AXES[i], p, x, true, cut2, limit,
                               false, closed, min_lo, min_hi);
             }
         }

@@ -412,9 +412,9 @@ static unsigned wedge_outside(const occlusion_frame *f, int px, int py, float re
 // share of its known sectors that no candidate closes. A candidate closes the sectors
 // around where it lands (landing_sectors) when it is drawn, nearer than
 // `occluder_limit`, within min(cut, 2^level) pixels (levels >= 1) and, for a marked
-// point, within its reach; the rings are those of the radius 1 and, below the top level,
-// 2; a sector is unknown where its wedge leaves the image within that reach, up to
-// STA_HPR_EMPTY_BORDER_PX.
+// point, within its reach; the candidates are the ring and, below the top level, the 4
+// texels 2 away along its axes; a sector is unknown where its wedge leaves the image
+// within that reach, up to STA_HPR_EMPTY_BORDER_PX.
 static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *pyramid, int px,
                               int py, int level, float cut, float occluder_limit,
                               float marked_reach)
@@ -433,8 +433,9 @@ static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *p
             for (int dy = -1; dy <= 1; dy++) {
                 for (int dx = -1; dx <= 1; dx++) {
                     int nx = ax + r * dx, ny = ay + r * dy;
-                    if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= lk->width ||
-                        ny >= lk->height) {
+                    bool axis = (dx == 0) != (dy == 0);
+                    if ((dx == 0 && dy == 0) || (r == 2 && !axis) || nx < 0 || ny < 0 ||
+                        nx >= lk->width || ny >= lk->height) {
                         continue;
                     }
                     const float *y = sta_image_at(lk, nx, ny);
