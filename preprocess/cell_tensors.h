@@ -38,7 +38,9 @@ typedef struct sta_cell_tensors {
     int64_t base[3];       /* cell coordinates below which no cell lies (packed keys) */
     size_t capacity, used; /* slots (a power of two), cells */
     uint64_t *keys;        /* 0: empty slot, else packed coordinates + 1 */
-    sta_tensor_sums *sums; /* per slot */
+    uint32_t *cell;        /* per slot: its cell's place in `sums` */
+    sta_tensor_sums *sums; /* per cell, dense (the table is at most half full) */
+    size_t sums_capacity;  /* cells `sums` holds */
     int8_t index[5][5][5]; /* the term of x^i y^j z^k (i + j + k <= 4) */
 } sta_cell_tensors;
 

@@ -884,7 +884,7 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
     sta_cell_blocks fine_cells = { 0 };
     level_boxes fine_boxes = { 0 };
     box_quadrics quadrics = { 0 };
-    sta_status status = sta_cell_moments_init(&wanted, level, chunk->scene_min, lo, hi, err);
+    sta_status status = sta_cell_moments_init_marks(&wanted, level, chunk->scene_min, lo, hi, err);
     // The base level's moment tensors of the 8 cells of each rough point's base box: their
     // quadrics (quadric_normal).
     if (status == STA_OK) {

@@ -3,7 +3,8 @@
  * block holds the sums a brute-force pass over the points gives (offsets from the
  * block's corner), at fine and coarse levels and for blocks reaching past the set, and
  * so do the summed 2 x 2 x 2 blocks around grid vertices;
- * adding only the points of wanted coarser cells keeps those cells whole; a set too
+ * adding only the points of wanted coarser cells keeps those cells whole; a set of marks
+ * keeps thousands of cells through its growth and refuses points; a set too
  * wide for the cell coordinates is refused; a level coarsened from a finer one and the
  * points added in cell order (cell_order.c) give the same sums as adding the points
  * directly; the cell order keeps every cell's points together, and is the stable sort by
@@ -200,7 +201,7 @@ static void wanted_cells_hold_all_their_points(void **state)
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
     sta_error err = { 0 };
     sta_cell_moments wanted, all, some;
-    assert_int_equal(sta_cell_moments_init(&wanted, 9, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(sta_cell_moments_init_marks(&wanted, 9, origin, lo, hi, &err), STA_OK);
     const int64_t mark[2][3] = { { 1, 2, 0 }, { 4, 4, 5 } };
     for (int i = 0; i < 2; i++) {
         assert_true(sta_cell_moments_mark(&wanted, mark[i]));
@@ -249,6 +250,42 @@ static void wanted_cells_hold_all_their_points(void **state)
     sta_cell_moments_release(&all);
     sta_cell_moments_release(&some);
     sta_free(grid);
+}
+
+// A set of marks (no sums): 4000 cells marked in a scattered order, twice, through
+// several doublings of its table; exactly those exist; it refuses points.
+static void a_set_of_marks_grows_and_takes_no_points(void **state)
+{
+    (void)state;
+    enum {
+        SIDE = 20,
+        CELLS = SIDE * SIDE * SIDE
+    };
+    const int64_t origin[3] = { 0, 0, 0 };
+    const int32_t lo[3] = { 0, 0, 0 }, hi[3] = { SIDE << 4, SIDE << 4, SIDE << 4 };
+    sta_cell_moments marks;
+    sta_error err = { 0 };
+    assert_int_equal(sta_cell_moments_init_marks(&marks, 4, origin, lo, hi, &err), STA_OK);
+    assert_null(marks.sums);
+    for (int pass = 0; pass < 2; pass++) {
+        for (int i = 0; i < CELLS; i++) {
+            int c = (i * 7919) % CELLS; // (7919 is prime to CELLS: every cell once)
+            const int64_t cell[3] = { c % SIDE, c / SIDE % SIDE, c / (SIDE * SIDE) };
+            if ((cell[0] + cell[1] + cell[2]) % 2 == 0) {
+                assert_true(sta_cell_moments_mark(&marks, cell));
+            }
+        }
+        assert_int_equal(marks.used, CELLS / 2);
+    }
+    for (int c = 0; c < CELLS; c++) {
+        const int64_t cell[3] = { c % SIDE, c / SIDE % SIDE, c / (SIDE * SIDE) };
+        assert_int_equal(sta_cell_moments_has(&marks, cell),
+                         (cell[0] + cell[1] + cell[2]) % 2 == 0);
+    }
+    const int32_t point[1][3] = { { 1, 1, 1 } };
+    assert_int_equal(sta_cell_moments_add(&marks, point, 1, NULL, NULL, &err), STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "marks"));
+    sta_cell_moments_release(&marks);
 }
 
 static void too_wide_a_set_is_refused(void **state)
@@ -503,6 +540,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(block_sums_match_brute_force),
     cmocka_unit_test(vertex_sums_match_brute_force),
     cmocka_unit_test(lower_only_and_reserved_sets_hold_the_same_sums),
+    cmocka_unit_test(a_set_of_marks_grows_and_takes_no_points),
     cmocka_unit_test(wanted_cells_hold_all_their_points),
     cmocka_unit_test(too_wide_a_set_is_refused),
     cmocka_unit_test(coarsened_levels_match_brute_force),
