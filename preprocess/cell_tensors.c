@@ -106,8 +106,7 @@ static sta_tensor_sums *cell_at(sta_cell_tensors *t, const int64_t local[3])
     return &t->sums[s];
 }
 
-// Adds the monomials of offset d (modulo 2^64) to sums.
-static void add_point(sta_tensor_sums *sums, const uint64_t d[3])
+void sta_tensor_sums_add(sta_tensor_sums *sums, const uint64_t d[3])
 {
     uint64_t p[3][5];
     for (int a = 0; a < 3; a++) {
@@ -156,7 +155,7 @@ void sta_cell_tensors_add(sta_cell_tensors *t, const int32_t (*grid)[3], size_t 
             }
         }
         if (sums) {
-            add_point(sums, d);
+            sta_tensor_sums_add(sums, d);
         }
     }
 }
