@@ -29,18 +29,25 @@ typedef struct term_index {
     int8_t of[5][5][5];
 } term_index;
 
-// a * b (of degrees summing to at most 4).
+// a * b (of degrees summing to at most 4), over their nonzero terms.
 static void poly_mul(const poly *a, const poly *b, const term_index *ti, poly *out)
 {
+    int ia[STA_TENSOR_TERMS], ib[STA_TENSOR_TERMS], na = 0, nb = 0;
+    for (int t = 0; t < STA_TENSOR_TERMS; t++) {
+        ia[na] = t;
+        na += a->c[t] != 0.0;
+        ib[nb] = t;
+        nb += b->c[t] != 0.0;
+    }
     memset(out, 0, sizeof(*out));
-    for (int i = 0; i < STA_TENSOR_TERMS; i++) {
-        const uint8_t *ei = sta_tensor_exponent[i];
-        for (int j = 0; j < STA_TENSOR_TERMS && a->c[i] != 0.0; j++) {
-            const uint8_t *ej = sta_tensor_exponent[j];
-            if (b->c[j] == 0.0 || ei[0] + ei[1] + ei[2] + ej[0] + ej[1] + ej[2] > 4) {
-                continue;
+    for (int i = 0; i < na; i++) {
+        const uint8_t *ei = sta_tensor_exponent[ia[i]];
+        for (int j = 0; j < nb; j++) {
+            const uint8_t *ej = sta_tensor_exponent[ib[j]];
+            if (ei[0] + ei[1] + ei[2] + ej[0] + ej[1] + ej[2] <= 4) {
+                out->c[ti->of[ei[0] + ej[0]][ei[1] + ej[1]][ei[2] + ej[2]]] +=
+                    a->c[ia[i]] * b->c[ib[j]];
             }
-            out->c[ti->of[ei[0] + ej[0]][ei[1] + ej[1]][ei[2] + ej[2]]] += a->c[i] * b->c[j];
         }
     }
 }

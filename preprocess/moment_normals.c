@@ -820,40 +820,43 @@ static void box_tensors(const moment_pass *m, int level, const int64_t v[3], siz
                         sta_tensor_sums *out)
 {
     const sta_normals_chunk *chunk = m->chunk;
-    int base = m->base_level, up = level - base;
+    int base = m->base_level;
     const int32_t(*sets[2])[3] = { m->grid, m->halo };
     const size_t counts[2] = { m->count, m->halo_count };
     size_t hints[2] = { own_hint, *m->halo_hint };
     memset(out, 0, sizeof(*out));
     for (int q = 0; q < 8; q++) {
-        int64_t first[3]; // the cell's first base cell, from the order's corner
+        int64_t cell[3], first[3]; // the cell, and its first base cell from the order's corner
         bool inside = true;
         for (int a = 0; a < 3; a++) {
-            int64_t cell = v[a] - 1 + (q >> a & 1);
+            cell[a] = v[a] - 1 + (q >> a & 1);
             // (the order's corner is aligned 8 levels above the base: a cell lies wholly
             // above it, or below where no point is)
-            first[a] = ((cell << level) + chunk->scene_min[a] - m->corner[a]) >> base;
+            first[a] = ((cell[a] << level) + chunk->scene_min[a] - m->corner[a]) >> base;
             inside = inside && first[a] >= 0 && first[a] < ((int64_t)1 << STA_CELL_ORDER_AXIS_BITS);
         }
         if (!inside) {
             continue;
         }
-        uint64_t from_key = sta_cell_order_key(first);
-        uint64_t to_key = from_key + ((uint64_t)1 << (3 * up));
+        uint64_t key = sta_cell_order_key(first);
         for (int s = 0; s < 2; s++) {
-            size_t from =
-                sta_cell_order_lower_near(sets[s], counts[s], m->corner, base, from_key, hints[s]);
-            size_t to =
-                sta_cell_order_lower_near(sets[s], counts[s], m->corner, base, to_key, from);
-            hints[s] = to;
-            for (size_t i = from; i < to; i++) {
+            // The cell's run: from its first key on, while the points lie in the cell.
+            size_t i =
+                sta_cell_order_lower_near(sets[s], counts[s], m->corner, base, key, hints[s]);
+            for (; i < counts[s]; i++) {
                 uint64_t d[3];
+                bool in = true;
                 for (int a = 0; a < 3; a++) {
-                    d[a] = (uint64_t)((int64_t)sets[s][i][a] - chunk->scene_min[a] -
-                                      ((v[a] - 1) << level));
+                    int64_t from_corner = (int64_t)sets[s][i][a] - chunk->scene_min[a];
+                    in = in && from_corner >> level == cell[a];
+                    d[a] = (uint64_t)(from_corner - ((v[a] - 1) << level));
+                }
+                if (!in) {
+                    break;
                 }
                 sta_tensor_sums_add(out, d);
             }
+            hints[s] = i;
         }
     }
     *m->halo_hint = hints[1];
