@@ -814,13 +814,15 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
 
 // The exact tensor sums of the own and halo points in the 2 x 2 x 2 cells of `level` (at
 // or above the base) around vertex v, as offsets from the box's corner: each cell's points
-// are one run of the cell order, found by binary searches. The same sums in any chunking
-// (the halo covers the boxes up to STA_MOMENTS_LEVELS_ABOVE_BASE).
+// are one run of the cell order, its start found by a galloping search from own_hint (the
+// asking point's place) and, in the halo, from where the last one ended. The same sums in
+// any chunking (the halo covers the boxes up to STA_MOMENTS_LEVELS_ABOVE_BASE).
 static void box_tensors(const moment_pass *m, int level, const int64_t v[3], size_t own_hint,
                         sta_tensor_sums *out)
 {
     const sta_normals_chunk *chunk = m->chunk;
     int base = m->base_level;
+    int64_t edge = (int64_t)1 << level;
     const int32_t(*sets[2])[3] = { m->grid, m->halo };
     const size_t counts[2] = { m->count, m->halo_count };
     size_t hints[2] = { own_hint, *m->halo_hint };
@@ -829,10 +831,10 @@ static void box_tensors(const moment_pass *m, int level, const int64_t v[3], siz
         int64_t cell[3], first[3]; // the cell, and its first base cell from the order's corner
         bool inside = true;
         for (int a = 0; a < 3; a++) {
-            cell[a] = v[a] - 1 + (q >> a & 1);
+            cell[a] = v[a] - 1 + (q >> a & 1); // (may be -1: no shift of it)
             // (the order's corner is aligned 8 levels above the base: a cell lies wholly
             // above it, or below where no point is)
-            first[a] = ((cell[a] << level) + chunk->scene_min[a] - m->corner[a]) >> base;
+            first[a] = (cell[a] * edge + chunk->scene_min[a] - m->corner[a]) >> base;
             inside = inside && first[a] >= 0 && first[a] < ((int64_t)1 << STA_CELL_ORDER_AXIS_BITS);
         }
         if (!inside) {
@@ -849,7 +851,7 @@ static void box_tensors(const moment_pass *m, int level, const int64_t v[3], siz
                 for (int a = 0; a < 3; a++) {
                     int64_t from_corner = (int64_t)sets[s][i][a] - chunk->scene_min[a];
                     in = in && from_corner >> level == cell[a];
-                    d[a] = (uint64_t)(from_corner - ((v[a] - 1) << level));
+                    d[a] = (uint64_t)(from_corner - (v[a] - 1) * edge);
                 }
                 if (!in) {
                     break;
