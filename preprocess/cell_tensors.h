@@ -32,6 +32,9 @@ typedef struct sta_tensor_sums {
     uint64_t s[STA_TENSOR_TERMS];
 } sta_tensor_sums;
 
+/* Adds the monomials of one point's offset d (grid units, >= 0) to sums, modulo 2^64. */
+void sta_tensor_sums_add(sta_tensor_sums *sums, const uint64_t d[3]);
+
 typedef struct sta_cell_tensors {
     int level;             /* cells are 2^level grid units wide */
     int64_t origin[3];     /* the scene's corner, grid units */

@@ -536,6 +536,75 @@ static void lower_only_and_reserved_sets_hold_the_same_sums(void **state)
     sta_free(grid);
 }
 
+// The points of a cell of a coarser level (aligned to `lo`) are one run of consecutive keys
+// of the order's level, and sta_cell_order_lower_near finds the run's ends from any hint.
+static void cell_order_finds_a_cells_run(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    int32_t(*sorted)[3] = sta_alloc_array(POINTS, sizeof(*sorted));
+    uint32_t *order = sta_alloc_array(POINTS, sizeof(*order));
+    assert_non_null(grid);
+    assert_non_null(sorted);
+    assert_non_null(order);
+    const int32_t corner[3] = { -40, 7, 90000 };
+    sta_test_random_grid(grid, POINTS, corner, 5000, 31, false);
+    int32_t lo[3], hi[3];
+    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
+    sta_error err = { 0 };
+    const int level = 5, up = 2;
+    assert_int_equal(sta_cell_order((const int32_t(*)[3])grid, POINTS, lo, level, order, &err),
+                     STA_OK);
+    for (size_t j = 0; j < POINTS; j++) {
+        memcpy(sorted[j], grid[order[j]], sizeof(sorted[j]));
+    }
+    uint32_t s = 77;
+    for (int probe = 0; probe < 300; probe++) {
+        // A coarse cell of a random point (and every 10th an empty one beside the set).
+        const int32_t *p = grid[sta_test_next_random(&s) % POINTS];
+        int64_t coarse[3], first[3];
+        for (int a = 0; a < 3; a++) {
+            coarse[a] = (((int64_t)p[a] - lo[a]) >> (level + up)) + (probe % 10 == 9 ? 200 : 0);
+            first[a] = coarse[a] << up;
+        }
+        uint64_t from_key = sta_cell_order_key(first), to_key = from_key + (1u << (3 * up));
+        size_t from = 0, to = 0; // (the points whose keys are below each)
+        for (size_t j = 0; j < POINTS; j++) {
+            int64_t c[3];
+            for (int a = 0; a < 3; a++) {
+                c[a] = ((int64_t)sorted[j][a] - lo[a]) >> level;
+            }
+            from += sta_cell_order_key(c) < from_key;
+            to += sta_cell_order_key(c) < to_key;
+        }
+        size_t inside = 0;
+        for (size_t j = 0; j < POINTS; j++) {
+            bool in = true;
+            for (int a = 0; a < 3; a++) {
+                in = in && (((int64_t)sorted[j][a] - lo[a]) >> (level + up)) == coarse[a];
+            }
+            inside += in;
+            assert_true(in == (j >= from && j < to));
+        }
+        assert_int_equal(to - from, inside);
+        assert_true(probe % 10 != 9 || inside == 0);
+        const size_t hints[] = {
+            0, POINTS, from, to, sta_test_next_random(&s) % POINTS, POINTS + 5
+        };
+        for (size_t h = 0; h < sizeof(hints) / sizeof(hints[0]); h++) {
+            assert_int_equal(sta_cell_order_lower_near((const int32_t(*)[3])sorted, POINTS, lo,
+                                                       level, from_key, hints[h]),
+                             from);
+            assert_int_equal(sta_cell_order_lower_near((const int32_t(*)[3])sorted, POINTS, lo,
+                                                       level, to_key, hints[h]),
+                             to);
+        }
+    }
+    sta_free(order);
+    sta_free(sorted);
+    sta_free(grid);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(block_sums_match_brute_force),
     cmocka_unit_test(vertex_sums_match_brute_force),
@@ -546,6 +615,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(coarsened_levels_match_brute_force),
     cmocka_unit_test(cell_order_keeps_cells_together),
     cmocka_unit_test(cell_order_is_stable_morton_sort),
+    cmocka_unit_test(cell_order_finds_a_cells_run),
 };
 
 STA_TEST_MAIN(tests)
