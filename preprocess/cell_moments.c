@@ -51,7 +51,9 @@ static size_t cell_at(sta_cell_moments *m, const int64_t local[3])
             s = sta_key_slot(m->keys, m->capacity, key);
         }
         m->keys[s] = key;
-        memset(&m->sums[s], 0, sizeof(m->sums[s]));
+        if (m->sums) {
+            memset(&m->sums[s], 0, sizeof(m->sums[s]));
+        }
         if (m->high) {
             memset(&m->high[s], 0, sizeof(m->high[s]));
         }
@@ -98,8 +100,8 @@ void sta_higher_sums_add_moved(sta_higher_sums *dst, const sta_cell_sums *c,
     dst->s4 += h->s4 + 4 * qs2q + n * qq * qq + 4 * qs3 + 2 * qq * trace + 4 * qq * qs1;
 }
 
-sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t origin[3],
-                                 const int32_t lo[3], const int32_t hi[3], sta_error *err)
+static sta_status init_set(sta_cell_moments *m, int level, const int64_t origin[3],
+                           const int32_t lo[3], const int32_t hi[3], bool sums, sta_error *err)
 {
     memset(m, 0, sizeof(*m));
     if (level < 0 || level > STA_MOMENTS_MAX_LEVEL) {
@@ -117,12 +119,24 @@ sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t o
     }
     m->capacity = FIRST_CAPACITY;
     m->keys = sta_calloc(m->capacity, sizeof(*m->keys));
-    m->sums = sta_alloc_array(m->capacity, sizeof(*m->sums));
-    if (!m->keys || !m->sums) {
+    m->sums = sums ? sta_alloc_array(m->capacity, sizeof(*m->sums)) : NULL;
+    if (!m->keys || (sums && !m->sums)) {
         sta_cell_moments_release(m);
         return sta_fail(err, STA_ERR_NOMEM, "cell moments: out of memory");
     }
     return STA_OK;
+}
+
+sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t origin[3],
+                                 const int32_t lo[3], const int32_t hi[3], sta_error *err)
+{
+    return init_set(m, level, origin, lo, hi, true, err);
+}
+
+sta_status sta_cell_moments_init_marks(sta_cell_moments *m, int level, const int64_t origin[3],
+                                       const int32_t lo[3], const int32_t hi[3], sta_error *err)
+{
+    return init_set(m, level, origin, lo, hi, false, err);
 }
 
 bool sta_cell_moments_reserve(sta_cell_moments *m, size_t cells)
@@ -185,6 +199,9 @@ static bool add_run(sta_cell_moments *m, const int64_t local[3], const sta_momen
 sta_status sta_cell_moments_add(sta_cell_moments *m, const int32_t (*grid)[3], size_t n,
                                 const uint32_t *order, const sta_cell_moments *only, sta_error *err)
 {
+    if (!m->sums) {
+        return sta_fail(err, STA_ERR_ARG, "cell moments: a set of marks takes no points");
+    }
     int level = m->level;
     // Consecutive points of one cell are summed first (a run: one look-up).
     int64_t run_cell[3] = { -1, -1, -1 }, only_cell[3] = { -1, -1, -1 };

@@ -65,7 +65,7 @@ typedef struct sta_cell_moments {
     int64_t base[3];       /* the lowest cell of the set, cell coordinates */
     size_t capacity, used; /* slots (a power of two), cells */
     uint64_t *keys;        /* 0: empty slot, else packed coordinates + 1 */
-    sta_cell_sums *sums;   /* per slot */
+    sta_cell_sums *sums;   /* per slot (NULL in a set of marks: sta_cell_moments_init_marks) */
     sta_higher_sums *high; /* per slot, only when `higher` (else NULL) */
 } sta_cell_moments;
 
@@ -75,6 +75,13 @@ typedef struct sta_cell_moments {
  * sta_cell_moments_release. */
 sta_status sta_cell_moments_init(sta_cell_moments *m, int level, const int64_t origin[3],
                                  const int32_t lo[3], const int32_t hi[3], sta_error *err);
+
+/* As sta_cell_moments_init, a set that only records which cells exist: for
+ * sta_cell_moments_mark, _has and as `only` of sta_cell_moments_add, never given points (8
+ * bytes a slot where the sums take 88: the wanted cells around every rough point of a noisy
+ * chunk were its largest table). */
+sta_status sta_cell_moments_init_marks(sta_cell_moments *m, int level, const int64_t origin[3],
+                                       const int32_t lo[3], const int32_t hi[3], sta_error *err);
 
 /* Room for `cells` cells without growing (the table grows by doubling, rehashing every
  * cell: a set whose size is known roughly starts near it). False when out of memory. */

@@ -98,3 +98,60 @@ sta_status sta_cell_order(const int32_t (*grid)[3], size_t n, const int32_t lo[3
     sta_free(count);
     return STA_OK;
 }
+
+uint64_t sta_cell_order_key(const int64_t cell[3])
+{
+    uint64_t k = 0;
+    for (int a = 0; a < 3; a++) {
+        k |= spread((uint64_t)cell[a]) << a;
+    }
+    return k;
+}
+
+// The key of point i's cell.
+static uint64_t key_at(const int32_t (*sorted)[3], const int32_t lo[3], int level, size_t i)
+{
+    int64_t cell[3];
+    for (int a = 0; a < 3; a++) {
+        cell[a] = ((int64_t)sorted[i][a] - lo[a]) >> level;
+    }
+    return sta_cell_order_key(cell);
+}
+
+size_t sta_cell_order_lower_near(const int32_t (*sorted)[3], size_t n, const int32_t lo[3],
+                                 int level, uint64_t key, size_t hint)
+{
+    // Gallop from the hint to a bracket [from, to] of the answer, then bisect it.
+    size_t from, to;
+    hint = hint < n ? hint : n;
+    if (hint < n && key_at(sorted, lo, level, hint) < key) {
+        from = hint + 1;
+        to = n;
+        for (size_t step = 1; hint + step < n; step *= 2) {
+            if (key_at(sorted, lo, level, hint + step) >= key) {
+                to = hint + step;
+                break;
+            }
+            from = hint + step + 1;
+        }
+    } else {
+        from = 0;
+        to = hint;
+        for (size_t step = 1; step <= hint; step *= 2) {
+            if (key_at(sorted, lo, level, hint - step) < key) {
+                from = hint - step + 1;
+                break;
+            }
+            to = hint - step;
+        }
+    }
+    while (from < to) {
+        size_t mid = from + (to - from) / 2;
+        if (key_at(sorted, lo, level, mid) < key) {
+            from = mid + 1;
+        } else {
+            to = mid;
+        }
+    }
+    return from;
+}

@@ -27,4 +27,15 @@
 sta_status sta_cell_order(const int32_t (*grid)[3], size_t n, const int32_t lo[3], int level,
                           uint32_t *order, sta_error *err);
 
+/* The key of a cell (coordinates from `lo` in cells of the order's level, each below
+ * 2^STA_CELL_ORDER_AXIS_BITS): the cells of any coarser aligned cell have consecutive
+ * keys. */
+uint64_t sta_cell_order_key(const int64_t cell[3]);
+
+/* The first of the n points `sorted` (in the order sta_cell_order gave for lo and level)
+ * whose cell's key is at least `key` (n when none), searched outwards from index `hint`
+ * first (a few steps where the answer lies near it), then by bisection. */
+size_t sta_cell_order_lower_near(const int32_t (*sorted)[3], size_t n, const int32_t lo[3],
+                                 int level, uint64_t key, size_t hint);
+
 #endif

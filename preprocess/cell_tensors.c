@@ -59,9 +59,11 @@ sta_status sta_cell_tensors_init(sta_cell_tensors *t, int level, const int64_t o
         }
     }
     t->capacity = FIRST_CAPACITY;
+    t->sums_capacity = FIRST_CAPACITY / 2;
     t->keys = sta_calloc(t->capacity, sizeof(*t->keys));
-    t->sums = sta_alloc_array(t->capacity, sizeof(*t->sums));
-    if (!t->keys || !t->sums) {
+    t->cell = sta_alloc_array(t->capacity, sizeof(*t->cell));
+    t->sums = sta_alloc_array(t->sums_capacity, sizeof(*t->sums));
+    if (!t->keys || !t->cell || !t->sums) {
         sta_cell_tensors_release(t);
         return sta_fail(err, STA_ERR_NOMEM, "cell tensors: out of memory");
     }
@@ -71,19 +73,38 @@ sta_status sta_cell_tensors_init(sta_cell_tensors *t, int level, const int64_t o
 void sta_cell_tensors_release(sta_cell_tensors *t)
 {
     sta_free(t->keys);
+    sta_free(t->cell);
     sta_free(t->sums);
     memset(t, 0, sizeof(*t));
 }
 
+// The slots double with only their keys and cell places (12 bytes a slot; the sums stay
+// where they are): a marked cell costs its 280 bytes of sums and 24 of slots, where sums
+// kept in the slots cost 576, and half as much again while the table doubled.
 static bool grow(sta_cell_tensors *t)
 {
-    void *const values[] = { t->sums };
-    const size_t sizes[] = { sizeof(*t->sums) };
+    void *const values[] = { t->cell };
+    const size_t sizes[] = { sizeof(*t->cell) };
     void *grown[1];
     if (!sta_key_slots_double(&t->keys, &t->capacity, values, sizes, grown, 1)) {
         return false;
     }
-    t->sums = grown[0];
+    t->cell = grown[0];
+    return true;
+}
+
+static bool grow_sums(sta_cell_tensors *t)
+{
+    if (t->sums_capacity > UINT32_MAX / 2) {
+        return false; // (the cell places are 32-bit)
+    }
+    size_t capacity = 2 * t->sums_capacity;
+    sta_tensor_sums *sums = sta_realloc_array(t->sums, capacity, sizeof(*sums));
+    if (!sums) {
+        return false;
+    }
+    t->sums = sums;
+    t->sums_capacity = capacity;
     return true;
 }
 
@@ -99,26 +120,60 @@ static sta_tensor_sums *cell_at(sta_cell_tensors *t, const int64_t local[3])
             }
             s = sta_key_slot(t->keys, t->capacity, key);
         }
+        if (t->used == t->sums_capacity && !grow_sums(t)) {
+            return NULL;
+        }
         t->keys[s] = key;
-        memset(&t->sums[s], 0, sizeof(t->sums[s]));
+        t->cell[s] = (uint32_t)t->used;
+        memset(&t->sums[t->used], 0, sizeof(t->sums[t->used]));
         t->used++;
     }
-    return &t->sums[s];
+    return &t->sums[t->cell[s]];
 }
 
-// Adds the monomials of offset d (modulo 2^64) to sums.
-static void add_point(sta_tensor_sums *sums, const uint64_t d[3])
+void sta_tensor_sums_add(sta_tensor_sums *sums, const uint64_t d[3])
 {
-    uint64_t p[3][5];
-    for (int a = 0; a < 3; a++) {
-        p[a][0] = 1;
-        for (int e = 1; e < 5; e++) {
-            p[a][e] = p[a][e - 1] * d[a];
-        }
-    }
+    // Each monomial from one of degree one less (the terms of sta_tensor_exponent, written
+    // out: a loop over the exponents took 470 instructions a point, this about 80).
+    const uint64_t x = d[0], y = d[1], z = d[2];
+    const uint64_t xx = x * x;
+    const uint64_t xy = x * y;
+    const uint64_t xz = x * z;
+    const uint64_t yy = y * y;
+    const uint64_t yz = y * z;
+    const uint64_t zz = z * z;
+    const uint64_t xxx = xx * x;
+    const uint64_t xxy = xx * y;
+    const uint64_t xxz = xx * z;
+    const uint64_t xyy = xy * y;
+    const uint64_t xyz = xy * z;
+    const uint64_t xzz = xz * z;
+    const uint64_t yyy = yy * y;
+    const uint64_t yyz = yy * z;
+    const uint64_t yzz = yz * z;
+    const uint64_t zzz = zz * z;
+    const uint64_t xxxx = xxx * x;
+    const uint64_t xxxy = xxx * y;
+    const uint64_t xxxz = xxx * z;
+    const uint64_t xxyy = xxy * y;
+    const uint64_t xxyz = xxy * z;
+    const uint64_t xxzz = xxz * z;
+    const uint64_t xyyy = xyy * y;
+    const uint64_t xyyz = xyy * z;
+    const uint64_t xyzz = xyz * z;
+    const uint64_t xzzz = xzz * z;
+    const uint64_t yyyy = yyy * y;
+    const uint64_t yyyz = yyy * z;
+    const uint64_t yyzz = yyz * z;
+    const uint64_t yzzz = yzz * z;
+    const uint64_t zzzz = zzz * z;
+    const uint64_t term[STA_TENSOR_TERMS] = {
+        1,    x,    y,    z,    xx,   xy,   xz,   yy,   yz,   zz,   xxx,  xxy,
+        xxz,  xyy,  xyz,  xzz,  yyy,  yyz,  yzz,  zzz,  xxxx, xxxy, xxxz, xxyy,
+        xxyz, xxzz, xyyy, xyyz, xyzz, xzzz, yyyy, yyyz, yyzz, yzzz, zzzz,
+    };
     for (int k = 0; k < STA_TENSOR_TERMS; k++) {
-        const uint8_t *e = sta_tensor_exponent[k];
-        sums->s[k] += p[0][e[0]] * p[1][e[1]] * p[2][e[2]];
+        sums->s[k] += term[k];
     }
 }
 
@@ -152,11 +207,11 @@ void sta_cell_tensors_add(sta_cell_tensors *t, const int32_t (*grid)[3], size_t 
             }
             if (inside) {
                 size_t s = sta_key_slot(t->keys, t->capacity, pack(local));
-                sums = t->keys[s] != 0 ? &t->sums[s] : NULL;
+                sums = t->keys[s] != 0 ? &t->sums[t->cell[s]] : NULL;
             }
         }
         if (sums) {
-            add_point(sums, d);
+            sta_tensor_sums_add(sums, d);
         }
     }
 }
@@ -211,6 +266,6 @@ void sta_cell_tensors_vertex(const sta_cell_tensors *t, const int64_t vertex[3],
             continue;
         }
         const uint64_t o[3] = { (c & 1) ? edge : 0, (c >> 1 & 1) ? edge : 0, (c >> 2) ? edge : 0 };
-        add_moved(t, out, &t->sums[s], o);
+        add_moved(t, out, &t->sums[t->cell[s]], o);
     }
 }

@@ -32,13 +32,18 @@ typedef struct sta_tensor_sums {
     uint64_t s[STA_TENSOR_TERMS];
 } sta_tensor_sums;
 
+/* Adds the monomials of one point's offset d (grid units, >= 0) to sums, modulo 2^64. */
+void sta_tensor_sums_add(sta_tensor_sums *sums, const uint64_t d[3]);
+
 typedef struct sta_cell_tensors {
     int level;             /* cells are 2^level grid units wide */
     int64_t origin[3];     /* the scene's corner, grid units */
     int64_t base[3];       /* cell coordinates below which no cell lies (packed keys) */
     size_t capacity, used; /* slots (a power of two), cells */
     uint64_t *keys;        /* 0: empty slot, else packed coordinates + 1 */
-    sta_tensor_sums *sums; /* per slot */
+    uint32_t *cell;        /* per slot: its cell's place in `sums` */
+    sta_tensor_sums *sums; /* per cell, dense (the table is at most half full) */
+    size_t sums_capacity;  /* cells `sums` holds */
     int8_t index[5][5][5]; /* the term of x^i y^j z^k (i + j + k <= 4) */
 } sta_cell_tensors;
 

@@ -637,9 +637,17 @@ static bool keep_records_in_memory(convert_job *job, size_t memory_mib, int inde
             return false;
         }
     }
+    // The workers' scratch is planned for the largest chunk there is, not the capacity
+    // (a 20 M street's largest chunk holds 1.9 M of 2.5 M points), and for at least the
+    // smallest capacity's points: the figures per point hold for chunks that large
+    // (small chunks take more a point: the tables' minimum sizes; docs/CONVERTER.md).
     const size_t rec = job->inputs.layout.size, cap = job->chunk_capacity;
+    size_t sized = cap < CHUNK_MIN_POINTS ? cap : CHUNK_MIN_POINTS;
+    for (size_t c = 0; c < plan->chunk_count; c++) {
+        sized = plan->chunks[c].count > sized ? (size_t)plan->chunks[c].count : sized;
+    }
     size_t worker =
-        worker_bytes(cap, rec, grid_log2, o->normals ? &o->normals_method : NULL) - cap * rec;
+        worker_bytes(sized, rec, grid_log2, o->normals ? &o->normals_method : NULL) - sized * rec;
     uint64_t need = plan->point_count * rec + (uint64_t)index_threads * worker;
     if (need > budget_bytes(memory_mib)) {
         return false;

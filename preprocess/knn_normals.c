@@ -331,7 +331,7 @@ static sta_status level_cells(const normals_visit *v, const int32_t (*grid)[3], 
     const int64_t *origin = v->chunk->scene_min;
     int coarse = level + 2 < STA_MOMENTS_MAX_LEVEL ? level + 2 : STA_MOMENTS_MAX_LEVEL;
     sta_cell_moments wanted;
-    sta_status status = sta_cell_moments_init(&wanted, coarse, origin, v->lo, v->hi, err);
+    sta_status status = sta_cell_moments_init_marks(&wanted, coarse, origin, v->lo, v->hi, err);
     if (status != STA_OK) {
         return status;
     }

@@ -11,6 +11,7 @@
 #include "cell_moments.h"
 #include "cell_order.h"
 #include "core/alloc.h"
+#include "cylinder_fit.h"
 #include "key_slots.h"
 #include "normal_fit.h"
 #include "quadric_fit.h"
@@ -143,6 +144,33 @@
  * from 7.54 to 7.95 (docs/BENCHMARKS.md). */
 #define NEED_SHARE             0.1
 #define NEED_LEAST             1
+/* A point whose box is not flat (surface variation above SPHERE_VARIATION) takes the
+ * normal of the cylinder (cylinder_fit.h) of its box CYLINDER_LEVELS_UP levels above the
+ * base where that box is elongated (its spread along its widest axis over that along its
+ * second above ELONGATED: a pole, a trunk), its cylinder fits it (root mean square
+ * distance under CYLINDER_RMS times its radius, the radius under CYLINDER_RADIUS times
+ * the box's cell edge) and passes near the point (within CYLINDER_NEAR times its radius:
+ * not the ground at a pole's foot); the normal where the point's ray from the scanner
+ * enters the cylinder (or radial where the scanner is not known). Before any other model:
+ * on a pole of 0.22 m the base boxes (0.256 m on the street) neither follow the cylinder
+ * with a sphere nor with a plane. Fifteenth round of docs/BENCHMARKS.md (20 M street):
+ * poles 11.10 / 32.52 degrees -> 2.20 / 14.25, trees 2.940 / 20.35 -> 2.913 / 20.09;
+ * CYLINDER_RMS 0.2 or a radius up to a cell edge lost cars' p95 (31.3 -> 31.7, 33.7 on
+ * the 4 M street); 0.1 left most pole boxes out. */
+#define CYLINDER_LEVELS_UP     1
+#define CYLINDER_RMS           0.15
+#define CYLINDER_RADIUS        0.5
+#define CYLINDER_NEAR          0.5
+/* Cylinder fits kept by their box's vertex: a pass meets a base cell's 8 octants' vertices
+ * in turn (a power of two, at least 64). */
+#define CYLINDER_SLOTS         1024
+
+/* A cylinder fitted to the box of vertex v (cylinder_normal). */
+typedef struct cylinder_slot {
+    int64_t v[3];
+    int state; /* 0: empty, 1: fitted, 2: none */
+    sta_cylinder fit;
+} cylinder_slot;
 
 /* The moments of the 2 x 2 x 2 cells around a grid vertex, centred. */
 typedef struct vertex_box {
@@ -568,6 +596,14 @@ typedef struct moment_pass {
     bool only_rough;          /* only the points marked in `rough` take part */
     box_quadrics *quadrics;   /* the rough points' base pass (else NULL) */
     double need;              /* points a box must hold */
+    const int32_t (*halo)[3]; /* the halo's positions in cell order (cylinder_normal) */
+    size_t halo_count;
+    const int32_t *corner;    /* the cell order's corner */
+    size_t *halo_hint;        /* where the last search in the halo ended */
+    cylinder_slot *cylinders; /* CYLINDER_SLOTS fits, NULL: no cylinders (not the default
+                                 method, or no adaptive base level) */
+    level_boxes *axis;        /* the boxes CYLINDER_LEVELS_UP above the base, NULL when
+                                 released (the passes above them) */
     double factor;            /* plane_radius_factor() */
 } moment_pass;
 
@@ -776,6 +812,114 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
     return left;
 }
 
+// The exact tensor sums of the own and halo points in the 2 x 2 x 2 cells of `level` (at
+// or above the base) around vertex v, as offsets from the box's corner: each cell's points
+// are one run of the cell order, its start found by a galloping search from own_hint (the
+// asking point's place) and, in the halo, from where the last one ended. The same sums in
+// any chunking (the halo covers the boxes up to STA_MOMENTS_LEVELS_ABOVE_BASE).
+static void box_tensors(const moment_pass *m, int level, const int64_t v[3], size_t own_hint,
+                        sta_tensor_sums *out)
+{
+    const sta_normals_chunk *chunk = m->chunk;
+    int base = m->base_level;
+    int64_t edge = (int64_t)1 << level;
+    const int32_t(*sets[2])[3] = { m->grid, m->halo };
+    const size_t counts[2] = { m->count, m->halo_count };
+    size_t hints[2] = { own_hint, *m->halo_hint };
+    memset(out, 0, sizeof(*out));
+    for (int q = 0; q < 8; q++) {
+        int64_t cell[3], first[3]; // the cell, and its first base cell from the order's corner
+        bool inside = true;
+        for (int a = 0; a < 3; a++) {
+            cell[a] = v[a] - 1 + (q >> a & 1); // (may be -1: no shift of it)
+            // (the order's corner is aligned 8 levels above the base: a cell lies wholly
+            // above it, or below where no point is)
+            first[a] = (cell[a] * edge + chunk->scene_min[a] - m->corner[a]) >> base;
+            inside = inside && first[a] >= 0 && first[a] < ((int64_t)1 << STA_CELL_ORDER_AXIS_BITS);
+        }
+        if (!inside) {
+            continue;
+        }
+        uint64_t key = sta_cell_order_key(first);
+        for (int s = 0; s < 2; s++) {
+            // The cell's run: from its first key on, while the points lie in the cell.
+            size_t i =
+                sta_cell_order_lower_near(sets[s], counts[s], m->corner, base, key, hints[s]);
+            for (; i < counts[s]; i++) {
+                uint64_t d[3];
+                bool in = true;
+                for (int a = 0; a < 3; a++) {
+                    int64_t from_corner = (int64_t)sets[s][i][a] - chunk->scene_min[a];
+                    in = in && from_corner >> level == cell[a];
+                    d[a] = (uint64_t)(from_corner - (v[a] - 1) * edge);
+                }
+                if (!in) {
+                    break;
+                }
+                sta_tensor_sums_add(out, d);
+            }
+            hints[s] = i;
+        }
+    }
+    *m->halo_hint = hints[1];
+}
+
+// The normal at u of the cylinder of its box CYLINDER_LEVELS_UP levels above the base,
+// where that box is elongated, its cylinder fits and passes near u (the constants'
+// comment); at the ray's entry from the scanner `target` (grid units; NULL: unknown). j: u's
+// point in the cell order (where the searches for its box's cells start).
+static int cylinder_normal(const moment_pass *m, size_t j, const int64_t u[3], const double *target,
+                           double normal[3])
+{
+    if (!m->cylinders || !m->axis || !sta_sphere_isotropic(m->chunk->scale)) {
+        return 0;
+    }
+    // Elongated: from the level's vertex box (its lower sums are the same points'), before
+    // the points are gathered for the tensors.
+    vertex_box *box = nearest_box(m->chunk, m->axis, u);
+    if (!box) {
+        return -1;
+    }
+    int level = m->base_level + CYLINDER_LEVELS_UP;
+    // (and narrow: points within a radius r of an axis spread at most r^2 across it)
+    double reach = CYLINDER_RADIUS * (double)((int64_t)1 << level) * m->chunk->scale[0];
+    if (!box_fit(m->chunk, box) || !(box->w[2] > ELONGATED * box->w[1]) ||
+        !(box->w[1] < reach * reach * box->n)) {
+        return 0;
+    }
+    int64_t v[3];
+    nearest_vertex(u, level, v);
+    uint64_t h = ((uint64_t)v[0] * 0x9E3779B97F4A7C15ull) ^
+                 ((uint64_t)v[1] * 0xC2B2AE3D27D4EB4Full) ^
+                 ((uint64_t)v[2] * 0x165667B19E3779F9ull);
+    cylinder_slot *slot = &m->cylinders[(h >> 40) & (CYLINDER_SLOTS - 1)];
+    if (slot->state == 0 || memcmp(slot->v, v, sizeof(v)) != 0) {
+        sta_tensor_sums sums;
+        box_tensors(m, level, v, j, &sums);
+        memcpy(slot->v, v, sizeof(v));
+        slot->state = sta_cylinder_fit(&sums, (double)((int64_t)2 << level), &slot->fit) ? 1 : 2;
+    }
+    const sta_cylinder *c = &slot->fit;
+    double cell = (double)((int64_t)1 << level);
+    if (slot->state != 1 || !(sqrt(c->residual) < CYLINDER_RMS * c->radius) ||
+        !(c->radius * c->spread < CYLINDER_RADIUS * cell)) {
+        return 0;
+    }
+    double p[3], from[3], n[3], off;
+    for (int a = 0; a < 3; a++) { // u from the box's corner, one cell below its vertex
+        double corner = (double)((v[a] - 1) * ((int64_t)1 << level));
+        p[a] = (double)u[a] - corner;
+        from[a] = target ? target[a] - (double)m->chunk->scene_min[a] - corner : 0.0;
+    }
+    bool fits =
+        target ? sta_cylinder_normal_seen(c, p, from, n, &off) : sta_cylinder_normal(c, p, n, &off);
+    if (!fits || !(off < CYLINDER_NEAR)) {
+        return 0;
+    }
+    memcpy(normal, n, sizeof(n));
+    return 1;
+}
+
 // The points decide_level listed take `fine`'s level: the nearest box's plane, unless it
 // is nearly linear, edge-on or degenerate (then they take the next level once, when there
 // is one), blended with the boxes of their cell's vertices, oriented, packed with the
@@ -839,9 +983,12 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
                 continue;
             }
         }
-        int quadric = ok ? quadric_normal(m, fine, b, u, normal) : 0;
-        if (quadric < 0 ||
-            (ok && quadric == 0 && !sphere_normal(chunk, fine, b, u, m->base_level, normal) &&
+        int cylinder =
+            ok && variation > SPHERE_VARIATION ? cylinder_normal(m, j, u, target, normal) : 0;
+        int quadric = ok && cylinder == 0 ? quadric_normal(m, fine, b, u, normal) : 0;
+        if (quadric < 0 || cylinder < 0 ||
+            (ok && cylinder == 0 && quadric == 0 &&
+             !sphere_normal(chunk, fine, b, u, m->base_level, normal) &&
              !blend_normals(chunk, fine, u, normal, variation))) {
             return SIZE_MAX;
         }
@@ -884,7 +1031,7 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
     sta_cell_blocks fine_cells = { 0 };
     level_boxes fine_boxes = { 0 };
     box_quadrics quadrics = { 0 };
-    sta_status status = sta_cell_moments_init(&wanted, level, chunk->scene_min, lo, hi, err);
+    sta_status status = sta_cell_moments_init_marks(&wanted, level, chunk->scene_min, lo, hi, err);
     // The base level's moment tensors of the 8 cells of each rough point's base box: their
     // quadrics (quadric_normal).
     if (status == STA_OK) {
@@ -1140,6 +1287,20 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     }
     pass.grid = (const int32_t(*)[3])own;
     sta_free(grid);
+    // The cylinders' fits (cylinder_normal): the default method's, from the sorted halo.
+    cylinder_slot *cylinders = NULL;
+    size_t halo_hint = 0;
+    if (status == STA_OK && adaptive && level + CYLINDER_LEVELS_UP <= top) {
+        cylinders = sta_calloc(CYLINDER_SLOTS, sizeof(*cylinders));
+        if (!cylinders) {
+            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cylinders");
+        }
+        pass.halo = (const int32_t(*)[3])halo_sorted;
+        pass.halo_count = halo_count;
+        pass.corner = corner;
+        pass.cylinders = cylinders;
+        pass.halo_hint = &halo_hint;
+    }
     while (status == STA_OK) {
         int next = 1 - at;
         if (level < top) {
@@ -1157,6 +1318,10 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         }
         pass.rough = rough;
         pass.defer = adaptive && level == chunk->base_level;
+        int axis_level = level - chunk->base_level; // (the cylinders' boxes' level: fine or next)
+        pass.axis = axis_level == CYLINDER_LEVELS_UP                      ? &boxes[at]
+                    : axis_level == CYLINDER_LEVELS_UP - 1 && level < top ? &boxes[next]
+                                                                          : NULL;
         size_t left = fit_level(&pass, &boxes[at], level < top ? &boxes[next] : NULL);
         pass.defer = false;
         if (left == SIZE_MAX) {
@@ -1186,6 +1351,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         stats->points += count;
     }
     sta_free(own);
+    sta_free(cylinders);
     sta_free(halo_sorted);
     sta_free(rough);
     sta_free(state);

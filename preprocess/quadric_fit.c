@@ -80,6 +80,18 @@ static bool scaled_moments(const sta_tensor_sums *sums, const term_index *ti, do
     return true;
 }
 
+bool sta_tensor_moments_scaled(const sta_tensor_sums *sums, double mean[3], double *spread,
+                               double k[STA_TENSOR_TERMS])
+{
+    term_index ti;
+    for (int t = 0; t < STA_TENSOR_TERMS; t++) {
+        const uint8_t *e = sta_tensor_exponent[t];
+        ti.of[e[0]][e[1]][e[2]] = (int8_t)t;
+    }
+    double n = (double)sums->s[0];
+    return n > 0.0 && scaled_moments(sums, &ti, n, mean, spread, k);
+}
+
 // The scaled moment of exponents e (each >= 0, sum <= 4).
 static double moment(const double k[STA_TENSOR_TERMS], const term_index *ti, const int e[3])
 {

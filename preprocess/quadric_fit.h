@@ -32,6 +32,12 @@ typedef struct sta_quadric {
     double residual; /* mean q^2 with mean |grad q|^2 = 1 */
 } sta_quadric;
 
+/* The moments of the sums centred on their mean (grid units from the sums' corner) and
+ * scaled by their spread (root mean square distance to the mean), over the count: k[t]
+ * for each term t of sta_tensor_exponent. False when there are no points or no spread. */
+bool sta_tensor_moments_scaled(const sta_tensor_sums *sums, double mean[3], double *spread,
+                               double k[STA_TENSOR_TERMS]);
+
 /* Taubin's fit to the sums of points whose offsets lie in [0, extent) grid units an axis
  * from their corner; false when degenerate: fewer than 11 points, the sums may have
  * overflowed (n extent^4 reaches 2^62), no spread, points on a line, or no solution. */

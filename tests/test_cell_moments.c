@@ -3,7 +3,8 @@
  * block holds the sums a brute-force pass over the points gives (offsets from the
  * block's corner), at fine and coarse levels and for blocks reaching past the set, and
  * so do the summed 2 x 2 x 2 blocks around grid vertices;
- * adding only the points of wanted coarser cells keeps those cells whole; a set too
+ * adding only the points of wanted coarser cells keeps those cells whole; a set of marks
+ * keeps thousands of cells through its growth and refuses points; a set too
  * wide for the cell coordinates is refused; a level coarsened from a finer one and the
  * points added in cell order (cell_order.c) give the same sums as adding the points
  * directly; the cell order keeps every cell's points together, and is the stable sort by
@@ -200,7 +201,7 @@ static void wanted_cells_hold_all_their_points(void **state)
     bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
     sta_error err = { 0 };
     sta_cell_moments wanted, all, some;
-    assert_int_equal(sta_cell_moments_init(&wanted, 9, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(sta_cell_moments_init_marks(&wanted, 9, origin, lo, hi, &err), STA_OK);
     const int64_t mark[2][3] = { { 1, 2, 0 }, { 4, 4, 5 } };
     for (int i = 0; i < 2; i++) {
         assert_true(sta_cell_moments_mark(&wanted, mark[i]));
@@ -249,6 +250,42 @@ static void wanted_cells_hold_all_their_points(void **state)
     sta_cell_moments_release(&all);
     sta_cell_moments_release(&some);
     sta_free(grid);
+}
+
+// A set of marks (no sums): 4000 cells marked in a scattered order, twice, through
+// several doublings of its table; exactly those exist; it refuses points.
+static void a_set_of_marks_grows_and_takes_no_points(void **state)
+{
+    (void)state;
+    enum {
+        SIDE = 20,
+        CELLS = SIDE * SIDE * SIDE
+    };
+    const int64_t origin[3] = { 0, 0, 0 };
+    const int32_t lo[3] = { 0, 0, 0 }, hi[3] = { SIDE << 4, SIDE << 4, SIDE << 4 };
+    sta_cell_moments marks;
+    sta_error err = { 0 };
+    assert_int_equal(sta_cell_moments_init_marks(&marks, 4, origin, lo, hi, &err), STA_OK);
+    assert_null(marks.sums);
+    for (int pass = 0; pass < 2; pass++) {
+        for (int i = 0; i < CELLS; i++) {
+            int c = (i * 7919) % CELLS; // (7919 is prime to CELLS: every cell once)
+            const int64_t cell[3] = { c % SIDE, c / SIDE % SIDE, c / (SIDE * SIDE) };
+            if ((cell[0] + cell[1] + cell[2]) % 2 == 0) {
+                assert_true(sta_cell_moments_mark(&marks, cell));
+            }
+        }
+        assert_int_equal(marks.used, CELLS / 2);
+    }
+    for (int c = 0; c < CELLS; c++) {
+        const int64_t cell[3] = { c % SIDE, c / SIDE % SIDE, c / (SIDE * SIDE) };
+        assert_int_equal(sta_cell_moments_has(&marks, cell),
+                         (cell[0] + cell[1] + cell[2]) % 2 == 0);
+    }
+    const int32_t point[1][3] = { { 1, 1, 1 } };
+    assert_int_equal(sta_cell_moments_add(&marks, point, 1, NULL, NULL, &err), STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "marks"));
+    sta_cell_moments_release(&marks);
 }
 
 static void too_wide_a_set_is_refused(void **state)
@@ -499,15 +536,86 @@ static void lower_only_and_reserved_sets_hold_the_same_sums(void **state)
     sta_free(grid);
 }
 
+// The points of a cell of a coarser level (aligned to `lo`) are one run of consecutive keys
+// of the order's level, and sta_cell_order_lower_near finds the run's ends from any hint.
+static void cell_order_finds_a_cells_run(void **state)
+{
+    (void)state;
+    int32_t(*grid)[3] = sta_alloc_array(POINTS, sizeof(*grid));
+    int32_t(*sorted)[3] = sta_alloc_array(POINTS, sizeof(*sorted));
+    uint32_t *order = sta_alloc_array(POINTS, sizeof(*order));
+    assert_non_null(grid);
+    assert_non_null(sorted);
+    assert_non_null(order);
+    const int32_t corner[3] = { -40, 7, 90000 };
+    sta_test_random_grid(grid, POINTS, corner, 5000, 31, false);
+    int32_t lo[3], hi[3];
+    bounds((const int32_t(*)[3])grid, POINTS, lo, hi);
+    sta_error err = { 0 };
+    const int level = 5, up = 2;
+    assert_int_equal(sta_cell_order((const int32_t(*)[3])grid, POINTS, lo, level, order, &err),
+                     STA_OK);
+    for (size_t j = 0; j < POINTS; j++) {
+        memcpy(sorted[j], grid[order[j]], sizeof(sorted[j]));
+    }
+    uint32_t s = 77;
+    for (int probe = 0; probe < 300; probe++) {
+        // A coarse cell of a random point (and every 10th an empty one beside the set).
+        const int32_t *p = grid[sta_test_next_random(&s) % POINTS];
+        int64_t coarse[3], first[3];
+        for (int a = 0; a < 3; a++) {
+            coarse[a] = (((int64_t)p[a] - lo[a]) >> (level + up)) + (probe % 10 == 9 ? 200 : 0);
+            first[a] = coarse[a] << up;
+        }
+        uint64_t from_key = sta_cell_order_key(first), to_key = from_key + (1u << (3 * up));
+        size_t from = 0, to = 0; // (the points whose keys are below each)
+        for (size_t j = 0; j < POINTS; j++) {
+            int64_t c[3];
+            for (int a = 0; a < 3; a++) {
+                c[a] = ((int64_t)sorted[j][a] - lo[a]) >> level;
+            }
+            from += sta_cell_order_key(c) < from_key;
+            to += sta_cell_order_key(c) < to_key;
+        }
+        size_t inside = 0;
+        for (size_t j = 0; j < POINTS; j++) {
+            bool in = true;
+            for (int a = 0; a < 3; a++) {
+                in = in && (((int64_t)sorted[j][a] - lo[a]) >> (level + up)) == coarse[a];
+            }
+            inside += in;
+            assert_true(in == (j >= from && j < to));
+        }
+        assert_int_equal(to - from, inside);
+        assert_true(probe % 10 != 9 || inside == 0);
+        const size_t hints[] = {
+            0, POINTS, from, to, sta_test_next_random(&s) % POINTS, POINTS + 5
+        };
+        for (size_t h = 0; h < sizeof(hints) / sizeof(hints[0]); h++) {
+            assert_int_equal(sta_cell_order_lower_near((const int32_t(*)[3])sorted, POINTS, lo,
+                                                       level, from_key, hints[h]),
+                             from);
+            assert_int_equal(sta_cell_order_lower_near((const int32_t(*)[3])sorted, POINTS, lo,
+                                                       level, to_key, hints[h]),
+                             to);
+        }
+    }
+    sta_free(order);
+    sta_free(sorted);
+    sta_free(grid);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(block_sums_match_brute_force),
     cmocka_unit_test(vertex_sums_match_brute_force),
     cmocka_unit_test(lower_only_and_reserved_sets_hold_the_same_sums),
+    cmocka_unit_test(a_set_of_marks_grows_and_takes_no_points),
     cmocka_unit_test(wanted_cells_hold_all_their_points),
     cmocka_unit_test(too_wide_a_set_is_refused),
     cmocka_unit_test(coarsened_levels_match_brute_force),
     cmocka_unit_test(cell_order_keeps_cells_together),
     cmocka_unit_test(cell_order_is_stable_morton_sort),
+    cmocka_unit_test(cell_order_finds_a_cells_run),
 };
 
 STA_TEST_MAIN(tests)

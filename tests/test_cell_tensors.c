@@ -3,7 +3,9 @@
  * vertex, each summed from its own corner and moved to the box's corner in 64-bit
  * integers, give exactly the sums of the box's points taken directly (every term, with
  * points in all 8 cells: a wrong binomial term of one axis or a mixed one shows); only
- * marked cells take points; the sums do not depend on the points' order. */
+ * marked cells take points; the sums do not depend on the points' order; thousands of
+ * cells, marked in a scattered order and twice, keep their own sums while the table and
+ * the sums' array grow. */
 #include "test_support.h"
 
 #include <string.h>
@@ -134,9 +136,69 @@ static void unmarked_cells_take_no_points(void **state)
     sta_cell_tensors_release(&t);
 }
 
+// 4000 cells of a 20^3 grid (every other one, marked in a scattered order, each twice)
+// with one point in each of the 8000: every vertex's sums are those of the points of its
+// marked cells, after the slots and the dense sums have grown several times.
+static void many_cells_keep_their_sums_through_growth(void **state)
+{
+    (void)state;
+    enum {
+        SIDE = 20,
+        CELLS = SIDE * SIDE * SIDE,
+        LEVEL = 2
+    };
+    static int32_t p[CELLS][3];
+    const int64_t origin[3] = { 0, 0, 0 };
+    const int32_t lo[3] = { 0, 0, 0 }, hi[3] = { SIDE << LEVEL, SIDE << LEVEL, SIDE << LEVEL };
+    sta_cell_tensors t;
+    sta_error err = { 0 };
+    assert_int_equal(sta_cell_tensors_init(&t, LEVEL, origin, lo, hi, &err), STA_OK);
+    for (int pass = 0; pass < 2; pass++) {
+        for (int i = 0; i < CELLS; i++) {
+            int c = (i * 7919) % CELLS; // (7919 is prime to CELLS: every cell once)
+            const int64_t cell[3] = { c % SIDE, c / SIDE % SIDE, c / (SIDE * SIDE) };
+            if ((cell[0] + cell[1] + cell[2]) % 2 == 0) {
+                assert_true(sta_cell_tensors_mark(&t, cell));
+            }
+        }
+        assert_int_equal(t.used, CELLS / 2);
+    }
+    for (int c = 0; c < CELLS; c++) {
+        const int32_t cell[3] = { c % SIDE, c / SIDE % SIDE, c / (SIDE * SIDE) };
+        for (int a = 0; a < 3; a++) {
+            p[c][a] = (cell[a] << LEVEL) + (cell[(a + 1) % 3] + 2 * a) % (1 << LEVEL);
+        }
+    }
+    sta_cell_tensors_add(&t, (const int32_t(*)[3])p, CELLS);
+    for (int64_t z = 1; z < SIDE; z += 3) {
+        for (int64_t y = 1; y < SIDE; y += 2) {
+            for (int64_t x = 1; x < SIDE; x++) {
+                const int64_t v[3] = { x, y, z };
+                int32_t in[8][3];
+                size_t m = 0;
+                for (int c = 0; c < 8; c++) {
+                    const int64_t cell[3] = { x - 1 + (c & 1), y - 1 + (c >> 1 & 1),
+                                              z - 1 + (c >> 2) };
+                    if ((cell[0] + cell[1] + cell[2]) % 2 == 0) {
+                        memcpy(in[m++], p[cell[0] + SIDE * (cell[1] + SIDE * cell[2])],
+                               sizeof(in[0]));
+                    }
+                }
+                const int64_t corner[3] = { (x - 1) << LEVEL, (y - 1) << LEVEL, (z - 1) << LEVEL };
+                sta_tensor_sums box, want = direct((const int32_t(*)[3])in, m, corner);
+                sta_cell_tensors_vertex(&t, v, &box);
+                assert_int_equal(box.s[0], 4);
+                assert_memory_equal(&box, &want, sizeof(box));
+            }
+        }
+    }
+    sta_cell_tensors_release(&t);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(vertex_sums_equal_direct_sums),
     cmocka_unit_test(unmarked_cells_take_no_points),
+    cmocka_unit_test(many_cells_keep_their_sums_through_growth),
 };
 
 STA_TEST_MAIN(tests)

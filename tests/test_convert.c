@@ -912,6 +912,65 @@ static void normals_from_memory_match_the_runs(void **state)
     unlink(out);
 }
 
+// The --memory plan for keeping the records in memory counts the largest chunk there is
+// (at least the smallest capacity's points), not the capacity: autzen_trim's 110 000
+// points with chunks of up to 4 M (one index worker: the index phase's own plan counts the
+// capacity). 1 GiB holds the records beside a worker planned for 1 M points (about 0.25
+// GB), not beside one planned for 4 M (about 1 GB: the plan before); 200 MiB holds
+// neither. In memory or not, the same bytes.
+static void normals_plan_the_largest_chunk(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char path[4096], out[4096];
+    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    snprintf(out, sizeof(out), "%s/normals-plan.strata", sta_test_tmpdir());
+    const char *one[] = { path };
+    static const struct {
+        size_t memory_mib;
+        bool on_disk;
+        bool in_memory; /* expected */
+    } runs[] = {
+        { 2048, true, false }, /* the reference: temporary runs */
+        { 1024, false, true },
+        { 200, false, false },
+    };
+    uint8_t *reference = NULL;
+    size_t reference_size = 0;
+    for (size_t i = 0; i < sizeof(runs) / sizeof(runs[0]); i++) {
+        sta_convert_options o = { .inputs = one,
+                                  .input_count = 1,
+                                  .output = out,
+                                  .threads = 2,
+                                  .memory_mib = runs[i].memory_mib,
+                                  .chunk_points = 4u << 20,
+                                  .runs_on_disk = runs[i].on_disk,
+                                  .normals = true,
+                                  .force = true };
+        sta_convert_report report;
+        char what[32];
+        snprintf(what, sizeof(what), "plan run %zu", i);
+        convert_quietly(&o, &report, what);
+        if (report.records_in_memory != runs[i].in_memory) {
+            fail_msg("--memory %zu: records %s memory", runs[i].memory_mib,
+                     report.records_in_memory ? "in" : "not in");
+        }
+        size_t size = 0;
+        uint8_t *bytes = sta_test_read_file(out, &size);
+        if (!reference) {
+            reference = bytes;
+            reference_size = size;
+            continue;
+        }
+        if (size != reference_size || memcmp(bytes, reference, size) != 0) {
+            fail_msg("--memory %zu differs from the runs'", runs[i].memory_mib);
+        }
+        free(bytes);
+    }
+    free(reference);
+    unlink(out);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shared_las_files_round_trip),
     cmocka_unit_test(up_axis_from_the_source),
@@ -929,6 +988,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(output_is_byte_identical_across_threads_and_memory),
     cmocka_unit_test(records_in_memory_match_the_runs),
     cmocka_unit_test(normals_from_memory_match_the_runs),
+    cmocka_unit_test(normals_plan_the_largest_chunk),
     cmocka_unit_test(different_grids_merge_losslessly),
     cmocka_unit_test(different_grids_convert_into_one_scene),
 };

@@ -897,26 +897,48 @@ static void both_rasterisers_mark_the_classes(void **state)
         glPixelStorei(GL_PACK_ALIGNMENT, 4);
         sta_image position;
         assert_int_equal(sta_gl_texture_to_image(pl->position, 0, 4, &position, &err), STA_OK);
-        int drawn = 0, marked = 0;
+        int drawn = 0, marked = 0, wires = 0;
         for (int i = 0; i < SW * SH; i++) {
             float w = position.data[4 * i + 3];
+            // The default set: vegetation (3-5) and wires (13, 14), nothing else.
             bool vegetation = classes[i] >= 3 && classes[i] <= 5;
+            bool wire = classes[i] == 13 || classes[i] == 14;
             drawn += w > 0.0f;
             marked += w == STA_POSITION_W_MARKED;
+            wires += w == STA_POSITION_W_MARKED && wire;
             assert_true(w == 0.0f || w == 1.0f || w == STA_POSITION_W_MARKED);
-            assert_true((w == STA_POSITION_W_MARKED) == (w > 0.0f && vegetation));
+            assert_true((w == STA_POSITION_W_MARKED) == (w > 0.0f && (vegetation || wire)));
         }
-        print_message("%s: %d drawn pixels, %d marked\n",
-                      raster == STA_RASTER_COMPUTE ? "compute" : "points", drawn, marked);
+        print_message("%s: %d drawn pixels, %d marked, %d of them wires\n",
+                      raster == STA_RASTER_COMPUTE ? "compute" : "points", drawn, marked, wires);
         assert_true(drawn > SW * SH / 10);
         assert_true(marked > 100 && marked < drawn / 2);
+        assert_true(wires > 10); // the overhead wires of the README view
         sta_image_release(&position);
         sta_render_target_release(&target);
         sta_scene_close(scene);
     }
 }
 
+/* The viewer's default volumetric classes (no --no-fill-classes): LAS vegetation 3-5 and
+ * wires 13-14 (issue 15, fifteenth round), no other class (poles, 15, are solid), and
+ * none where the mode fills nothing. */
+static void default_set_is_vegetation_and_wires(void **state)
+{
+    (void)state;
+    uint32_t set[STA_VOLUMETRIC_CLASS_WORDS];
+    sta_pipeline_options o = { .mode = STA_PIPELINE_SHADED };
+    assert_true(sta_pipeline_volumetric_set(&o, set));
+    for (unsigned c = 0; c < 32 * STA_VOLUMETRIC_CLASS_WORDS; c++) {
+        bool in_set = ((set[c / 32] >> (c % 32)) & 1u) != 0;
+        assert_int_equal(in_set, (c >= 3 && c <= 5) || c == 13 || c == 14);
+    }
+    o.mode = STA_PIPELINE_RAW;
+    assert_false(sta_pipeline_volumetric_set(&o, set));
+}
+
 static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(default_set_is_vegetation_and_wires),
     cmocka_unit_test(mark_rule_on_small_cases),
     cmocka_unit_test(unorm8_rounds_to_the_nearest_step),
     cmocka_unit_test(overlay_splats_behind_nearer_surfaces),

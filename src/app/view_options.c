@@ -612,7 +612,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .metavar = "LIST",
           .parse = sta_view_parse_no_fill,
           .help = STA_VIEW_NO_FILL_HELP,
-          .default_text = "3-5 (vegetation)" },
+          .default_text = "3-5,13,14 (vegetation, wires)" },
         { .name = NULL },
     };
     const sta_cli cli = {

@@ -487,8 +487,8 @@ int main(int argc, char **argv)
           .kind = STA_CLI_FLAG,
           .dest = &o.fill_every_class,
           .help = "no volumetric classes: fill and score every class (the measure before "
-                  "issue 15's fourteenth round); by default the viewer's classes 3-5 are drawn "
-                  "as points and their true surfaces left out of the fill metrics "
+                  "issue 15's fourteenth round); by default the viewer's classes 3-5, 13, 14 "
+                  "are drawn as points and their true surfaces left out of the fill metrics "
                   "(fill_left_out; docs/BENCH.md)" },
         { .name = "smooth",
           .kind = STA_CLI_FLAG,

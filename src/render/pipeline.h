@@ -85,9 +85,12 @@ typedef struct sta_pipeline_options {
     uint32_t no_fill_classes[STA_VOLUMETRIC_CLASS_WORDS];
 } sta_pipeline_options;
 
-/* The default volumetric classes: LAS vegetation (3 low, 4 medium, 5 high), word 0. A
- * scene without classification has none of them, so nothing changes there. */
-#define STA_PIPELINE_NO_FILL_DEFAULT ((1u << 3) | (1u << 4) | (1u << 5))
+/* The default volumetric classes, word 0: LAS vegetation (3 low, 4 medium, 5 high) and
+ * wires (13 guard, 14 conductor; issue 15, fifteenth round: a wire is a line, not a
+ * surface, so it is drawn as points and occludes only within HPR's marked reach, and the
+ * facade behind it is not hidden in a band along it). A scene without classification
+ * has none of them, so nothing changes there. */
+#define STA_PIPELINE_NO_FILL_DEFAULT ((1u << 3) | (1u << 4) | (1u << 5) | (1u << 13) | (1u << 14))
 
 /* The clock of per-pass times: wall time, or the CPU time of all the process's threads
  * (sta_clock_process_cpu_ms: the work of a pass on llvmpipe, steady on a busy machine;
