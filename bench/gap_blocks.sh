@@ -8,9 +8,17 @@
 # llvmpipe, so builds are compared by running them one after the other).
 # usage: bench/gap_blocks.sh BUILD[:LABEL]...   (BENCH_DIR: work folder, default
 #   /tmp/strata-gaps; SCENE: the 2 M-point street, made with the last build if absent;
-#   EXTRA: more strata-bench options, e.g. --hpr-every-pixel)
+#   EXTRA: more strata-bench options, e.g. --hpr-every-pixel; GAPS: the --hpr-gaps mode
+#   of the builds that have it, default smooth, the per-pixel decision this measures)
 set -euo pipefail
 work=${BENCH_DIR:-/tmp/strata-gaps}
+gaps_option() {
+    local help
+    help=$("$1/src/bench/strata-bench" --help)
+    if [[ $help == *--hpr-gaps* ]]; then
+        echo "--hpr-gaps ${GAPS:-smooth}"
+    fi
+}
 mkdir -p "$work"
 last=${!#}
 last=${last%%:*}
@@ -33,7 +41,7 @@ for spec in "$@"; do
         out="$work/out-$label-$name-$size"
         # shellcheck disable=SC2086
         "$build/src/bench/strata-bench" "$scene" $opt "$arg" --size "$size" --repeat 1 \
-            --no-image-error --pipelines hpr --out "$out" --quiet ${EXTRA:-}
+            --no-image-error --pipelines hpr --out "$out" --quiet $(gaps_option "$build") ${EXTRA:-}
         awk -F, -v label="$label" -v name="$name" -v size="$size" '
             NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
             { printf "%s %s %s view %s: hole/background changes on block lines / odd lines: 8 px %.2f, 16 px %.2f, 32 px %.2f\n",

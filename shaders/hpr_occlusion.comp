@@ -52,6 +52,7 @@ uniform float u_gap;       // sta_hpr_occluder_gap_m: occluders lie this much ne
 uniform float u_marked_reach; // sta_hpr_marked_reach_px_m: a marked point's reach times depth
 uniform vec2 u_scale;       // pixels per unit of x / d and y / d: size / (2 tan)
 uniform float u_surface_tol; // sta_hpr_surface_tol_m: own-surface tolerance, 0: rule off
+uniform bool u_smooth_gaps; // sta_hpr_params.smooth_gaps: empty pixels' sectors by landing
 #ifdef HPR_ANCHORS
 uniform int u_anchor_stride; // sta_hpr_anchor_stride
 #endif
@@ -72,11 +73,11 @@ HprSurface g_surface;
 // marked points (volumetric classes) landing beyond their reach, u_marked_reach / depth
 // pixels: scattered returns hide what lies right behind them, their gaps are no surface.
 // On the pixel's own surface (g_surface.ok) a neighbour must lie in front of that surface.
-// For an empty pixel (`is_point` false) the neighbour closes the sectors around where it
-// lands (bits in `closed`, hpr_landing_sectors) instead: seen from the far centre point
-// every nearer candidate closes, no occlusion value is needed.
+// For an empty pixel with u_smooth_gaps (`by_landing`) the neighbour closes the sectors
+// around where it lands (bits in `closed`, hpr_landing_sectors) instead: seen from the
+// far centre point every nearer candidate closes, no occlusion value is needed.
 void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, float limit,
-                   bool is_point, inout int closed, inout vec4 min_lo, inout vec4 min_hi)
+                   bool by_landing, inout int closed, inout vec4 min_lo, inout vec4 min_hi)
 {
     if (!(y.w > 0.5) || !(-y.z > 0.0) || !(-y.z < limit)) {
         return;
@@ -95,7 +96,7 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, fl
     if (!(!cut || dist2 <= cut2)) {
         return;
     }
-    if (!is_point) {
+    if (by_landing) {
         closed |= hpr_landing_sectors(vec2(vx, vy));
     } else if (!(g_surface.ok && !hpr_in_front_of_surface(g_surface, -y.z, vx, vy)) &&
                hpr_occlusion(x, y.xyz, value)) {
@@ -200,6 +201,8 @@ void main()
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
     int outside = 0; // sectors with ring texels outside the image within the reach
     bool is_point = own.w > 0.5;
+    // Off (the default): empty pixels as points, by ring position (main's blocky rule).
+    bool by_landing = !is_point && u_smooth_gaps;
     float bound = hpr_closed_bound(is_point, u_threshold);
     // An empty pixel (issue 15, part 2): candidates of levels >= 1 count within
     // min(cut, 2^level) pixels, where every non-empty block has a candidate in the rings
@@ -208,7 +211,7 @@ void main()
     // from the ring texels outside, which are block-shaped).
     int closed = 0;
     int empty_outside = 0;
-    if (!is_point) {
+    if (by_landing) {
         precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(1 << level));
         cut2 = reach * reach;
         float border = clamp(reach, STA_HPR_MIN_REACH_PX, STA_HPR_EMPTY_BORDER_PX);
@@ -230,32 +233,33 @@ void main()
             ivec2 n = a + RING[i];
             if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
                 add_neighbour(imageLoad(u_pyramid, origin + n), RING[i], p, x, true, cut2, limit,
-                              is_point, closed, min_lo, min_hi);
+                              by_landing, closed, min_lo, min_hi);
             } else {
                 // Outside the image: its sector may have been closed out there.
                 outside |= 1 << hpr_sector(2 * RING[i]);
             }
         }
-        for (int i = 0; i < 4 && !is_point && k < level; i++) {
+        for (int i = 0; i < 4 && by_landing && k < level; i++) {
             ivec2 n = a + 2 * AXES[i];
             if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, size_k))) {
                 add_neighbour(imageLoad(u_pyramid, origin + n), AXES[i], p, x, true, cut2, limit,
-                              false, closed, min_lo, min_hi);
+                              true, closed, min_lo, min_hi);
             }
         }
-        settled = is_point ? hpr_settled(min_lo, min_hi, true, outside, bound) : closed == 255;
+        settled = by_landing ? closed == 255 : hpr_settled(min_lo, min_hi, is_point, outside, bound);
     }
     // Level 0: the 8 direct neighbours, from the position texture.
     for (int i = 0; i < 8 && !settled; i++) {
         ivec2 n = p + RING[i];
         if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
             vec4 y = on ? nb[i] : imageLoad(u_position, n);
-            add_neighbour(y, RING[i], p, x, false, cut2, limit, is_point, closed, min_lo, min_hi);
+            add_neighbour(y, RING[i], p, x, false, cut2, limit, by_landing, closed, min_lo,
+                          min_hi);
         } else {
             outside |= 1 << hpr_sector(2 * RING[i]);
         }
     }
-    float mean = is_point ? hpr_sector_mean(min_lo, min_hi, true, outside)
-                          : hpr_empty_mean(closed, empty_outside);
+    float mean = by_landing ? hpr_empty_mean(closed, empty_outside)
+                            : hpr_sector_mean(min_lo, min_hi, is_point, outside);
     imageStore(u_label, p, vec4(hpr_label(is_point, mean, u_threshold), 0.0, 0.0, 0.0));
 }

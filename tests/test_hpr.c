@@ -1089,9 +1089,10 @@ static void street_gaps_follow_the_points(void **state)
     // near by (neighbourhood radius K / z about 25 px, top levels 4 and 5) with a gap of
     // slanted and curved borders. Where hole turns into background must follow the
     // points, not the pyramid's 16-px and 32-px block lines: each empty pixel's
-    // decision is its own. The gap's core stays background, and the surface away from
-    // the gap has no background specks. Before: the gap's border ran along block lines
-    // (about 3x as many hole/background changes across 16-px lines as elsewhere).
+    // decision is its own (sta_hpr_params.smooth_gaps). The gap's core stays background,
+    // and the surface away from the gap has no background specks. Without smooth_gaps
+    // (the default) the gap's border runs along block lines (about 3x as many
+    // hole/background changes across 16-px lines as elsewhere).
     enum {
         W = 192,
         H = 144
@@ -1114,9 +1115,13 @@ static void street_gaps_follow_the_points(void **state)
             surface[y * W + x] = !gap[y * W + x];
         }
     }
-    both_result r;
-    run_both("street-like gaps", &view, NULL, &position, -1, &r);
+    both_result blocks, r;
+    run_both("street-like gaps, by blocks", &view, NULL, &position, -1, &blocks);
+    sta_hpr_params smooth = { .smooth_gaps = true };
+    run_both("street-like gaps, smooth", &view, &smooth, &position, -1, &r);
     double on16 = 0.0, off16 = 0.0, on32 = 0.0, off32 = 0.0;
+    double block_on16 = 0.0, block_off16 = 0.0;
+    block_line_rates(&position, &blocks.pyramid_label, 16, &block_on16, &block_off16);
     block_line_rates(&position, &r.pyramid_label, 16, &on16, &off16);
     block_line_rates(&position, &r.pyramid_label, 32, &on32, &off32);
     int core = 0, core_background = 0, far = 0, far_background = 0;
@@ -1147,6 +1152,10 @@ static void street_gaps_follow_the_points(void **state)
     assert_true(off16 > 0.0 && off32 > 0.0);
     assert_true(on16 < 1.5 * off16);
     assert_true(on32 < 1.5 * off32);
+    printf("by blocks (the default): 16-px lines %.4f, elsewhere %.4f (ratio %.2f)\n", block_on16,
+           block_off16, block_on16 / block_off16);
+    assert_true(block_on16 > 2.0 * block_off16);
+    both_release(&blocks);
     both_release(&r);
     sta_image_release(&position);
 }
@@ -1485,10 +1494,12 @@ static void marked_points_hide_only_nearby(void **state)
     for (int k = 0; k < M_OTHER; k++) {
         assert_int_equal(want[k], count[k]);
     }
-    // Before the rule the canopy hid most of the wall. (It closed the sky, too, until
-    // empty pixels counted candidates within 2^level pixels only, issue 15 part 2: the
-    // crown points lie farther apart, so the sky stays open without the reach as well.)
+    // Before the rule the canopy hid most of the wall and closed the sky. (With
+    // smooth_gaps, issue 15 part 2, empty pixels count candidates within 2^level pixels
+    // only: the crown points lie farther apart, so the sky stays open there without the
+    // reach as well.)
     assert_true(before_want[M_WALL] < count[M_WALL] / 2);
+    assert_true(before_want[M_SKY] < count[M_SKY] / 2);
     // The sparse operator's anchor and refinement programs apply the rule too: the
     // GPU's sparse labels are the twin's copy steps over the GPU's full labels, and the
     // wall behind the canopy stays visible there as well.

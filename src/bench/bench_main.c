@@ -374,6 +374,8 @@ int main(int argc, char **argv)
     const char *out_dir = "bench-out";
     bool quiet = false;
     hpr_list hpr = { .variants = o.hpr_variants };
+    int gaps = 0; // index into gaps_names
+    static const char *const gaps_names[] = { "blocks", "smooth", NULL };
     truth_list truths = { .items = calloc((size_t)argc, sizeof(char *)) };
     if (!truths.items) {
         fputs("strata-bench: out of memory\n", stderr);
@@ -477,6 +479,14 @@ int main(int argc, char **argv)
           .dest = &o.hpr_every_pixel,
           .help = "the pyramid variant on every pixel instead of the sparse operator (a "
                   "quarter of the pixels, refined where 2x2 blocks disagree; docs/HPR.md)" },
+        { .name = "hpr-gaps",
+          .kind = STA_CLI_CHOICE,
+          .dest = &gaps,
+          .metavar = "MODE",
+          .choices = gaps_names,
+          .help = "the pyramid's hole / background decision for empty pixels: by the "
+                  "pyramid's blocks or per pixel (smooth: gaps' borders follow the points, "
+                  "HPR about a third dearer; docs/HPR.md)" },
         { .name = "normals-every-pixel",
           .kind = STA_CLI_FLAG,
           .dest = &o.normals_every_pixel,
@@ -624,6 +634,7 @@ int main(int argc, char **argv)
         return rc;
     }
     o.hpr_threshold = (float)hpr_threshold;
+    o.hpr_smooth_gaps = gaps == 1;
     o.progress = !quiet;
     o.scenes = (const char *const *)r.positional;
     o.scene_count = (size_t)r.positional_count;

@@ -253,6 +253,7 @@ static void set_occlusion_uniforms(GLuint program, const sta_view_params *view,
     glUniform1f(glGetUniformLocation(program, "u_marked_reach"),
                 sta_hpr_marked_reach_px_m(view, p));
     glUniform1f(glGetUniformLocation(program, "u_surface_tol"), sta_hpr_surface_tol_m(view, p));
+    glUniform1i(glGetUniformLocation(program, "u_smooth_gaps"), p->smooth_gaps ? 1 : 0);
     // As the twin (hpr_ref.c frame_of): pixels per unit of x / d and y / d.
     glUniform2f(glGetUniformLocation(program, "u_scale"), 0.5f * (float)view->width_px / th[0],
                 0.5f * (float)view->height_px / th[1]);

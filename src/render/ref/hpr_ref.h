@@ -141,6 +141,11 @@ typedef struct sta_hpr_params {
     bool sparse;           /* pyramidal operator on the even (x, y) anchors, the other pixels
                               copy agreeing anchors or are refined (sta_hpr_ref_sparse_labels);
                               false (default): every pixel */
+    bool smooth_gaps;      /* pyramidal operator: an empty pixel's hole / background decision
+                              per pixel, sectors by where candidates land (issue 15, part 2,
+                              docs/HPR.md "Empty pixels: sectors by landing"); false
+                              (default): by ring position, along the pyramid's blocks, ~35 %
+                              cheaper HPR at 1080p (docs/BENCHMARKS.md, fifteenth round) */
 } sta_hpr_params;
 
 /* Fills threshold, coarse_level, far_m, occluder_gap_s0 and marked_reach_s0 of `config` with their
