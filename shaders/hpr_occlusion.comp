@@ -52,7 +52,14 @@ uniform float u_gap;       // sta_hpr_occluder_gap_m: occluders lie this much ne
 uniform float u_marked_reach; // sta_hpr_marked_reach_px_m: a marked point's reach times depth
 uniform vec2 u_scale;       // pixels per unit of x / d and y / d: size / (2 tan)
 uniform float u_surface_tol; // sta_hpr_surface_tol_m: own-surface tolerance, 0: rule off
-uniform bool u_smooth_gaps; // sta_hpr_params.smooth_gaps: empty pixels' sectors by landing
+// sta_hpr_params.smooth_gaps: empty pixels' sectors by landing. A variant of its own
+// (pass_hpr.c): as a uniform, llvmpipe ran both sides of every test of it, the default
+// 30 CPU ms dearer at 1080p.
+#ifdef HPR_SMOOTH_GAPS
+const bool SMOOTH_GAPS = true;
+#else
+const bool SMOOTH_GAPS = false;
+#endif
 #ifdef HPR_ANCHORS
 uniform int u_anchor_stride; // sta_hpr_anchor_stride
 #endif
@@ -73,7 +80,7 @@ HprSurface g_surface;
 // marked points (volumetric classes) landing beyond their reach, u_marked_reach / depth
 // pixels: scattered returns hide what lies right behind them, their gaps are no surface.
 // On the pixel's own surface (g_surface.ok) a neighbour must lie in front of that surface.
-// For an empty pixel with u_smooth_gaps (`by_landing`) the neighbour closes the sectors
+// For an empty pixel with SMOOTH_GAPS (`by_landing`) the neighbour closes the sectors
 // around where it lands (bits in `closed`, hpr_landing_sectors) instead: seen from the
 // far centre point every nearer candidate closes, no occlusion value is needed.
 void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, float limit,
@@ -202,7 +209,7 @@ void main()
     int outside = 0; // sectors with ring texels outside the image within the reach
     bool is_point = own.w > 0.5;
     // Off (the default): empty pixels as points, by ring position (main's blocky rule).
-    bool by_landing = !is_point && u_smooth_gaps;
+    bool by_landing = !is_point && SMOOTH_GAPS;
     float bound = hpr_closed_bound(is_point, u_threshold);
     // An empty pixel (issue 15, part 2): candidates of levels >= 1 count within
     // min(cut, 2^level) pixels, where every non-empty block has a candidate in the rings

@@ -19,6 +19,8 @@
 #define STA_HPR_CLASSIFY_TILE        4
 /* Tiles per workgroup of the copy step: a row of them. */
 #define STA_HPR_CLASSIFY_GROUP_TILES (STA_WORKGROUP_SIZE_X * STA_WORKGROUP_SIZE_Y)
+/* Room for the shader defines (shader_defines) and a variant's own. */
+#define STA_HPR_DEFINES_SIZE         1536
 
 // The constants of hpr_ref.h and screen_space.h the shaders use, as #defines.
 static void shader_defines(char *out, size_t size)
@@ -62,7 +64,7 @@ static void shader_defines(char *out, size_t size)
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
-    char defines[1536];
+    char defines[STA_HPR_DEFINES_SIZE];
     shader_defines(defines, sizeof(defines));
     const char *pyramid[] = { "hpr_pyramid.comp" };
     const char *occlusion[] = { "hpr_common.glsl", "hpr_occlusion.comp" };
@@ -109,8 +111,11 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
 
 void sta_hpr_pass_release(sta_hpr_pass *pass)
 {
-    GLuint programs[] = { pass->pyramid_program, pass->occlusion_program, pass->exhaustive_program,
-                          pass->anchors_program, pass->refine_program,    pass->classify_program };
+    GLuint programs[] = { pass->pyramid_program,    pass->occlusion_program,
+                          pass->exhaustive_program, pass->anchors_program,
+                          pass->refine_program,     pass->classify_program,
+                          pass->smooth_programs[0], pass->smooth_programs[1],
+                          pass->smooth_programs[2] };
     for (size_t i = 0; i < sizeof(programs) / sizeof(programs[0]); i++) {
         if (programs[i]) {
             glDeleteProgram(programs[i]);
@@ -253,7 +258,6 @@ static void set_occlusion_uniforms(GLuint program, const sta_view_params *view,
     glUniform1f(glGetUniformLocation(program, "u_marked_reach"),
                 sta_hpr_marked_reach_px_m(view, p));
     glUniform1f(glGetUniformLocation(program, "u_surface_tol"), sta_hpr_surface_tol_m(view, p));
-    glUniform1i(glGetUniformLocation(program, "u_smooth_gaps"), p->smooth_gaps ? 1 : 0);
     // As the twin (hpr_ref.c frame_of): pixels per unit of x / d and y / d.
     glUniform2f(glGetUniformLocation(program, "u_scale"), 0.5f * (float)view->width_px / th[0],
                 0.5f * (float)view->height_px / th[1]);
@@ -285,7 +289,7 @@ static sta_status ensure_list(sta_hpr_pass *pass, int pixels, sta_error *err)
 // dispatch sized by the copy step: no count read back, so a GPU does not stall).
 static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
                             const sta_hpr_params *p, int levels, const float *level_depth,
-                            int stride)
+                            GLuint refine_program, int stride)
 {
     int w = view->width_px, h = view->height_px;
     GLuint zero = 0;
@@ -308,7 +312,7 @@ static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
         (GLuint)tiles_h, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
                     GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    set_occlusion_uniforms(pass->refine_program, view, p, levels, level_depth);
+    set_occlusion_uniforms(refine_program, view, p, levels, level_depth);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pass->dispatch_buffer);
     glDispatchComputeIndirect(0);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
@@ -319,7 +323,7 @@ static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
 // on ever finer grids, down to every pixel from the even ones.
 static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
                              const sta_hpr_params *p, int levels, const float *level_depth,
-                             GLuint label_texture, sta_error *err)
+                             const GLuint programs[3], GLuint label_texture, sta_error *err)
 {
     int w = view->width_px, h = view->height_px;
     sta_status status = ensure_list(pass, w * h, err);
@@ -331,18 +335,46 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
                      pass->dispatch_buffer);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_READ_WRITE,
                        STA_GL_LABEL_FORMAT);
-    set_occlusion_uniforms(pass->anchors_program, view, p, levels, level_depth);
+    set_occlusion_uniforms(programs[1], view, p, levels, level_depth);
     const int stride = sta_hpr_anchor_stride(h);
-    glUniform1i(glGetUniformLocation(pass->anchors_program, "u_anchor_stride"), stride);
+    glUniform1i(glGetUniformLocation(programs[1], "u_anchor_stride"), stride);
     sta_gl_dispatch_2d((w + stride - 1) / stride, (h + stride - 1) / stride);
     for (int step = stride / 2; step >= 1; step /= 2) {
-        copy_and_refine(pass, view, p, levels, level_depth, step);
+        copy_and_refine(pass, view, p, levels, level_depth, programs[2], step);
     }
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_OCCLUSION_BUFFER_LIST, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH, 0);
     return sta_gl_check("hpr sparse occlusion", err);
+}
+
+// The pyramidal operator's programs with smooth_gaps (full, anchors, refine), compiled
+// on first use; the default's programs are compiled without its code.
+static sta_status smooth_programs(sta_hpr_pass *pass, sta_error *err)
+{
+    if (pass->smooth_programs[0]) {
+        return STA_OK;
+    }
+    const char *occlusion[] = { "hpr_common.glsl", "hpr_occlusion.comp" };
+    const char *variants[3] = { "", "#define HPR_ANCHORS 1\n", "#define HPR_REFINE 1\n" };
+    char defines[STA_HPR_DEFINES_SIZE];
+    shader_defines(defines, sizeof(defines));
+    size_t n = strlen(defines);
+    sta_status status = STA_OK;
+    for (int i = 0; i < 3 && status == STA_OK; i++) {
+        snprintf(defines + n, sizeof(defines) - n, "#define HPR_SMOOTH_GAPS 1\n%s", variants[i]);
+        status = sta_gl_program_create(occlusion, 2, defines, &pass->smooth_programs[i], err);
+    }
+    if (status != STA_OK) {
+        for (int i = 0; i < 3; i++) {
+            if (pass->smooth_programs[i]) {
+                glDeleteProgram(pass->smooth_programs[i]);
+            }
+            pass->smooth_programs[i] = 0;
+        }
+    }
+    return status;
 }
 
 sta_status sta_hpr_pass_run_pyramid(sta_hpr_pass *pass, const sta_view_params *view,
@@ -366,10 +398,19 @@ sta_status sta_hpr_pass_run_pyramid(sta_hpr_pass *pass, const sta_view_params *v
                        GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_PYRAMID, pyramid_texture, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
-    if (p.sparse) {
-        return run_sparse(pass, view, &p, levels, level_depth, label_texture, err);
+    // full, anchors, refine: the default's or smooth_gaps' (HPR_SMOOTH_GAPS)
+    GLuint programs[3] = { pass->occlusion_program, pass->anchors_program, pass->refine_program };
+    if (p.smooth_gaps) {
+        status = smooth_programs(pass, err);
+        if (status != STA_OK) {
+            return status;
+        }
+        memcpy(programs, pass->smooth_programs, sizeof(programs));
     }
-    set_occlusion_uniforms(pass->occlusion_program, view, &p, levels, level_depth);
+    if (p.sparse) {
+        return run_sparse(pass, view, &p, levels, level_depth, programs, label_texture, err);
+    }
+    set_occlusion_uniforms(programs[0], view, &p, levels, level_depth);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY,
                        STA_GL_LABEL_FORMAT);
     sta_gl_dispatch_2d(view->width_px, view->height_px);

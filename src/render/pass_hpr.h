@@ -29,6 +29,10 @@ typedef struct sta_hpr_pass {
     /* The sparse operator (sta_hpr_params.sparse): hpr_occlusion.comp on the anchors
      * and on the listed pixels, hpr_sparse_classify.comp between them. */
     GLuint anchors_program, refine_program, classify_program;
+    /* The pyramidal operator's three programs with sta_hpr_params.smooth_gaps
+     * (HPR_SMOOTH_GAPS; full, anchors, refine), compiled when first asked for: a uniform
+     * switch cost the default 30 CPU ms at 1080p, llvmpipe running both sides. */
+    GLuint smooth_programs[3];
     GLuint list_buffer;     /* count, then the pixels to refine; grown as needed */
     int list_pixels;        /* pixels the list buffer holds */
     GLuint dispatch_buffer; /* the refinement's indirect dispatch, sized by the classify step */
