@@ -33,15 +33,17 @@ int hpr_landing_sectors(vec2 v)
     // Octant o: the direction lies in [o 45 deg, (o + 1) 45 deg).
     int o = v.y >= 0.0 ? (v.x > 0.0 ? (v.y < v.x ? 0 : 1) : (v.y > -v.x ? 2 : 3))
                        : (v.x < 0.0 ? (-v.y < -v.x ? 4 : 5) : (-v.y > v.x ? 6 : 7));
-    int pair = 3 << o;
-    int bits = (pair | (pair >> 8)) & 255;
     bool on_axis = min(a.x, a.y) <= STA_HPR_AXIS_TOL * max(a.x, a.y);
     bool on_diagonal = abs(a.x - a.y) <= STA_HPR_AXIS_TOL * (a.x + a.y);
-    int axis = on_axis ? (a.x >= a.y ? (v.x >= 0.0 ? 0 : 4) : (v.y > 0.0 ? 2 : 6))
-                       : (v.x > 0.0 ? (v.y > 0.0 ? 1 : 7) : (v.y > 0.0 ? 3 : 5));
-    int three = 7 << ((axis + 7) & 7);
-    three = (three | (three >> 8)) & 255;
-    return bits | (on_axis || on_diagonal ? three : 0);
+    // Octant o lies between axis o and axis o + 1; an even o starts at a sector axis of
+    // the image (x or y), an odd one at a diagonal. Near its lower axis it also closes
+    // sector o - 1, near its upper one o + 2: a 4-sector window from o - 1, rotated.
+    bool even = (o & 1) == 0;
+    bool near_lower = even ? on_axis : on_diagonal;
+    bool near_upper = even ? on_diagonal : on_axis;
+    int window = (near_lower ? 1 : 0) | 6 | (near_upper ? 8 : 0);
+    int shifted = window << ((o + 7) & 7);
+    return (shifted | (shifted >> 8)) & 255;
 }
 
 // An empty pixel's mean: the share of its known sectors that are open (bits: `closed`

@@ -252,15 +252,17 @@ static unsigned landing_sectors(const float v[2])
     } else {
         o = v[0] < 0.0f ? (-v[1] < -v[0] ? 4 : 5) : (-v[1] > v[0] ? 6 : 7);
     }
-    unsigned pair = 3u << o;
-    unsigned bits = (pair | (pair >> 8)) & 255u;
     bool on_axis = fminf(ax, ay) <= STA_HPR_AXIS_TOL * fmaxf(ax, ay);
     bool on_diagonal = fabsf(ax - ay) <= STA_HPR_AXIS_TOL * (ax + ay);
-    int axis = on_axis ? (ax >= ay ? (v[0] >= 0.0f ? 0 : 4) : (v[1] > 0.0f ? 2 : 6))
-                       : (v[0] > 0.0f ? (v[1] > 0.0f ? 1 : 7) : (v[1] > 0.0f ? 3 : 5));
-    unsigned three = 7u << ((axis + 7) & 7);
-    three = (three | (three >> 8)) & 255u;
-    return bits | (on_axis || on_diagonal ? three : 0u);
+    // Octant o lies between axis o and axis o + 1 (even o: an image axis first, odd: a
+    // diagonal); near its lower axis it also closes sector o - 1, near its upper one
+    // o + 2: a 4-sector window from o - 1, rotated.
+    bool even = (o & 1) == 0;
+    bool near_lower = even ? on_axis : on_diagonal;
+    bool near_upper = even ? on_diagonal : on_axis;
+    unsigned window = (near_lower ? 1u : 0u) | 6u | (near_upper ? 8u : 0u);
+    unsigned shifted = window << ((o + 7) & 7);
+    return (shifted | (shifted >> 8)) & 255u;
 }
 
 // Where point y lands on screen relative to pixel (px, py)'s centre, in pixels; false
