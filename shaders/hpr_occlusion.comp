@@ -7,11 +7,11 @@
 // dropped, and for empty pixels sectors with ring texels outside the image that nothing
 // closes are left out of the mean (docs/HPR.md). A point whose direct neighbours fit a
 // plane through it (its own surface) is hidden only by candidates in front of that
-// surface (the own-surface rule, fit_own_surface). An empty pixel's candidates close
-// the sectors around where they land, within 2^level pixels, with 4 more texels 2 away
-// along the axes below the top level, so that hole and background part along the
-// points, not along the pyramid's blocks (issue 15, part 2; docs/HPR.md "Empty
-// pixels"). Points and empty pixels share the loops: on llvmpipe a SIMD group holding
+// surface (the own-surface rule, fit_own_surface). With HPR_SMOOTH_GAPS (a variant,
+// off by default) an empty pixel's candidates close the sectors around where they
+// land, within 2^level pixels, with 4 more texels 2 away along the axes below the top
+// level, so that hole and background part along the points, not along the pyramid's
+// blocks (issue 15, part 2; docs/HPR.md "Empty pixels"). Points and empty pixels share the loops: on llvmpipe a SIMD group holding
 // both kinds would run two separate paths one after the other. Twin:
 // sta_hpr_ref_pyramid_labels (empty_pixel_mean).
 //

@@ -14,8 +14,8 @@
  * minima reaches a threshold. Issue 15 added: ring candidates landing farther than
  * STA_HPR_CUT_FACTOR K / z pixels from the pixel are dropped (a per-pixel decision),
  * and for empty pixels a sector whose neighbourhood leaves the image and that nothing
- * closes is unknown, not open (surfaces run on to the image edge); an empty pixel's
- * candidates close sectors by where they land, within 2^level pixels (hole and
+ * closes is unknown, not open (surfaces run on to the image edge); with smooth_gaps an
+ * empty pixel's candidates close sectors by where they land, within 2^level pixels (hole and
  * background part along the points, not the pyramid's blocks). docs/HPR.md gives every
  * rule.
  *
