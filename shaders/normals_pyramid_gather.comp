@@ -7,10 +7,9 @@
 // centre of level 0 reads that one texel. A texel of level >= 1 counts only where its
 // tangent plane passes within u_plane_tolerance_m * 2^l * depth of the pixel's point
 // (no mixing across depth discontinuities); where neither level has one, the next finer
-// level that does. Nor across creases (issue 15, fifteenth round): a level whose passing
-// texels disagree (the length of their weighted sum below u_coherence times their
-// weights' sum) counts as having none, and two levels whose normals disagree (dot below
-// u_coherence) are not mixed: the finer one. Twin: src/render/ref/normals_pyramid_ref.c.
+// level that does. Two levels whose normals disagree (dot below u_coherence: a crease
+// or a second surface inside the coarser level's radius) are not mixed: the finer one is
+// used (issue 15, fifteenth round). Twin: src/render/ref/normals_pyramid_ref.c.
 // With NP_ANCHORS (half resolution, sta_normals_pyramid_params.half_resolution) it runs
 // on the anchors (i, j) * 2^u_anchor_level only (every even pixel below 1080 px of view
 // height, every 4th from 1080: sta_normals_anchor_level) and writes texel (i, j) of the image
@@ -40,14 +39,9 @@ uniform float u_coherence;         // 1 - spread (sta_normals_pyramid_coherence)
 bool g_has_n0;
 vec3 g_n0;
 
-// Set by level_normal: its level's texels disagree (a crease or a mix of surfaces).
-bool g_incoherent;
-
 bool level_normal(int l, ivec2 q, vec3 p, float tolerance_m, out vec3 n)
 {
     precise vec3 acc = vec3(0.0);
-    precise float weights = 0.0;
-    g_incoherent = false;
     if (l == 0) {
         if (g_has_n0) {
             acc += 1.0 * g_n0; // the twin's bilinear weights at a level-0 centre: 1, 0, 0, 0
@@ -65,7 +59,6 @@ bool level_normal(int l, ivec2 q, vec3 p, float tolerance_m, out vec3 n)
                 if (np_dot(m.xyz, m.xyz) > 0.5 && abs(np_dot(m.xyz, p) - m.w) <= tolerance_m) {
                     float bw = (a == 1 ? f.x : 1.0 - f.x) * (b == 1 ? f.y : 1.0 - f.y);
                     acc += bw * m.xyz;
-                    weights += bw;
                 }
             }
         }
@@ -73,12 +66,6 @@ bool level_normal(int l, ivec2 q, vec3 p, float tolerance_m, out vec3 n)
     float a2 = np_dot(acc, acc);
     n = vec3(0.0);
     if (!(a2 > 1e-12)) {
-        return false;
-    }
-    // Squared, so that no square root decides (llvmpipe's is not libm's).
-    precise float least = u_coherence * weights;
-    if (l > 0 && least > 0.0 && a2 < least * least) {
-        g_incoherent = true;
         return false;
     }
     n = acc / sqrt(a2);
@@ -109,8 +96,7 @@ void main()
         float ta = u_plane_tolerance_m * float(1 << la) * depth;
         float tb = u_plane_tolerance_m * float(1 << lb) * depth;
         bool va = level_normal(la, q, p.xyz, ta, na);
-        // Level la's texels disagree: the coarser one mixes at least as much, so finer levels.
-        bool vb = !g_incoherent && level_normal(lb, q, p.xyz, tb, nb);
+        bool vb = level_normal(lb, q, p.xyz, tb, nb);
         bool ok = true;
         if (va && vb && np_dot(na, nb) >= u_coherence) {
             n = (1.0 - t) * na + t * nb;
@@ -119,8 +105,8 @@ void main()
         } else if (vb) {
             n = nb;
         } else {
-            // Both levels straddle a discontinuity or a crease here: the next finer level
-            // that has coherent texels on the pixel's side.
+            // Both levels straddle a discontinuity here: the next finer level that has
+            // a texel on the pixel's side.
             ok = false;
             for (int l = la - 1; l >= 0 && !ok; l--) {
                 float tl = u_plane_tolerance_m * float(1 << l) * depth;

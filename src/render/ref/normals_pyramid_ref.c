@@ -147,15 +147,10 @@ static int clamp_int(int v, int lo, int hi)
 // Bilinear interpolation of level `normals` (scale 2^level, points `points`) at level-0
 // pixel centre (x + 0.5, y + 0.5), skipping invalid texels and, at levels >= 1, texels
 // whose tangent plane misses the pixel's point p by more than `tolerance_m` (step 3 of
-// the header); false when nothing is left, and (*incoherent set) at levels >= 1 when the
-// texels left disagree: their weighted sum shorter than `coherence` times their weights'
-// sum (step 3 of the header).
+// the header); false when nothing is left.
 static bool level_normal(const sta_image *normals, const sta_image *points, int level, int x, int y,
-                         const float p[3], float tolerance_m, float coherence, float n[3],
-                         bool *incoherent)
+                         const float p[3], float tolerance_m, float n[3])
 {
-    *incoherent = false;
-    float weights = 0.0f;
     float s = (float)(1 << level);
     float u = ((float)x + 0.5f) / s - 0.5f, v = ((float)y + 0.5f) / s - 0.5f;
     float u0 = floorf(u), v0 = floorf(v);
@@ -181,17 +176,10 @@ static bool level_normal(const sta_image *normals, const sta_image *points, int 
             for (int k = 0; k < 3; k++) {
                 acc[k] += bw * m[k];
             }
-            weights += bw;
         }
     }
     float a2 = dot3(acc, acc);
     if (!(a2 > 1e-12f)) {
-        return false;
-    }
-    // Squared, so that no square root decides (llvmpipe's is not libm's).
-    float least = coherence * weights;
-    if (level > 0 && least > 0.0f && a2 < least * least) {
-        *incoherent = true;
         return false;
     }
     float len = sqrtf(a2);
@@ -242,11 +230,8 @@ static bool gather_pixel(const gather_input *g, int x, int y, const float pt[3],
     const sta_image *pb = lb == 0 ? g->filled_position : &g->levels->position[lb];
     float ta = g->tolerance_m * (float)(1 << la) * depth;
     float tb = g->tolerance_m * (float)(1 << lb) * depth;
-    bool incoherent;
-    bool va = level_normal(&g->normals[la], pa, la, x, y, pt, ta, g->coherence, na, &incoherent);
-    // Level la's texels disagree: the coarser one mixes at least as much, so finer levels.
-    bool vb = !incoherent &&
-              level_normal(&g->normals[lb], pb, lb, x, y, pt, tb, g->coherence, nb, &incoherent);
+    bool va = level_normal(&g->normals[la], pa, la, x, y, pt, ta, na);
+    bool vb = level_normal(&g->normals[lb], pb, lb, x, y, pt, tb, nb);
     if (va && vb && dot3(na, nb) >= g->coherence) {
         for (int k = 0; k < 3; k++) {
             n[k] = (1.0f - t) * na[k] + t * nb[k];
@@ -254,13 +239,13 @@ static bool gather_pixel(const gather_input *g, int x, int y, const float pt[3],
     } else if (va || vb) {
         memcpy(n, va ? na : nb, sizeof(n)); // the finer one where the two disagree
     } else {
-        // Both levels straddle a discontinuity or a crease here: the next finer level
-        // that has coherent texels on the pixel's side.
+        // Both levels straddle a discontinuity here: the next finer level that has a
+        // texel on the pixel's side.
         bool found = false;
         for (int l = la - 1; l >= 0 && !found; l--) {
             const sta_image *pl = l == 0 ? g->filled_position : &g->levels->position[l];
             float tl = g->tolerance_m * (float)(1 << l) * depth;
-            found = level_normal(&g->normals[l], pl, l, x, y, pt, tl, g->coherence, n, &incoherent);
+            found = level_normal(&g->normals[l], pl, l, x, y, pt, tl, n);
         }
         if (!found) {
             return false;
