@@ -7,7 +7,9 @@
 // centre of level 0 reads that one texel. A texel of level >= 1 counts only where its
 // tangent plane passes within u_plane_tolerance_m * 2^l * depth of the pixel's point
 // (no mixing across depth discontinuities); where neither level has one, the next finer
-// level that does. Twin: src/render/ref/normals_pyramid_ref.c.
+// level that does. Two levels whose normals disagree (dot below u_coherence: a crease
+// or a second surface inside the coarser level's radius) are not mixed: the finer one is
+// used (issue 15, fifteenth round). Twin: src/render/ref/normals_pyramid_ref.c.
 // With NP_ANCHORS (half resolution, sta_normals_pyramid_params.half_resolution) it runs
 // on the anchors (i, j) * 2^u_anchor_level only (every even pixel below 1080 px of view
 // height, every 4th from 1080: sta_normals_anchor_level) and writes texel (i, j) of the image
@@ -28,6 +30,7 @@ uniform float u_plane_tolerance_m; // per texel footprint at unit depth
 uniform int u_anchor_level;        // NP_ANCHORS: anchors every 2^u_anchor_level pixels
 uniform float u_jump2;             // squared jump ratio (pn_difference)
 uniform float u_texel_m;           // a level-0 texel's footprint per metre of depth
+uniform float u_coherence;         // 1 - spread (sta_normals_pyramid_coherence)
 
 // The pixel's level-0 normal, computed once in main: level_normal reads it for l = 0.
 // Computed inside level_normal, llvmpipe ran its five loads and jump tests in every
@@ -95,10 +98,10 @@ void main()
         bool va = level_normal(la, q, p.xyz, ta, na);
         bool vb = level_normal(lb, q, p.xyz, tb, nb);
         bool ok = true;
-        if (va && vb) {
+        if (va && vb && np_dot(na, nb) >= u_coherence) {
             n = (1.0 - t) * na + t * nb;
         } else if (va) {
-            n = na;
+            n = na; // the finer one where the two disagree
         } else if (vb) {
             n = nb;
         } else {

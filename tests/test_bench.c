@@ -387,6 +387,62 @@ static void eval_buffers_hand_made(void **state)
     sta_image_release(&img);
 }
 
+/* The share of normals off by more than 30 degrees, by the true face's orientation: a
+ * 5x1 view, pixels 0-1 on a face facing the camera (normal on the view axis), 2-3 on
+ * a face 60 degrees from it, pixel 4 a miss. The estimate is 40 degrees off on pixels 0
+ * and 2, 20 degrees off on 1 and 3; the miss is not counted, and neither are unsampled
+ * pixels. */
+static void normals_off_share_by_orientation(void **state)
+{
+    (void)state;
+    const double d = M_PI / 180.0;
+    float depth[5] = { 3.0f, 3.0f, 5.0f, 5.0f, NAN };
+    float normal[15] = { 0,
+                         0,
+                         1,
+                         0,
+                         0,
+                         1,
+                         (float)sin(60 * d),
+                         0,
+                         (float)cos(60 * d),
+                         (float)sin(60 * d),
+                         0,
+                         (float)cos(60 * d),
+                         0,
+                         0,
+                         0 };
+    sta_view_truth v = { .width = 5, .height = 1, .depth_m = depth, .normal = normal };
+    sta_image img = { 0 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(&img, 5, 1, 4, &err), STA_OK);
+    const double off_deg[5] = { 40, 20, 40, 20, 90 };
+    const double truth_deg[5] = { 0, 0, 60, 60, 0 };
+    for (int i = 0; i < 5; i++) {
+        float *e = sta_image_at(&img, i, 0);
+        double a = (truth_deg[i] + off_deg[i]) * d; // rotated about y, away from the axis
+        e[0] = (float)sin(a);
+        e[2] = (float)cos(a);
+        e[3] = 1.0f;
+    }
+    sta_normal_off_share off;
+    assert_int_equal(sta_eval_normals_off(&v, &img, NULL, &off, &err), STA_OK);
+    assert_near(off.all, 0.5, 1e-12);
+    assert_near(off.facing, 0.25, 1e-12);
+    assert_near(off.other, 0.25, 1e-12);
+    // Only pixels 1 and 2 sampled: pixel 2 (other face) is off.
+    uint8_t sampled[5] = { 0, 1, 1, 0, 1 };
+    assert_int_equal(sta_eval_normals_off(&v, &img, sampled, &off, &err), STA_OK);
+    assert_near(off.all, 0.5, 1e-12);
+    assert_near(off.facing, 0.0, 1e-12);
+    assert_near(off.other, 0.5, 1e-12);
+    // Nothing counted: NAN, not 0.
+    uint8_t none[5] = { 0 };
+    assert_int_equal(sta_eval_normals_off(&v, &img, none, &off, &err), STA_OK);
+    assert_true(isnan(off.all) && isnan(off.facing) && isnan(off.other));
+    sta_image_release(&img);
+}
+
 /* The border metric: a 40x40 view whose rays all hit but the sky at the top-right
  * corner; the fill leaves 10 band pixels on a surface and 20 sky pixels empty, and 5
  * interior pixels (outside the band). */
@@ -1129,6 +1185,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(metrics_psnr),
     cmocka_unit_test(metrics_ssim),
     cmocka_unit_test(eval_buffers_hand_made),
+    cmocka_unit_test(normals_off_share_by_orientation),
     cmocka_unit_test(sampled_pixels_need_a_point_near_the_hit),
     cmocka_unit_test(border_metric_counts_band_surface_pixels),
     cmocka_unit_test(gap_block_ratio_sees_block_lines),

@@ -489,6 +489,15 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
             row->normal_face_mean_deg = e.mean;
             row->normal_face_median_deg = e.median;
             row->normal_face_p95_deg = e.p95;
+            sta_normal_off_share off;
+            s = sta_eval_normals_off(view_truth, &image, counted, &off, err);
+            if (s == STA_OK) {
+                row->normal_off_share = off.all;
+                row->normal_off_facing_share = off.facing;
+                row->normal_off_other_share = off.other;
+                s = sta_eval_normals_off(view_truth, &image, masks->face_counted, &off, err);
+                row->normal_face_off_share = off.all;
+            }
         }
         sta_image_release(&image);
     }
@@ -503,6 +512,8 @@ static void clear_errors(sta_bench_row *row)
         (double)NAN;
     row->normal_face_mean_deg = row->normal_face_median_deg = row->normal_face_p95_deg =
         (double)NAN;
+    row->normal_off_share = row->normal_off_facing_share = row->normal_off_other_share =
+        row->normal_face_off_share = (double)NAN;
     row->hpr_face_f1 = row->hpr_face_glass_f1 = (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
     row->depth_sampled_rel_mean = row->depth_sampled_rel_median = row->depth_sampled_rel_p95 =

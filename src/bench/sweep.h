@@ -134,6 +134,10 @@ typedef struct sta_bench_row {
     uint64_t normal_face_count; /* the same over pixels whose true face the drawn points
                                    sample (sta_view_truth_face_sampled: the face rule) */
     double normal_face_mean_deg, normal_face_median_deg, normal_face_p95_deg;
+    double normal_off_share; /* share of the normal_count pixels off by more than 30
+                                degrees (sta_eval_normals_off), on faces facing the
+                                camera and on the others; the same under the face rule */
+    double normal_off_facing_share, normal_off_other_share, normal_face_off_share;
     uint64_t depth_count;
     double depth_rel_mean, depth_rel_median, depth_rel_p95;
     char point_size[24];     /* "1 px", "3 px", "adaptive 1-8 px" (raw and edl) */

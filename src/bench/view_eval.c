@@ -318,6 +318,47 @@ sta_status sta_eval_normals(const sta_view_truth *v, const sta_image *normal,
     return STA_OK;
 }
 
+sta_status sta_eval_normals_off(const sta_view_truth *v, const sta_image *normal,
+                                const uint8_t *sampled, sta_normal_off_share *out, sta_error *err)
+{
+    out->all = out->facing = out->other = (double)NAN;
+    sta_status s = check_size(v, normal, "normal", err);
+    if (s != STA_OK) {
+        return s;
+    }
+    const double facing_cos = cos(STA_VIEW_FACING_ANGLE_DEG * 3.14159265358979323846 / 180.0);
+    const size_t n = (size_t)v->width * (size_t)v->height;
+    uint64_t count = 0, off_facing = 0, off_other = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float *e = normal->data + 4 * i;
+        if (!(e[3] > 0.5f) || isnan(v->depth_m[i]) || (sampled && !sampled[i])) {
+            continue;
+        }
+        const double estimated[3] = { (double)e[0], (double)e[1], (double)e[2] };
+        const float *t = v->normal + 3 * i;
+        const double truth[3] = { (double)t[0], (double)t[1], (double)t[2] };
+        double angle = sta_angle_deg(estimated, truth);
+        if (isnan(angle)) {
+            continue; // as sta_eval_normals
+        }
+        count++;
+        if (angle > STA_VIEW_NORMAL_OFF_DEG) {
+            // Camera space: the view axis is z.
+            if (fabs(truth[2]) >= facing_cos) {
+                off_facing++;
+            } else {
+                off_other++;
+            }
+        }
+    }
+    if (count > 0) {
+        out->facing = (double)off_facing / (double)count;
+        out->other = (double)off_other / (double)count;
+        out->all = (double)(off_facing + off_other) / (double)count;
+    }
+    return STA_OK;
+}
+
 // The depth error of each counted pixel; with `glass`, the lesser of the errors against
 // the surface behind the glass and against the glass.
 static sta_status eval_depth(const sta_view_truth *v, const sta_image *filled,

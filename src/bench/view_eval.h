@@ -119,6 +119,28 @@ sta_status sta_view_truth_face_sampled(const sta_view_truth *view_truth, const s
 sta_status sta_eval_normals(const sta_view_truth *view_truth, const sta_image *normal,
                             const uint8_t *sampled, sta_error_summary *out, sta_error *err);
 
+/* A true face "faces the camera" when its normal is within this angle of the view
+ * axis: the street's faces along the driving direction (car backs, building ends,
+ * window reveals' sides), which the profile scanner sees edge-on (issue 15, part 3). */
+#define STA_VIEW_FACING_ANGLE_DEG 37.0
+
+/* Normal error above this angle counts as "off" (issue 15's p95 target). */
+#define STA_VIEW_NORMAL_OFF_DEG 30.0
+
+/* Shares of the pixels sta_eval_normals counts whose normal is off by more than
+ * STA_VIEW_NORMAL_OFF_DEG: all of them, and split by the true face's orientation
+ * (facing + other = all). p95 <= 30 degrees needs `all` <= 0.05. */
+typedef struct sta_normal_off_share {
+    double all;
+    double facing; /* true normal within STA_VIEW_FACING_ANGLE_DEG of the view axis */
+    double other;
+} sta_normal_off_share;
+
+/* The shares above over the pixels that sta_eval_normals(view_truth, normal, sampled)
+ * counts; NAN where none is counted. */
+sta_status sta_eval_normals_off(const sta_view_truth *view_truth, const sta_image *normal,
+                                const uint8_t *sampled, sta_normal_off_share *out, sta_error *err);
+
 /* Relative depth error |d - d_true| / d_true of the filled buffer (RGBA32F, camera
  * space xyz, w > 0 covered; d = -z), over covered pixels whose ray hits the scene and,
  * when `sampled` is not NULL, whose byte in it is 1 (sta_view_truth_sampled). */

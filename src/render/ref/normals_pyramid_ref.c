@@ -22,6 +22,9 @@ void sta_normals_pyramid_params_defaults(sta_normals_pyramid_params *config)
     if (!(config->plane_tolerance > 0.0f)) {
         config->plane_tolerance = STA_NORMALS_PYRAMID_DEFAULT_PLANE_TOLERANCE;
     }
+    if (!(config->spread > 0.0f)) {
+        config->spread = STA_NORMALS_PYRAMID_DEFAULT_SPREAD;
+    }
 }
 
 static bool has_point(const sta_image *points, int x, int y)
@@ -193,7 +196,7 @@ typedef struct gather_input {
     const sta_image *filled_position;
     const sta_image *normals; /* per level */
     int count;
-    float radius_px_m, tolerance_m;
+    float radius_px_m, tolerance_m, coherence;
 } gather_input;
 
 // The normal n made unit length and turned to face the camera at the origin (away
@@ -229,12 +232,12 @@ static bool gather_pixel(const gather_input *g, int x, int y, const float pt[3],
     float tb = g->tolerance_m * (float)(1 << lb) * depth;
     bool va = level_normal(&g->normals[la], pa, la, x, y, pt, ta, na);
     bool vb = level_normal(&g->normals[lb], pb, lb, x, y, pt, tb, nb);
-    if (va && vb) {
+    if (va && vb && dot3(na, nb) >= g->coherence) {
         for (int k = 0; k < 3; k++) {
             n[k] = (1.0f - t) * na[k] + t * nb[k];
         }
     } else if (va || vb) {
-        memcpy(n, va ? na : nb, sizeof(n));
+        memcpy(n, va ? na : nb, sizeof(n)); // the finer one where the two disagree
     } else {
         // Both levels straddle a discontinuity here: the next finer level that has a
         // texel on the pixel's side.
@@ -330,7 +333,8 @@ sta_status sta_normals_pyramid_ref(const sta_view_params *view,
                        normals,
                        count,
                        sta_normals_pyramid_radius_px_m(view, &p),
-                       sta_normals_pyramid_plane_tolerance_m(view, &p) };
+                       sta_normals_pyramid_plane_tolerance_m(view, &p),
+                       sta_normals_pyramid_coherence(&p) };
     if (status == STA_OK && p.half_resolution) {
         const int s = 1 << sta_normals_anchor_level(h);
         status = sta_image_init(&half, (w + s - 1) / s, (h + s - 1) / s, 4, err);

@@ -23,7 +23,10 @@
  *    when p lies within plane_tolerance texel footprints (2^l * depth / pixels per
  *    metre at unit depth) of the texel's tangent plane (its normal through its point).
  *    Where no texel of the two levels passes, the next finer level that has one is
- *    used, down to level 0 (the pixel's own normal, whose plane holds p).
+ *    used, down to level 0 (the pixel's own normal, whose plane holds p). Two levels
+ *    whose normals disagree (dot below 1 - spread: a crease, or a second surface inside
+ *    the coarser level's radius) are not mixed: the finer one is used (issue 15,
+ *    fifteenth round).
  * At half resolution (half_resolution; issue 20: the gather is most of the pass's cost,
  * and it is per pixel):
  * 4. Steps 2-3 on the anchors only, the pixels (s i, s j) with s = 2^a, a the anchor level
@@ -55,6 +58,10 @@
  * one surface at depth edges, a tighter test gains on every normal median and on the
  * closed models' p95 (docs/BENCHMARKS.md); 0.5 before. */
 #define STA_NORMALS_PYRAMID_DEFAULT_PLANE_TOLERANCE 0.25f
+/* Default agreement test of step 3: two levels' normals are mixed only when their dot
+ * product is at least 1 - spread (0.01: about 8 degrees apart). Chosen on the street and
+ * the closed models (issue 15, fifteenth round, docs/BENCHMARKS.md). */
+#define STA_NORMALS_PYRAMID_DEFAULT_SPREAD          0.01f
 /* Default jump ratio of step 1. */
 #define STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO      2.5f
 /* Steps 4-5: the anchors are the pixels whose x and y are multiples of 2^a, a = the
@@ -86,6 +93,9 @@ typedef struct sta_normals_pyramid_params {
                               the test off (the estimator before issue 15) */
     float jump_ratio;      /* step 1; below 1 (or NaN): STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO;
                               +INFINITY: no jump test (before issue 15) */
+    float spread;          /* step 3's agreement test; <= 0 (or NaN):
+                              STA_NORMALS_PYRAMID_DEFAULT_SPREAD; +INFINITY turns it off
+                              (the estimator before issue 15's fifteenth round) */
     bool half_resolution;  /* steps 4-5 instead of 2-3 on every pixel (default false) */
 } sta_normals_pyramid_params;
 
@@ -118,6 +128,14 @@ static inline float sta_normals_pyramid_plane_tolerance_m(const sta_view_params 
 {
     float ppm_scale = (float)view->height_px / (2.0f * tanf(0.5f * view->fov_y));
     return params->plane_tolerance / ppm_scale;
+}
+
+/* 1 - spread: the least dot product of two levels' normals that are mixed (step 3;
+ * -INFINITY with the test off).
+ * The GL pass passes exactly this float to its shader. */
+static inline float sta_normals_pyramid_coherence(const sta_normals_pyramid_params *params)
+{
+    return 1.0f - params->spread;
 }
 
 /* Normals of one level from its points (4 channels, w > 0 where a point is): `out` is
