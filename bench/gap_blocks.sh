@@ -39,7 +39,7 @@ for spec in "$@"; do
         "readme --path $work/readme.json 1920x1080"; do
         read -r name opt arg size <<<"$view"
         out="$work/out-$label-$name-$size"
-        # shellcheck disable=SC2086
+        # shellcheck disable=SC2086,SC2046 # options: several words
         "$build/src/bench/strata-bench" "$scene" $opt "$arg" --size "$size" --repeat 1 \
             --no-image-error --pipelines hpr --out "$out" --quiet $(gaps_option "$build") ${EXTRA:-}
         awk -F, -v label="$label" -v name="$name" -v size="$size" '
