@@ -1,0 +1,65 @@
+/* SPDX-License-Identifier: MIT
+ * The index phase's memory governor for --normals (see memory_governor.h). */
+#include "memory_governor.h"
+
+#include <stdatomic.h>
+#include <string.h>
+
+void sta_memory_governor_init(sta_memory_governor *g, size_t pool_bytes)
+{
+    memset(g, 0, sizeof(*g));
+    g->pool_bytes = pool_bytes;
+    atomic_store(&g->pool.left, (long long)pool_bytes);
+    pthread_mutex_init(&g->lock, NULL);
+    pthread_cond_init(&g->change, NULL);
+}
+
+void sta_memory_governor_release(sta_memory_governor *g)
+{
+    pthread_mutex_destroy(&g->lock);
+    pthread_cond_destroy(&g->change);
+}
+
+void sta_memory_governor_enter(sta_memory_governor *g)
+{
+    pthread_mutex_lock(&g->lock);
+    while (g->alone) {
+        pthread_cond_wait(&g->change, &g->lock);
+    }
+    g->inside++;
+    pthread_mutex_unlock(&g->lock);
+}
+
+void sta_memory_governor_leave(sta_memory_governor *g)
+{
+    pthread_mutex_lock(&g->lock);
+    g->inside--;
+    pthread_cond_broadcast(&g->change);
+    pthread_mutex_unlock(&g->lock);
+}
+
+void sta_memory_governor_go_alone(sta_memory_governor *g)
+{
+    pthread_mutex_lock(&g->lock);
+    // Not counted while waiting: two chunks that both want to be alone take turns.
+    g->inside--;
+    pthread_cond_broadcast(&g->change);
+    while (g->alone) {
+        pthread_cond_wait(&g->change, &g->lock);
+    }
+    g->alone = true;
+    while (g->inside > 0) {
+        pthread_cond_wait(&g->change, &g->lock);
+    }
+    g->inside = 1;
+    g->alone_runs++;
+    pthread_mutex_unlock(&g->lock);
+}
+
+void sta_memory_governor_share(sta_memory_governor *g)
+{
+    pthread_mutex_lock(&g->lock);
+    g->alone = false;
+    pthread_cond_broadcast(&g->change);
+    pthread_mutex_unlock(&g->lock);
+}
