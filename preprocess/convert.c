@@ -99,6 +99,9 @@ typedef struct convert_job {
     sta_memory_governor governor; /* --normals: the workers' normals heap (index phase) */
     bool governed;                /* governor initialised */
     atomic_size_t normals_peak;   /* the most heap a chunk's normals took (with its halo) */
+    atomic_size_t normals_rate;   /* the most of it a point (chunk_normals) */
+    size_t index_bytes;           /* a worker's index buffers beyond its normals' share */
+    bool below_plan; /* --memory below one planned worker (warned): the pool is no limit */
 } convert_job;
 
 // Creates a temporary file "<dir>/.<base>.<tag>.XXXXXX" and unlinks it at once: it
@@ -206,8 +209,6 @@ static sta_status unspill(convert_job *job, const spilled_node *s, uint8_t *reco
     return status;
 }
 
-// --normals: reads the chunk's halo (and frees its disk), then fills the records'
-// SPLAT bytes.
 // The inputs' names for a message: the only one, or the first and how many more.
 static void inputs_name(const convert_job *job, char *out, size_t size)
 {
@@ -234,6 +235,14 @@ static sta_status normals_too_large(convert_job *job, size_t count, size_t halo_
                     "measured)",
                     name, count, halo_count, pool_mib, job->options->memory_mib, fit,
                     (int)ROUGH_NORMALS_BYTES_PER_POINT);
+}
+
+// Raises an atomic maximum to `value`.
+static void raise_to(atomic_size_t *maximum, size_t value)
+{
+    size_t seen = atomic_load(maximum);
+    while (value > seen && !atomic_compare_exchange_weak(maximum, &seen, value)) {
+    }
 }
 
 // --normals: reads the chunk's halo (and frees its disk), then fills the records'
@@ -271,6 +280,15 @@ static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index
     frame.up_axis = job->up_axis == STA_STRATA_UP_Y ? 1 : 2;
     frame.trajectory = job->trajectory.usable ? &job->trajectory : NULL;
     sta_normals_stats stats = { 0 };
+    // The most bytes a point a chunk took so far (or held when refused): a chunk that would
+    // not fit what is left at that rate waits to run alone at once, not after a refusal.
+    size_t points = count + halo_count;
+    if (!alone && status == STA_OK &&
+        (double)points * (double)atomic_load(&job->normals_rate) >
+            (double)atomic_load(&g->pool.left)) {
+        sta_memory_governor_go_alone(g);
+        alone = true;
+    }
     while (status == STA_OK) {
         memset(&stats, 0, sizeof(stats));
         sta_alloc_meter_begin(&g->pool);
@@ -279,17 +297,20 @@ static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index
         size_t peak = 0;
         bool refused = sta_alloc_meter_end(&peak);
         if (status == STA_OK) {
-            atomic_size_t *largest = &job->normals_peak; // (largest over the chunks)
-            size_t seen = atomic_load(largest);
-            while (peak + halo_bytes > seen &&
-                   !atomic_compare_exchange_weak(largest, &seen, peak + halo_bytes)) {
-            }
+            raise_to(&job->normals_peak, peak + halo_bytes);
         }
+        raise_to(&job->normals_rate, (peak + halo_bytes) / (points ? points : 1));
         if (status == STA_OK || !refused) {
             break;
         }
-        if (alone) {
+        if (alone && !job->below_plan) {
             status = normals_too_large(job, count, halo_count, err);
+            break;
+        }
+        if (alone) { // (--memory below one planned worker: over it anyway, with a warning)
+            memset(&stats, 0, sizeof(stats));
+            status = sta_normals_compute(&frame, &job->inputs.layout, records, count, halo,
+                                         halo_count, &stats, err);
             break;
         }
         // Refused beside other chunks: all it built is freed; again with the whole pool
@@ -380,10 +401,18 @@ static void *index_worker(void *argument)
                                    in_memory ? in_memory : records, count, &err);
         }
         sta_pending_node root = { 0 };
+        bool took = status == STA_OK && governed; // (its index buffers: from the pool too)
+        if (took) {
+            sta_memory_governor_take(&job->governor, job->index_bytes);
+        }
         if (status == STA_OK) {
             status =
                 sta_index_chunk(&job->plan.space, &job->inputs.layout, &chunk->key, data, count,
                                 job->leaf_capacity, args->index, &sink, &scratch, &root, &err);
+        }
+        if (took) { // (released before the next normals anyway)
+            sta_index_scratch_release(&scratch);
+            sta_memory_governor_give(&job->governor, job->index_bytes);
         }
         if (in_memory) { // indexed: its memory goes back at once
             sta_free(in_memory);
@@ -752,14 +781,15 @@ static bool keep_records_in_memory(convert_job *job, size_t memory_mib, int inde
     return job->chunk_records != NULL;
 }
 
-// --normals: the governor's pool (memory_governor.h), the budget less what the index
-// phase holds besides the normals' heap: the records kept in memory, and for every
-// worker the larger of its index buffers and of its records buffer with the node
-// writer's column buffer (a worker holds one or the other; the halo comes from the
-// pool). Never below one worker's planned normals (sta_normals_memory_bytes): when
-// --memory is below that, plan_index_threads has said what the run will use.
+// --normals: the governor's pool (memory_governor.h), the budget less the records kept
+// in memory and, for every worker, its records buffer and the node writer's column
+// buffer (its halo and its normals' heap come from the pool). A worker's index buffers
+// are taken from the pool too while it indexes: *out_index_bytes, the plan's index
+// buffers beyond those two. Never below one worker's planned normals
+// (sta_normals_memory_bytes): when --memory is below that, plan_index_threads has said
+// what the run will use.
 static size_t normals_pool_bytes(const convert_job *job, size_t memory_mib, int index_threads,
-                                 int grid_log2)
+                                 int grid_log2, size_t *out_index_bytes)
 {
     const sta_chunk_plan *plan = &job->plan;
     const size_t rec = job->inputs.layout.size;
@@ -770,12 +800,14 @@ static size_t normals_pool_bytes(const convert_job *job, size_t memory_mib, int 
     size_t grid_cells = (size_t)1 << (3 * grid_log2);
     size_t node = (largest < grid_cells ? largest : grid_cells) * rec;
     size_t own_records = job->chunk_records ? 0 : largest * rec;
+    size_t besides = own_records + node;
     size_t index = worker_bytes(largest, rec, grid_log2, NULL) - (largest * rec - own_records);
-    size_t besides = own_records + node > index ? own_records + node : index;
+    *out_index_bytes = index > besides ? index - besides : 0;
     size_t held = job->chunk_records ? (size_t)plan->point_count * rec : 0;
     size_t budget = budget_bytes(memory_mib);
     size_t taken = held + (size_t)index_threads * besides;
     size_t least = sta_normals_memory_bytes(job->options->normals_method, largest + largest / 2);
+    least = least > *out_index_bytes ? least : *out_index_bytes;
     return budget > taken + least ? budget - taken : least;
 }
 
@@ -992,7 +1024,12 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     }
 
     if (options->normals) {
-        size_t pool = normals_pool_bytes(&job, memory_mib, index_threads, grid_log2);
+        size_t pool =
+            normals_pool_bytes(&job, memory_mib, index_threads, grid_log2, &job.index_bytes);
+        size_t budget = budget_bytes(memory_mib);
+        job.below_plan =
+            budget - budget / 8 < worker_bytes(job.chunk_capacity, job.inputs.layout.size,
+                                               grid_log2, &options->normals_method);
         sta_memory_governor_init(&job.governor, pool);
         job.governed = true;
     }

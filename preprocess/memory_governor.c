@@ -4,6 +4,11 @@
 
 #include <stdatomic.h>
 #include <string.h>
+#include <time.h>
+
+enum {
+    TAKE_POLL_NS = 1000000 /* a take that waits looks again every millisecond */
+};
 
 void sta_memory_governor_init(sta_memory_governor *g, size_t pool_bytes)
 {
@@ -62,4 +67,25 @@ void sta_memory_governor_share(sta_memory_governor *g)
     g->alone = false;
     pthread_cond_broadcast(&g->change);
     pthread_mutex_unlock(&g->lock);
+}
+
+void sta_memory_governor_take(sta_memory_governor *g, size_t bytes)
+{
+    // (the pool's frees do not signal: alloc.c knows no governor; a waiting take polls)
+    while (!sta_alloc_pool_take(&g->pool, bytes)) {
+        pthread_mutex_lock(&g->lock);
+        bool force = g->alone || atomic_load(&g->pool.left) >= (long long)g->pool_bytes;
+        pthread_mutex_unlock(&g->lock);
+        if (force) {
+            atomic_fetch_sub(&g->pool.left, (long long)bytes);
+            return;
+        }
+        struct timespec ts = { 0, TAKE_POLL_NS };
+        nanosleep(&ts, NULL);
+    }
+}
+
+void sta_memory_governor_give(sta_memory_governor *g, size_t bytes)
+{
+    sta_alloc_pool_give(&g->pool, bytes);
 }

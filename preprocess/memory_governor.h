@@ -43,4 +43,11 @@ void sta_memory_governor_go_alone(sta_memory_governor *g);
 /* Back to sharing the phase with the others (still inside the chunk). */
 void sta_memory_governor_share(sta_memory_governor *g);
 
+/* Takes `bytes` from the pool for a part that cannot be refused (a chunk's index
+ * buffers): waits while others hold enough of the pool that it would not fit, but takes
+ * them anyway when nothing else is held or a chunk waits to run alone (its tables are
+ * freed then: waiting could only deadlock); sta_memory_governor_give returns them. */
+void sta_memory_governor_take(sta_memory_governor *g, size_t bytes);
+void sta_memory_governor_give(sta_memory_governor *g, size_t bytes);
+
 #endif

@@ -154,6 +154,44 @@ static void two_chunks_that_want_to_be_alone_take_turns(void **state)
     sta_memory_governor_release(&g);
 }
 
+typedef struct take_args {
+    sta_memory_governor *g;
+    atomic_int taken;
+} take_args;
+
+static void *takes_600(void *argument)
+{
+    take_args *t = argument;
+    sta_memory_governor_take(t->g, 600);
+    atomic_store(&t->taken, 1);
+    return NULL;
+}
+
+/* The index buffers' take waits while another holds the pool, and takes anyway (the
+ * pool goes below zero) when nothing else is held. */
+static void an_index_take_waits_for_the_pool(void **state)
+{
+    (void)state;
+    sta_memory_governor g;
+    sta_memory_governor_init(&g, 1000);
+    assert_true(sta_alloc_pool_take(&g.pool, 700)); // another chunk's normals
+    take_args t = { .g = &g };
+    pthread_t a;
+    assert_int_equal(pthread_create(&a, NULL, takes_600, &t), 0);
+    pause_ms(50);
+    assert_int_equal(atomic_load(&t.taken), 0);
+    sta_alloc_pool_give(&g.pool, 700);
+    assert_int_equal(pthread_join(a, NULL), 0);
+    assert_int_equal(atomic_load(&t.taken), 1);
+    assert_int_equal(atomic_load(&g.pool.left), 400);
+    sta_memory_governor_give(&g, 600);
+    sta_memory_governor_take(&g, 1500); // more than the pool, nothing else held: taken
+    assert_int_equal(atomic_load(&g.pool.left), -500);
+    sta_memory_governor_give(&g, 1500);
+    assert_int_equal(atomic_load(&g.pool.left), 1000);
+    sta_memory_governor_release(&g);
+}
+
 enum {
     GROUND = 450000,   /* points 6 cm apart on a gently curved ground (15 mm noise) */
     BUSHES = 250,      /* of 1 m: dense clusters, each point rough */
@@ -302,6 +340,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(metered_allocations_stop_at_the_pool),
     cmocka_unit_test(a_chunk_alone_waits_for_the_others_and_keeps_new_ones_out),
     cmocka_unit_test(two_chunks_that_want_to_be_alone_take_turns),
+    cmocka_unit_test(an_index_take_waits_for_the_pool),
     cmocka_unit_test(rough_chunks_stay_within_a_small_memory),
 };
 
