@@ -309,8 +309,12 @@ static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index
         }
         if (alone) { // (--memory below one planned worker: over it anyway, with a warning)
             memset(&stats, 0, sizeof(stats));
+            sta_alloc_pool unlimited = { LLONG_MAX / 2 }; // (counted for the report only)
+            sta_alloc_meter_begin(&unlimited);
             status = sta_normals_compute(&frame, &job->inputs.layout, records, count, halo,
                                          halo_count, &stats, err);
+            sta_alloc_meter_end(&peak);
+            raise_to(&job->normals_peak, peak + halo_bytes);
             break;
         }
         // Refused beside other chunks: all it built is freed; again with the whole pool
@@ -1059,6 +1063,7 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     if (job.governed) {
         report->normals_pool_bytes = job.governor.pool_bytes;
         report->normals_alone = job.governor.alone_runs;
+        report->normals_waited_s = job.governor.waited_s;
         report->normals_chunk_peak_bytes = atomic_load(&job.normals_peak);
     }
 

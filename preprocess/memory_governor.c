@@ -6,6 +6,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/clock.h"
+
 enum {
     TAKE_POLL_NS = 1000000 /* a take that waits looks again every millisecond */
 };
@@ -28,8 +30,12 @@ void sta_memory_governor_release(sta_memory_governor *g)
 void sta_memory_governor_enter(sta_memory_governor *g)
 {
     pthread_mutex_lock(&g->lock);
-    while (g->alone) {
-        pthread_cond_wait(&g->change, &g->lock);
+    if (g->alone) {
+        double t0 = sta_clock_s();
+        while (g->alone) {
+            pthread_cond_wait(&g->change, &g->lock);
+        }
+        g->waited_s += sta_clock_s() - t0;
     }
     g->inside++;
     pthread_mutex_unlock(&g->lock);
@@ -45,6 +51,7 @@ void sta_memory_governor_leave(sta_memory_governor *g)
 
 void sta_memory_governor_go_alone(sta_memory_governor *g)
 {
+    double t0 = sta_clock_s();
     pthread_mutex_lock(&g->lock);
     // Not counted while waiting: two chunks that both want to be alone take turns.
     g->inside--;
@@ -58,6 +65,7 @@ void sta_memory_governor_go_alone(sta_memory_governor *g)
     }
     g->inside = 1;
     g->alone_runs++;
+    g->waited_s += sta_clock_s() - t0;
     pthread_mutex_unlock(&g->lock);
 }
 
@@ -72,16 +80,24 @@ void sta_memory_governor_share(sta_memory_governor *g)
 void sta_memory_governor_take(sta_memory_governor *g, size_t bytes)
 {
     // (the pool's frees do not signal: alloc.c knows no governor; a waiting take polls)
-    while (!sta_alloc_pool_take(&g->pool, bytes)) {
+    double t0 = 0.0;
+    bool force = false;
+    while (!force && !sta_alloc_pool_take(&g->pool, bytes)) {
+        t0 = t0 > 0.0 ? t0 : sta_clock_s();
         pthread_mutex_lock(&g->lock);
-        bool force = g->alone || atomic_load(&g->pool.left) >= (long long)g->pool_bytes;
+        force = g->alone || atomic_load(&g->pool.left) >= (long long)g->pool_bytes;
         pthread_mutex_unlock(&g->lock);
         if (force) {
             atomic_fetch_sub(&g->pool.left, (long long)bytes);
-            return;
+        } else {
+            struct timespec ts = { 0, TAKE_POLL_NS };
+            nanosleep(&ts, NULL);
         }
-        struct timespec ts = { 0, TAKE_POLL_NS };
-        nanosleep(&ts, NULL);
+    }
+    if (t0 > 0.0) {
+        pthread_mutex_lock(&g->lock);
+        g->waited_s += sta_clock_s() - t0;
+        pthread_mutex_unlock(&g->lock);
     }
 }
 

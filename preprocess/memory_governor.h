@@ -27,6 +27,7 @@ typedef struct sta_memory_governor {
     int inside;            /* chunks in the index phase now */
     bool alone;            /* a chunk runs (or waits to run) alone */
     size_t alone_runs;     /* chunks that ran alone (reported) */
+    double waited_s;       /* seconds workers waited, summed (reported) */
 } sta_memory_governor;
 
 void sta_memory_governor_init(sta_memory_governor *g, size_t pool_bytes);
