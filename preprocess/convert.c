@@ -33,6 +33,7 @@
 #include "inputs.h"
 #include "knn_normals.h"
 #include "las_source.h"
+#include "memory_governor.h"
 #include "moment_normals.h"
 #include "node_writer.h"
 #include "path_checks.h"
@@ -47,6 +48,9 @@ enum {
     CHUNK_MIN_POINTS = 1 << 20,
     CHUNK_MAX_POINTS = 3 << 20,
     PROGRESS_INTERVAL_NS = 100000000, /* progress redrawn every 0.1 s while indexing */
+    /* Bytes a point the roughest scenes' normals took (BENCHMARKS.md: a 2 M sphere with
+     * 5 cm of noise 1 921): the --memory an error suggests. */
+    ROUGH_NORMALS_BYTES_PER_POINT = 2000,
 };
 
 /* A node kept back for the merge, its records in the spill file. */
@@ -89,9 +93,15 @@ typedef struct convert_job {
     sta_error worker_error;    /* first worker error (guard: spill_lock) */
     char *halo_path;           /* --normals: temporary file of the chunks' halos */
     int halo_fd;
-    sta_temp_runs halo_runs;   /* --normals: halo positions, one list per chunk */
-    sta_normals_stats normals; /* summed over workers (guard: spill_lock) */
-    sta_trajectory trajectory; /* --normals: the scanner's path from GPS time */
+    sta_temp_runs halo_runs;      /* --normals: halo positions, one list per chunk */
+    sta_normals_stats normals;    /* summed over workers (guard: spill_lock) */
+    sta_trajectory trajectory;    /* --normals: the scanner's path from GPS time */
+    sta_memory_governor governor; /* --normals: the workers' normals heap (index phase) */
+    bool governed;                /* governor initialised */
+    atomic_size_t normals_peak;   /* the most heap a chunk's normals took (with its halo) */
+    atomic_size_t normals_rate;   /* the most of it a point (chunk_normals) */
+    size_t index_bytes;           /* a worker's index buffers beyond its normals' share */
+    bool below_plan; /* --memory below one planned worker (warned): the pool is no limit */
 } convert_job;
 
 // Creates a temporary file "<dir>/.<base>.<tag>.XXXXXX" and unlinks it at once: it
@@ -199,15 +209,66 @@ static sta_status unspill(convert_job *job, const spilled_node *s, uint8_t *reco
     return status;
 }
 
+// The inputs' names for a message: the only one, or the first and how many more.
+static void inputs_name(const convert_job *job, char *out, size_t size)
+{
+    const sta_convert_options *o = job->options;
+    if (o->input_count > 1) {
+        snprintf(out, size, "%s (and %zu more inputs)", o->inputs[0], (size_t)o->input_count - 1);
+    } else {
+        snprintf(out, size, "%s", o->input_count ? o->inputs[0] : "(no input)");
+    }
+}
+
+static sta_status normals_too_large(convert_job *job, size_t count, size_t halo_count,
+                                    sta_error *err)
+{
+    char name[512];
+    inputs_name(job, name, sizeof(name));
+    size_t pool_mib = job->governor.pool_bytes >> 20;
+    size_t guess = ((count + halo_count) * (size_t)ROUGH_NORMALS_BYTES_PER_POINT) >> 20;
+    size_t fit = job->options->memory_mib + (guess > pool_mib ? guess - pool_mib : 1);
+    return sta_fail(err, STA_ERR_NOMEM,
+                    "%s: the normals of a chunk of %zu points (and %zu halo points) need more "
+                    "than the %zu MiB that --memory %zu MiB leaves them, even alone; about "
+                    "--memory %zu MiB would fit (%d bytes a point, the roughest scenes "
+                    "measured)",
+                    name, count, halo_count, pool_mib, job->options->memory_mib, fit,
+                    (int)ROUGH_NORMALS_BYTES_PER_POINT);
+}
+
+// Raises an atomic maximum to `value`.
+static void raise_to(atomic_size_t *maximum, size_t value)
+{
+    size_t seen = atomic_load(maximum);
+    while (value > seen && !atomic_compare_exchange_weak(maximum, &seen, value)) {
+    }
+}
+
 // --normals: reads the chunk's halo (and frees its disk), then fills the records'
-// SPLAT bytes.
+// SPLAT bytes. The halo and the normals' heap come from the governor's pool; a chunk
+// the pool refuses is computed again alone (memory_governor.h).
 static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index, uint8_t *records,
                                 size_t count, sta_error *err)
 {
-    const sta_chunk *chunk = &job->plan.chunks[chunk_index];
     size_t halo_count = (size_t)job->halo_runs.lists[chunk_index].record_count;
+    size_t halo_bytes = (halo_count ? halo_count : 1) * 3 * sizeof(int32_t);
+    sta_memory_governor *g = &job->governor;
+    bool alone = false;
+    if (!sta_alloc_pool_take(&g->pool, halo_bytes)) {
+        sta_memory_governor_go_alone(g);
+        alone = true;
+        if (!sta_alloc_pool_take(&g->pool, halo_bytes)) {
+            sta_memory_governor_share(g);
+            return normals_too_large(job, count, halo_count, err);
+        }
+    }
     int32_t *halo = sta_alloc_array(halo_count ? halo_count : 1, 3 * sizeof(int32_t));
     if (!halo) {
+        sta_alloc_pool_give(&g->pool, halo_bytes);
+        if (alone) {
+            sta_memory_governor_share(g);
+        }
         return sta_fail(err, STA_ERR_NOMEM, "out of memory for a halo of %zu points", halo_count);
     }
     sta_status status = sta_temp_runs_read(&job->halo_runs, &job->codecs[worker], chunk_index,
@@ -219,12 +280,57 @@ static sta_status chunk_normals(convert_job *job, int worker, size_t chunk_index
     frame.up_axis = job->up_axis == STA_STRATA_UP_Y ? 1 : 2;
     frame.trajectory = job->trajectory.usable ? &job->trajectory : NULL;
     sta_normals_stats stats = { 0 };
-    if (status == STA_OK) {
+    // The most bytes a point a chunk took so far (or held when refused): a chunk that would
+    // not fit what is left at that rate waits to run alone at once, not after a refusal.
+    size_t points = count + halo_count;
+    if (!alone && status == STA_OK &&
+        (double)points * (double)atomic_load(&job->normals_rate) >
+            (double)atomic_load(&g->pool.left)) {
+        sta_memory_governor_go_alone(g);
+        alone = true;
+    }
+    while (status == STA_OK) {
+        memset(&stats, 0, sizeof(stats));
+        sta_alloc_meter_begin(&g->pool);
         status = sta_normals_compute(&frame, &job->inputs.layout, records, count, halo, halo_count,
                                      &stats, err);
+        size_t peak = 0;
+        bool refused = sta_alloc_meter_end(&peak);
+        if (status == STA_OK) {
+            raise_to(&job->normals_peak, peak + halo_bytes);
+        }
+        raise_to(&job->normals_rate, (peak + halo_bytes) / (points ? points : 1));
+        if (status == STA_OK || !refused) {
+            break;
+        }
+        if (alone && !job->below_plan) {
+            status = normals_too_large(job, count, halo_count, err);
+            break;
+        }
+        if (alone) { // (--memory below one planned worker: over it anyway, with a warning)
+            memset(&stats, 0, sizeof(stats));
+            sta_alloc_pool unlimited = { LLONG_MAX / 2 }; // (counted for the report only)
+            sta_alloc_meter_begin(&unlimited);
+            status = sta_normals_compute(&frame, &job->inputs.layout, records, count, halo,
+                                         halo_count, &stats, err);
+            sta_alloc_meter_end(&peak);
+            raise_to(&job->normals_peak, peak + halo_bytes);
+            break;
+        }
+        // Refused beside other chunks: all it built is freed; again with the whole pool
+        // (the same normals: the records' SPLAT bytes are written again).
+        if (err) {
+            memset(err, 0, sizeof(*err));
+        }
+        status = STA_OK;
+        sta_memory_governor_go_alone(g);
+        alone = true;
     }
     sta_free(halo);
-    (void)chunk;
+    sta_alloc_pool_give(&g->pool, halo_bytes);
+    if (alone) {
+        sta_memory_governor_share(g);
+    }
     pthread_mutex_lock(&job->spill_lock);
     job->normals.points += stats.points;
     job->normals.degenerate += stats.degenerate;
@@ -281,6 +387,12 @@ static void *index_worker(void *argument)
         }
         // The chunk's payloads reach the file in chunk order (deterministic output).
         status = sta_node_writer_begin_chunk(&job->node_writer, args->index, i, &err);
+        // (entered after its turn's wait: a chunk waiting to run alone waits for the
+        // chunks inside, never for one that waits for its own turn)
+        bool governed = status == STA_OK && job->governed;
+        if (governed) {
+            sta_memory_governor_enter(&job->governor);
+        }
         if (status == STA_OK && !in_memory) {
             status = sta_temp_runs_read(&job->runs, &job->codecs[args->index], chunk->list, records,
                                         &err);
@@ -293,10 +405,18 @@ static void *index_worker(void *argument)
                                    in_memory ? in_memory : records, count, &err);
         }
         sta_pending_node root = { 0 };
+        bool took = status == STA_OK && governed; // (its index buffers: from the pool too)
+        if (took) {
+            sta_memory_governor_take(&job->governor, job->index_bytes);
+        }
         if (status == STA_OK) {
             status =
                 sta_index_chunk(&job->plan.space, &job->inputs.layout, &chunk->key, data, count,
                                 job->leaf_capacity, args->index, &sink, &scratch, &root, &err);
+        }
+        if (took) { // (released before the next normals anyway)
+            sta_index_scratch_release(&scratch);
+            sta_memory_governor_give(&job->governor, job->index_bytes);
         }
         if (in_memory) { // indexed: its memory goes back at once
             sta_free(in_memory);
@@ -309,6 +429,9 @@ static void *index_worker(void *argument)
             status = spill(job, &job->codecs[args->index], &root, &err);
         }
         sta_free(root.records);
+        if (governed) {
+            sta_memory_governor_leave(&job->governor);
+        }
         sta_progress_add(&job->progress, count);
         if (job->options->cancel && atomic_load(job->options->cancel)) {
             status = sta_fail(&err, STA_ERR_CANCELLED, "cancelled");
@@ -662,6 +785,36 @@ static bool keep_records_in_memory(convert_job *job, size_t memory_mib, int inde
     return job->chunk_records != NULL;
 }
 
+// --normals: the governor's pool (memory_governor.h), the budget less the records kept
+// in memory and, for every worker, its records buffer and the node writer's column
+// buffer (its halo and its normals' heap come from the pool). A worker's index buffers
+// are taken from the pool too while it indexes: *out_index_bytes, the plan's index
+// buffers beyond those two. Never below one worker's planned normals
+// (sta_normals_memory_bytes): when --memory is below that, plan_index_threads has said
+// what the run will use.
+static size_t normals_pool_bytes(const convert_job *job, size_t memory_mib, int index_threads,
+                                 int grid_log2, size_t *out_index_bytes)
+{
+    const sta_chunk_plan *plan = &job->plan;
+    const size_t rec = job->inputs.layout.size;
+    size_t largest = 1;
+    for (size_t c = 0; c < plan->chunk_count; c++) {
+        largest = plan->chunks[c].count > largest ? (size_t)plan->chunks[c].count : largest;
+    }
+    size_t grid_cells = (size_t)1 << (3 * grid_log2);
+    size_t node = (largest < grid_cells ? largest : grid_cells) * rec;
+    size_t own_records = job->chunk_records ? 0 : largest * rec;
+    size_t besides = own_records + node;
+    size_t index = worker_bytes(largest, rec, grid_log2, NULL) - (largest * rec - own_records);
+    *out_index_bytes = index > besides ? index - besides : 0;
+    size_t held = job->chunk_records ? (size_t)plan->point_count * rec : 0;
+    size_t budget = budget_bytes(memory_mib);
+    size_t taken = held + (size_t)index_threads * besides;
+    size_t least = sta_normals_memory_bytes(job->options->normals_method, largest + largest / 2);
+    least = least > *out_index_bytes ? least : *out_index_bytes;
+    return budget > taken + least ? budget - taken : least;
+}
+
 void sta_convert_options_defaults(sta_convert_options *o)
 {
     if (o->threads <= 0) {
@@ -874,6 +1027,17 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
         goto out;
     }
 
+    if (options->normals) {
+        size_t pool =
+            normals_pool_bytes(&job, memory_mib, index_threads, grid_log2, &job.index_bytes);
+        size_t budget = budget_bytes(memory_mib);
+        job.below_plan =
+            budget - budget / 8 < worker_bytes(job.chunk_capacity, job.inputs.layout.size,
+                                               grid_log2, &options->normals_method);
+        sta_memory_governor_init(&job.governor, pool);
+        job.governed = true;
+    }
+
     // 4. index chunks in parallel
     t0 = sta_clock_s();
     c0 = process_cpu_s();
@@ -896,6 +1060,12 @@ sta_status sta_convert(const sta_convert_options *options, sta_convert_report *r
     report->normals_beyond_halo = job.normals.beyond_halo;
     report->normals_widened = job.normals.widened;
     report->normals_widened_exact = job.normals.widened_exact;
+    if (job.governed) {
+        report->normals_pool_bytes = job.governor.pool_bytes;
+        report->normals_alone = job.governor.alone_runs;
+        report->normals_waited_s = job.governor.waited_s;
+        report->normals_chunk_peak_bytes = atomic_load(&job.normals_peak);
+    }
 
     // 5. merge the top of the tree, then write table and header
     t0 = sta_clock_s();
@@ -939,6 +1109,9 @@ out:
     sta_temp_runs_release(&job.spill_runs);
     sta_temp_runs_release(&job.halo_runs);
     sta_trajectory_release(&job.trajectory);
+    if (job.governed) {
+        sta_memory_governor_release(&job.governor);
+    }
     remove_temp(&job.chunk_path, &job.chunk_fd);
     remove_temp(&job.halo_path, &job.halo_fd);
     remove_temp(&job.spill_path, &job.spill_fd);

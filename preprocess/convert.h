@@ -93,6 +93,14 @@ typedef struct sta_convert_report {
     bool normals_trajectory;        /* --normals: walls faced the scanner path (GPS time) */
     int up_axis;                    /* STA_STRATA_UP_* written to the header */
     char up_why[256];               /* how it was decided (sta_inputs_up_axis) */
+
+    /* --normals: the workers' normals heap together (memory_governor.h), the most one
+     * chunk's normals took (its halo included), the chunks that ran alone and the seconds
+     * workers waited for the pool or for a chunk alone (summed over them). */
+    size_t normals_pool_bytes;
+    size_t normals_chunk_peak_bytes;
+    size_t normals_alone;
+    double normals_waited_s;
 } sta_convert_report;
 
 /* Runs the whole conversion. On any failure no output and no temporary file is left

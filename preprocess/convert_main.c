@@ -244,6 +244,14 @@ int main(int argc, char **argv)
                     report.normals_trajectory ? "the scanner path (GPS time)"
                                               : "away from the scene's vertical centre line");
         }
+        if (options.normals) {
+            fprintf(stderr,
+                    "  normals memory: %.0f MiB for all workers' normals, %.0f MiB the most "
+                    "a chunk took; %zu chunks ran alone; workers waited %.2f s\n",
+                    (double)report.normals_pool_bytes / 1048576.0,
+                    (double)report.normals_chunk_peak_bytes / 1048576.0, report.normals_alone,
+                    report.normals_waited_s);
+        }
     }
     return 0;
 }
