@@ -853,47 +853,40 @@ static void records_in_memory_match_the_runs(void **state)
     unlink(out);
 }
 
-/* --normals with the records kept in memory (the halo pass reads the chunks' arrays) gives
- * the same file as with the temporary runs (several chunks: halos cross them), on 1 and 3
- * threads; a budget too small for the records and the normals' workers takes the runs. */
-static void normals_from_memory_match_the_runs(void **state)
+// One --normals conversion of a series: its threads and budget, whether it may keep the
+// records in memory, and where they are expected to be.
+typedef struct {
+    int threads;
+    size_t memory_mib;
+    bool on_disk;
+    bool in_memory; /* expected */
+} records_run;
+
+// Converts `path` with --normals once per run: each run keeps its records where expected,
+// and every run's file equals the first's (byte for byte).
+static void check_records_runs(const char *path, const char *out, size_t chunk_points,
+                               const records_run *runs, size_t run_count)
 {
-    (void)state;
-    STA_TEST_REQUIRE_SHARED_DATA();
-    char path[4096], out[4096];
-    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
-    snprintf(out, sizeof(out), "%s/normals-mem.strata", sta_test_tmpdir());
     const char *one[] = { path };
-    static const struct {
-        int threads;
-        size_t memory_mib;
-        bool on_disk;
-        bool in_memory; /* expected */
-    } runs[] = {
-        { 2, 2048, true, false }, /* the reference: temporary runs */
-        { 1, 2048, false, true },
-        { 3, 2048, false, true },
-        { 2, 100, false, false }, /* the records and two normals workers need more */
-    };
     uint8_t *reference = NULL;
     size_t reference_size = 0;
-    for (size_t i = 0; i < sizeof(runs) / sizeof(runs[0]); i++) {
+    for (size_t i = 0; i < run_count; i++) {
         sta_convert_options o = { .inputs = one,
                                   .input_count = 1,
                                   .output = out,
                                   .threads = runs[i].threads,
                                   .memory_mib = runs[i].memory_mib,
-                                  .chunk_points = 30000,
+                                  .chunk_points = chunk_points,
                                   .runs_on_disk = runs[i].on_disk,
                                   .normals = true,
                                   .knn = 10,
                                   .force = true };
         sta_convert_report report;
-        char what[32];
-        snprintf(what, sizeof(what), "normals run %zu", i);
+        char what[64];
+        snprintf(what, sizeof(what), "normals run %zu (--memory %zu)", i, runs[i].memory_mib);
         convert_quietly(&o, &report, what);
         if (report.records_in_memory != runs[i].in_memory) {
-            fail_msg("run %zu: records %s memory", i, report.records_in_memory ? "in" : "not in");
+            fail_msg("%s: records %s memory", what, report.records_in_memory ? "in" : "not in");
         }
         size_t size = 0;
         uint8_t *bytes = sta_test_read_file(out, &size);
@@ -903,13 +896,32 @@ static void normals_from_memory_match_the_runs(void **state)
             continue;
         }
         if (size != reference_size || memcmp(bytes, reference, size) != 0) {
-            fail_msg("run %zu (%d threads, %s) differs from the runs'", i, runs[i].threads,
+            fail_msg("%s (%d threads, %s) differs from the first run's", what, runs[i].threads,
                      report.records_in_memory ? "in memory" : "runs");
         }
         free(bytes);
     }
     free(reference);
     unlink(out);
+}
+
+/* --normals with the records kept in memory (the halo pass reads the chunks' arrays) gives
+ * the same file as with the temporary runs (several chunks: halos cross them), on 1 and 3
+ * threads; a budget too small for the records and the normals' workers takes the runs. */
+static void normals_from_memory_match_the_runs(void **state)
+{
+    (void)state;
+    STA_TEST_REQUIRE_SHARED_DATA();
+    char out[4096];
+    snprintf(out, sizeof(out), "%s/normals-mem.strata", sta_test_tmpdir());
+    static const records_run runs[] = {
+        { 2, 2048, true, false }, /* the reference: temporary runs */
+        { 1, 2048, false, true },
+        { 3, 2048, false, true },
+        { 2, 100, false, false }, /* the records and two normals workers need more */
+    };
+    check_records_runs(sta_test_shared_path("las/autzen_trim.las"), out, 30000, runs,
+                       sizeof(runs) / sizeof(runs[0]));
 }
 
 // The --memory plan for keeping the records in memory counts the largest chunk there is
@@ -922,53 +934,15 @@ static void normals_plan_the_largest_chunk(void **state)
 {
     (void)state;
     STA_TEST_REQUIRE_SHARED_DATA();
-    char path[4096], out[4096];
-    snprintf(path, sizeof(path), "%s", sta_test_shared_path("las/autzen_trim.las"));
+    char out[4096];
     snprintf(out, sizeof(out), "%s/normals-plan.strata", sta_test_tmpdir());
-    const char *one[] = { path };
-    static const struct {
-        size_t memory_mib;
-        bool on_disk;
-        bool in_memory; /* expected */
-    } runs[] = {
-        { 2048, true, false }, /* the reference: temporary runs */
-        { 1024, false, true },
-        { 200, false, false },
+    static const records_run runs[] = {
+        { 2, 2048, true, false }, /* the reference: temporary runs */
+        { 2, 1024, false, true },
+        { 2, 200, false, false },
     };
-    uint8_t *reference = NULL;
-    size_t reference_size = 0;
-    for (size_t i = 0; i < sizeof(runs) / sizeof(runs[0]); i++) {
-        sta_convert_options o = { .inputs = one,
-                                  .input_count = 1,
-                                  .output = out,
-                                  .threads = 2,
-                                  .memory_mib = runs[i].memory_mib,
-                                  .chunk_points = 4u << 20,
-                                  .runs_on_disk = runs[i].on_disk,
-                                  .normals = true,
-                                  .force = true };
-        sta_convert_report report;
-        char what[32];
-        snprintf(what, sizeof(what), "plan run %zu", i);
-        convert_quietly(&o, &report, what);
-        if (report.records_in_memory != runs[i].in_memory) {
-            fail_msg("--memory %zu: records %s memory", runs[i].memory_mib,
-                     report.records_in_memory ? "in" : "not in");
-        }
-        size_t size = 0;
-        uint8_t *bytes = sta_test_read_file(out, &size);
-        if (!reference) {
-            reference = bytes;
-            reference_size = size;
-            continue;
-        }
-        if (size != reference_size || memcmp(bytes, reference, size) != 0) {
-            fail_msg("--memory %zu differs from the runs'", runs[i].memory_mib);
-        }
-        free(bytes);
-    }
-    free(reference);
-    unlink(out);
+    check_records_runs(sta_test_shared_path("las/autzen_trim.las"), out, 4u << 20, runs,
+                       sizeof(runs) / sizeof(runs[0]));
 }
 
 static const struct CMUnitTest tests[] = {
