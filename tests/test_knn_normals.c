@@ -1116,21 +1116,16 @@ static void moments_heap_stays_within_the_plan(void **state)
     pid_t child = fork();
     assert_true(child >= 0);
     if (child == 0) {
-        long pages = 0, resident = 0;
-        FILE *statm = fopen("/proc/self/statm", "r");
-        if (!statm || fscanf(statm, "%ld %ld", &pages, &resident) != 2) {
+        double start = sta_test_resident_bytes();
+        if (start < 0.0) {
             _exit(2);
         }
-        fclose(statm);
         sta_normals_stats stats = { 0 };
         sta_error err = { 0 };
         if (sta_normals_compute(&f, &layout, records, N, NULL, 0, &stats, &err) != STA_OK) {
             _exit(3);
         }
-        struct rusage usage;
-        getrusage(RUSAGE_SELF, &usage);
-        double grew =
-            (double)usage.ru_maxrss * 1024.0 - (double)resident * (double)sysconf(_SC_PAGESIZE);
+        double grew = sta_test_peak_growth(start);
         printf("moments heap: %.0f MB for %d points (%.0f bytes a point), plan %.0f MB\n",
                grew / 1e6, N, grew / N, (double)plan / 1e6);
         fflush(stdout);

@@ -294,22 +294,17 @@ static void rough_chunks_stay_within_a_small_memory(void **state)
     pid_t child = fork();
     assert_true(child >= 0);
     if (child == 0) {
-        long pages = 0, resident = 0;
-        FILE *statm = fopen("/proc/self/statm", "r");
-        if (!statm || fscanf(statm, "%ld %ld", &pages, &resident) != 2) {
+        double start = sta_test_resident_bytes();
+        if (start < 0.0) {
             _exit(2);
         }
-        fclose(statm);
         sta_convert_report report;
         sta_error child_err = { 0 };
         if (convert_bushes(in, small, tight, &report, &child_err) != STA_OK) {
             printf("--memory %zu: %s\n", tight, child_err.message);
             _exit(3);
         }
-        struct rusage usage;
-        getrusage(RUSAGE_SELF, &usage);
-        double grew =
-            (double)usage.ru_maxrss * 1024.0 - (double)resident * (double)sysconf(_SC_PAGESIZE);
+        double grew = sta_test_peak_growth(start);
         printf("--memory %zu MiB: pool %zu MiB, %zu chunks alone, peak RSS grew %.0f MiB\n", tight,
                report.normals_pool_bytes >> 20, report.normals_alone, grew / 1048576.0);
         fflush(stdout);

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -198,4 +199,23 @@ size_t sta_test_pole_side(int64_t (*d)[3], const double centre[3])
         }
     }
     return n;
+}
+
+double sta_test_resident_bytes(void)
+{
+    long pages = 0, resident = 0;
+    FILE *statm = fopen("/proc/self/statm", "r");
+    if (!statm) {
+        return -1.0;
+    }
+    int read = fscanf(statm, "%ld %ld", &pages, &resident);
+    fclose(statm);
+    return read == 2 ? (double)resident * (double)sysconf(_SC_PAGESIZE) : -1.0;
+}
+
+double sta_test_peak_growth(double start_bytes)
+{
+    struct rusage usage;
+    getrusage(RUSAGE_SELF, &usage);
+    return (double)usage.ru_maxrss * 1024.0 - start_bytes; // maxrss is in KiB on Linux
 }

@@ -82,6 +82,11 @@ void sta_test_random_grid(int32_t (*grid)[3], size_t n, const int32_t corner[3],
  * 1260). Returns the count. The sphere and quadric fit tests share it. */
 size_t sta_test_pole_side(int64_t (*d)[3], const double centre[3]);
 
+/* This process's resident bytes now (/proc/self/statm), or -1 when they cannot be read;
+ * with sta_test_peak_growth, how much a forked child's peak resident set grew over it. */
+double sta_test_resident_bytes(void);
+double sta_test_peak_growth(double start_bytes);
+
 int sta_test_run(const char *group, const struct CMUnitTest *tests, size_t count, int argc,
                  char **argv);
 
