@@ -85,5 +85,10 @@ void sta_normal_store(const sta_normals_chunk *chunk, const sta_record_layout *l
 void sta_normal_store_at(const sta_normals_chunk *chunk, const sta_record_layout *layout,
                          uint8_t *record, const double p[3], const double *target, bool ok,
                          double normal[3], double radius, sta_normals_stats *stats);
+/* The same with the radius already a half float (sta_half_from_float): the moments method
+ * converts a box's radius once for all its points. */
+void sta_normal_store_half_at(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                              uint8_t *record, const double p[3], const double *target, bool ok,
+                              double normal[3], uint16_t radius_half, sta_normals_stats *stats);
 
 #endif
