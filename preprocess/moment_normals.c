@@ -945,6 +945,7 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
     size_t grew = 0;
     bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
     sta_trajectory_memo memo = { 0 };
+    sta_normal_memo packed = { 0 };
     for (size_t i = 0; i < listed; i++) {
         size_t j = m->finish[i];
         uint8_t flags = m->state[j];
@@ -1012,7 +1013,8 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
         if (reach > chunk->margin && reach > sta_normal_halo_reach(chunk, p)) {
             m->stats->beyond_halo++;
         }
-        sta_normal_store_half_at(chunk, layout, record, pd, target, ok, normal, radius, m->stats);
+        sta_normal_store_half_at(chunk, layout, record, pd, target, ok, normal, radius, &packed,
+                                 m->stats);
         m->state[j] = (uint8_t)((flags & RUN_START) | STATE_DONE);
     }
     return grew;

@@ -126,7 +126,7 @@ bool sta_normal_too_narrow(const sta_normals_chunk *chunk, const double p[3],
 // (sta_half_from_float) into the SPLAT bytes: sta_splat_pack's bytes.
 static void pack_splat_half(const sta_normals_chunk *chunk, const sta_record_layout *layout,
                             uint8_t *record, bool ok, double normal[3], uint16_t radius_half,
-                            sta_normals_stats *stats)
+                            sta_normal_memo *memo, sta_normals_stats *stats)
 {
     if (!ok) {
         stats->degenerate++;
@@ -135,7 +135,16 @@ static void pack_splat_half(const sta_normals_chunk *chunk, const sta_record_lay
     }
     const float nf[3] = { (float)normal[0], (float)normal[1], (float)normal[2] };
     uint16_t packed[3];
-    sta_octahedral_encode(nf, packed);
+    if (memo && memo->valid && memcmp(nf, memo->normal, sizeof(nf)) == 0) {
+        memcpy(packed, memo->packed, sizeof(memo->packed));
+    } else {
+        sta_octahedral_encode(nf, packed);
+        if (memo) {
+            memcpy(memo->normal, nf, sizeof(nf));
+            memcpy(memo->packed, packed, sizeof(memo->packed));
+            memo->valid = true;
+        }
+    }
     packed[2] = radius_half;
     memcpy(record + layout->splat_offset, packed, sizeof(packed));
 }
@@ -144,7 +153,8 @@ static void pack_splat(const sta_normals_chunk *chunk, const sta_record_layout *
                        uint8_t *record, bool ok, double normal[3], double radius,
                        sta_normals_stats *stats)
 {
-    pack_splat_half(chunk, layout, record, ok, normal, sta_half_from_float((float)radius), stats);
+    pack_splat_half(chunk, layout, record, ok, normal, sta_half_from_float((float)radius), NULL,
+                    stats);
 }
 
 void sta_normal_store(const sta_normals_chunk *chunk, const sta_record_layout *layout,
@@ -177,12 +187,13 @@ void sta_normal_store_at(const sta_normals_chunk *chunk, const sta_record_layout
 
 void sta_normal_store_half_at(const sta_normals_chunk *chunk, const sta_record_layout *layout,
                               uint8_t *record, const double p[3], const double *target, bool ok,
-                              double normal[3], uint16_t radius_half, sta_normals_stats *stats)
+                              double normal[3], uint16_t radius_half, sta_normal_memo *memo,
+                              sta_normals_stats *stats)
 {
     if (ok) {
         sta_normal_orient_at(chunk, p, target, normal);
     }
-    pack_splat_half(chunk, layout, record, ok, normal, radius_half, stats);
+    pack_splat_half(chunk, layout, record, ok, normal, radius_half, memo, stats);
 }
 
 void sta_normal_gather_positions(const sta_record_layout *layout, const uint8_t *records,
