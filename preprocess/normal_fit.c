@@ -122,10 +122,11 @@ bool sta_normal_too_narrow(const sta_normals_chunk *chunk, const double p[3],
     return sta_normal_too_narrow_at(chunk, p, seen ? target : NULL, ok, n, w, thick);
 }
 
-// Packs the (oriented) normal, or the up fallback, with the radius into the SPLAT bytes.
-static void pack_splat(const sta_normals_chunk *chunk, const sta_record_layout *layout,
-                       uint8_t *record, bool ok, double normal[3], double radius,
-                       sta_normals_stats *stats)
+// Packs the (oriented) normal, or the up fallback, with the radius as a half float
+// (sta_half_from_float) into the SPLAT bytes: sta_splat_pack's bytes.
+static void pack_splat_half(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                            uint8_t *record, bool ok, double normal[3], uint16_t radius_half,
+                            sta_normal_memo *memo, sta_normals_stats *stats)
 {
     if (!ok) {
         stats->degenerate++;
@@ -134,8 +135,26 @@ static void pack_splat(const sta_normals_chunk *chunk, const sta_record_layout *
     }
     const float nf[3] = { (float)normal[0], (float)normal[1], (float)normal[2] };
     uint16_t packed[3];
-    sta_splat_pack(nf, (float)radius, packed);
+    if (memo && memo->valid && memcmp(nf, memo->normal, sizeof(nf)) == 0) {
+        memcpy(packed, memo->packed, sizeof(memo->packed));
+    } else {
+        sta_octahedral_encode(nf, packed);
+        if (memo) {
+            memcpy(memo->normal, nf, sizeof(nf));
+            memcpy(memo->packed, packed, sizeof(memo->packed));
+            memo->valid = true;
+        }
+    }
+    packed[2] = radius_half;
     memcpy(record + layout->splat_offset, packed, sizeof(packed));
+}
+
+static void pack_splat(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                       uint8_t *record, bool ok, double normal[3], double radius,
+                       sta_normals_stats *stats)
+{
+    pack_splat_half(chunk, layout, record, ok, normal, sta_half_from_float((float)radius), NULL,
+                    stats);
 }
 
 void sta_normal_store(const sta_normals_chunk *chunk, const sta_record_layout *layout,
@@ -164,6 +183,17 @@ void sta_normal_store_at(const sta_normals_chunk *chunk, const sta_record_layout
         sta_normal_orient_at(chunk, p, target, normal);
     }
     pack_splat(chunk, layout, record, ok, normal, radius, stats);
+}
+
+void sta_normal_store_half_at(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                              uint8_t *record, const double p[3], const double *target, bool ok,
+                              double normal[3], uint16_t radius_half, sta_normal_memo *memo,
+                              sta_normals_stats *stats)
+{
+    if (ok) {
+        sta_normal_orient_at(chunk, p, target, normal);
+    }
+    pack_splat_half(chunk, layout, record, ok, normal, radius_half, memo, stats);
 }
 
 void sta_normal_gather_positions(const sta_record_layout *layout, const uint8_t *records,

@@ -85,5 +85,20 @@ void sta_normal_store(const sta_normals_chunk *chunk, const sta_record_layout *l
 void sta_normal_store_at(const sta_normals_chunk *chunk, const sta_record_layout *layout,
                          uint8_t *record, const double p[3], const double *target, bool ok,
                          double normal[3], double radius, sta_normals_stats *stats);
+/* The last normal encoded and its octahedral map: the points of one flat box share their
+ * normal up to its sign (zero: empty). */
+typedef struct sta_normal_memo {
+    bool valid;
+    float normal[3];
+    uint16_t packed[2];
+} sta_normal_memo;
+
+/* The same with the radius already a half float (sta_half_from_float): the moments method
+ * converts a box's radius once for all its points; and the octahedral map taken from memo
+ * (NULL: none) when the normal is the last one's, bit for bit. */
+void sta_normal_store_half_at(const sta_normals_chunk *chunk, const sta_record_layout *layout,
+                              uint8_t *record, const double p[3], const double *target, bool ok,
+                              double normal[3], uint16_t radius_half, sta_normal_memo *memo,
+                              sta_normals_stats *stats);
 
 #endif
