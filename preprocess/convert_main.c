@@ -71,7 +71,8 @@ int main(int argc, char **argv)
           .int_min = 64,
           .int_max = 1 << 24,
           .help = "memory budget for the whole process (points that fit skip the "
-                  "temporary file)" },
+                  "temporary file; with --normals, chunks too rough to share it run alone, "
+                  "and one that cannot fit even alone stops with the --memory it needs)" },
         { .name = "tmp",
           .kind = STA_CLI_STRING,
           .dest = &options.tmp_dir,
