@@ -8,8 +8,8 @@
 // tangent plane passes within u_plane_tolerance_m * 2^l * depth of the pixel's point
 // (no mixing across depth discontinuities); where neither level has one, the next finer
 // level that does. Two levels whose normals disagree (dot below u_coherence: a crease
-// or a second surface inside the coarser level's radius) are not mixed: the finer one is
-// used (issue 15, fifteenth round). Twin: src/render/ref/normals_pyramid_ref.c.
+// or a second surface inside the coarser level's radius) are mixed less, down to the
+// finer one alone at 1 - 2 spread (issue 15, fifteenth round). Twin: src/render/ref/normals_pyramid_ref.c.
 // With NP_ANCHORS (half resolution, sta_normals_pyramid_params.half_resolution) it runs
 // on the anchors (i, j) * 2^u_anchor_level only (every even pixel below 1080 px of view
 // height, every 4th from 1080: sta_normals_anchor_level) and writes texel (i, j) of the image
@@ -38,6 +38,18 @@ uniform float u_coherence;         // 1 - spread (sta_normals_pyramid_coherence)
 // gather took 24.8-25.2 CPU ms at 1080p on the README view, 20.4-20.7 this way.
 bool g_has_n0;
 vec3 g_n0;
+
+// How much of the coarser level two levels' normals may mix in, from their dot d: 1 where
+// d >= u_coherence (1 - spread), falling linearly to 0 at 1 - 2 spread; 1 everywhere
+// when the test is off (coherence <= -1). Twin: coherence_weight in normals_pyramid_ref.c.
+float coherence_weight(float d)
+{
+    if (u_coherence <= -1.0) {
+        return 1.0;
+    }
+    float spread = 1.0 - u_coherence;
+    return clamp((d - (u_coherence - spread)) / spread, 0.0, 1.0);
+}
 
 bool level_normal(int l, ivec2 q, vec3 p, float tolerance_m, out vec3 n)
 {
@@ -98,8 +110,11 @@ void main()
         bool va = level_normal(la, q, p.xyz, ta, na);
         bool vb = level_normal(lb, q, p.xyz, tb, nb);
         bool ok = true;
-        if (va && vb && np_dot(na, nb) >= u_coherence) {
-            n = (1.0 - t) * na + t * nb;
+        if (va && vb) {
+            // The coarser level's share fades out as the two disagree, so the switch to
+            // the finer level leaves no seam (coherence_weight: 1 where they agree).
+            float tw = t * coherence_weight(np_dot(na, nb));
+            n = (1.0 - tw) * na + tw * nb;
         } else if (va) {
             n = na; // the finer one where the two disagree
         } else if (vb) {

@@ -199,6 +199,19 @@ typedef struct gather_input {
     float radius_px_m, tolerance_m, coherence;
 } gather_input;
 
+// How much of the coarser level two levels' normals with dot d may mix in: 1 where
+// d >= coherence (1 - spread), falling linearly to 0 at 1 - 2 spread; 1 everywhere when
+// the test is off (coherence <= -1). The shader's coherence_weight.
+static float coherence_weight(float coherence, float d)
+{
+    if (coherence <= -1.0f) {
+        return 1.0f;
+    }
+    float spread = 1.0f - coherence;
+    float w = (d - (coherence - spread)) / spread;
+    return w < 0.0f ? 0.0f : w > 1.0f ? 1.0f : w;
+}
+
 // The normal n made unit length and turned to face the camera at the origin (away
 // from the pixel's point pt); false when n is (nearly) zero.
 static bool orient_unit(const float n[3], const float pt[3], float o[3])
@@ -232,9 +245,11 @@ static bool gather_pixel(const gather_input *g, int x, int y, const float pt[3],
     float tb = g->tolerance_m * (float)(1 << lb) * depth;
     bool va = level_normal(&g->normals[la], pa, la, x, y, pt, ta, na);
     bool vb = level_normal(&g->normals[lb], pb, lb, x, y, pt, tb, nb);
-    if (va && vb && dot3(na, nb) >= g->coherence) {
+    if (va && vb) {
+        // The coarser level's share fades out as the two disagree (no seam at the switch).
+        float tw = t * coherence_weight(g->coherence, dot3(na, nb));
         for (int k = 0; k < 3; k++) {
-            n[k] = (1.0f - t) * na[k] + t * nb[k];
+            n[k] = (1.0f - tw) * na[k] + tw * nb[k];
         }
     } else if (va || vb) {
         memcpy(n, va ? na : nb, sizeof(n)); // the finer one where the two disagree
