@@ -158,22 +158,14 @@ static void plane_gets_its_normal(void **state)
 {
     (void)state;
     static int64_t d[MAX_POINTS][3];
-    size_t n = 0;
-    for (int i = 0; i < 40; i++) {
-        for (int j = 0; j < 40; j++, n++) {
-            d[n][0] = 10 + 12 * i;
-            d[n][1] = 10 + 12 * j;
-            d[n][2] = 100 + 3 * i + 2 * j; // z = 100 + (x - 10) / 4 + (y - 10) / 6
-        }
-    }
+    double truth[3];
+    size_t n = sta_test_tilted_plane(d, truth);
     sta_tensor_sums sums = sums_of((const int64_t(*)[3])d, n);
     sta_quadric q;
     assert_true(sta_quadric_fit(&sums, 1024.0, &q));
     for (int i = 0; i < 10; i++) {
         assert_false(isnan(q.v[i]));
     }
-    double truth[3] = { -0.25, -1.0 / 6.0, 1.0 };
-    unit(truth);
     size_t used = 0;
     for (size_t i = 0; i < n; i++) {
         const double p[3] = { (double)d[i][0], (double)d[i][1], (double)d[i][2] };

@@ -197,26 +197,13 @@ static void plane_gets_its_normal(void **state)
 {
     (void)state;
     static int64_t d[MAX_POINTS][3];
-    size_t n = 0;
-    for (int i = 0; i < 40; i++) {
-        for (int j = 0; j < 40; j++, n++) {
-            d[n][0] = 10 + 12 * i;
-            d[n][1] = 10 + 12 * j;
-            d[n][2] = 100 + 3 * i + 2 * j; // exact: z = 100 + (x - 10) / 4 + (y - 10) / 6
-        }
-    }
+    double truth[3];
+    size_t n = sta_test_tilted_plane(d, truth);
     sta_moment_sums sums = sums_of((const int64_t(*)[3])d, n);
     sta_sphere_moments m;
     assert_true(sta_sphere_moments_of(&sums, 1024.0, &m));
     sta_sphere s;
     assert_true(sta_sphere_fit(&m, &s));
-    double truth[3] = { -0.25, -1.0 / 6.0, 1.0 }, len = 0.0;
-    for (int a = 0; a < 3; a++) {
-        len += truth[a] * truth[a];
-    }
-    for (int a = 0; a < 3; a++) {
-        truth[a] /= sqrt(len);
-    }
     for (size_t i = 0; i < n; i += 7) {
         const double p[3] = { (double)d[i][0], (double)d[i][1], (double)d[i][2] };
         double got[3];

@@ -201,6 +201,24 @@ size_t sta_test_pole_side(int64_t (*d)[3], const double centre[3])
     return n;
 }
 
+size_t sta_test_tilted_plane(int64_t (*d)[3], double normal[3])
+{
+    size_t n = 0;
+    for (int i = 0; i < 40; i++) {
+        for (int j = 0; j < 40; j++, n++) {
+            d[n][0] = 10 + 12 * i;
+            d[n][1] = 10 + 12 * j;
+            d[n][2] = 100 + 3 * i + 2 * j;
+        }
+    }
+    const double up[3] = { -0.25, -1.0 / 6.0, 1.0 };
+    double length = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
+    for (int a = 0; a < 3; a++) {
+        normal[a] = up[a] / length;
+    }
+    return n;
+}
+
 double sta_test_resident_bytes(void)
 {
     long pages = 0, resident = 0;

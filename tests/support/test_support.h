@@ -82,6 +82,11 @@ void sta_test_random_grid(int32_t (*grid)[3], size_t n, const int32_t corner[3],
  * 1260). Returns the count. The sphere and quadric fit tests share it. */
 size_t sta_test_pole_side(int64_t (*d)[3], const double centre[3]);
 
+/* A tilted plane z = 100 + (x - 10) / 4 + (y - 10) / 6 sampled exactly on a 40 x 40
+ * lattice 12 units apart, into d (room for 1600), and its unit normal (up). Returns the
+ * count. The sphere and quadric fit tests share it. */
+size_t sta_test_tilted_plane(int64_t (*d)[3], double normal[3]);
+
 /* This process's resident bytes now (/proc/self/statm), or -1 when they cannot be read;
  * with sta_test_peak_growth, how much a forked child's peak resident set grew over it. */
 double sta_test_resident_bytes(void);
