@@ -32,10 +32,15 @@ layout(binding = STA_HPR_OCCLUSION_IMAGE_POSITION, rgba32f) readonly uniform ima
 // level l >= 1 at u_level_origin[l] (pass_hpr.h)
 layout(binding = STA_HPR_OCCLUSION_IMAGE_PYRAMID, rgba32f) readonly uniform image2D u_pyramid;
 layout(binding = STA_HPR_OCCLUSION_IMAGE_LABEL, r16f) writeonly uniform image2D u_label;
-#ifdef HPR_REFINE // sparse operator, last step: the listed pixels only
+#ifdef HPR_REFINE // sparse operator, a copy step's refinement: the listed pixels only
+// Two lists in one buffer (hpr_sparse_classify.comp): points from the front, empty pixels
+// from the back; HPR_EMPTY_LIST reads the second, whose pixels are all empty, so its
+// program carries no occlusion value and no surface fit, and the points' program no
+// landing code.
 layout(std430, binding = STA_HPR_OCCLUSION_BUFFER_LIST) readonly buffer RefineList
 {
-    uint u_count;
+    uint u_count;       // points listed
+    uint u_empty_count; // empty pixels listed
     uint u_pixels[];
 };
 #endif
@@ -160,10 +165,18 @@ void main()
     // together): neighbouring pixels in each SIMD row, as in the full-screen dispatch.
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uint i = group * uint(STA_WORKGROUP_SIZE_X * STA_WORKGROUP_SIZE_Y) + gl_LocalInvocationIndex;
+#ifdef HPR_EMPTY_LIST
+    if (i >= u_empty_count) {
+        return;
+    }
+    uint entry = u_pixels[uint(u_pixels.length()) - 1u - i];
+#else
     if (i >= u_count) {
         return;
     }
-    p = ivec2(int(u_pixels[i] & 0xffffu), int(u_pixels[i] >> 16));
+    uint entry = u_pixels[i];
+#endif
+    p = ivec2(int(entry & 0xffffu), int(entry >> 16));
 #endif
 #ifdef HPR_ANCHORS // sparse operator, first step: the anchors only (x, y multiples of the stride)
     p *= u_anchor_stride;
@@ -192,12 +205,20 @@ void main()
     precise float cut = STA_HPR_CUT_FACTOR * radius;
     precise float cut2 = cut * cut;
 
+#ifdef HPR_EMPTY_LIST
+    // Known empty (listed so by the copy step): no position to load.
+    vec4 own = vec4(0.0);
+    const bool is_point = false;
+    const bool on = false;
+#else
     vec4 own = imageLoad(u_position, p);
+    bool is_point = own.w > 0.5;
+    bool on = u_surface_tol > 0.0 && hpr_occludes(own.w) && -own.z > 0.0;
+#endif
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
     precise float limit = -x.z - u_gap;
     // The 8 direct neighbours, loaded once for the fit and level 0 when the own-surface
-    // rule applies; otherwise level 0 loads them if the pixel gets there.
-    bool on = u_surface_tol > 0.0 && hpr_occludes(own.w) && -own.z > 0.0;
+    // rule applies (on); otherwise level 0 loads them if the pixel gets there.
     vec4 nb[8];
     for (int i = 0; i < 8; i++) {
         ivec2 n = p + RING[i];
@@ -207,7 +228,6 @@ void main()
     g_surface = fit_own_surface(own, p, on, nb);
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
     int outside = 0; // sectors with ring texels outside the image within the reach
-    bool is_point = own.w > 0.5;
     // Off (the default): empty pixels as points, by ring position (main's blocky rule).
     bool by_landing = !is_point && SMOOTH_GAPS;
     float bound = hpr_closed_bound(is_point, u_threshold);
