@@ -212,7 +212,11 @@ void main()
     const bool on = false;
 #else
     vec4 own = imageLoad(u_position, p);
+#ifdef HPR_REFINE
+    const bool is_point = true; // the points' list: no empty pixel's code
+#else
     bool is_point = own.w > 0.5;
+#endif
     bool on = u_surface_tol > 0.0 && hpr_occludes(own.w) && -own.z > 0.0;
 #endif
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
@@ -273,7 +277,8 @@ void main()
                               true, closed, min_lo, min_hi);
             }
         }
-        settled = by_landing ? closed == 255 : hpr_settled(min_lo, min_hi, is_point, outside, bound);
+        // An empty pixel whose known sectors are all closed is a hole whatever else closes.
+        settled = by_landing ? (closed | empty_outside) == 255 : hpr_settled(min_lo, min_hi, is_point, outside, bound);
     }
     // Level 0: the 8 direct neighbours, from the position texture.
     for (int i = 0; i < 8 && !settled; i++) {
