@@ -277,8 +277,9 @@ void main()
                               true, closed, min_lo, min_hi);
             }
         }
-        // An empty pixel whose known sectors are all closed is a hole whatever else closes.
-        settled = by_landing ? (closed | empty_outside) == 255 : hpr_settled(min_lo, min_hi, is_point, outside, bound);
+        // An empty pixel with a closed sector and every known sector closed is a hole
+        // whatever else closes (with none closed and none known it is background so far).
+        settled = by_landing ? closed != 0 && (closed | empty_outside) == 255 : hpr_settled(min_lo, min_hi, is_point, outside, bound);
     }
     // Level 0: the 8 direct neighbours, from the position texture.
     for (int i = 0; i < 8 && !settled; i++) {
