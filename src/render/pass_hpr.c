@@ -404,11 +404,11 @@ sta_status sta_hpr_pass_run_pyramid(sta_hpr_pass *pass, const sta_view_params *v
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_PYRAMID, pyramid_texture, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
     // every pixel, anchors, listed empty pixels: the empty pixels' rule's
-    status = gap_programs(pass, p.smooth_gaps, err);
+    status = gap_programs(pass, !p.block_gaps, err);
     if (status != STA_OK) {
         return status;
     }
-    const GLuint *programs = pass->gap_programs[p.smooth_gaps ? 1 : 0];
+    const GLuint *programs = pass->gap_programs[p.block_gaps ? 0 : 1];
     if (p.sparse) {
         return run_sparse(pass, view, &p, levels, level_depth, programs, label_texture, err);
     }

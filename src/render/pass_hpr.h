@@ -29,8 +29,8 @@ typedef struct sta_hpr_pass {
      * pixels to refine, points and empty pixels apart; hpr_occlusion.comp refines the
      * points (refine_program, HPR_REFINE). */
     GLuint refine_program, classify_program;
-    /* Per empty pixels' rule (index sta_hpr_params.smooth_gaps: blocks, smooth with
-     * HPR_SMOOTH_GAPS), the programs of hpr_occlusion.comp that differ: every pixel,
+    /* Per empty pixels' rule (index 0: sta_hpr_params.block_gaps, 1: per pixel, the default,
+     * with HPR_SMOOTH_GAPS), the programs of hpr_occlusion.comp that differ: every pixel,
      * the anchors (HPR_ANCHORS), the listed empty pixels (HPR_REFINE, HPR_EMPTY_LIST);
      * compiled when first asked for: a uniform switch cost 30 CPU ms at 1080p, llvmpipe
      * running both sides. */

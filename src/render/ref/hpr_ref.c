@@ -507,7 +507,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             float cut2 = cut * cut;
             // Only neighbours nearer than the centre point by more than the gap occlude.
             float occluder_limit = -x[2] - gap_m;
-            if (!(own[3] > 0.5f) && p.smooth_gaps) {
+            if (!(own[3] > 0.5f) && !p.block_gaps) {
                 float mean =
                     empty_pixel_mean(&f, pyramid, px, py, level, cut, occluder_limit, marked_reach);
                 *sta_image_at(out_label, px, py) = label_of(false, mean, f.threshold);

@@ -14,7 +14,7 @@
  * minima reaches a threshold. Issue 15 added: ring candidates landing farther than
  * STA_HPR_CUT_FACTOR K / z pixels from the pixel are dropped (a per-pixel decision),
  * and for empty pixels a sector whose neighbourhood leaves the image and that nothing
- * closes is unknown, not open (surfaces run on to the image edge); with smooth_gaps an
+ * closes is unknown, not open (surfaces run on to the image edge); unless block_gaps, an
  * empty pixel's candidates close sectors by where they land, within 2^level pixels (hole and
  * background part along the points, not the pyramid's blocks). docs/HPR.md gives every
  * rule.
@@ -141,11 +141,11 @@ typedef struct sta_hpr_params {
     bool sparse;           /* pyramidal operator on the even (x, y) anchors, the other pixels
                               copy agreeing anchors or are refined (sta_hpr_ref_sparse_labels);
                               false (default): every pixel */
-    bool smooth_gaps;      /* pyramidal operator: an empty pixel's hole / background decision
-                              per pixel, sectors by where candidates land (issue 15, part 2,
-                              docs/HPR.md "Empty pixels: sectors by landing"); false
-                              (default): by ring position, along the pyramid's blocks, ~35 %
-                              cheaper HPR at 1080p (docs/BENCHMARKS.md, fifteenth round) */
+    bool block_gaps;       /* pyramidal operator: an empty pixel's hole / background decision
+                              by ring position, along the pyramid's blocks (the rule before
+                              issue 15 part 2; gaps' borders step along block lines); false
+                              (default): per pixel, sectors by where candidates land
+                              (docs/HPR.md "Empty pixels: sectors by landing") */
 } sta_hpr_params;
 
 /* Fills threshold, coarse_level, far_m, occluder_gap_s0 and marked_reach_s0 of `config` with their
