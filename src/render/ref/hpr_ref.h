@@ -64,10 +64,13 @@
 #define STA_HPR_AXIS_TOL             0.015625f
 /* Pyramidal operator, empty pixels: a sector is unknown (left out of the mean) when its
  * wedge leaves the image within the candidates' reach, but not farther than this: the
- * issue's border band, where surfaces running off-screen are to be filled; a larger
- * reach filled whole scan shadows that touch the image border (street view 0's corner:
- * depth p95 under the glass rule 2.76 -> 3.00 %, docs/BENCHMARKS.md "Fifteenth round"). */
-#define STA_HPR_EMPTY_BORDER_PX      16.0f
+ * border band, where surfaces running off-screen are to be filled. 16 px (the issue's
+ * band) left black triangles 11-25 px from the border where a sparse surface's points lie
+ * farther apart than the band (README view, lower left); 24 px left some; the whole
+ * reach (up to 128 px) filled whole scan shadows that touch the image border (street
+ * view 0's corner: depth p95 under the glass rule 2.76 -> 3.00 %); 32 px: 2.63 -> 2.70 %
+ * (docs/BENCHMARKS.md "Sixteenth round"). */
+#define STA_HPR_EMPTY_BORDER_PX      32.0f
 /* Sparse operator: a point copies its anchors' label only when every anchor's depth is
  * within this fraction of its own (no depth edge in the 2 x 2 neighbourhood). 0.005:
  * the error of the full operator to 0.3 % at the cost of 0.02 (docs/BENCHMARKS.md). */
