@@ -47,24 +47,15 @@ void main()
     float label = imageLoad(u_label, q).r;
     float fw = pp_input_weight(t0, label, u_has_label);
     vec3 fc = texelFetch(u_input_colour, q, 0).rgb;
-    // A texel of weight 1 keeps its own value whatever the coarse level holds (the over
-    // compositing gives it (1 - 1) of it), and a background texel is cleared below: the
-    // coarse taps are read only for the others (a pure saving, the same results).
-    bool background = u_has_label && pp_is_label(label, PP_LABEL_BACKGROUND);
-    bool takes_coarse = u_has_coarse && fw < 1.0 && !background;
 #else
     vec4 t0 = imageLoad(u_position, q);
     float fw = t0.w;
-    if (fw >= 1.0) {
-        return; // updated in place: a covered texel keeps its value (as above)
-    }
     vec3 fc = imageLoad(u_colour, q).rgb;
-    bool takes_coarse = u_has_coarse;
 #endif
     vec3 fp = t0.xyz;
     float sw = 0.0;
     vec3 sp = vec3(0.0), sc = vec3(0.0);
-    if (takes_coarse) {
+    if (u_has_coarse) {
         ivec2 c0 = ((q + 1) >> 1) - 1;
         vec2 wx, wy;
         wx[0] = (q.x & 1) != 0 ? 0.75 : 0.25;
@@ -120,7 +111,7 @@ void main()
         out_c = vec4(nc * inv, nw);
     }
 #ifdef PP_LEVEL0
-    if (background) {
+    if (u_has_label && pp_is_label(label, PP_LABEL_BACKGROUND)) {
         out_p = vec4(0.0);
         out_c = vec4(0.0);
     }
