@@ -57,6 +57,7 @@ uniform float u_gap;       // sta_hpr_occluder_gap_m: occluders lie this much ne
 uniform float u_marked_reach; // sta_hpr_marked_reach_px_m: a marked point's reach times depth
 uniform vec2 u_scale;       // pixels per unit of x / d and y / d: size / (2 tan)
 uniform float u_surface_tol; // sta_hpr_surface_tol_m: own-surface tolerance, 0: rule off
+uniform float u_empty_border; // sta_hpr_empty_border_px: empty pixels' border band
 // sta_hpr_params.smooth_gaps: empty pixels' sectors by landing. A variant of its own
 // (pass_hpr.c): as a uniform, llvmpipe ran both sides of every test of it, the default
 // 30 CPU ms dearer at 1080p.
@@ -238,14 +239,14 @@ void main()
     // An empty pixel (issue 15, part 2): candidates of levels >= 1 count within
     // min(cut, 2^level) pixels, where every non-empty block has a candidate in the rings
     // wherever the pixel sits in its ancestor blocks; a sector is unknown where its wedge
-    // leaves the image within that reach, up to STA_HPR_EMPTY_BORDER_PX (per pixel, not
+    // leaves the image within that reach, up to u_empty_border (per pixel, not
     // from the ring texels outside, which are block-shaped).
     int closed = 0;
     int empty_outside = 0;
     if (by_landing) {
         precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(1 << level));
         cut2 = reach * reach;
-        float border = clamp(reach, STA_HPR_MIN_REACH_PX, STA_HPR_EMPTY_BORDER_PX);
+        float border = clamp(reach, STA_HPR_MIN_REACH_PX, u_empty_border);
         empty_outside = hpr_wedge_outside(hpr_reach_outside(p, u_size, border), false);
     }
     // Levels level..1, coarse first (their rings close an empty pixel inside a surface

@@ -40,7 +40,6 @@ static void shader_defines(char *out, size_t size)
              "#define STA_HPR_CUT_FACTOR %.9e\n"
              "#define STA_HPR_EMPTY_CUT_BLOCKS %.9e\n"
              "#define STA_HPR_AXIS_TOL %.9e\n"
-             "#define STA_HPR_EMPTY_BORDER_PX %.9e\n"
              "#define STA_HPR_SPARSE_DEPTH_TAU %.9e\n"
              "#define STA_HPR_LIST_WIDTH %d\n"
              "#define STA_HPR_ANCHOR_STRIDE %d\n"
@@ -55,8 +54,8 @@ static void shader_defines(char *out, size_t size)
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
              (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_MAX_REACH_PX,
              (double)STA_HPR_CUT_FACTOR, (double)STA_HPR_EMPTY_CUT_BLOCKS, (double)STA_HPR_AXIS_TOL,
-             (double)STA_HPR_EMPTY_BORDER_PX, (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH,
-             STA_HPR_ANCHOR_STRIDE, (double)STA_POSITION_W_OCCLUDER_MAX, STA_HPR_SURFACE_MIN_POINTS,
+             (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH, STA_HPR_ANCHOR_STRIDE,
+             (double)STA_POSITION_W_OCCLUDER_MAX, STA_HPR_SURFACE_MIN_POINTS,
              (double)STA_HPR_SURFACE_MIN_DET, (double)STA_HPR_SURFACE_FRONT_SHARE,
              STA_HPR_CLASSIFY_TILE, STA_HPR_CLASSIFY_GROUP_TILES);
 }
@@ -253,6 +252,8 @@ static void set_occlusion_uniforms(GLuint program, const sta_view_params *view,
     glUniform1f(glGetUniformLocation(program, "u_marked_reach"),
                 sta_hpr_marked_reach_px_m(view, p));
     glUniform1f(glGetUniformLocation(program, "u_surface_tol"), sta_hpr_surface_tol_m(view, p));
+    glUniform1f(glGetUniformLocation(program, "u_empty_border"),
+                sta_hpr_empty_border_px(view->height_px));
     // As the twin (hpr_ref.c frame_of): pixels per unit of x / d and y / d.
     glUniform2f(glGetUniformLocation(program, "u_scale"), 0.5f * (float)view->width_px / th[0],
                 0.5f * (float)view->height_px / th[1]);

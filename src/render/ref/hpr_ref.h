@@ -63,14 +63,17 @@
  * land on the axes, and rounding would pick either pair). */
 #define STA_HPR_AXIS_TOL             0.015625f
 /* Pyramidal operator, empty pixels: a sector is unknown (left out of the mean) when its
- * wedge leaves the image within the candidates' reach, but not farther than this: the
- * border band, where surfaces running off-screen are to be filled. 16 px (the issue's
- * band) left black triangles 11-25 px from the border where a sparse surface's points lie
- * farther apart than the band (README view, lower left); 24 px left some; the whole
- * reach (up to 128 px) filled whole scan shadows that touch the image border (street
- * view 0's corner: depth p95 under the glass rule 2.76 -> 3.00 %); 32 px: 2.63 -> 2.70 %
- * (docs/BENCHMARKS.md "Sixteenth round"). */
+ * wedge leaves the image within the candidates' reach, but not farther than this, in
+ * views up to STA_HPR_BORDER_HEIGHT_PX high, in proportion to the height above
+ * (sta_hpr_empty_border_px): the border band, where surfaces running off-screen are to be
+ * filled. 16 px (the issue's band) left black triangles 11-25 px from the border where a
+ * sparse surface's points lie farther apart than the band (README view, lower left); 24
+ * px left some; 32 px at 1080 px of height too (the points lie farther apart in pixels);
+ * the whole reach (up to 128 px) filled whole scan shadows that touch the image border
+ * (street view 0's corner: depth p95 under the glass rule 2.76 -> 3.00 %); 32 px at 540:
+ * 2.63 -> 2.70 % (docs/BENCHMARKS.md "Sixteenth round"). */
 #define STA_HPR_EMPTY_BORDER_PX      32.0f
+#define STA_HPR_BORDER_HEIGHT_PX     540
 /* Sparse operator: a point copies its anchors' label only when every anchor's depth is
  * within this fraction of its own (no depth edge in the 2 x 2 neighbourhood). 0.005:
  * the error of the full operator to 0.3 % at the cost of 0.02 (docs/BENCHMARKS.md). */
@@ -110,6 +113,14 @@
 #define STA_HPR_SURFACE_FRONT_SHARE  0.5f
 #define STA_HPR_SURFACE_MIN_POINTS   5
 #define STA_HPR_SURFACE_MIN_DET      1.0f
+
+/* The empty pixels' border band for a view `height_px` pixels high (above). */
+static inline float sta_hpr_empty_border_px(int height_px)
+{
+    return height_px > STA_HPR_BORDER_HEIGHT_PX
+               ? STA_HPR_EMPTY_BORDER_PX * (float)height_px / (float)STA_HPR_BORDER_HEIGHT_PX
+               : STA_HPR_EMPTY_BORDER_PX;
+}
 
 /* The sparse operator's anchor stride for a view `height_px` pixels high (above). */
 static inline int sta_hpr_anchor_stride(int height_px)
