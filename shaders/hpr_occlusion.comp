@@ -7,12 +7,14 @@
 // dropped, and for empty pixels sectors with ring texels outside the image that nothing
 // closes are left out of the mean (docs/HPR.md). A point whose direct neighbours fit a
 // plane through it (its own surface) is hidden only by candidates in front of that
-// surface (the own-surface rule, fit_own_surface). With HPR_SMOOTH_GAPS (a variant,
-// off by default) an empty pixel's candidates close the sectors around where they
-// land, within 2^level pixels, with 4 more texels 2 away along the axes below the top
-// level, so that hole and background part along the points, not along the pyramid's
-// blocks (issue 15, part 2; docs/HPR.md "Empty pixels"). Points and empty pixels share the loops: on llvmpipe a SIMD group holding
-// both kinds would run two separate paths one after the other. Twin:
+// surface (the own-surface rule, fit_own_surface). With HPR_SMOOTH_GAPS (the default's
+// variant; without it sta_hpr_params.block_gaps) an empty pixel's candidates close the
+// sectors around where they land, within 2^level pixels, with 4 more texels 2 away along
+// the axes below the top level, so that hole and background part along the points, not
+// along the pyramid's blocks (issue 15, part 2; docs/HPR.md "Empty pixels"). Points and
+// empty pixels share the loops of the full and anchor programs: on llvmpipe a SIMD group
+// holding both kinds would run two separate paths one after the other; the refinement
+// takes them from two lists (HPR_REFINE, HPR_EMPTY_LIST). Twin:
 // sta_hpr_ref_pyramid_labels (empty_pixel_mean).
 //
 // Early exit: the sector minima only fall as neighbours are added, so once a pixel's
