@@ -7,12 +7,14 @@
 // dropped, and for empty pixels sectors with ring texels outside the image that nothing
 // closes are left out of the mean (docs/HPR.md). A point whose direct neighbours fit a
 // plane through it (its own surface) is hidden only by candidates in front of that
-// surface (the own-surface rule, fit_own_surface). With HPR_SMOOTH_GAPS (a variant,
-// off by default) an empty pixel's candidates close the sectors around where they
-// land, within 2^level pixels, with 4 more texels 2 away along the axes below the top
-// level, so that hole and background part along the points, not along the pyramid's
-// blocks (issue 15, part 2; docs/HPR.md "Empty pixels"). Points and empty pixels share the loops: on llvmpipe a SIMD group holding
-// both kinds would run two separate paths one after the other. Twin:
+// surface (the own-surface rule, fit_own_surface). With HPR_SMOOTH_GAPS (the default's
+// variant; without it sta_hpr_params.block_gaps) an empty pixel's candidates close the
+// sectors around where they land, within 2^level pixels, with 4 more texels 2 away along
+// the axes below the top level, so that hole and background part along the points, not
+// along the pyramid's blocks (issue 15, part 2; docs/HPR.md "Empty pixels"). Points and
+// empty pixels share the loops of the full and anchor programs: on llvmpipe a SIMD group
+// holding both kinds would run two separate paths one after the other; the refinement
+// takes them from two lists (HPR_REFINE, HPR_EMPTY_LIST). Twin:
 // sta_hpr_ref_pyramid_labels (empty_pixel_mean).
 //
 // Early exit: the sector minima only fall as neighbours are added, so once a pixel's
@@ -32,10 +34,15 @@ layout(binding = STA_HPR_OCCLUSION_IMAGE_POSITION, rgba32f) readonly uniform ima
 // level l >= 1 at u_level_origin[l] (pass_hpr.h)
 layout(binding = STA_HPR_OCCLUSION_IMAGE_PYRAMID, rgba32f) readonly uniform image2D u_pyramid;
 layout(binding = STA_HPR_OCCLUSION_IMAGE_LABEL, r16f) writeonly uniform image2D u_label;
-#ifdef HPR_REFINE // sparse operator, last step: the listed pixels only
+#ifdef HPR_REFINE // sparse operator, a copy step's refinement: the listed pixels only
+// Two lists in one buffer (hpr_sparse_classify.comp): points from the front, empty pixels
+// from the back; HPR_EMPTY_LIST reads the second, whose pixels are all empty, so its
+// program carries no occlusion value and no surface fit, and the points' program no
+// landing code.
 layout(std430, binding = STA_HPR_OCCLUSION_BUFFER_LIST) readonly buffer RefineList
 {
-    uint u_count;
+    uint u_count;       // points listed
+    uint u_empty_count; // empty pixels listed
     uint u_pixels[];
 };
 #endif
@@ -52,6 +59,7 @@ uniform float u_gap;       // sta_hpr_occluder_gap_m: occluders lie this much ne
 uniform float u_marked_reach; // sta_hpr_marked_reach_px_m: a marked point's reach times depth
 uniform vec2 u_scale;       // pixels per unit of x / d and y / d: size / (2 tan)
 uniform float u_surface_tol; // sta_hpr_surface_tol_m: own-surface tolerance, 0: rule off
+uniform float u_empty_border; // sta_hpr_empty_border_px: empty pixels' border band
 // sta_hpr_params.smooth_gaps: empty pixels' sectors by landing. A variant of its own
 // (pass_hpr.c): as a uniform, llvmpipe ran both sides of every test of it, the default
 // 30 CPU ms dearer at 1080p.
@@ -160,10 +168,18 @@ void main()
     // together): neighbouring pixels in each SIMD row, as in the full-screen dispatch.
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uint i = group * uint(STA_WORKGROUP_SIZE_X * STA_WORKGROUP_SIZE_Y) + gl_LocalInvocationIndex;
+#ifdef HPR_EMPTY_LIST
+    if (i >= u_empty_count) {
+        return;
+    }
+    uint entry = u_pixels[uint(u_pixels.length()) - 1u - i];
+#else
     if (i >= u_count) {
         return;
     }
-    p = ivec2(int(u_pixels[i] & 0xffffu), int(u_pixels[i] >> 16));
+    uint entry = u_pixels[i];
+#endif
+    p = ivec2(int(entry & 0xffffu), int(entry >> 16));
 #endif
 #ifdef HPR_ANCHORS // sparse operator, first step: the anchors only (x, y multiples of the stride)
     p *= u_anchor_stride;
@@ -192,12 +208,24 @@ void main()
     precise float cut = STA_HPR_CUT_FACTOR * radius;
     precise float cut2 = cut * cut;
 
+#ifdef HPR_EMPTY_LIST
+    // Known empty (listed so by the copy step): no position to load.
+    vec4 own = vec4(0.0);
+    const bool is_point = false;
+    const bool on = false;
+#else
     vec4 own = imageLoad(u_position, p);
+#ifdef HPR_REFINE
+    const bool is_point = true; // the points' list: no empty pixel's code
+#else
+    bool is_point = own.w > 0.5;
+#endif
+    bool on = u_surface_tol > 0.0 && hpr_occludes(own.w) && -own.z > 0.0;
+#endif
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);
     precise float limit = -x.z - u_gap;
     // The 8 direct neighbours, loaded once for the fit and level 0 when the own-surface
-    // rule applies; otherwise level 0 loads them if the pixel gets there.
-    bool on = u_surface_tol > 0.0 && hpr_occludes(own.w) && -own.z > 0.0;
+    // rule applies (on); otherwise level 0 loads them if the pixel gets there.
     vec4 nb[8];
     for (int i = 0; i < 8; i++) {
         ivec2 n = p + RING[i];
@@ -207,21 +235,20 @@ void main()
     g_surface = fit_own_surface(own, p, on, nb);
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
     int outside = 0; // sectors with ring texels outside the image within the reach
-    bool is_point = own.w > 0.5;
     // Off (the default): empty pixels as points, by ring position (main's blocky rule).
     bool by_landing = !is_point && SMOOTH_GAPS;
     float bound = hpr_closed_bound(is_point, u_threshold);
     // An empty pixel (issue 15, part 2): candidates of levels >= 1 count within
     // min(cut, 2^level) pixels, where every non-empty block has a candidate in the rings
     // wherever the pixel sits in its ancestor blocks; a sector is unknown where its wedge
-    // leaves the image within that reach, up to STA_HPR_EMPTY_BORDER_PX (per pixel, not
+    // leaves the image within that reach, up to u_empty_border (per pixel, not
     // from the ring texels outside, which are block-shaped).
     int closed = 0;
     int empty_outside = 0;
     if (by_landing) {
         precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(1 << level));
         cut2 = reach * reach;
-        float border = clamp(reach, STA_HPR_MIN_REACH_PX, STA_HPR_EMPTY_BORDER_PX);
+        float border = clamp(reach, STA_HPR_MIN_REACH_PX, u_empty_border);
         empty_outside = hpr_wedge_outside(hpr_reach_outside(p, u_size, border), false);
     }
     // Levels level..1, coarse first (their rings close an empty pixel inside a surface
@@ -253,7 +280,9 @@ void main()
                               true, closed, min_lo, min_hi);
             }
         }
-        settled = by_landing ? closed == 255 : hpr_settled(min_lo, min_hi, is_point, outside, bound);
+        // An empty pixel with a closed sector and every known sector closed is a hole
+        // whatever else closes (with none closed and none known it is background so far).
+        settled = by_landing ? closed != 0 && (closed | empty_outside) == 255 : hpr_settled(min_lo, min_hi, is_point, outside, bound);
     }
     // Level 0: the 8 direct neighbours, from the position texture.
     for (int i = 0; i < 8 && !settled; i++) {

@@ -24,24 +24,32 @@ layout(local_size_x = STA_HPR_CLASSIFY_GROUP_TILES, local_size_y = 1) in;
 layout(binding = STA_HPR_SPARSE_CLASSIFY_IMAGE_POSITION,
        rgba32f) readonly uniform image2D u_position;
 layout(binding = STA_HPR_SPARSE_CLASSIFY_IMAGE_LABEL, r16f) uniform image2D u_label;
+// Two lists in one buffer: points from the front, empty pixels from the back, each
+// refined by a program of its own (hpr_occlusion.comp, HPR_EMPTY_LIST): a program for
+// both kinds ran the other kind's code, masked, for every pixel of a mixed SIMD group.
 layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_LIST) buffer RefineList
 {
-    uint u_count;
-    uint u_pixels[]; // x | y << 16
+    uint u_count;       // points listed
+    uint u_empty_count; // empty pixels listed
+    uint u_pixels[];    // x | y << 16
 };
-// The refinement's indirect dispatch (x, y, z workgroups): y grows here with the list,
-// so that no count has to be read back on the CPU to size it.
+// The refinements' indirect dispatches (x, y, z workgroups; points', then empty
+// pixels'): y grows here with each list, so that no count has to be read back on the
+// CPU to size them.
 layout(std430, binding = STA_HPR_SPARSE_CLASSIFY_BUFFER_DISPATCH) buffer RefineDispatch
 {
-    uint u_groups[3];
+    uint u_groups[6];
 };
 uniform ivec2 u_size;
 uniform int u_stride; // pixels per grid step
 
 // STA_HPR_CLASSIFY_TILE (pass_hpr.c): 2x2 blocks per tile side.
-// The tile's listed pixels (x | y << 16), at most 3 a block.
+// The tile's listed pixels (x | y << 16, bit EMPTY_BIT set for an empty pixel: y < 2^15),
+// at most 3 a block.
+const uint EMPTY_BIT = 0x80000000u;
 uint g_listed[3 * STA_HPR_CLASSIFY_TILE * STA_HPR_CLASSIFY_TILE];
 uint g_count = 0u;
+uint g_empty = 0u; // of them empty
 
 bool is_point_label(float label)
 {
@@ -88,8 +96,9 @@ void classify(ivec2 g, ivec2 grid, bool four, vec4 la, vec4 da)
         imageStore(u_label, p, vec4(label, 0.0, 0.0, 0.0));
         return;
     }
-    g_listed[g_count] = uint(p.x) | (uint(p.y) << 16);
+    g_listed[g_count] = uint(p.x) | (uint(p.y) << 16) | (own_point ? 0u : EMPTY_BIT);
     g_count++;
+    g_empty += own_point ? 0u : 1u;
 }
 
 // The 2x2 block whose anchor is a0 (in grid steps).
@@ -138,15 +147,22 @@ void main()
     if (g_count == 0u) {
         return;
     }
-    uint base = atomicAdd(u_count, g_count);
-    // The entries are 0..count-1 without gaps, so the entry that opens a dispatch row
-    // alone raises the row count: one atomic per row, not per pixel.
+    uint points = g_count - g_empty;
+    uint base = points > 0u ? atomicAdd(u_count, points) : 0u;
+    uint empty_base = g_empty > 0u ? atomicAdd(u_empty_count, g_empty) : 0u;
+    // The entries of each list are 0..count-1 without gaps, so the entry that opens a
+    // dispatch row alone raises its row count: one atomic per row, not per pixel. Entry
+    // k of the empty pixels' list lies at u_pixels[length - 1 - k].
     const uint row = uint(STA_HPR_LIST_WIDTH * STA_WORKGROUP_SIZE_Y);
+    const uint last = uint(u_pixels.length()) - 1u;
     for (uint i = 0u; i < g_count; i++) {
-        uint k = base + i;
-        u_pixels[k] = g_listed[i];
+        bool empty = (g_listed[i] & EMPTY_BIT) != 0u;
+        uint k = empty ? empty_base : base;
+        u_pixels[empty ? last - k : k] = g_listed[i] & ~EMPTY_BIT;
         if (k % row == 0u) {
-            atomicMax(u_groups[1], k / row + 1u);
+            atomicMax(u_groups[empty ? 4 : 1], k / row + 1u);
         }
+        empty_base += empty ? 1u : 0u;
+        base += empty ? 0u : 1u;
     }
 }

@@ -33,6 +33,12 @@ static void near_at(double a, double b, double eps, const char *file, int line)
 }
 #define assert_near(a, b, eps) near_at((double)(a), (double)(b), (eps), __FILE__, __LINE__)
 
+/* default_gaps_follow_the_points_street: the 16-px block-line ratio of the default at
+ * most, of the rule by blocks at least (measured at 480x270, views 0 / 1: 5.5 / 4.7 and
+ * 100 / 24.7; 1 = no block structure). */
+#define STREET_GAPS_DEFAULT_MAX 8.0
+#define STREET_GAPS_BLOCKS_MIN  15.0
+
 static const double origin[3] = { 650241.375, 5401873.625, 103.25 }; // the utm origin
 
 // The synth sphere: centre (0, 0, 0) local, radius 10 m.
@@ -853,6 +859,64 @@ static void core_end_to_end_sphere(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
+// The default HPR decides each empty pixel on its own (issue 15, part 2): on a small
+// street its scan-shadow gaps part from the surface along the points, not along the
+// pyramid's 16-px block lines (strata-bench's gap_blocks_16, docs/BENCH.md), while the
+// rule by blocks (--hpr-gaps blocks) shows them. The whole default pipeline runs, the
+// sparse operator's copy steps and both refinement lists included.
+static void default_gaps_follow_the_points_street(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    sta_gl_headless gl = { 0 };
+    if (sta_gl_headless_create(&gl, &err) != STA_OK) {
+        fail_msg("no GL context: %s", err.message);
+    }
+    char las[4096], strata[4096];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("bench_gaps_street.las"));
+    snprintf(strata, sizeof(strata), "%s", sta_test_tmp_path("bench_gaps_street.strata"));
+    sta_synth_params p = { .kind = STA_SYNTH_STREET, .seed = 1, .point_count = 300000 };
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    const char *inputs[] = { las };
+    sta_convert_options co = {
+        .inputs = inputs, .input_count = 1, .output = strata, .force = true, .compress_level = 1
+    };
+    assert_int_equal(sta_convert(&co, NULL, &err), STA_OK);
+    const char *scenes[] = { strata };
+    double gaps16[2][2]; // [default, blocks][view]
+    for (int blocks = 0; blocks < 2; blocks++) {
+        sta_bench_options o = { .scenes = scenes,
+                                .scene_count = 1,
+                                .cameras = STA_BENCH_STREET,
+                                .camera_count = 2,
+                                .width_px = 480,
+                                .height_px = 270,
+                                .modes = { STA_PIPELINE_HPR },
+                                .mode_count = 1,
+                                .hpr_block_gaps = blocks == 1,
+                                .repeat = 1,
+                                .no_image_error = true };
+        sta_bench_results r = { 0 };
+        if (sta_bench_run(&o, &r, &err) != STA_OK) {
+            fail_msg("%s", err.message);
+        }
+        assert_int_equal(r.count, 2);
+        for (size_t i = 0; i < r.count; i++) {
+            gaps16[blocks][i] = r.rows[i].gap_blocks_16;
+            print_message("street view %d, %s: gap_blocks 8 / 16 / 32 px %.2f / %.2f / %.2f\n",
+                          r.rows[i].camera, blocks ? "blocks" : "default", r.rows[i].gap_blocks_8,
+                          r.rows[i].gap_blocks_16, r.rows[i].gap_blocks_32);
+        }
+        sta_bench_results_release(&r);
+    }
+    for (int v = 0; v < 2; v++) {
+        assert_true(isfinite(gaps16[0][v]) && isfinite(gaps16[1][v]));
+        assert_true(gaps16[0][v] < STREET_GAPS_DEFAULT_MAX);
+        assert_true(gaps16[1][v] > STREET_GAPS_BLOCKS_MIN);
+    }
+    sta_gl_headless_destroy(&gl);
+}
+
 // The live Katz mode as a method (--katz-live) beside the offline reference with a
 // perturbation (--katz-perturbation): one extra row per view, with the latency from the
 // camera to its set, the hull's CPU time and F1 of the set's points against the truth;
@@ -1197,6 +1261,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(point_sizes_sphere),
     cmocka_unit_test(truth_mesh_path_is_relative_to_the_sidecar),
     cmocka_unit_test(core_end_to_end_sphere),
+    cmocka_unit_test(default_gaps_follow_the_points_street),
 };
 
 STA_TEST_MAIN(tests)

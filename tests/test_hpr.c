@@ -1089,9 +1089,9 @@ static void street_gaps_follow_the_points(void **state)
     // near by (neighbourhood radius K / z about 25 px, top levels 4 and 5) with a gap of
     // slanted and curved borders. Where hole turns into background must follow the
     // points, not the pyramid's 16-px and 32-px block lines: each empty pixel's
-    // decision is its own (sta_hpr_params.smooth_gaps). The gap's core stays background,
-    // and the surface away from the gap has no background specks. Without smooth_gaps
-    // (the default) the gap's border runs along block lines (about 3x as many
+    // decision is its own (the default since issue 15's sixteenth round). The gap's core
+    // stays background, and the surface away from the gap has no background specks. With
+    // sta_hpr_params.block_gaps the gap's border runs along block lines (about 3x as many
     // hole/background changes across 16-px lines as elsewhere).
     enum {
         W = 192,
@@ -1116,9 +1116,9 @@ static void street_gaps_follow_the_points(void **state)
         }
     }
     both_result blocks, r;
-    run_both("street-like gaps, by blocks", &view, NULL, &position, -1, &blocks);
-    sta_hpr_params smooth = { .smooth_gaps = true };
-    run_both("street-like gaps, smooth", &view, &smooth, &position, -1, &r);
+    sta_hpr_params by_blocks = { .block_gaps = true };
+    run_both("street-like gaps, by blocks", &view, &by_blocks, &position, -1, &blocks);
+    run_both("street-like gaps, the default", &view, NULL, &position, -1, &r);
     double on16 = 0.0, off16 = 0.0, on32 = 0.0, off32 = 0.0;
     double block_on16 = 0.0, block_off16 = 0.0;
     block_line_rates(&position, &blocks.pyramid_label, 16, &block_on16, &block_off16);
@@ -1467,7 +1467,11 @@ static void marked_points_hide_only_nearby(void **state)
         }
     }
     sta_hpr_params wide = { .s_hpr = 30.0f * view.s0 };
-    sta_hpr_params unlimited = { .s_hpr = wide.s_hpr, .marked_reach_s0 = -1.0f };
+    // The rule before, with the empty pixels' rule before it too (by blocks): per pixel
+    // (the default), the sky stays open without the reach as well (below).
+    sta_hpr_params unlimited = { .s_hpr = wide.s_hpr,
+                                 .marked_reach_s0 = -1.0f,
+                                 .block_gaps = true };
     both_result rule, before;
     assert_int_equal(run_both("marked", &view, &wide, &position, -1, &rule), 0);
     assert_int_equal(run_both("marked, any reach", &view, &unlimited, &position, -1, &before), 0);
@@ -1494,8 +1498,8 @@ static void marked_points_hide_only_nearby(void **state)
     for (int k = 0; k < M_OTHER; k++) {
         assert_int_equal(want[k], count[k]);
     }
-    // Before the rule the canopy hid most of the wall and closed the sky. (With
-    // smooth_gaps, issue 15 part 2, empty pixels count candidates within 2^level pixels
+    // Before the rule the canopy hid most of the wall and closed the sky. (Since issue 15
+    // part 2, by default, empty pixels count candidates within 2^level pixels
     // only: the crown points lie farther apart, so the sky stays open there without the
     // reach as well.)
     assert_true(before_want[M_WALL] < count[M_WALL] / 2);

@@ -241,7 +241,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     static const int raster_values[] = { STA_RASTER_COMPUTE, STA_RASTER_POINTS };
     int hpr = 0; // index into hpr_names
     static const char *const hpr_names[] = { "sparse", "exhaustive", "katz", "pyramid", NULL };
-    int gaps = 0; // index into gaps_names
+    int gaps = 1; // index into gaps_names: smooth
     static const char *const gaps_names[] = { "blocks", "smooth", NULL };
     static const char *const sample_names[] = { "5", "9", "17", "25", NULL };
     static const int sample_values[] = { 5, 9, 17, 25 };
@@ -564,8 +564,8 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .metavar = "MODE",
           .choices = gaps_names,
           .help = "pyramidal HPR's hole / background decision for empty pixels: by the "
-                  "pyramid's blocks (gaps' borders step along 16-32 px block lines), or per "
-                  "pixel (borders follow the points; HPR about a third dearer; docs/HPR.md)" },
+                  "pyramid's blocks (gaps' borders step along 16-32 px block lines; the rule "
+                  "before issue 15), or per pixel (borders follow the points; docs/HPR.md)" },
         { .name = "katz-points",
           .kind = STA_CLI_COUNT,
           .dest = &a->katz.sample_points,
@@ -635,7 +635,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
     }
     a->hpr_exhaustive = hpr == 1;
     a->hpr_every_pixel = hpr == 3;
-    a->hpr_smooth_gaps = gaps == 1;
+    a->hpr_block_gaps = gaps == 0;
     a->katz.enabled = hpr == 2;
     if (r.positional_count == 0) {
         return sta_cli_usage_error(&cli, "no scene given (see --help)");

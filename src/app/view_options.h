@@ -40,7 +40,7 @@ typedef struct sta_view_args {
     bool smooth;               /* --smooth */
     bool hpr_exhaustive;       /* --hpr exhaustive */
     bool hpr_every_pixel;      /* --hpr pyramid (default --hpr sparse) */
-    bool hpr_smooth_gaps;      /* --hpr-gaps smooth (default blocks) */
+    bool hpr_block_gaps;       /* --hpr-gaps blocks (default smooth) */
     bool normals_every_pixel;  /* --normals-every-pixel */
     int hpr_radius_px;         /* --hpr-radius */
     double hpr_threshold;      /* --hpr-threshold */

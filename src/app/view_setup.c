@@ -126,7 +126,7 @@ void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *
     out->smooth = args->smooth;
     out->hpr_exhaustive = args->hpr_exhaustive;
     out->hpr_every_pixel = args->hpr_every_pixel;
-    out->hpr_smooth_gaps = args->hpr_smooth_gaps;
+    out->hpr_block_gaps = args->hpr_block_gaps;
     out->normals_every_pixel = args->normals_every_pixel;
     out->hpr_radius_px = args->hpr_radius_px;
     out->hpr_threshold = (float)args->hpr_threshold;

@@ -374,7 +374,7 @@ int main(int argc, char **argv)
     const char *out_dir = "bench-out";
     bool quiet = false;
     hpr_list hpr = { .variants = o.hpr_variants };
-    int gaps = 0; // index into gaps_names
+    int gaps = 1; // index into gaps_names: smooth
     static const char *const gaps_names[] = { "blocks", "smooth", NULL };
     truth_list truths = { .items = calloc((size_t)argc, sizeof(char *)) };
     if (!truths.items) {
@@ -485,8 +485,8 @@ int main(int argc, char **argv)
           .metavar = "MODE",
           .choices = gaps_names,
           .help = "the pyramid's hole / background decision for empty pixels: by the "
-                  "pyramid's blocks or per pixel (smooth: gaps' borders follow the points, "
-                  "HPR about a third dearer; docs/HPR.md)" },
+                  "pyramid's blocks (gaps' borders on block lines) or per pixel (smooth: "
+                  "gaps' borders follow the points; docs/HPR.md)" },
         { .name = "normals-every-pixel",
           .kind = STA_CLI_FLAG,
           .dest = &o.normals_every_pixel,
@@ -634,7 +634,7 @@ int main(int argc, char **argv)
         return rc;
     }
     o.hpr_threshold = (float)hpr_threshold;
-    o.hpr_smooth_gaps = gaps == 1;
+    o.hpr_block_gaps = gaps == 0;
     o.progress = !quiet;
     o.scenes = (const char *const *)r.positional;
     o.scene_count = (size_t)r.positional_count;

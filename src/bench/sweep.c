@@ -280,7 +280,7 @@ static void set_pipeline(const scene_run *run, sta_scene *scene, const sta_bench
                                .smooth = o->smooth && mode_runs_normals(st->mode),
                                .hpr_exhaustive = st->hpr_exhaustive,
                                .hpr_every_pixel = o->hpr_every_pixel,
-                               .hpr_smooth_gaps = o->hpr_smooth_gaps,
+                               .hpr_block_gaps = o->hpr_block_gaps,
                                .normals_every_pixel = o->normals_every_pixel,
                                .keep_normal_image = true, // read for the normal errors
                                .hpr_radius_px = o->hpr_radius_px,

@@ -56,7 +56,7 @@ typedef struct sta_bench_options {
     bool hpr_variants[2];                 /* HPR variants: [0] pyramid, [1] exhaustive;
                                              neither set: pyramid only */
     bool hpr_every_pixel;                 /* the pyramid variant on every pixel, not sparse */
-    bool hpr_smooth_gaps;                 /* empty pixels decided per pixel (--hpr-gaps) */
+    bool hpr_block_gaps;                  /* empty pixels decided by blocks (--hpr-gaps blocks) */
     bool normals_every_pixel;             /* pyramidal normals gathered on every pixel */
     bool smooth;                          /* normal smoothing pass */
     bool fill_every_class;                /* no volumetric classes: every class filled and

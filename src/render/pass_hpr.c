@@ -40,7 +40,6 @@ static void shader_defines(char *out, size_t size)
              "#define STA_HPR_CUT_FACTOR %.9e\n"
              "#define STA_HPR_EMPTY_CUT_BLOCKS %.9e\n"
              "#define STA_HPR_AXIS_TOL %.9e\n"
-             "#define STA_HPR_EMPTY_BORDER_PX %.9e\n"
              "#define STA_HPR_SPARSE_DEPTH_TAU %.9e\n"
              "#define STA_HPR_LIST_WIDTH %d\n"
              "#define STA_HPR_ANCHOR_STRIDE %d\n"
@@ -55,8 +54,8 @@ static void shader_defines(char *out, size_t size)
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
              (double)STA_HPR_SQRT_HALF, (double)STA_HPR_MIN_REACH_PX, (double)STA_HPR_MAX_REACH_PX,
              (double)STA_HPR_CUT_FACTOR, (double)STA_HPR_EMPTY_CUT_BLOCKS, (double)STA_HPR_AXIS_TOL,
-             (double)STA_HPR_EMPTY_BORDER_PX, (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH,
-             STA_HPR_ANCHOR_STRIDE, (double)STA_POSITION_W_OCCLUDER_MAX, STA_HPR_SURFACE_MIN_POINTS,
+             (double)STA_HPR_SPARSE_DEPTH_TAU, STA_HPR_LIST_WIDTH, STA_HPR_ANCHOR_STRIDE,
+             (double)STA_POSITION_W_OCCLUDER_MAX, STA_HPR_SURFACE_MIN_POINTS,
              (double)STA_HPR_SURFACE_MIN_DET, (double)STA_HPR_SURFACE_FRONT_SHARE,
              STA_HPR_CLASSIFY_TILE, STA_HPR_CLASSIFY_GROUP_TILES);
 }
@@ -67,29 +66,20 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
     char defines[STA_HPR_DEFINES_SIZE];
     shader_defines(defines, sizeof(defines));
     const char *pyramid[] = { "hpr_pyramid.comp" };
-    const char *occlusion[] = { "hpr_common.glsl", "hpr_occlusion.comp" };
     const char *exhaustive[] = { "hpr_common.glsl", "hpr_exhaustive.comp" };
+    const char *classify[] = { "hpr_sparse_classify.comp" };
     sta_status status = sta_gl_program_create(pyramid, 1, defines, &pass->pyramid_program, err);
-    if (status == STA_OK) {
-        status = sta_gl_program_create(occlusion, 2, defines, &pass->occlusion_program, err);
-    }
     if (status == STA_OK) {
         status = sta_gl_program_create(exhaustive, 2, defines, &pass->exhaustive_program, err);
     }
-    size_t n = strlen(defines);
-    const char *classify[] = { "hpr_sparse_classify.comp" };
-    const struct {
-        const char *define;
-        const char **names;
-        int count;
-        GLuint *program;
-    } sparse[] = { { "#define HPR_ANCHORS 1\n", occlusion, 2, &pass->anchors_program },
-                   { "#define HPR_REFINE 1\n", occlusion, 2, &pass->refine_program },
-                   { "", classify, 1, &pass->classify_program } };
-    for (size_t i = 0; i < sizeof(sparse) / sizeof(sparse[0]) && status == STA_OK; i++) {
-        snprintf(defines + n, sizeof(defines) - n, "%s", sparse[i].define);
-        status = sta_gl_program_create(sparse[i].names, sparse[i].count, defines, sparse[i].program,
-                                       err);
+    if (status == STA_OK) {
+        status = sta_gl_program_create(classify, 1, defines, &pass->classify_program, err);
+    }
+    if (status == STA_OK) {
+        const char *occlusion[] = { "hpr_common.glsl", "hpr_occlusion.comp" };
+        size_t n = strlen(defines);
+        snprintf(defines + n, sizeof(defines) - n, "#define HPR_REFINE 1\n");
+        status = sta_gl_program_create(occlusion, 2, defines, &pass->refine_program, err);
     }
     if (status != STA_OK) {
         sta_hpr_pass_release(pass);
@@ -111,14 +101,18 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
 
 void sta_hpr_pass_release(sta_hpr_pass *pass)
 {
-    GLuint programs[] = { pass->pyramid_program,    pass->occlusion_program,
-                          pass->exhaustive_program, pass->anchors_program,
-                          pass->refine_program,     pass->classify_program,
-                          pass->smooth_programs[0], pass->smooth_programs[1],
-                          pass->smooth_programs[2] };
+    GLuint programs[] = { pass->pyramid_program, pass->exhaustive_program, pass->refine_program,
+                          pass->classify_program };
     for (size_t i = 0; i < sizeof(programs) / sizeof(programs[0]); i++) {
         if (programs[i]) {
             glDeleteProgram(programs[i]);
+        }
+    }
+    for (int m = 0; m < 2; m++) {
+        for (int i = 0; i < 3; i++) {
+            if (pass->gap_programs[m][i]) {
+                glDeleteProgram(pass->gap_programs[m][i]);
+            }
         }
     }
     if (pass->list_buffer) {
@@ -258,6 +252,8 @@ static void set_occlusion_uniforms(GLuint program, const sta_view_params *view,
     glUniform1f(glGetUniformLocation(program, "u_marked_reach"),
                 sta_hpr_marked_reach_px_m(view, p));
     glUniform1f(glGetUniformLocation(program, "u_surface_tol"), sta_hpr_surface_tol_m(view, p));
+    glUniform1f(glGetUniformLocation(program, "u_empty_border"),
+                sta_hpr_empty_border_px(view->height_px));
     // As the twin (hpr_ref.c frame_of): pixels per unit of x / d and y / d.
     glUniform2f(glGetUniformLocation(program, "u_scale"), 0.5f * (float)view->width_px / th[0],
                 0.5f * (float)view->height_px / th[1]);
@@ -274,29 +270,32 @@ static sta_status ensure_list(sta_hpr_pass *pass, int pixels, sta_error *err)
     }
     if (!pass->dispatch_buffer) {
         glCreateBuffers(1, &pass->dispatch_buffer);
-        glNamedBufferStorage(pass->dispatch_buffer, 3 * sizeof(GLuint), NULL,
+        glNamedBufferStorage(pass->dispatch_buffer, 6 * sizeof(GLuint), NULL,
                              GL_DYNAMIC_STORAGE_BIT);
     }
     glCreateBuffers(1, &pass->list_buffer);
-    glNamedBufferStorage(pass->list_buffer, ((GLsizeiptr)pixels + 1) * (GLsizeiptr)sizeof(GLuint),
+    // Two counts, then the pixels: the shaders take the lists' room from its length.
+    glNamedBufferStorage(pass->list_buffer, ((GLsizeiptr)pixels + 2) * (GLsizeiptr)sizeof(GLuint),
                          NULL, GL_DYNAMIC_STORAGE_BIT);
     pass->list_pixels = pixels;
     return sta_gl_check("hpr refinement list", err);
 }
 
 // One copy step of the sparse operator on the grid of pixels whose x and y are
-// multiples of `stride`, then the refinement of the pixels it listed (one indirect
-// dispatch sized by the copy step: no count read back, so a GPU does not stall).
+// multiples of `stride`, then the refinement of the points and of the empty pixels it
+// listed (`refine`: the two programs; one indirect dispatch each, sized by the copy step:
+// no count read back, so a GPU does not stall).
 static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
                             const sta_hpr_params *p, int levels, const float *level_depth,
-                            GLuint refine_program, int stride)
+                            const GLuint refine[2], int stride)
 {
     int w = view->width_px, h = view->height_px;
-    GLuint zero = 0;
-    // The refinement's workgroups: a row of STA_HPR_LIST_WIDTH pixels across, rows
-    // added by the classify step as the list grows (none when it stays empty).
-    const GLuint groups[3] = { STA_HPR_LIST_WIDTH / STA_WORKGROUP_SIZE_X, 0, 1 };
-    glNamedBufferSubData(pass->list_buffer, 0, sizeof(zero), &zero);
+    const GLuint zero[2] = { 0, 0 };
+    // The refinements' workgroups: a row of STA_HPR_LIST_WIDTH pixels across, rows
+    // added by the classify step as each list grows (none when it stays empty).
+    const GLuint groups[6] = { STA_HPR_LIST_WIDTH / STA_WORKGROUP_SIZE_X, 0, 1,
+                               STA_HPR_LIST_WIDTH / STA_WORKGROUP_SIZE_X, 0, 1 };
+    glNamedBufferSubData(pass->list_buffer, 0, sizeof(zero), zero);
     glNamedBufferSubData(pass->dispatch_buffer, 0, sizeof(groups), groups);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glUseProgram(pass->classify_program);
@@ -312,15 +311,18 @@ static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
         (GLuint)tiles_h, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
                     GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    set_occlusion_uniforms(refine_program, view, p, levels, level_depth);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pass->dispatch_buffer);
-    glDispatchComputeIndirect(0);
+    for (int kind = 0; kind < 2; kind++) { // the points, then the empty pixels
+        set_occlusion_uniforms(refine[kind], view, p, levels, level_depth);
+        glDispatchComputeIndirect((GLintptr)(3 * sizeof(GLuint) * (size_t)kind));
+    }
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 }
 
 // The sparse operator (docs/HPR.md, "Sparse operator"): the operator on the anchors
 // (x and y multiples of sta_hpr_anchor_stride), then copy steps with their refinements
-// on ever finer grids, down to every pixel from the even ones.
+// on ever finer grids, down to every pixel from the even ones. programs: the empty
+// pixels' rule's (every pixel, anchors, listed empty pixels).
 static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
                              const sta_hpr_params *p, int levels, const float *level_depth,
                              const GLuint programs[3], GLuint label_texture, sta_error *err)
@@ -339,8 +341,9 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     const int stride = sta_hpr_anchor_stride(h);
     glUniform1i(glGetUniformLocation(programs[1], "u_anchor_stride"), stride);
     sta_gl_dispatch_2d((w + stride - 1) / stride, (h + stride - 1) / stride);
+    const GLuint refine[2] = { pass->refine_program, programs[2] };
     for (int step = stride / 2; step >= 1; step /= 2) {
-        copy_and_refine(pass, view, p, levels, level_depth, programs[2], step);
+        copy_and_refine(pass, view, p, levels, level_depth, refine, step);
     }
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT);
@@ -349,29 +352,32 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     return sta_gl_check("hpr sparse occlusion", err);
 }
 
-// The pyramidal operator's programs with smooth_gaps (full, anchors, refine), compiled
-// on first use; the default's programs are compiled without its code.
-static sta_status smooth_programs(sta_hpr_pass *pass, sta_error *err)
+// The programs of the empty pixels' rule `smooth` (every pixel, anchors, listed empty
+// pixels), compiled on first use; each rule's programs hold no code of the other.
+static sta_status gap_programs(sta_hpr_pass *pass, bool smooth, sta_error *err)
 {
-    if (pass->smooth_programs[0]) {
+    GLuint *out = pass->gap_programs[smooth ? 1 : 0];
+    if (out[0]) {
         return STA_OK;
     }
     const char *occlusion[] = { "hpr_common.glsl", "hpr_occlusion.comp" };
-    const char *variants[3] = { "", "#define HPR_ANCHORS 1\n", "#define HPR_REFINE 1\n" };
+    const char *variants[3] = { "", "#define HPR_ANCHORS 1\n",
+                                "#define HPR_REFINE 1\n#define HPR_EMPTY_LIST 1\n" };
     char defines[STA_HPR_DEFINES_SIZE];
     shader_defines(defines, sizeof(defines));
     size_t n = strlen(defines);
     sta_status status = STA_OK;
     for (int i = 0; i < 3 && status == STA_OK; i++) {
-        snprintf(defines + n, sizeof(defines) - n, "#define HPR_SMOOTH_GAPS 1\n%s", variants[i]);
-        status = sta_gl_program_create(occlusion, 2, defines, &pass->smooth_programs[i], err);
+        snprintf(defines + n, sizeof(defines) - n, "%s%s",
+                 smooth ? "#define HPR_SMOOTH_GAPS 1\n" : "", variants[i]);
+        status = sta_gl_program_create(occlusion, 2, defines, &out[i], err);
     }
     if (status != STA_OK) {
         for (int i = 0; i < 3; i++) {
-            if (pass->smooth_programs[i]) {
-                glDeleteProgram(pass->smooth_programs[i]);
+            if (out[i]) {
+                glDeleteProgram(out[i]);
             }
-            pass->smooth_programs[i] = 0;
+            out[i] = 0;
         }
     }
     return status;
@@ -398,15 +404,12 @@ sta_status sta_hpr_pass_run_pyramid(sta_hpr_pass *pass, const sta_view_params *v
                        GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_PYRAMID, pyramid_texture, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
-    // full, anchors, refine: the default's or smooth_gaps' (HPR_SMOOTH_GAPS)
-    GLuint programs[3] = { pass->occlusion_program, pass->anchors_program, pass->refine_program };
-    if (p.smooth_gaps) {
-        status = smooth_programs(pass, err);
-        if (status != STA_OK) {
-            return status;
-        }
-        memcpy(programs, pass->smooth_programs, sizeof(programs));
+    // every pixel, anchors, listed empty pixels: the empty pixels' rule's
+    status = gap_programs(pass, !p.block_gaps, err);
+    if (status != STA_OK) {
+        return status;
     }
+    const GLuint *programs = pass->gap_programs[p.block_gaps ? 0 : 1];
     if (p.sparse) {
         return run_sparse(pass, view, &p, levels, level_depth, programs, label_texture, err);
     }

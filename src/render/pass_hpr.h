@@ -24,18 +24,21 @@
 
 typedef struct sta_hpr_pass {
     GLuint pyramid_program;    /* hpr_pyramid.comp: one level from the one below */
-    GLuint occlusion_program;  /* hpr_occlusion.comp: pyramidal operator */
     GLuint exhaustive_program; /* hpr_exhaustive.comp: fixed-radius operator */
-    /* The sparse operator (sta_hpr_params.sparse): hpr_occlusion.comp on the anchors
-     * and on the listed pixels, hpr_sparse_classify.comp between them. */
-    GLuint anchors_program, refine_program, classify_program;
-    /* The pyramidal operator's three programs with sta_hpr_params.smooth_gaps
-     * (HPR_SMOOTH_GAPS; full, anchors, refine), compiled when first asked for: a uniform
-     * switch cost the default 30 CPU ms at 1080p, llvmpipe running both sides. */
-    GLuint smooth_programs[3];
-    GLuint list_buffer;     /* count, then the pixels to refine; grown as needed */
+    /* The sparse operator (sta_hpr_params.sparse): hpr_sparse_classify.comp lists the
+     * pixels to refine, points and empty pixels apart; hpr_occlusion.comp refines the
+     * points (refine_program, HPR_REFINE). */
+    GLuint refine_program, classify_program;
+    /* Per empty pixels' rule (index 0: sta_hpr_params.block_gaps, 1: per pixel, the default,
+     * with HPR_SMOOTH_GAPS), the programs of hpr_occlusion.comp that differ: every pixel,
+     * the anchors (HPR_ANCHORS), the listed empty pixels (HPR_REFINE, HPR_EMPTY_LIST);
+     * compiled when first asked for: a uniform switch cost 30 CPU ms at 1080p, llvmpipe
+     * running both sides. */
+    GLuint gap_programs[2][3];
+    GLuint list_buffer;     /* two counts, then the pixels to refine (points from the front,
+                               empty pixels from the back); grown as needed */
     int list_pixels;        /* pixels the list buffer holds */
-    GLuint dispatch_buffer; /* the refinement's indirect dispatch, sized by the classify step */
+    GLuint dispatch_buffer; /* the refinements' two indirect dispatches, sized by the copy step */
     GLint pyr_src_size, pyr_dst_size, pyr_src_origin, pyr_dst_origin;
     GLint exh_size, exh_radius, exh_tan_half, exh_far, exh_threshold;
 } sta_hpr_pass;

@@ -389,7 +389,7 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     mark(p, t, STA_PASS_HPR, 0);
     sta_hpr_params hpr = { .threshold = o->hpr_threshold,
                            .sparse = !o->hpr_every_pixel,
-                           .smooth_gaps = o->hpr_smooth_gaps };
+                           .block_gaps = o->hpr_block_gaps };
     if (o->hpr_exhaustive) {
         s = sta_hpr_pass_run_exhaustive(&p->hpr, view, &hpr,
                                         o->hpr_radius_px > 0 ? o->hpr_radius_px

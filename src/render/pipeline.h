@@ -67,8 +67,8 @@ typedef struct sta_pipeline_options {
     bool hpr_exhaustive;         /* the fixed-radius baseline instead of the pyramid */
     bool hpr_every_pixel;        /* the pyramid on every pixel instead of the sparse operator
                                     (the default; sta_hpr_params.sparse, docs/HPR.md) */
-    bool hpr_smooth_gaps;        /* empty pixels' hole / background decision per pixel
-                                    (sta_hpr_params.smooth_gaps; default: by blocks) */
+    bool hpr_block_gaps;         /* empty pixels' hole / background decision by the pyramid's
+                                    blocks (sta_hpr_params.block_gaps; default: per pixel) */
     bool normals_every_pixel;    /* pyramidal normals gathered on every pixel instead of on
                                     a quarter of them and upsampled (the default;
                                     sta_normals_pyramid_params.half_resolution) */

@@ -416,14 +416,15 @@ static unsigned wedge_outside(const occlusion_frame *f, int px, int py, float re
 // `occluder_limit`, within min(cut, 2^level) pixels (levels >= 1) and, for a marked
 // point, within its reach; the candidates are the ring and, below the top level, the 4
 // texels 2 away along its axes; a sector is unknown where its wedge leaves the image
-// within that reach, up to STA_HPR_EMPTY_BORDER_PX.
+// within that reach, up to sta_hpr_empty_border_px.
 static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *pyramid, int px,
                               int py, int level, float cut, float occluder_limit,
                               float marked_reach)
 {
     float reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(1 << level));
     float reach2 = reach * reach;
-    float border = fminf(fmaxf(reach, STA_HPR_MIN_REACH_PX), STA_HPR_EMPTY_BORDER_PX);
+    float band = sta_hpr_empty_border_px(f->height);
+    float border = fminf(fmaxf(reach, STA_HPR_MIN_REACH_PX), band);
     unsigned outside = wedge_outside(f, px, py, border);
     unsigned closed = 0;
     for (int k = 0; k <= level; k++) {
@@ -507,7 +508,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             float cut2 = cut * cut;
             // Only neighbours nearer than the centre point by more than the gap occlude.
             float occluder_limit = -x[2] - gap_m;
-            if (!(own[3] > 0.5f) && p.smooth_gaps) {
+            if (!(own[3] > 0.5f) && !p.block_gaps) {
                 float mean =
                     empty_pixel_mean(&f, pyramid, px, py, level, cut, occluder_limit, marked_reach);
                 *sta_image_at(out_label, px, py) = label_of(false, mean, f.threshold);

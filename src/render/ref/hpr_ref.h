@@ -14,7 +14,7 @@
  * minima reaches a threshold. Issue 15 added: ring candidates landing farther than
  * STA_HPR_CUT_FACTOR K / z pixels from the pixel are dropped (a per-pixel decision),
  * and for empty pixels a sector whose neighbourhood leaves the image and that nothing
- * closes is unknown, not open (surfaces run on to the image edge); with smooth_gaps an
+ * closes is unknown, not open (surfaces run on to the image edge); unless block_gaps, an
  * empty pixel's candidates close sectors by where they land, within 2^level pixels (hole and
  * background part along the points, not the pyramid's blocks). docs/HPR.md gives every
  * rule.
@@ -63,11 +63,17 @@
  * land on the axes, and rounding would pick either pair). */
 #define STA_HPR_AXIS_TOL             0.015625f
 /* Pyramidal operator, empty pixels: a sector is unknown (left out of the mean) when its
- * wedge leaves the image within the candidates' reach, but not farther than this: the
- * issue's border band, where surfaces running off-screen are to be filled; a larger
- * reach filled whole scan shadows that touch the image border (street view 0's corner:
- * depth p95 under the glass rule 2.76 -> 3.00 %, docs/BENCHMARKS.md "Fifteenth round"). */
-#define STA_HPR_EMPTY_BORDER_PX      16.0f
+ * wedge leaves the image within the candidates' reach, but not farther than this, in
+ * views up to STA_HPR_BORDER_HEIGHT_PX high, in proportion to the height above
+ * (sta_hpr_empty_border_px): the border band, where surfaces running off-screen are to be
+ * filled. 16 px (the issue's band) left black triangles 11-25 px from the border where a
+ * sparse surface's points lie farther apart than the band (README view, lower left); 24
+ * px left some; 32 px at 1080 px of height too (the points lie farther apart in pixels);
+ * the whole reach (up to 128 px) filled whole scan shadows that touch the image border
+ * (street view 0's corner: depth p95 under the glass rule 2.76 -> 3.00 %); 32 px at 540:
+ * 2.63 -> 2.70 % (docs/BENCHMARKS.md "Sixteenth round"). */
+#define STA_HPR_EMPTY_BORDER_PX      32.0f
+#define STA_HPR_BORDER_HEIGHT_PX     540
 /* Sparse operator: a point copies its anchors' label only when every anchor's depth is
  * within this fraction of its own (no depth edge in the 2 x 2 neighbourhood). 0.005:
  * the error of the full operator to 0.3 % at the cost of 0.02 (docs/BENCHMARKS.md). */
@@ -108,6 +114,14 @@
 #define STA_HPR_SURFACE_MIN_POINTS   5
 #define STA_HPR_SURFACE_MIN_DET      1.0f
 
+/* The empty pixels' border band for a view `height_px` pixels high (above). */
+static inline float sta_hpr_empty_border_px(int height_px)
+{
+    return height_px > STA_HPR_BORDER_HEIGHT_PX
+               ? STA_HPR_EMPTY_BORDER_PX * (float)height_px / (float)STA_HPR_BORDER_HEIGHT_PX
+               : STA_HPR_EMPTY_BORDER_PX;
+}
+
 /* The sparse operator's anchor stride for a view `height_px` pixels high (above). */
 static inline int sta_hpr_anchor_stride(int height_px)
 {
@@ -141,11 +155,11 @@ typedef struct sta_hpr_params {
     bool sparse;           /* pyramidal operator on the even (x, y) anchors, the other pixels
                               copy agreeing anchors or are refined (sta_hpr_ref_sparse_labels);
                               false (default): every pixel */
-    bool smooth_gaps;      /* pyramidal operator: an empty pixel's hole / background decision
-                              per pixel, sectors by where candidates land (issue 15, part 2,
-                              docs/HPR.md "Empty pixels: sectors by landing"); false
-                              (default): by ring position, along the pyramid's blocks, ~35 %
-                              cheaper HPR at 1080p (docs/BENCHMARKS.md, fifteenth round) */
+    bool block_gaps;       /* pyramidal operator: an empty pixel's hole / background decision
+                              by ring position, along the pyramid's blocks (the rule before
+                              issue 15 part 2; gaps' borders step along block lines); false
+                              (default): per pixel, sectors by where candidates land
+                              (docs/HPR.md "Empty pixels: sectors by landing") */
 } sta_hpr_params;
 
 /* Fills threshold, coarse_level, far_m, occluder_gap_s0 and marked_reach_s0 of `config` with their
