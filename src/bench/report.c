@@ -104,6 +104,7 @@ static const column columns[] = {
     COL(normal_off_facing_share, COL_F64),
     COL(normal_off_other_share, COL_F64),
     COL(normal_face_off_share, COL_F64),
+    COL(normal_off_fill_share, COL_F64),
     COL(depth_count, COL_U64),
     COL(depth_rel_mean, COL_F64),
     COL(depth_rel_median, COL_F64),

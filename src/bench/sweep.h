@@ -138,6 +138,9 @@ typedef struct sta_bench_row {
                                 degrees (sta_eval_normals_off), on faces facing the
                                 camera and on the others; the same under the face rule */
     double normal_off_facing_share, normal_off_other_share, normal_face_off_share;
+    double normal_off_fill_share; /* of normal_off_share, the pixels whose filled depth is
+                                     more than the truth tolerance off (another surface:
+                                     sta_eval_normals_off_fill) */
     uint64_t depth_count;
     double depth_rel_mean, depth_rel_median, depth_rel_p95;
     char point_size[24];     /* "1 px", "3 px", "adaptive 1-8 px" (raw and edl) */

@@ -361,6 +361,46 @@ sta_status sta_eval_normals_off(const sta_view_truth *v, const sta_image *normal
 
 // The depth error of each counted pixel; with `glass`, the lesser of the errors against
 // the surface behind the glass and against the glass.
+sta_status sta_eval_normals_off_fill(const sta_view_truth *v, const sta_image *normal,
+                                     const sta_image *filled, double tolerance_m,
+                                     const uint8_t *sampled, double *out_share, sta_error *err)
+{
+    *out_share = (double)NAN;
+    sta_status s = check_size(v, normal, "normal", err);
+    if (s == STA_OK) {
+        s = check_size(v, filled, "filled", err);
+    }
+    if (s != STA_OK) {
+        return s;
+    }
+    const size_t n = (size_t)v->width * (size_t)v->height;
+    uint64_t count = 0, off_fill = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float *e = normal->data + 4 * i;
+        if (!(e[3] > 0.5f) || isnan(v->depth_m[i]) || (sampled && !sampled[i])) {
+            continue;
+        }
+        const double estimated[3] = { (double)e[0], (double)e[1], (double)e[2] };
+        const float *t = v->normal + 3 * i;
+        const double truth[3] = { (double)t[0], (double)t[1], (double)t[2] };
+        double angle = sta_angle_deg(estimated, truth);
+        if (isnan(angle)) {
+            continue; // as sta_eval_normals
+        }
+        count++;
+        const float *p = filled->data + 4 * i;
+        double depth = -(double)p[2];
+        bool depth_right = p[3] > 0.0f && fabs(depth - (double)v->depth_m[i]) <= tolerance_m;
+        if (angle > STA_VIEW_NORMAL_OFF_DEG && !depth_right) {
+            off_fill++;
+        }
+    }
+    if (count > 0) {
+        *out_share = (double)off_fill / (double)count;
+    }
+    return STA_OK;
+}
+
 static sta_status eval_depth(const sta_view_truth *v, const sta_image *filled,
                              const uint8_t *sampled, bool glass, sta_error_summary *out,
                              sta_error *err)
