@@ -11,7 +11,9 @@
 # round the share of normals off by more than 30 degrees, split by the true face's
 # orientation (normal_off_*: facing the camera or not); since the sixteenth round the part
 # of that share whose filled depth is off by more than the truth tolerance (normal_off_fill_share:
-# the fill's, not the estimator's). strata-bench runs the
+# the fill's, not the estimator's), the share of pixels without a normal (unknown, shaded
+# flat) and the errors as shaded, the unknown ones lit as facing the camera
+# (normal_unknown_share, normal_shaded_*). strata-bench runs the
 # viewer's volumetric classes; EXTRA=--fill-every-class gives the measure before. One
 # line per view; errors are deterministic on llvmpipe, so two builds are compared by
 # running the script once per build.
@@ -53,6 +55,10 @@ run() { # scene, views option, size
               100 * $col["normal_off_share"], 100 * $col["normal_off_facing_share"],
               100 * $col["normal_off_other_share"], 100 * $col["normal_face_off_share"]) : ""
           fill = ("normal_off_fill_share" in col) ? sprintf(", of them with the fill off %.2f %%", 100 * $col["normal_off_fill_share"]) : ""
+          if ("normal_unknown_share" in col)
+              fill = fill sprintf("; unknown %.2f %%, as shaded %.2f / %.1f deg, off %.2f %%",
+                  100 * $col["normal_unknown_share"], $col["normal_shaded_median_deg"],
+                  $col["normal_shaded_p95_deg"], 100 * $col["normal_shaded_off_share"])
           printf "%s %s view %s: F1 %.4f (face rule, + glass: %s) depth p95 %.2f %% (sampled %.2f %%, glass rule %s) normals %.2f / %.1f deg (face rule %s)%s%s\n",
               label, scene, $col["camera"], $col["hpr_f1"], face_f1, 100 * $col["depth_rel_p95"],
               100 * $col["depth_sampled_rel_p95"], glass,

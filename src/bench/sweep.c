@@ -506,6 +506,14 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
                 s = sta_eval_normals_off_fill(view_truth, &image, &filled, tolerance_m, counted,
                                               &row->normal_off_fill_share, err);
             }
+            if (s == STA_OK) {
+                sta_error_summary shaded;
+                s = sta_eval_normals_shaded(view_truth, &image, &filled, counted,
+                                            &row->normal_unknown_share, &shaded,
+                                            &row->normal_shaded_off_share, err);
+                row->normal_shaded_median_deg = shaded.median;
+                row->normal_shaded_p95_deg = shaded.p95;
+            }
             sta_image_release(&filled);
         }
         sta_image_release(&image);
@@ -522,7 +530,9 @@ static void clear_errors(sta_bench_row *row)
     row->normal_face_mean_deg = row->normal_face_median_deg = row->normal_face_p95_deg =
         (double)NAN;
     row->normal_off_share = row->normal_off_facing_share = row->normal_off_other_share =
-        row->normal_face_off_share = row->normal_off_fill_share = (double)NAN;
+        row->normal_face_off_share = row->normal_off_fill_share = row->normal_unknown_share =
+            row->normal_shaded_median_deg = row->normal_shaded_p95_deg =
+                row->normal_shaded_off_share = (double)NAN;
     row->hpr_face_f1 = row->hpr_face_glass_f1 = (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
     row->depth_sampled_rel_mean = row->depth_sampled_rel_median = row->depth_sampled_rel_p95 =
