@@ -34,6 +34,7 @@ uniform float u_jump2;             // squared jump ratio (pn_difference)
 uniform float u_texel_m;           // a level-0 texel's footprint per metre of depth
 uniform float u_coherence;         // 1 - spread (sta_normals_pyramid_coherence)
 uniform float u_fine_coherence;    // 1 - fine_spread (sta_normals_pyramid_fine_coherence)
+uniform int u_fine_min_level;      // the finest level it falls back to (the anchor level)
 
 // The pixel's level-0 normal, computed once in main: level_normal reads it for l = 0.
 // Computed inside level_normal, llvmpipe ran its five loads and jump tests in every
@@ -113,7 +114,7 @@ void main()
         bool va = level_normal(la, q, p.xyz, ta, na);
         bool vb = level_normal(lb, q, p.xyz, tb, nb);
         int lf = la - 1;
-        if (va && lf >= STA_NORMALS_PYRAMID_FINE_MIN_LEVEL && u_fine_coherence > -1.0) {
+        if (va && lf >= u_fine_min_level && u_fine_coherence > -1.0) {
             // The finer level against the one below: where they disagree, la's texels
             // reached a crease or another surface that lf's do not, and la fades into lf.
             vec3 nf;

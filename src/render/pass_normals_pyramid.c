@@ -9,13 +9,6 @@
 #include "render/gl.h"
 #include "render/gl_image.h"
 
-// The gather shader's copy of STA_NORMALS_PYRAMID_FINE_MIN_LEVEL (render/ref), spelled as
-// the header spells it.
-#define STRINGIFY(text)  #text
-#define VALUE_TEXT(name) STRINGIFY(name)
-#define FINE_MIN_LEVEL_DEFINE                                                                      \
- "#define STA_NORMALS_PYRAMID_FINE_MIN_LEVEL " VALUE_TEXT(STA_NORMALS_PYRAMID_FINE_MIN_LEVEL) "\n"
-
 sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
@@ -28,12 +21,11 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
                                "normals_pyramid_upsample.comp" }; // u_points, np_upsample
     sta_status status = sta_gl_program_create(level, 3, NULL, &pass->level_program, err);
     if (status == STA_OK) {
-        status =
-            sta_gl_program_create(gather, 3, FINE_MIN_LEVEL_DEFINE, &pass->gather_program, err);
+        status = sta_gl_program_create(gather, 3, NULL, &pass->gather_program, err);
     }
     if (status == STA_OK) {
-        status = sta_gl_program_create(gather, 3, FINE_MIN_LEVEL_DEFINE "#define NP_ANCHORS 1\n",
-                                       &pass->anchor_program, err);
+        status =
+            sta_gl_program_create(gather, 3, "#define NP_ANCHORS 1\n", &pass->anchor_program, err);
     }
     if (status == STA_OK) {
         status = sta_gl_program_create(upsample, 4, NULL, &pass->upsample_program, err);
@@ -59,6 +51,7 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
         pass->gather_texel_m[i] = glGetUniformLocation(g, "u_texel_m");
         pass->gather_coherence[i] = glGetUniformLocation(g, "u_coherence");
         pass->gather_fine_coherence[i] = glGetUniformLocation(g, "u_fine_coherence");
+        pass->gather_fine_min_level[i] = glGetUniformLocation(g, "u_fine_min_level");
     }
     GLuint u = pass->upsample_program;
     pass->upsample_size = glGetUniformLocation(u, "u_size");
@@ -218,6 +211,7 @@ static sta_status run(sta_normals_pyramid_pass *pass, const sta_view_params *vie
                        sta_normals_pyramid_plane_tolerance_m(view, &p));
     glProgramUniform1f(gp, pass->gather_coherence[i], sta_normals_pyramid_coherence(&p));
     glProgramUniform1f(gp, pass->gather_fine_coherence[i], sta_normals_pyramid_fine_coherence(&p));
+    glProgramUniform1i(gp, pass->gather_fine_min_level[i], anchor_level);
     glBindImageTexture(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL, i ? pass->half : out_normal_tex, 0,
                        GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_NORMALS_PYRAMID_IMAGE_POINTS, filled_position_tex, 0, GL_FALSE, 0,

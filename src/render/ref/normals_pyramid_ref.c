@@ -248,8 +248,10 @@ static bool gather_pixel(const gather_input *g, int x, int y, const float pt[3],
     float tb = g->tolerance_m * (float)(1 << lb) * depth;
     bool va = level_normal(&g->normals[la], pa, la, x, y, pt, ta, na);
     bool vb = level_normal(&g->normals[lb], pb, lb, x, y, pt, tb, nb);
+    // No finer than the anchors' spacing: finer levels' noise showed as anchor-sized specks
+    // at 1080p, and level 0 raised the street's share of normals off instead of lowering it.
     const int lf = la - 1;
-    if (va && lf >= STA_NORMALS_PYRAMID_FINE_MIN_LEVEL && g->fine_coherence > -1.0f) {
+    if (va && lf >= sta_normals_anchor_level(g->view->height_px) && g->fine_coherence > -1.0f) {
         // The finer level against the one below: where they disagree, la's texels reached
         // a crease or another surface that lf's do not, and la fades into lf.
         float nf[3];

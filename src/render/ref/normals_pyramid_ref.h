@@ -27,10 +27,10 @@
  *    whose normals disagree (dot below 1 - spread: a crease, or a second surface inside
  *    the coarser level's radius) are not mixed: the finer one is used (issue 15,
  *    fifteenth round). The finer level la itself is checked the same way against the
- *    level below it, la - 1, when that is at least STA_NORMALS_PYRAMID_FINE_MIN_LEVEL:
- *    where they disagree by more than fine_spread, la's normal fades into la - 1's (its
- *    texels reached a crease or a sparse face's surroundings that la - 1's do not; issue
- *    15, sixteenth round).
+ *    level below it, la - 1, when that is no finer than the anchor level a of step 4
+ *    (sta_normals_anchor_level, at every resolution): where they disagree by more than
+ *    fine_spread, la's normal fades into la - 1's (its texels reached a crease or a sparse
+ *    face's surroundings that la - 1's do not; issue 15, sixteenth round).
  * At half resolution (half_resolution; issue 20: the gather is most of the pass's cost,
  * and it is per pixel):
  * 4. Steps 2-3 on the anchors only, the pixels (s i, s j) with s = 2^a, a the anchor level
@@ -71,10 +71,6 @@
  * Wider than spread: the level below is noisier, and at 0.01 the street's medians rose 5 %
  * and the far view's p95 3.1 -> 4.8 degrees (issue 15, sixteenth round, docs/BENCHMARKS.md). */
 #define STA_NORMALS_PYRAMID_DEFAULT_FINE_SPREAD     0.03f
-/* The finest level that check falls back to: level 0 is the pixel's own normal from its
- * nearest neighbours, too noisy (with it the street's share of normals off by more than
- * 30 degrees rose instead of falling). */
-#define STA_NORMALS_PYRAMID_FINE_MIN_LEVEL          1
 /* Default jump ratio of step 1. */
 #define STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO      2.5f
 /* Steps 4-5: the anchors are the pixels whose x and y are multiples of 2^a, a = the
