@@ -9,7 +9,11 @@
 # under the face rule and the face and glass rules (hpr_face_f1, hpr_face_glass_f1) and
 # the normals under the face rule (normal_face_*; docs/BENCH.md); since issue 15's fifteenth
 # round the share of normals off by more than 30 degrees, split by the true face's
-# orientation (normal_off_*: facing the camera or not). strata-bench runs the
+# orientation (normal_off_*: facing the camera or not); since the sixteenth round the part
+# of that share whose filled depth is off by more than the truth tolerance (normal_off_fill_share:
+# the fill's, not the estimator's), the share of pixels without a normal (unknown, shaded
+# flat) and the errors as shaded, the unknown ones lit as facing the camera
+# (normal_unknown_share, normal_shaded_*). strata-bench runs the
 # viewer's volumetric classes; EXTRA=--fill-every-class gives the measure before. One
 # line per view; errors are deterministic on llvmpipe, so two builds are compared by
 # running the script once per build.
@@ -50,10 +54,15 @@ run() { # scene, views option, size
           off = ("normal_off_share" in col) ? sprintf(", off > 30 deg %.2f %% (facing %.2f %%, other %.2f %%; face rule %.2f %%)",
               100 * $col["normal_off_share"], 100 * $col["normal_off_facing_share"],
               100 * $col["normal_off_other_share"], 100 * $col["normal_face_off_share"]) : ""
-          printf "%s %s view %s: F1 %.4f (face rule, + glass: %s) depth p95 %.2f %% (sampled %.2f %%, glass rule %s) normals %.2f / %.1f deg (face rule %s)%s\n",
+          fill = ("normal_off_fill_share" in col) ? sprintf(", of them with the fill off %.2f %%", 100 * $col["normal_off_fill_share"]) : ""
+          if ("normal_unknown_share" in col)
+              fill = fill sprintf("; unknown %.2f %%, as shaded %.2f / %.1f deg, off %.2f %%",
+                  100 * $col["normal_unknown_share"], $col["normal_shaded_median_deg"],
+                  $col["normal_shaded_p95_deg"], 100 * $col["normal_shaded_off_share"])
+          printf "%s %s view %s: F1 %.4f (face rule, + glass: %s) depth p95 %.2f %% (sampled %.2f %%, glass rule %s) normals %.2f / %.1f deg (face rule %s)%s%s\n",
               label, scene, $col["camera"], $col["hpr_f1"], face_f1, 100 * $col["depth_rel_p95"],
               100 * $col["depth_sampled_rel_p95"], glass,
-              $col["normal_median_deg"], $col["normal_p95_deg"], face_n, off }' "$out/results.csv"
+              $col["normal_median_deg"], $col["normal_p95_deg"], face_n, off, fill }' "$out/results.csv"
 }
 run street "--street 3" 960x540
 for scene in sphere nested bunny; do

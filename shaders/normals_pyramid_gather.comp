@@ -9,7 +9,9 @@
 // (no mixing across depth discontinuities); where neither level has one, the next finer
 // level that does. Two levels whose normals disagree (dot below u_coherence: a crease
 // or a second surface inside the coarser level's radius) are mixed less, down to the
-// finer one alone at 1 - 2 spread (issue 15, fifteenth round). Twin: src/render/ref/normals_pyramid_ref.c.
+// finer one alone at 1 - 2 spread (issue 15, fifteenth round); the finer level itself
+// fades the same way into the level below it where those two disagree (u_fine_coherence;
+// issue 15, sixteenth round). Twin: src/render/ref/normals_pyramid_ref.c.
 // With NP_ANCHORS (half resolution, sta_normals_pyramid_params.half_resolution) it runs
 // on the anchors (i, j) * 2^u_anchor_level only (every even pixel below 1080 px of view
 // height, every 4th from 1080: sta_normals_anchor_level) and writes texel (i, j) of the image
@@ -31,6 +33,8 @@ uniform int u_anchor_level;        // NP_ANCHORS: anchors every 2^u_anchor_level
 uniform float u_jump2;             // squared jump ratio (pn_difference)
 uniform float u_texel_m;           // a level-0 texel's footprint per metre of depth
 uniform float u_coherence;         // 1 - spread (sta_normals_pyramid_coherence)
+uniform float u_fine_coherence;    // 1 - fine_spread (sta_normals_pyramid_fine_coherence)
+uniform int u_fine_min_level;      // the finest level it falls back to (the anchor level)
 
 // The pixel's level-0 normal, computed once in main: level_normal reads it for l = 0.
 // Computed inside level_normal, llvmpipe ran its five loads and jump tests in every
@@ -42,13 +46,13 @@ vec3 g_n0;
 // How much of the coarser level two levels' normals may mix in, from their dot d: 1 where
 // d >= u_coherence (1 - spread), falling linearly to 0 at 1 - 2 spread; 1 everywhere
 // when the test is off (coherence <= -1). Twin: coherence_weight in normals_pyramid_ref.c.
-float coherence_weight(float d)
+float coherence_weight(float coherence, float d)
 {
-    if (u_coherence <= -1.0) {
+    if (coherence <= -1.0) {
         return 1.0;
     }
-    float spread = 1.0 - u_coherence;
-    return clamp((d - (u_coherence - spread)) / spread, 0.0, 1.0);
+    float spread = 1.0 - coherence;
+    return clamp((d - (coherence - spread)) / spread, 0.0, 1.0);
 }
 
 bool level_normal(int l, ivec2 q, vec3 p, float tolerance_m, out vec3 n)
@@ -109,11 +113,26 @@ void main()
         float tb = u_plane_tolerance_m * float(1 << lb) * depth;
         bool va = level_normal(la, q, p.xyz, ta, na);
         bool vb = level_normal(lb, q, p.xyz, tb, nb);
+        int lf = la - 1;
+        if (va && lf >= u_fine_min_level && u_fine_coherence > -1.0) {
+            // The finer level against the one below: where they disagree, la's texels
+            // reached a crease or another surface that lf's do not, and la fades into lf.
+            vec3 nf;
+            float tf = u_plane_tolerance_m * float(1 << lf) * depth;
+            if (level_normal(lf, q, p.xyz, tf, nf)) {
+                float w = coherence_weight(u_fine_coherence, np_dot(na, nf));
+                precise vec3 m = w * na + (1.0 - w) * nf;
+                float m2 = np_dot(m, m);
+                if (m2 > 1e-12) { // opposite unit normals halfway: keep la's
+                    na = m / sqrt(m2);
+                }
+            }
+        }
         bool ok = true;
         if (va && vb) {
             // The coarser level's share fades out as the two disagree, so the switch to
             // the finer level leaves no seam (coherence_weight: 1 where they agree).
-            float tw = t * coherence_weight(np_dot(na, nb));
+            float tw = t * coherence_weight(u_coherence, np_dot(na, nb));
             n = (1.0 - tw) * na + tw * nb;
         } else if (va) {
             n = na; // the finer one where the two disagree

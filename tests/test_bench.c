@@ -449,6 +449,124 @@ static void normals_off_share_by_orientation(void **state)
     sta_image_release(&img);
 }
 
+/* The share off by more than 30 degrees with the fill on another surface: four pixels off
+ * by 40 degrees and one by 10, the filled depth within the 0.2 m tolerance at pixels 0 and
+ * 4, 0.5 m off at 1 and 2, no filled point at 3: pixels 1, 2 and 3 count (3 of 5), and
+ * with the depth right everywhere none does. */
+static void normals_off_share_with_the_fill_off(void **state)
+{
+    (void)state;
+    const double d = M_PI / 180.0;
+    float depth[5] = { 4.0f, 4.0f, 4.0f, 4.0f, 4.0f };
+    float normal[15] = { 0 };
+    for (int i = 0; i < 5; i++) {
+        normal[3 * i + 2] = 1.0f;
+    }
+    sta_view_truth v = { .width = 5, .height = 1, .depth_m = depth, .normal = normal };
+    sta_image img = { 0 }, filled = { 0 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(&img, 5, 1, 4, &err), STA_OK);
+    assert_int_equal(sta_image_init(&filled, 5, 1, 4, &err), STA_OK);
+    const double off_deg[5] = { 40, 40, 40, 40, 10 };
+    const float filled_depth[5] = { 4.1f, 4.5f, 3.5f, 4.0f, 4.5f };
+    for (int i = 0; i < 5; i++) {
+        float *e = sta_image_at(&img, i, 0);
+        e[0] = (float)sin(off_deg[i] * d);
+        e[2] = (float)cos(off_deg[i] * d);
+        e[3] = 1.0f;
+        float *p = sta_image_at(&filled, i, 0);
+        p[2] = -filled_depth[i];
+        p[3] = i == 3 ? 0.0f : 1.0f;
+    }
+    double share = 0.0;
+    assert_int_equal(sta_eval_normals_off_fill(&v, &img, &filled, 0.2, NULL, &share, &err), STA_OK);
+    assert_near(share, 3.0 / 5.0, 1e-12);
+    // Only pixels 0 and 1 counted: 1 of 2.
+    uint8_t counted[5] = { 1, 1, 0, 0, 0 };
+    assert_int_equal(sta_eval_normals_off_fill(&v, &img, &filled, 0.2, counted, &share, &err),
+                     STA_OK);
+    assert_near(share, 0.5, 1e-12);
+    // A tolerance wide enough for every filled point leaves the pixel without one.
+    assert_int_equal(sta_eval_normals_off_fill(&v, &img, &filled, 1.0, NULL, &share, &err), STA_OK);
+    assert_near(share, 1.0 / 5.0, 1e-12);
+    // Nothing counted: NAN; images of another size: an error naming the image.
+    uint8_t none[5] = { 0 };
+    assert_int_equal(sta_eval_normals_off_fill(&v, &img, &filled, 0.2, none, &share, &err), STA_OK);
+    assert_true(isnan(share));
+    sta_image small = { 0 };
+    assert_int_equal(sta_image_init(&small, 4, 1, 4, &err), STA_OK);
+    assert_int_equal(sta_eval_normals_off_fill(&v, &img, &small, 0.2, NULL, &share, &err),
+                     STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "filled"));
+    sta_image_release(&small);
+    sta_image_release(&img);
+    sta_image_release(&filled);
+}
+
+/* The normals as shaded: four pixels with a filled point straight ahead (-z), truth normal
+ * +z; pixel 0 has a normal 40 degrees off, pixel 1 one 10 degrees off, pixels 2 and 3 none
+ * (unknown: lit as facing the camera, +z, 0 degrees off) and pixel 4 no filled point (not
+ * counted). Unknown 2 of 4, off 1 of 4; the unknown pixels' errors are counted, not
+ * dropped as sta_eval_normals drops them. */
+static void normals_shaded_count_the_unknown(void **state)
+{
+    (void)state;
+    const double d = M_PI / 180.0;
+    float depth[5] = { 4.0f, 4.0f, 4.0f, 4.0f, 4.0f };
+    float normal[15] = { 0 };
+    for (int i = 0; i < 5; i++) {
+        normal[3 * i + 2] = 1.0f;
+    }
+    sta_view_truth v = { .width = 5, .height = 1, .depth_m = depth, .normal = normal };
+    sta_image img = { 0 }, filled = { 0 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(&img, 5, 1, 4, &err), STA_OK);
+    assert_int_equal(sta_image_init(&filled, 5, 1, 4, &err), STA_OK);
+    const double off_deg[2] = { 40, 10 };
+    for (int i = 0; i < 5; i++) {
+        float *e = sta_image_at(&img, i, 0);
+        if (i < 2) {
+            e[0] = (float)sin(off_deg[i] * d);
+            e[2] = (float)cos(off_deg[i] * d);
+            e[3] = 1.0f;
+        }
+        float *p = sta_image_at(&filled, i, 0);
+        p[2] = -4.0f;
+        p[3] = i == 4 ? 0.0f : 1.0f;
+    }
+    double unknown = 0.0, off = 0.0;
+    sta_error_summary e;
+    assert_int_equal(sta_eval_normals_shaded(&v, &img, &filled, NULL, &unknown, &e, &off, &err),
+                     STA_OK);
+    assert_int_equal(e.count, 4);
+    assert_near(unknown, 0.5, 1e-12);
+    assert_near(off, 0.25, 1e-12);
+    assert_near(e.max, 40.0, 1e-4);
+    assert_near(e.median, 5.0, 1e-4); // 0, 0, 10, 40
+    // The known pixels alone, as sta_eval_normals counts them: 2.
+    assert_int_equal(sta_eval_normals(&v, &img, NULL, &e, &err), STA_OK);
+    assert_int_equal(e.count, 2);
+    // Only the unknown pixels counted: all unknown, none off.
+    uint8_t counted[5] = { 0, 0, 1, 1, 1 };
+    assert_int_equal(sta_eval_normals_shaded(&v, &img, &filled, counted, &unknown, &e, &off, &err),
+                     STA_OK);
+    assert_near(unknown, 1.0, 1e-12);
+    assert_near(off, 0.0, 1e-12);
+    // Nothing counted: NAN; a filled image of another size: an error naming it.
+    uint8_t none[5] = { 0 };
+    assert_int_equal(sta_eval_normals_shaded(&v, &img, &filled, none, &unknown, &e, &off, &err),
+                     STA_OK);
+    assert_true(isnan(unknown) && isnan(off) && e.count == 0);
+    sta_image small = { 0 };
+    assert_int_equal(sta_image_init(&small, 4, 1, 4, &err), STA_OK);
+    assert_int_equal(sta_eval_normals_shaded(&v, &img, &small, NULL, &unknown, &e, &off, &err),
+                     STA_ERR_ARG);
+    assert_non_null(strstr(err.message, "filled"));
+    sta_image_release(&small);
+    sta_image_release(&img);
+    sta_image_release(&filled);
+}
+
 /* The border metric: a 40x40 view whose rays all hit but the sky at the top-right
  * corner; the fill leaves 10 band pixels on a surface and 20 sky pixels empty, and 5
  * interior pixels (outside the band). */
@@ -1250,6 +1368,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(metrics_ssim),
     cmocka_unit_test(eval_buffers_hand_made),
     cmocka_unit_test(normals_off_share_by_orientation),
+    cmocka_unit_test(normals_off_share_with_the_fill_off),
+    cmocka_unit_test(normals_shaded_count_the_unknown),
     cmocka_unit_test(sampled_pixels_need_a_point_near_the_hit),
     cmocka_unit_test(border_metric_counts_band_surface_pixels),
     cmocka_unit_test(gap_block_ratio_sees_block_lines),

@@ -379,7 +379,7 @@ out_free:
 static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_bench_setting *st,
                                 const sta_camera *camera, const sta_view_truth *view_truth,
                                 const sta_view_points *points, const sta_pixel_masks *masks,
-                                sta_bench_row *row, sta_error *err)
+                                double tolerance_m, sta_bench_row *row, sta_error *err)
 {
     // The fill metrics' pixels: with volumetric classes, not their true surfaces.
     const bool leave_out = masks->counted && mode_runs_fill(st->mode);
@@ -490,6 +490,7 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
             row->normal_face_median_deg = e.median;
             row->normal_face_p95_deg = e.p95;
             sta_normal_off_share off;
+            sta_image filled = { 0 };
             s = sta_eval_normals_off(view_truth, &image, counted, &off, err);
             if (s == STA_OK) {
                 row->normal_off_share = off.all;
@@ -498,6 +499,22 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
                 s = sta_eval_normals_off(view_truth, &image, masks->face_counted, &off, err);
                 row->normal_face_off_share = off.all;
             }
+            if (s == STA_OK) {
+                s = sta_gl_texture_to_image(p->filled_position, 0, 4, &filled, err);
+            }
+            if (s == STA_OK) {
+                s = sta_eval_normals_off_fill(view_truth, &image, &filled, tolerance_m, counted,
+                                              &row->normal_off_fill_share, err);
+            }
+            if (s == STA_OK) {
+                sta_error_summary shaded;
+                s = sta_eval_normals_shaded(view_truth, &image, &filled, counted,
+                                            &row->normal_unknown_share, &shaded,
+                                            &row->normal_shaded_off_share, err);
+                row->normal_shaded_median_deg = shaded.median;
+                row->normal_shaded_p95_deg = shaded.p95;
+            }
+            sta_image_release(&filled);
         }
         sta_image_release(&image);
     }
@@ -513,7 +530,9 @@ static void clear_errors(sta_bench_row *row)
     row->normal_face_mean_deg = row->normal_face_median_deg = row->normal_face_p95_deg =
         (double)NAN;
     row->normal_off_share = row->normal_off_facing_share = row->normal_off_other_share =
-        row->normal_face_off_share = (double)NAN;
+        row->normal_face_off_share = row->normal_off_fill_share = row->normal_unknown_share =
+            row->normal_shaded_median_deg = row->normal_shaded_p95_deg =
+                row->normal_shaded_off_share = (double)NAN;
     row->hpr_face_f1 = row->hpr_face_glass_f1 = (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
     row->depth_sampled_rel_mean = row->depth_sampled_rel_median = row->depth_sampled_rel_p95 =
@@ -848,7 +867,8 @@ static sta_status run_budget(scene_run *run, const sta_camera *camera, int cam_i
         s = timed_frames(run, scene, camera, &row, err);
         if (s == STA_OK) {
             sta_render_target_read_rgba(&run->target, run->rgba);
-            s = score_buffers(run, scene, st, camera, view_truth, &points, &masks, &row, err);
+            s = score_buffers(run, scene, st, camera, view_truth, &points, &masks, tolerance_m,
+                              &row, err);
         }
         if (s == STA_OK && run->has_truth && mode_draws_sized(st->mode)) {
             sta_render_target_read_depth(&run->target, run->depth);

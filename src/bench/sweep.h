@@ -138,6 +138,15 @@ typedef struct sta_bench_row {
                                 degrees (sta_eval_normals_off), on faces facing the
                                 camera and on the others; the same under the face rule */
     double normal_off_facing_share, normal_off_other_share, normal_face_off_share;
+    double normal_off_fill_share; /* of normal_off_share, the pixels whose filled depth is
+                                     more than the truth tolerance off (another surface:
+                                     sta_eval_normals_off_fill) */
+    double normal_unknown_share;  /* share of the pixels with a filled point and a truth hit
+                                     (left-out classes aside) that have no normal (unknown:
+                                     shaded flat), and the errors over all of them with the
+                                     unknown ones lit as facing the camera
+                                     (sta_eval_normals_shaded) */
+    double normal_shaded_median_deg, normal_shaded_p95_deg, normal_shaded_off_share;
     uint64_t depth_count;
     double depth_rel_mean, depth_rel_median, depth_rel_p95;
     char point_size[24];     /* "1 px", "3 px", "adaptive 1-8 px" (raw and edl) */

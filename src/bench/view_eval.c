@@ -361,6 +361,100 @@ sta_status sta_eval_normals_off(const sta_view_truth *v, const sta_image *normal
 
 // The depth error of each counted pixel; with `glass`, the lesser of the errors against
 // the surface behind the glass and against the glass.
+sta_status sta_eval_normals_shaded(const sta_view_truth *v, const sta_image *normal,
+                                   const sta_image *filled, const uint8_t *counted,
+                                   double *out_unknown_share, sta_error_summary *out_shaded,
+                                   double *out_off_share, sta_error *err)
+{
+    *out_unknown_share = *out_off_share = (double)NAN;
+    sta_status s = check_size(v, normal, "normal", err);
+    if (s == STA_OK) {
+        s = check_size(v, filled, "filled", err);
+    }
+    if (s != STA_OK) {
+        return s;
+    }
+    const size_t n = (size_t)v->width * (size_t)v->height;
+    double *values = sta_alloc_array(n ? n : 1, sizeof(double));
+    if (!values) {
+        return sta_fail(err, STA_ERR_NOMEM, "out of memory for %zu normal errors", n);
+    }
+    size_t count = 0, unknown = 0, off = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float *p = filled->data + 4 * i;
+        if (!(p[3] > 0.0f) || isnan(v->depth_m[i]) || (counted && !counted[i])) {
+            continue;
+        }
+        const float *e = normal->data + 4 * i;
+        // Unknown (no normal): lit as if facing the camera (shade.comp).
+        const bool known = e[3] > 0.5f;
+        double estimated[3];
+        for (int k = 0; k < 3; k++) {
+            estimated[k] = known ? (double)e[k] : -(double)p[k];
+        }
+        const float *t = v->normal + 3 * i;
+        const double truth[3] = { (double)t[0], (double)t[1], (double)t[2] };
+        double angle = sta_angle_deg(estimated, truth);
+        if (isnan(angle)) {
+            continue; // as sta_eval_normals (a zero vector)
+        }
+        values[count++] = angle;
+        if (!known) {
+            unknown++;
+        }
+        if (angle > STA_VIEW_NORMAL_OFF_DEG) {
+            off++;
+        }
+    }
+    sta_error_summarise(values, count, out_shaded);
+    if (count > 0) {
+        *out_unknown_share = (double)unknown / (double)count;
+        *out_off_share = (double)off / (double)count;
+    }
+    sta_free(values);
+    return STA_OK;
+}
+
+sta_status sta_eval_normals_off_fill(const sta_view_truth *v, const sta_image *normal,
+                                     const sta_image *filled, double tolerance_m,
+                                     const uint8_t *sampled, double *out_share, sta_error *err)
+{
+    *out_share = (double)NAN;
+    sta_status s = check_size(v, normal, "normal", err);
+    if (s == STA_OK) {
+        s = check_size(v, filled, "filled", err);
+    }
+    if (s != STA_OK) {
+        return s;
+    }
+    const size_t n = (size_t)v->width * (size_t)v->height;
+    uint64_t count = 0, off_fill = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float *e = normal->data + 4 * i;
+        if (!(e[3] > 0.5f) || isnan(v->depth_m[i]) || (sampled && !sampled[i])) {
+            continue;
+        }
+        const double estimated[3] = { (double)e[0], (double)e[1], (double)e[2] };
+        const float *t = v->normal + 3 * i;
+        const double truth[3] = { (double)t[0], (double)t[1], (double)t[2] };
+        double angle = sta_angle_deg(estimated, truth);
+        if (isnan(angle)) {
+            continue; // as sta_eval_normals
+        }
+        count++;
+        const float *p = filled->data + 4 * i;
+        double depth = -(double)p[2];
+        bool depth_right = p[3] > 0.0f && fabs(depth - (double)v->depth_m[i]) <= tolerance_m;
+        if (angle > STA_VIEW_NORMAL_OFF_DEG && !depth_right) {
+            off_fill++;
+        }
+    }
+    if (count > 0) {
+        *out_share = (double)off_fill / (double)count;
+    }
+    return STA_OK;
+}
+
 static sta_status eval_depth(const sta_view_truth *v, const sta_image *filled,
                              const uint8_t *sampled, bool glass, sta_error_summary *out,
                              sta_error *err)

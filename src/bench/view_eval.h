@@ -141,6 +141,31 @@ typedef struct sta_normal_off_share {
 sta_status sta_eval_normals_off(const sta_view_truth *view_truth, const sta_image *normal,
                                 const uint8_t *sampled, sta_normal_off_share *out, sta_error *err);
 
+/* The share of the pixels that sta_eval_normals(view_truth, normal, sampled) counts whose
+ * normal is off by more than STA_VIEW_NORMAL_OFF_DEG and whose filled depth (-z of
+ * `filled`, RGBA32F camera space, w > 0) lies more than `tolerance_m` from the true depth
+ * along the view axis (or which has no filled point): there the fill holds another
+ * surface, and no estimator that reads the filled points can give the true one's normal
+ * (issue 15, sixteenth round). The rest of sta_normal_off_share.all is the estimator's.
+ * NAN where none is counted. Errors: STA_ERR_ARG (sizes differ). */
+/* The normals as the shade pass lights them (issue 15, sixteenth round): over the pixels
+ * with a filled point (`filled`, RGBA32F camera space, w > 0) whose ray hits the scene and,
+ * when `counted` is not NULL, whose byte in it is 1, a pixel without a normal (`normal` w
+ * <= 0.5: unknown, sta_normals_pyramid_params.min_coverage) counts with the normal the
+ * shade pass lights it by, facing the camera (-p / |p|). Writes the share of those pixels
+ * that are unknown, the summary of the angle errors and the share off by more than
+ * STA_VIEW_NORMAL_OFF_DEG; NAN and a zero count where none is counted. The errors of
+ * sta_eval_normals leave the unknown pixels out; these say what that leaves out.
+ * Errors: STA_ERR_ARG (sizes differ), STA_ERR_NOMEM. */
+sta_status sta_eval_normals_shaded(const sta_view_truth *view_truth, const sta_image *normal,
+                                   const sta_image *filled, const uint8_t *counted,
+                                   double *out_unknown_share, sta_error_summary *out_shaded,
+                                   double *out_off_share, sta_error *err);
+
+sta_status sta_eval_normals_off_fill(const sta_view_truth *view_truth, const sta_image *normal,
+                                     const sta_image *filled, double tolerance_m,
+                                     const uint8_t *sampled, double *out_share, sta_error *err);
+
 /* Relative depth error |d - d_true| / d_true of the filled buffer (RGBA32F, camera
  * space xyz, w > 0 covered; d = -z), over covered pixels whose ray hits the scene and,
  * when `sampled` is not NULL, whose byte in it is 1 (sta_view_truth_sampled). */

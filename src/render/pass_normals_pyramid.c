@@ -50,6 +50,8 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
         pass->gather_jump2[i] = glGetUniformLocation(g, "u_jump2");
         pass->gather_texel_m[i] = glGetUniformLocation(g, "u_texel_m");
         pass->gather_coherence[i] = glGetUniformLocation(g, "u_coherence");
+        pass->gather_fine_coherence[i] = glGetUniformLocation(g, "u_fine_coherence");
+        pass->gather_fine_min_level[i] = glGetUniformLocation(g, "u_fine_min_level");
     }
     GLuint u = pass->upsample_program;
     pass->upsample_size = glGetUniformLocation(u, "u_size");
@@ -208,6 +210,8 @@ static sta_status run(sta_normals_pyramid_pass *pass, const sta_view_params *vie
     glProgramUniform1f(gp, pass->gather_plane_tolerance_m[i],
                        sta_normals_pyramid_plane_tolerance_m(view, &p));
     glProgramUniform1f(gp, pass->gather_coherence[i], sta_normals_pyramid_coherence(&p));
+    glProgramUniform1f(gp, pass->gather_fine_coherence[i], sta_normals_pyramid_fine_coherence(&p));
+    glProgramUniform1i(gp, pass->gather_fine_min_level[i], anchor_level);
     glBindImageTexture(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL, i ? pass->half : out_normal_tex, 0,
                        GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_NORMALS_PYRAMID_IMAGE_POINTS, filled_position_tex, 0, GL_FALSE, 0,

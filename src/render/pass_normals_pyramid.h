@@ -51,7 +51,7 @@ typedef struct sta_normals_pyramid_pass {
     /* [0] the gather program, [1] the anchor program */
     GLint gather_size[2], gather_level_count[2], gather_level_offset[2], gather_level_size[2];
     GLint gather_radius_px_m[2], gather_near[2], gather_plane_tolerance_m[2], gather_jump2[2];
-    GLint gather_coherence[2];
+    GLint gather_coherence[2], gather_fine_coherence[2], gather_fine_min_level[2];
     GLint gather_texel_m[2];
     GLint upsample_size;
     sta_normals_upsample_uniforms upsample;

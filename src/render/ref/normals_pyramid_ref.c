@@ -25,6 +25,9 @@ void sta_normals_pyramid_params_defaults(sta_normals_pyramid_params *config)
     if (!(config->spread > 0.0f)) {
         config->spread = STA_NORMALS_PYRAMID_DEFAULT_SPREAD;
     }
+    if (!(config->fine_spread > 0.0f)) {
+        config->fine_spread = STA_NORMALS_PYRAMID_DEFAULT_FINE_SPREAD;
+    }
 }
 
 static bool has_point(const sta_image *points, int x, int y)
@@ -196,7 +199,7 @@ typedef struct gather_input {
     const sta_image *filled_position;
     const sta_image *normals; /* per level */
     int count;
-    float radius_px_m, tolerance_m, coherence;
+    float radius_px_m, tolerance_m, coherence, fine_coherence;
 } gather_input;
 
 // How much of the coarser level two levels' normals with dot d may mix in: 1 where
@@ -245,6 +248,29 @@ static bool gather_pixel(const gather_input *g, int x, int y, const float pt[3],
     float tb = g->tolerance_m * (float)(1 << lb) * depth;
     bool va = level_normal(&g->normals[la], pa, la, x, y, pt, ta, na);
     bool vb = level_normal(&g->normals[lb], pb, lb, x, y, pt, tb, nb);
+    // No finer than the anchors' spacing: finer levels' noise showed as anchor-sized specks
+    // at 1080p, and level 0 raised the street's share of normals off instead of lowering it.
+    const int lf = la - 1;
+    if (va && lf >= sta_normals_anchor_level(g->view->height_px) && g->fine_coherence > -1.0f) {
+        // The finer level against the one below: where they disagree, la's texels reached
+        // a crease or another surface that lf's do not, and la fades into lf.
+        float nf[3];
+        float tf = g->tolerance_m * (float)(1 << lf) * depth;
+        if (level_normal(&g->normals[lf], &g->levels->position[lf], lf, x, y, pt, tf, nf)) {
+            float w = coherence_weight(g->fine_coherence, dot3(na, nf));
+            float m[3];
+            for (int k = 0; k < 3; k++) {
+                m[k] = w * na[k] + (1.0f - w) * nf[k];
+            }
+            float m2 = dot3(m, m);
+            if (m2 > 1e-12f) { // opposite unit normals halfway: keep la's
+                float len = sqrtf(m2);
+                for (int k = 0; k < 3; k++) {
+                    na[k] = m[k] / len;
+                }
+            }
+        }
+    }
     if (va && vb) {
         // The coarser level's share fades out as the two disagree (no seam at the switch).
         float tw = t * coherence_weight(g->coherence, dot3(na, nb));
@@ -349,7 +375,8 @@ sta_status sta_normals_pyramid_ref(const sta_view_params *view,
                        count,
                        sta_normals_pyramid_radius_px_m(view, &p),
                        sta_normals_pyramid_plane_tolerance_m(view, &p),
-                       sta_normals_pyramid_coherence(&p) };
+                       sta_normals_pyramid_coherence(&p),
+                       sta_normals_pyramid_fine_coherence(&p) };
     if (status == STA_OK && p.half_resolution) {
         const int s = 1 << sta_normals_anchor_level(h);
         status = sta_image_init(&half, (w + s - 1) / s, (h + s - 1) / s, 4, err);

@@ -26,7 +26,11 @@
  *    used, down to level 0 (the pixel's own normal, whose plane holds p). Two levels
  *    whose normals disagree (dot below 1 - spread: a crease, or a second surface inside
  *    the coarser level's radius) are not mixed: the finer one is used (issue 15,
- *    fifteenth round).
+ *    fifteenth round). The finer level la itself is checked the same way against the
+ *    level below it, la - 1, when that is no finer than the anchor level a of step 4
+ *    (sta_normals_anchor_level, at every resolution): where they disagree by more than
+ *    fine_spread, la's normal fades into la - 1's (its texels reached a crease or a sparse
+ *    face's surroundings that la - 1's do not; issue 15, sixteenth round).
  * At half resolution (half_resolution; issue 20: the gather is most of the pass's cost,
  * and it is per pixel):
  * 4. Steps 2-3 on the anchors only, the pixels (s i, s j) with s = 2^a, a the anchor level
@@ -62,6 +66,11 @@
  * product is at least 1 - spread (0.01: about 8 degrees apart). Chosen on the street and
  * the closed models (issue 15, fifteenth round, docs/BENCHMARKS.md). */
 #define STA_NORMALS_PYRAMID_DEFAULT_SPREAD          0.01f
+/* Default check of step 3's finer level against the level below it: mixed in from a dot
+ * product below 1 - fine_spread (0.03: about 14 degrees), alone at 1 - 2 fine_spread.
+ * Wider than spread: the level below is noisier, and at 0.01 the street's medians rose 5 %
+ * and the far view's p95 3.1 -> 4.8 degrees (issue 15, sixteenth round, docs/BENCHMARKS.md). */
+#define STA_NORMALS_PYRAMID_DEFAULT_FINE_SPREAD     0.03f
 /* Default jump ratio of step 1. */
 #define STA_NORMALS_PYRAMID_DEFAULT_JUMP_RATIO      2.5f
 /* Steps 4-5: the anchors are the pixels whose x and y are multiples of 2^a, a = the
@@ -96,6 +105,9 @@ typedef struct sta_normals_pyramid_params {
     float spread;          /* step 3's agreement test; <= 0 (or NaN):
                               STA_NORMALS_PYRAMID_DEFAULT_SPREAD; +INFINITY turns it off
                               (the estimator before issue 15's fifteenth round) */
+    float fine_spread;     /* step 3's check of the finer level against the one below; <= 0
+                              (or NaN): STA_NORMALS_PYRAMID_DEFAULT_FINE_SPREAD; +INFINITY
+                              turns it off (before issue 15's sixteenth round) */
     bool half_resolution;  /* steps 4-5 instead of 2-3 on every pixel (default false) */
 } sta_normals_pyramid_params;
 
@@ -136,6 +148,13 @@ static inline float sta_normals_pyramid_plane_tolerance_m(const sta_view_params 
 static inline float sta_normals_pyramid_coherence(const sta_normals_pyramid_params *params)
 {
     return 1.0f - params->spread;
+}
+
+/* 1 - fine_spread, the same for step 3's check of the finer level (-INFINITY: off). The GL
+ * pass passes exactly this float to its shader. */
+static inline float sta_normals_pyramid_fine_coherence(const sta_normals_pyramid_params *params)
+{
+    return 1.0f - params->fine_spread;
 }
 
 /* Normals of one level from its points (4 channels, w > 0 where a point is): `out` is
