@@ -52,15 +52,20 @@ static inline int sta_position_occludes(float w)
     return w > 0.5f && w < STA_POSITION_W_OCCLUDER_MAX;
 }
 
-/* The position's w of a drawn point without a volumetric class that is not the last
- * return of its pulse (return number < number of returns: window glass in the synth
- * street, beam edges in real scans): the compute rasteriser's resolve writes it (the
- * GL_POINTS path has no returns per pixel and writes 1). HPR lets such points close a
- * point's sectors only where a solid occluder is near (STA_HPR_SOLID_LEVELS, hpr_ref.h;
- * issue 15, sixteenth round); everything else takes them as drawn points (w > 0.5, not
- * STA_POSITION_W_MARKED). w from STA_POSITION_W_SEE_THROUGH_MIN on is see-through. */
+/* The position's w of a drawn point without a volumetric class, with a LAS class from
+ * STA_SEE_THROUGH_MIN_CLASS on, that is not the last return of its pulse (return number
+ * < number of returns: window glass in the synth street, beam edges in real scans): the
+ * compute rasteriser's resolve writes it (the GL_POINTS path has no returns per pixel and
+ * writes 1). HPR lets such points close a point's sectors only where a solid occluder is
+ * near (STA_HPR_SOLID_LEVELS, hpr_ref.h; issue 15, sixteenth round); everything else
+ * takes them as drawn points (w > 0.5, not STA_POSITION_W_MARKED). w from
+ * STA_POSITION_W_SEE_THROUGH_MIN on is see-through. Classes 0 (never classified) and 1
+ * (unclassified) are left out: there the earlier returns are mostly unlabelled canopy
+ * (the lasR forest tiles: 40 % of a shaded view changed, the canopy's filled surface
+ * speckled with the ground's points), which is the volumetric classes' business. */
 #define STA_POSITION_W_SEE_THROUGH     3.0f
 #define STA_POSITION_W_SEE_THROUGH_MIN 2.5f
+#define STA_SEE_THROUGH_MIN_CLASS      2
 
 /* True when a position's w is a see-through return (see above). */
 static inline int sta_position_see_through(float w)
