@@ -72,6 +72,20 @@ bool hpr_occludes(float w)
     return w > 0.5 && w < STA_POSITION_W_OCCLUDER_MAX;
 }
 
+// True when a drawn point closes sectors only within the marked reach: a marked point
+// (volumetric class), not a see-through one (twin: sta_position_reach_limited).
+bool hpr_reach_limited(float w)
+{
+    return w >= STA_POSITION_W_OCCLUDER_MAX && w < STA_POSITION_W_SEE_THROUGH_MIN;
+}
+
+// True when a drawn point is a see-through return (w = STA_POSITION_W_SEE_THROUGH: not
+// the last return of its pulse; twin: sta_position_see_through).
+bool hpr_see_through(float w)
+{
+    return w >= STA_POSITION_W_SEE_THROUGH_MIN;
+}
+
 // The pixel's own point, or for background the point at depth far_m on its ray.
 vec3 hpr_centre_point(vec4 own, ivec2 p, ivec2 size, vec2 tan_half, float far_m)
 {

@@ -7,7 +7,8 @@
 // dropped, and for empty pixels sectors with ring texels outside the image that nothing
 // closes are left out of the mean (docs/HPR.md). A point whose direct neighbours fit a
 // plane through it (its own surface) is hidden only by candidates in front of that
-// surface (the own-surface rule, fit_own_surface). With HPR_SMOOTH_GAPS (the default's
+// surface (the own-surface rule, fit_own_surface); see-through returns (window glass)
+// close a point's sectors only where a solid candidate is near (g_solid). With HPR_SMOOTH_GAPS (the default's
 // variant; without it sta_hpr_params.block_gaps) an empty pixel's candidates close the
 // sectors around where they land, within 2^level pixels, with 4 more texels 2 away along
 // the axes below the top level, so that hole and background part along the points, not
@@ -79,6 +80,14 @@ const ivec2 AXES[4] = ivec2[4](ivec2(0, -1), ivec2(-1, 0), ivec2(1, 0), ivec2(0,
 
 // The pixel's own surface (fit_own_surface), while the own-surface rule applies.
 HprSurface g_surface;
+// See-through returns (issue 15, sixteenth round): their sector minima apart (the other
+// candidates' go to min_lo / min_hi), and whether a solid candidate was seen: an
+// occluding (unmarked, not see-through) one of a ring level up to STA_HPR_SOLID_LEVELS
+// whose occlusion value is below STA_HPR_SOLID_VALUE. A point takes the see-through
+// minima only then (add_neighbour; twin: sta_hpr_ref_pyramid_labels).
+vec4 g_see_lo, g_see_hi;
+bool g_solid;
+bool g_solid_level; // the current ring level is one of those
 
 // Lowers the sector minima by neighbour y at ring offset `ring` (its sector: each ring
 // position is one sector, as in the paper's Figure 3). Ring candidates of levels >= 1
@@ -88,6 +97,9 @@ HprSurface g_surface;
 // marked points (volumetric classes) landing beyond their reach, u_marked_reach / depth
 // pixels: scattered returns hide what lies right behind them, their gaps are no surface.
 // On the pixel's own surface (g_surface.ok) a neighbour must lie in front of that surface.
+// A see-through return lowers the see-through minima (g_see_lo / g_see_hi) instead, at
+// any distance like an unmarked point; an occluding neighbour of a solid level with a value
+// below STA_HPR_SOLID_VALUE sets g_solid.
 // For an empty pixel with SMOOTH_GAPS (`by_landing`) the neighbour closes the sectors
 // around where it lands (bits in `closed`, hpr_landing_sectors) instead: seen from the
 // far centre point every nearer candidate closes, no occlusion value is needed.
@@ -101,7 +113,7 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, fl
     precise float vx = y.x * inv * u_scale.x + 0.5 * float(u_size.x) - (float(p.x) + 0.5);
     precise float vy = y.y * inv * u_scale.y + 0.5 * float(u_size.y) - (float(p.y) + 0.5);
     precise float dist2 = vx * vx + vy * vy;
-    if (!hpr_occludes(y.w)) {
+    if (hpr_reach_limited(y.w)) {
         precise float reach = u_marked_reach * inv;
         if (!(dist2 <= reach * reach)) {
             return;
@@ -115,7 +127,12 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, fl
         closed |= hpr_landing_sectors(vec2(vx, vy));
     } else if (!(g_surface.ok && !hpr_in_front_of_surface(g_surface, -y.z, vx, vy)) &&
                hpr_occlusion(x, y.xyz, value)) {
-        hpr_lower_sector(hpr_sector(2 * ring), value, min_lo, min_hi);
+        if (hpr_see_through(y.w)) {
+            hpr_lower_sector(hpr_sector(2 * ring), value, g_see_lo, g_see_hi);
+        } else {
+            hpr_lower_sector(hpr_sector(2 * ring), value, min_lo, min_hi);
+            g_solid = g_solid || (g_solid_level && hpr_occludes(y.w) && value < STA_HPR_SOLID_VALUE);
+        }
     }
 }
 
@@ -234,6 +251,10 @@ void main()
     }
     g_surface = fit_own_surface(own, p, on, nb);
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
+    g_see_lo = vec4(1.0);
+    g_see_hi = vec4(1.0);
+    g_solid = false;
+    g_solid_level = level <= STA_HPR_SOLID_LEVELS;
     int outside = 0; // sectors with ring texels outside the image within the reach
     // Off (the default): empty pixels as points, by ring position (main's blocky rule).
     bool by_landing = !is_point && SMOOTH_GAPS;
@@ -260,6 +281,7 @@ void main()
     // every pixel of the ancestor block (a diagonal ring texel always does).
     bool settled = false;
     for (int k = level; k >= 1 && !settled; k--) {
+        g_solid_level = k <= STA_HPR_SOLID_LEVELS;
         ivec2 a = p >> k;
         ivec2 size_k = (u_size + (1 << k) - 1) >> k;
         ivec2 origin = u_level_origin[k];
@@ -282,8 +304,13 @@ void main()
         }
         // An empty pixel with a closed sector and every known sector closed is a hole
         // whatever else closes (with none closed and none known it is background so far).
-        settled = by_landing ? closed != 0 && (closed | empty_outside) == 255 : hpr_settled(min_lo, min_hi, is_point, outside, bound);
+        // A point settles on the minima without the see-through returns (never below
+        // those it takes), an empty pixel on all.
+        vec4 lo = is_point ? min_lo : min(min_lo, g_see_lo);
+        vec4 hi = is_point ? min_hi : min(min_hi, g_see_hi);
+        settled = by_landing ? closed != 0 && (closed | empty_outside) == 255 : hpr_settled(lo, hi, is_point, outside, bound);
     }
+    g_solid_level = true;
     // Level 0: the 8 direct neighbours, from the position texture.
     for (int i = 0; i < 8 && !settled; i++) {
         ivec2 n = p + RING[i];
@@ -294,6 +321,12 @@ void main()
         } else {
             outside |= 1 << hpr_sector(2 * RING[i]);
         }
+    }
+    // See-through returns close an empty pixel's sectors, and a point's where a solid
+    // candidate is near (the point lies behind a wall, not only behind the glass).
+    if (!is_point || g_solid) {
+        min_lo = min(min_lo, g_see_lo);
+        min_hi = min(min_hi, g_see_hi);
     }
     float mean = by_landing ? hpr_empty_mean(closed, empty_outside)
                             : hpr_sector_mean(min_lo, min_hi, is_point, outside);

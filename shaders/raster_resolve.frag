@@ -6,7 +6,10 @@
 // of the depth written here: unproject_pixel.glsl), so the screen-space pipeline can skip
 // that pass, and its class; a drawn pixel whose class is in u_mark_classes gets
 // w = STA_POSITION_W_MARKED, the volumetric mark (render/ref/volumetric_ref.h) done here
-// (issue 15, tenth round: the mark pass is skipped; all zero: nothing marked).
+// (issue 15, tenth round: the mark pass is skipped; all zero: nothing marked); any other
+// drawn pixel whose point is not the last return of its pulse and has a class from
+// STA_SEE_THROUGH_MIN_CLASS on gets w = STA_POSITION_W_SEE_THROUGH
+// (render/ref/screen_space.h; issue 15, sixteenth round).
 uniform vec2 u_elevation;        // (camera z - min z, 1 / (max z - min z))
 uniform float u_intensity_scale; // 1 / largest intensity
 uniform vec3 u_background;       // colour of empty pixels
@@ -65,6 +68,9 @@ void main()
     if (o_position.w > 0.0 && o_position.z < 0.0 &&
         ((u_mark_classes[c >> 5u] >> (c & 31u)) & 1u) != 0u) {
         o_position.w = STA_POSITION_W_MARKED;
+    } else if (o_position.w > 0.0 && o_position.z < 0.0 && returns.x < returns.y &&
+               c >= uint(STA_SEE_THROUGH_MIN_CLASS)) {
+        o_position.w = STA_POSITION_W_SEE_THROUGH; // returns.xy: return number, of returns
     }
 #endif
 }

@@ -1530,6 +1530,118 @@ static void marked_points_hide_only_nearby(void **state)
     sta_free(kind);
 }
 
+// See-through returns (issue 15, sixteenth round): a wall at 10 m with a window
+// ([40, 120) x [30, 90)) whose glass answers one pulse in nine (position w =
+// STA_POSITION_W_SEE_THROUGH on every third pixel of every third row) and a room wall at
+// 14 m seen through it on the other pixels; left of the window, in [34, 40), room points
+// show on every other pixel of the wall (the scanner saw them through the window from its
+// angle; from here they lie behind the wall). Glass kinds: how the window's sparse
+// returns are marked, or left out.
+enum glass_kind {
+    GLASS_SEE_THROUGH,
+    GLASS_PLAIN, // w = 1: what the pipeline wrote before the rule (and GL_POINTS writes)
+    GLASS_NONE   // the room point on those pixels too
+};
+
+#define WINDOW_X0       40
+#define WINDOW_X1       120
+#define WINDOW_Y0       30
+#define WINDOW_Y1       90
+#define WINDOW_STRIP_X0 34
+
+static void glass_scene(const sta_view_params *view, enum glass_kind glass, sta_image *position)
+{
+    for (int y = 0; y < view->height_px; y++) {
+        for (int x = 0; x < view->width_px; x++) {
+            bool rows = y >= WINDOW_Y0 && y < WINDOW_Y1;
+            bool window = rows && x >= WINDOW_X0 && x < WINDOW_X1;
+            bool strip = rows && x >= WINDOW_STRIP_X0 && x < WINDOW_X0 && (x + y) % 2 == 1;
+            bool pane = window && x % 3 == 0 && y % 3 == 0 && glass != GLASS_NONE;
+            set_point(view, position, x, y, (window && !pane) || strip ? 14.0f : 10.0f);
+            if (pane && glass == GLASS_SEE_THROUGH) {
+                sta_image_at(position, x, y)[3] = STA_POSITION_W_SEE_THROUGH;
+            }
+        }
+    }
+}
+
+// Visible room points in the window's interior (12 px and more from its edges, beyond
+// the wall's candidates) and in the strip's two columns next to the window.
+static void glass_counts(const sta_image *position, const sta_image *label, int *interior,
+                         int *interior_visible, int *strip, int *strip_visible)
+{
+    *interior = *interior_visible = *strip = *strip_visible = 0;
+    for (int y = WINDOW_Y0; y < WINDOW_Y1; y++) {
+        for (int x = WINDOW_STRIP_X0; x < WINDOW_X1; x++) {
+            const float *p = sta_image_at(position, x, y);
+            if (!(p[2] < -12.0f)) {
+                continue; // not a room point
+            }
+            bool visible = *sta_image_at(label, x, y) == STA_LABEL_VISIBLE;
+            if (x >= WINDOW_X0 + 12 && x < WINDOW_X1 - 12 && y >= WINDOW_Y0 + 12 &&
+                y < WINDOW_Y1 - 12) {
+                (*interior)++;
+                *interior_visible += visible;
+            } else if (x >= WINDOW_X0 - 2 && x < WINDOW_X0) {
+                (*strip)++;
+                *strip_visible += visible;
+            }
+        }
+    }
+}
+
+// Room points seen through sparse see-through glass stay visible (with the glass as
+// plain points, the rule off, they are hidden), and room points behind the wall beside
+// the window are still hidden: the wall is a solid candidate there, so the glass closes
+// their sectors towards the window (with no glass at all they show). Shader and twin
+// agree label for label; the sparse operator's programs apply the rule too.
+static void see_through_glass_needs_a_solid_wall(void **state)
+{
+    (void)state;
+    sta_view_params view = make_view(160, 120);
+    sta_image position[3];
+    both_result r[3];
+    int interior[3], interior_visible[3], strip[3], strip_visible[3];
+    const char *names[3] = { "glass see-through", "glass plain", "no glass" };
+    for (int g = 0; g < 3; g++) {
+        new_image(&position[g], 160, 120, 4);
+        glass_scene(&view, (enum glass_kind)g, &position[g]);
+        assert_int_equal(run_both(names[g], &view, NULL, &position[g], -1, &r[g]), 0);
+        glass_counts(&position[g], &r[g].pyramid_label, &interior[g], &interior_visible[g],
+                     &strip[g], &strip_visible[g]);
+        printf("%-18s room points visible: window interior %d of %d, beside the window %d of "
+               "%d\n",
+               names[g], interior_visible[g], interior[g], strip_visible[g], strip[g]);
+        assert_true(interior[g] > 500 && strip[g] > 50);
+    }
+    // Through the glass every room point shows; without the rule most are hidden.
+    assert_int_equal(interior_visible[GLASS_SEE_THROUGH], interior[GLASS_SEE_THROUGH]);
+    assert_true(interior_visible[GLASS_PLAIN] < interior[GLASS_PLAIN] / 2);
+    // Beside the window the rule frees none (those visible with plain glass too lie on
+    // rows without a pane next to them: the sector operator's own limit), where no glass
+    // at all would free them all.
+    assert_int_equal(strip_visible[GLASS_SEE_THROUGH], strip_visible[GLASS_PLAIN]);
+    assert_true(strip_visible[GLASS_SEE_THROUGH] <= strip[GLASS_SEE_THROUGH] / 4);
+    assert_int_equal(strip_visible[GLASS_NONE], strip[GLASS_NONE]);
+    // The sparse operator: its labels are the twin's copy steps over the GPU's full ones.
+    sta_hpr_params sparse_params = { .sparse = true };
+    sta_image full, sparse, expected;
+    gpu_pyramid(&view, NULL, &position[GLASS_SEE_THROUGH], &full, NULL);
+    assert_memory_equal(full.data, r[GLASS_SEE_THROUGH].pyramid_label.data,
+                        sizeof(float) * 160 * 120);
+    gpu_pyramid(&view, &sparse_params, &position[GLASS_SEE_THROUGH], &sparse, NULL);
+    new_image(&expected, 160, 120, 1);
+    sta_hpr_ref_sparse_labels(&position[GLASS_SEE_THROUGH], &full, &expected);
+    assert_memory_equal(expected.data, sparse.data, sizeof(float) * 160 * 120);
+    sta_image_release(&full);
+    sta_image_release(&sparse);
+    sta_image_release(&expected);
+    for (int g = 0; g < 3; g++) {
+        both_release(&r[g]);
+        sta_image_release(&position[g]);
+    }
+}
+
 static void allocation_failures_are_clean(void **state)
 {
     (void)state;
@@ -1638,6 +1750,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(occluder_gap_keeps_noisy_surfaces, setup, teardown),
     cmocka_unit_test_setup_teardown(marked_points_hide_only_nearby, setup, teardown),
     cmocka_unit_test_setup_teardown(own_surface_keeps_grazing_planes, setup, teardown),
+    cmocka_unit_test_setup_teardown(see_through_glass_needs_a_solid_wall, setup, teardown),
     cmocka_unit_test(allocation_failures_are_clean),
     cmocka_unit_test_setup_teardown(label_texture_round_trip, setup, teardown),
     cmocka_unit_test_setup_teardown(bad_arguments_are_refused, setup, teardown),

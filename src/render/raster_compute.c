@@ -43,11 +43,13 @@ static sta_status resolve_program(sta_raster_compute *r, int mode, int position,
     if (v->program) {
         return STA_OK;
     }
-    char defines[sizeof(r->resolve_defines) + 160];
+    char defines[sizeof(r->resolve_defines) + 224];
     snprintf(defines, sizeof(defines),
              "%s#define STA_RASTER_COLOUR_MODE %d\n#define STA_RASTER_POSITION %d\n"
-             "#define STA_POSITION_W_MARKED %.1f\n",
-             r->resolve_defines, mode, position, (double)STA_POSITION_W_MARKED);
+             "#define STA_POSITION_W_MARKED %.1f\n#define STA_POSITION_W_SEE_THROUGH %.1f\n"
+             "#define STA_SEE_THROUGH_MIN_CLASS %d\n",
+             r->resolve_defines, mode, position, (double)STA_POSITION_W_MARKED,
+             (double)STA_POSITION_W_SEE_THROUGH, STA_SEE_THROUGH_MIN_CLASS);
     const char *sources[] = { "geometry_colour.glsl", "raster_common.glsl", "unproject_pixel.glsl",
                               "raster_resolve.vert", "raster_resolve.frag" };
     sta_status status = sta_gl_program_create(sources, 5, defines, &v->program, err);

@@ -449,7 +449,7 @@ static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *p
                     }
                     float dist2 = v[0] * v[0] + v[1] * v[1];
                     float marked = marked_reach * (1.0f / -y[2]);
-                    bool reached = sta_position_occludes(y[3]) || dist2 <= marked * marked;
+                    bool reached = !sta_position_reach_limited(y[3]) || dist2 <= marked * marked;
                     if (reached && dist2 <= cut2) {
                         closed |= landing_sectors(v);
                     }
@@ -523,6 +523,10 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             // On its own surface, a neighbour must also lie in front of that surface.
             own_surface surface = fit_own_surface(&f, &pyramid->levels[0], px, py, surface_tol);
             float sector_min[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
+            // See-through returns' minima apart, and whether a solid candidate was seen
+            // (STA_HPR_SOLID_LEVELS; shader: g_see_lo / g_see_hi, g_solid).
+            float see_min[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
+            bool solid = false;
             unsigned outside = 0;
             for (int k = 0; k <= level; k++) {
                 const sta_image *lk = &pyramid->levels[k];
@@ -555,14 +559,32 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                         // A marked point (scattered returns) occludes only near its own
                         // position on screen: the gaps between such points are no surface.
                         float reach = marked_reach * (1.0f / -y[2]);
-                        if (!sta_position_occludes(y[3]) && !(dist2 <= reach * reach)) {
+                        if (sta_position_reach_limited(y[3]) && !(dist2 <= reach * reach)) {
                             continue;
                         }
                         // Each ring position is its own sector (Figure 3's colours). The
                         // direction from the pixel to where the point lands would leave
                         // sectors empty (the ring's points cluster), opening holes.
-                        add_neighbour(x, y, sta_hpr_sector(2 * dx, 2 * dy), sector_min);
+                        int sector = sta_hpr_sector(2 * dx, 2 * dy);
+                        float value;
+                        if (!occlusion_value(x, y, &value)) {
+                            continue;
+                        }
+                        float *minima = sta_position_see_through(y[3]) ? see_min : sector_min;
+                        if (value < minima[sector]) {
+                            minima[sector] = value;
+                        }
+                        solid =
+                            solid || (k <= STA_HPR_SOLID_LEVELS && sta_position_occludes(y[3]) &&
+                                      value < STA_HPR_SOLID_VALUE);
                     }
+                }
+            }
+            // See-through returns close an empty pixel's sectors, and a point's where a
+            // solid candidate is near (behind a wall, not only behind the glass).
+            if (!(own[3] > 0.5f) || solid) {
+                for (int s = 0; s < 8; s++) {
+                    sector_min[s] = fminf(sector_min[s], see_min[s]);
                 }
             }
             float mean = sector_mean(sector_min, own[3] > 0.5f, outside);

@@ -113,6 +113,17 @@
 #define STA_HPR_SURFACE_FRONT_SHARE  0.5f
 #define STA_HPR_SURFACE_MIN_POINTS   5
 #define STA_HPR_SURFACE_MIN_DET      1.0f
+/* Pyramidal operator, see-through returns (position w = STA_POSITION_W_SEE_THROUGH,
+ * screen_space.h: window glass answers some pulses and lets the rest into the room):
+ * they close a point's sectors only when a solid candidate is near, an occluding
+ * (unmarked, not see-through) one of ring levels 0 .. STA_HPR_SOLID_LEVELS whose occlusion
+ * value is below STA_HPR_SOLID_VALUE: a room point seen through the glass stays, one
+ * behind the wall beside the window does not. Empty pixels take them as any point.
+ * Levels 0 / 1 / 2 / 3 on street views 0 and 1: F1 0.9653 / 0.9690, 0.9645 / 0.9705,
+ * 0.9644 / 0.9711, 0.9629 / 0.9713 (main 0.9615 / 0.9715; issue 15, sixteenth round,
+ * docs/HPR.md). */
+#define STA_HPR_SOLID_LEVELS         2
+#define STA_HPR_SOLID_VALUE          0.5f
 
 /* The empty pixels' border band for a view `height_px` pixels high (above). */
 static inline float sta_hpr_empty_border_px(int height_px)

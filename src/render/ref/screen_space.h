@@ -5,7 +5,8 @@
  * - position: RGBA32F, camera space (camera at the origin looking down -Z, +X right,
  *   +Y up), xyz in metres, w = 1 where a point was drawn, w = 0 for background,
  *   w = STA_POSITION_W_MARKED where the drawn point has a volumetric class
- *   (volumetric_ref.h: shown as a point, no seed for the fill).
+ *   (volumetric_ref.h: shown as a point, no seed for the fill), w =
+ *   STA_POSITION_W_SEE_THROUGH where it is a see-through return (below).
  *   Made from the reverse-Z depth buffer by the unproject pass.
  * - colour: RGBA32F (RGB in 0..1, A unused) or RGBA8 from the geometry pass.
  * - label: R32F holding one of STA_LABEL_* per pixel (HPR output).
@@ -49,6 +50,34 @@
 static inline int sta_position_occludes(float w)
 {
     return w > 0.5f && w < STA_POSITION_W_OCCLUDER_MAX;
+}
+
+/* The position's w of a drawn point without a volumetric class, with a LAS class from
+ * STA_SEE_THROUGH_MIN_CLASS on, that is not the last return of its pulse (return number
+ * < number of returns: window glass in the synth street, beam edges in real scans): the
+ * compute rasteriser's resolve writes it (the GL_POINTS path has no returns per pixel and
+ * writes 1). HPR lets such points close a point's sectors only where a solid occluder is
+ * near (STA_HPR_SOLID_LEVELS, hpr_ref.h; issue 15, sixteenth round); everything else
+ * takes them as drawn points (w > 0.5, not STA_POSITION_W_MARKED). w from
+ * STA_POSITION_W_SEE_THROUGH_MIN on is see-through. Classes 0 (never classified) and 1
+ * (unclassified) are left out: there the earlier returns are mostly unlabelled canopy
+ * (the lasR forest tiles: 40 % of a shaded view changed, the canopy's filled surface
+ * speckled with the ground's points), which is the volumetric classes' business. */
+#define STA_POSITION_W_SEE_THROUGH     3.0f
+#define STA_POSITION_W_SEE_THROUGH_MIN 2.5f
+#define STA_SEE_THROUGH_MIN_CLASS      2
+
+/* True when a position's w is a see-through return (see above). */
+static inline int sta_position_see_through(float w)
+{
+    return w >= STA_POSITION_W_SEE_THROUGH_MIN;
+}
+
+/* True when a drawn point closes HPR sectors only within the marked reach: marked, not
+ * see-through. */
+static inline int sta_position_reach_limited(float w)
+{
+    return w >= STA_POSITION_W_OCCLUDER_MAX && w < STA_POSITION_W_SEE_THROUGH_MIN;
 }
 
 /* A colour channel as an RGBA8 texel holds it (what a GL store into RGBA8 writes and a
