@@ -435,11 +435,13 @@ static void cell_order_is_stable_morton_sort(void **state)
     sta_error err = { 0 };
     // Random cells, then cells on a lattice 16 apart (the keys' low 12 bits, the first
     // digit of the sort, are 0 for every point), then on a 2-cell lattice spanning many
-    // digits: each the stable sort of the indices by key.
-    for (int round = 0; round < 3; round++) {
+    // digits, then on one spanning all 21 bits an axis (63-bit keys, six passes), then 27
+    // cells for 4 000 points (ties everywhere: the input order keeps them): each the
+    // stable sort of the indices by key.
+    for (int round = 0; round < 5; round++) {
         uint32_t s = 11u + (uint32_t)round;
-        int32_t stride = round == 0 ? 1 : round == 1 ? 16 : 2;
-        int32_t cells = round == 2 ? 60000 : 300;
+        const int32_t strides[5] = { 1, 16, 2, 2, 1 }, counts[5] = { 300, 300, 60000, 1000000, 3 };
+        int32_t stride = strides[round], cells = counts[round];
         for (size_t i = 0; i < POINTS; i++) {
             for (int a = 0; a < 3; a++) {
                 grid[i][a] =
