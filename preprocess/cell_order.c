@@ -2,15 +2,17 @@
  * Morton order of points by their cells: keys and a stable radix sort. */
 #include "cell_order.h"
 
-#include <stdbool.h>
 #include <string.h>
 
 #include "core/alloc.h"
 
-#define DIGIT_BITS 11
-#define BUCKETS    (1u << DIGIT_BITS)
-/* Digits of a key at most (3 axes of STA_CELL_ORDER_AXIS_BITS bits). */
-#define DIGITS     ((3 * STA_CELL_ORDER_AXIS_BITS + DIGIT_BITS - 1) / DIGIT_BITS)
+#define DIGIT_BITS   11
+#define BUCKETS      (1u << DIGIT_BITS)
+/* The first pass's digit (the keys' top bits), and the passes' within its buckets. */
+#define SUB_BITS     8
+#define SUB_BUCKETS  (1u << SUB_BITS)
+/* Buckets of fewer keys than this are sorted by insertion. */
+#define SMALL_BUCKET 32
 
 // The 21 low bits of v spread to every third bit.
 static uint64_t spread(uint64_t v)
@@ -24,6 +26,57 @@ static uint64_t spread(uint64_t v)
     return v;
 }
 
+// Sorts the n keys `key` (with the indices `index` beside them) by their low `bits` bits,
+// stably, by SUB_BITS a pass through `key_spare` and `spare` (the result back in key and
+// index); count: SUB_BUCKETS counters. The buckets of the first pass are small: in cache.
+static void sort_low(uint64_t *key, uint32_t *index, uint64_t *key_spare, uint32_t *spare, size_t n,
+                     int bits, size_t *count)
+{
+    if (n < SMALL_BUCKET) { // insertion sort: stable, and cheaper for a few
+        for (size_t i = 1; i < n; i++) {
+            uint64_t k = key[i];
+            uint32_t x = index[i];
+            size_t j = i;
+            for (; j > 0 && key[j - 1] > k; j--) {
+                key[j] = key[j - 1];
+                index[j] = index[j - 1];
+            }
+            key[j] = k;
+            index[j] = x;
+        }
+        return;
+    }
+    uint64_t *from = key, *to = key_spare;
+    uint32_t *from_index = index, *to_index = spare;
+    for (int shift = 0; shift < bits; shift += SUB_BITS) {
+        memset(count, 0, SUB_BUCKETS * sizeof(*count));
+        for (size_t i = 0; i < n; i++) {
+            count[(from[i] >> shift) & (SUB_BUCKETS - 1)]++;
+        }
+        size_t sum = 0;
+        for (size_t b = 0; b < SUB_BUCKETS; b++) {
+            size_t c = count[b];
+            count[b] = sum;
+            sum += c;
+        }
+        for (size_t i = 0; i < n; i++) {
+            size_t at = count[(from[i] >> shift) & (SUB_BUCKETS - 1)]++;
+            to[at] = from[i];
+            to_index[at] = from_index[i];
+        }
+        uint64_t *k = from;
+        from = to;
+        to = k;
+        uint32_t *o = from_index;
+        from_index = to_index;
+        to_index = o;
+    }
+    if (from != key) {
+        memcpy(key, from, n * sizeof(*key));
+        memcpy(index, from_index, n * sizeof(*index));
+    }
+}
+
 sta_status sta_cell_order(const int32_t (*grid)[3], size_t n, const int32_t lo[3], int level,
                           uint32_t *order, sta_error *err)
 {
@@ -32,8 +85,8 @@ sta_status sta_cell_order(const int32_t (*grid)[3], size_t n, const int32_t lo[3
     }
     uint64_t *key = sta_alloc_array(n ? n : 1, 2 * sizeof(*key));
     uint32_t *spare = sta_alloc_array(n ? n : 1, sizeof(*spare));
-    // Every digit's histogram, counted as the keys are made (one pass, not one a digit).
-    size_t *count = sta_calloc((size_t)DIGITS * BUCKETS, sizeof(*count));
+    size_t *count = sta_calloc(BUCKETS + 1, sizeof(*count));
+    size_t sub_count[SUB_BUCKETS];
     if (!key || !spare || !count) {
         sta_free(key);
         sta_free(spare);
@@ -48,11 +101,7 @@ sta_status sta_cell_order(const int32_t (*grid)[3], size_t n, const int32_t lo[3
             widest = c > widest ? c : widest;
             k |= spread(c) << a;
         }
-        key[i] = k;
-        order[i] = (uint32_t)i;
-        for (int d = 0; d < DIGITS; d++) {
-            count[(size_t)d * BUCKETS + ((k >> (d * DIGIT_BITS)) & (BUCKETS - 1))]++;
-        }
+        key_spare[i] = k;
     }
     if (widest >> STA_CELL_ORDER_AXIS_BITS) {
         sta_free(key);
@@ -60,38 +109,33 @@ sta_status sta_cell_order(const int32_t (*grid)[3], size_t n, const int32_t lo[3
         sta_free(count);
         return sta_fail(err, STA_ERR_ARG, "cell order: the points span too many cells");
     }
-    int axis_bits = 0;
-    while ((widest >> axis_bits) != 0) {
-        axis_bits++;
+    int key_bits = 0;
+    while ((widest >> key_bits) != 0) {
+        key_bits++;
     }
-    uint64_t *from = key, *to_key = key_spare;
-    uint32_t *from_order = order, *to_order = spare;
-    for (int shift = 0, d = 0; shift < 3 * axis_bits; shift += DIGIT_BITS, d++) {
-        size_t *digit = count + (size_t)d * BUCKETS, sum = 0;
-        bool one_bucket = false; // all keys share this digit: the pass keeps the order
-        for (size_t b = 0; b < BUCKETS; b++) {
-            size_t c = digit[b];
-            one_bucket = one_bucket || c == n;
-            digit[b] = sum;
-            sum += c;
-        }
-        if (one_bucket) {
-            continue;
-        }
-        for (size_t i = 0; i < n; i++) {
-            size_t to = digit[(from[i] >> shift) & (BUCKETS - 1)]++;
-            to_key[to] = from[i];
-            to_order[to] = from_order[i];
-        }
-        uint64_t *k = from;
-        from = to_key;
-        to_key = k;
-        uint32_t *o = from_order;
-        from_order = to_order;
-        to_order = o;
+    key_bits *= 3;
+    // The first pass by the keys' top DIGIT_BITS bits (most significant first: the one
+    // pass over all points that misses the caches), stable, into key and order; then each
+    // of its buckets by the bits below, stably, in cache.
+    int top = key_bits > DIGIT_BITS ? key_bits - DIGIT_BITS : 0;
+    for (size_t i = 0; i < n; i++) {
+        count[(key_spare[i] >> top) + 1]++;
     }
-    if (from_order != order) {
-        memcpy(order, from_order, n * sizeof(*order));
+    for (size_t b = 0; b < BUCKETS; b++) {
+        count[b + 1] += count[b]; // count[b]: bucket b's start
+    }
+    for (size_t i = 0; i < n; i++) {
+        size_t at = count[key_spare[i] >> top]++;
+        key[at] = key_spare[i];
+        order[at] = (uint32_t)i;
+    }
+    // (count[b] is now bucket b's end, the next one's start)
+    for (size_t b = 0, from = 0; b < BUCKETS && top > 0; b++) {
+        size_t to = count[b];
+        if (to - from > 1) {
+            sort_low(key + from, order + from, key_spare, spare, to - from, top, sub_count);
+        }
+        from = to;
     }
     sta_free(key);
     sta_free(spare);

@@ -5,9 +5,10 @@
  * neighbours soon after.
  *
  * Design: a key per point (its cell's coordinates from the set's lowest cell, bits
- * interleaved x, y, z) sorted by a stable least-significant-digit radix sort, 11 bits a
- * pass, as many passes as the keys have bits. Ties keep the input order, so the order is
- * a function of the points alone.
+ * interleaved x, y, z) sorted by a stable radix sort: one pass by the keys' top 11 bits
+ * (the only pass over all points, which misses the caches), then each of its buckets by
+ * the bits below, 8 a pass (or by insertion where it holds few), in cache. Ties keep the
+ * input order, so the order is a function of the points alone.
  */
 #ifndef STA_PREPROCESS_CELL_ORDER_H
 #define STA_PREPROCESS_CELL_ORDER_H

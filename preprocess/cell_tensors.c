@@ -216,56 +216,76 @@ void sta_cell_tensors_add(sta_cell_tensors *t, const int32_t (*grid)[3], size_t 
     }
 }
 
-// Adds c, a cell's sums, moved by o (d + o: to a corner o below the cell's) to dst, one
-// axis at a time: sum (x + o)^i y^j z^k = sum over i' <= i of C(i, i') o^(i - i') sum x^i'
-// y^j z^k, modulo 2^64 like the sums.
-static void add_moved(const sta_cell_tensors *t, sta_tensor_sums *dst, const sta_tensor_sums *c,
-                      const uint64_t o[3])
+// Moves the sums s in place by `by` along axis a (d_a + by): sum (x + o)^i y^j z^k = sum
+// over i' <= i of C(i, i') o^(i - i') sum x^i' y^j z^k, modulo 2^64 like the sums.
+static void move_along(const sta_cell_tensors *t, sta_tensor_sums *s, int a, uint64_t by)
 {
     static const uint64_t binomial[5][5] = { { 1, 0, 0, 0, 0 },
                                              { 1, 1, 0, 0, 0 },
                                              { 1, 2, 1, 0, 0 },
                                              { 1, 3, 3, 1, 0 },
                                              { 1, 4, 6, 4, 1 } };
-    sta_tensor_sums moved = *c;
-    for (int a = 0; a < 3; a++) {
-        if (o[a] == 0) {
-            continue;
-        }
-        uint64_t p[5] = { 1, o[a], o[a] * o[a], o[a] * o[a] * o[a], o[a] * o[a] * o[a] * o[a] };
-        sta_tensor_sums from = moved;
-        for (int k = 0; k < STA_TENSOR_TERMS; k++) {
-            const uint8_t *e = sta_tensor_exponent[k];
-            uint64_t sum = 0;
-            int f[3] = { e[0], e[1], e[2] };
-            for (f[a] = 0; f[a] <= e[a]; f[a]++) {
-                sum += binomial[e[a]][f[a]] * p[e[a] - f[a]] * from.s[t->index[f[0]][f[1]][f[2]]];
-            }
-            moved.s[k] = sum;
-        }
-    }
+    const uint64_t p[5] = { 1, by, by * by, by * by * by, by * by * by * by };
+    const sta_tensor_sums from = *s;
     for (int k = 0; k < STA_TENSOR_TERMS; k++) {
-        dst->s[k] += moved.s[k];
+        const uint8_t *e = sta_tensor_exponent[k];
+        uint64_t sum = 0;
+        int f[3] = { e[0], e[1], e[2] };
+        for (f[a] = 0; f[a] <= e[a]; f[a]++) {
+            sum += binomial[e[a]][f[a]] * p[e[a] - f[a]] * from.s[t->index[f[0]][f[1]][f[2]]];
+        }
+        s->s[k] = sum;
+    }
+}
+
+// dst += src.
+static void add_sums(sta_tensor_sums *dst, const sta_tensor_sums *src)
+{
+    for (int k = 0; k < STA_TENSOR_TERMS; k++) {
+        dst->s[k] += src->s[k];
     }
 }
 
 void sta_cell_tensors_vertex(const sta_cell_tensors *t, const int64_t vertex[3],
                              sta_tensor_sums *out)
 {
-    memset(out, 0, sizeof(*out));
+    // The 8 cells' sums moved to the box's corner (one cell edge along each axis where the
+    // cell is the upper one): the moves are linear and exact modulo 2^64, so the upper cell
+    // of each pair along x is moved and added to the lower, then the upper pair sum of each
+    // pair along y, then along z: 4 + 2 + 1 moves instead of one a cell and axis (12).
     uint64_t edge = (uint64_t)1 << t->level;
+    sta_tensor_sums part[8];
+    bool found[8];
     for (int c = 0; c < 8; c++) {
         const int64_t cell[3] = { vertex[0] - 1 + (c & 1), vertex[1] - 1 + (c >> 1 & 1),
                                   vertex[2] - 1 + (c >> 2) };
         int64_t local[3];
-        if (!local_of(t, cell, local)) {
-            continue;
+        size_t s = 0;
+        found[c] = local_of(t, cell, local) &&
+                   t->keys[s = sta_key_slot(t->keys, t->capacity, pack(local))] != 0;
+        if (found[c]) {
+            part[c] = t->sums[t->cell[s]];
         }
-        size_t s = sta_key_slot(t->keys, t->capacity, pack(local));
-        if (t->keys[s] == 0) {
-            continue;
+    }
+    // Along axis a the cells (or partial sums) at index c and c + step pair up: the upper
+    // one moves by an edge and joins the lower one.
+    for (int a = 0, step = 1; a < 3; a++, step *= 2) {
+        for (int c = 0; c < 8; c += 2 * step) {
+            if (!found[c + step]) {
+                continue;
+            }
+            move_along(t, &part[c + step], a, edge);
+            if (found[c]) {
+                add_sums(&part[c], &part[c + step]);
+            } else {
+                part[c] = part[c + step];
+                found[c] = true;
+            }
         }
-        const uint64_t o[3] = { (c & 1) ? edge : 0, (c >> 1 & 1) ? edge : 0, (c >> 2) ? edge : 0 };
-        add_moved(t, out, &t->sums[t->cell[s]], o);
+    }
+    if (found[0]) {
+        *out = part[0];
+    } else {
+        memset(out, 0, sizeof(*out));
     }
 }

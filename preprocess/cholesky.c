@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-bool sta_cholesky(const double *a, int n, double shift, double *l)
+bool sta_cholesky(const double *a, int n, double shift, double *l, double *inv)
 {
     memset(l, 0, sizeof(*l) * (size_t)n * (size_t)n);
     for (int j = 0; j < n; j++) {
@@ -19,30 +19,11 @@ bool sta_cholesky(const double *a, int n, double shift, double *l)
                     return false;
                 }
                 l[j * n + j] = sqrt(sum);
+                inv[j] = 1.0 / l[j * n + j];
             } else {
-                l[i * n + j] = sum / l[j * n + j];
+                l[i * n + j] = sum * inv[j];
             }
         }
     }
     return true;
-}
-
-void sta_cholesky_solve_lower(const double *l, int n, double *x)
-{
-    for (int i = 0; i < n; i++) {
-        for (int k = 0; k < i; k++) {
-            x[i] -= l[i * n + k] * x[k];
-        }
-        x[i] /= l[i * n + i];
-    }
-}
-
-void sta_cholesky_solve_upper(const double *l, int n, double *x)
-{
-    for (int i = n - 1; i >= 0; i--) {
-        for (int k = i + 1; k < n; k++) {
-            x[i] -= l[k * n + i] * x[k];
-        }
-        x[i] /= l[i * n + i];
-    }
 }

@@ -148,12 +148,12 @@ bool sta_quadric_fit(const sta_tensor_sums *sums, double extent, sta_quadric *ou
         b[i][i] += QUADRIC_RIDGE * trace;
     }
     // C = L^-1 A L^-T with B = L L^T: the smallest eigenvector w of C gives v = L^-T w.
-    double l[UNKNOWNS][UNKNOWNS], c[UNKNOWNS][UNKNOWNS], x[UNKNOWNS][UNKNOWNS];
-    if (!sta_cholesky(&b[0][0], UNKNOWNS, 0.0, &l[0][0])) {
+    double l[UNKNOWNS][UNKNOWNS], c[UNKNOWNS][UNKNOWNS], x[UNKNOWNS][UNKNOWNS], inv[UNKNOWNS];
+    if (!sta_cholesky(&b[0][0], UNKNOWNS, 0.0, &l[0][0], inv)) {
         return false;
     }
     for (int j = 0; j < UNKNOWNS; j++) { // x = L^-1 A, column by column (A symmetric: rows)
-        sta_cholesky_solve_lower(&l[0][0], UNKNOWNS, memcpy(x[j], a[j], sizeof(x[j])));
+        sta_cholesky_solve_lower(&l[0][0], inv, UNKNOWNS, memcpy(x[j], a[j], sizeof(x[j])));
     }
     double ctrace = 0.0;
     for (int j = 0; j < UNKNOWNS; j++) { // c = L^-1 x^T: x[j] is column j of L^-1 A
@@ -161,7 +161,7 @@ bool sta_quadric_fit(const sta_tensor_sums *sums, double extent, sta_quadric *ou
         for (int i = 0; i < UNKNOWNS; i++) {
             col[i] = x[i][j];
         }
-        sta_cholesky_solve_lower(&l[0][0], UNKNOWNS, col);
+        sta_cholesky_solve_lower(&l[0][0], inv, UNKNOWNS, col);
         for (int i = 0; i < UNKNOWNS; i++) {
             c[i][j] = col[i];
         }
@@ -175,18 +175,18 @@ bool sta_quadric_fit(const sta_tensor_sums *sums, double extent, sta_quadric *ou
     if (!(ctrace > 0.0)) {
         return false;
     }
-    double shifted[UNKNOWNS][UNKNOWNS], lc[UNKNOWNS][UNKNOWNS], w[UNKNOWNS];
+    double shifted[UNKNOWNS][UNKNOWNS], lc[UNKNOWNS][UNKNOWNS], w[UNKNOWNS], inv_c[UNKNOWNS];
     memcpy(shifted, c, sizeof(shifted));
     for (int i = 0; i < UNKNOWNS; i++) {
         shifted[i][i] += QUADRIC_SHIFT * ctrace;
         w[i] = 1.0 - 0.07 * i; // (no special direction)
     }
-    if (!sta_cholesky(&shifted[0][0], UNKNOWNS, 0.0, &lc[0][0])) {
+    if (!sta_cholesky(&shifted[0][0], UNKNOWNS, 0.0, &lc[0][0], inv_c)) {
         return false;
     }
     for (int it = 0; it < QUADRIC_STEPS; it++) {
-        sta_cholesky_solve_lower(&lc[0][0], UNKNOWNS, w);
-        sta_cholesky_solve_upper(&lc[0][0], UNKNOWNS, w);
+        sta_cholesky_solve_lower(&lc[0][0], inv_c, UNKNOWNS, w);
+        sta_cholesky_solve_upper(&lc[0][0], inv_c, UNKNOWNS, w);
         double len = 0.0;
         for (int i = 0; i < UNKNOWNS; i++) {
             len += w[i] * w[i];
@@ -195,8 +195,9 @@ bool sta_quadric_fit(const sta_tensor_sums *sums, double extent, sta_quadric *ou
         if (!(len > 0.0) || !isfinite(len)) {
             return false;
         }
+        double shrink = 1.0 / len; // (one division, not UNKNOWNS)
         for (int i = 0; i < UNKNOWNS; i++) {
-            w[i] /= len;
+            w[i] *= shrink;
         }
     }
     double value = 0.0;
@@ -205,7 +206,7 @@ bool sta_quadric_fit(const sta_tensor_sums *sums, double extent, sta_quadric *ou
             value += w[i] * c[i][j] * w[j];
         }
     }
-    sta_cholesky_solve_upper(&l[0][0], UNKNOWNS, w);
+    sta_cholesky_solve_upper(&l[0][0], inv, UNKNOWNS, w);
     double v0 = 0.0;
     for (int i = 0; i < UNKNOWNS; i++) {
         out->v[i + 1] = w[i];

@@ -80,23 +80,23 @@ bool sta_sphere_moments_of(const sta_moment_sums *sums, double extent, sta_spher
 // eigenvalue (the Rayleigh quotient); false when a is not positive semi-definite.
 static bool smallest_eigen4(double a[4][4], double x[4], double *value)
 {
-    double trace = a[0][0] + a[1][1] + a[2][2] + a[3][3], l[4][4];
-    if (!(trace > 0.0) || !sta_cholesky(&a[0][0], 4, SPHERE_SHIFT * trace, &l[0][0])) {
+    double trace = a[0][0] + a[1][1] + a[2][2] + a[3][3], l[4][4], inv[4];
+    if (!(trace > 0.0) || !sta_cholesky(&a[0][0], 4, SPHERE_SHIFT * trace, &l[0][0], inv)) {
         return false;
     }
     for (int i = 0; i < 4; i++) {
         x[i] = 0.5;
     }
     for (int it = 0; it < SPHERE_ITERATIONS; it++) {
-        sta_cholesky_solve_lower(&l[0][0], 4, x);
-        sta_cholesky_solve_upper(&l[0][0], 4, x);
+        sta_cholesky_solve_lower(&l[0][0], inv, 4, x);
+        sta_cholesky_solve_upper(&l[0][0], inv, 4, x);
         double len = 0.0;
         for (int i = 3; i >= 0; i--) {
             len += x[i] * x[i];
         }
-        len = sqrt(len);
+        double shrink = 1.0 / sqrt(len); // (one division, not four)
         for (int i = 0; i < 4; i++) {
-            x[i] /= len;
+            x[i] *= shrink;
         }
     }
     *value = 0.0;

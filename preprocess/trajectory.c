@@ -9,6 +9,10 @@
 #include "core/alloc.h"
 #include "key_slots.h"
 
+/* Steps of one double from key * STA_TRAJECTORY_BIN_S to a bin's first time at most (it
+ * lies a few roundings away). */
+#define BOUND_STEPS 64
+
 static sta_trajectory_bin *find(const sta_trajectory *t, int64_t key)
 {
     if (t->capacity == 0) {
@@ -72,22 +76,68 @@ static bool key_of(double gps_time, int64_t *key)
     return true;
 }
 
+// The first time whose bin is at least `key` (key_of is monotonic: the division by a
+// positive constant and floor both are): from key * BIN_S, a few roundings off, by steps
+// of one double. -HUGE_VAL where it is not found within BOUND_STEPS (absurd times).
+static double first_time(int64_t key)
+{
+    double t = (double)key * STA_TRAJECTORY_BIN_S;
+    int64_t k;
+    for (int i = 0;; i++) { // down to a time below the bin
+        if (i == BOUND_STEPS || !key_of(t, &k)) {
+            return -HUGE_VAL;
+        }
+        if (k < key) {
+            break;
+        }
+        t = nextafter(t, -HUGE_VAL);
+    }
+    for (int i = 0; i < 2 * BOUND_STEPS; i++) { // then up to the first in the bin or above
+        t = nextafter(t, HUGE_VAL);
+        if (!key_of(t, &k)) {
+            return -HUGE_VAL;
+        }
+        if (k >= key) {
+            return t;
+        }
+    }
+    return -HUGE_VAL;
+}
+
+// The times of bin `key` exactly, [*from, *to): a time in it has that key without the
+// division (an empty range where not found).
+static void bin_times(int64_t key, double *from, double *to)
+{
+    *from = first_time(key);
+    *to = key < INT64_MAX ? first_time(key + 1) : -HUGE_VAL;
+    if (*from == -HUGE_VAL || *to == -HUGE_VAL) {
+        *from = HUGE_VAL;
+        *to = -HUGE_VAL;
+    }
+}
+
 sta_status sta_trajectory_add(sta_trajectory *t, double gps_time, const int32_t xyz[3],
                               sta_error *err)
 {
-    int64_t key;
-    if (!key_of(gps_time, &key)) {
-        return STA_OK;
-    }
-    // Points come in runs of one bin (scan order): the last slot first, then the hash.
-    sta_trajectory_bin *b =
-        t->last > 0 && t->bins[t->last - 1].key == key ? &t->bins[t->last - 1] : NULL;
-    if (!b) {
-        b = bin_for(t, key, err);
-        if (!b) {
-            return STA_ERR_NOMEM;
+    // Points come in runs of one bin (scan order): the last slot's times first (no
+    // division), then its key, then the hash.
+    sta_trajectory_bin *b = NULL;
+    if (t->last > 0 && gps_time >= t->last_from && gps_time < t->last_to) {
+        b = &t->bins[t->last - 1];
+    } else {
+        int64_t key;
+        if (!key_of(gps_time, &key)) {
+            return STA_OK;
         }
-        t->last = (size_t)(b - t->bins) + 1;
+        b = t->last > 0 && t->bins[t->last - 1].key == key ? &t->bins[t->last - 1] : NULL;
+        if (!b) {
+            b = bin_for(t, key, err);
+            if (!b) {
+                return STA_ERR_NOMEM;
+            }
+            t->last = (size_t)(b - t->bins) + 1;
+        }
+        bin_times(key, &t->last_from, &t->last_to);
     }
     for (int a = 0; a < 3; a++) {
         b->sum[a] += xyz[a];
@@ -176,14 +226,17 @@ bool sta_trajectory_at(const sta_trajectory *t, double gps_time, double out[3])
 bool sta_trajectory_at_memo(const sta_trajectory *t, sta_trajectory_memo *memo, double gps_time,
                             double out[3])
 {
-    int64_t key;
-    if (!key_of(gps_time, &key)) {
-        return false;
-    }
-    if (!memo->valid || memo->key != key) {
-        memo->valid = true;
-        memo->key = key;
-        memo->seen = sta_trajectory_at(t, gps_time, memo->at);
+    if (!memo->valid || !(gps_time >= memo->from && gps_time < memo->to)) {
+        int64_t key;
+        if (!key_of(gps_time, &key)) {
+            return false;
+        }
+        if (!memo->valid || memo->key != key) {
+            memo->valid = true;
+            memo->key = key;
+            memo->seen = sta_trajectory_at(t, gps_time, memo->at);
+        }
+        bin_times(key, &memo->from, &memo->to);
     }
     if (memo->seen) {
         memcpy(out, memo->at, sizeof(memo->at));

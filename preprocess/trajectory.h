@@ -34,6 +34,7 @@ typedef struct sta_trajectory {
     size_t capacity, count;
     bool usable; /* set by sta_trajectory_finish */
     size_t last; /* the slot sta_trajectory_add filled last, + 1 (0: none; growing forgets) */
+    double last_from, last_to; /* the times of that slot's bin: [from, to) exactly */
 } sta_trajectory;
 
 /* Adds a point measured at `gps_time` (non-finite times are ignored). */
@@ -54,6 +55,7 @@ bool sta_trajectory_at(const sta_trajectory *t, double gps_time, double out[3]);
 typedef struct sta_trajectory_memo {
     bool valid, seen;
     int64_t key;
+    double from, to; /* the times of bin `key`: [from, to) exactly */
     double at[3];
 } sta_trajectory_memo;
 

@@ -435,15 +435,22 @@ static void cell_order_is_stable_morton_sort(void **state)
     sta_error err = { 0 };
     // Random cells, then cells on a lattice 16 apart (the keys' low 12 bits, the first
     // digit of the sort, are 0 for every point), then on a 2-cell lattice spanning many
-    // digits: each the stable sort of the indices by key.
-    for (int round = 0; round < 3; round++) {
+    // digits, then on one spanning all 21 bits an axis (63-bit keys), then 27 cells for
+    // 4 000 points (ties everywhere: the input order keeps them), then the 63-bit lattice
+    // for every tenth point and the rest in 40 cells an axis near the corner (one large
+    // bucket of the first pass, sorted by its 52 bits below): each the stable sort of the
+    // indices by key.
+    for (int round = 0; round < 6; round++) {
         uint32_t s = 11u + (uint32_t)round;
-        int32_t stride = round == 0 ? 1 : round == 1 ? 16 : 2;
-        int32_t cells = round == 2 ? 60000 : 300;
+        const int32_t strides[6] = { 1, 16, 2, 2, 1, 2 },
+                      counts[6] = { 300, 300, 60000, 1000000, 3, 1000000 };
+        int32_t stride = strides[round], cells = counts[round];
         for (size_t i = 0; i < POINTS; i++) {
+            bool near = round == 5 && i % 10 != 0;
             for (int a = 0; a < 3; a++) {
-                grid[i][a] =
-                    corner[a] + stride * (int32_t)(sta_test_next_random(&s) % (uint32_t)cells);
+                uint32_t r = sta_test_next_random(&s);
+                grid[i][a] = corner[a] +
+                             (near ? (int32_t)(r % 40u) : stride * (int32_t)(r % (uint32_t)cells));
             }
         }
         assert_int_equal(sta_cell_order((const int32_t(*)[3])grid, POINTS, corner, 0, order, &err),

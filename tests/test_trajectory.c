@@ -3,7 +3,8 @@
  * the points measured in it, times in no bin or not finite have none, and the memoised
  * look-up gives the same answers as the plain one in any order of times; points in runs of
  * one bin (the order sta_trajectory_add shortcuts), over enough bins to grow the table
- * within runs and coming back to earlier bins, are all counted in their bin. */
+ * within runs and coming back to earlier bins, are all counted in their bin, and so are
+ * times on and beside the bins' edges (whose bins the look-ups remember by their times). */
 #include "test_support.h"
 
 #include <math.h>
@@ -65,6 +66,56 @@ static void memoised_lookups_match(void **state)
     sta_trajectory_release(&t);
 }
 
+// Times on and a few doubles around bin edges (small times and GPS-week-sized ones), in
+// runs that cross the edges both ways: every point lands in the bin of floor(time / BIN_S)
+// (its x, y the key: a centroid off the key means a point in the wrong bin), and the
+// memoised look-up of each time gives that bin's centroid, as the plain one does.
+static void times_at_bin_edges_take_their_bins(void **state)
+{
+    (void)state;
+    sta_trajectory t = { 0 };
+    sta_error err = { 0 };
+    enum {
+        EDGES = 400,
+        AROUND = 4
+    };
+    const double starts[2] = { 10.0, 6.1e8 };
+    for (int pass = 0; pass < 2; pass++) { // (the second adds to the first's bins again)
+        for (int e = 0; e < EDGES; e++) {
+            double edge = starts[e % 2] + (double)(e / 2) * STA_TRAJECTORY_BIN_S;
+            for (int i = 0; i <= 2 * AROUND; i++) { // (up across the edge, then down)
+                int j = pass == 0 ? i - AROUND : AROUND - i;
+                double time = edge;
+                for (int u = 0; u < (j < 0 ? -j : j); u++) {
+                    time = nextafter(time, j < 0 ? -HUGE_VAL : HUGE_VAL);
+                }
+                time = pass == 0 ? time : nextafter(time, HUGE_VAL); // (other doubles too)
+                int64_t key = (int64_t)floor(time / STA_TRAJECTORY_BIN_S);
+                const int32_t p[3] = { (int32_t)(key % 1000000), (int32_t)(key / 1000000), j };
+                assert_int_equal(sta_trajectory_add(&t, time, p, &err), STA_OK);
+            }
+        }
+    }
+    sta_trajectory_memo memo = { 0 };
+    for (int e = 0; e < 2 * EDGES; e++) {
+        double edge = starts[e % 2] + (double)(e / 2 % (EDGES / 2)) * STA_TRAJECTORY_BIN_S;
+        for (int i = 0; i <= 2 * AROUND; i++) {
+            int j = e < EDGES ? i - AROUND : AROUND - i;
+            double time = edge;
+            for (int u = 0; u < (j < 0 ? -j : j); u++) {
+                time = nextafter(time, j < 0 ? -HUGE_VAL : HUGE_VAL);
+            }
+            int64_t key = (int64_t)floor(time / STA_TRAJECTORY_BIN_S);
+            double want[3], got[3];
+            assert_true(sta_trajectory_at(&t, time, want));
+            assert_true(want[0] == (double)(key % 1000000) && want[1] == (double)(key / 1000000));
+            assert_true(sta_trajectory_at_memo(&t, &memo, time, got));
+            assert_memory_equal(got, want, sizeof(want));
+        }
+    }
+    sta_trajectory_release(&t);
+}
+
 static void runs_across_growth_keep_sums(void **state)
 {
     (void)state;
@@ -103,6 +154,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(bins_hold_their_centroids),
     cmocka_unit_test(memoised_lookups_match),
     cmocka_unit_test(runs_across_growth_keep_sums),
+    cmocka_unit_test(times_at_bin_edges_take_their_bins),
 };
 
 STA_TEST_MAIN(tests)
