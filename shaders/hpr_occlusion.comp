@@ -8,7 +8,7 @@
 // closes are left out of the mean (docs/HPR.md). A point whose direct neighbours fit a
 // plane through it (its own surface) is hidden only by candidates in front of that
 // surface (the own-surface rule, fit_own_surface); see-through returns (window glass)
-// close a point's sectors only where a solid candidate is near (g_solid). With HPR_SMOOTH_GAPS (the default's
+// close a point's sectors only where a solid candidate is near (g_solid; HPR_SEE_THROUGH). With HPR_SMOOTH_GAPS (the default's
 // variant; without it sta_hpr_params.block_gaps) an empty pixel's candidates close the
 // sectors around where they land, within 2^level pixels, with 4 more texels 2 away along
 // the axes below the top level, so that hole and background part along the points, not
@@ -80,14 +80,18 @@ const ivec2 AXES[4] = ivec2[4](ivec2(0, -1), ivec2(-1, 0), ivec2(1, 0), ivec2(0,
 
 // The pixel's own surface (fit_own_surface), while the own-surface rule applies.
 HprSurface g_surface;
+#ifdef HPR_SEE_THROUGH
 // See-through returns (issue 15, sixteenth round): their sector minima apart (the other
 // candidates' go to min_lo / min_hi), and whether a solid candidate was seen: an
 // occluding (unmarked, not see-through) one of a ring level up to STA_HPR_SOLID_LEVELS
 // whose occlusion value is below STA_HPR_SOLID_VALUE. A point takes the see-through
-// minima only then (add_neighbour; twin: sta_hpr_ref_pyramid_labels).
+// minima only then (add_neighbour; twin: sta_hpr_ref_pyramid_labels). Without
+// HPR_SEE_THROUGH (sta_hpr_params.no_see_through: positions from depth, which hold no
+// see-through returns) none of this is compiled and every candidate lowers min_lo / min_hi.
 vec4 g_see_lo, g_see_hi;
 bool g_solid;
 bool g_solid_level; // the current ring level is one of those
+#endif
 
 // Lowers the sector minima by neighbour y at ring offset `ring` (its sector: each ring
 // position is one sector, as in the paper's Figure 3). Ring candidates of levels >= 1
@@ -127,12 +131,16 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, fl
         closed |= hpr_landing_sectors(vec2(vx, vy));
     } else if (!(g_surface.ok && !hpr_in_front_of_surface(g_surface, -y.z, vx, vy)) &&
                hpr_occlusion(x, y.xyz, value)) {
+#ifdef HPR_SEE_THROUGH
         if (hpr_see_through(y.w)) {
             hpr_lower_sector(hpr_sector(2 * ring), value, g_see_lo, g_see_hi);
         } else {
             hpr_lower_sector(hpr_sector(2 * ring), value, min_lo, min_hi);
             g_solid = g_solid || (g_solid_level && hpr_occludes(y.w) && value < STA_HPR_SOLID_VALUE);
         }
+#else
+        hpr_lower_sector(hpr_sector(2 * ring), value, min_lo, min_hi);
+#endif
     }
 }
 
@@ -251,10 +259,12 @@ void main()
     }
     g_surface = fit_own_surface(own, p, on, nb);
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0);
+#ifdef HPR_SEE_THROUGH
     g_see_lo = vec4(1.0);
     g_see_hi = vec4(1.0);
     g_solid = false;
     g_solid_level = level <= STA_HPR_SOLID_LEVELS;
+#endif
     int outside = 0; // sectors with ring texels outside the image within the reach
     // Off (the default): empty pixels as points, by ring position (main's blocky rule).
     bool by_landing = !is_point && SMOOTH_GAPS;
@@ -281,7 +291,9 @@ void main()
     // every pixel of the ancestor block (a diagonal ring texel always does).
     bool settled = false;
     for (int k = level; k >= 1 && !settled; k--) {
+#ifdef HPR_SEE_THROUGH
         g_solid_level = k <= STA_HPR_SOLID_LEVELS;
+#endif
         ivec2 a = p >> k;
         ivec2 size_k = (u_size + (1 << k) - 1) >> k;
         ivec2 origin = u_level_origin[k];
@@ -306,11 +318,17 @@ void main()
         // whatever else closes (with none closed and none known it is background so far).
         // A point settles on the minima without the see-through returns (never below
         // those it takes), an empty pixel on all.
+#ifdef HPR_SEE_THROUGH
         vec4 lo = is_point ? min_lo : min(min_lo, g_see_lo);
         vec4 hi = is_point ? min_hi : min(min_hi, g_see_hi);
+#else
+        vec4 lo = min_lo, hi = min_hi;
+#endif
         settled = by_landing ? closed != 0 && (closed | empty_outside) == 255 : hpr_settled(lo, hi, is_point, outside, bound);
     }
+#ifdef HPR_SEE_THROUGH
     g_solid_level = true;
+#endif
     // Level 0: the 8 direct neighbours, from the position texture.
     for (int i = 0; i < 8 && !settled; i++) {
         ivec2 n = p + RING[i];
@@ -324,10 +342,12 @@ void main()
     }
     // See-through returns close an empty pixel's sectors, and a point's where a solid
     // candidate is near (the point lies behind a wall, not only behind the glass).
+#ifdef HPR_SEE_THROUGH
     if (!is_point || g_solid) {
         min_lo = min(min_lo, g_see_lo);
         min_hi = min(min_hi, g_see_hi);
     }
+#endif
     float mean = by_landing ? hpr_empty_mean(closed, empty_outside)
                             : hpr_sector_mean(min_lo, min_hi, is_point, outside);
     imageStore(u_label, p, vec4(hpr_label(is_point, mean, u_threshold), 0.0, 0.0, 0.0));

@@ -1642,6 +1642,45 @@ static void see_through_glass_needs_a_solid_wall(void **state)
     }
 }
 
+// Without the see-through rule (sta_hpr_params.no_see_through: positions from depth, the
+// GL_POINTS path, hold no see-through returns; issue 15, sixteenth round, cost margin) the
+// programs leave the rule out: on positions without see-through returns they give the
+// rule's labels exactly (every pixel and the sparse operator), and on glass marked
+// see-through the returns count as plain points, in the shader as in the twin.
+static void no_see_through_rule_when_positions_hold_none(void **state)
+{
+    (void)state;
+    sta_view_params view = make_view(160, 120);
+    const size_t bytes = sizeof(float) * 160 * 120;
+    sta_image position, with_rule, without_rule;
+    new_image(&position, 160, 120, 4);
+    for (int sparse = 0; sparse < 2; sparse++) {
+        glass_scene(&view, GLASS_PLAIN, &position);
+        sta_hpr_params on = { .sparse = sparse },
+                       off = { .sparse = sparse, .no_see_through = true };
+        gpu_pyramid(&view, &on, &position, &with_rule, NULL);
+        gpu_pyramid(&view, &off, &position, &without_rule, NULL);
+        assert_memory_equal(with_rule.data, without_rule.data, bytes);
+        sta_image_release(&with_rule);
+        sta_image_release(&without_rule);
+    }
+    // Glass marked see-through, the rule off: shader = twin, and the room behind the glass
+    // is hidden as behind plain glass (the rule on shows all of it:
+    // see_through_glass_needs_a_solid_wall).
+    glass_scene(&view, GLASS_SEE_THROUGH, &position);
+    sta_hpr_params off = { .no_see_through = true };
+    both_result r;
+    assert_int_equal(run_both("glass, rule off", &view, &off, &position, -1, &r), 0);
+    int interior, interior_visible, strip, strip_visible;
+    glass_counts(&position, &r.pyramid_label, &interior, &interior_visible, &strip, &strip_visible);
+    printf("rule off: room points visible in the window interior %d of %d\n", interior_visible,
+           interior);
+    assert_true(interior > 500);
+    assert_true(interior_visible < interior / 2);
+    both_release(&r);
+    sta_image_release(&position);
+}
+
 static void allocation_failures_are_clean(void **state)
 {
     (void)state;
@@ -1751,6 +1790,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(marked_points_hide_only_nearby, setup, teardown),
     cmocka_unit_test_setup_teardown(own_surface_keeps_grazing_planes, setup, teardown),
     cmocka_unit_test_setup_teardown(see_through_glass_needs_a_solid_wall, setup, teardown),
+    cmocka_unit_test_setup_teardown(no_see_through_rule_when_positions_hold_none, setup, teardown),
     cmocka_unit_test(allocation_failures_are_clean),
     cmocka_unit_test_setup_teardown(label_texture_round_trip, setup, teardown),
     cmocka_unit_test_setup_teardown(bad_arguments_are_refused, setup, teardown),

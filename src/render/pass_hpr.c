@@ -80,12 +80,6 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
     if (status == STA_OK) {
         status = sta_gl_program_create(classify, 1, defines, &pass->classify_program, err);
     }
-    if (status == STA_OK) {
-        const char *occlusion[] = { "hpr_common.glsl", "hpr_occlusion.comp" };
-        size_t n = strlen(defines);
-        snprintf(defines + n, sizeof(defines) - n, "#define HPR_REFINE 1\n");
-        status = sta_gl_program_create(occlusion, 2, defines, &pass->refine_program, err);
-    }
     if (status != STA_OK) {
         sta_hpr_pass_release(pass);
         return status;
@@ -106,17 +100,19 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
 
 void sta_hpr_pass_release(sta_hpr_pass *pass)
 {
-    GLuint programs[] = { pass->pyramid_program, pass->exhaustive_program, pass->refine_program,
-                          pass->classify_program };
+    GLuint programs[] = { pass->pyramid_program, pass->exhaustive_program, pass->classify_program,
+                          pass->refine_programs[0], pass->refine_programs[1] };
     for (size_t i = 0; i < sizeof(programs) / sizeof(programs[0]); i++) {
         if (programs[i]) {
             glDeleteProgram(programs[i]);
         }
     }
-    for (int m = 0; m < 2; m++) {
-        for (int i = 0; i < 3; i++) {
-            if (pass->gap_programs[m][i]) {
-                glDeleteProgram(pass->gap_programs[m][i]);
+    for (int see = 0; see < 2; see++) {
+        for (int m = 0; m < 2; m++) {
+            for (int i = 0; i < 3; i++) {
+                if (pass->gap_programs[see][m][i]) {
+                    glDeleteProgram(pass->gap_programs[see][m][i]);
+                }
             }
         }
     }
@@ -327,10 +323,12 @@ static void copy_and_refine(sta_hpr_pass *pass, const sta_view_params *view,
 // The sparse operator (docs/HPR.md, "Sparse operator"): the operator on the anchors
 // (x and y multiples of sta_hpr_anchor_stride), then copy steps with their refinements
 // on ever finer grids, down to every pixel from the even ones. programs: the empty
-// pixels' rule's (every pixel, anchors, listed empty pixels).
+// pixels' rule's (every pixel, anchors, listed empty pixels); refine_points: the listed
+// points'.
 static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
                              const sta_hpr_params *p, int levels, const float *level_depth,
-                             const GLuint programs[3], GLuint label_texture, sta_error *err)
+                             const GLuint programs[3], GLuint refine_points, GLuint label_texture,
+                             sta_error *err)
 {
     int w = view->width_px, h = view->height_px;
     sta_status status = ensure_list(pass, w * h, err);
@@ -346,7 +344,7 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     const int stride = sta_hpr_anchor_stride(h);
     glUniform1i(glGetUniformLocation(programs[1], "u_anchor_stride"), stride);
     sta_gl_dispatch_2d((w + stride - 1) / stride, (h + stride - 1) / stride);
-    const GLuint refine[2] = { pass->refine_program, programs[2] };
+    const GLuint refine[2] = { refine_points, programs[2] };
     for (int step = stride / 2; step >= 1; step /= 2) {
         copy_and_refine(pass, view, p, levels, level_depth, refine, step);
     }
@@ -357,25 +355,36 @@ static sta_status run_sparse(sta_hpr_pass *pass, const sta_view_params *view,
     return sta_gl_check("hpr sparse occlusion", err);
 }
 
-// The programs of the empty pixels' rule `smooth` (every pixel, anchors, listed empty
-// pixels), compiled on first use; each rule's programs hold no code of the other.
-static sta_status gap_programs(sta_hpr_pass *pass, bool smooth, sta_error *err)
+// The programs of the see-through rule `see` and the empty pixels' rule `smooth` (every
+// pixel, anchors, listed empty pixels) and the see-through rule's listed points' program,
+// compiled on first use; each rule's programs hold no code of the other. Without the
+// see-through rule (positions from depth, which hold no see-through returns) HPR saves
+// its minima and solid test (issue 15, sixteenth round: cost margin).
+static sta_status occlusion_programs(sta_hpr_pass *pass, bool see, bool smooth, sta_error *err)
 {
-    GLuint *out = pass->gap_programs[smooth ? 1 : 0];
-    if (out[0]) {
+    GLuint *out = pass->gap_programs[see ? 1 : 0][smooth ? 1 : 0];
+    GLuint *refine = &pass->refine_programs[see ? 1 : 0];
+    if (out[0] && *refine) {
         return STA_OK;
     }
     const char *occlusion[] = { "hpr_common.glsl", "hpr_occlusion.comp" };
-    const char *variants[3] = { "", "#define HPR_ANCHORS 1\n",
-                                "#define HPR_REFINE 1\n#define HPR_EMPTY_LIST 1\n" };
+    const char *variants[4] = { "", "#define HPR_ANCHORS 1\n",
+                                "#define HPR_REFINE 1\n#define HPR_EMPTY_LIST 1\n",
+                                "#define HPR_REFINE 1\n" };
+    GLuint *targets[4] = { &out[0], &out[1], &out[2], refine };
     char defines[STA_HPR_DEFINES_SIZE];
     shader_defines(defines, sizeof(defines));
     size_t n = strlen(defines);
     sta_status status = STA_OK;
-    for (int i = 0; i < 3 && status == STA_OK; i++) {
-        snprintf(defines + n, sizeof(defines) - n, "%s%s",
-                 smooth ? "#define HPR_SMOOTH_GAPS 1\n" : "", variants[i]);
-        status = sta_gl_program_create(occlusion, 2, defines, &out[i], err);
+    for (int i = 0; i < 4 && status == STA_OK; i++) {
+        if (*targets[i]) {
+            continue; // the points' program, shared by both empty pixels' rules
+        }
+        // The points' program has no empty pixels' code: no smooth variant.
+        snprintf(defines + n, sizeof(defines) - n, "%s%s%s",
+                 see ? "#define HPR_SEE_THROUGH 1\n" : "",
+                 smooth && i < 3 ? "#define HPR_SMOOTH_GAPS 1\n" : "", variants[i]);
+        status = sta_gl_program_create(occlusion, 2, defines, targets[i], err);
     }
     if (status != STA_OK) {
         for (int i = 0; i < 3; i++) {
@@ -409,14 +418,16 @@ sta_status sta_hpr_pass_run_pyramid(sta_hpr_pass *pass, const sta_view_params *v
                        GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_PYRAMID, pyramid_texture, 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RGBA32F);
-    // every pixel, anchors, listed empty pixels: the empty pixels' rule's
-    status = gap_programs(pass, !p.block_gaps, err);
+    // every pixel, anchors, listed empty pixels: the rules' own
+    const int see = p.no_see_through ? 0 : 1, smooth = p.block_gaps ? 0 : 1;
+    status = occlusion_programs(pass, see, smooth, err);
     if (status != STA_OK) {
         return status;
     }
-    const GLuint *programs = pass->gap_programs[p.block_gaps ? 0 : 1];
+    const GLuint *programs = pass->gap_programs[see][smooth];
     if (p.sparse) {
-        return run_sparse(pass, view, &p, levels, level_depth, programs, label_texture, err);
+        return run_sparse(pass, view, &p, levels, level_depth, programs, pass->refine_programs[see],
+                          label_texture, err);
     }
     set_occlusion_uniforms(programs[0], view, &p, levels, level_depth);
     glBindImageTexture(STA_HPR_OCCLUSION_IMAGE_LABEL, label_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY,

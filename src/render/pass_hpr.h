@@ -27,14 +27,17 @@ typedef struct sta_hpr_pass {
     GLuint exhaustive_program; /* hpr_exhaustive.comp: fixed-radius operator */
     /* The sparse operator (sta_hpr_params.sparse): hpr_sparse_classify.comp lists the
      * pixels to refine, points and empty pixels apart; hpr_occlusion.comp refines the
-     * points (refine_program, HPR_REFINE). */
-    GLuint refine_program, classify_program;
-    /* Per empty pixels' rule (index 0: sta_hpr_params.block_gaps, 1: per pixel, the default,
-     * with HPR_SMOOTH_GAPS), the programs of hpr_occlusion.comp that differ: every pixel,
-     * the anchors (HPR_ANCHORS), the listed empty pixels (HPR_REFINE, HPR_EMPTY_LIST);
-     * compiled when first asked for: a uniform switch cost 30 CPU ms at 1080p, llvmpipe
-     * running both sides. */
-    GLuint gap_programs[2][3];
+     * points (refine_programs, HPR_REFINE). */
+    GLuint classify_program;
+    /* Per see-through rule (index 0: sta_hpr_params.no_see_through, 1: the rule on, with
+     * HPR_SEE_THROUGH) and per empty pixels' rule (index 0: sta_hpr_params.block_gaps, 1:
+     * per pixel, the default, with HPR_SMOOTH_GAPS), the programs of hpr_occlusion.comp
+     * that differ: every pixel, the anchors (HPR_ANCHORS), the listed empty pixels
+     * (HPR_REFINE, HPR_EMPTY_LIST); and per see-through rule the listed points' program
+     * (HPR_REFINE). Compiled when first asked for: a uniform switch cost 30 CPU ms at
+     * 1080p, llvmpipe running both sides. */
+    GLuint gap_programs[2][2][3];
+    GLuint refine_programs[2];
     GLuint list_buffer;     /* two counts, then the pixels to refine (points from the front,
                                empty pixels from the back); grown as needed */
     int list_pixels;        /* pixels the list buffer holds */
@@ -43,7 +46,8 @@ typedef struct sta_hpr_pass {
     GLint exh_size, exh_radius, exh_tan_half, exh_far, exh_threshold;
 } sta_hpr_pass;
 
-/* Compiles the three programs. Needs a current GL 4.5 context. */
+/* Compiles the pyramid, exhaustive and copy-step programs (the occlusion programs are
+ * compiled when first used). Needs a current GL 4.5 context. */
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err);
 
 /* Deletes the programs; a zeroed pass is a no-op. */

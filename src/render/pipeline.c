@@ -389,7 +389,10 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
     mark(p, t, STA_PASS_HPR, 0);
     sta_hpr_params hpr = { .threshold = o->hpr_threshold,
                            .sparse = !o->hpr_every_pixel,
-                           .block_gaps = o->hpr_block_gaps };
+                           .block_gaps = o->hpr_block_gaps,
+                           // Positions from depth hold no see-through returns (only the
+                           // compute rasteriser's resolve writes them): HPR without the rule.
+                           .no_see_through = !positions_ready };
     if (o->hpr_exhaustive) {
         s = sta_hpr_pass_run_exhaustive(&p->hpr, view, &hpr,
                                         o->hpr_radius_px > 0 ? o->hpr_radius_px

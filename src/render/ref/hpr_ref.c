@@ -475,6 +475,9 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
     float gap_m = sta_hpr_occluder_gap_m(view, &p);
     float marked_reach = sta_hpr_marked_reach_px_m(view, &p);
     float surface_tol = sta_hpr_surface_tol_m(view, &p);
+    // Without the see-through rule see_min stays 1 and a see-through return counts as any
+    // drawn point (shader: no HPR_SEE_THROUGH).
+    const bool see_rule = !p.no_see_through;
     // Level 1 at least (coarse_level >= 1 and level_count >= 2).
     int coarse = p.coarse_level < level_count - 1 ? p.coarse_level : level_count - 1;
     for (int py = 0; py < f.height; py++) {
@@ -570,7 +573,8 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
                         if (!occlusion_value(x, y, &value)) {
                             continue;
                         }
-                        float *minima = sta_position_see_through(y[3]) ? see_min : sector_min;
+                        float *minima =
+                            see_rule && sta_position_see_through(y[3]) ? see_min : sector_min;
                         if (value < minima[sector]) {
                             minima[sector] = value;
                         }

@@ -171,6 +171,12 @@ typedef struct sta_hpr_params {
                               issue 15 part 2; gaps' borders step along block lines); false
                               (default): per pixel, sectors by where candidates land
                               (docs/HPR.md "Empty pixels: sectors by landing") */
+    bool no_see_through;   /* pyramidal operator: the positions hold no see-through returns
+                              (from depth: only the compute rasteriser's resolve writes
+                              them), so the see-through rule is left out (the pass compiles
+                              programs without it) and a position with w =
+                              STA_POSITION_W_SEE_THROUGH counts as any drawn point; false
+                              (default): the rule on */
 } sta_hpr_params;
 
 /* Fills threshold, coarse_level, far_m, occluder_gap_s0 and marked_reach_s0 of `config` with their
