@@ -449,6 +449,37 @@ static void normals_off_share_by_orientation(void **state)
     sta_image_release(&img);
 }
 
+/* Five pixels straight ahead at 4 m, truth normal +z: the view truth over `depth` and
+ * `normal` (5 and 15 floats), a normal image whose pixel i is turned off_deg[i] degrees
+ * about y (NAN: no normal) and a filled image whose pixel i lies at filled_depth[i]
+ * (NAN: no filled point). */
+static void five_pixels_facing(float depth[5], float normal[15], const double off_deg[5],
+                               const float filled_depth[5], sta_view_truth *v, sta_image *img,
+                               sta_image *filled)
+{
+    const double d = M_PI / 180.0;
+    for (int i = 0; i < 5; i++) {
+        depth[i] = 4.0f;
+        normal[3 * i] = normal[3 * i + 1] = 0.0f;
+        normal[3 * i + 2] = 1.0f;
+    }
+    *v = (sta_view_truth){ .width = 5, .height = 1, .depth_m = depth, .normal = normal };
+    sta_error err = { 0 };
+    assert_int_equal(sta_image_init(img, 5, 1, 4, &err), STA_OK);
+    assert_int_equal(sta_image_init(filled, 5, 1, 4, &err), STA_OK);
+    for (int i = 0; i < 5; i++) {
+        float *e = sta_image_at(img, i, 0);
+        if (!isnan(off_deg[i])) {
+            e[0] = (float)sin(off_deg[i] * d);
+            e[2] = (float)cos(off_deg[i] * d);
+            e[3] = 1.0f;
+        }
+        float *p = sta_image_at(filled, i, 0);
+        p[2] = isnan(filled_depth[i]) ? 0.0f : -filled_depth[i];
+        p[3] = isnan(filled_depth[i]) ? 0.0f : 1.0f;
+    }
+}
+
 /* The share off by more than 30 degrees with the fill on another surface: four pixels off
  * by 40 degrees and one by 10, the filled depth within the 0.2 m tolerance at pixels 0 and
  * 4, 0.5 m off at 1 and 2, no filled point at 3: pixels 1, 2 and 3 count (3 of 5), and
@@ -456,28 +487,13 @@ static void normals_off_share_by_orientation(void **state)
 static void normals_off_share_with_the_fill_off(void **state)
 {
     (void)state;
-    const double d = M_PI / 180.0;
-    float depth[5] = { 4.0f, 4.0f, 4.0f, 4.0f, 4.0f };
-    float normal[15] = { 0 };
-    for (int i = 0; i < 5; i++) {
-        normal[3 * i + 2] = 1.0f;
-    }
-    sta_view_truth v = { .width = 5, .height = 1, .depth_m = depth, .normal = normal };
+    float depth[5], normal[15];
+    const double off_deg[5] = { 40, 40, 40, 40, 10 };
+    const float filled_depth[5] = { 4.1f, 4.5f, 3.5f, NAN, 4.5f };
+    sta_view_truth v;
     sta_image img = { 0 }, filled = { 0 };
     sta_error err = { 0 };
-    assert_int_equal(sta_image_init(&img, 5, 1, 4, &err), STA_OK);
-    assert_int_equal(sta_image_init(&filled, 5, 1, 4, &err), STA_OK);
-    const double off_deg[5] = { 40, 40, 40, 40, 10 };
-    const float filled_depth[5] = { 4.1f, 4.5f, 3.5f, 4.0f, 4.5f };
-    for (int i = 0; i < 5; i++) {
-        float *e = sta_image_at(&img, i, 0);
-        e[0] = (float)sin(off_deg[i] * d);
-        e[2] = (float)cos(off_deg[i] * d);
-        e[3] = 1.0f;
-        float *p = sta_image_at(&filled, i, 0);
-        p[2] = -filled_depth[i];
-        p[3] = i == 3 ? 0.0f : 1.0f;
-    }
+    five_pixels_facing(depth, normal, off_deg, filled_depth, &v, &img, &filled);
     double share = 0.0;
     assert_int_equal(sta_eval_normals_off_fill(&v, &img, &filled, 0.2, NULL, &share, &err), STA_OK);
     assert_near(share, 3.0 / 5.0, 1e-12);
@@ -511,29 +527,13 @@ static void normals_off_share_with_the_fill_off(void **state)
 static void normals_shaded_count_the_unknown(void **state)
 {
     (void)state;
-    const double d = M_PI / 180.0;
-    float depth[5] = { 4.0f, 4.0f, 4.0f, 4.0f, 4.0f };
-    float normal[15] = { 0 };
-    for (int i = 0; i < 5; i++) {
-        normal[3 * i + 2] = 1.0f;
-    }
-    sta_view_truth v = { .width = 5, .height = 1, .depth_m = depth, .normal = normal };
+    float depth[5], normal[15];
+    const double off_deg[5] = { 40, 10, NAN, NAN, NAN };
+    const float filled_depth[5] = { 4.0f, 4.0f, 4.0f, 4.0f, NAN };
+    sta_view_truth v;
     sta_image img = { 0 }, filled = { 0 };
     sta_error err = { 0 };
-    assert_int_equal(sta_image_init(&img, 5, 1, 4, &err), STA_OK);
-    assert_int_equal(sta_image_init(&filled, 5, 1, 4, &err), STA_OK);
-    const double off_deg[2] = { 40, 10 };
-    for (int i = 0; i < 5; i++) {
-        float *e = sta_image_at(&img, i, 0);
-        if (i < 2) {
-            e[0] = (float)sin(off_deg[i] * d);
-            e[2] = (float)cos(off_deg[i] * d);
-            e[3] = 1.0f;
-        }
-        float *p = sta_image_at(&filled, i, 0);
-        p[2] = -4.0f;
-        p[3] = i == 4 ? 0.0f : 1.0f;
-    }
+    five_pixels_facing(depth, normal, off_deg, filled_depth, &v, &img, &filled);
     double unknown = 0.0, off = 0.0;
     sta_error_summary e;
     assert_int_equal(sta_eval_normals_shaded(&v, &img, &filled, NULL, &unknown, &e, &off, &err),

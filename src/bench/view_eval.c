@@ -287,6 +287,25 @@ sta_status sta_view_truth_face_sampled(const sta_view_truth *v, const sta_camera
     return sampled_search(v, camera, points, radius_m, true, out_sampled, err);
 }
 
+// The angle in degrees between pixel i's estimated normal and the truth's, or NAN where
+// the pixel has no normal, no truth hit, is not counted (`sampled`), or the estimate is a
+// zero vector. `truth_z` takes the truth normal's z (camera space: the view axis).
+static double counted_normal_angle(const sta_view_truth *v, const sta_image *normal,
+                                   const uint8_t *sampled, size_t i, double *truth_z)
+{
+    const float *e = normal->data + 4 * i;
+    if (!(e[3] > 0.5f) || isnan(v->depth_m[i]) || (sampled && !sampled[i])) {
+        return (double)NAN;
+    }
+    const double estimated[3] = { (double)e[0], (double)e[1], (double)e[2] };
+    const float *t = v->normal + 3 * i;
+    const double truth[3] = { (double)t[0], (double)t[1], (double)t[2] };
+    if (truth_z) {
+        *truth_z = truth[2];
+    }
+    return sta_angle_deg(estimated, truth);
+}
+
 sta_status sta_eval_normals(const sta_view_truth *v, const sta_image *normal,
                             const uint8_t *sampled, sta_error_summary *out, sta_error *err)
 {
@@ -301,14 +320,7 @@ sta_status sta_eval_normals(const sta_view_truth *v, const sta_image *normal,
     }
     size_t count = 0;
     for (size_t i = 0; i < n; i++) {
-        const float *e = normal->data + 4 * i;
-        if (!(e[3] > 0.5f) || isnan(v->depth_m[i]) || (sampled && !sampled[i])) {
-            continue;
-        }
-        const double estimated[3] = { (double)e[0], (double)e[1], (double)e[2] };
-        const double truth[3] = { (double)v->normal[3 * i], (double)v->normal[3 * i + 1],
-                                  (double)v->normal[3 * i + 2] };
-        double angle = sta_angle_deg(estimated, truth);
+        double angle = counted_normal_angle(v, normal, sampled, i, NULL);
         if (!isnan(angle)) {
             values[count++] = angle;
         }
@@ -330,21 +342,14 @@ sta_status sta_eval_normals_off(const sta_view_truth *v, const sta_image *normal
     const size_t n = (size_t)v->width * (size_t)v->height;
     uint64_t count = 0, off_facing = 0, off_other = 0;
     for (size_t i = 0; i < n; i++) {
-        const float *e = normal->data + 4 * i;
-        if (!(e[3] > 0.5f) || isnan(v->depth_m[i]) || (sampled && !sampled[i])) {
-            continue;
-        }
-        const double estimated[3] = { (double)e[0], (double)e[1], (double)e[2] };
-        const float *t = v->normal + 3 * i;
-        const double truth[3] = { (double)t[0], (double)t[1], (double)t[2] };
-        double angle = sta_angle_deg(estimated, truth);
+        double truth_z = 0.0;
+        double angle = counted_normal_angle(v, normal, sampled, i, &truth_z);
         if (isnan(angle)) {
             continue; // as sta_eval_normals
         }
         count++;
         if (angle > STA_VIEW_NORMAL_OFF_DEG) {
-            // Camera space: the view axis is z.
-            if (fabs(truth[2]) >= facing_cos) {
+            if (fabs(truth_z) >= facing_cos) {
                 off_facing++;
             } else {
                 off_other++;
@@ -430,14 +435,7 @@ sta_status sta_eval_normals_off_fill(const sta_view_truth *v, const sta_image *n
     const size_t n = (size_t)v->width * (size_t)v->height;
     uint64_t count = 0, off_fill = 0;
     for (size_t i = 0; i < n; i++) {
-        const float *e = normal->data + 4 * i;
-        if (!(e[3] > 0.5f) || isnan(v->depth_m[i]) || (sampled && !sampled[i])) {
-            continue;
-        }
-        const double estimated[3] = { (double)e[0], (double)e[1], (double)e[2] };
-        const float *t = v->normal + 3 * i;
-        const double truth[3] = { (double)t[0], (double)t[1], (double)t[2] };
-        double angle = sta_angle_deg(estimated, truth);
+        double angle = counted_normal_angle(v, normal, sampled, i, NULL);
         if (isnan(angle)) {
             continue; // as sta_eval_normals
         }
