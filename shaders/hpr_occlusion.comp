@@ -353,18 +353,16 @@ void main()
             outside |= 1 << hpr_sector(2 * RING[i]);
         }
     }
-    // A sparse surface (issue 15, part 2, sixteenth round): an empty pixel with one open
-    // sector (a run of 1 .. STA_HPR_EMPTY_WIDEN_OPEN) is decided again within min(cut,
-    // 2^(level + 1)), its top level's 5 x 5 texels: points a few pixels apart leave a
-    // wedge without a candidate within 2^level; a gap's pixels have more open, or two
-    // runs across a band. Twin: empty_pixel_mean.
+    // A sparse surface (issue 15, part 2, sixteenth round): an empty pixel without unknown
+    // sectors whose open ones form one run of at most STA_HPR_EMPTY_WIDEN_OPEN is decided
+    // again within min(cut, 2^(level + 1)), its top level's 5 x 5 texels: points a few
+    // pixels apart leave a wedge without a candidate within 2^level; a gap's pixels have
+    // more open, or two runs across a band. Twin: empty_pixel_mean.
     int open = ~(closed | empty_outside) & 255;
     int starts = open & ~((open << 1) | (open >> 7)); // first sectors of open runs
-    if (by_landing && level > 0 && bitCount(starts) == 1 &&
+    if (by_landing && level > 0 && (empty_outside & ~closed) == 0 && bitCount(starts) == 1 &&
         bitCount(open) <= STA_HPR_EMPTY_WIDEN_OPEN) {
         precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(2 << level));
-        float border = clamp(reach, STA_HPR_MIN_REACH_PX, u_empty_border);
-        empty_outside = hpr_wedge_outside(hpr_reach_outside(p, u_size, border), false);
         closed = empty_closed(p, x, level, true, reach * reach, limit);
     }
     // See-through returns close an empty pixel's sectors, and a point's where a solid

@@ -475,10 +475,12 @@ static unsigned empty_closed(const occlusion_frame *f, const sta_hpr_pyramid *py
 
 // An empty pixel's mean (shader: empty_pixel_mean, docs/HPR.md "Empty pixels"): the
 // share of its known sectors that no candidate closes (empty_closed, within min(cut,
-// 2^level)). A pixel with one open sector (a run of 1 .. STA_HPR_EMPTY_WIDEN_OPEN) is
-// decided again within min(cut, 2^(level + 1)), its top level's 5 x 5 texels: a sparse
-// surface leaves a wedge without a candidate within 2^level, a gap's pixels have more
-// open, or two runs across a band.
+// 2^level)). A pixel without unknown sectors whose open ones form one run of at most
+// STA_HPR_EMPTY_WIDEN_OPEN is decided again within min(cut, 2^(level + 1)), its top
+// level's 5 x 5 texels (the unknown sectors as before): a sparse surface leaves a wedge
+// without a candidate within 2^level, a gap's pixels have more open, or two runs across
+// a band; near the image border (unknown sectors) the wider reach filled the gaps that
+// touch the border up to the band's edge, in straight lines.
 static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *pyramid, int px,
                               int py, int level, float cut, float occluder_limit,
                               float marked_reach)
@@ -489,10 +491,9 @@ static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *p
         empty_closed(f, pyramid, px, py, level, false, reach, occluder_limit, marked_reach);
     unsigned open = ~(closed | outside) & 255u;
     unsigned starts = open & ~((open << 1) | (open >> 7)); // first sectors of open runs
-    if (level > 0 && __builtin_popcount(starts) == 1 &&
+    if (level > 0 && (outside & ~closed) == 0 && __builtin_popcount(starts) == 1 &&
         __builtin_popcount(open) <= STA_HPR_EMPTY_WIDEN_OPEN) {
         reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(2 << level));
-        outside = empty_outside(f, px, py, reach);
         closed = empty_closed(f, pyramid, px, py, level, true, reach, occluder_limit, marked_reach);
     }
     unsigned known = closed | (~outside & 255u);
