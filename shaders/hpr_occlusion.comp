@@ -136,31 +136,22 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, fl
     }
 }
 
-// The sectors an empty pixel's candidates close (the loops of main() for an empty pixel,
-// without the early exit): the ring of every level up to `level` and, below it, the 4
-// texels 2 away along the axes, or with `wide` at `level` every texel within 2 (5 x 5),
-// within sqrt(cut2) (levels >= 1). Twin: empty_closed.
-int empty_closed(ivec2 p, vec3 x, int level, bool wide, float cut2, float limit)
+// The sectors an empty pixel's candidates among the 5 x 5 texels around its ancestor at
+// level k >= 1 close within sqrt(cut2) (the sparse-surface rule below). Twin:
+// closed_by_level with span 2.
+int wide_closed(ivec2 p, vec3 x, int k, float cut2, float limit)
 {
     int closed = 0;
     vec4 min_lo = vec4(1.0), min_hi = vec4(1.0); // unused with by_landing
-    for (int k = level; k >= 0; k--) {
-        ivec2 a = p >> k;
-        ivec2 size_k = (u_size + (1 << k) - 1) >> k;
-        int span = wide && k == level ? 2 : 1;
-        bool axes2 = k > 0 && k < level;
-        for (int dy = -2; dy <= 2; dy++) {
-            for (int dx = -2; dx <= 2; dx++) {
-                ivec2 d = ivec2(dx, dy);
-                ivec2 ad = abs(d);
-                bool axis2 = axes2 && ad.x + ad.y == 2 && min(ad.x, ad.y) == 0;
-                ivec2 n = a + d;
-                if ((dx == 0 && dy == 0) || (max(ad.x, ad.y) > span && !axis2) ||
-                    !all(greaterThanEqual(n, ivec2(0))) || !all(lessThan(n, size_k))) {
-                    continue;
-                }
-                vec4 y = k > 0 ? imageLoad(u_pyramid, u_level_origin[k] + n) : imageLoad(u_position, n);
-                add_neighbour(y, d, p, x, k > 0, cut2, limit, true, closed, min_lo, min_hi);
+    ivec2 a = p >> k;
+    ivec2 size_k = (u_size + (1 << k) - 1) >> k;
+    for (int dy = -2; dy <= 2; dy++) {
+        for (int dx = -2; dx <= 2; dx++) {
+            ivec2 n = a + ivec2(dx, dy);
+            if ((dx != 0 || dy != 0) && all(greaterThanEqual(n, ivec2(0))) &&
+                all(lessThan(n, size_k))) {
+                add_neighbour(imageLoad(u_pyramid, u_level_origin[k] + n), ivec2(dx, dy), p, x,
+                              true, cut2, limit, true, closed, min_lo, min_hi);
             }
         }
     }
@@ -354,16 +345,16 @@ void main()
         }
     }
     // A sparse surface (issue 15, part 2, sixteenth round): an empty pixel without unknown
-    // sectors whose open ones form one run of at most STA_HPR_EMPTY_WIDEN_OPEN is decided
-    // again within min(cut, 2^(level + 1)), its top level's 5 x 5 texels: points a few
-    // pixels apart leave a wedge without a candidate within 2^level; a gap's pixels have
-    // more open, or two runs across a band. Twin: empty_pixel_mean.
+    // sectors whose open ones form one run of at most STA_HPR_EMPTY_WIDEN_OPEN also takes
+    // its top level's 5 x 5 texels within min(cut, 2^(level + 1)): points a few pixels
+    // apart leave a wedge without a candidate within 2^level; a gap's pixels have more
+    // open, or two runs across a band. Twin: empty_pixel_mean.
     int open = ~(closed | empty_outside) & 255;
     int starts = open & ~((open << 1) | (open >> 7)); // first sectors of open runs
     if (by_landing && level > 0 && (empty_outside & ~closed) == 0 && bitCount(starts) == 1 &&
         bitCount(open) <= STA_HPR_EMPTY_WIDEN_OPEN) {
         precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(2 << level));
-        closed = empty_closed(p, x, level, true, reach * reach, limit);
+        closed |= wide_closed(p, x, level, reach * reach, limit);
     }
     // See-through returns close an empty pixel's sectors, and a point's where a solid
     // candidate is near (the point lies behind a wall, not only behind the glass).

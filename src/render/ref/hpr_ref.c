@@ -456,18 +456,16 @@ static unsigned empty_outside(const occlusion_frame *f, int px, int py, float re
 }
 
 // The sectors of an empty pixel closed by its candidates: the ring of every level up to
-// `level` and, below it, the 4 texels 2 away along the axes, or with `wide` at `level`
-// every texel within 2 (5 x 5), within `reach` pixels (levels >= 1; level 0: the direct
-// neighbours, no cut).
+// `level` and, below it, the 4 texels 2 away along the axes, within `reach` pixels
+// (levels >= 1; level 0: the direct neighbours, no cut).
 static unsigned empty_closed(const occlusion_frame *f, const sta_hpr_pyramid *pyramid, int px,
-                             int py, int level, bool wide, float reach, float occluder_limit,
+                             int py, int level, float reach, float occluder_limit,
                              float marked_reach)
 {
     unsigned closed = 0;
     for (int k = 0; k <= level; k++) {
-        int span = wide && k == level ? 2 : 1;
         float cut2 = k > 0 ? reach * reach : INFINITY;
-        closed |= closed_by_level(f, &pyramid->levels[k], k, span, k > 0 && k < level, px, py, cut2,
+        closed |= closed_by_level(f, &pyramid->levels[k], k, 1, k > 0 && k < level, px, py, cut2,
                                   occluder_limit, marked_reach);
     }
     return closed;
@@ -476,8 +474,8 @@ static unsigned empty_closed(const occlusion_frame *f, const sta_hpr_pyramid *py
 // An empty pixel's mean (shader: empty_pixel_mean, docs/HPR.md "Empty pixels"): the
 // share of its known sectors that no candidate closes (empty_closed, within min(cut,
 // 2^level)). A pixel without unknown sectors whose open ones form one run of at most
-// STA_HPR_EMPTY_WIDEN_OPEN is decided again within min(cut, 2^(level + 1)), its top
-// level's 5 x 5 texels (the unknown sectors as before): a sparse surface leaves a wedge
+// STA_HPR_EMPTY_WIDEN_OPEN also takes its top level's 5 x 5 texels within min(cut,
+// 2^(level + 1)) (the unknown sectors as before): a sparse surface leaves a wedge
 // without a candidate within 2^level, a gap's pixels have more open, or two runs across
 // a band; near the image border (unknown sectors) the wider reach filled the gaps that
 // touch the border up to the band's edge, in straight lines.
@@ -487,14 +485,14 @@ static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *p
 {
     float reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(1 << level));
     unsigned outside = empty_outside(f, px, py, reach);
-    unsigned closed =
-        empty_closed(f, pyramid, px, py, level, false, reach, occluder_limit, marked_reach);
+    unsigned closed = empty_closed(f, pyramid, px, py, level, reach, occluder_limit, marked_reach);
     unsigned open = ~(closed | outside) & 255u;
     unsigned starts = open & ~((open << 1) | (open >> 7)); // first sectors of open runs
     if (level > 0 && (outside & ~closed) == 0 && __builtin_popcount(starts) == 1 &&
         __builtin_popcount(open) <= STA_HPR_EMPTY_WIDEN_OPEN) {
         reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(2 << level));
-        closed = empty_closed(f, pyramid, px, py, level, true, reach, occluder_limit, marked_reach);
+        closed |= closed_by_level(f, &pyramid->levels[level], level, 2, false, px, py,
+                                  reach * reach, occluder_limit, marked_reach);
     }
     unsigned known = closed | (~outside & 255u);
     int n = __builtin_popcount(known);

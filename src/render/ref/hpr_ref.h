@@ -59,8 +59,8 @@
  * ancestor blocks (issue 15, part 2, docs/HPR.md). */
 #define STA_HPR_EMPTY_CUT_BLOCKS     1.0f
 /* Pyramidal operator, empty pixels: a pixel without unknown sectors whose open sectors
- * form one run of at most this many is decided again within twice the reach, from its
- * top level's 5 x 5 texels, before it is called background: on a sparsely sampled surface (points
+ * form one run of at most this many also takes its top level's 5 x 5 texels within
+ * twice the reach before it is called background: on a sparsely sampled surface (points
  * several pixels apart) a wedge finds no candidate within 2^level, in a gap more do
  * (issue 15, part 2, sixteenth round: sparse surfaces; docs/HPR.md "Empty pixels"). */
 #define STA_HPR_EMPTY_WIDEN_OPEN     1
