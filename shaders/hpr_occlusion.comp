@@ -144,6 +144,28 @@ void add_neighbour(vec4 y, ivec2 ring, ivec2 p, vec3 x, bool cut, float cut2, fl
     }
 }
 
+// The sectors an empty pixel's candidates among the 5 x 5 texels around its ancestor at
+// level k >= 1 close within sqrt(cut2) (the sparse-surface rule below). Twin:
+// closed_by_level with span 2.
+int wide_closed(ivec2 p, vec3 x, int k, float cut2, float limit)
+{
+    int closed = 0;
+    vec4 min_lo = vec4(1.0), min_hi = vec4(1.0); // unused with by_landing
+    ivec2 a = p >> k;
+    ivec2 size_k = (u_size + (1 << k) - 1) >> k;
+    for (int dy = -2; dy <= 2; dy++) {
+        for (int dx = -2; dx <= 2; dx++) {
+            ivec2 n = a + ivec2(dx, dy);
+            if ((dx != 0 || dy != 0) && all(greaterThanEqual(n, ivec2(0))) &&
+                all(lessThan(n, size_k))) {
+                add_neighbour(imageLoad(u_pyramid, u_level_origin[k] + n), ivec2(dx, dy), p, x,
+                              true, cut2, limit, true, closed, min_lo, min_hi);
+            }
+        }
+    }
+    return closed;
+}
+
 // Where point y lands, in pixels from pixel p's centre (y in front of the eye).
 vec2 screen_offset(vec4 y, ivec2 p)
 {
@@ -339,6 +361,18 @@ void main()
         } else {
             outside |= 1 << hpr_sector(2 * RING[i]);
         }
+    }
+    // A sparse surface (issue 15, part 2, sixteenth round): an empty pixel without unknown
+    // sectors whose open ones form one run of at most STA_HPR_EMPTY_WIDEN_OPEN also takes
+    // its top level's 5 x 5 texels within min(cut, 2^(level + 1)): points a few pixels
+    // apart leave a wedge without a candidate within 2^level; a gap's pixels have more
+    // open, or two runs across a band. Twin: empty_pixel_mean.
+    int open = ~(closed | empty_outside) & 255;
+    int starts = open & ~((open << 1) | (open >> 7)); // first sectors of open runs
+    if (by_landing && level > 0 && (empty_outside & ~closed) == 0 && bitCount(starts) == 1 &&
+        bitCount(open) <= STA_HPR_EMPTY_WIDEN_OPEN) {
+        precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(2 << level));
+        closed |= wide_closed(p, x, level, reach * reach, limit);
     }
     // See-through returns close an empty pixel's sectors, and a point's where a solid
     // candidate is near (the point lies behind a wall, not only behind the glass).

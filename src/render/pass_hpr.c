@@ -51,7 +51,8 @@ static void shader_defines(char *out, size_t size)
              "#define STA_HPR_CLASSIFY_GROUP_TILES %d\n"
              "#define STA_POSITION_W_SEE_THROUGH_MIN %.9e\n"
              "#define STA_HPR_SOLID_LEVELS %d\n"
-             "#define STA_HPR_SOLID_VALUE %.9e\n",
+             "#define STA_HPR_SOLID_VALUE %.9e\n"
+             "#define STA_HPR_EMPTY_WIDEN_OPEN %d\n",
              STA_HPR_MAX_LEVELS, STA_HPR_SECTOR_TAN_NUM, STA_HPR_SECTOR_TAN_DEN,
              (double)STA_HPR_MIN_LENGTH2_M2, (double)STA_LABEL_BACKGROUND,
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
@@ -62,7 +63,7 @@ static void shader_defines(char *out, size_t size)
              (double)STA_HPR_SURFACE_MIN_DET, (double)STA_HPR_SURFACE_FRONT_SHARE,
              STA_HPR_CLASSIFY_TILE, STA_HPR_CLASSIFY_GROUP_TILES,
              (double)STA_POSITION_W_SEE_THROUGH_MIN, STA_HPR_SOLID_LEVELS,
-             (double)STA_HPR_SOLID_VALUE);
+             (double)STA_HPR_SOLID_VALUE, STA_HPR_EMPTY_WIDEN_OPEN);
 }
 
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)

@@ -410,52 +410,89 @@ static unsigned wedge_outside(const occlusion_frame *f, int px, int py, float re
     return (o | (o << 1) | (o >> 1) | (o << 7) | (o >> 7)) & 255u;
 }
 
-// An empty pixel's mean (shader: empty_pixel_mean, docs/HPR.md "Empty pixels"): the
-// share of its known sectors that no candidate closes. A candidate closes the sectors
+// The sectors closed by the candidates of level k around pixel (px, py) (shader:
+// add_neighbour with by_landing): the texels within `span` (1 or 2) of the ancestor
+// and, with `axes2`, the 4 texels 2 away along the axes; a candidate closes the sectors
 // around where it lands (landing_sectors) when it is drawn, nearer than
-// `occluder_limit`, within min(cut, 2^level) pixels (levels >= 1) and, for a marked
-// point, within its reach; the candidates are the ring and, below the top level, the 4
-// texels 2 away along its axes; a sector is unknown where its wedge leaves the image
-// within that reach, up to sta_hpr_empty_border_px.
+// `occluder_limit`, within `cut2` (squared pixels) and, for a marked point, within its
+// reach.
+static unsigned closed_by_level(const occlusion_frame *f, const sta_image *lk, int k, int span,
+                                bool axes2, int px, int py, float cut2, float occluder_limit,
+                                float marked_reach)
+{
+    unsigned closed = 0;
+    int ax = px >> k, ay = py >> k;
+    for (int dy = -2; dy <= 2; dy++) {
+        for (int dx = -2; dx <= 2; dx++) {
+            int nx = ax + dx, ny = ay + dy;
+            int adx = dx < 0 ? -dx : dx, ady = dy < 0 ? -dy : dy;
+            bool axis2 = axes2 && adx + ady == 2 && (adx == 0 || ady == 0);
+            if ((dx == 0 && dy == 0) || (adx > span && !axis2) || (ady > span && !axis2) ||
+                nx < 0 || ny < 0 || nx >= lk->width || ny >= lk->height) {
+                continue;
+            }
+            const float *y = sta_image_at(lk, nx, ny);
+            float v[2];
+            if (y[3] <= 0.5f || !screen_offset(f, y, px, py, v) || !(-y[2] < occluder_limit)) {
+                continue;
+            }
+            float dist2 = v[0] * v[0] + v[1] * v[1];
+            float marked = marked_reach * (1.0f / -y[2]);
+            bool reached = !sta_position_reach_limited(y[3]) || dist2 <= marked * marked;
+            if (reached && dist2 <= cut2) {
+                closed |= landing_sectors(v);
+            }
+        }
+    }
+    return closed;
+}
+
+// Sectors of an empty pixel that are unknown: their wedge leaves the image within the
+// candidates' reach, up to sta_hpr_empty_border_px.
+static unsigned empty_outside(const occlusion_frame *f, int px, int py, float reach)
+{
+    float band = sta_hpr_empty_border_px(f->height);
+    return wedge_outside(f, px, py, fminf(fmaxf(reach, STA_HPR_MIN_REACH_PX), band));
+}
+
+// The sectors of an empty pixel closed by its candidates: the ring of every level up to
+// `level` and, below it, the 4 texels 2 away along the axes, within `reach` pixels
+// (levels >= 1; level 0: the direct neighbours, no cut).
+static unsigned empty_closed(const occlusion_frame *f, const sta_hpr_pyramid *pyramid, int px,
+                             int py, int level, float reach, float occluder_limit,
+                             float marked_reach)
+{
+    unsigned closed = 0;
+    for (int k = 0; k <= level; k++) {
+        float cut2 = k > 0 ? reach * reach : INFINITY;
+        closed |= closed_by_level(f, &pyramid->levels[k], k, 1, k > 0 && k < level, px, py, cut2,
+                                  occluder_limit, marked_reach);
+    }
+    return closed;
+}
+
+// An empty pixel's mean (shader: empty_pixel_mean, docs/HPR.md "Empty pixels"): the
+// share of its known sectors that no candidate closes (empty_closed, within min(cut,
+// 2^level)). A pixel without unknown sectors whose open ones form one run of at most
+// STA_HPR_EMPTY_WIDEN_OPEN also takes its top level's 5 x 5 texels within min(cut,
+// 2^(level + 1)) (the unknown sectors as before): a sparse surface leaves a wedge
+// without a candidate within 2^level, a gap's pixels have more open, or two runs across
+// a band; near the image border (unknown sectors) the wider reach filled the gaps that
+// touch the border up to the band's edge, in straight lines.
 static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *pyramid, int px,
                               int py, int level, float cut, float occluder_limit,
                               float marked_reach)
 {
     float reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(1 << level));
-    float reach2 = reach * reach;
-    float band = sta_hpr_empty_border_px(f->height);
-    float border = fminf(fmaxf(reach, STA_HPR_MIN_REACH_PX), band);
-    unsigned outside = wedge_outside(f, px, py, border);
-    unsigned closed = 0;
-    for (int k = 0; k <= level; k++) {
-        const sta_image *lk = &pyramid->levels[k];
-        int ax = px >> k, ay = py >> k;
-        int rings = k > 0 && k < level ? 2 : 1;
-        float cut2 = k > 0 ? reach2 : INFINITY; // level 0: the direct neighbours, no cut
-        for (int r = 1; r <= rings; r++) {
-            for (int dy = -1; dy <= 1; dy++) {
-                for (int dx = -1; dx <= 1; dx++) {
-                    int nx = ax + r * dx, ny = ay + r * dy;
-                    bool axis = (dx == 0) != (dy == 0);
-                    if ((dx == 0 && dy == 0) || (r == 2 && !axis) || nx < 0 || ny < 0 ||
-                        nx >= lk->width || ny >= lk->height) {
-                        continue;
-                    }
-                    const float *y = sta_image_at(lk, nx, ny);
-                    float v[2];
-                    if (y[3] <= 0.5f || !screen_offset(f, y, px, py, v) ||
-                        !(-y[2] < occluder_limit)) {
-                        continue;
-                    }
-                    float dist2 = v[0] * v[0] + v[1] * v[1];
-                    float marked = marked_reach * (1.0f / -y[2]);
-                    bool reached = !sta_position_reach_limited(y[3]) || dist2 <= marked * marked;
-                    if (reached && dist2 <= cut2) {
-                        closed |= landing_sectors(v);
-                    }
-                }
-            }
-        }
+    unsigned outside = empty_outside(f, px, py, reach);
+    unsigned closed = empty_closed(f, pyramid, px, py, level, reach, occluder_limit, marked_reach);
+    unsigned open = ~(closed | outside) & 255u;
+    unsigned starts = open & ~((open << 1) | (open >> 7)); // first sectors of open runs
+    if (level > 0 && (outside & ~closed) == 0 && __builtin_popcount(starts) == 1 &&
+        __builtin_popcount(open) <= STA_HPR_EMPTY_WIDEN_OPEN) {
+        reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(2 << level));
+        closed |= closed_by_level(f, &pyramid->levels[level], level, 2, false, px, py,
+                                  reach * reach, occluder_limit, marked_reach);
     }
     unsigned known = closed | (~outside & 255u);
     int n = __builtin_popcount(known);

@@ -58,6 +58,12 @@
  * rings hold a candidate from every non-empty block whatever the pixel's place in its
  * ancestor blocks (issue 15, part 2, docs/HPR.md). */
 #define STA_HPR_EMPTY_CUT_BLOCKS     1.0f
+/* Pyramidal operator, empty pixels: a pixel without unknown sectors whose open sectors
+ * form one run of at most this many also takes its top level's 5 x 5 texels within
+ * twice the reach before it is called background: on a sparsely sampled surface (points
+ * several pixels apart) a wedge finds no candidate within 2^level, in a gap more do
+ * (issue 15, part 2, sixteenth round: sparse surfaces; docs/HPR.md "Empty pixels"). */
+#define STA_HPR_EMPTY_WIDEN_OPEN     1
 /* Pyramidal operator, empty pixels: a candidate landing within this tangent of a sector's
  * axis closes the three sectors around that axis, not two (points on a regular grid
  * land on the axes, and rounding would pick either pair). */
