@@ -7,7 +7,8 @@
 # of a min-depth pyramid at level L, within K cells of the point's cell, is nearer than
 # its own depth by the relative gap G (and by the absolute gap A metres). MODE points
 # builds the pyramid from the drawn points' depths, MODE filled from the fill's depth (the
-# pull-push filled surface, holes included). Drawn points within 0.15 m of the truth's
+# pull-push filled surface, holes included). With a sixth field PAIRS the point is hidden
+# instead when PAIRS of the 4 opposite direction pairs are both closed. Drawn points within 0.15 m of the truth's
 # window glass stand in for the see-through returns (the dump has no see-through mark)
 # and are left out of the pyramid. Prints per view F1 before -> after, the false
 # positives caught and the true visible points wrongly hidden, by the truth's material
@@ -15,7 +16,7 @@
 # visible drawn points lie in them.
 # With PNG_DIR set it also writes enclosureN.png: the drawn points' depth (log colour scale,
 # false positives white) above the truth's first-hit depth (cars tinted red).
-# usage: /usr/bin/python3 bench/hpr_enclosure.py DUMP_DIR points|filled L,K,A,G,NEED[+...] ...
+# usage: /usr/bin/python3 bench/hpr_enclosure.py DUMP_DIR points|filled L,K,A,G,NEED[,PAIRS][+...] ...
 #   (a setting joined with + hides a point when any of its parts does; numpy, PIL for PNG_DIR)
 import glob
 import os
@@ -44,12 +45,13 @@ def min_pyramid(depth):
 
 
 def enclosed(pyramid, xs, ys, z, setting):
-    level, reach, gap_m, gap_rel, need = setting
+    level, reach, gap_m, gap_rel, need = setting[:5]
+    pairs = setting[5] if len(setting) > 5 else 0
     a = pyramid[level]
     h, w = a.shape
     cx, cy = xs >> level, ys >> level
     threshold = np.minimum(z - gap_m, z * (1.0 - gap_rel))
-    closed = np.zeros(len(z), int)
+    closed = {}
     for dx, dy in DIRECTIONS:
         nearest = np.full(len(z), np.inf, np.float32)
         for step in range(1, reach + 1):
@@ -58,8 +60,11 @@ def enclosed(pyramid, xs, ys, z, setting):
             v = np.full(len(z), np.inf, np.float32)
             v[inside] = a[y[inside], x[inside]]
             nearest = np.minimum(nearest, v)
-        closed += nearest < threshold
-    return closed >= need
+        closed[(dx, dy)] = nearest < threshold
+    if pairs > 0:  # a point between two nearer samples on a line (thin occluders)
+        both = sum((closed[(dx, dy)] & closed[(-dx, -dy)]).astype(int) for dx, dy in DIRECTIONS[:4])
+        return both >= pairs
+    return sum(c.astype(int) for c in closed.values()) >= need
 
 
 def log_colour(z, mask):
@@ -86,7 +91,7 @@ def by_material(mask, mat):
 
 def main():
     dump_dir, mode = sys.argv[1], sys.argv[2]
-    settings = [[tuple(int(v) if i in (0, 1, 4) else float(v) for i, v in enumerate(part.split(",")))
+    settings = [[tuple(int(v) if i in (0, 1, 4, 5) else float(v) for i, v in enumerate(part.split(",")))
                  for part in arg.split("+")] for arg in sys.argv[3:]]
     for path in sorted(glob.glob(os.path.join(dump_dir, "view*.bin"))):
         d = load(path)
