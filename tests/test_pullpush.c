@@ -1295,6 +1295,26 @@ static void normals_do_not_mix_across_a_step(void **state)
     assert_true(now.worst < 60.0);
 }
 
+/* The tests' sphere at radius 12 s0 with 30 % of its pixels sampled (levels 5-6, texels
+ * of 32-64 pixels on a sphere of about 100 pixels radius), measured with `off` and then
+ * with `on` on the same samples; prints both, the first under `off_label`. */
+static void sphere_at_12_s0_with_and_without(const sta_normals_pyramid_params *off,
+                                             const sta_normals_pyramid_params *on,
+                                             const char *off_label, truth_stats *before,
+                                             truth_stats *now)
+{
+    scene s = { 1, { 0.0f, 0.0f, 0.0f }, { 0.5f, -0.3f, -10.0f }, 3.0f };
+    uint32_t seed = rng_state;
+    *before = measure_scene_with(&s, 320, 240, 0.3f, 0.07f, off);
+    rng_state = seed;
+    *now = measure_scene_with(&s, 320, 240, 0.3f, 0.07f, on);
+    printf("sphere at radius 12 s0: mean %.3f median %.3f p95 %.3f degrees; %s: mean %.3f "
+           "median %.3f p95 %.3f\n",
+           now->normal_mean, now->normal_median, now->normal_p95, off_label, before->normal_mean,
+           before->normal_median, before->normal_p95);
+    assert_int_equal(now->normals, before->normals);
+}
+
 /* The sphere of sphere_is_recovered (30 % of its pixels sampled) with a radius of 12 s0
  * instead of 3 (levels 5-6, texels of 32-64 pixels on a sphere of about 100 pixels
  * radius): the coarser level's normals are biased by the curvature, and near the
@@ -1304,18 +1324,10 @@ static void normals_do_not_mix_across_a_step(void **state)
 static void normals_do_not_mix_disagreeing_levels(void **state)
 {
     (void)state;
-    scene s = { 1, { 0.0f, 0.0f, 0.0f }, { 0.5f, -0.3f, -10.0f }, 3.0f };
     sta_normals_pyramid_params off = { .radius_s0 = 12.0f, .spread = INFINITY };
     sta_normals_pyramid_params on = { .radius_s0 = 12.0f };
-    uint32_t seed = rng_state;
-    truth_stats before = measure_scene_with(&s, 320, 240, 0.3f, 0.07f, &off);
-    rng_state = seed;
-    truth_stats now = measure_scene_with(&s, 320, 240, 0.3f, 0.07f, &on);
-    printf("sphere at radius 12 s0: mean %.3f median %.3f p95 %.3f degrees; levels always "
-           "blended: mean %.3f median %.3f p95 %.3f\n",
-           now.normal_mean, now.normal_median, now.normal_p95, before.normal_mean,
-           before.normal_median, before.normal_p95);
-    assert_int_equal(now.normals, before.normals);
+    truth_stats before, now;
+    sphere_at_12_s0_with_and_without(&off, &on, "levels always blended", &before, &now);
     assert_true(before.normal_p95 > 14.0); // measured 16.7
     assert_true(now.normal_p95 < 13.0);    // measured 11.7
     assert_true(now.normal_mean < before.normal_mean - 0.5);
@@ -1327,18 +1339,10 @@ static void normals_do_not_mix_disagreeing_levels(void **state)
 static void normals_fade_into_the_level_below_where_it_disagrees(void **state)
 {
     (void)state;
-    scene s = { 1, { 0.0f, 0.0f, 0.0f }, { 0.5f, -0.3f, -10.0f }, 3.0f };
     sta_normals_pyramid_params off = { .radius_s0 = 12.0f, .fine_spread = INFINITY };
     sta_normals_pyramid_params on = { .radius_s0 = 12.0f };
-    uint32_t seed = rng_state;
-    truth_stats before = measure_scene_with(&s, 320, 240, 0.3f, 0.07f, &off);
-    rng_state = seed;
-    truth_stats now = measure_scene_with(&s, 320, 240, 0.3f, 0.07f, &on);
-    printf("sphere at radius 12 s0: mean %.3f median %.3f p95 %.3f degrees; finer level "
-           "unchecked: mean %.3f median %.3f p95 %.3f\n",
-           now.normal_mean, now.normal_median, now.normal_p95, before.normal_mean,
-           before.normal_median, before.normal_p95);
-    assert_int_equal(now.normals, before.normals);
+    truth_stats before, now;
+    sphere_at_12_s0_with_and_without(&off, &on, "finer level unchecked", &before, &now);
     assert_true(now.normal_p95 < before.normal_p95 - 0.3);   // measured 11.7 against 12.2
     assert_true(now.normal_mean < before.normal_mean - 0.1); // 4.00 against 4.19
 }

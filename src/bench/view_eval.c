@@ -171,6 +171,14 @@ static sta_status check_size(const sta_view_truth *v, const sta_image *image, co
 }
 
 // The point the ray through pixel (x, y) truly hits, world coordinates; false on a miss.
+// Both images of the normal metrics that read the fill, checked against the view's size.
+static sta_status check_normal_and_filled(const sta_view_truth *v, const sta_image *normal,
+                                          const sta_image *filled, sta_error *err)
+{
+    sta_status s = check_size(v, normal, "normal", err);
+    return s == STA_OK ? check_size(v, filled, "filled", err) : s;
+}
+
 static bool truth_hit(const sta_view_truth *v, const sta_camera *camera, int x, int y,
                       double out[3])
 {
@@ -372,10 +380,7 @@ sta_status sta_eval_normals_shaded(const sta_view_truth *v, const sta_image *nor
                                    double *out_off_share, sta_error *err)
 {
     *out_unknown_share = *out_off_share = (double)NAN;
-    sta_status s = check_size(v, normal, "normal", err);
-    if (s == STA_OK) {
-        s = check_size(v, filled, "filled", err);
-    }
+    sta_status s = check_normal_and_filled(v, normal, filled, err);
     if (s != STA_OK) {
         return s;
     }
@@ -425,10 +430,7 @@ sta_status sta_eval_normals_off_fill(const sta_view_truth *v, const sta_image *n
                                      const uint8_t *sampled, double *out_share, sta_error *err)
 {
     *out_share = (double)NAN;
-    sta_status s = check_size(v, normal, "normal", err);
-    if (s == STA_OK) {
-        s = check_size(v, filled, "filled", err);
-    }
+    sta_status s = check_normal_and_filled(v, normal, filled, err);
     if (s != STA_OK) {
         return s;
     }
