@@ -52,6 +52,11 @@ void main()
     // texel's own footprint), else among all 16 (issue 15, eighth round).
     vec4 t[16];
     float w[16], s[16];
+#ifndef PP_FROM_INPUT
+    vec4 c[16]; // the fine colours, loaded once (alpha: the see-through share)
+#endif
+    // Coverage: the plain filtered weight sum, glass taps included.
+    float sw = 0.0;
     float solid_d = 0.0; // farthest solid tap with weight
     for (int b = PP_TAP_FIRST; b < PP_TAP_END; b++) {
         for (int a = PP_TAP_FIRST; a < PP_TAP_END; a++) {
@@ -64,20 +69,22 @@ void main()
             s[k] = pp_input_share(t[k]);
 #else
             w[k] = inside ? t[k].w : 0.0;
-            s[k] = imageLoad(u_fine_colour, f).a;
+            c[k] = imageLoad(u_fine_colour, f);
+            s[k] = c[k].a;
 #endif
+            if (w[k] > 0.0) {
+                sw += PULL_TAPS[a] * PULL_TAPS[b] * w[k];
+            }
             if (w[k] > 0.0 && s[k] < PP_GLASS_SHARE) {
                 solid_d = max(solid_d, -t[k].z);
             }
         }
     }
-    // Glass taps in front of a solid one: coverage only (kept in cover_w), no value.
-    float cover_w[16];
+    // Glass taps in front of a solid one: no value (their coverage is in sw).
     float near_d = 0.0, near_inner = 0.0;
     for (int b = PP_TAP_FIRST; b < PP_TAP_END; b++) {
         for (int a = PP_TAP_FIRST; a < PP_TAP_END; a++) {
             int k = 4 * b + a;
-            cover_w[k] = w[k];
             if (pp_glass_over_solid(-t[k].z, s[k], solid_d)) {
                 w[k] = 0.0;
             }
@@ -93,17 +100,13 @@ void main()
     if (near_inner > 0.0) {
         near_d = near_inner;
     }
-    // Coverage: the plain filtered weight sum. Values: each tap's weight divided by the
-    // depth factor, so a coarse texel over a depth edge keeps the near surface rather
-    // than a depth between both.
-    float sw = 0.0, sv = 0.0, ss = 0.0;
+    // Values: each tap's weight divided by the depth factor, so a coarse texel over a
+    // depth edge keeps the near surface rather than a depth between both.
+    float sv = 0.0, ss = 0.0;
     vec3 sp = vec3(0.0), sc = vec3(0.0);
     for (int b = PP_TAP_FIRST; b < PP_TAP_END; b++) {
         for (int a = PP_TAP_FIRST; a < PP_TAP_END; a++) {
             int k = 4 * b + a;
-            if (cover_w[k] > 0.0) {
-                sw += PULL_TAPS[a] * PULL_TAPS[b] * cover_w[k];
-            }
             if (w[k] > 0.0) {
                 float kw = PULL_TAPS[a] * PULL_TAPS[b] * w[k];
                 if (near_d > 0.0) {
@@ -115,11 +118,10 @@ void main()
                 sv += kw;
                 ss += kw * s[k];
                 sp += kw * t[k].xyz;
-                ivec2 f = 2 * q - 1 + ivec2(a, b);
 #ifdef PP_FROM_INPUT
-                sc += kw * texelFetch(u_input_colour, f, 0).rgb;
+                sc += kw * texelFetch(u_input_colour, 2 * q - 1 + ivec2(a, b), 0).rgb;
 #else
-                sc += kw * imageLoad(u_fine_colour, f).rgb;
+                sc += kw * c[k].rgb;
 #endif
             }
         }

@@ -7,9 +7,10 @@
 // from the twin's expf), x = ((d - d_near) / (PP_DEPTH_TAU d_near))^2, d_near the depth
 // of the 9/16 tap where it has weight, else the nearest tap depth: a hole at an outline
 // takes one surface, not a depth between both.
-// Glass (issue 15, part 2): glass taps in front of a solid coarse tap (pp_glass_over_solid;
-// the see-through share is the colour's alpha) are skipped; pyramid levels keep the share in
-// the colour's alpha (pullpush_pull.comp).
+// Glass (issue 15, part 2), levels >= 1 only: glass taps in front of a solid coarse tap
+// (pp_glass_over_solid; the see-through share is the colour's alpha) are skipped, and a glass
+// fine texel in front of them takes their value; the level-0 push has no test (it cost 5-6
+// CPU ms at 1080p, docs/PULLPUSH.md).
 // Twin: src/render/ref/pullpush_ref.c (push_texel). Built twice: with PP_LEVEL0 the
 // fine level is the input, the result goes to the output textures and the background
 // found by HPR is restored and the colour goes to the RGBA8 filled colour with alpha 0
@@ -68,21 +69,34 @@ void main()
         wx[1] = 1.0 - wx[0];
         wy[0] = (q.y & 1) != 0 ? 0.75 : 0.25;
         wy[1] = 1.0 - wy[0];
-        vec4 tp[4], tc[4];
-        float solid_d = 0.0; // farthest solid tap with weight
+        vec4 tp[4];
         for (int k = 0; k < 4; k++) {
             ivec2 cq = clamp(c0 + ivec2(k & 1, k >> 1), ivec2(0), u_coarse_size - 1);
             tp[k] = imageLoad(u_coarse_position, cq);
+        }
+#ifndef PP_LEVEL0
+        vec4 tc[4]; // the coarse colours, alpha the see-through share
+        float solid_d = 0.0; // farthest solid tap with weight
+        for (int k = 0; k < 4; k++) {
+            ivec2 cq = clamp(c0 + ivec2(k & 1, k >> 1), ivec2(0), u_coarse_size - 1);
             tc[k] = imageLoad(u_coarse_colour, cq);
             if (tp[k].w > 0.0 && tc[k].a < PP_GLASS_SHARE) {
                 solid_d = max(solid_d, -tp[k].z);
             }
         }
-        float near_d = 0.0; // nearest depth among the non-empty taps (the fallback)
         for (int k = 0; k < 4; k++) {
             if (pp_glass_over_solid(-tp[k].z, tc[k].a, solid_d)) {
                 tp[k].w = 0.0; // glass in front of a solid tap
             }
+        }
+        // A glass texel in front of them takes the coarse value (level 0 then
+        // interpolates no glass beside the room, without this test per pixel).
+        if (pp_glass_over_solid(-fp.z, fs, solid_d)) {
+            fw = 0.0;
+        }
+#endif
+        float near_d = 0.0; // nearest depth among the non-empty taps (the fallback)
+        for (int k = 0; k < 4; k++) {
             float d = -tp[k].z;
             if (tp[k].w > 0.0 && (near_d <= 0.0 || d < near_d)) {
                 near_d = d;
@@ -108,9 +122,15 @@ void main()
                     kw = kw / e;
                 }
                 sw += kw;
-                ss += kw * tc[k].a;
                 sp += kw * tp[k].xyz;
+#ifdef PP_LEVEL0
+                // Level 0: the colour of the taps with weight only (the share is not stored).
+                ivec2 cq = clamp(c0 + ivec2(k & 1, k >> 1), ivec2(0), u_coarse_size - 1);
+                sc += kw * imageLoad(u_coarse_colour, cq).rgb;
+#else
+                ss += kw * tc[k].a;
                 sc += kw * tc[k].rgb;
+#endif
             }
         }
     }

@@ -199,12 +199,14 @@ static int clamp_int(int v, int lo, int hi)
 /* Push of one fine texel: bilinear 2x2 interpolation of the (already pushed) coarse
  * level, taps 3/4 and 1/4 per axis, clamped to the coarse level's edge; empty coarse
  * texels do not contribute. Then "over" compositing: w' = w + (1 - w) sw, value
- * (w v + (1 - w) sv) / w'. Glass taps in front of a solid tap (glass_over_solid)
- * are skipped. Returns w'; *out_s receives the see-through share. */
+ * (w v + (1 - w) sv) / w'. With glass_rule (levels >= 1), glass taps in front of
+ * a solid tap (glass_over_solid) are skipped and a glass fine texel in front of them takes
+ * their value. Returns w'; *out_s receives the see-through share. */
 static float push_texel(const texel *fine, const level_source *coarse, int coarse_w, int coarse_h,
-                        int i, int j, float out_p[3], float out_c[3], float *out_s)
+                        int i, int j, bool glass_rule, float out_p[3], float out_c[3], float *out_s)
 {
     float sw = 0.0f, ss = 0.0f, sp[3] = { 0.0f, 0.0f, 0.0f }, sc[3] = { 0.0f, 0.0f, 0.0f };
+    float w = fine->w;
     if (coarse) {
         int cx0 = ((i + 1) >> 1) - 1, cy0 = ((j + 1) >> 1) - 1;
         float wx[2], wy[2];
@@ -223,13 +225,18 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
         /* Glass taps in front of a solid one are dropped (weight 0 from here on). */
         float near_d = 0.0f; /* nearest depth among the non-empty taps (the fallback) */
         for (int k = 0; k < 4; k++) {
-            if (glass_over_solid(&taps[k], solid_d)) {
+            if (glass_rule && glass_over_solid(&taps[k], solid_d)) {
                 taps[k].w = 0.0f;
             }
             float d = -taps[k].p[2];
             if (taps[k].w > 0.0f && (near_d <= 0.0f || d < near_d)) {
                 near_d = d;
             }
+        }
+        /* A glass texel in front of them takes the coarse value (level 0 then interpolates
+         * no glass beside the room, without this test per pixel). */
+        if (glass_rule && glass_over_solid(fine, solid_d)) {
+            w = 0.0f;
         }
         /* The reference: the depth of the 9/16 tap (the coarse texel holding the fine
          * one) where it has weight, else the nearest. */
@@ -253,7 +260,6 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
             }
         }
     }
-    float w = fine->w;
     float nw = fminf(1.0f, w + (1.0f - w) * sw);
     if (!(nw > 0.0f)) {
         memcpy(out_p, zero3, sizeof(zero3));
@@ -364,7 +370,7 @@ sta_status sta_pullpush_ref(const sta_view_params *view, const sta_image *positi
                 texel t = fetch(&self, i, j);
                 float p[3], c[3], ts;
                 float nw = push_texel(&t, &coarse, levels->position[l + 1].width,
-                                      levels->position[l + 1].height, i, j, p, c, &ts);
+                                      levels->position[l + 1].height, i, j, true, p, c, &ts);
                 store(lp, lc, i, j, p, c, nw, ts);
             }
         }
@@ -378,9 +384,9 @@ sta_status sta_pullpush_ref(const sta_view_params *view, const sta_image *positi
         for (int i = 0; i < w; i++) {
             texel t = fetch(&input, i, j);
             float p[3], c[3], ts;
-            float nw = push_texel(&t, count > 1 ? &coarse1 : NULL,
-                                  count > 1 ? levels->position[1].width : 0,
-                                  count > 1 ? levels->position[1].height : 0, i, j, p, c, &ts);
+            float nw = push_texel(
+                &t, count > 1 ? &coarse1 : NULL, count > 1 ? levels->position[1].width : 0,
+                count > 1 ? levels->position[1].height : 0, i, j, false, p, c, &ts);
             if (label && is_label(*sta_image_at(label, i, j), STA_LABEL_BACKGROUND)) {
                 store(out_position, out_colour, i, j, zero3, zero3, 0.0f, 0.0f);
             } else {
