@@ -16,3 +16,17 @@ float pp_input_weight(vec4 point, float label, bool has_label)
     bool visible = !has_label || pp_is_label(label, PP_LABEL_VISIBLE);
     return point.w > 0.0 && point.w != PP_POSITION_W_MARKED && visible ? 1.0 : 0.0;
 }
+
+// The see-through share of a level-0 input texel: 1 for a see-through return
+// (w from PP_POSITION_W_SEE_THROUGH_MIN on, screen_space.h: window glass), 0 otherwise.
+float pp_input_share(vec4 point)
+{
+    return point.w >= PP_POSITION_W_SEE_THROUGH_MIN ? 1.0 : 0.0;
+}
+
+// A glass tap (see-through share from PP_GLASS_SHARE on) in front of the farthest solid tap
+// (depth solid_d, 0 where none): the window in front of its room; it gives no value.
+bool pp_glass_over_solid(float d, float share, float solid_d)
+{
+    return share >= PP_GLASS_SHARE && solid_d > d * (1.0 + PP_GLASS_GAP);
+}

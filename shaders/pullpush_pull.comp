@@ -4,7 +4,10 @@
 // l - 1; its weight is the filtered weight sum clamped to 1. Fine texels outside the
 // fine level have weight 0. In the values (not the weight) each tap's weight is divided
 // by the push's depth factor with PP_PULL_TAU against the nearest of the inner 2x2 taps,
-// or of all 16 where those are empty (issue 15).
+// or of all 16 where those are empty (issue 15). Each texel's colour alpha holds the share
+// of its value from see-through returns; glass taps in front of a solid tap
+// (pp_glass_over_solid: the room behind a window) give no value and no reference, only
+// coverage (issue 15, part 2).
 // Twin: src/render/ref/pullpush_ref.c (pull_level).
 // Built three times: with PP_FROM_INPUT the fine level is level 0 (the inputs, weights
 // from the HPR labels), and with PP_BOX too for views from STA_PULLPUSH_BOX_PULL_HEIGHT_PX
@@ -48,8 +51,13 @@ void main()
     // reference: the nearest depth among the inner 2x2 texels with weight (the coarse
     // texel's own footprint), else among all 16 (issue 15, eighth round).
     vec4 t[16];
-    float w[16];
-    float near_d = 0.0, near_inner = 0.0;
+    float w[16], s[16];
+#ifndef PP_FROM_INPUT
+    vec4 c[16]; // the fine colours, loaded once (alpha: the see-through share)
+#endif
+    // Coverage: the plain filtered weight sum, glass taps included.
+    float sw = 0.0;
+    float solid_d = 0.0; // farthest solid tap with weight
     for (int b = PP_TAP_FIRST; b < PP_TAP_END; b++) {
         for (int a = PP_TAP_FIRST; a < PP_TAP_END; a++) {
             ivec2 f = 2 * q - 1 + ivec2(a, b);
@@ -58,9 +66,28 @@ void main()
             t[k] = imageLoad(u_fine_position, f);
 #ifdef PP_FROM_INPUT
             w[k] = inside ? pp_input_weight(t[k], imageLoad(u_label, f).r, u_has_label) : 0.0;
+            s[k] = pp_input_share(t[k]);
 #else
             w[k] = inside ? t[k].w : 0.0;
+            c[k] = imageLoad(u_fine_colour, f);
+            s[k] = c[k].a;
 #endif
+            if (w[k] > 0.0) {
+                sw += PULL_TAPS[a] * PULL_TAPS[b] * w[k];
+            }
+            if (w[k] > 0.0 && s[k] < PP_GLASS_SHARE) {
+                solid_d = max(solid_d, -t[k].z);
+            }
+        }
+    }
+    // Glass taps in front of a solid one: no value (their coverage is in sw).
+    float near_d = 0.0, near_inner = 0.0;
+    for (int b = PP_TAP_FIRST; b < PP_TAP_END; b++) {
+        for (int a = PP_TAP_FIRST; a < PP_TAP_END; a++) {
+            int k = 4 * b + a;
+            if (pp_glass_over_solid(-t[k].z, s[k], solid_d)) {
+                w[k] = 0.0;
+            }
             if (w[k] > 0.0 && (near_d <= 0.0 || -t[k].z < near_d)) {
                 near_d = -t[k].z;
             }
@@ -73,17 +100,15 @@ void main()
     if (near_inner > 0.0) {
         near_d = near_inner;
     }
-    // Coverage: the plain filtered weight sum. Values: each tap's weight divided by the
-    // depth factor, so a coarse texel over a depth edge keeps the near surface rather
-    // than a depth between both.
-    float sw = 0.0, sv = 0.0;
+    // Values: each tap's weight divided by the depth factor, so a coarse texel over a
+    // depth edge keeps the near surface rather than a depth between both.
+    float sv = 0.0, ss = 0.0;
     vec3 sp = vec3(0.0), sc = vec3(0.0);
     for (int b = PP_TAP_FIRST; b < PP_TAP_END; b++) {
         for (int a = PP_TAP_FIRST; a < PP_TAP_END; a++) {
             int k = 4 * b + a;
             if (w[k] > 0.0) {
                 float kw = PULL_TAPS[a] * PULL_TAPS[b] * w[k];
-                sw += kw;
                 if (near_d > 0.0) {
                     precise float dz = (-t[k].z - near_d) / (PP_PULL_TAU * near_d);
                     precise float x = dz * dz;
@@ -91,12 +116,12 @@ void main()
                     kw = kw / e;
                 }
                 sv += kw;
+                ss += kw * s[k];
                 sp += kw * t[k].xyz;
-                ivec2 f = 2 * q - 1 + ivec2(a, b);
 #ifdef PP_FROM_INPUT
-                sc += kw * texelFetch(u_input_colour, f, 0).rgb;
+                sc += kw * texelFetch(u_input_colour, 2 * q - 1 + ivec2(a, b), 0).rgb;
 #else
-                sc += kw * imageLoad(u_fine_colour, f).rgb;
+                sc += kw * c[k].rgb;
 #endif
             }
         }
@@ -106,7 +131,7 @@ void main()
         float inv = 1.0 / sv;
         float cover = min(1.0, sw);
         out_p = vec4(sp * inv, cover);
-        out_c = vec4(sc * inv, cover);
+        out_c = vec4(sc * inv, ss * inv);
     }
     imageStore(u_coarse_position, q, out_p);
     imageStore(u_coarse_colour, q, out_c);

@@ -7,6 +7,10 @@
 // from the twin's expf), x = ((d - d_near) / (PP_DEPTH_TAU d_near))^2, d_near the depth
 // of the 9/16 tap where it has weight, else the nearest tap depth: a hole at an outline
 // takes one surface, not a depth between both.
+// Glass (issue 15, part 2), levels >= 1 only: glass taps in front of a solid coarse tap
+// (pp_glass_over_solid; the see-through share is the colour's alpha) are skipped, and a glass
+// fine texel in front of them takes their value; the level-0 push has no test (it cost 5-6
+// CPU ms at 1080p, docs/PULLPUSH.md).
 // Twin: src/render/ref/pullpush_ref.c (push_texel). Built twice: with PP_LEVEL0 the
 // fine level is the input, the result goes to the output textures and the background
 // found by HPR is restored and the colour goes to the RGBA8 filled colour with alpha 0
@@ -47,13 +51,16 @@ void main()
     float label = imageLoad(u_label, q).r;
     float fw = pp_input_weight(t0, label, u_has_label);
     vec3 fc = texelFetch(u_input_colour, q, 0).rgb;
+    float fs = 0.0; // not stored at level 0
 #else
     vec4 t0 = imageLoad(u_position, q);
     float fw = t0.w;
-    vec3 fc = imageLoad(u_colour, q).rgb;
+    vec4 fc4 = imageLoad(u_colour, q);
+    vec3 fc = fc4.rgb;
+    float fs = fc4.a;
 #endif
     vec3 fp = t0.xyz;
-    float sw = 0.0;
+    float sw = 0.0, ss = 0.0;
     vec3 sp = vec3(0.0), sc = vec3(0.0);
     if (u_has_coarse) {
         ivec2 c0 = ((q + 1) >> 1) - 1;
@@ -63,10 +70,33 @@ void main()
         wy[0] = (q.y & 1) != 0 ? 0.75 : 0.25;
         wy[1] = 1.0 - wy[0];
         vec4 tp[4];
-        float near_d = 0.0; // nearest depth among the non-empty taps (the fallback)
         for (int k = 0; k < 4; k++) {
             ivec2 cq = clamp(c0 + ivec2(k & 1, k >> 1), ivec2(0), u_coarse_size - 1);
             tp[k] = imageLoad(u_coarse_position, cq);
+        }
+#ifndef PP_LEVEL0
+        vec4 tc[4]; // the coarse colours, alpha the see-through share
+        float solid_d = 0.0; // farthest solid tap with weight
+        for (int k = 0; k < 4; k++) {
+            ivec2 cq = clamp(c0 + ivec2(k & 1, k >> 1), ivec2(0), u_coarse_size - 1);
+            tc[k] = imageLoad(u_coarse_colour, cq);
+            if (tp[k].w > 0.0 && tc[k].a < PP_GLASS_SHARE) {
+                solid_d = max(solid_d, -tp[k].z);
+            }
+        }
+        for (int k = 0; k < 4; k++) {
+            if (pp_glass_over_solid(-tp[k].z, tc[k].a, solid_d)) {
+                tp[k].w = 0.0; // glass in front of a solid tap
+            }
+        }
+        // A glass texel in front of them takes the coarse value (level 0 then
+        // interpolates no glass beside the room, without this test per pixel).
+        if (pp_glass_over_solid(-fp.z, fs, solid_d)) {
+            fw = 0.0;
+        }
+#endif
+        float near_d = 0.0; // nearest depth among the non-empty taps (the fallback)
+        for (int k = 0; k < 4; k++) {
             float d = -tp[k].z;
             if (tp[k].w > 0.0 && (near_d <= 0.0 || d < near_d)) {
                 near_d = d;
@@ -93,8 +123,14 @@ void main()
                 }
                 sw += kw;
                 sp += kw * tp[k].xyz;
+#ifdef PP_LEVEL0
+                // Level 0: the colour of the taps with weight only (the share is not stored).
                 ivec2 cq = clamp(c0 + ivec2(k & 1, k >> 1), ivec2(0), u_coarse_size - 1);
                 sc += kw * imageLoad(u_coarse_colour, cq).rgb;
+#else
+                ss += kw * tc[k].a;
+                sc += kw * tc[k].rgb;
+#endif
             }
         }
     }
@@ -103,12 +139,14 @@ void main()
     if (nw > 0.0) {
         float inv = 1.0 / nw;
         vec3 np = (1.0 - fw) * sp, nc = (1.0 - fw) * sc;
+        float ns = (1.0 - fw) * ss;
         if (fw > 0.0) {
             np = fw * fp + np;
             nc = fw * fc + nc;
+            ns = fw * fs + ns;
         }
         out_p = vec4(np * inv, nw);
-        out_c = vec4(nc * inv, nw);
+        out_c = vec4(nc * inv, ns * inv);
     }
 #ifdef PP_LEVEL0
     if (u_has_label && pp_is_label(label, PP_LABEL_BACKGROUND)) {

@@ -1044,6 +1044,82 @@ static void depth_discontinuity_stays_bounded(void **state)
  * filled holes float between the two surfaces (more than 5 % off both depths): 319 of
  * the 6144 pixels, against 545 without the depth weight (TAU = 1e30). The rest come from
  * the pull, whose coarse texels already mix both surfaces. */
+/* A window: sparse see-through glass (w = STA_POSITION_W_SEE_THROUGH) at 10 m in a wall at
+ * 10 m, sparse room points at 14 m seen through it; glass_as_points draws the glass as plain
+ * points (w = 1) instead. */
+static void fill_window(frame *f, bool glass_as_points)
+{
+    for (int y = 0; y < f->position.height; y++) {
+        for (int x = 0; x < f->position.width; x++) {
+            bool window = x >= 24 && x < 72 && y >= 12 && y < 52;
+            float u = random01();
+            if (!window && u < 0.3f) {
+                set_point(f, x, y, 10.0f, STA_LABEL_VISIBLE);
+            } else if (window && u < 0.15f) {
+                set_point(f, x, y, 10.0f, STA_LABEL_VISIBLE);
+                sta_image_at(&f->colour, x, y)[2] = 1.0f; // glass blue
+                if (!glass_as_points) {
+                    sta_image_at(&f->position, x, y)[3] = STA_POSITION_W_SEE_THROUGH;
+                }
+            } else if (window && u < 0.22f) {
+                set_point(f, x, y, 14.0f, STA_LABEL_VISIBLE);
+            } else {
+                set_empty(f, x, y, STA_LABEL_HOLE);
+            }
+        }
+    }
+}
+
+/* Filled holes in the window's interior (6 px from its edge) at the glass's depth. */
+static int window_holes_on_glass(const frame *f, const result *r, int *holes)
+{
+    int on_glass = 0;
+    *holes = 0;
+    for (int y = 18; y < 46; y++) {
+        for (int x = 30; x < 66; x++) {
+            if (sta_image_at(&f->position, x, y)[3] > 0.0f) {
+                continue;
+            }
+            (*holes)++;
+            if (fabsf(-sta_image_at(&r->position, x, y)[2] - 10.0f) < 0.5f) {
+                on_glass++;
+            }
+        }
+    }
+    return on_glass;
+}
+
+/* Issue 15, part 2: where glass and the room behind it share the pull-push taps, the room
+ * fills the window (the glass stays as specks); with the glass as plain points a blotchy
+ * mix of both. Shader = twin (levels' see-through share included). */
+static void window_fills_with_the_room_behind_the_glass(void **state)
+{
+    (void)state;
+    const int w = 96, h = 64;
+    int holes, plain_holes;
+    frame f;
+    frame_init(&f, w, h);
+    rng_state = 777u;
+    fill_window(&f, false);
+    result ref, got;
+    check_gl_matches_twin(&f, NULL, &ref, &got);
+    int on_glass = window_holes_on_glass(&f, &got, &holes);
+    case_release(&f, &ref, &got);
+
+    frame_init(&f, w, h);
+    rng_state = 777u;
+    fill_window(&f, true);
+    check_gl_matches_twin(&f, NULL, &ref, &got);
+    int plain_on_glass = window_holes_on_glass(&f, &got, &plain_holes);
+    case_release(&f, &ref, &got);
+    printf("window: %d of %d holes filled at the glass's depth (%d with the glass as points)\n",
+           on_glass, holes, plain_on_glass);
+    assert_int_equal(holes, plain_holes);
+    assert_true(holes > 500);
+    assert_true(on_glass * 100 <= holes);
+    assert_true(plain_on_glass * 4 >= holes);
+}
+
 static void push_keeps_holes_on_one_surface(void **state)
 {
     (void)state;
@@ -1429,6 +1505,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(hidden_points_do_not_leak, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(depth_discontinuity_stays_bounded, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(push_keeps_holes_on_one_surface, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(window_fills_with_the_room_behind_the_glass, gl_setup,
+                                    gl_teardown),
     cmocka_unit_test_setup_teardown(push_takes_the_surface_of_its_own_coarse_texel, gl_setup,
                                     gl_teardown),
     cmocka_unit_test_setup_teardown(pull_keeps_coarse_texels_on_one_surface, gl_setup, gl_teardown),

@@ -13,15 +13,17 @@
 
 const char *sta_pullpush_shader_defines(void)
 {
-    static char defines[256];
+    static char defines[384];
     if (!defines[0]) {
         snprintf(defines, sizeof(defines),
                  "#define PP_LABEL_BACKGROUND %.1f\n#define PP_LABEL_VISIBLE %.1f\n"
-                 "#define PP_POSITION_W_MARKED %.1f\n"
-                 "#define PP_DEPTH_TAU %.9e\n#define PP_PULL_TAU %.9e\n",
+                 "#define PP_POSITION_W_MARKED %.1f\n#define PP_POSITION_W_SEE_THROUGH_MIN %.9e\n"
+                 "#define PP_DEPTH_TAU %.9e\n#define PP_PULL_TAU %.9e\n"
+                 "#define PP_GLASS_SHARE %.9e\n#define PP_GLASS_GAP %.9e\n",
                  (double)STA_LABEL_BACKGROUND, (double)STA_LABEL_VISIBLE,
-                 (double)STA_POSITION_W_MARKED, (double)STA_PULLPUSH_DEPTH_TAU,
-                 (double)STA_PULLPUSH_PULL_DEPTH_TAU);
+                 (double)STA_POSITION_W_MARKED, (double)STA_POSITION_W_SEE_THROUGH_MIN,
+                 (double)STA_PULLPUSH_DEPTH_TAU, (double)STA_PULLPUSH_PULL_DEPTH_TAU,
+                 (double)STA_PULLPUSH_GLASS_SHARE, (double)STA_PULLPUSH_GLASS_GAP);
     }
     return defines;
 }
@@ -29,7 +31,7 @@ const char *sta_pullpush_shader_defines(void)
 static sta_status build(const char *stage, const char *variant, sta_pullpush_program *out,
                         sta_error *err)
 {
-    char defines[384];
+    char defines[512];
     snprintf(defines, sizeof(defines), "%s%s", sta_pullpush_shader_defines(), variant);
     const char *names[] = { "pullpush_common.glsl", stage };
     sta_status status = sta_gl_program_create(names, 2, defines, &out->program, err);

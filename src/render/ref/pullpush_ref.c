@@ -20,6 +20,7 @@ typedef struct texel {
     float p[3];
     float c[3];
     float w;
+    float s; /* see-through share of the value (STA_PULLPUSH_GLASS_SHARE) */
 } texel;
 
 /* Where the texels of one level come from: level 0 reads the inputs (weight from the
@@ -42,11 +43,13 @@ static texel fetch(const level_source *s, int x, int y)
         p = sta_image_at(s->level_position, x, y);
         c = sta_image_at(s->level_colour, x, y);
         t.w = p[3];
+        t.s = c[3];
     } else {
         p = sta_image_at(s->position, x, y);
         c = sta_image_at(s->colour, x, y);
         bool visible = !s->label || is_label(*sta_image_at(s->label, x, y), STA_LABEL_VISIBLE);
         t.w = p[3] > 0.0f && p[3] != STA_POSITION_W_MARKED && visible ? 1.0f : 0.0f;
+        t.s = sta_position_see_through(p[3]) ? 1.0f : 0.0f;
     }
     for (int k = 0; k < 3; k++) {
         t.p[k] = p[k];
@@ -55,8 +58,28 @@ static texel fetch(const level_source *s, int x, int y)
     return t;
 }
 
+static bool is_glass(const texel *t)
+{
+    return t->s >= STA_PULLPUSH_GLASS_SHARE;
+}
+
+/* The farthest depth of the solid taps with weight, or 0. */
+static float solid_depth(const texel *t, float solid_d)
+{
+    float d = -t->p[2];
+    return t->w > 0.0f && !is_glass(t) && d > solid_d ? d : solid_d;
+}
+
+/* A glass tap in front of the farthest solid tap by more than STA_PULLPUSH_GLASS_GAP (the
+ * window in front of its room) gives no value. */
+static bool glass_over_solid(const texel *t, float solid_d)
+{
+    return is_glass(t) && solid_d > -t->p[2] * (1.0f + STA_PULLPUSH_GLASS_GAP);
+}
+
+/* Stores a pyramid texel: the colour's alpha holds the see-through share s. */
 static void store(const sta_image *position, const sta_image *colour, int x, int y,
-                  const float p[3], const float c[3], float w)
+                  const float p[3], const float c[3], float w, float s)
 {
     float *op = sta_image_at(position, x, y);
     float *oc = sta_image_at(colour, x, y);
@@ -65,7 +88,7 @@ static void store(const sta_image *position, const sta_image *colour, int x, int
         oc[k] = c[k];
     }
     op[3] = w;
-    oc[3] = w;
+    oc[3] = s;
 }
 
 static const float zero3[3] = { 0.0f, 0.0f, 0.0f };
@@ -94,7 +117,7 @@ static void pull_level(const level_source *fine, int fine_w, int fine_h, bool bo
             texel taps[16];
             /* The depth reference: the nearest depth among the inner 2x2 taps with weight
              * (the coarse texel's own footprint), else among all 16. */
-            float near_d = 0.0f, near_inner = 0.0f;
+            float solid_d = 0.0f; /* farthest solid tap */
             for (int b = 0; b < 4; b++) {
                 for (int a = 0; a < 4; a++) {
                     int fx = 2 * i - 1 + a, fy = 2 * j - 1 + b;
@@ -105,11 +128,23 @@ static void pull_level(const level_source *fine, int fine_w, int fine_h, bool bo
                         continue;
                     }
                     *t = fetch(fine, fx, fy);
-                    if (t->w > 0.0f && (near_d <= 0.0f || -t->p[2] < near_d)) {
+                    solid_d = solid_depth(t, solid_d);
+                }
+            }
+            /* Glass taps in front of a solid one give no value (they keep their
+             * coverage) and take no part in the reference. */
+            float near_d = 0.0f, near_inner = 0.0f;
+            for (int b = 0; b < 4; b++) {
+                for (int a = 0; a < 4; a++) {
+                    const texel *t = &taps[4 * b + a];
+                    if (!(t->w > 0.0f) || glass_over_solid(t, solid_d)) {
+                        continue;
+                    }
+                    if (near_d <= 0.0f || -t->p[2] < near_d) {
                         near_d = -t->p[2];
                     }
                     bool inner = (a == 1 || a == 2) && (b == 1 || b == 2);
-                    if (inner && t->w > 0.0f && (near_inner <= 0.0f || -t->p[2] < near_inner)) {
+                    if (inner && (near_inner <= 0.0f || -t->p[2] < near_inner)) {
                         near_inner = -t->p[2];
                     }
                 }
@@ -117,7 +152,8 @@ static void pull_level(const level_source *fine, int fine_w, int fine_h, bool bo
             if (near_inner > 0.0f) {
                 near_d = near_inner;
             }
-            float sw = 0.0f, sv = 0.0f, sp[3] = { 0.0f, 0.0f, 0.0f }, sc[3] = { 0.0f, 0.0f, 0.0f };
+            float sw = 0.0f, sv = 0.0f, ss = 0.0f;
+            float sp[3] = { 0.0f, 0.0f, 0.0f }, sc[3] = { 0.0f, 0.0f, 0.0f };
             for (int b = 0; b < 4; b++) {
                 for (int a = 0; a < 4; a++) {
                     const texel *t = &taps[4 * b + a];
@@ -126,10 +162,14 @@ static void pull_level(const level_source *fine, int fine_w, int fine_h, bool bo
                     }
                     float kw = taps_1d[a] * taps_1d[b] * t->w;
                     sw += kw;
+                    if (glass_over_solid(t, solid_d)) {
+                        continue;
+                    }
                     if (near_d > 0.0f) {
                         kw = kw / depth_factor(-t->p[2], near_d, STA_PULLPUSH_PULL_DEPTH_TAU);
                     }
                     sv += kw;
+                    ss += kw * t->s;
                     for (int k = 0; k < 3; k++) {
                         sp[k] += kw * t->p[k];
                         sc[k] += kw * t->c[k];
@@ -143,9 +183,9 @@ static void pull_level(const level_source *fine, int fine_w, int fine_h, bool bo
                     p[k] = sp[k] * inv;
                     c[k] = sc[k] * inv;
                 }
-                store(out_p, out_c, i, j, p, c, fminf(1.0f, sw));
+                store(out_p, out_c, i, j, p, c, fminf(1.0f, sw), ss * inv);
             } else {
-                store(out_p, out_c, i, j, zero3, zero3, 0.0f);
+                store(out_p, out_c, i, j, zero3, zero3, 0.0f, 0.0f);
             }
         }
     }
@@ -159,11 +199,14 @@ static int clamp_int(int v, int lo, int hi)
 /* Push of one fine texel: bilinear 2x2 interpolation of the (already pushed) coarse
  * level, taps 3/4 and 1/4 per axis, clamped to the coarse level's edge; empty coarse
  * texels do not contribute. Then "over" compositing: w' = w + (1 - w) sw, value
- * (w v + (1 - w) sv) / w'. Returns w'. */
+ * (w v + (1 - w) sv) / w'. With glass_rule (levels >= 1), glass taps in front of
+ * a solid tap (glass_over_solid) are skipped and a glass fine texel in front of them takes
+ * their value. Returns w'; *out_s receives the see-through share. */
 static float push_texel(const texel *fine, const level_source *coarse, int coarse_w, int coarse_h,
-                        int i, int j, float out_p[3], float out_c[3])
+                        int i, int j, bool glass_rule, float out_p[3], float out_c[3], float *out_s)
 {
-    float sw = 0.0f, sp[3] = { 0.0f, 0.0f, 0.0f }, sc[3] = { 0.0f, 0.0f, 0.0f };
+    float sw = 0.0f, ss = 0.0f, sp[3] = { 0.0f, 0.0f, 0.0f }, sc[3] = { 0.0f, 0.0f, 0.0f };
+    float w = fine->w;
     if (coarse) {
         int cx0 = ((i + 1) >> 1) - 1, cy0 = ((j + 1) >> 1) - 1;
         float wx[2], wy[2];
@@ -172,15 +215,28 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
         wy[0] = (j & 1) ? 0.75f : 0.25f;
         wy[1] = 1.0f - wy[0];
         texel taps[4];
-        float near_d = 0.0f; /* nearest depth among the non-empty taps (the fallback) */
+        float solid_d = 0.0f;
         for (int k = 0; k < 4; k++) {
             int a = k & 1, b = k >> 1;
             taps[k] = fetch(coarse, clamp_int(cx0 + a, 0, coarse_w - 1),
                             clamp_int(cy0 + b, 0, coarse_h - 1));
+            solid_d = solid_depth(&taps[k], solid_d);
+        }
+        /* Glass taps in front of a solid one are dropped (weight 0 from here on). */
+        float near_d = 0.0f; /* nearest depth among the non-empty taps (the fallback) */
+        for (int k = 0; k < 4; k++) {
+            if (glass_rule && glass_over_solid(&taps[k], solid_d)) {
+                taps[k].w = 0.0f;
+            }
             float d = -taps[k].p[2];
             if (taps[k].w > 0.0f && (near_d <= 0.0f || d < near_d)) {
                 near_d = d;
             }
+        }
+        /* A glass texel in front of them takes the coarse value (level 0 then interpolates
+         * no glass beside the room, without this test per pixel). */
+        if (glass_rule && glass_over_solid(fine, solid_d)) {
+            w = 0.0f;
         }
         /* The reference: the depth of the 9/16 tap (the coarse texel holding the fine
          * one) where it has weight, else the nearest. */
@@ -196,6 +252,7 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
                     kw = kw / depth_factor(-t->p[2], near_d, STA_PULLPUSH_DEPTH_TAU);
                 }
                 sw += kw;
+                ss += kw * t->s;
                 for (int c = 0; c < 3; c++) {
                     sp[c] += kw * t->p[c];
                     sc[c] += kw * t->c[c];
@@ -203,14 +260,19 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
             }
         }
     }
-    float w = fine->w;
     float nw = fminf(1.0f, w + (1.0f - w) * sw);
     if (!(nw > 0.0f)) {
         memcpy(out_p, zero3, sizeof(zero3));
         memcpy(out_c, zero3, sizeof(zero3));
+        *out_s = 0.0f;
         return 0.0f;
     }
     float inv = 1.0f / nw;
+    float ns = (1.0f - w) * ss;
+    if (w > 0.0f) {
+        ns = w * fine->s + ns;
+    }
+    *out_s = ns * inv;
     for (int k = 0; k < 3; k++) {
         float np = (1.0f - w) * sp[k], nc = (1.0f - w) * sc[k];
         if (w > 0.0f) {
@@ -306,10 +368,10 @@ sta_status sta_pullpush_ref(const sta_view_params *view, const sta_image *positi
         for (int j = 0; j < lp->height; j++) {
             for (int i = 0; i < lp->width; i++) {
                 texel t = fetch(&self, i, j);
-                float p[3], c[3];
+                float p[3], c[3], ts;
                 float nw = push_texel(&t, &coarse, levels->position[l + 1].width,
-                                      levels->position[l + 1].height, i, j, p, c);
-                store(lp, lc, i, j, p, c, nw);
+                                      levels->position[l + 1].height, i, j, true, p, c, &ts);
+                store(lp, lc, i, j, p, c, nw, ts);
             }
         }
     }
@@ -321,14 +383,14 @@ sta_status sta_pullpush_ref(const sta_view_params *view, const sta_image *positi
     for (int j = 0; j < h; j++) {
         for (int i = 0; i < w; i++) {
             texel t = fetch(&input, i, j);
-            float p[3], c[3];
-            float nw = push_texel(&t, count > 1 ? &coarse1 : NULL,
-                                  count > 1 ? levels->position[1].width : 0,
-                                  count > 1 ? levels->position[1].height : 0, i, j, p, c);
+            float p[3], c[3], ts;
+            float nw = push_texel(
+                &t, count > 1 ? &coarse1 : NULL, count > 1 ? levels->position[1].width : 0,
+                count > 1 ? levels->position[1].height : 0, i, j, false, p, c, &ts);
             if (label && is_label(*sta_image_at(label, i, j), STA_LABEL_BACKGROUND)) {
-                store(out_position, out_colour, i, j, zero3, zero3, 0.0f);
+                store(out_position, out_colour, i, j, zero3, zero3, 0.0f, 0.0f);
             } else {
-                store(out_position, out_colour, i, j, p, c, nw);
+                store(out_position, out_colour, i, j, p, c, nw, 0.0f);
             }
             float *oc = sta_image_at(out_colour, i, j); // RGBA8 (screen_space.h)
             for (int k = 0; k < 3; k++) {

@@ -57,8 +57,9 @@ static inline int sta_position_occludes(float w)
  * < number of returns: window glass in the synth street, beam edges in real scans): the
  * compute rasteriser's resolve writes it (the GL_POINTS path has no returns per pixel and
  * writes 1). HPR lets such points close a point's sectors only where a solid occluder is
- * near (STA_HPR_SOLID_LEVELS, hpr_ref.h; issue 15, sixteenth round); everything else
- * takes them as drawn points (w > 0.5, not STA_POSITION_W_MARKED). w from
+ * near (STA_HPR_SOLID_LEVELS, hpr_ref.h; issue 15, sixteenth round); pull-push takes
+ * no value from glass in front of a room (STA_PULLPUSH_GLASS_SHARE, pullpush_ref.h);
+ * everything else takes them as drawn points (w > 0.5, not STA_POSITION_W_MARKED). w from
  * STA_POSITION_W_SEE_THROUGH_MIN on is see-through. Classes 0 (never classified) and 1
  * (unclassified) are left out: there the earlier returns are mostly unlabelled canopy
  * (the lasR forest tiles: 40 % of a shaded view changed, the canopy's filled surface
