@@ -1103,9 +1103,7 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
     if (status == STA_OK) {
         const int32_t(*sets[2])[3] = { m->grid, halo };
         const size_t counts[2] = { m->count, halo_count };
-        if (!sta_cell_tensors_add_sorted(&quadrics.tensors, sets, counts, 2, corner)) {
-            status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
-        }
+        status = sta_cell_tensors_add_sorted(&quadrics.tensors, sets, counts, 2, corner, err);
     }
     if (status == STA_OK && !level_init(&fine_boxes, &fine_cells)) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");

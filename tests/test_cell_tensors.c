@@ -263,7 +263,7 @@ static void sorted_runs_equal_point_by_point_sums(void **state)
     sta_cell_tensors_add(&want, (const int32_t(*)[3])p, N);
     const int32_t(*const in[2])[3] = { (const int32_t(*)[3])sorted[0],
                                        (const int32_t(*)[3])sorted[1] };
-    assert_true(sta_cell_tensors_add_sorted(&got, in, counts, 2, corner));
+    assert_int_equal(sta_cell_tensors_add_sorted(&got, in, counts, 2, corner, &err), STA_OK);
     int64_t with_points = 0;
     for (int z = 0; z <= SIDE; z++) {
         for (int y = 0; y <= SIDE; y++) {
