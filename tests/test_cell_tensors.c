@@ -201,7 +201,8 @@ static void many_cells_keep_their_sums_through_growth(void **state)
 // cells of level 3 above a corner aligned 11 levels up (not the scene's), dealt at random
 // to two sets (a cell's points in both), each in cell order; a third of the cells marked,
 // runs of neighbours among them (consecutive keys), and cells below the corner (no key).
-// Every vertex's sums agree, so every marked cell's do.
+// Every vertex's sums agree, so every marked cell's do; a set with no marked cell stays
+// empty.
 static void sorted_runs_equal_point_by_point_sums(void **state)
 {
     (void)state;
@@ -278,6 +279,12 @@ static void sorted_runs_equal_point_by_point_sums(void **state)
         }
     }
     assert_true(with_points > SIDE * SIDE * SIDE / 2);
+    // No marked cell: nothing to add, nothing created.
+    sta_cell_tensors none;
+    assert_int_equal(sta_cell_tensors_init(&none, LEVEL, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(sta_cell_tensors_add_sorted(&none, in, counts, 2, corner, &err), STA_OK);
+    assert_int_equal(none.used, 0);
+    sta_cell_tensors_release(&none);
     sta_cell_tensors_release(&want);
     sta_cell_tensors_release(&got);
     test_free(sorted[0]);
