@@ -4,6 +4,7 @@
 
 #include <string.h>
 
+#include "cell_order.h"
 #include "core/alloc.h"
 #include "key_slots.h"
 
@@ -214,6 +215,87 @@ void sta_cell_tensors_add(sta_cell_tensors *t, const int32_t (*grid)[3], size_t 
             sta_tensor_sums_add(sums, d);
         }
     }
+}
+
+typedef struct keyed_cell {
+    uint64_t key;  /* the cell order's key of the cell */
+    uint32_t cell; /* its place in `sums` */
+    int64_t at[3]; /* its coordinates from the scene corner */
+} keyed_cell;
+
+sta_status sta_cell_tensors_add_sorted(sta_cell_tensors *t, const int32_t (*const *sets)[3],
+                                       const size_t *counts, int count, const int32_t corner[3],
+                                       sta_error *err)
+{
+    keyed_cell *cells = sta_alloc_array(t->used + 1, sizeof(*cells));
+    int32_t(*low)[3] = sta_alloc_array(t->used + 1, sizeof(*low));
+    uint32_t *order = sta_alloc_array(t->used + 1, sizeof(*order));
+    if (!cells || !low || !order) {
+        sta_free(cells);
+        sta_free(low);
+        sta_free(order);
+        return sta_fail(err, STA_ERR_NOMEM, "cell tensors: out of memory");
+    }
+    size_t found = 0;
+    for (size_t s = 0; s < t->capacity; s++) {
+        if (t->keys[s] == 0) {
+            continue;
+        }
+        uint64_t packed = t->keys[s] - 1;
+        int64_t first[3];
+        bool inside = true;
+        for (int a = 0; a < 3; a++) {
+            int64_t local = (int64_t)(packed >> (a * STA_MOMENTS_AXIS_BITS) & AXIS_MASK);
+            int64_t from = (local + t->base[a]) * ((int64_t)1 << t->level) + t->origin[a];
+            cells[found].at[a] = local + t->base[a];
+            // (a cell lies wholly above the aligned corner or below every point; one past
+            // int32 holds none)
+            first[a] = (from - corner[a]) >> t->level;
+            inside = inside && first[a] >= 0 &&
+                     first[a] < ((int64_t)1 << STA_CELL_ORDER_AXIS_BITS) && from <= INT32_MAX;
+            low[found][a] = inside ? (int32_t)from : 0;
+        }
+        if (inside) {
+            cells[found].key = sta_cell_order_key(first);
+            cells[found++].cell = t->cell[s];
+        }
+    }
+    // The cells in key order: the cell order of their lowest points.
+    sta_status status =
+        sta_cell_order((const int32_t(*)[3])low, found, corner, t->level, order, err);
+    sta_free(low);
+    if (status != STA_OK) {
+        sta_free(cells);
+        sta_free(order);
+        return status;
+    }
+    int level = t->level;
+    int64_t mask = ((int64_t)1 << level) - 1;
+    for (int s = 0; s < count; s++) {
+        size_t i = 0;
+        for (size_t c = 0; c < found; c++) {
+            const keyed_cell *k = &cells[order[c]];
+            sta_tensor_sums *sums = &t->sums[k->cell];
+            i = sta_cell_order_lower_near(sets[s], counts[s], corner, level, k->key, i);
+            for (; i < counts[s]; i++) { // the cell's run
+                int64_t u[3];
+                uint64_t d[3];
+                bool in = true;
+                for (int a = 0; a < 3; a++) {
+                    u[a] = (int64_t)sets[s][i][a] - t->origin[a];
+                    in = in && u[a] >> level == k->at[a];
+                    d[a] = (uint64_t)(u[a] & mask);
+                }
+                if (!in) {
+                    break;
+                }
+                sta_tensor_sums_add(sums, d);
+            }
+        }
+    }
+    sta_free(cells);
+    sta_free(order);
+    return STA_OK;
 }
 
 // Moves the sums s in place by `by` along axis a (d_a + by): sum (x + o)^i y^j z^k = sum

@@ -61,6 +61,14 @@ bool sta_cell_tensors_mark(sta_cell_tensors *t, const int64_t cell[3]);
  * the others' points are left out. */
 void sta_cell_tensors_add(sta_cell_tensors *t, const int32_t (*grid)[3], size_t n);
 
+/* As sta_cell_tensors_add for the points of `count` sets, each sorted by sta_cell_order
+ * at the set's level from `corner` (aligned to 2^level units from the scene corner), but
+ * visiting only the marked cells' runs of points (the marked cells in the order's key
+ * order, each run found by sta_cell_order_lower_near from where the last one ended): the
+ * same sums (exact, so in any order). STA_ERR_NOMEM. */
+sta_status sta_cell_tensors_add_sorted(sta_cell_tensors *t, const int32_t (*const *sets)[3],
+                                       const size_t *counts, int count, const int32_t corner[3],
+                                       sta_error *err);
 /* The sums of the 2 x 2 x 2 cells around grid vertex `vertex` (cell coordinates from the
  * scene corner: the cells from vertex - 1 to vertex), as offsets from their block's
  * corner; cells not in the set are empty. */

@@ -1101,8 +1101,9 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
                                               corner, &wanted, err);
     }
     if (status == STA_OK) {
-        sta_cell_tensors_add(&quadrics.tensors, m->grid, m->count);
-        sta_cell_tensors_add(&quadrics.tensors, halo, halo_count);
+        const int32_t(*sets[2])[3] = { m->grid, halo };
+        const size_t counts[2] = { m->count, halo_count };
+        status = sta_cell_tensors_add_sorted(&quadrics.tensors, sets, counts, 2, corner, err);
     }
     if (status == STA_OK && !level_init(&fine_boxes, &fine_cells)) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");

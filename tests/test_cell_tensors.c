@@ -5,11 +5,13 @@
  * points in all 8 cells: a wrong binomial term of one axis or a mixed one shows); only
  * marked cells take points; the sums do not depend on the points' order; thousands of
  * cells, marked in a scattered order and twice, keep their own sums while the table and
- * the sums' array grow. */
+ * the sums' array grow; the marked cells' runs of two cell-ordered sets give the sums of
+ * all their points taken one by one. */
 #include "test_support.h"
 
 #include <string.h>
 
+#include "cell_order.h"
 #include "cell_tensors.h"
 
 enum {
@@ -195,10 +197,105 @@ static void many_cells_keep_their_sums_through_growth(void **state)
     sta_cell_tensors_release(&t);
 }
 
+// sta_cell_tensors_add_sorted against sta_cell_tensors_add: points clustered over 16^3
+// cells of level 3 above a corner aligned 11 levels up (not the scene's), dealt at random
+// to two sets (a cell's points in both), each in cell order; a third of the cells marked,
+// runs of neighbours among them (consecutive keys), and cells below the corner (no key).
+// Every vertex's sums agree, so every marked cell's do; a set with no marked cell stays
+// empty.
+static void sorted_runs_equal_point_by_point_sums(void **state)
+{
+    (void)state;
+    enum {
+        SIDE = 16,
+        LEVEL = 3,
+        N = 6000
+    };
+    static int32_t p[N][3], sets[2][N][3];
+    static uint32_t order[N];
+    const int64_t origin[3] = { -1000, 2000, 37 };
+    const int32_t corner[3] = { -1000, 2000 + (1 << 11), 37 + (2 << 11) };
+    const int32_t lo[3] = { corner[0], corner[1], corner[2] };
+    const int32_t hi[3] = { corner[0] + (SIDE << LEVEL), corner[1] + (SIDE << LEVEL),
+                            corner[2] + (SIDE << LEVEL) };
+    uint32_t seed = 11u;
+    for (size_t i = 0; i < N; i++) {
+        uint32_t r = sta_test_next_random(&seed);
+        for (int a = 0; a < 3; a++) { // (half the points in the lowest quarter of each axis)
+            uint32_t span =
+                (r >> a & 1) ? (uint32_t)(SIDE << LEVEL) : (uint32_t)(SIDE << LEVEL) / 4;
+            p[i][a] = corner[a] + (int32_t)(sta_test_next_random(&seed) % span);
+        }
+    }
+    size_t counts[2] = { 0, 0 };
+    for (size_t i = 0; i < N; i++) {
+        int s = (int)(sta_test_next_random(&seed) & 1);
+        memcpy(sets[s][counts[s]++], p[i], sizeof(p[0]));
+    }
+    sta_error err = { 0 };
+    int32_t(*sorted[2])[3] = { NULL, NULL };
+    for (int s = 0; s < 2; s++) {
+        assert_int_equal(
+            sta_cell_order((const int32_t(*)[3])sets[s], counts[s], corner, LEVEL, order, &err),
+            STA_OK);
+        sorted[s] = test_malloc((counts[s] + 1) * sizeof(*sorted[s]));
+        for (size_t i = 0; i < counts[s]; i++) {
+            memcpy(sorted[s][i], sets[s][order[i]], sizeof(sorted[s][0]));
+        }
+    }
+    sta_cell_tensors want, got;
+    assert_int_equal(sta_cell_tensors_init(&want, LEVEL, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(sta_cell_tensors_init(&got, LEVEL, origin, lo, hi, &err), STA_OK);
+    int64_t first[3];
+    for (int a = 0; a < 3; a++) {
+        first[a] = ((int64_t)corner[a] - origin[a]) >> LEVEL;
+    }
+    for (int c = 0; c < SIDE * SIDE * SIDE; c++) {
+        const int64_t cell[3] = { first[0] + c % SIDE, first[1] + c / SIDE % SIDE,
+                                  first[2] + c / (SIDE * SIDE) };
+        if ((c * 2654435761u) % 3 == 0 || c % SIDE < 3) {
+            assert_true(sta_cell_tensors_mark(&want, cell));
+            assert_true(sta_cell_tensors_mark(&got, cell));
+        }
+    }
+    const int64_t below[3] = { first[0] - 1, first[1] - 1, first[2] };
+    assert_true(sta_cell_tensors_mark(&want, below));
+    assert_true(sta_cell_tensors_mark(&got, below));
+    sta_cell_tensors_add(&want, (const int32_t(*)[3])p, N);
+    const int32_t(*const in[2])[3] = { (const int32_t(*)[3])sorted[0],
+                                       (const int32_t(*)[3])sorted[1] };
+    assert_int_equal(sta_cell_tensors_add_sorted(&got, in, counts, 2, corner, &err), STA_OK);
+    int64_t with_points = 0;
+    for (int z = 0; z <= SIDE; z++) {
+        for (int y = 0; y <= SIDE; y++) {
+            for (int x = 0; x <= SIDE; x++) {
+                const int64_t v[3] = { first[0] + x, first[1] + y, first[2] + z };
+                sta_tensor_sums a, b;
+                sta_cell_tensors_vertex(&want, v, &a);
+                sta_cell_tensors_vertex(&got, v, &b);
+                assert_memory_equal(&a, &b, sizeof(a));
+                with_points += a.s[0] > 0;
+            }
+        }
+    }
+    assert_true(with_points > SIDE * SIDE * SIDE / 2);
+    // No marked cell: nothing to add, nothing created.
+    sta_cell_tensors none;
+    assert_int_equal(sta_cell_tensors_init(&none, LEVEL, origin, lo, hi, &err), STA_OK);
+    assert_int_equal(sta_cell_tensors_add_sorted(&none, in, counts, 2, corner, &err), STA_OK);
+    assert_int_equal(none.used, 0);
+    sta_cell_tensors_release(&none);
+    sta_cell_tensors_release(&want);
+    sta_cell_tensors_release(&got);
+    test_free(sorted[0]);
+    test_free(sorted[1]);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(vertex_sums_equal_direct_sums),
     cmocka_unit_test(unmarked_cells_take_no_points),
     cmocka_unit_test(many_cells_keep_their_sums_through_growth),
+    cmocka_unit_test(sorted_runs_equal_point_by_point_sums),
 };
 
 STA_TEST_MAIN(tests)
