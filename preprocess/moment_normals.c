@@ -619,6 +619,9 @@ typedef struct moment_pass {
     level_boxes *axis;        /* the boxes CYLINDER_LEVELS_UP above the base, NULL when
                                  released (the passes above them) */
     double factor;            /* plane_radius_factor() */
+    level_boxes *above;       /* the boxes two levels above the base, in the base level's
+                                 first pass of the default method only (else NULL):
+                                 skips_base */
 } moment_pass;
 
 // Point j's grid coordinates from the scene corner.
@@ -726,6 +729,26 @@ static int moves_up(const sta_normals_chunk *chunk, level_boxes *fine, level_box
             b->w[2] > ELONGATED * b->w[1]); // (moments-fine stays as it was)
 }
 
+// Whether a base-level candidate at u skips its base box (default method): its box one
+// level up (`one`) is nearly flat (surface variation at most FLAT_ENOUGH), has a plane, is
+// not elongated, and the plane of its box two levels up (`two`) agrees with it (AGREE).
+// Then it goes on from the level above as if it had moved up (moves_up's first step, a
+// flatter box of the same surface, is taken for granted): on a road or a wall the base
+// box is rougher than the wider one (the range noise over a smaller spread) and is never
+// taken, but made and fitted for the decision. 1 or 0; -1 when out of memory.
+static int skips_base(const sta_normals_chunk *chunk, level_boxes *one, level_boxes *two,
+                      const int64_t u[3])
+{
+    vertex_box *b = nearest_box(chunk, one, u), *c = b ? nearest_box(chunk, two, u) : NULL;
+    if (!c) {
+        return -1;
+    }
+    return b->variation <= FLAT_ENOUGH && c->variation < b->variation && box_fit(chunk, b) &&
+           !(b->w[2] > ELONGATED * b->w[1]) && box_fit(chunk, c) &&
+           fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
+                b->normal[2] * c->normal[2]) > AGREE;
+}
+
 // The decisions of one level for the points still waiting at `fine`'s level: those whose
 // cell of the next level (`coarse`, NULL at the last level; the same edge as the box)
 // holds enough points become candidates; a candidate whose box at the next level is
@@ -752,6 +775,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
     int enough = -1;    // the run's next-level cell holds enough points (-1: not known yet)
     signed char up[64]; // by key (-1: not known)
     signed char rough[8] = { -1, -1, -1, -1, -1, -1, -1, -1 }; // m->defer's, by octant
+    int skip = -1; // m->above's, the run's (a base cell lies in one cell of each level above)
     memset(up, -1, sizeof(up));
     for (size_t j = 0; j < m->count; j++) {
         uint8_t flags = m->state[j], state = flags & STATE_MASK;
@@ -759,6 +783,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
             enough = -1;
             memset(up, -1, sizeof(up));
             memset(rough, -1, sizeof(rough));
+            skip = -1;
         }
         if (state == STATE_DONE || (m->only_rough && !m->rough[j])) {
             continue;
@@ -778,6 +803,24 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                 continue;
             }
             state = STATE_CANDIDATE;
+        }
+        if (m->above && coarse && state == STATE_CANDIDATE && !m->chunk->keep_base_boxes) {
+            if (skip < 0) {
+                if (!have_u) {
+                    point_offset(m, j, u);
+                    have_u = true;
+                }
+                skip = skips_base(m->chunk, coarse, m->above, u);
+                if (skip < 0) {
+                    return SIZE_MAX;
+                }
+            }
+            if (skip) {
+                m->state[j] = (uint8_t)((flags & RUN_START) | (STATE_CANDIDATE + 1));
+                m->stats->skipped_base++;
+                left++;
+                continue;
+            }
         }
         if (m->defer && state == STATE_CANDIDATE) { // (at the base level: by octant)
             if (!have_u) {
@@ -1321,9 +1364,21 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         pass.cylinders = cylinders;
         pass.halo_hint = &halo_hint;
     }
+    // The level two above the base, made in the base level's first pass for skips_base (the
+    // default method's), then handed on as the next level one level up.
+    sta_cell_blocks above_cells = { 0 };
+    level_boxes above_boxes = { 0 };
+    bool have_above = false;
     while (status == STA_OK) {
         int next = 1 - at;
-        if (level < top) {
+        if (level < top && have_above) {
+            cells[next] = above_cells;
+            boxes[next] = above_boxes;
+            boxes[next].cells = &cells[next];
+            memset(&above_cells, 0, sizeof(above_cells));
+            memset(&above_boxes, 0, sizeof(above_boxes));
+            have_above = false;
+        } else if (level < top) {
             status = sta_cell_blocks_init(&cells[next], level + 1, higher, chunk->scene_min, lo, hi,
                                           err);
             if (status == STA_OK) {
@@ -1336,14 +1391,30 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                 break;
             }
         }
+        if (adaptive && level == chunk->base_level && level + 2 <= top) {
+            have_above = true;
+            status = sta_cell_blocks_init(&above_cells, level + 2, higher, chunk->scene_min, lo, hi,
+                                          err);
+            if (status == STA_OK) {
+                status = sta_cell_blocks_coarsen(&cells[next], &above_cells, err);
+            }
+            if (status == STA_OK && !level_init(&above_boxes, &above_cells)) {
+                status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+            }
+            if (status != STA_OK) {
+                break;
+            }
+        }
         pass.rough = rough;
         pass.defer = adaptive && level == chunk->base_level;
         int axis_level = level - chunk->base_level; // (the cylinders' boxes' level: fine or next)
         pass.axis = axis_level == CYLINDER_LEVELS_UP                      ? &boxes[at]
                     : axis_level == CYLINDER_LEVELS_UP - 1 && level < top ? &boxes[next]
                                                                           : NULL;
+        pass.above = have_above && level == chunk->base_level ? &above_boxes : NULL;
         size_t left = fit_level(&pass, &boxes[at], level < top ? &boxes[next] : NULL);
         pass.defer = false;
+        pass.above = NULL;
         if (left == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
         } else if (adaptive && level == chunk->base_level) {
@@ -1367,6 +1438,8 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         table_release(&boxes[j].table);
         sta_cell_blocks_release(&cells[j]);
     }
+    table_release(&above_boxes.table);
+    sta_cell_blocks_release(&above_cells);
     if (status == STA_OK) {
         stats->points += count;
     }
