@@ -163,9 +163,19 @@
 #define CYLINDER_RMS           0.15
 #define CYLINDER_RADIUS        0.5
 #define CYLINDER_NEAR          0.5
+/* The default method's widest boxes: cells this many levels above the base. A candidate
+ * moves up at most STEPS levels; one more (STA_MOMENTS_LEVELS_ABOVE_BASE, moments-fine's)
+ * served only the points grown once more from there (edge-on, nearly linear or degenerate
+ * boxes two levels up: 2 % of the 4 M street's points) and took a halo twice as wide.
+ * Seventeenth round of docs/BENCHMARKS.md (20 M street, with skips_base): the halo's
+ * points and the temporary file's halos halved, no class worse (curbs' p95 21.05 -> 20.71
+ * degrees, buildings' 7.30 -> 7.06); 374 instead of 4 points take the fallback (a box of
+ * fewer than 3 points, or no plane, at the widest level: strays). */
+#define LEVELS_ABOVE           2
+
 /* Cylinder fits kept by their box's vertex: a pass meets a base cell's 8 octants' vertices
  * in turn (a power of two, at least 64). */
-#define CYLINDER_SLOTS         1024
+#define CYLINDER_SLOTS 1024
 
 /* A cylinder fitted to the box of vertex v (cylinder_normal). */
 typedef struct cylinder_slot {
@@ -873,7 +883,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
 // or above the base) around vertex v, as offsets from the box's corner: each cell's points
 // are one run of the cell order, its start found by a galloping search from own_hint (the
 // asking point's place) and, in the halo, from where the last one ended. The same sums in
-// any chunking (the halo covers the boxes up to STA_MOMENTS_LEVELS_ABOVE_BASE).
+// any chunking (the halo covers the boxes up to sta_moment_normals_levels_above).
 static void box_tensors(const moment_pass *m, int level, const int64_t v[3], size_t own_hint,
                         sta_tensor_sums *out)
 {
@@ -1204,10 +1214,15 @@ int sta_moment_normals_need(sta_normals_method method, int k)
     return need > NEED_LEAST ? need : NEED_LEAST;
 }
 
-double sta_moment_normals_reach(int base_level, double unit)
+int sta_moment_normals_levels_above(sta_normals_method method)
+{
+    return method == STA_NORMALS_MOMENTS ? LEVELS_ABOVE : STA_MOMENTS_LEVELS_ABOVE_BASE;
+}
+
+double sta_moment_normals_reach(sta_normals_method method, int base_level, double unit)
 {
     // A point blends the boxes of its cell's 8 vertices: they reach 2 cells from it.
-    int top = base_level + STA_MOMENTS_LEVELS_ABOVE_BASE;
+    int top = base_level + sta_moment_normals_levels_above(method);
     return 2.0 *
            (double)((int64_t)1 << (top < STA_MOMENTS_MAX_LEVEL ? top : STA_MOMENTS_MAX_LEVEL)) *
            unit;
@@ -1258,7 +1273,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
             hi[3] = { INT32_MIN, INT32_MIN, INT32_MIN };
     sta_normal_gather_positions(layout, records, count, halo, halo_count, grid, lo, hi);
     // Levels: from the scene's base (or the finest whose cells stay addressable) to
-    // STA_MOMENTS_LEVELS_ABOVE_BASE above it (the halo's reach): the same in every chunk.
+    // sta_moment_normals_levels_above it (the halo's reach): the same in every chunk.
     // (10 cells of margin: the first block starts up to 4 below the lowest, 3 above stay)
     int level = chunk->base_level > 0 ? chunk->base_level : 0;
     for (int a = 0; a < 3; a++) {
@@ -1268,7 +1283,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
             level++;
         }
     }
-    int top = chunk->base_level + STA_MOMENTS_LEVELS_ABOVE_BASE;
+    int top = chunk->base_level + sta_moment_normals_levels_above(chunk->method);
     top = top < STA_MOMENTS_MAX_LEVEL ? top : STA_MOMENTS_MAX_LEVEL;
     top = top > level ? top : level;
     if (level >= STA_MOMENTS_MAX_LEVEL) { // (a set wider than the cells address)
