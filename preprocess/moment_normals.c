@@ -28,6 +28,9 @@
 #define STATE_GROW             1
 #define STATE_DONE             2
 #define STATE_CANDIDATE        3 /* + the levels it moved up for a flatter box */
+/* A base-level candidate that skipped its base box and whose second step up is decided
+ * too (skips_base): it takes the box two levels up without deciding one level up. */
+#define STATE_JUMP             (STATE_CANDIDATE + STEPS + 1)
 #define STATE_MASK             0x7f
 /* Flag in a state byte: the point is the first of its base cell's run (the own points are
  * in the Morton order of their base cells: a cell's points come together). */
@@ -745,7 +748,10 @@ static int moves_up(const sta_normals_chunk *chunk, level_boxes *fine, level_box
 // Then it goes on from the level above as if it had moved up (moves_up's first step, a
 // flatter box of the same surface, is taken for granted): on a road or a wall the base
 // box is rougher than the wider one (the range noise over a smaller spread) and is never
-// taken, but made and fitted for the decision. 1 or 0; -1 when out of memory.
+// taken, but made and fitted for the decision. The second step is moves_up's own
+// decision one level up, which these tests make too unless the upper box is elongated:
+// 2 when it is made here (the point takes the box two levels up), 1 when the level above
+// decides, 0 when the base box is made; -1 when out of memory.
 static int skips_base(const sta_normals_chunk *chunk, level_boxes *one, level_boxes *two,
                       const int64_t u[3])
 {
@@ -753,10 +759,13 @@ static int skips_base(const sta_normals_chunk *chunk, level_boxes *one, level_bo
     if (!c) {
         return -1;
     }
-    return b->variation <= FLAT_ENOUGH && c->variation < b->variation && box_fit(chunk, b) &&
-           !(b->w[2] > ELONGATED * b->w[1]) && box_fit(chunk, c) &&
-           fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
-                b->normal[2] * c->normal[2]) > AGREE;
+    if (!(b->variation <= FLAT_ENOUGH && c->variation < b->variation && box_fit(chunk, b) &&
+          !(b->w[2] > ELONGATED * b->w[1]) && box_fit(chunk, c) &&
+          fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
+               b->normal[2] * c->normal[2]) > AGREE)) {
+        return 0;
+    }
+    return c->w[2] > ELONGATED * c->w[1] ? 1 : 2;
 }
 
 // The decisions of one level for the points still waiting at `fine`'s level: those whose
@@ -814,6 +823,11 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
             }
             state = STATE_CANDIDATE;
         }
+        if (state == STATE_JUMP) { // (one level above the base: on to the next)
+            m->state[j] = (uint8_t)((flags & RUN_START) | (STATE_CANDIDATE + STEPS));
+            left++;
+            continue;
+        }
         if (m->above && coarse && state == STATE_CANDIDATE && !m->chunk->keep_base_boxes) {
             if (skip < 0) {
                 if (!have_u) {
@@ -826,7 +840,8 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                 }
             }
             if (skip) {
-                m->state[j] = (uint8_t)((flags & RUN_START) | (STATE_CANDIDATE + 1));
+                uint8_t next = skip == 2 ? STATE_JUMP : STATE_CANDIDATE + 1;
+                m->state[j] = (uint8_t)((flags & RUN_START) | next);
                 m->stats->skipped_base++;
                 left++;
                 continue;
