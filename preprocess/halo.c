@@ -41,7 +41,7 @@ static double own_margin(const sta_chunk_plan *plan, const sta_grid *grid, size_
     }
     if (method != STA_NORMALS_KNN) {
         double unit = fmax(grid->scale[0], fmax(grid->scale[1], grid->scale[2]));
-        return sta_moment_normals_reach(base_level, unit);
+        return sta_moment_normals_reach(method, base_level, unit);
     }
     double spacing = edge / sqrt(fmax(1.0, (double)c->count));
     // Sized for the widest neighbourhood a point may be widened to (adaptive

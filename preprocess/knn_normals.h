@@ -61,6 +61,8 @@ typedef struct sta_normals_chunk {
                                          face the centroid of their GPS-time bin */
     bool decide_each_point;           /* tests: the moments' level passes decide each point
                                          alone, not once a base cell (the reference) */
+    bool keep_base_boxes;             /* tests: no base-level candidate skips its base box
+                                         (moment_normals.c's skips_base; the reference) */
 } sta_normals_chunk;
 
 /* What happened, summed over chunks. */
@@ -70,6 +72,7 @@ typedef struct sta_normals_stats {
     uint64_t beyond_halo;   /* neighbourhood wider than the halo: may miss a neighbour */
     uint64_t widened;       /* neighbourhood widened beyond K (nearly linear, thick or edge-on) */
     uint64_t widened_exact; /* of which fitted over the exact widest K nearest (not a box) */
+    uint64_t skipped_base;  /* moments: base-level candidates that skipped their base box */
 } sta_normals_stats;
 
 /* Computes a normal and radius for each of the `count` records (layout with

@@ -28,6 +28,9 @@
 #define STATE_GROW             1
 #define STATE_DONE             2
 #define STATE_CANDIDATE        3 /* + the levels it moved up for a flatter box */
+/* A base-level candidate that skipped its base box and whose second step up is decided
+ * too (skips_base): it takes the box two levels up without deciding one level up. */
+#define STATE_JUMP             (STATE_CANDIDATE + STEPS + 1)
 #define STATE_MASK             0x7f
 /* Flag in a state byte: the point is the first of its base cell's run (the own points are
  * in the Morton order of their base cells: a cell's points come together). */
@@ -163,9 +166,19 @@
 #define CYLINDER_RMS           0.15
 #define CYLINDER_RADIUS        0.5
 #define CYLINDER_NEAR          0.5
+/* The default method's widest boxes: cells this many levels above the base. A candidate
+ * moves up at most STEPS levels; one more (STA_MOMENTS_LEVELS_ABOVE_BASE, moments-fine's)
+ * served only the points grown once more from there (edge-on, nearly linear or degenerate
+ * boxes two levels up: 2 % of the 4 M street's points) and took a halo twice as wide.
+ * Seventeenth round of docs/BENCHMARKS.md (20 M street, with skips_base): the halo's
+ * points and the temporary file's halos halved, no class worse (curbs' p95 21.05 -> 20.71
+ * degrees, buildings' 7.30 -> 7.06); 374 instead of 4 points take the fallback (a box of
+ * fewer than 3 points, or no plane, at the widest level: strays). */
+#define LEVELS_ABOVE           2
+
 /* Cylinder fits kept by their box's vertex: a pass meets a base cell's 8 octants' vertices
  * in turn (a power of two, at least 64). */
-#define CYLINDER_SLOTS         1024
+#define CYLINDER_SLOTS 1024
 
 /* A cylinder fitted to the box of vertex v (cylinder_normal). */
 typedef struct cylinder_slot {
@@ -619,6 +632,9 @@ typedef struct moment_pass {
     level_boxes *axis;        /* the boxes CYLINDER_LEVELS_UP above the base, NULL when
                                  released (the passes above them) */
     double factor;            /* plane_radius_factor() */
+    level_boxes *above;       /* the boxes two levels above the base, in the base level's
+                                 first pass of the default method only (else NULL):
+                                 skips_base */
 } moment_pass;
 
 // Point j's grid coordinates from the scene corner.
@@ -726,6 +742,32 @@ static int moves_up(const sta_normals_chunk *chunk, level_boxes *fine, level_box
             b->w[2] > ELONGATED * b->w[1]); // (moments-fine stays as it was)
 }
 
+// Whether a base-level candidate at u skips its base box (default method): its box one
+// level up (`one`) is nearly flat (surface variation at most FLAT_ENOUGH), has a plane, is
+// not elongated, and the plane of its box two levels up (`two`) agrees with it (AGREE).
+// Then it goes on from the level above as if it had moved up (moves_up's first step, a
+// flatter box of the same surface, is taken for granted): on a road or a wall the base
+// box is rougher than the wider one (the range noise over a smaller spread) and is never
+// taken, but made and fitted for the decision. The second step is moves_up's own
+// decision one level up, which these tests make too unless the upper box is elongated:
+// 2 when it is made here (the point takes the box two levels up), 1 when the level above
+// decides, 0 when the base box is made; -1 when out of memory.
+static int skips_base(const sta_normals_chunk *chunk, level_boxes *one, level_boxes *two,
+                      const int64_t u[3])
+{
+    vertex_box *b = nearest_box(chunk, one, u), *c = b ? nearest_box(chunk, two, u) : NULL;
+    if (!c) {
+        return -1;
+    }
+    if (!(b->variation <= FLAT_ENOUGH && c->variation < b->variation && box_fit(chunk, b) &&
+          !(b->w[2] > ELONGATED * b->w[1]) && box_fit(chunk, c) &&
+          fabs(b->normal[0] * c->normal[0] + b->normal[1] * c->normal[1] +
+               b->normal[2] * c->normal[2]) > AGREE)) {
+        return 0;
+    }
+    return c->w[2] > ELONGATED * c->w[1] ? 1 : 2;
+}
+
 // The decisions of one level for the points still waiting at `fine`'s level: those whose
 // cell of the next level (`coarse`, NULL at the last level; the same edge as the box)
 // holds enough points become candidates; a candidate whose box at the next level is
@@ -752,6 +794,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
     int enough = -1;    // the run's next-level cell holds enough points (-1: not known yet)
     signed char up[64]; // by key (-1: not known)
     signed char rough[8] = { -1, -1, -1, -1, -1, -1, -1, -1 }; // m->defer's, by octant
+    int skip = -1; // m->above's, the run's (a base cell lies in one cell of each level above)
     memset(up, -1, sizeof(up));
     for (size_t j = 0; j < m->count; j++) {
         uint8_t flags = m->state[j], state = flags & STATE_MASK;
@@ -759,6 +802,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
             enough = -1;
             memset(up, -1, sizeof(up));
             memset(rough, -1, sizeof(rough));
+            skip = -1;
         }
         if (state == STATE_DONE || (m->only_rough && !m->rough[j])) {
             continue;
@@ -778,6 +822,30 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
                 continue;
             }
             state = STATE_CANDIDATE;
+        }
+        if (state == STATE_JUMP) { // (one level above the base: on to the next)
+            m->state[j] = (uint8_t)((flags & RUN_START) | (STATE_CANDIDATE + STEPS));
+            left++;
+            continue;
+        }
+        if (m->above && coarse && state == STATE_CANDIDATE && !m->chunk->keep_base_boxes) {
+            if (skip < 0) {
+                if (!have_u) {
+                    point_offset(m, j, u);
+                    have_u = true;
+                }
+                skip = skips_base(m->chunk, coarse, m->above, u);
+                if (skip < 0) {
+                    return SIZE_MAX;
+                }
+            }
+            if (skip) {
+                uint8_t next = skip == 2 ? STATE_JUMP : STATE_CANDIDATE + 1;
+                m->state[j] = (uint8_t)((flags & RUN_START) | next);
+                m->stats->skipped_base++;
+                left++;
+                continue;
+            }
         }
         if (m->defer && state == STATE_CANDIDATE) { // (at the base level: by octant)
             if (!have_u) {
@@ -830,7 +898,7 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
 // or above the base) around vertex v, as offsets from the box's corner: each cell's points
 // are one run of the cell order, its start found by a galloping search from own_hint (the
 // asking point's place) and, in the halo, from where the last one ended. The same sums in
-// any chunking (the halo covers the boxes up to STA_MOMENTS_LEVELS_ABOVE_BASE).
+// any chunking (the halo covers the boxes up to sta_moment_normals_levels_above).
 static void box_tensors(const moment_pass *m, int level, const int64_t v[3], size_t own_hint,
                         sta_tensor_sums *out)
 {
@@ -1161,10 +1229,15 @@ int sta_moment_normals_need(sta_normals_method method, int k)
     return need > NEED_LEAST ? need : NEED_LEAST;
 }
 
-double sta_moment_normals_reach(int base_level, double unit)
+int sta_moment_normals_levels_above(sta_normals_method method)
+{
+    return method == STA_NORMALS_MOMENTS ? LEVELS_ABOVE : STA_MOMENTS_LEVELS_ABOVE_BASE;
+}
+
+double sta_moment_normals_reach(sta_normals_method method, int base_level, double unit)
 {
     // A point blends the boxes of its cell's 8 vertices: they reach 2 cells from it.
-    int top = base_level + STA_MOMENTS_LEVELS_ABOVE_BASE;
+    int top = base_level + sta_moment_normals_levels_above(method);
     return 2.0 *
            (double)((int64_t)1 << (top < STA_MOMENTS_MAX_LEVEL ? top : STA_MOMENTS_MAX_LEVEL)) *
            unit;
@@ -1215,7 +1288,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
             hi[3] = { INT32_MIN, INT32_MIN, INT32_MIN };
     sta_normal_gather_positions(layout, records, count, halo, halo_count, grid, lo, hi);
     // Levels: from the scene's base (or the finest whose cells stay addressable) to
-    // STA_MOMENTS_LEVELS_ABOVE_BASE above it (the halo's reach): the same in every chunk.
+    // sta_moment_normals_levels_above it (the halo's reach): the same in every chunk.
     // (10 cells of margin: the first block starts up to 4 below the lowest, 3 above stay)
     int level = chunk->base_level > 0 ? chunk->base_level : 0;
     for (int a = 0; a < 3; a++) {
@@ -1225,7 +1298,7 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
             level++;
         }
     }
-    int top = chunk->base_level + STA_MOMENTS_LEVELS_ABOVE_BASE;
+    int top = chunk->base_level + sta_moment_normals_levels_above(chunk->method);
     top = top < STA_MOMENTS_MAX_LEVEL ? top : STA_MOMENTS_MAX_LEVEL;
     top = top > level ? top : level;
     if (level >= STA_MOMENTS_MAX_LEVEL) { // (a set wider than the cells address)
@@ -1321,9 +1394,21 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         pass.cylinders = cylinders;
         pass.halo_hint = &halo_hint;
     }
+    // The level two above the base, made in the base level's first pass for skips_base (the
+    // default method's), then handed on as the next level one level up.
+    sta_cell_blocks above_cells = { 0 };
+    level_boxes above_boxes = { 0 };
+    bool have_above = false;
     while (status == STA_OK) {
         int next = 1 - at;
-        if (level < top) {
+        if (level < top && have_above) {
+            cells[next] = above_cells;
+            boxes[next] = above_boxes;
+            boxes[next].cells = &cells[next];
+            memset(&above_cells, 0, sizeof(above_cells));
+            memset(&above_boxes, 0, sizeof(above_boxes));
+            have_above = false;
+        } else if (level < top) {
             status = sta_cell_blocks_init(&cells[next], level + 1, higher, chunk->scene_min, lo, hi,
                                           err);
             if (status == STA_OK) {
@@ -1336,14 +1421,30 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
                 break;
             }
         }
+        if (adaptive && level == chunk->base_level && level + 2 <= top) {
+            have_above = true;
+            status = sta_cell_blocks_init(&above_cells, level + 2, higher, chunk->scene_min, lo, hi,
+                                          err);
+            if (status == STA_OK) {
+                status = sta_cell_blocks_coarsen(&cells[next], &above_cells, err);
+            }
+            if (status == STA_OK && !level_init(&above_boxes, &above_cells)) {
+                status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+            }
+            if (status != STA_OK) {
+                break;
+            }
+        }
         pass.rough = rough;
         pass.defer = adaptive && level == chunk->base_level;
         int axis_level = level - chunk->base_level; // (the cylinders' boxes' level: fine or next)
         pass.axis = axis_level == CYLINDER_LEVELS_UP                      ? &boxes[at]
                     : axis_level == CYLINDER_LEVELS_UP - 1 && level < top ? &boxes[next]
                                                                           : NULL;
+        pass.above = have_above && level == chunk->base_level ? &above_boxes : NULL;
         size_t left = fit_level(&pass, &boxes[at], level < top ? &boxes[next] : NULL);
         pass.defer = false;
+        pass.above = NULL;
         if (left == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
         } else if (adaptive && level == chunk->base_level) {
@@ -1367,6 +1468,8 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         table_release(&boxes[j].table);
         sta_cell_blocks_release(&cells[j]);
     }
+    table_release(&above_boxes.table);
+    sta_cell_blocks_release(&above_cells);
     if (status == STA_OK) {
         stats->points += count;
     }

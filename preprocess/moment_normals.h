@@ -38,7 +38,8 @@
 #include "knn_normals.h"
 #include "record.h"
 
-/* The widest boxes: cells this many levels above the base level. */
+/* The widest boxes: cells this many levels above the base level, at most (moments-fine;
+ * the default method: sta_moment_normals_levels_above). */
 #define STA_MOMENTS_LEVELS_ABOVE_BASE 3
 
 /* Computes a normal and radius for each of the `count` records (layout with
@@ -62,9 +63,12 @@ int sta_moment_normals_base_level(sta_normals_method method, uint64_t points,
  * k with moments-fine; a tenth of it, at least 1, with the default method. */
 int sta_moment_normals_need(sta_normals_method method, int k);
 
-/* How far (metres, along any axis) the widest box of a point reaches from it: the halo
- * margin of the moments method. */
-double sta_moment_normals_reach(int base_level, double unit);
+/* The levels above the base level the boxes of `method` (a moments one) reach. */
+int sta_moment_normals_levels_above(sta_normals_method method);
+
+/* How far (metres, along any axis) the widest box of a point reaches from it, by `method`
+ * (a moments one): the halo margin of the moments methods. */
+double sta_moment_normals_reach(sta_normals_method method, int base_level, double unit);
 
 /* Bytes of scratch memory sta_normals_compute needs for `points` points (own + halo). */
 size_t sta_normals_memory_bytes(sta_normals_method method, size_t points);

@@ -623,16 +623,21 @@ static double uniform(uint64_t *seed)
     return (double)(*seed >> 11) * (1.0 / 9007199254740992.0);
 }
 
+// moments_splats_at's options: each point decided alone; no point skips its base box.
+#define EACH_POINT 1u
+#define KEEP_BASE  2u
+
 // The SPLAT bytes of the first `own` of the n points (the rest their halo) by the moments,
-// each point decided alone when `each_point`.
+// with the reference `options` (EACH_POINT, KEEP_BASE; 0: none).
 // (base_level: the moments' base level; -1: that of n points over 2 x 2 m)
-static void moments_splats_at(const int32_t (*xyz)[3], size_t n, size_t own, bool each_point,
+static void moments_splats_at(const int32_t (*xyz)[3], size_t n, size_t own, unsigned options,
                               int base_level, uint16_t (*splat)[3], sta_normals_stats *stats)
 {
     sta_record_layout layout;
     uint8_t *records = splat_records(xyz, own, &layout);
     sta_normals_chunk f = unit_frame();
-    f.decide_each_point = each_point;
+    f.decide_each_point = (options & EACH_POINT) != 0;
+    f.keep_base_boxes = (options & KEEP_BASE) != 0;
     const double extent[3] = { 2.0, 2.0, 1.0 };
     f.base_level = base_level >= 0
                        ? base_level
@@ -646,10 +651,10 @@ static void moments_splats_at(const int32_t (*xyz)[3], size_t n, size_t own, boo
     sta_free(records);
 }
 
-static void moments_splats(const int32_t (*xyz)[3], size_t n, size_t own, bool each_point,
+static void moments_splats(const int32_t (*xyz)[3], size_t n, size_t own, unsigned options,
                            uint16_t (*splat)[3], sta_normals_stats *stats)
 {
-    moments_splats_at(xyz, n, own, each_point, -1, splat, stats);
+    moments_splats_at(xyz, n, own, options, -1, splat, stats);
 }
 
 // The level passes decide once a run of a base cell's points (and a half cell at the base
@@ -711,8 +716,8 @@ static void moments_run_decisions_match_each_point(void **state)
     size_t own = n - n / 5; // the last fifth as halo
     static uint16_t runs[ALL][3], each[ALL][3];
     sta_normals_stats by_runs = { 0 }, by_each = { 0 };
-    moments_splats((const int32_t(*)[3])xyz, n, own, false, runs, &by_runs);
-    moments_splats((const int32_t(*)[3])xyz, n, own, true, each, &by_each);
+    moments_splats((const int32_t(*)[3])xyz, n, own, 0, runs, &by_runs);
+    moments_splats((const int32_t(*)[3])xyz, n, own, EACH_POINT, each, &by_each);
     size_t differ = 0;
     for (size_t i = 0; i < own; i++) {
         differ += memcmp(runs[i], each[i], sizeof(runs[i])) != 0;
@@ -725,6 +730,77 @@ static void moments_run_decisions_match_each_point(void **state)
     assert_int_equal(by_runs.degenerate, by_each.degenerate);
     assert_int_equal(by_runs.beyond_halo, by_each.beyond_halo);
     assert_true(by_runs.widened > 0); // the line grew
+}
+
+// A base-level candidate skips its base box where the boxes one and two levels up are flat
+// and agree (skips_base): on a noisy plane, which climbs past its base boxes anyway, most
+// points skip, and those whose bytes change (where a base box would have stopped them: at
+// the plane's border, few points) are no further from the plane's normal; on a small
+// sphere beside it, whose wider boxes are rougher (the curvature), no point skips and
+// every byte is the reference's. Both in one chunk, in shuffled input order, a fifth of
+// the points as halo.
+static void noisy_planes_skip_their_base_boxes(void **state)
+{
+    (void)state;
+    enum {
+        PLANE = 12000,
+        SPHERE = 6000,
+        ALL = PLANE + SPHERE
+    };
+    static int32_t xyz[ALL][3];
+    uint64_t seed = 21;
+    size_t n = 0;
+    for (int i = 0; i < PLANE; i++, n++) { // 1.6 m square, 2 % slope, 4 mm noise
+        double x = 1600.0 * uniform(&seed), y = 1600.0 * uniform(&seed);
+        xyz[n][0] = 100000 + (int32_t)x, xyz[n][1] = 100000 + (int32_t)y;
+        xyz[n][2] = 100000 + (int32_t)(0.02 * x + 8.0 * (uniform(&seed) - 0.5));
+    }
+    for (int i = 0; i < SPHERE; i++, n++) { // r 0.2 m beside it, 1 mm noise
+        double z = 2.0 * uniform(&seed) - 1.0, a = 6.283185307 * uniform(&seed);
+        double r = sqrt(1.0 - z * z), rho = 200.0 + uniform(&seed) - 0.5;
+        xyz[n][0] = 101900 + (int32_t)(rho * r * cos(a));
+        xyz[n][1] = 100800 + (int32_t)(rho * r * sin(a)), xyz[n][2] = 100300 + (int32_t)(rho * z);
+    }
+    for (size_t i = n - 1; i > 0; i--) { // input order is not cell order
+        size_t j = (size_t)(uniform(&seed) * (double)(i + 1));
+        int32_t t[3];
+        memcpy(t, xyz[i], sizeof(t));
+        memcpy(xyz[i], xyz[j], sizeof(t));
+        memcpy(xyz[j], t, sizeof(t));
+    }
+    size_t own = n - n / 5;
+    static uint16_t skipping[ALL][3], keeping[ALL][3];
+    static double skip_err[ALL], keep_err[ALL];
+    sta_normals_stats by_skip = { 0 }, by_keep = { 0 };
+    moments_splats((const int32_t(*)[3])xyz, n, own, 0, skipping, &by_skip);
+    moments_splats((const int32_t(*)[3])xyz, n, own, KEEP_BASE, keeping, &by_keep);
+    const double truth[3] = { -0.02, 0.0, 1.0 }; // (angle() normalises)
+    size_t plane = 0, differ = 0, sphere_differ = 0;
+    for (size_t i = 0; i < own; i++) {
+        bool same = memcmp(skipping[i], keeping[i], sizeof(skipping[i])) == 0;
+        if (xyz[i][0] >= 101650) { // the sphere (beyond x = 1.7 m)
+            sphere_differ += !same;
+            continue;
+        }
+        float a[3], b[3];
+        sta_octahedral_decode(skipping[i], a);
+        sta_octahedral_decode(keeping[i], b);
+        skip_err[plane] = angle(a, truth);
+        keep_err[plane++] = angle(b, truth);
+        differ += !same;
+    }
+    double skip99 = quantile(skip_err, plane, 0.99), keep99 = quantile(keep_err, plane, 0.99);
+    print_message("skipped base boxes: %llu of %zu points (%zu on the plane); %zu differ; "
+                  "plane p99 %.3f deg (without skipping %.3f), worst %.3f (%.3f)\n",
+                  (unsigned long long)by_skip.skipped_base, own, plane, differ, skip99, keep99,
+                  skip_err[plane - 1], keep_err[plane - 1]);
+    assert_int_equal(by_keep.skipped_base, 0);
+    assert_true(by_skip.skipped_base > plane / 2);
+    assert_true(by_skip.skipped_base <= plane); // (none on the sphere)
+    assert_int_equal(sphere_differ, 0);
+    assert_true(differ < plane / 100);
+    assert_true(skip99 <= keep99);
+    assert_true(skip_err[plane - 1] <= keep_err[plane - 1]);
 }
 
 // A step of 100 mm between two planes (a curb) on a 20 mm lattice: the base boxes (128 mm)
@@ -918,7 +994,7 @@ static void pole_normals_do_not_depend_on_the_chunking(void **state)
     size_t first, n = pole_scene(xyz, &first);
     const int level = 7; // (that of the scene as a whole: 0.256 m boxes, as on the street)
     sta_normals_stats stats = { 0 };
-    moments_splats_at((const int32_t(*)[3])xyz, n, n, false, level, whole, &stats);
+    moments_splats_at((const int32_t(*)[3])xyz, n, n, 0, level, whole, &stats);
     size_t radial = 0; // (pole points within 3 degrees of radial: the cylinders')
     for (size_t i = first; i < n; i++) {
         float normal[3], radius;
@@ -943,7 +1019,7 @@ static void pole_normals_do_not_depend_on_the_chunking(void **state)
             }
             mine = pass == 0 ? m : mine;
         }
-        moments_splats_at((const int32_t(*)[3])part, n, mine, false, level, split, &stats);
+        moments_splats_at((const int32_t(*)[3])part, n, mine, 0, level, split, &stats);
         for (size_t i = 0; i < mine; i++) {
             assert_memory_equal(split[i], whole[from[i]], sizeof(split[i]));
         }
@@ -1152,6 +1228,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(volume_gets_finite_unit_normals),
     cmocka_unit_test(moments_scale_follows_the_density),
     cmocka_unit_test(moments_run_decisions_match_each_point),
+    cmocka_unit_test(noisy_planes_skip_their_base_boxes),
     cmocka_unit_test(step_face_gets_its_normal),
     cmocka_unit_test(leaf_clusters_get_radial_normals),
     cmocka_unit_test(pole_side_gets_radial_normals),
