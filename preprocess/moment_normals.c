@@ -1014,6 +1014,15 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
     bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
     sta_trajectory_memo memo = { 0 };
     sta_normal_memo packed = { 0 };
+    // Whether a point's boxes can reach past the margin at this level (box_reach is at most
+    // 2 cells along any axis): below the top, never; the test is then not made a point.
+    int level = fine->cells->level;
+    double widest = 0.0;
+    for (int a = 0; a < 3; a++) {
+        double d = 2.0 * (double)((int64_t)1 << level) * chunk->scale[a];
+        widest = d > widest ? d : widest;
+    }
+    bool may_pass_margin = widest > chunk->margin;
     for (size_t i = 0; i < listed; i++) {
         size_t j = m->finish[i];
         uint8_t flags = m->state[j];
@@ -1046,7 +1055,11 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
         if (timed && chunk->trajectory) {
             double gps_time;
             memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
-            target = sta_trajectory_at_memo(chunk->trajectory, &memo, gps_time, at) ? at : NULL;
+            if (memo.valid && gps_time >= memo.from && gps_time < memo.to) {
+                target = memo.seen ? memo.at : NULL; // (the memo's bin: no call)
+            } else {
+                target = sta_trajectory_at_memo(chunk->trajectory, &memo, gps_time, at) ? at : NULL;
+            }
         }
         // A box that takes its sphere, or is rough, is not grown for being edge-on or nearly
         // linear (default method): a leaf cluster's silhouette is edge-on to the scanner, and
@@ -1067,17 +1080,21 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
                 continue;
             }
         }
-        int cylinder =
-            ok && variation > SPHERE_VARIATION ? cylinder_normal(m, j, u, target, normal) : 0;
-        int quadric = ok && cylinder == 0 ? quadric_normal(m, fine, b, u, normal) : 0;
+        // A flat box of the default method keeps its plane's normal: no cylinder, quadric,
+        // sphere (all need a variation above SPHERE_VARIATION) nor blend (blend_normals).
+        bool flat = chunk->method == STA_NORMALS_MOMENTS && !(variation > SPHERE_VARIATION);
+        int cylinder = ok && !flat && variation > SPHERE_VARIATION
+                           ? cylinder_normal(m, j, u, target, normal)
+                           : 0;
+        int quadric = ok && !flat && cylinder == 0 ? quadric_normal(m, fine, b, u, normal) : 0;
         if (quadric < 0 || cylinder < 0 ||
-            (ok && cylinder == 0 && quadric == 0 &&
+            (ok && !flat && cylinder == 0 && quadric == 0 &&
              !sphere_normal(chunk, fine, b, u, m->base_level, normal) &&
              !blend_normals(chunk, fine, u, normal, variation))) {
             return SIZE_MAX;
         }
         // (the halo reaches at least its margin from an own point: most boxes need no more)
-        double reach = box_reach(chunk, u, fine->cells->level);
+        double reach = may_pass_margin ? box_reach(chunk, u, level) : 0.0;
         if (reach > chunk->margin && reach > sta_normal_halo_reach(chunk, p)) {
             m->stats->beyond_halo++;
         }
