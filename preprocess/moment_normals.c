@@ -35,6 +35,8 @@
 /* Flag in a state byte: the point is the first of its base cell's run (the own points are
  * in the Morton order of their base cells: a cell's points come together). */
 #define RUN_START              0x80
+/* A byte's value times this: it in each of a word's 8 bytes (the passes' skip of 8 points). */
+#define STATE_BYTES            0x0101010101010101ull
 /* A candidate moves up at most this many levels for a flatter box. */
 #define STEPS                  2
 /* The base cells are 1/2 to 1 times this many mean spacings wide (the spacing of the
@@ -797,6 +799,25 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
     int skip = -1; // m->above's, the run's (a base cell lies in one cell of each level above)
     memset(up, -1, sizeof(up));
     for (size_t j = 0; j < m->count; j++) {
+        // Eight points at once where none takes part (all done, or none rough in the rough
+        // points' passes): most of the passes above the base and the rough ones.
+        if ((j & 7) == 0 && j + 8 <= m->count) {
+            uint64_t states, marks = 1;
+            memcpy(&states, m->state + j, sizeof(states));
+            if (m->only_rough) {
+                memcpy(&marks, m->rough + j, sizeof(marks));
+            }
+            if ((states & STATE_BYTES * STATE_MASK) == STATE_BYTES * STATE_DONE || marks == 0) {
+                if ((states & STATE_BYTES * RUN_START) || each_point) {
+                    enough = -1; // (as below: the next point taking part starts afresh)
+                    memset(up, -1, sizeof(up));
+                    memset(rough, -1, sizeof(rough));
+                    skip = -1;
+                }
+                j += 7;
+                continue;
+            }
+        }
         uint8_t flags = m->state[j], state = flags & STATE_MASK;
         if ((flags & RUN_START) || each_point) { // a new base cell: nothing known
             enough = -1;
