@@ -423,24 +423,33 @@ static void nearest_vertex(const int64_t u[3], int level, int64_t v[3])
     }
 }
 
-// The box of the grid vertex nearest to u (grid units from the scene corner) at this level,
-// with its surface variation; NULL when out of memory.
-static vertex_box *nearest_box(const sta_normals_chunk *chunk, level_boxes *l, const int64_t u[3])
+// nearest_box's look-up where its vertex v is not the last one asked for.
+static vertex_box *nearest_box_new(const sta_normals_chunk *chunk, level_boxes *l,
+                                   const int64_t v[3])
 {
-    int64_t v[3];
-    nearest_vertex(u, l->cells->level, v);
-    if (l->last_box && l->last_capacity == l->table.box_capacity &&
-        memcmp(v, l->last, sizeof(v)) == 0) {
-        return l->last_box;
-    }
     vertex_box *b = vertex_at(&l->table, l->cells, v);
     if (b && b->variation < 0.0) {
         b->variation = surface_variation(chunk, b->m2);
     }
-    memcpy(l->last, v, sizeof(v));
+    memcpy(l->last, v, sizeof(l->last));
     l->last_box = b;
     l->last_capacity = l->table.box_capacity;
     return b;
+}
+
+// The box of the grid vertex nearest to u (grid units from the scene corner) at this level,
+// with its surface variation; NULL when out of memory. (Inline: most calls are the last
+// vertex's again, a few instructions.)
+static inline vertex_box *nearest_box(const sta_normals_chunk *chunk, level_boxes *l,
+                                      const int64_t u[3])
+{
+    int64_t v[3];
+    nearest_vertex(u, l->cells->level, v);
+    if (l->last_box && l->last_capacity == l->table.box_capacity && v[0] == l->last[0] &&
+        v[1] == l->last[1] && v[2] == l->last[2]) {
+        return l->last_box;
+    }
+    return nearest_box_new(chunk, l, v);
 }
 
 // Whether box b has a plane, fitted when first asked (one solve for all its points): by
