@@ -840,7 +840,9 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
         int64_t u[3];
         bool have_u = false;
         if (state == STATE_WAIT && coarse) {
-            if (enough < 0) {
+            if (enough < 0 && m->need <= 1.0) {
+                enough = 1; // (the point's own cell holds it: no look-up; the default K)
+            } else if (enough < 0) {
                 point_offset(m, j, u);
                 have_u = true;
                 int l = coarse->cells->level;
