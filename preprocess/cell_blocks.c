@@ -27,12 +27,21 @@ static uint64_t block_key(const int64_t local[3])
            1;
 }
 
+// The Morton index of x | y << 2 | z << 4 (two bits an axis): a table of 64, fewer
+// instructions than the shifts and masks of every look-up.
+#define PLACE(i)                                                                                   \
+ (((i)&1u) | ((i) >> 2 & 1u) << 1 | ((i) >> 4 & 1u) << 2 | ((i) >> 1 & 1u) << 3 |                  \
+  ((i) >> 3 & 1u) << 4 | ((i) >> 5 & 1u) << 5)
+#define PLACE_4(i)  PLACE(i), PLACE((i) + 1), PLACE((i) + 2), PLACE((i) + 3)
+#define PLACE_16(i) PLACE_4(i), PLACE_4((i) + 4), PLACE_4((i) + 8), PLACE_4((i) + 12)
+static const uint8_t places[64] = { PLACE_16(0u), PLACE_16(16u), PLACE_16(32u), PLACE_16(48u) };
+
 // The cell's place in its block: the Morton index of its two low bits an axis (x lowest),
 // the order cell_order.h gives a block's cells.
 static unsigned place(const int64_t local[3])
 {
-    unsigned x = (unsigned)local[0] & 3, y = (unsigned)local[1] & 3, z = (unsigned)local[2] & 3;
-    return (x & 1) | (y & 1) << 1 | (z & 1) << 2 | (x & 2) << 2 | (y & 2) << 3 | (z & 2) << 4;
+    return places[((unsigned)local[0] & 3) | ((unsigned)local[1] & 3) << 2 |
+                  ((unsigned)local[2] & 3) << 4];
 }
 
 // The cell of block `key` at place p (coordinates from m->base).

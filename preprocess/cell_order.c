@@ -14,16 +14,22 @@
 /* Buckets of fewer keys than this are sorted by insertion. */
 #define SMALL_BUCKET 32
 
+// A byte's 8 bits spread to every third bit (the table below: three look-ups a coordinate
+// take fewer instructions than the shifts and masks, and the 1 KiB stay in cache).
+#define SPREAD_BYTE(b)                                                                             \
+ (((b)&1u) | ((b)&2u) << 2 | ((b)&4u) << 4 | ((b)&8u) << 6 | ((b)&16u) << 8 | ((b)&32u) << 10 |    \
+  ((b)&64u) << 12 | ((b)&128u) << 14)
+#define SPREAD_2(b)   SPREAD_BYTE(b), SPREAD_BYTE((b) + 1)
+#define SPREAD_8(b)   SPREAD_2(b), SPREAD_2((b) + 2), SPREAD_2((b) + 4), SPREAD_2((b) + 6)
+#define SPREAD_32(b)  SPREAD_8(b), SPREAD_8((b) + 8), SPREAD_8((b) + 16), SPREAD_8((b) + 24)
+#define SPREAD_128(b) SPREAD_32(b), SPREAD_32((b) + 32), SPREAD_32((b) + 64), SPREAD_32((b) + 96)
+static const uint32_t spread_byte[256] = { SPREAD_128(0u), SPREAD_128(128u) };
+
 // The 21 low bits of v spread to every third bit.
 static uint64_t spread(uint64_t v)
 {
-    v &= 0x1FFFFF;
-    v = (v | v << 32) & 0x1F00000000FFFFull;
-    v = (v | v << 16) & 0x1F0000FF0000FFull;
-    v = (v | v << 8) & 0x100F00F00F00F00Full;
-    v = (v | v << 4) & 0x10C30C30C30C30C3ull;
-    v = (v | v << 2) & 0x1249249249249249ull;
-    return v;
+    return (uint64_t)spread_byte[v & 0xFF] | (uint64_t)spread_byte[v >> 8 & 0xFF] << 24 |
+           (uint64_t)spread_byte[v >> 16 & 0x1F] << 48;
 }
 
 // Sorts the n keys `key` (with the indices `index` beside them) by their low `bits` bits,

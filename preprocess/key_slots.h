@@ -8,10 +8,15 @@
 #include <stddef.h>
 #include <stdint.h>
 
-// The slot a key's probe starts at (capacity a power of two).
+// The slot a key's probe starts at (capacity a power of two): the product's top bits, which
+// depend on all of the key's (its bits from 17 up ignored the packed keys' third axis, so
+// a wall's or a tree's cells of one column shared their home slots: long probes).
 static inline size_t sta_key_home_slot(uint64_t key, size_t capacity)
 {
-    return (size_t)((key * 0x9E3779B97F4A7C15ull) >> 17) & (capacity - 1);
+    if (capacity < 2) {
+        return 0;
+    }
+    return (size_t)((key * 0x9E3779B97F4A7C15ull) >> (64 - __builtin_ctzll((uint64_t)capacity)));
 }
 
 // The slot holding `key`, or the empty one where it would go.

@@ -35,6 +35,8 @@
 /* Flag in a state byte: the point is the first of its base cell's run (the own points are
  * in the Morton order of their base cells: a cell's points come together). */
 #define RUN_START              0x80
+/* A byte's value times this: it in each of a word's 8 bytes (the passes' skip of 8 points). */
+#define STATE_BYTES            0x0101010101010101ull
 /* A candidate moves up at most this many levels for a flatter box. */
 #define STEPS                  2
 /* The base cells are 1/2 to 1 times this many mean spacings wide (the spacing of the
@@ -421,24 +423,33 @@ static void nearest_vertex(const int64_t u[3], int level, int64_t v[3])
     }
 }
 
-// The box of the grid vertex nearest to u (grid units from the scene corner) at this level,
-// with its surface variation; NULL when out of memory.
-static vertex_box *nearest_box(const sta_normals_chunk *chunk, level_boxes *l, const int64_t u[3])
+// nearest_box's look-up where its vertex v is not the last one asked for.
+static vertex_box *nearest_box_new(const sta_normals_chunk *chunk, level_boxes *l,
+                                   const int64_t v[3])
 {
-    int64_t v[3];
-    nearest_vertex(u, l->cells->level, v);
-    if (l->last_box && l->last_capacity == l->table.box_capacity &&
-        memcmp(v, l->last, sizeof(v)) == 0) {
-        return l->last_box;
-    }
     vertex_box *b = vertex_at(&l->table, l->cells, v);
     if (b && b->variation < 0.0) {
         b->variation = surface_variation(chunk, b->m2);
     }
-    memcpy(l->last, v, sizeof(v));
+    memcpy(l->last, v, sizeof(l->last));
     l->last_box = b;
     l->last_capacity = l->table.box_capacity;
     return b;
+}
+
+// The box of the grid vertex nearest to u (grid units from the scene corner) at this level,
+// with its surface variation; NULL when out of memory. (Inline: most calls are the last
+// vertex's again, a few instructions.)
+static inline vertex_box *nearest_box(const sta_normals_chunk *chunk, level_boxes *l,
+                                      const int64_t u[3])
+{
+    int64_t v[3];
+    nearest_vertex(u, l->cells->level, v);
+    if (l->last_box && l->last_capacity == l->table.box_capacity && v[0] == l->last[0] &&
+        v[1] == l->last[1] && v[2] == l->last[2]) {
+        return l->last_box;
+    }
+    return nearest_box_new(chunk, l, v);
 }
 
 // Whether box b has a plane, fitted when first asked (one solve for all its points): by
@@ -797,6 +808,25 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
     int skip = -1; // m->above's, the run's (a base cell lies in one cell of each level above)
     memset(up, -1, sizeof(up));
     for (size_t j = 0; j < m->count; j++) {
+        // Eight points at once where none takes part (all done, or none rough in the rough
+        // points' passes): most of the passes above the base and the rough ones.
+        if ((j & 7) == 0 && j + 8 <= m->count) {
+            uint64_t states, marks = 1;
+            memcpy(&states, m->state + j, sizeof(states));
+            if (m->only_rough) {
+                memcpy(&marks, m->rough + j, sizeof(marks));
+            }
+            if ((states & STATE_BYTES * STATE_MASK) == STATE_BYTES * STATE_DONE || marks == 0) {
+                if ((states & STATE_BYTES * RUN_START) || each_point) {
+                    enough = -1; // (as below: the next point taking part starts afresh)
+                    memset(up, -1, sizeof(up));
+                    memset(rough, -1, sizeof(rough));
+                    skip = -1;
+                }
+                j += 7;
+                continue;
+            }
+        }
         uint8_t flags = m->state[j], state = flags & STATE_MASK;
         if ((flags & RUN_START) || each_point) { // a new base cell: nothing known
             enough = -1;
@@ -810,7 +840,9 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
         int64_t u[3];
         bool have_u = false;
         if (state == STATE_WAIT && coarse) {
-            if (enough < 0) {
+            if (enough < 0 && m->need <= 1.0) {
+                enough = 1; // (the point's own cell holds it: no look-up; the default K)
+            } else if (enough < 0) {
                 point_offset(m, j, u);
                 have_u = true;
                 int l = coarse->cells->level;
@@ -1014,6 +1046,15 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
     bool timed = (layout->attributes & STA_ATTR_GPS_TIME) != 0;
     sta_trajectory_memo memo = { 0 };
     sta_normal_memo packed = { 0 };
+    // Whether a point's boxes can reach past the margin at this level (box_reach is at most
+    // 2 cells along any axis): below the top, never; the test is then not made a point.
+    int level = fine->cells->level;
+    double widest = 0.0;
+    for (int a = 0; a < 3; a++) {
+        double d = 2.0 * (double)((int64_t)1 << level) * chunk->scale[a];
+        widest = d > widest ? d : widest;
+    }
+    bool may_pass_margin = widest > chunk->margin;
     for (size_t i = 0; i < listed; i++) {
         size_t j = m->finish[i];
         uint8_t flags = m->state[j];
@@ -1046,7 +1087,11 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
         if (timed && chunk->trajectory) {
             double gps_time;
             memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
-            target = sta_trajectory_at_memo(chunk->trajectory, &memo, gps_time, at) ? at : NULL;
+            if (memo.valid && gps_time >= memo.from && gps_time < memo.to) {
+                target = memo.seen ? memo.at : NULL; // (the memo's bin: no call)
+            } else {
+                target = sta_trajectory_at_memo(chunk->trajectory, &memo, gps_time, at) ? at : NULL;
+            }
         }
         // A box that takes its sphere, or is rough, is not grown for being edge-on or nearly
         // linear (default method): a leaf cluster's silhouette is edge-on to the scanner, and
@@ -1067,17 +1112,21 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
                 continue;
             }
         }
-        int cylinder =
-            ok && variation > SPHERE_VARIATION ? cylinder_normal(m, j, u, target, normal) : 0;
-        int quadric = ok && cylinder == 0 ? quadric_normal(m, fine, b, u, normal) : 0;
+        // A flat box of the default method keeps its plane's normal: no cylinder, quadric,
+        // sphere (all need a variation above SPHERE_VARIATION) nor blend (blend_normals).
+        bool flat = chunk->method == STA_NORMALS_MOMENTS && !(variation > SPHERE_VARIATION);
+        int cylinder = ok && !flat && variation > SPHERE_VARIATION
+                           ? cylinder_normal(m, j, u, target, normal)
+                           : 0;
+        int quadric = ok && !flat && cylinder == 0 ? quadric_normal(m, fine, b, u, normal) : 0;
         if (quadric < 0 || cylinder < 0 ||
-            (ok && cylinder == 0 && quadric == 0 &&
+            (ok && !flat && cylinder == 0 && quadric == 0 &&
              !sphere_normal(chunk, fine, b, u, m->base_level, normal) &&
              !blend_normals(chunk, fine, u, normal, variation))) {
             return SIZE_MAX;
         }
         // (the halo reaches at least its margin from an own point: most boxes need no more)
-        double reach = box_reach(chunk, u, fine->cells->level);
+        double reach = may_pass_margin ? box_reach(chunk, u, level) : 0.0;
         if (reach > chunk->margin && reach > sta_normal_halo_reach(chunk, p)) {
             m->stats->beyond_halo++;
         }
