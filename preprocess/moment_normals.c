@@ -176,6 +176,9 @@
  * fewer than 3 points, or no plane, at the widest level: strays). */
 #define LEVELS_ABOVE           2
 
+/* A cell coordinate no cell has (fine_pass's "none marked yet"). */
+#define NO_CELL (INT64_MIN / 4)
+
 /* Cylinder fits kept by their box's vertex: a pass meets a base cell's 8 octants' vertices
  * in turn (a power of two, at least 64). */
 #define CYLINDER_SLOTS 1024
@@ -201,10 +204,11 @@ typedef struct vertex_box {
     int32_t quadric; /* 0: not fitted yet, -1: none, else 1 + its place in box_quadrics */
 } vertex_box;
 
-/* The base level's moment tensors around the rough points and the quadrics fitted from
- * them (quadric_normal; fine_pass). */
+/* The quadrics of the base level's boxes around the rough points (quadric_normal;
+ * fine_pass), each from its box's moment tensors, summed from its points (box_tensors). */
 typedef struct box_quadrics {
-    sta_cell_tensors tensors;
+    int level;       /* the boxes' */
+    size_t own_hint; /* where the last search in the own points ended */
     sta_quadric *fits;
     size_t used, capacity;
 } box_quadrics;
@@ -645,8 +649,11 @@ static void point_offset(const moment_pass *m, size_t j, int64_t u[3])
     }
 }
 
-// The normal at u of the quadric of its nearest box b, at the level of m->quadrics'
-// tensors (the rough points' base pass), where b is rough and the quadric fits it clearly
+static void box_tensors(const moment_pass *m, int level, const int64_t v[3], size_t *own_hint,
+                        sta_tensor_sums *out);
+
+// The normal at u of the quadric of its nearest box b, at m->quadrics' level (the rough
+// points' base pass), where b is rough and the quadric fits it clearly
 // better than its plane and sphere, and its gradient at u is not near zero (an edge's
 // line). 1: `normal` set, 0: the other rules decide, -1: out of memory.
 static int quadric_normal(const moment_pass *m, const level_boxes *l, vertex_box *b,
@@ -654,7 +661,7 @@ static int quadric_normal(const moment_pass *m, const level_boxes *l, vertex_box
 {
     box_quadrics *q = m->quadrics;
     int level = l->cells->level;
-    if (!q || q->tensors.level != level || !(b->variation > ROUGH_VARIATION) ||
+    if (!q || q->level != level || !(b->variation > ROUGH_VARIATION) ||
         !sta_sphere_isotropic(m->chunk->scale)) {
         return 0;
     }
@@ -663,7 +670,7 @@ static int quadric_normal(const moment_pass *m, const level_boxes *l, vertex_box
     if (b->quadric == 0) {
         sta_tensor_sums sums;
         sta_quadric fit;
-        sta_cell_tensors_vertex(&q->tensors, v, &sums);
+        box_tensors(m, level, v, &q->own_hint, &sums);
         b->quadric = -1;
         if (sta_quadric_fit(&sums, (double)((int64_t)2 << level), &fit)) {
             if (q->used == q->capacity) {
@@ -896,10 +903,12 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
 
 // The exact tensor sums of the own and halo points in the 2 x 2 x 2 cells of `level` (at
 // or above the base) around vertex v, as offsets from the box's corner: each cell's points
-// are one run of the cell order, its start found by a galloping search from own_hint (the
-// asking point's place) and, in the halo, from where the last one ended. The same sums in
-// any chunking (the halo covers the boxes up to sta_moment_normals_levels_above).
-static void box_tensors(const moment_pass *m, int level, const int64_t v[3], size_t own_hint,
+// are one run of the cell order, its start found by a galloping search from *own_hint (the
+// asking point's place, or where the last box's search ended; set to where this one
+// ended) and, in the halo, from where the last one ended. The same sums in any chunking
+// (the halo covers the boxes up to sta_moment_normals_levels_above), and the same as the
+// cells' tensors moved to the box's corner (exact integer sums either way).
+static void box_tensors(const moment_pass *m, int level, const int64_t v[3], size_t *own_hint,
                         sta_tensor_sums *out)
 {
     const sta_normals_chunk *chunk = m->chunk;
@@ -907,7 +916,7 @@ static void box_tensors(const moment_pass *m, int level, const int64_t v[3], siz
     int64_t edge = (int64_t)1 << level;
     const int32_t(*sets[2])[3] = { m->grid, m->halo };
     const size_t counts[2] = { m->count, m->halo_count };
-    size_t hints[2] = { own_hint, *m->halo_hint };
+    size_t hints[2] = { *own_hint, *m->halo_hint };
     memset(out, 0, sizeof(*out));
     for (int q = 0; q < 8; q++) {
         int64_t cell[3], first[3]; // the cell, and its first base cell from the order's corner
@@ -943,6 +952,7 @@ static void box_tensors(const moment_pass *m, int level, const int64_t v[3], siz
             hints[s] = i;
         }
     }
+    *own_hint = hints[0];
     *m->halo_hint = hints[1];
 }
 
@@ -977,7 +987,8 @@ static int cylinder_normal(const moment_pass *m, size_t j, const int64_t u[3], c
     cylinder_slot *slot = &m->cylinders[(h >> 40) & (CYLINDER_SLOTS - 1)];
     if (slot->state == 0 || memcmp(slot->v, v, sizeof(v)) != 0) {
         sta_tensor_sums sums;
-        box_tensors(m, level, v, j, &sums);
+        size_t hint = j;
+        box_tensors(m, level, v, &hint, &sums);
         memcpy(slot->v, v, sizeof(v));
         slot->state = sta_cylinder_fit(&sums, (double)((int64_t)2 << level), &slot->fit) ? 1 : 2;
     }
@@ -1100,6 +1111,18 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
     return grew == SIZE_MAX ? SIZE_MAX : left + grew;
 }
 
+// Whether cell d lies in the block from `from` to `to` cells around cell c along each axis
+// (the cells marked for the previous one: marking them again changes nothing).
+static bool within(const int64_t d[3], const int64_t c[3], int from, int to)
+{
+    for (int a = 0; a < 3; a++) {
+        if (d[a] < c[a] + from || d[a] > c[a] + to) {
+            return false;
+        }
+    }
+    return true;
+}
+
 // The adaptive fine level of the default method, after the base level's first pass marked
 // the rough points in m->rough (a point's mark depends on its nearest base box only, never
 // on which chunk owns it): boxes of half-size cells from the points, own and halo, of the
@@ -1117,44 +1140,28 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
     sta_cell_moments wanted = { 0 };
     sta_cell_blocks fine_cells = { 0 };
     level_boxes fine_boxes = { 0 };
-    box_quadrics quadrics = { 0 };
+    box_quadrics quadrics = { .level = level };
     sta_status status = sta_cell_moments_init_marks(&wanted, level, chunk->scene_min, lo, hi, err);
-    // The base level's moment tensors of the 8 cells of each rough point's base box: their
-    // quadrics (quadric_normal).
-    if (status == STA_OK) {
-        status = sta_cell_tensors_init(&quadrics.tensors, level, chunk->scene_min, lo, hi, err);
-    }
-    int64_t last[3] = { -1, -1, -1 }; // the base cell marked last (with its neighbours)
-    int64_t last_vertex[3] = { -1, -1, -1 };
+    // The base cell marked last with its neighbours (none yet: far from any cell).
+    int64_t last[3] = { NO_CELL, NO_CELL, NO_CELL };
     for (size_t j = 0; j < m->count && status == STA_OK; j++) {
-        int64_t c[3], u[3], v[3];
+        int64_t c[3], u[3];
         if (!m->rough[j]) {
             continue;
         }
         point_offset(m, j, u);
-        nearest_vertex(u, level, v);
         for (int a = 0; a < 3; a++) {
             c[a] = u[a] >> level;
-        }
-        if (memcmp(v, last_vertex, sizeof(v)) != 0) {
-            memcpy(last_vertex, v, sizeof(v));
-            for (int q = 0; q < 8 && status == STA_OK; q++) {
-                const int64_t d[3] = { v[0] - 1 + (q & 1), v[1] - 1 + (q >> 1 & 1),
-                                       v[2] - 1 + (q >> 2) };
-                if (!sta_cell_tensors_mark(&quadrics.tensors, d)) {
-                    status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
-                }
-            }
         }
         if (memcmp(c, last, sizeof(c)) == 0) {
             continue;
         }
-        memcpy(last, c, sizeof(c));
         bool marked = true;
         for (int q = 0; q < 27 && marked; q++) {
             const int64_t d[3] = { c[0] + q % 3 - 1, c[1] + q / 3 % 3 - 1, c[2] + q / 9 - 1 };
-            marked = sta_cell_moments_mark(&wanted, d);
+            marked = within(d, last, -1, 1) || sta_cell_moments_mark(&wanted, d);
         }
+        memcpy(last, c, sizeof(c));
         if (!marked) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
         }
@@ -1168,27 +1175,23 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
         status = sta_cell_blocks_add_children(&fine_cells, m->grid, m->count, halo, halo_count,
                                               corner, &wanted, err);
     }
-    if (status == STA_OK) {
-        const int32_t(*sets[2])[3] = { m->grid, halo };
-        const size_t counts[2] = { m->count, halo_count };
-        status = sta_cell_tensors_add_sorted(&quadrics.tensors, sets, counts, 2, corner, err);
-    }
     if (status == STA_OK && !level_init(&fine_boxes, &fine_cells)) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
     }
+    m->only_rough = true;
+    if (status == STA_OK && fit_level(m, &fine_boxes, base) == SIZE_MAX) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+    }
     if (status == STA_OK) {
-        m->only_rough = true;
-        bool fitted = fit_level(m, &fine_boxes, base) != SIZE_MAX;
         m->quadrics = &quadrics;
-        if (!fitted || fit_level(m, base, coarse) == SIZE_MAX) {
+        if (fit_level(m, base, coarse) == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
         }
-        m->only_rough = false;
-        m->quadrics = NULL;
     }
+    m->only_rough = false;
+    m->quadrics = NULL;
     table_release(&fine_boxes.table);
     sta_cell_blocks_release(&fine_cells);
-    sta_cell_tensors_release(&quadrics.tensors);
     sta_free(quadrics.fits);
     sta_cell_moments_release(&wanted);
     return status;
@@ -1380,19 +1383,22 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
     }
     pass.grid = (const int32_t(*)[3])own;
     sta_free(grid);
-    // The cylinders' fits (cylinder_normal): the default method's, from the sorted halo.
+    // The cylinders' and quadrics' boxes' points (box_tensors: the default method's, from
+    // the sorted halo) and the cylinders' fits (cylinder_normal).
     cylinder_slot *cylinders = NULL;
     size_t halo_hint = 0;
+    if (status == STA_OK && adaptive) {
+        pass.halo = (const int32_t(*)[3])halo_sorted;
+        pass.halo_count = halo_count;
+        pass.corner = corner;
+        pass.halo_hint = &halo_hint;
+    }
     if (status == STA_OK && adaptive && level + CYLINDER_LEVELS_UP <= top) {
         cylinders = sta_calloc(CYLINDER_SLOTS, sizeof(*cylinders));
         if (!cylinders) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cylinders");
         }
-        pass.halo = (const int32_t(*)[3])halo_sorted;
-        pass.halo_count = halo_count;
-        pass.corner = corner;
         pass.cylinders = cylinders;
-        pass.halo_hint = &halo_hint;
     }
     // The level two above the base, made in the base level's first pass for skips_base (the
     // default method's), then handed on as the next level one level up.
