@@ -618,6 +618,10 @@ typedef struct moment_pass {
     uint8_t *state;           /* per own point, in cell order, | RUN_START */
     const uint32_t *order;    /* the own points' records in cell order (cell_order.h) */
     const int32_t (*grid)[3]; /* their positions, in that order */
+    const int32_t (*own)[3];  /* all own points' positions (box_tensors): `grid`, or the
+                                 set `grid` picks from (`places`) */
+    size_t own_count;
+    const uint32_t *places;   /* per point of `grid` its place in `own` (NULL: the same) */
     size_t count;             /* own points */
     int base_level;           /* the runs' cells (the first pass's level) */
     uint32_t *finish;         /* scratch: the points a pass finishes, count of them */
@@ -914,8 +918,8 @@ static void box_tensors(const moment_pass *m, int level, const int64_t v[3], siz
     const sta_normals_chunk *chunk = m->chunk;
     int base = m->base_level;
     int64_t edge = (int64_t)1 << level;
-    const int32_t(*sets[2])[3] = { m->grid, m->halo };
-    const size_t counts[2] = { m->count, m->halo_count };
+    const int32_t(*sets[2])[3] = { m->own, m->halo };
+    const size_t counts[2] = { m->own_count, m->halo_count };
     size_t hints[2] = { *own_hint, *m->halo_hint };
     memset(out, 0, sizeof(*out));
     for (int q = 0; q < 8; q++) {
@@ -987,7 +991,7 @@ static int cylinder_normal(const moment_pass *m, size_t j, const int64_t u[3], c
     cylinder_slot *slot = &m->cylinders[(h >> 40) & (CYLINDER_SLOTS - 1)];
     if (slot->state == 0 || memcmp(slot->v, v, sizeof(v)) != 0) {
         sta_tensor_sums sums;
-        size_t hint = j;
+        size_t hint = m->places ? m->places[j] : j;
         box_tensors(m, level, v, &hint, &sums);
         memcpy(slot->v, v, sizeof(v));
         slot->state = sta_cylinder_fit(&sums, (double)((int64_t)2 << level), &slot->fit) ? 1 : 2;
@@ -1141,15 +1145,48 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
     sta_cell_blocks fine_cells = { 0 };
     level_boxes fine_boxes = { 0 };
     box_quadrics quadrics = { .level = level };
-    sta_status status = sta_cell_moments_init_marks(&wanted, level, chunk->scene_min, lo, hi, err);
+    // The rough points alone (5 % of a street's), in their order: the passes below visit
+    // them only. A base cell's run starts at its first rough point (decide_level's per-run
+    // decisions are reset there, as at the run's first point in the whole set).
+    size_t rough = 0;
+    for (size_t j = 0; j < m->count; j++) {
+        rough += m->rough[j] != 0;
+    }
+    moment_pass sub = *m;
+    int32_t(*grid)[3] = sta_alloc_array(rough + 1, sizeof(*grid));
+    uint32_t *order = sta_alloc_array(rough + 1, sizeof(*order));
+    uint32_t *places = sta_alloc_array(rough + 1, sizeof(*places));
+    uint8_t *state = sta_alloc_array(rough + 1, sizeof(*state));
+    sta_status status =
+        grid && order && places && state
+            ? STA_OK
+            : sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", rough);
+    bool start = false;
+    for (size_t j = 0, i = 0; status == STA_OK && j < m->count; j++) {
+        start = start || (m->state[j] & RUN_START);
+        if (m->rough[j]) {
+            memcpy(grid[i], m->grid[j], sizeof(grid[0]));
+            order[i] = m->order[j];
+            places[i] = (uint32_t)j;
+            state[i++] = (uint8_t)((m->state[j] & STATE_MASK) | (start ? RUN_START : 0));
+            start = false;
+        }
+    }
+    sub.grid = (const int32_t(*)[3])grid;
+    sub.order = order;
+    sub.places = places;
+    sub.state = state;
+    sub.count = rough;
+    sub.only_rough = false; // (all of them are)
+    sub.rough = NULL;
+    if (status == STA_OK) {
+        status = sta_cell_moments_init_marks(&wanted, level, chunk->scene_min, lo, hi, err);
+    }
     // The base cell marked last with its neighbours (none yet: far from any cell).
     int64_t last[3] = { NO_CELL, NO_CELL, NO_CELL };
-    for (size_t j = 0; j < m->count && status == STA_OK; j++) {
+    for (size_t j = 0; j < rough && status == STA_OK; j++) {
         int64_t c[3], u[3];
-        if (!m->rough[j]) {
-            continue;
-        }
-        point_offset(m, j, u);
+        point_offset(&sub, j, u);
         for (int a = 0; a < 3; a++) {
             c[a] = u[a] >> level;
         }
@@ -1178,22 +1215,27 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
     if (status == STA_OK && !level_init(&fine_boxes, &fine_cells)) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
     }
-    m->only_rough = true;
-    if (status == STA_OK && fit_level(m, &fine_boxes, base) == SIZE_MAX) {
+    if (status == STA_OK && fit_level(&sub, &fine_boxes, base) == SIZE_MAX) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
     }
     if (status == STA_OK) {
-        m->quadrics = &quadrics;
-        if (fit_level(m, base, coarse) == SIZE_MAX) {
+        sub.quadrics = &quadrics;
+        if (fit_level(&sub, base, coarse) == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
         }
     }
-    m->only_rough = false;
-    m->quadrics = NULL;
+    for (size_t i = 0; status == STA_OK && i < rough; i++) { // (their runs' starts stay)
+        uint8_t *to = &m->state[places[i]];
+        *to = (uint8_t)((*to & RUN_START) | (state[i] & STATE_MASK));
+    }
     table_release(&fine_boxes.table);
     sta_cell_blocks_release(&fine_cells);
     sta_free(quadrics.fits);
     sta_cell_moments_release(&wanted);
+    sta_free(grid);
+    sta_free(order);
+    sta_free(places);
+    sta_free(state);
     return status;
 }
 
@@ -1382,6 +1424,8 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         }
     }
     pass.grid = (const int32_t(*)[3])own;
+    pass.own = pass.grid;
+    pass.own_count = count;
     sta_free(grid);
     // The cylinders' and quadrics' boxes' points (box_tensors: the default method's, from
     // the sorted halo) and the cylinders' fits (cylinder_normal).
