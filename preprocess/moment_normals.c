@@ -922,6 +922,10 @@ static void box_tensors(const moment_pass *m, int level, const int64_t v[3], siz
     const size_t counts[2] = { m->own_count, m->halo_count };
     size_t hints[2] = { *own_hint, *m->halo_hint };
     memset(out, 0, sizeof(*out));
+    // The 8 cells in key order: each search goes on from where the last ended, a few steps.
+    int64_t cells[8][3];
+    uint64_t keys[8];
+    int found = 0;
     for (int q = 0; q < 8; q++) {
         int64_t cell[3], first[3]; // the cell, and its first base cell from the order's corner
         bool inside = true;
@@ -936,10 +940,20 @@ static void box_tensors(const moment_pass *m, int level, const int64_t v[3], siz
             continue;
         }
         uint64_t key = sta_cell_order_key(first);
+        int at = found++;
+        for (; at > 0 && keys[at - 1] > key; at--) {
+            keys[at] = keys[at - 1];
+            memcpy(cells[at], cells[at - 1], sizeof(cells[0]));
+        }
+        keys[at] = key;
+        memcpy(cells[at], cell, sizeof(cell));
+    }
+    for (int c = 0; c < found; c++) {
+        const int64_t *cell = cells[c];
         for (int s = 0; s < 2; s++) {
             // The cell's run: from its first key on, while the points lie in the cell.
             size_t i =
-                sta_cell_order_lower_near(sets[s], counts[s], m->corner, base, key, hints[s]);
+                sta_cell_order_lower_near(sets[s], counts[s], m->corner, base, keys[c], hints[s]);
             for (; i < counts[s]; i++) {
                 uint64_t d[3];
                 bool in = true;
