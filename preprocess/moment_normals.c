@@ -176,6 +176,11 @@
  * fewer than 3 points, or no plane, at the widest level: strays). */
 #define LEVELS_ABOVE           2
 
+/* The adaptive fine level's marks reserved for each base cell holding rough points (its 27
+ * neighbours, less those marked for the cell before it: 6 to 24 a cell in the 4 M street's
+ * chunks, 9 over all; the set grows past it). */
+#define MARKS_PER_RUN 10
+
 /* A cell coordinate no cell has (fine_pass's "none marked yet"). */
 #define NO_CELL (INT64_MIN / 4)
 
@@ -1176,6 +1181,7 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
             ? STA_OK
             : sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", rough);
     bool start = false;
+    size_t runs = 0; // (base cells holding rough points)
     for (size_t j = 0, i = 0; status == STA_OK && j < m->count; j++) {
         start = start || (m->state[j] & RUN_START);
         if (m->rough[j]) {
@@ -1183,6 +1189,7 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
             order[i] = m->order[j];
             places[i] = (uint32_t)j;
             state[i++] = (uint8_t)((m->state[j] & STATE_MASK) | (start ? RUN_START : 0));
+            runs += start;
             start = false;
         }
     }
@@ -1195,6 +1202,9 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
     sub.rough = NULL;
     if (status == STA_OK) {
         status = sta_cell_moments_init_marks(&wanted, level, chunk->scene_min, lo, hi, err);
+    }
+    if (status == STA_OK && !sta_cell_moments_reserve(&wanted, MARKS_PER_RUN * runs)) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
     }
     // The base cell marked last with its neighbours (none yet: far from any cell).
     int64_t last[3] = { NO_CELL, NO_CELL, NO_CELL };
