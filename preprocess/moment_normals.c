@@ -533,7 +533,8 @@ static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, 
                           const int64_t u[3], int base_level, double normal[3])
 {
     int level = l->cells->level;
-    if (!sphere_taken(chunk, l, b, u, base_level)) {
+    // (a flat box has no sphere: box_sphere's first test, before sphere_taken's bounds)
+    if (!(b->variation > SPHERE_VARIATION) || !sphere_taken(chunk, l, b, u, base_level)) {
         return false;
     }
     const float *f = b->sphere;
