@@ -472,6 +472,9 @@ static bool box_sphere(const sta_normals_chunk *chunk, const level_boxes *l, ver
                        const int64_t u[3])
 {
     int level = l->cells->level;
+    if (b->sphere_fit != 0) { // (fitted or refused before: the tests below passed then)
+        return b->sphere_fit == 1;
+    }
     if (chunk->method != STA_NORMALS_MOMENTS || !(b->variation > SPHERE_VARIATION) ||
         !sta_sphere_isotropic(chunk->scale)) {
         return false; // (moments-fine stays as it was: the sphere cost it edges, 20 M street)
