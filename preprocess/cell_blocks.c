@@ -485,6 +485,23 @@ sta_status sta_cell_blocks_add_children(sta_cell_blocks *m, const int32_t (*a)[3
         int first = at[0] >= na ? 1 : at[1] >= nb ? 0 : morton_less(from_corner[1], from_corner[0]);
         const int64_t *p = parent[first];
         bool take = !wanted || sta_cell_moments_has(wanted, p);
+        if (!take) { // (most parents: their runs passed over without the sums)
+            for (int l = 0; l < 2; l++) {
+                const int64_t edge = (int64_t)1 << up; // (p may be negative: no shift of it)
+                const int64_t lo[3] = { p[0] * edge, p[1] * edge, p[2] * edge };
+                const int64_t hi[3] = { lo[0] + edge, lo[1] + edge, lo[2] + edge };
+                for (; at[l] < count[l]; at[l]++) {
+                    const int32_t *q = list[l][at[l]];
+                    int64_t u[3] = { (int64_t)q[0] - m->origin[0], (int64_t)q[1] - m->origin[1],
+                                     (int64_t)q[2] - m->origin[2] };
+                    if (u[0] < lo[0] || u[0] >= hi[0] || u[1] < lo[1] || u[1] >= hi[1] ||
+                        u[2] < lo[2] || u[2] >= hi[2]) {
+                        break;
+                    }
+                }
+            }
+            continue;
+        }
         sta_moment_sums child[8];
         memset(child, 0, sizeof(child));
         for (int l = 0; l < 2; l++) { // (both lists may hold points of this parent)

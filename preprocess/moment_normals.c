@@ -178,6 +178,14 @@
  * fewer than 3 points, or no plane, at the widest level: strays). */
 #define LEVELS_ABOVE           2
 
+/* The adaptive fine level's marks reserved for each base cell holding rough points (its 27
+ * neighbours, less those marked for the cell before it: 6 to 24 a cell in the 4 M street's
+ * chunks, 9 over all; the set grows past it). */
+#define MARKS_PER_RUN 10
+
+/* A cell coordinate no cell has (fine_pass's "none marked yet"). */
+#define NO_CELL (INT64_MIN / 4)
+
 /* Cylinder fits kept by their box's vertex: a pass meets a base cell's 8 octants' vertices
  * in turn (a power of two, at least 64). */
 #define CYLINDER_SLOTS 1024
@@ -203,10 +211,11 @@ typedef struct vertex_box {
     int32_t quadric; /* 0: not fitted yet, -1: none, else 1 + its place in box_quadrics */
 } vertex_box;
 
-/* The base level's moment tensors around the rough points and the quadrics fitted from
- * them (quadric_normal; fine_pass). */
+/* The quadrics of the base level's boxes around the rough points (quadric_normal;
+ * fine_pass), each from its box's moment tensors, summed from its points (box_tensors). */
 typedef struct box_quadrics {
-    sta_cell_tensors tensors;
+    int level;       /* the boxes' */
+    size_t own_hint; /* where the last search in the own points ended */
     sta_quadric *fits;
     size_t used, capacity;
 } box_quadrics;
@@ -474,6 +483,9 @@ static bool box_sphere(const sta_normals_chunk *chunk, const level_boxes *l, ver
                        const int64_t u[3])
 {
     int level = l->cells->level;
+    if (b->sphere_fit != 0) { // (fitted or refused before: the tests below passed then)
+        return b->sphere_fit == 1;
+    }
     if (chunk->method != STA_NORMALS_MOMENTS || !(b->variation > SPHERE_VARIATION) ||
         !sta_sphere_isotropic(chunk->scale)) {
         return false; // (moments-fine stays as it was: the sphere cost it edges, 20 M street)
@@ -535,7 +547,8 @@ static bool sphere_normal(const sta_normals_chunk *chunk, const level_boxes *l, 
                           const int64_t u[3], int base_level, double normal[3])
 {
     int level = l->cells->level;
-    if (!sphere_taken(chunk, l, b, u, base_level)) {
+    // (a flat box has no sphere: box_sphere's first test, before sphere_taken's bounds)
+    if (!(b->variation > SPHERE_VARIATION) || !sphere_taken(chunk, l, b, u, base_level)) {
         return false;
     }
     const float *f = b->sphere;
@@ -625,6 +638,10 @@ typedef struct moment_pass {
     uint8_t *state;           /* per own point, in cell order, | RUN_START */
     const uint32_t *order;    /* the own points' records in cell order (cell_order.h) */
     const int32_t (*grid)[3]; /* their positions, in that order */
+    const int32_t (*own)[3];  /* all own points' positions (box_tensors): `grid`, or the
+                                 set `grid` picks from (`places`) */
+    size_t own_count;
+    const uint32_t *places;   /* per point of `grid` its place in `own` (NULL: the same) */
     size_t count;             /* own points */
     int base_level;           /* the runs' cells (the first pass's level) */
     uint32_t *finish;         /* scratch: the points a pass finishes, count of them */
@@ -656,8 +673,11 @@ static void point_offset(const moment_pass *m, size_t j, int64_t u[3])
     }
 }
 
-// The normal at u of the quadric of its nearest box b, at the level of m->quadrics'
-// tensors (the rough points' base pass), where b is rough and the quadric fits it clearly
+static void box_tensors(const moment_pass *m, int level, const int64_t v[3], size_t *own_hint,
+                        sta_tensor_sums *out);
+
+// The normal at u of the quadric of its nearest box b, at m->quadrics' level (the rough
+// points' base pass), where b is rough and the quadric fits it clearly
 // better than its plane and sphere, and its gradient at u is not near zero (an edge's
 // line). 1: `normal` set, 0: the other rules decide, -1: out of memory.
 static int quadric_normal(const moment_pass *m, const level_boxes *l, vertex_box *b,
@@ -665,7 +685,7 @@ static int quadric_normal(const moment_pass *m, const level_boxes *l, vertex_box
 {
     box_quadrics *q = m->quadrics;
     int level = l->cells->level;
-    if (!q || q->tensors.level != level || !(b->variation > ROUGH_VARIATION) ||
+    if (!q || q->level != level || !(b->variation > ROUGH_VARIATION) ||
         !sta_sphere_isotropic(m->chunk->scale)) {
         return 0;
     }
@@ -674,7 +694,7 @@ static int quadric_normal(const moment_pass *m, const level_boxes *l, vertex_box
     if (b->quadric == 0) {
         sta_tensor_sums sums;
         sta_quadric fit;
-        sta_cell_tensors_vertex(&q->tensors, v, &sums);
+        box_tensors(m, level, v, &q->own_hint, &sums);
         b->quadric = -1;
         if (sta_quadric_fit(&sums, (double)((int64_t)2 << level), &fit)) {
             if (q->used == q->capacity) {
@@ -928,19 +948,25 @@ static size_t decide_level(const moment_pass *m, level_boxes *fine, level_boxes 
 
 // The exact tensor sums of the own and halo points in the 2 x 2 x 2 cells of `level` (at
 // or above the base) around vertex v, as offsets from the box's corner: each cell's points
-// are one run of the cell order, its start found by a galloping search from own_hint (the
-// asking point's place) and, in the halo, from where the last one ended. The same sums in
-// any chunking (the halo covers the boxes up to sta_moment_normals_levels_above).
-static void box_tensors(const moment_pass *m, int level, const int64_t v[3], size_t own_hint,
+// are one run of the cell order, its start found by a galloping search from *own_hint (the
+// asking point's place, or where the last box's search ended; set to where this one
+// ended) and, in the halo, from where the last one ended. The same sums in any chunking
+// (the halo covers the boxes up to sta_moment_normals_levels_above), and the same as the
+// cells' tensors moved to the box's corner (exact integer sums either way).
+static void box_tensors(const moment_pass *m, int level, const int64_t v[3], size_t *own_hint,
                         sta_tensor_sums *out)
 {
     const sta_normals_chunk *chunk = m->chunk;
     int base = m->base_level;
     int64_t edge = (int64_t)1 << level;
-    const int32_t(*sets[2])[3] = { m->grid, m->halo };
-    const size_t counts[2] = { m->count, m->halo_count };
-    size_t hints[2] = { own_hint, *m->halo_hint };
+    const int32_t(*sets[2])[3] = { m->own, m->halo };
+    const size_t counts[2] = { m->own_count, m->halo_count };
+    size_t hints[2] = { *own_hint, *m->halo_hint };
     memset(out, 0, sizeof(*out));
+    // The 8 cells in key order: each search goes on from where the last ended, a few steps.
+    int64_t cells[8][3];
+    uint64_t keys[8];
+    int found = 0;
     for (int q = 0; q < 8; q++) {
         int64_t cell[3], first[3]; // the cell, and its first base cell from the order's corner
         bool inside = true;
@@ -955,10 +981,20 @@ static void box_tensors(const moment_pass *m, int level, const int64_t v[3], siz
             continue;
         }
         uint64_t key = sta_cell_order_key(first);
+        int at = found++;
+        for (; at > 0 && keys[at - 1] > key; at--) {
+            keys[at] = keys[at - 1];
+            memcpy(cells[at], cells[at - 1], sizeof(cells[0]));
+        }
+        keys[at] = key;
+        memcpy(cells[at], cell, sizeof(cell));
+    }
+    for (int c = 0; c < found; c++) {
+        const int64_t *cell = cells[c];
         for (int s = 0; s < 2; s++) {
             // The cell's run: from its first key on, while the points lie in the cell.
             size_t i =
-                sta_cell_order_lower_near(sets[s], counts[s], m->corner, base, key, hints[s]);
+                sta_cell_order_lower_near(sets[s], counts[s], m->corner, base, keys[c], hints[s]);
             for (; i < counts[s]; i++) {
                 uint64_t d[3];
                 bool in = true;
@@ -975,6 +1011,7 @@ static void box_tensors(const moment_pass *m, int level, const int64_t v[3], siz
             hints[s] = i;
         }
     }
+    *own_hint = hints[0];
     *m->halo_hint = hints[1];
 }
 
@@ -1009,7 +1046,8 @@ static int cylinder_normal(const moment_pass *m, size_t j, const int64_t u[3], c
     cylinder_slot *slot = &m->cylinders[(h >> 40) & (CYLINDER_SLOTS - 1)];
     if (slot->state == 0 || memcmp(slot->v, v, sizeof(v)) != 0) {
         sta_tensor_sums sums;
-        box_tensors(m, level, v, j, &sums);
+        size_t hint = m->places ? m->places[j] : j;
+        box_tensors(m, level, v, &hint, &sums);
         memcpy(slot->v, v, sizeof(v));
         slot->state = sta_cylinder_fit(&sums, (double)((int64_t)2 << level), &slot->fit) ? 1 : 2;
     }
@@ -1149,6 +1187,18 @@ static size_t fit_level(const moment_pass *m, level_boxes *fine, level_boxes *co
     return grew == SIZE_MAX ? SIZE_MAX : left + grew;
 }
 
+// Whether cell d lies in the block from `from` to `to` cells around cell c along each axis
+// (the cells marked for the previous one: marking them again changes nothing).
+static bool within(const int64_t d[3], const int64_t c[3], int from, int to)
+{
+    for (int a = 0; a < 3; a++) {
+        if (d[a] < c[a] + from || d[a] > c[a] + to) {
+            return false;
+        }
+    }
+    return true;
+}
+
 // The adaptive fine level of the default method, after the base level's first pass marked
 // the rough points in m->rough (a point's mark depends on its nearest base box only, never
 // on which chunk owns it): boxes of half-size cells from the points, own and halo, of the
@@ -1166,44 +1216,66 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
     sta_cell_moments wanted = { 0 };
     sta_cell_blocks fine_cells = { 0 };
     level_boxes fine_boxes = { 0 };
-    box_quadrics quadrics = { 0 };
-    sta_status status = sta_cell_moments_init_marks(&wanted, level, chunk->scene_min, lo, hi, err);
-    // The base level's moment tensors of the 8 cells of each rough point's base box: their
-    // quadrics (quadric_normal).
-    if (status == STA_OK) {
-        status = sta_cell_tensors_init(&quadrics.tensors, level, chunk->scene_min, lo, hi, err);
+    box_quadrics quadrics = { .level = level };
+    // The rough points alone (5 % of a street's), in their order: the passes below visit
+    // them only. A base cell's run starts at its first rough point (decide_level's per-run
+    // decisions are reset there, as at the run's first point in the whole set).
+    size_t rough = 0;
+    for (size_t j = 0; j < m->count; j++) {
+        rough += m->rough[j] != 0;
     }
-    int64_t last[3] = { -1, -1, -1 }; // the base cell marked last (with its neighbours)
-    int64_t last_vertex[3] = { -1, -1, -1 };
-    for (size_t j = 0; j < m->count && status == STA_OK; j++) {
-        int64_t c[3], u[3], v[3];
-        if (!m->rough[j]) {
-            continue;
+    moment_pass sub = *m;
+    int32_t(*grid)[3] = sta_alloc_array(rough + 1, sizeof(*grid));
+    uint32_t *order = sta_alloc_array(rough + 1, sizeof(*order));
+    uint32_t *places = sta_alloc_array(rough + 1, sizeof(*places));
+    uint8_t *state = sta_alloc_array(rough + 1, sizeof(*state));
+    sta_status status =
+        grid && order && places && state
+            ? STA_OK
+            : sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for %zu points", rough);
+    bool start = false;
+    size_t runs = 0; // (base cells holding rough points)
+    for (size_t j = 0, i = 0; status == STA_OK && j < m->count; j++) {
+        start = start || (m->state[j] & RUN_START);
+        if (m->rough[j]) {
+            memcpy(grid[i], m->grid[j], sizeof(grid[0]));
+            order[i] = m->order[j];
+            places[i] = (uint32_t)j;
+            state[i++] = (uint8_t)((m->state[j] & STATE_MASK) | (start ? RUN_START : 0));
+            runs += start;
+            start = false;
         }
-        point_offset(m, j, u);
-        nearest_vertex(u, level, v);
+    }
+    sub.grid = (const int32_t(*)[3])grid;
+    sub.order = order;
+    sub.places = places;
+    sub.state = state;
+    sub.count = rough;
+    sub.only_rough = false; // (all of them are)
+    sub.rough = NULL;
+    if (status == STA_OK) {
+        status = sta_cell_moments_init_marks(&wanted, level, chunk->scene_min, lo, hi, err);
+    }
+    if (status == STA_OK && !sta_cell_moments_reserve(&wanted, MARKS_PER_RUN * runs)) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
+    }
+    // The base cell marked last with its neighbours (none yet: far from any cell).
+    int64_t last[3] = { NO_CELL, NO_CELL, NO_CELL };
+    for (size_t j = 0; j < rough && status == STA_OK; j++) {
+        int64_t c[3], u[3];
+        point_offset(&sub, j, u);
         for (int a = 0; a < 3; a++) {
             c[a] = u[a] >> level;
-        }
-        if (memcmp(v, last_vertex, sizeof(v)) != 0) {
-            memcpy(last_vertex, v, sizeof(v));
-            for (int q = 0; q < 8 && status == STA_OK; q++) {
-                const int64_t d[3] = { v[0] - 1 + (q & 1), v[1] - 1 + (q >> 1 & 1),
-                                       v[2] - 1 + (q >> 2) };
-                if (!sta_cell_tensors_mark(&quadrics.tensors, d)) {
-                    status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
-                }
-            }
         }
         if (memcmp(c, last, sizeof(c)) == 0) {
             continue;
         }
-        memcpy(last, c, sizeof(c));
         bool marked = true;
         for (int q = 0; q < 27 && marked; q++) {
             const int64_t d[3] = { c[0] + q % 3 - 1, c[1] + q / 3 % 3 - 1, c[2] + q / 9 - 1 };
-            marked = sta_cell_moments_mark(&wanted, d);
+            marked = within(d, last, -1, 1) || sta_cell_moments_mark(&wanted, d);
         }
+        memcpy(last, c, sizeof(c));
         if (!marked) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cells");
         }
@@ -1217,29 +1289,30 @@ static sta_status fine_pass(moment_pass *m, level_boxes *base, level_boxes *coar
         status = sta_cell_blocks_add_children(&fine_cells, m->grid, m->count, halo, halo_count,
                                               corner, &wanted, err);
     }
-    if (status == STA_OK) {
-        const int32_t(*sets[2])[3] = { m->grid, halo };
-        const size_t counts[2] = { m->count, halo_count };
-        status = sta_cell_tensors_add_sorted(&quadrics.tensors, sets, counts, 2, corner, err);
-    }
     if (status == STA_OK && !level_init(&fine_boxes, &fine_cells)) {
         status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
     }
+    if (status == STA_OK && fit_level(&sub, &fine_boxes, base) == SIZE_MAX) {
+        status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
+    }
     if (status == STA_OK) {
-        m->only_rough = true;
-        bool fitted = fit_level(m, &fine_boxes, base) != SIZE_MAX;
-        m->quadrics = &quadrics;
-        if (!fitted || fit_level(m, base, coarse) == SIZE_MAX) {
+        sub.quadrics = &quadrics;
+        if (fit_level(&sub, base, coarse) == SIZE_MAX) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for vertex boxes");
         }
-        m->only_rough = false;
-        m->quadrics = NULL;
+    }
+    for (size_t i = 0; status == STA_OK && i < rough; i++) { // (their runs' starts stay)
+        uint8_t *to = &m->state[places[i]];
+        *to = (uint8_t)((*to & RUN_START) | (state[i] & STATE_MASK));
     }
     table_release(&fine_boxes.table);
     sta_cell_blocks_release(&fine_cells);
-    sta_cell_tensors_release(&quadrics.tensors);
     sta_free(quadrics.fits);
     sta_cell_moments_release(&wanted);
+    sta_free(grid);
+    sta_free(order);
+    sta_free(places);
+    sta_free(state);
     return status;
 }
 
@@ -1428,20 +1501,25 @@ sta_status sta_normals_compute(const sta_normals_chunk *chunk, const sta_record_
         }
     }
     pass.grid = (const int32_t(*)[3])own;
+    pass.own = pass.grid;
+    pass.own_count = count;
     sta_free(grid);
-    // The cylinders' fits (cylinder_normal): the default method's, from the sorted halo.
+    // The cylinders' and quadrics' boxes' points (box_tensors: the default method's, from
+    // the sorted halo) and the cylinders' fits (cylinder_normal).
     cylinder_slot *cylinders = NULL;
     size_t halo_hint = 0;
+    if (status == STA_OK && adaptive) {
+        pass.halo = (const int32_t(*)[3])halo_sorted;
+        pass.halo_count = halo_count;
+        pass.corner = corner;
+        pass.halo_hint = &halo_hint;
+    }
     if (status == STA_OK && adaptive && level + CYLINDER_LEVELS_UP <= top) {
         cylinders = sta_calloc(CYLINDER_SLOTS, sizeof(*cylinders));
         if (!cylinders) {
             status = sta_fail(err, STA_ERR_NOMEM, "normals: out of memory for cylinders");
         }
-        pass.halo = (const int32_t(*)[3])halo_sorted;
-        pass.halo_count = halo_count;
-        pass.corner = corner;
         pass.cylinders = cylinders;
-        pass.halo_hint = &halo_hint;
     }
     // The level two above the base, made in the base level's first pass for skips_base (the
     // default method's), then handed on as the next level one level up.
