@@ -194,7 +194,7 @@ static void an_index_take_waits_for_the_pool(void **state)
 
 enum {
     GROUND = 450000,   /* points 6 cm apart on a gently curved ground (15 mm noise) */
-    BUSHES = 250,      /* of 1 m: dense clusters, each point rough */
+    BUSHES = 1000,     /* of 1 m: dense clusters, each point rough */
     BUSH_POINTS = 200, /* a bush's points */
     CHUNK = 120000,    /* points a chunk: several, so that two run at once */
 };
