@@ -623,6 +623,30 @@ static double uniform(uint64_t *seed)
     return (double)(*seed >> 11) * (1.0 / 9007199254740992.0);
 }
 
+// `count` points of a square `side` mm wide at xyz[0..], a 2 % slope along x, 4 mm noise
+// (grid units of 1 mm from 100 m); returns count.
+static size_t sloped_plane(int32_t (*xyz)[3], size_t count, double side, uint64_t *seed)
+{
+    for (size_t i = 0; i < count; i++) {
+        double x = side * uniform(seed), y = side * uniform(seed);
+        xyz[i][0] = 100000 + (int32_t)x, xyz[i][1] = 100000 + (int32_t)y;
+        xyz[i][2] = 100000 + (int32_t)(0.02 * x + 8.0 * (uniform(seed) - 0.5));
+    }
+    return count;
+}
+
+// The n points of xyz in a random order (Fisher-Yates).
+static void shuffle(int32_t (*xyz)[3], size_t n, uint64_t *seed)
+{
+    for (size_t i = n - 1; i > 0; i--) {
+        size_t j = (size_t)(uniform(seed) * (double)(i + 1));
+        int32_t t[3];
+        memcpy(t, xyz[i], sizeof(t));
+        memcpy(xyz[i], xyz[j], sizeof(t));
+        memcpy(xyz[j], t, sizeof(t));
+    }
+}
+
 // moments_splats_at's options: each point decided alone; no point skips its base box.
 #define EACH_POINT 1u
 #define KEEP_BASE  2u
@@ -677,12 +701,8 @@ static void moments_run_decisions_match_each_point(void **state)
     static int32_t xyz[ALL][3];
     uint64_t seed = 12;
     size_t n = 0;
-    for (int i = 0; i < PLANE; i++, n++) { // 1.2 m square, 2 % slope, 4 mm noise
-        double x = 1200.0 * uniform(&seed), y = 1200.0 * uniform(&seed);
-        xyz[n][0] = 100000 + (int32_t)x, xyz[n][1] = 100000 + (int32_t)y;
-        xyz[n][2] = 100000 + (int32_t)(0.02 * x + 8.0 * (uniform(&seed) - 0.5));
-    }
-    for (int i = 0; i < SPHERE; i++, n++) { // r 0.2 m beside it
+    n += sloped_plane(xyz + n, PLANE, 1200.0, &seed); // 1.2 m square
+    for (int i = 0; i < SPHERE; i++, n++) {           // r 0.2 m beside it
         double z = 2.0 * uniform(&seed) - 1.0, a = 6.283185307 * uniform(&seed);
         double r = sqrt(1.0 - z * z);
         xyz[n][0] = 101700 + (int32_t)(200.0 * r * cos(a));
@@ -706,13 +726,7 @@ static void moments_run_decisions_match_each_point(void **state)
         xyz[n][0] = 100100 + i / 2, xyz[n][1] = 101500 + (i % 3 == 0);
         xyz[n][2] = 100500 + (int32_t)(2.0 * uniform(&seed));
     }
-    for (size_t i = n - 1; i > 0; i--) { // input order is not cell order
-        size_t j = (size_t)(uniform(&seed) * (double)(i + 1));
-        int32_t t[3];
-        memcpy(t, xyz[i], sizeof(t));
-        memcpy(xyz[i], xyz[j], sizeof(t));
-        memcpy(xyz[j], t, sizeof(t));
-    }
+    shuffle(xyz, n, &seed); // input order is not cell order
     size_t own = n - n / 5; // the last fifth as halo
     static uint16_t runs[ALL][3], each[ALL][3];
     sta_normals_stats by_runs = { 0 }, by_each = { 0 };
@@ -750,24 +764,14 @@ static void noisy_planes_skip_their_base_boxes(void **state)
     static int32_t xyz[ALL][3];
     uint64_t seed = 21;
     size_t n = 0;
-    for (int i = 0; i < PLANE; i++, n++) { // 1.6 m square, 2 % slope, 4 mm noise
-        double x = 1600.0 * uniform(&seed), y = 1600.0 * uniform(&seed);
-        xyz[n][0] = 100000 + (int32_t)x, xyz[n][1] = 100000 + (int32_t)y;
-        xyz[n][2] = 100000 + (int32_t)(0.02 * x + 8.0 * (uniform(&seed) - 0.5));
-    }
-    for (int i = 0; i < SPHERE; i++, n++) { // r 0.2 m beside it, 1 mm noise
+    n += sloped_plane(xyz + n, PLANE, 1600.0, &seed); // 1.6 m square
+    for (int i = 0; i < SPHERE; i++, n++) {           // r 0.2 m beside it, 1 mm noise
         double z = 2.0 * uniform(&seed) - 1.0, a = 6.283185307 * uniform(&seed);
         double r = sqrt(1.0 - z * z), rho = 200.0 + uniform(&seed) - 0.5;
         xyz[n][0] = 101900 + (int32_t)(rho * r * cos(a));
         xyz[n][1] = 100800 + (int32_t)(rho * r * sin(a)), xyz[n][2] = 100300 + (int32_t)(rho * z);
     }
-    for (size_t i = n - 1; i > 0; i--) { // input order is not cell order
-        size_t j = (size_t)(uniform(&seed) * (double)(i + 1));
-        int32_t t[3];
-        memcpy(t, xyz[i], sizeof(t));
-        memcpy(xyz[i], xyz[j], sizeof(t));
-        memcpy(xyz[j], t, sizeof(t));
-    }
+    shuffle(xyz, n, &seed); // input order is not cell order
     size_t own = n - n / 5;
     static uint16_t skipping[ALL][3], keeping[ALL][3];
     static double skip_err[ALL], keep_err[ALL];
