@@ -19,13 +19,13 @@ GROUPS = [
      r"normalise_d|sta_normal_too_narrow_at|__fmin|fit_level.*|__atan2_fma)$"),
     ("normals: vertex boxes",
      r"^(vertex_at|vertex_cells|sta_cell_blocks_vertex_lower|nearest_box|"
-     r"sta_higher_sums_add_moved|sta_cell_tensors_vertex|level_init|box_sphere|"
+     r"sta_higher_sums_add_moved|level_init|box_sphere|"
      r"sta_key_slots_double)$"),
     ("normals: finishing each point",
      r"^(finish_level|sta_octahedral_encode|sta_trajectory_at_memo|sta_trajectory_at|"
      r"sta_normal_orient_at|sta_normal_store_at|sta_splat_pack|sta_normal_halo_reach)$"),
     ("normals: cells",
-     r"^(sta_cell_order|sta_cell_blocks_.*|sta_cell_tensors_add|sta_cell_tensors_mark|"
+     r"^(sta_cell_order|sta_cell_blocks_.*|"
      r"add_cell|sta_cell_moments_.*|sta_normal_gather_positions|sta_normals_compute|"
      r"cell_at|grow_cells|grow_blocks)$"),
     ("halo pass and trajectory", r"^(halo_worker|sta_trajectory_add|sta_halo_.*|flush)$"),

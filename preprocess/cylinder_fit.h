@@ -13,7 +13,7 @@
  * fifteenth round.) Along a straight cylinder the cross-section does not change, so a set
  * much taller than the cylinder is wide (a 0.5 m box along an 0.22 m pole) fits the
  * circle from many points, where a sphere fitted to a box of the pole tilts with the box's
- * height and a plane fits across it. The moments come from cell_tensors.h's exact sums: the
+ * height and a plane fits across it. The moments come from tensor_sums.h's exact sums: the
  * fit is the same bits in any order of the points. Coordinates are grid units: a cylinder
  * in metres only where the grid's scale is the same on every axis (sta_sphere_isotropic).
  */
@@ -22,7 +22,7 @@
 
 #include <stdbool.h>
 
-#include "cell_tensors.h"
+#include "tensor_sums.h"
 
 /* A fitted cylinder, in coordinates x = (d - mean) / spread. */
 typedef struct sta_cylinder {

@@ -6,7 +6,7 @@
  * Design: Taubin's fit of q(x) = v . m(x), m the 10 monomials of degree <= 2 (1, x, y,
  * z, x^2, y^2, z^2, xy, xz, yz): minimise the mean of q^2 over the points subject to the
  * mean of |grad q|^2 being 1, a generalised eigenproblem of two 10 x 10 matrices whose
- * entries are moments of order <= 4 (cell_tensors.h keeps them exactly). Coordinates are
+ * entries are moments of order <= 4 (tensor_sums.h sums them exactly). Coordinates are
  * centred on the points' mean and scaled by their spread; the constant term is
  * eliminated (a Schur complement), the rest is the smallest eigenvector of a symmetric
  * 9 x 9 matrix, found by inverse iteration. A quadric holds a plane, a sphere, a cylinder
@@ -22,7 +22,7 @@
 
 #include <stdbool.h>
 
-#include "cell_tensors.h"
+#include "tensor_sums.h"
 
 /* A fitted quadric in coordinates x = (d - mean) / spread: q(x) = v . m(x). */
 typedef struct sta_quadric {
