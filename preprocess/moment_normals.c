@@ -1125,11 +1125,7 @@ static size_t finish_level(const moment_pass *m, level_boxes *fine, bool last, s
         if (timed && chunk->trajectory) {
             double gps_time;
             memcpy(&gps_time, record + layout->gps_offset, sizeof(gps_time));
-            if (memo.valid && gps_time >= memo.from && gps_time < memo.to) {
-                target = memo.seen ? memo.at : NULL; // (the memo's bin: no call)
-            } else {
-                target = sta_trajectory_at_memo(chunk->trajectory, &memo, gps_time, at) ? at : NULL;
-            }
+            target = sta_trajectory_at_memo(chunk->trajectory, &memo, gps_time, at) ? at : NULL;
         }
         // A box that takes its sphere, or is rough, is not grown for being edge-on or nearly
         // linear (default method): a leaf cluster's silhouette is edge-on to the scanner, and

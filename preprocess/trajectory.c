@@ -223,25 +223,19 @@ bool sta_trajectory_at(const sta_trajectory *t, double gps_time, double out[3])
     return true;
 }
 
-bool sta_trajectory_at_memo(const sta_trajectory *t, sta_trajectory_memo *memo, double gps_time,
-                            double out[3])
+bool sta_trajectory_memo_move(const sta_trajectory *t, sta_trajectory_memo *memo, double gps_time)
 {
-    if (!memo->valid || !(gps_time >= memo->from && gps_time < memo->to)) {
-        int64_t key;
-        if (!key_of(gps_time, &key)) {
-            return false;
-        }
-        if (!memo->valid || memo->key != key) {
-            memo->valid = true;
-            memo->key = key;
-            memo->seen = sta_trajectory_at(t, gps_time, memo->at);
-        }
-        bin_times(key, &memo->from, &memo->to);
+    int64_t key;
+    if (!key_of(gps_time, &key)) {
+        return false;
     }
-    if (memo->seen) {
-        memcpy(out, memo->at, sizeof(memo->at));
+    if (!memo->valid || memo->key != key) {
+        memo->valid = true;
+        memo->key = key;
+        memo->seen = sta_trajectory_at(t, gps_time, memo->at);
     }
-    return memo->seen;
+    bin_times(key, &memo->from, &memo->to);
+    return true;
 }
 
 void sta_trajectory_release(sta_trajectory *t)

@@ -16,6 +16,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "core/status.h"
 
@@ -59,10 +60,25 @@ typedef struct sta_trajectory_memo {
     double at[3];
 } sta_trajectory_memo;
 
+/* Moves `memo` to the bin of `gps_time` (looked up when it is not the memo's key already);
+ * false, the memo unchanged, when the time has no bin (not finite, out of range). */
+bool sta_trajectory_memo_move(const sta_trajectory *t, sta_trajectory_memo *memo, double gps_time);
+
 /* sta_trajectory_at, remembering the last bin in `memo` (the same answer: points taken in
- * space order come in runs of one bin, one look-up a run). */
-bool sta_trajectory_at_memo(const sta_trajectory *t, sta_trajectory_memo *memo, double gps_time,
-                            double out[3]);
+ * space order come in runs of one bin, one look-up a run; inline, so that a time inside
+ * the memo's bin costs a comparison, not a call). */
+static inline bool sta_trajectory_at_memo(const sta_trajectory *t, sta_trajectory_memo *memo,
+                                          double gps_time, double out[3])
+{
+    if ((!memo->valid || !(gps_time >= memo->from && gps_time < memo->to)) &&
+        !sta_trajectory_memo_move(t, memo, gps_time)) {
+        return false;
+    }
+    if (memo->seen) {
+        memcpy(out, memo->at, sizeof(memo->at));
+    }
+    return memo->seen;
+}
 
 void sta_trajectory_release(sta_trajectory *t);
 
