@@ -18,22 +18,14 @@ enum {
     MAX_POINTS = 4096
 };
 
-// The tensor sums of the points d (grid units from the sums' corner), as the cells keep
-// them.
+// The tensor sums of the points d (grid units from the sums' corner, >= 0), as a box's
+// points give them (sta_tensor_sums_add, checked against the monomials in test_tensor_sums).
 static sta_tensor_sums sums_of(const int64_t (*d)[3], size_t n)
 {
     sta_tensor_sums s = { { 0 } };
     for (size_t i = 0; i < n; i++) {
-        for (int t = 0; t < STA_TENSOR_TERMS; t++) {
-            const uint8_t *e = sta_tensor_exponent[t];
-            uint64_t v = 1;
-            for (int a = 0; a < 3; a++) {
-                for (int k = 0; k < e[a]; k++) {
-                    v *= (uint64_t)d[i][a];
-                }
-            }
-            s.s[t] += v;
-        }
+        const uint64_t u[3] = { (uint64_t)d[i][0], (uint64_t)d[i][1], (uint64_t)d[i][2] };
+        sta_tensor_sums_add(&s, u);
     }
     return s;
 }
