@@ -158,9 +158,14 @@ void main()
     for (uint i = 0u; i < g_count; i++) {
         bool empty = (g_listed[i] & EMPTY_BIT) != 0u;
         uint k = empty ? empty_base : base;
-        u_pixels[empty ? last - k : k] = g_listed[i] & ~EMPTY_BIT;
+        // Both indices as values first: NVIDIA's compiler (driver 580) fails to link a
+        // select written inside these indices ("C9999: unexpected expression in
+        // DUI_foreachId", docs/BENCHMARKS.md).
+        uint at = empty ? last - k : k;
+        int dispatch = empty ? 4 : 1;
+        u_pixels[at] = g_listed[i] & ~EMPTY_BIT;
         if (k % row == 0u) {
-            atomicMax(u_groups[empty ? 4 : 1], k / row + 1u);
+            atomicMax(u_groups[dispatch], k / row + 1u);
         }
         empty_base += empty ? 1u : 0u;
         base += empty ? 0u : 1u;

@@ -29,7 +29,8 @@ void sta_geometry_choose(const sta_geometry_options *options, bool has_atomic_in
     const char *atomics = out->packed ? "one pass, 64-bit atomics"
                           : has_atomic_int64
                               ? "two passes, 32-bit atomics: 64-bit ones switched off"
-                              : "two passes, 32-bit atomics: no GL_ARB_shader_atomic_int64";
+                              : "two passes, 32-bit atomics: no 64-bit ones (GL_ARB_ or "
+                                "GL_NV_shader_atomic_int64)";
     snprintf(out->reason, sizeof(out->reason), "geometry pass: compute rasteriser (%s; %s)", why,
              atomics);
 }

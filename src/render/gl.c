@@ -4,22 +4,53 @@
 
 #include <epoxy/egl.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/log.h"
 #include "render/bindings.h"
 #include "render/shader_source.h"
+
+// Mesa's surfaceless platform first (llvmpipe, the CI's driver); where that is missing,
+// as with NVIDIA's EGL under libglvnd, the first EGL device (EGL_EXT_platform_device).
+static EGLDisplay open_headless_display(void)
+{
+    EGLint major = 0, minor = 0;
+    EGLDisplay display =
+        eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+    if (display != EGL_NO_DISPLAY && eglInitialize(display, &major, &minor)) {
+        return display;
+    }
+    if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration") &&
+        !epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_base")) {
+        return EGL_NO_DISPLAY;
+    }
+    EGLDeviceEXT devices[8];
+    EGLint device_count = 0;
+    if (!eglQueryDevicesEXT(8, devices, &device_count)) {
+        return EGL_NO_DISPLAY;
+    }
+    for (EGLint i = 0; i < device_count; i++) {
+        display = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], NULL);
+        if (display != EGL_NO_DISPLAY && eglInitialize(display, &major, &minor)) {
+            sta_log_info("EGL: no surfaceless platform; rendering on EGL device %d of %d", i,
+                         device_count);
+            return display;
+        }
+    }
+    return EGL_NO_DISPLAY;
+}
 
 sta_status sta_gl_headless_create(sta_gl_headless *out, sta_error *err)
 {
     memset(out, 0, sizeof(*out));
-    EGLDisplay display =
-        eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
-    EGLint major = 0, minor = 0;
-    if (display == EGL_NO_DISPLAY || !eglInitialize(display, &major, &minor)) {
+    EGLDisplay display = open_headless_display();
+    if (display == EGL_NO_DISPLAY) {
         return sta_fail(err, STA_ERR_GL,
-                        "cannot open a surfaceless EGL display (EGL error 0x%x); is Mesa's "
-                        "libegl-mesa0 installed?",
+                        "cannot open a headless EGL display, neither surfaceless nor on a device "
+                        "(EGL error 0x%x); is Mesa's libegl-mesa0 (or a GPU's EGL driver) "
+                        "installed?",
                         (unsigned)eglGetError());
     }
     if (!eglBindAPI(EGL_OPENGL_API)) {
@@ -71,8 +102,59 @@ void sta_gl_headless_destroy(sta_gl_headless *gl)
     memset(gl, 0, sizeof(*gl));
 }
 
+// STRATA_SHADER_DIR: a folder whose files replace the embedded shaders of the same name
+// (shader work on another driver without rebuilding; docs/PIPELINE.md). Read once a
+// name, kept for the process's life.
+static const char *override_source(const char *name)
+{
+    static struct {
+        char name[64];
+        char *text;
+    } cache[128];
+    static int cached;
+    const char *dir = getenv("STRATA_SHADER_DIR");
+    if (!dir || !*dir || strlen(name) >= sizeof(cache[0].name)) {
+        return NULL;
+    }
+    for (int i = 0; i < cached; i++) {
+        if (strcmp(cache[i].name, name) == 0) {
+            return cache[i].text;
+        }
+    }
+    char path[4096];
+    snprintf(path, sizeof(path), "%s/%s", dir, name);
+    FILE *f = fopen(path, "rb");
+    if (!f || cached == (int)(sizeof(cache) / sizeof(cache[0]))) {
+        if (f) {
+            fclose(f);
+        }
+        return NULL;
+    }
+    char *text = NULL;
+    size_t length = 0;
+    if (fseek(f, 0, SEEK_END) == 0) {
+        long size = ftell(f);
+        if (size >= 0 && fseek(f, 0, SEEK_SET) == 0 && (text = sta_malloc((size_t)size + 1))) {
+            length = fread(text, 1, (size_t)size, f);
+            text[length] = 0;
+        }
+    }
+    fclose(f);
+    if (!text) {
+        return NULL;
+    }
+    snprintf(cache[cached].name, sizeof(cache[cached].name), "%s", name);
+    cache[cached++].text = text;
+    fprintf(stderr, "strata: shader %s read from %s\n", name, path);
+    return text;
+}
+
 static const char *find_source(const char *name)
 {
+    const char *override = override_source(name);
+    if (override) {
+        return override;
+    }
     for (const sta_shader_source *s = sta_shader_sources; s->name; s++) {
         if (strcmp(s->name, name) == 0) {
             return s->text;

@@ -99,6 +99,7 @@ static sta_status repack(sta_gpu_cache *cache, uint32_t extra, sta_error *err)
     }
     cache->buffer = buffer;
     cache->splat_buffer = splats;
+    cache->generation++;
     cache->capacity = (uint32_t)capacity;
     cache->end = end;
     return STA_OK;

@@ -42,6 +42,10 @@ typedef struct sta_gpu_cache {
     uint32_t compactions; /* times the arena was repacked (for tests and stats) */
     bool has_splats;      /* uploads carry a splat section (sta_gpu_cache_enable_splats) */
     GLuint splat_buffer;  /* the splat arena, point i's record at i * 8; 0 without splats */
+    /* Bumped whenever the arenas are replaced. Texture-buffer views compare it, not the
+     * buffer names: a deleted buffer's name comes back for a later one (NVIDIA's driver
+     * hands out the lowest free name), and a view still holds the deleted buffer. */
+    uint32_t generation;
 } sta_gpu_cache;
 
 sta_status sta_gpu_cache_init(sta_gpu_cache *cache, uint32_t node_count, sta_error *err);

@@ -75,7 +75,7 @@ sta_status sta_pass_geometry_init(sta_pass_geometry *p, const sta_geometry_optio
                                   sta_error *err)
 {
     memset(p, 0, sizeof(*p));
-    sta_geometry_choose(options, epoxy_has_gl_extension("GL_ARB_shader_atomic_int64"), &p->choice);
+    sta_geometry_choose(options, sta_raster_int64_extensions() != NULL, &p->choice);
     sta_log_info("%s", p->choice.reason);
     sta_status status = p->choice.raster == STA_RASTER_COMPUTE
                             ? sta_raster_compute_init(&p->compute, p->choice.packed, err)

@@ -147,13 +147,11 @@ static void set_uniforms(const sta_pass_splats *p, const sta_splat_options *o,
 // The pulled path reads the arenas through texture buffers; a repack makes new ones.
 static void view_arenas(sta_pass_splats *p, const sta_gpu_cache *cache)
 {
-    if (p->points_viewed != cache->buffer) {
+    if (p->points_viewed != cache->buffer || p->arenas_generation != cache->generation) {
         glTextureBuffer(p->points_texture, GL_RGBA32UI, cache->buffer);
-        p->points_viewed = cache->buffer;
-    }
-    if (p->splats_viewed != cache->splat_buffer) {
         glTextureBuffer(p->splats_texture, GL_RG32UI, cache->splat_buffer);
-        p->splats_viewed = cache->splat_buffer;
+        p->points_viewed = cache->buffer;
+        p->arenas_generation = cache->generation;
     }
     glBindTextureUnit(STA_SPLAT_SAMPLER_POINTS, p->points_texture);
     glBindTextureUnit(STA_SPLAT_SAMPLER_SPLATS, p->splats_texture);

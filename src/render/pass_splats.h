@@ -60,7 +60,8 @@ typedef struct sta_pass_splats {
         u_intensity_scale, u_node_slot, u_arena_offset, u_splat_scale, u_default_radius,
         u_min_radius_px, u_pixel_angle, u_light, u_lit, u_hide_flags;
     GLuint points_texture, splats_texture; /* pulled: views of the arenas */
-    GLuint points_viewed, splats_viewed;   /* the arena buffers they view */
+    GLuint points_viewed;                  /* the arena buffer they view ... */
+    uint32_t arenas_generation;            /* ... and its cache's generation then */
 } sta_pass_splats;
 
 /* Builds the program of `method` (0: the default). */

@@ -76,6 +76,22 @@ enum {
     VARIANT_PIXEL_PLANE
 };
 
+const char *sta_raster_int64_extensions(void)
+{
+    if (epoxy_has_gl_extension("GL_ARB_shader_atomic_int64") &&
+        epoxy_has_gl_extension("GL_ARB_gpu_shader_int64")) {
+        return "#extension GL_ARB_gpu_shader_int64 : require\n"
+               "#extension GL_ARB_shader_atomic_int64 : require\n";
+    }
+    // NVIDIA's drivers expose the same atomics on uint64_t in buffers under their own name.
+    if (epoxy_has_gl_extension("GL_NV_shader_atomic_int64") &&
+        epoxy_has_gl_extension("GL_ARB_gpu_shader_int64")) {
+        return "#extension GL_ARB_gpu_shader_int64 : require\n"
+               "#extension GL_NV_shader_atomic_int64 : require\n";
+    }
+    return NULL;
+}
+
 // The point program of `slot`, built on first use. llvmpipe runs both sides of a branch
 // even on a uniform, so the variants are separate programs: the one-pixel ones leave the
 // footprint loop out (the depth step took 1.9x the CPU time with it, docs/BENCHMARKS.md)
@@ -85,9 +101,7 @@ static sta_status points_program(sta_raster_compute *r, int slot, sta_error *err
     if (r->points_program[slot]) {
         return STA_OK;
     }
-    const char *extensions = r->is_packed ? "#extension GL_ARB_gpu_shader_int64 : require\n"
-                                            "#extension GL_ARB_shader_atomic_int64 : require\n"
-                                          : "";
+    const char *extensions = r->is_packed ? sta_raster_int64_extensions() : "";
     int step = r->is_packed                      ? STA_RASTER_STEP_PACKED
                : slot / STA_RASTER_VARIANTS == 0 ? STA_RASTER_STEP_DEPTH
                                                  : STA_RASTER_STEP_PAYLOAD;
@@ -117,9 +131,6 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
     glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
     r->subpixel_bits = (int)subpixel_bits;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &r->max_texels);
-    const char *extensions = packed ? "#extension GL_ARB_gpu_shader_int64 : require\n"
-                                      "#extension GL_ARB_shader_atomic_int64 : require\n"
-                                    : "";
     sta_status status = STA_OK;
     for (int step = 0; step < r->steps && status == STA_OK; step++) {
         status = points_program(r, STA_RASTER_VARIANTS * step + VARIANT_PIXEL, err);
@@ -128,8 +139,8 @@ sta_status sta_raster_compute_init(sta_raster_compute *r, bool packed, sta_error
         }
     }
     snprintf(r->resolve_defines, sizeof(r->resolve_defines),
-             "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n", extensions,
-             packed ? 1 : 0, (int)subpixel_bits);
+             "%s#define STA_RASTER_PACKED %d\n#define STA_RASTER_SUBPIXEL_BITS %d\n",
+             packed ? sta_raster_int64_extensions() : "", packed ? 1 : 0, (int)subpixel_bits);
     sta_raster_resolve *resolve = NULL;
     if (status == STA_OK) { // the default colours' resolve now, so that errors show early
         status = resolve_program(r, STA_COLOUR_RGB, 0, &resolve, err);
@@ -384,9 +395,10 @@ sta_status sta_raster_compute_draw(sta_raster_compute *r, const sta_camera *came
                          r->near_table);
     const GLuint groups[3] = { (GLuint)batches, 1, 1 };
     glNamedBufferSubData(r->indirect, 0, sizeof(groups), groups);
-    if (r->arena_viewed != cache->buffer) {
+    if (r->arena_viewed != cache->buffer || r->arena_generation != cache->generation) {
         glTextureBuffer(r->points_texture, GL_RGBA32UI, cache->buffer);
         r->arena_viewed = cache->buffer;
+        r->arena_generation = cache->generation;
     }
     const GLuint zero = 0, none = STA_RASTER_NO_POINT;
     glClearNamedBufferData(r->depth, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);

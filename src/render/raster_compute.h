@@ -64,7 +64,8 @@ typedef struct sta_raster_compute {
     GLuint points_program[STA_RASTER_PROGRAMS];
     GLuint vao;                      /* empty, for the resolve triangle */
     GLuint points_texture;           /* texture buffer view of the arena */
-    GLuint arena_viewed;             /* arena buffer the view shows */
+    GLuint arena_viewed;             /* arena buffer the view shows ... */
+    uint32_t arena_generation;       /* ... and its cache's generation then */
     GLuint nodes, batches, indirect; /* per-frame tables */
     GLuint near_batches;             /* the batches, nearest node first: the point steps' order */
     GLuint depth, payload;           /* per-pixel buffers */
@@ -97,8 +98,13 @@ typedef struct sta_raster_compute {
     uint32_t mark_classes[STA_RASTER_MARK_CLASS_WORDS]; /* the volumetric set (0: none) */
 } sta_raster_compute;
 
+/* The #extension lines that give the current context's shaders atomicMax on uint64_t
+ * in buffers (GL_ARB_shader_atomic_int64, or NVIDIA's GL_NV_shader_atomic_int64), or
+ * NULL where it has none. */
+const char *sta_raster_int64_extensions(void);
+
 /* Builds the programs: the packed one-pass variant when `packed` (needs
- * GL_ARB_shader_atomic_int64), the two-pass one otherwise. */
+ * sta_raster_int64_extensions()), the two-pass one otherwise. */
 sta_status sta_raster_compute_init(sta_raster_compute *raster, bool packed, sta_error *err);
 
 /* A zeroed rasteriser is a no-op. */
