@@ -833,6 +833,30 @@ static void options_and_names(void **state)
     assert_int_equal(sta_splat_method_from_name("default"), -1);
     assert_int_equal(sta_splat_method_from_name("quads"), -1);
     assert_string_equal(sta_splat_method_name(STA_SPLAT_GEOMETRY), "geometry");
+    // The default by renderer: software rasterisers the geometry shader, GPUs instancing.
+    assert_int_equal(sta_splat_default_method("llvmpipe (LLVM 15.0.6, 256 bits)"),
+                     STA_SPLAT_GEOMETRY);
+    assert_int_equal(sta_splat_default_method("softpipe"), STA_SPLAT_GEOMETRY);
+    assert_int_equal(sta_splat_default_method(NULL), STA_SPLAT_GEOMETRY);
+    assert_int_equal(sta_splat_default_method("NVIDIA H100 80GB HBM3/PCIe/SSE2"),
+                     STA_SPLAT_INSTANCED);
+    assert_int_equal(sta_splat_default_method("AMD Radeon RX 7900 XTX (radeonsi, navi31)"),
+                     STA_SPLAT_INSTANCED);
+}
+
+// A pass built for the default method takes the renderer's (llvmpipe in CI: geometry).
+static void default_method_follows_the_renderer(void **state)
+{
+    (void)state;
+    sta_error err = { 0 };
+    sta_pass_splats pass;
+    assert_int_equal(sta_pass_splats_init(&pass, STA_SPLAT_DEFAULT, &err), STA_OK);
+    const char *renderer = (const char *)glGetString(GL_RENDERER);
+    assert_int_equal(pass.method, sta_splat_default_method(renderer));
+    if (strstr(renderer, "llvmpipe")) {
+        assert_int_equal(pass.method, STA_SPLAT_GEOMETRY);
+    }
+    sta_pass_splats_release(&pass);
 }
 
 static const struct CMUnitTest tests[] = {
@@ -859,6 +883,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(scene_without_normals_falls_back_to_shaded,
                                     sta_fixture_gl_setup, sta_fixture_gl_teardown),
     cmocka_unit_test(options_and_names),
+    cmocka_unit_test_setup_teardown(default_method_follows_the_renderer, sta_fixture_gl_setup,
+                                    sta_fixture_gl_teardown),
 };
 
 STA_TEST_MAIN(tests)

@@ -525,7 +525,7 @@ int sta_view_parse_args(int argc, char **argv, sta_view_args *a)
           .choice_values = splat_method_values,
           .help = "splats: instanced (quads), geometry (a geometry shader on points) or pulled "
                   "(quads reading the arenas, no instancing)",
-          .default_text = sta_splat_method_name(STA_SPLAT_DEFAULT_METHOD) },
+          .default_text = "geometry on llvmpipe, instanced on a GPU" },
         { .name = "normals",
           .kind = STA_CLI_CHOICE,
           .dest = &a->normals,

@@ -26,6 +26,14 @@ void sta_splat_options_defaults(sta_splat_options *o)
     }
 }
 
+int sta_splat_default_method(const char *renderer)
+{
+    if (!renderer || strstr(renderer, "llvmpipe") || strstr(renderer, "softpipe")) {
+        return STA_SPLAT_DEFAULT_METHOD;
+    }
+    return STA_SPLAT_INSTANCED;
+}
+
 int sta_splat_method_from_name(const char *name)
 {
     for (int i = STA_SPLAT_INSTANCED; i < STA_SPLAT_METHOD_COUNT; i++) {
@@ -46,7 +54,7 @@ sta_status sta_pass_splats_init(sta_pass_splats *p, int method, sta_error *err)
     memset(p, 0, sizeof(*p));
     p->method = method > STA_SPLAT_DEFAULT && method < STA_SPLAT_METHOD_COUNT
                     ? method
-                    : STA_SPLAT_DEFAULT_METHOD;
+                    : sta_splat_default_method((const char *)glGetString(GL_RENDERER));
     const char *instanced[] = { "geometry_colour.glsl", "splat_common.glsl", "splat_quad.vert",
                                 "splat_disk.frag" };
     const char *geometry[] = { "geometry_colour.glsl", "splat_common.glsl", "splat_point.vert",

@@ -36,8 +36,15 @@ typedef enum sta_splat_method {
 } sta_splat_method;
 
 /* The geometry shader: the fastest of the three on llvmpipe, instanced quads 1.3-1.5x
- * and pulled quads 1.1-1.4x slower at 0.2-4 M splats, 1080p (docs/BENCHMARKS.md). */
+ * and pulled quads 1.1-1.4x slower at 0.2-4 M splats, 1080p (docs/BENCHMARKS.md). The
+ * default where no GL renderer is known (sta_splat_default_method). */
 #define STA_SPLAT_DEFAULT_METHOD STA_SPLAT_GEOMETRY
+
+/* The default method on the GL `renderer` (GL_RENDERER's string; NULL: unknown): the
+ * geometry shader on Mesa's software rasterisers (llvmpipe, softpipe), instanced quads
+ * elsewhere, on a GPU (on an NVIDIA H100 the geometry shader took 1.39x the instanced
+ * quads' time at 30 M and at 6.9 M splats, docs/BENCHMARKS.md). No GL. */
+int sta_splat_default_method(const char *renderer);
 
 typedef struct sta_splat_options {
     int method;          /* sta_splat_method (0: STA_SPLAT_DEFAULT_METHOD) */
