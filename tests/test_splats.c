@@ -499,6 +499,19 @@ static void scale_and_smallest_size(void **state)
     node_free(&n);
 }
 
+// More splats than the first arena holds, all edge-on (they draw nothing visible): its
+// upload forces a repack.
+static void big_edge_on_node(splat_node *n)
+{
+    node_init(n, 2.0, -10.0, -10.0);
+    for (uint32_t i = 0; i < STA_GPU_CACHE_MIN_POINTS + 100; i++) {
+        double p[3] = { 30.0, -8.0 + (i % 256) * 0.05, -8.0 + (i / 256) * 0.05 };
+        const double normal[3] = { 0.0, 0.0, 1.0 };
+        add_splat(n, p, normal, 0.01, 0x00FF00u);
+    }
+    node_finish(n);
+}
+
 // A node uploaded, then one large enough to force a repack: the first node's splats
 // move with its points (drawn alone it still equals the twin).
 static void arena_repack_keeps_splats_with_points(void **state)
@@ -506,13 +519,7 @@ static void arena_repack_keeps_splats_with_points(void **state)
     (void)state;
     static splat_node nodes[2];
     sphere(&nodes[0], 1000);
-    node_init(&nodes[1], 2.0, -10.0, -10.0);
-    for (uint32_t i = 0; i < STA_GPU_CACHE_MIN_POINTS + 100; i++) {
-        double p[3] = { 30.0, -8.0 + (i % 256) * 0.05, -8.0 + (i / 256) * 0.05 };
-        const double normal[3] = { 0.0, 0.0, 1.0 }; // edge-on: draws nothing visible
-        add_splat(&nodes[1], p, normal, 0.01, 0x00FF00u);
-    }
-    node_finish(&nodes[1]);
+    big_edge_on_node(&nodes[1]);
     sta_error err = { 0 };
     sta_gpu_cache cache;
     assert_int_equal(sta_gpu_cache_init(&cache, 2, &err), STA_OK);
@@ -557,13 +564,7 @@ static void pulled_view_follows_a_repack_under_a_reused_name(void **state)
         add_splat(&nodes[1], p, normal, 0.3, 0xFF0000u);
     }
     node_finish(&nodes[1]);
-    node_init(&nodes[2], 2.0, -10.0, -10.0);
-    for (uint32_t i = 0; i < STA_GPU_CACHE_MIN_POINTS + 100; i++) {
-        double p[3] = { 30.0, -8.0 + (i % 256) * 0.05, -8.0 + (i / 256) * 0.05 };
-        const double normal[3] = { 0.0, 0.0, 1.0 }; // edge-on: draws nothing visible
-        add_splat(&nodes[2], p, normal, 0.01, 0x00FF00u);
-    }
-    node_finish(&nodes[2]);
+    big_edge_on_node(&nodes[2]);
     sta_error err = { 0 };
     sta_gpu_cache cache;
     assert_int_equal(sta_gpu_cache_init(&cache, 3, &err), STA_OK);
