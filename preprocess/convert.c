@@ -13,6 +13,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <malloc.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -1133,4 +1134,15 @@ out:
     pthread_mutex_destroy(&job.spill_lock);
     report->seconds_total = sta_clock_s() - t_start;
     return status;
+}
+
+bool sta_convert_keep_heap(void)
+{
+    // One arena: the workers' freed chunks serve the next chunk of any worker (a thread's
+    // own arena gives its 64 MiB heaps back whole once empty). The mapping threshold at
+    // glibc's highest (32 MiB) and no trimming: a freed block stays mapped for the next.
+    bool ok = mallopt(M_ARENA_MAX, 1) == 1;
+    ok = mallopt(M_MMAP_THRESHOLD, 32 << 20) == 1 && ok;
+    ok = mallopt(M_TRIM_THRESHOLD, INT_MAX) == 1 && ok;
+    return ok;
 }

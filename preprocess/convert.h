@@ -108,4 +108,14 @@ typedef struct sta_convert_report {
 sta_status sta_convert(const sta_convert_options *options, sta_convert_report *report,
                        sta_error *err);
 
+/* Sets the process's heap (glibc's malloc) to keep what it is given back: one arena for
+ * all threads, blocks up to 32 MiB from it rather than mapped apart, and freed memory not
+ * returned to the system. The index phase allocates and frees its chunks' arrays (the
+ * normals' above all) once a chunk; without this, each chunk's arrays are new pages that
+ * fault in again (a fifth of a --normals run's time was the kernel's). Peak memory is
+ * that of the largest chunks at once, as before. Process-wide: call it once, before any
+ * thread starts (strata-convert's main does). Returns false where the C library refused a
+ * setting (the conversion is the same either way, only slower). */
+bool sta_convert_keep_heap(void);
+
 #endif

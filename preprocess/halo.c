@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "core/alloc.h"
@@ -135,6 +136,37 @@ static bool inside(int64_t box[2][3], const int32_t p[3])
            p[2] >= box[0][2] && p[2] < box[1][2];
 }
 
+// A box inside `box` that meets none of the receivers' boxes (possibly empty): each
+// receiver's box cut off by the cheapest of the six half-spaces beyond one of its faces.
+// Its points, most of a chunk's, need no test against each receiver.
+static void clear_of(const halo_out *outs, size_t out_count, int64_t box[2][3], int64_t clear[2][3])
+{
+    memcpy(clear, box, 2 * sizeof(clear[0]));
+    for (size_t o = 0; o < out_count; o++) {
+        const int64_t(*r)[3] = outs[o].box;
+        int best_axis = -1, best_side = 0;
+        int64_t best_cut = INT64_MAX;
+        for (int a = 0; a < 3 && best_cut > 0; a++) {
+            int64_t raise = r[1][a] - clear[0][a]; // clear's min up to r's max
+            int64_t lower = clear[1][a] - r[0][a]; // clear's max down to r's min
+            if (raise < best_cut) {
+                best_cut = raise, best_axis = a, best_side = 0;
+            }
+            if (lower < best_cut) {
+                best_cut = lower, best_axis = a, best_side = 1;
+            }
+        }
+        if (best_cut <= 0) {
+            continue; // (apart already)
+        }
+        if (best_side == 0) {
+            clear[0][best_axis] = r[1][best_axis];
+        } else {
+            clear[1][best_axis] = r[0][best_axis];
+        }
+    }
+}
+
 // Appends one chunk's halo points for `out->chunk`, in blocks ordered after `source`.
 static sta_status flush(halo_job *job, sta_run_codec *codec, size_t source, halo_out *out,
                         sta_error *err)
@@ -173,6 +205,8 @@ static sta_status one_chunk(halo_job *job, sta_run_codec *codec, size_t s, uint8
             grow_box(job->box[c], fmin(job->margin[c], job->margin[s]), job->grid, o->box);
         }
     }
+    int64_t clear[2][3];
+    clear_of(outs, out_count, job->box[s], clear);
     sta_status status = STA_OK;
     bool timed = path && (job->layout->attributes & STA_ATTR_GPS_TIME);
     const uint8_t *data = job->in_memory ? job->in_memory[s] : NULL;
@@ -195,7 +229,8 @@ static sta_status one_chunk(halo_job *job, sta_run_codec *codec, size_t s, uint8
             memcpy(&t, data + i * rec + job->layout->gps_offset, sizeof(t));
             status = sta_trajectory_add(path, t, p, err);
         }
-        for (size_t o = 0; o < out_count; o++) {
+        bool near = out_count > 0 && !inside(clear, p);
+        for (size_t o = 0; near && o < out_count; o++) {
             halo_out *out = &outs[o];
             if (!inside(out->box, p)) {
                 continue;

@@ -245,8 +245,13 @@ void sta_record_pack(const sta_record_layout *layout, const sta_point *p, const 
         PUT(p->scanner_channel);
     }
     if (a & STA_ATTR_SPLAT) {
-        uint16_t splat[3];
-        sta_splat_pack(p->normal, p->radius, splat);
+        // A point without a normal or a radius (--normals computes them later, over these
+        // bytes) packs to zeros: the fallback normal (0, 0, 1) and a zero half float.
+        uint16_t splat[3] = { 0, 0, 0 };
+        if (p->normal[0] != 0.0f || p->normal[1] != 0.0f || p->normal[2] != 0.0f ||
+            p->radius != 0.0f) {
+            sta_splat_pack(p->normal, p->radius, splat);
+        }
         PUT(splat);
     }
     if (a & STA_ATTR_MIRROR) {

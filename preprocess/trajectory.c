@@ -116,35 +116,26 @@ static void bin_times(int64_t key, double *from, double *to)
     }
 }
 
-sta_status sta_trajectory_add(sta_trajectory *t, double gps_time, const int32_t xyz[3],
-                              sta_error *err)
+sta_status sta_trajectory_add_elsewhere(sta_trajectory *t, double gps_time, const int32_t xyz[3],
+                                        sta_error *err)
 {
-    // Points come in runs of one bin (scan order): the last slot's times first (no
-    // division), then its key, then the hash.
-    sta_trajectory_bin *b = NULL;
-    if (t->last > 0 && gps_time >= t->last_from && gps_time < t->last_to) {
-        b = &t->bins[t->last - 1];
-    } else {
-        int64_t key;
-        if (!key_of(gps_time, &key)) {
-            return STA_OK;
-        }
-        b = t->last > 0 && t->bins[t->last - 1].key == key ? &t->bins[t->last - 1] : NULL;
+    // Points come in runs of one bin (scan order): sta_trajectory_add tested the last
+    // slot's times (no division); then its key, then the hash.
+    int64_t key;
+    if (!key_of(gps_time, &key)) {
+        return STA_OK;
+    }
+    sta_trajectory_bin *b =
+        t->last > 0 && t->bins[t->last - 1].key == key ? &t->bins[t->last - 1] : NULL;
+    if (!b) {
+        b = bin_for(t, key, err);
         if (!b) {
-            b = bin_for(t, key, err);
-            if (!b) {
-                return STA_ERR_NOMEM;
-            }
-            t->last = (size_t)(b - t->bins) + 1;
+            return STA_ERR_NOMEM;
         }
-        bin_times(key, &t->last_from, &t->last_to);
+        t->last = (size_t)(b - t->bins) + 1;
     }
-    for (int a = 0; a < 3; a++) {
-        b->sum[a] += xyz[a];
-        b->min[a] = xyz[a] < b->min[a] ? xyz[a] : b->min[a];
-        b->max[a] = xyz[a] > b->max[a] ? xyz[a] : b->max[a];
-    }
-    b->count++;
+    bin_times(key, &t->last_from, &t->last_to);
+    sta_trajectory_bin_add(b, xyz);
     return STA_OK;
 }
 

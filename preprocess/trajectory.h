@@ -38,9 +38,33 @@ typedef struct sta_trajectory {
     double last_from, last_to; /* the times of that slot's bin: [from, to) exactly */
 } sta_trajectory;
 
-/* Adds a point measured at `gps_time` (non-finite times are ignored). */
-sta_status sta_trajectory_add(sta_trajectory *t, double gps_time, const int32_t xyz[3],
-                              sta_error *err);
+/* Adds a point to bin b (sta_trajectory_add's last step). */
+static inline void sta_trajectory_bin_add(sta_trajectory_bin *b, const int32_t xyz[3])
+{
+    for (int a = 0; a < 3; a++) {
+        b->sum[a] += xyz[a];
+        b->min[a] = xyz[a] < b->min[a] ? xyz[a] : b->min[a];
+        b->max[a] = xyz[a] > b->max[a] ? xyz[a] : b->max[a];
+    }
+    b->count++;
+}
+
+/* sta_trajectory_add where `gps_time` is not in the bin filled last: finds (or makes) its
+ * bin and adds the point there. */
+sta_status sta_trajectory_add_elsewhere(sta_trajectory *t, double gps_time, const int32_t xyz[3],
+                                        sta_error *err);
+
+/* Adds a point measured at `gps_time` (non-finite times are ignored). Inline: points come
+ * in runs of one bin (scan order), and a time in the last bin costs two comparisons. */
+static inline sta_status sta_trajectory_add(sta_trajectory *t, double gps_time,
+                                            const int32_t xyz[3], sta_error *err)
+{
+    if (t->last > 0 && gps_time >= t->last_from && gps_time < t->last_to) {
+        sta_trajectory_bin_add(&t->bins[t->last - 1], xyz);
+        return STA_OK;
+    }
+    return sta_trajectory_add_elsewhere(t, gps_time, xyz, err);
+}
 
 /* Adds all of `from`'s bins to `into`. */
 sta_status sta_trajectory_merge(sta_trajectory *into, const sta_trajectory *from, sta_error *err);

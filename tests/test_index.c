@@ -4,10 +4,12 @@
  * merge above chunks keeps those rules. */
 #include "test_support.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/octahedral.h"
 #include "index.h"
 #include "octree.h"
 #include "record.h"
@@ -326,12 +328,38 @@ static void record_pack_round_trip(void **state)
     assert_int_equal(q.Z, INT32_MAX);
 }
 
+// The SPLAT bytes of a packed record are sta_splat_pack's, also where sta_record_pack
+// shortcuts a point without a normal or radius (zeros, negative zeros) to zeros.
+static void record_pack_splat_is_the_splat_packing(void **state)
+{
+    (void)state;
+    sta_record_layout layout;
+    sta_record_layout_init(&layout, STA_ATTR_GPS_TIME | STA_ATTR_SPLAT, 0);
+    const float cases[][4] = { { 0.0f, 0.0f, 0.0f, 0.0f },   { -0.0f, 0.0f, -0.0f, -0.0f },
+                               { 0.0f, 0.0f, 0.0f, 0.25f },  { 0.0f, 0.0f, -1.0f, 0.0f },
+                               { 0.6f, -0.8f, 0.0f, 1e-9f }, { 0.0f, 0.0f, 0.0f, -3.0f },
+                               { NAN, 0.0f, 0.0f, 0.0f },    { 0.0f, 0.0f, 0.0f, NAN },
+                               { 1e-30f, 0.0f, 0.0f, 0.0f } };
+    for (size_t c = 0; c < sizeof(cases) / sizeof(cases[0]); c++) {
+        sta_point p = { .X = 1, .Y = 2, .Z = 3, .gps_time = 4.0 };
+        memcpy(p.normal, cases[c], sizeof(p.normal));
+        p.radius = cases[c][3];
+        uint8_t buf[64];
+        memset(buf, 0xAB, sizeof(buf));
+        sta_record_pack(&layout, &p, NULL, buf);
+        uint16_t want[3];
+        sta_splat_pack(p.normal, p.radius, want);
+        assert_memory_equal(buf + layout.splat_offset, want, sizeof(want));
+    }
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(every_point_once_inside_one_per_cell),
     cmocka_unit_test(small_input_is_one_leaf),
     cmocka_unit_test(duplicates_stop_splitting),
     cmocka_unit_test(merge_moves_one_point_per_parent_cell),
     cmocka_unit_test(record_pack_round_trip),
+    cmocka_unit_test(record_pack_splat_is_the_splat_packing),
 };
 
 STA_TEST_MAIN(tests)
