@@ -816,13 +816,28 @@ static size_t normals_pool_bytes(const convert_job *job, size_t memory_mib, int 
     return budget > taken + least ? budget - taken : least;
 }
 
+size_t sta_convert_default_memory_mib(uint64_t ram_mib)
+{
+    uint64_t quarter = ram_mib / 4;
+    return quarter < STA_CONVERT_DEFAULT_MEMORY_MIB       ? STA_CONVERT_DEFAULT_MEMORY_MIB
+           : quarter > STA_CONVERT_DEFAULT_MEMORY_MAX_MIB ? STA_CONVERT_DEFAULT_MEMORY_MAX_MIB
+                                                          : (size_t)quarter;
+}
+
+static uint64_t physical_memory_mib(void)
+{
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    return pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page >> 20 : 0;
+}
+
 void sta_convert_options_defaults(sta_convert_options *o)
 {
     if (o->threads <= 0) {
         long cores = sysconf(_SC_NPROCESSORS_ONLN);
         o->threads = (int)(cores > 0 ? cores : 1);
     }
-    o->memory_mib = o->memory_mib ? o->memory_mib : STA_CONVERT_DEFAULT_MEMORY_MIB;
+    o->memory_mib =
+        o->memory_mib ? o->memory_mib : sta_convert_default_memory_mib(physical_memory_mib());
     o->grid_cells = o->grid_cells ? o->grid_cells : (int)STA_STRATA_DEFAULT_CELLS;
     o->leaf_capacity = o->leaf_capacity ? o->leaf_capacity : STA_CONVERT_DEFAULT_LEAF_CAPACITY;
     o->compress_level = o->compress_level ? o->compress_level : STA_CONVERT_DEFAULT_ZSTD_LEVEL;

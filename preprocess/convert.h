@@ -26,9 +26,10 @@
  * converter's own, below the format's STA_STRATA_DEFAULT_ZSTD_LEVEL (3): level 1
  * takes about 12 % less CPU for the whole conversion and gives a 4 % larger file on
  * the 20 M street (docs/DECISIONS.md). */
-#define STA_CONVERT_DEFAULT_MEMORY_MIB    2048
-#define STA_CONVERT_DEFAULT_LEAF_CAPACITY 32768
-#define STA_CONVERT_DEFAULT_ZSTD_LEVEL    1
+#define STA_CONVERT_DEFAULT_MEMORY_MIB     2048 /* the least default budget */
+#define STA_CONVERT_DEFAULT_MEMORY_MAX_MIB 16384
+#define STA_CONVERT_DEFAULT_LEAF_CAPACITY  32768
+#define STA_CONVERT_DEFAULT_ZSTD_LEVEL     1
 
 /* compress_level value that stores node payloads uncompressed (`--compress 0`). */
 #define STA_CONVERT_STORE (-1)
@@ -39,8 +40,9 @@ typedef struct sta_convert_options {
     size_t input_count;
     const char *output;   /* .strata path; written under a temporary name first */
     int threads;          /* 0: all cores */
-    size_t memory_mib;    /* 0: STA_CONVERT_DEFAULT_MEMORY_MIB; budget for the process (one
-                             chunk's need is used, with a warning, when larger) */
+    size_t memory_mib;    /* 0: sta_convert_default_memory_mib of the machine's memory;
+                             budget for the process (one chunk's need is used, with a
+                             warning, when larger) */
     const char *tmp_dir;  /* NULL: the output's folder */
     int compress_level;   /* 0: STA_CONVERT_DEFAULT_ZSTD_LEVEL; 1..19 zstd; STA_CONVERT_STORE */
     int grid_cells;       /* 0: STA_STRATA_DEFAULT_CELLS; a power of two, 16..1024 */
@@ -59,6 +61,14 @@ typedef struct sta_convert_options {
                             every point; docs/MIRRORS.md), or NULL */
     atomic_bool *cancel; /* set from a signal handler to stop; may be NULL */
 } sta_convert_options;
+
+/* The default --memory on a machine with `ram_mib` MiB of physical memory (0: unknown):
+ * a quarter of it, within STA_CONVERT_DEFAULT_MEMORY_MIB..STA_CONVERT_DEFAULT_MEMORY_MAX_MIB.
+ * The budget sets how many chunks are indexed at once: at 2048 MiB about two, so a
+ * 16-core machine converted a 20 M street with --normals no faster on 16 threads than
+ * on 2; with 8 GiB 3.1x faster (docs/BENCHMARKS.md, "The viewer on a GPU"). The output
+ * does not depend on it. */
+size_t sta_convert_default_memory_mib(uint64_t ram_mib);
 
 /* Fills the zero fields of `options` with their defaults (threads: the cores; the
  * rest: the constants above). */

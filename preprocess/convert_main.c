@@ -41,7 +41,7 @@ int main(int argc, char **argv)
     sta_convert_options options = { .compress_level = STA_CONVERT_DEFAULT_ZSTD_LEVEL,
                                     .grid_cells = (int)STA_STRATA_DEFAULT_CELLS,
                                     .progress = true };
-    int memory_mib = STA_CONVERT_DEFAULT_MEMORY_MIB;
+    int memory_mib = 0; // the machine's default (sta_convert_default_memory_mib)
     int leaf_capacity = STA_CONVERT_DEFAULT_LEAF_CAPACITY;
     options.knn = STA_NORMALS_DEFAULT_K;
     int attributes = -1; // index into attribute_names
@@ -72,7 +72,8 @@ int main(int argc, char **argv)
           .int_max = 1 << 24,
           .help = "memory budget for the whole process (points that fit skip the "
                   "temporary file; with --normals, chunks too rough to share it run alone, "
-                  "and one that cannot fit even alone stops with the --memory it needs)" },
+                  "and one that cannot fit even alone stops with the --memory it needs)",
+          .default_text = "a quarter of the RAM, 2048 to 16384" },
         { .name = "tmp",
           .kind = STA_CLI_STRING,
           .dest = &options.tmp_dir,
@@ -190,6 +191,7 @@ int main(int argc, char **argv)
     sta_convert_keep_heap(); // (refused: the same output, only slower)
     sta_convert_report report;
     sta_error err = { 0 };
+    sta_convert_options_defaults(&options); // the machine's threads and memory, for the summary
     sta_status status = sta_convert(&options, &report, &err);
     if (status == STA_ERR_CANCELLED) {
         fprintf(stderr, "strata-convert: interrupted; nothing written\n");
@@ -216,6 +218,8 @@ int main(int argc, char **argv)
                 report.seconds_merge, report.seconds_finish, report.chunk_count,
                 (double)report.temp_bytes / 1048576.0,
                 report.records_in_memory ? " (records kept in memory)" : "");
+        fprintf(stderr, "  budget: --memory %zu MiB, %d threads\n", options.memory_mib,
+                options.threads);
         fprintf(stderr,
                 "  CPU (all threads): count %.2f s, distribute %.2f s, index %.2f s, merge "
                 "%.2f s, finish %.2f s\n",

@@ -1043,7 +1043,26 @@ static void kept_heap_serves_the_next_chunk_without_faults(void **state)
     }
 }
 
+// The default --memory: a quarter of the machine's memory, never below the old fixed
+// 2048 MiB nor above 16 GiB; unknown memory gives the least.
+static void default_memory_is_a_quarter_of_the_ram_within_bounds(void **state)
+{
+    (void)state;
+    assert_int_equal(sta_convert_default_memory_mib(0), STA_CONVERT_DEFAULT_MEMORY_MIB);
+    assert_int_equal(sta_convert_default_memory_mib(4096), 2048);
+    assert_int_equal(sta_convert_default_memory_mib(8192), 2048);
+    assert_int_equal(sta_convert_default_memory_mib(24576), 6144);
+    assert_int_equal(sta_convert_default_memory_mib(65536), 16384);
+    assert_int_equal(sta_convert_default_memory_mib(131072), 16384);
+    sta_convert_options o = { 0 };
+    sta_convert_options_defaults(&o);
+    assert_true(o.memory_mib >= STA_CONVERT_DEFAULT_MEMORY_MIB &&
+                o.memory_mib <= STA_CONVERT_DEFAULT_MEMORY_MAX_MIB);
+    assert_true(o.threads >= 1);
+}
+
 static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(default_memory_is_a_quarter_of_the_ram_within_bounds),
     cmocka_unit_test(shared_las_files_round_trip),
     cmocka_unit_test(up_axis_from_the_source),
     cmocka_unit_test(laz_files_convert_on_parallel_threads),
