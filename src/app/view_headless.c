@@ -68,6 +68,9 @@ static sta_status render_until_loaded(const sta_view_args *args, sta_scene *scen
             if (frame == 1 && sta_scene_raster_choice(scene)) {
                 printf("%s\n", sta_scene_raster_choice(scene)->reason);
             }
+            if (frame == 1 && sta_scene_splat_method(scene)) {
+                printf("splats: %s\n", sta_scene_splat_method(scene));
+            }
             print_stats(frame, stats, (sta_clock_s() - t0) * 1e3);
         }
         if (args->max_frames ? frame >= args->max_frames : stats->complete) {

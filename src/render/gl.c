@@ -8,18 +8,20 @@
 #include <string.h>
 
 #include "core/alloc.h"
-#include "core/log.h"
 #include "render/bindings.h"
 #include "render/shader_source.h"
 
 // Mesa's surfaceless platform first (llvmpipe, the CI's driver); where that is missing,
 // as with NVIDIA's EGL under libglvnd, the first EGL device (EGL_EXT_platform_device).
+static char headless_platform[32]; // "surfaceless" or "device N": for sta_gl_describe
+
 static EGLDisplay open_headless_display(void)
 {
     EGLint major = 0, minor = 0;
     EGLDisplay display =
         eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
     if (display != EGL_NO_DISPLAY && eglInitialize(display, &major, &minor)) {
+        snprintf(headless_platform, sizeof(headless_platform), "surfaceless");
         return display;
     }
     if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration") &&
@@ -34,8 +36,7 @@ static EGLDisplay open_headless_display(void)
     for (EGLint i = 0; i < device_count; i++) {
         display = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], NULL);
         if (display != EGL_NO_DISPLAY && eglInitialize(display, &major, &minor)) {
-            sta_log_info("EGL: no surfaceless platform; rendering on EGL device %d of %d", i,
-                         device_count);
+            snprintf(headless_platform, sizeof(headless_platform), "device %d", (int)i);
             return display;
         }
     }
@@ -273,8 +274,9 @@ sta_status sta_gl_check(const char *what, sta_error *err)
 
 const char *sta_gl_describe(char *buf, size_t size)
 {
-    snprintf(buf, size, "%s | %s", (const char *)glGetString(GL_RENDERER),
-             (const char *)glGetString(GL_VERSION));
+    snprintf(buf, size, "%s | %s%s%s", (const char *)glGetString(GL_RENDERER),
+             (const char *)glGetString(GL_VERSION), headless_platform[0] ? " | EGL " : "",
+             headless_platform);
     return buf;
 }
 

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/log.h"
 #include "render/bindings.h"
 #include "render/gl.h"
 #include "render/ref/shade_ref.h"
@@ -52,9 +53,11 @@ const char *sta_splat_method_name(int method)
 sta_status sta_pass_splats_init(sta_pass_splats *p, int method, sta_error *err)
 {
     memset(p, 0, sizeof(*p));
-    p->method = method > STA_SPLAT_DEFAULT && method < STA_SPLAT_METHOD_COUNT
-                    ? method
-                    : sta_splat_default_method((const char *)glGetString(GL_RENDERER));
+    bool is_default = !(method > STA_SPLAT_DEFAULT && method < STA_SPLAT_METHOD_COUNT);
+    p->method =
+        is_default ? sta_splat_default_method((const char *)glGetString(GL_RENDERER)) : method;
+    sta_log_info("splats: %s (%s)", method_names[p->method],
+                 is_default ? "the default on this renderer" : "as asked");
     const char *instanced[] = { "geometry_colour.glsl", "splat_common.glsl", "splat_quad.vert",
                                 "splat_disk.frag" };
     const char *geometry[] = { "geometry_colour.glsl", "splat_common.glsl", "splat_point.vert",

@@ -156,6 +156,11 @@ const sta_geometry_choice *sta_scene_raster_choice(const sta_scene *s)
     return s->has_geometry ? &s->geometry.choice : NULL;
 }
 
+const char *sta_scene_splat_method(const sta_scene *s)
+{
+    return s->splats.program ? sta_splat_method_name(s->splats.method) : NULL;
+}
+
 void sta_scene_set_splats(sta_scene *s, const sta_splat_options *options)
 {
     if (options->method != s->splat_options.method) {

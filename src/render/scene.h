@@ -89,6 +89,10 @@ void sta_scene_set_point_size(sta_scene *scene, const sta_point_size *size);
 /* The rasteriser the geometry pass runs and why; NULL before the first render. */
 const sta_geometry_choice *sta_scene_raster_choice(const sta_scene *scene);
 
+/* The splat method the scene draws with ("instanced", "geometry", "pulled"), once its
+ * splat pass is built by a frame that draws splats; NULL before. */
+const char *sta_scene_splat_method(const sta_scene *s);
+
 /* Sets the splat pass's options (method, scale; render/pass_splats.h), used in the
  * splats pipeline mode; a new method is built at the next render. */
 void sta_scene_set_splats(sta_scene *scene, const sta_splat_options *options);
