@@ -8,11 +8,12 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/file_map.h"
 #include "render/bindings.h"
 #include "render/shader_source.h"
 
-// Mesa's surfaceless platform first (llvmpipe, the CI's driver); where that is missing,
-// as with NVIDIA's EGL under libglvnd, the first EGL device (EGL_EXT_platform_device).
+// The surfaceless platform (Mesa's llvmpipe, the CI's driver; NVIDIA's 580 has it too);
+// where an EGL lacks it, the first EGL device (EGL_EXT_platform_device).
 static char headless_platform[32]; // "surfaceless" or "device N": for sta_gl_describe
 
 static EGLDisplay open_headless_display(void)
@@ -104,7 +105,7 @@ void sta_gl_headless_destroy(sta_gl_headless *gl)
 }
 
 // STRATA_SHADER_DIR: a folder whose files replace the embedded shaders of the same name
-// (shader work on another driver without rebuilding; docs/PIPELINE.md). Read once a
+// (shader work on another driver without rebuilding; docs/VIEWER.md). Read once a
 // name, kept for the process's life.
 static const char *override_source(const char *name)
 {
@@ -124,23 +125,20 @@ static const char *override_source(const char *name)
     }
     char path[4096];
     snprintf(path, sizeof(path), "%s/%s", dir, name);
-    FILE *f = fopen(path, "rb");
-    if (!f || cached == (int)(sizeof(cache) / sizeof(cache[0]))) {
-        if (f) {
-            fclose(f);
-        }
-        return NULL;
+    sta_file_map map = { 0 };
+    sta_error ignored = { 0 };
+    if (cached == (int)(sizeof(cache) / sizeof(cache[0])) ||
+        sta_file_map_open(path, &map, &ignored) != STA_OK) {
+        return NULL; // not there: the embedded shader
     }
-    char *text = NULL;
-    size_t length = 0;
-    if (fseek(f, 0, SEEK_END) == 0) {
-        long size = ftell(f);
-        if (size >= 0 && fseek(f, 0, SEEK_SET) == 0 && (text = sta_malloc((size_t)size + 1))) {
-            length = fread(text, 1, (size_t)size, f);
-            text[length] = 0;
+    char *text = sta_malloc(map.size + 1);
+    if (text) {
+        if (map.size) {
+            memcpy(text, map.data, map.size);
         }
+        text[map.size] = 0;
     }
-    fclose(f);
+    sta_file_map_close(&map);
     if (!text) {
         return NULL;
     }
