@@ -824,10 +824,44 @@ size_t sta_convert_default_memory_mib(uint64_t ram_mib)
                                                           : (size_t)quarter;
 }
 
+uint64_t sta_convert_memory_limit_mib(const char *text)
+{
+    char *end = NULL;
+    errno = 0;
+    unsigned long long bytes = text ? strtoull(text, &end, 10) : 0;
+    if (!text || end == text || errno != 0 || (*end && *end != '\n')) {
+        return 0; // "max", empty or unreadable: no limit
+    }
+    return (uint64_t)(bytes >> 20);
+}
+
+// The cgroup's memory limit in MiB (v2, then v1), 0 when there is none to read.
+static uint64_t cgroup_limit_mib(void)
+{
+    static const char *const files[] = { "/sys/fs/cgroup/memory.max",
+                                         "/sys/fs/cgroup/memory/memory.limit_in_bytes" };
+    for (size_t i = 0; i < sizeof(files) / sizeof(files[0]); i++) {
+        FILE *f = fopen(files[i], "r");
+        if (!f) {
+            continue;
+        }
+        char line[64] = { 0 };
+        bool read = fgets(line, sizeof(line), f) != NULL;
+        fclose(f);
+        if (read) {
+            return sta_convert_memory_limit_mib(line);
+        }
+    }
+    return 0;
+}
+
+// The memory this process may use: the machine's, or a container's limit below it.
 static uint64_t physical_memory_mib(void)
 {
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-    return pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page >> 20 : 0;
+    uint64_t ram = pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page >> 20 : 0;
+    uint64_t limit = cgroup_limit_mib();
+    return limit && (!ram || limit < ram) ? limit : ram;
 }
 
 void sta_convert_options_defaults(sta_convert_options *o)

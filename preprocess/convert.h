@@ -63,12 +63,18 @@ typedef struct sta_convert_options {
 } sta_convert_options;
 
 /* The default --memory on a machine with `ram_mib` MiB of physical memory (0: unknown):
- * a quarter of it, within STA_CONVERT_DEFAULT_MEMORY_MIB..STA_CONVERT_DEFAULT_MEMORY_MAX_MIB.
+ * a quarter of it, within STA_CONVERT_DEFAULT_MEMORY_MIB..STA_CONVERT_DEFAULT_MEMORY_MAX_MIB
+ * (the RAM, or a container's memory limit when lower).
  * The budget sets how many chunks are indexed at once: at 2048 MiB about two, so a
  * 16-core machine converted a 20 M street with --normals no faster on 16 threads than
  * on 2; with 8 GiB 3.1x faster (docs/BENCHMARKS.md, "The viewer on a GPU"). The output
  * does not depend on it. */
 size_t sta_convert_default_memory_mib(uint64_t ram_mib);
+
+/* A cgroup memory limit file's text ("4294967296\n", or "max\n" for none) in MiB; 0 for
+ * none or unreadable. The default --memory takes the smaller of the RAM and this limit,
+ * so a container's limit bounds it. */
+uint64_t sta_convert_memory_limit_mib(const char *text);
 
 /* Fills the zero fields of `options` with their defaults (threads: the cores; the
  * rest: the constants above). */

@@ -1043,8 +1043,8 @@ static void kept_heap_serves_the_next_chunk_without_faults(void **state)
     }
 }
 
-// The default --memory: a quarter of the machine's memory, never below the old fixed
-// 2048 MiB nor above 16 GiB; unknown memory gives the least.
+// The default --memory: a quarter of the machine's memory (or of a container's limit
+// below it), never below 2048 MiB nor above 16 GiB; unknown memory gives the least.
 static void default_memory_is_a_quarter_of_the_ram_within_bounds(void **state)
 {
     (void)state;
@@ -1054,6 +1054,13 @@ static void default_memory_is_a_quarter_of_the_ram_within_bounds(void **state)
     assert_int_equal(sta_convert_default_memory_mib(24576), 6144);
     assert_int_equal(sta_convert_default_memory_mib(65536), 16384);
     assert_int_equal(sta_convert_default_memory_mib(131072), 16384);
+    // A container's limit (cgroup files): bytes in MiB, "max" or nonsense none.
+    assert_int_equal(sta_convert_memory_limit_mib("4294967296\n"), 4096);
+    assert_int_equal(sta_convert_memory_limit_mib("536870912"), 512);
+    assert_int_equal(sta_convert_memory_limit_mib("max\n"), 0);
+    assert_int_equal(sta_convert_memory_limit_mib(""), 0);
+    assert_int_equal(sta_convert_memory_limit_mib("12ab"), 0);
+    assert_int_equal(sta_convert_memory_limit_mib(NULL), 0);
     sta_convert_options o = { 0 };
     sta_convert_options_defaults(&o);
     assert_true(o.memory_mib >= STA_CONVERT_DEFAULT_MEMORY_MIB &&
