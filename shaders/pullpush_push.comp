@@ -5,8 +5,8 @@
 // "over" compositing: w' = w + (1 - w) sw, value (w v + (1 - w) sv) / w'. Each tap's
 // weight is divided by 1 + x + x^2/2 + x^3/6 (exp(x) to third order; GLSL's exp differs
 // from the twin's expf), x = ((d - d_near) / (PP_DEPTH_TAU d_near))^2, d_near the depth
-// of the 9/16 tap where it has weight, else the nearest tap depth: a hole at an outline
-// takes one surface, not a depth between both.
+// of the 9/16 tap where its coverage is full (w = 1), else the nearest tap depth: a hole
+// at an outline takes one surface, not a depth between both.
 // Glass (issue 15, part 2), levels >= 1 only: glass taps in front of a solid coarse tap
 // (pp_glass_over_solid; the see-through share is the colour's alpha) are skipped, and a glass
 // fine texel in front of them takes their value; the level-0 push has no test (it cost 5-6
@@ -103,13 +103,16 @@ void main()
             }
         }
         // The reference is the depth of the tap of weight 9/16, the coarse texel that
-        // holds q, where it has weight (issue 15, eighth round): a hole beside a wall
-        // stays on the wall even where a neighbouring coarse texel holds a nearer tree.
+        // holds q, where its footprint is fully covered (w = 1; issue 15, eighth and
+        // eighteenth rounds): a hole beside a wall stays on the wall even where a
+        // neighbouring coarse texel holds a nearer tree, and a partly covered coarse texel
+        // (around the holes of a sparse near surface) takes the nearest tap, so those holes
+        // stay on the near surface rather than take the denser one behind it.
         // (Selected with constant indices: a per-pixel index into tp costs llvmpipe a
         // trip through memory, +13 % of the pass.)
         bool odd_x = (q.x & 1) != 0;
         vec4 own = (q.y & 1) != 0 ? (odd_x ? tp[0] : tp[1]) : (odd_x ? tp[2] : tp[3]);
-        if (own.w > 0.0) {
+        if (own.w >= 1.0) {
             near_d = -own.z;
         }
         for (int k = 0; k < 4; k++) {

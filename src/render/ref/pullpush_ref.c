@@ -239,9 +239,12 @@ static float push_texel(const texel *fine, const level_source *coarse, int coars
             w = 0.0f;
         }
         /* The reference: the depth of the 9/16 tap (the coarse texel holding the fine
-         * one) where it has weight, else the nearest. */
+         * one) where its footprint is fully covered (w = 1), else the nearest: a sparse
+         * near surface leaves partly covered coarse texels around its own holes, and those
+         * holes then stay on it rather than take the denser surface behind (issue 15,
+         * eighteenth round). */
         int own = ((i & 1) ? 0 : 1) + ((j & 1) ? 0 : 2);
-        if (taps[own].w > 0.0f) {
+        if (taps[own].w >= 1.0f) {
             near_d = -taps[own].p[2];
         }
         for (int k = 0; k < 4; k++) {
