@@ -27,8 +27,8 @@
  * order: plain arithmetic, which the shader and the twin compute alike, where GLSL's exp
  * and expf part ways), x = ((d - d_near) / (TAU d_near))^2, d its depth and d_near the
  * depth of the 9/16 tap (the coarse texel holding the fine one) where its coverage is full
- * (w = 1; since issue 15's eighteenth round: where it has weight), else the nearest depth
- * among the (up to 4) taps: a hole at an outline takes one surface rather than a depth
+ * (w = 1, since issue 15's eighteenth round; before it, wherever it had weight), else the nearest
+ * depth among the (up to 4) taps: a hole at an outline takes one surface rather than a depth
  * between both, and a sparse near surface keeps its own holes (issue 15; 0.2 since the
  * eighth round, with the references below: docs/BENCHMARKS.md, docs/PULLPUSH.md). */
 #define STA_PULLPUSH_DEPTH_TAU      0.2f
