@@ -30,3 +30,16 @@ bool pp_glass_over_solid(float d, float share, float solid_d)
 {
     return share >= PP_GLASS_SHARE && solid_d > d * (1.0 + PP_GLASS_GAP);
 }
+
+#ifdef STA_STAGED_STORES
+// Staged stores (render/gl_staged.h; llvmpipe stores an RGBA32F image texel by texel,
+// channel by channel): the level written goes to these buffers, row by row, and the pass
+// copies them into its textures after the dispatch.
+layout(std430, binding = STA_PULLPUSH_BUFFER_OUT_POSITION) writeonly restrict buffer
+    StagedPosition {
+    vec4 u_staged_position[];
+};
+layout(std430, binding = STA_PULLPUSH_BUFFER_OUT_COLOUR) writeonly restrict buffer StagedColour {
+    vec4 u_staged_colour[];
+};
+#endif

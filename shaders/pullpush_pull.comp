@@ -11,11 +11,14 @@
 // Twin: src/render/ref/pullpush_ref.c (pull_level).
 // Built three times: with PP_FROM_INPUT the fine level is level 0 (the inputs, weights
 // from the HPR labels), and with PP_BOX too for views from STA_PULLPUSH_BOX_PULL_HEIGHT_PX
-// high (the 2x2 box); without them a pyramid level.
+// high (the 2x2 box); without them a pyramid level. With STA_STAGED_STORES the coarse
+// level goes to the staging buffers (pullpush_common.glsl).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
+#ifndef STA_STAGED_STORES
 layout(binding = STA_PULLPUSH_IMAGE_OUT_POSITION, rgba32f)
     writeonly uniform image2D u_coarse_position;
 layout(binding = STA_PULLPUSH_IMAGE_OUT_COLOUR, rgba32f) writeonly uniform image2D u_coarse_colour;
+#endif
 layout(binding = STA_PULLPUSH_IMAGE_FINE_POSITION, rgba32f)
     readonly uniform image2D u_fine_position;
 #ifdef PP_FROM_INPUT
@@ -133,6 +136,12 @@ void main()
         out_p = vec4(sp * inv, cover);
         out_c = vec4(sc * inv, ss * inv);
     }
+#ifdef STA_STAGED_STORES
+    int i = q.y * u_coarse_size.x + q.x;
+    u_staged_position[i] = out_p;
+    u_staged_colour[i] = out_c;
+#else
     imageStore(u_coarse_position, q, out_p);
     imageStore(u_coarse_colour, q, out_c);
+#endif
 }

@@ -14,11 +14,15 @@
 // Twin: src/render/ref/pullpush_ref.c (push_texel). Built twice: with PP_LEVEL0 the
 // fine level is the input, the result goes to the output textures and the background
 // found by HPR is restored and the colour goes to the RGBA8 filled colour with alpha 0
-// (screen_space.h); without it a pyramid level is updated in place.
+// (screen_space.h); without it a pyramid level is updated in place. With STA_STAGED_STORES
+// the RGBA32F results go to the staging buffers (pullpush_common.glsl), which the pass
+// copies into the level (or the output position) after the dispatch.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 #ifdef PP_LEVEL0
 // Level 0: the outputs.
+#ifndef STA_STAGED_STORES
 layout(binding = STA_PULLPUSH_IMAGE_OUT_POSITION, rgba32f) writeonly uniform image2D u_position;
+#endif
 layout(binding = STA_PULLPUSH_IMAGE_OUT_COLOUR, rgba8) writeonly uniform image2D u_colour;
 layout(binding = STA_PULLPUSH_IMAGE_FINE_POSITION, rgba32f)
     readonly uniform image2D u_input_position;
@@ -160,6 +164,16 @@ void main()
     // (screen_space.h; the input colour is fetched here anyway).
     out_c.a = 0.0; // 1 only where the overlay draws a marked point (volumetric_window.glsl)
 #endif
+#ifdef STA_STAGED_STORES
+    int i = q.y * u_size.x + q.x;
+    u_staged_position[i] = out_p;
+#ifdef PP_LEVEL0
+    imageStore(u_colour, q, out_c); // RGBA8: stored as fast as a float (gl_staged.h)
+#else
+    u_staged_colour[i] = out_c;
+#endif
+#else
     imageStore(u_position, q, out_p);
     imageStore(u_colour, q, out_c);
+#endif
 }

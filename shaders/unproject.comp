@@ -6,11 +6,19 @@
 // gets w = STA_POSITION_W_MARKED (pull-push keeps its colour for the overlay), and its
 // tile's flag is set for the overlay's tile list (volumetric_tiles.comp; issue 15,
 // fourteenth round). Twins: src/render/ref/unproject_ref.c and
-// sta_volumetric_mark_ref (src/render/ref/volumetric_ref.c).
+// sta_volumetric_mark_ref (src/render/ref/volumetric_ref.c). With STA_STAGED_STORES the
+// positions go to a storage buffer, row by row, which the pass copies into the texture
+// (render/gl_staged.h: llvmpipe stores an RGBA32F image texel by texel, channel by channel).
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 // reverse-Z: near / distance, 0 = empty
 layout(binding = STA_UNPROJECT_SAMPLER_DEPTH) uniform sampler2D u_depth;
+#ifdef STA_STAGED_STORES
+layout(std430, binding = STA_UNPROJECT_BUFFER_POSITION) writeonly restrict buffer Positions {
+    vec4 u_staged_position[];
+};
+#else
 layout(binding = STA_UNPROJECT_IMAGE_POSITION, rgba32f) writeonly uniform image2D u_position;
+#endif
 #ifdef STA_UNPROJECT_MARK
 layout(binding = STA_UNPROJECT_IMAGE_CLASS, r8ui) readonly uniform uimage2D u_class;
 uniform uint u_classes[8]; // bit c % 32 of word c / 32: class c is volumetric
@@ -39,5 +47,9 @@ void main()
         }
     }
 #endif
+#ifdef STA_STAGED_STORES
+    u_staged_position[p.y * int(u_size.x) + p.x] = position;
+#else
     imageStore(u_position, p, position);
+#endif
 }

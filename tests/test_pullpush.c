@@ -13,6 +13,7 @@
 
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/gl_staged.h"
 #include "render/pass_normals_pyramid.h"
 #include "render/pass_pullpush.h"
 #include "render/pass_shade.h"
@@ -437,6 +438,56 @@ static void shader_matches_twin_odd_sizes(void **state)
                              { 64, 64 }, { 129, 65 }, { 23, 1080 } };
     for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
         check_random_size(sizes[i][0], sizes[i][1], true);
+    }
+}
+
+/* Staged stores (render/gl_staged.h: storage buffers copied into the textures, the default
+ * on llvmpipe) and image stores (a GPU's default) give the same outputs and levels, bit for
+ * bit; the staged pass runs a larger view first, so its buffers are larger than the
+ * second view's levels. */
+static void staged_and_image_stores_give_the_same_fill(void **state)
+{
+    (void)state;
+    const int sizes[][2] = { { 67, 45 }, { 30, 17 } };
+    sta_pullpush_pass pp[2];
+    sta_normals_pyramid_pass np[2];
+    for (int staged = 0; staged < 2; staged++) {
+        sta_gl_staged_stores_force(staged);
+        init_passes(&pp[staged], &np[staged]);
+        assert_int_equal(pp[staged].staged, staged);
+    }
+    sta_gl_staged_stores_force(-1);
+    for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
+        frame f;
+        frame_init(&f, sizes[i][0], sizes[i][1]);
+        fill_random(&f);
+        result r[2];
+        for (int staged = 0; staged < 2; staged++) {
+            run_gl_with(&pp[staged], &np[staged], &f, NULL, &r[staged]);
+        }
+        size_t n = (size_t)sizes[i][0] * (size_t)sizes[i][1] * 4 * sizeof(float);
+        assert_memory_equal(r[0].position.data, r[1].position.data, n);
+        assert_memory_equal(r[0].colour.data, r[1].colour.data, n);
+        assert_memory_equal(r[0].normal.data, r[1].normal.data, n);
+        assert_int_equal(r[0].levels.count, r[1].levels.count);
+        int filled = 0;
+        for (int l = 1; l < r[0].levels.count; l++) {
+            const sta_image *a = &r[0].levels.position[l], *b = &r[1].levels.position[l];
+            size_t bytes = (size_t)a->width * (size_t)a->height * 4 * sizeof(float);
+            assert_memory_equal(a->data, b->data, bytes);
+            assert_memory_equal(r[0].levels.colour[l].data, r[1].levels.colour[l].data, bytes);
+        }
+        for (int p = 0; p < sizes[i][0] * sizes[i][1]; p++) {
+            filled += r[1].position.data[4 * p + 3] > 0.0f;
+        }
+        assert_true(filled > sizes[i][0] * sizes[i][1] / 2); // not two empty results
+        result_release(&r[0]);
+        result_release(&r[1]);
+        frame_release(&f);
+    }
+    for (int staged = 0; staged < 2; staged++) {
+        sta_normals_pyramid_pass_release(&np[staged]);
+        sta_pullpush_pass_release(&pp[staged]);
     }
 }
 
@@ -1556,6 +1607,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(shader_matches_twin_37x23, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(shader_matches_twin_without_labels, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(shader_matches_twin_odd_sizes, gl_setup, gl_teardown),
+    cmocka_unit_test_setup_teardown(staged_and_image_stores_give_the_same_fill, gl_setup,
+                                    gl_teardown),
     cmocka_unit_test_setup_teardown(half_resolution_shader_matches_twin, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(shader_matches_twin_near_1080, gl_setup, gl_teardown),
     cmocka_unit_test_setup_teardown(half_resolution_shader_matches_twin_near_1080, gl_setup,

@@ -208,7 +208,8 @@ static void raster_positions_equal_unproject(void **state)
         GLuint expected;
         assert_int_equal(sta_gl_texture_create(W, H, 4, 1, &expected, &err), STA_OK);
         sta_view_params view = { W, H, (float)camera.fov_y, (float)camera.near_m, 0.0f };
-        sta_unproject_pass_run(&unproject, &view, target.depth, expected);
+        assert_int_equal(sta_unproject_pass_run(&unproject, &view, target.depth, expected, &err),
+                         STA_OK);
         sta_image got, want;
         assert_int_equal(
             sta_gl_texture_to_image(sta_scene_pipeline(scene)->position, 0, 4, &got, &err), STA_OK);

@@ -8,6 +8,7 @@
 #include "core/camera.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/gl_staged.h"
 #include "render/pass_unproject.h"
 #include "render/ref/unproject_ref.h"
 
@@ -36,7 +37,8 @@ static void shader_matches_cpu_twin_and_camera(void **state)
     assert_int_equal(sta_gl_texture_create(w, h, 4, 1, &position_texture, &err), STA_OK);
     sta_unproject_pass pass;
     assert_int_equal(sta_unproject_pass_init(&pass, &err), STA_OK);
-    sta_unproject_pass_run(&pass, &view, depth_texture, position_texture);
+    assert_int_equal(sta_unproject_pass_run(&pass, &view, depth_texture, position_texture, &err),
+                     STA_OK);
     assert_int_equal(sta_gl_texture_to_image(position_texture, 0, 4, &got, &err), STA_OK);
     // Tolerance: 4 float ulps relative (same formula, same order).
     for (int i = 0; i < w * h * 4; i++) {
@@ -74,8 +76,102 @@ static void shader_matches_cpu_twin_and_camera(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
+// The positions of a pass initialised with staging forced to `staged` (gl_staged.h).
+static void unproject_with(bool staged, const sta_view_params *view, GLuint depth_texture,
+                           sta_image *out)
+{
+    sta_error err = { 0 };
+    sta_gl_staged_stores_force(staged);
+    sta_unproject_pass pass;
+    assert_int_equal(sta_unproject_pass_init(&pass, &err), STA_OK);
+    sta_gl_staged_stores_force(-1);
+    assert_int_equal(pass.staged, staged);
+    GLuint position_texture;
+    assert_int_equal(
+        sta_gl_texture_create(view->width_px, view->height_px, 4, 1, &position_texture, &err),
+        STA_OK);
+    // Twice, the second time at a smaller size into the same buffer: the copy takes the
+    // view's rows, not the buffer's.
+    sta_view_params small = *view;
+    small.width_px = view->width_px / 2;
+    small.height_px = view->height_px / 2;
+    assert_int_equal(sta_unproject_pass_run(&pass, view, depth_texture, position_texture, &err),
+                     STA_OK);
+    assert_int_equal(sta_gl_texture_to_image(position_texture, 0, 4, out, &err), STA_OK);
+    GLuint small_texture;
+    assert_int_equal(
+        sta_gl_texture_create(small.width_px, small.height_px, 4, 1, &small_texture, &err), STA_OK);
+    assert_int_equal(sta_unproject_pass_run(&pass, &small, depth_texture, small_texture, &err),
+                     STA_OK);
+    sta_image half;
+    assert_int_equal(sta_gl_texture_to_image(small_texture, 0, 4, &half, &err), STA_OK);
+    sta_image expected;
+    assert_int_equal(sta_image_init(&expected, small.width_px, small.height_px, 4, &err), STA_OK);
+    sta_image depth;
+    assert_int_equal(sta_gl_texture_to_image(depth_texture, 0, 1, &depth, &err), STA_OK);
+    sta_image depth_small;
+    assert_int_equal(sta_image_init(&depth_small, small.width_px, small.height_px, 1, &err),
+                     STA_OK);
+    for (int y = 0; y < small.height_px; y++) {
+        for (int x = 0; x < small.width_px; x++) {
+            *sta_image_at(&depth_small, x, y) = *sta_image_at(&depth, x, y);
+        }
+    }
+    sta_unproject_ref(&small, &depth_small, &expected);
+    for (int i = 0; i < small.width_px * small.height_px * 4; i++) {
+        float a = expected.data[i], b = half.data[i];
+        assert_true(fabsf(a - b) <= 5e-7f * fmaxf(1.0f, fabsf(a)));
+    }
+    sta_image_release(&half);
+    sta_image_release(&expected);
+    sta_image_release(&depth);
+    sta_image_release(&depth_small);
+    glDeleteTextures(1, &small_texture);
+    glDeleteTextures(1, &position_texture);
+    sta_unproject_pass_release(&pass);
+}
+
+// Staged stores (a storage buffer copied into the texture; the default on llvmpipe) and
+// image stores (a GPU's default) write the same floats, bit for bit.
+static void staged_and_image_stores_write_the_same_positions(void **state)
+{
+    (void)state;
+    sta_gl_headless gl = { 0 };
+    sta_error err = { 0 };
+    assert_int_equal(sta_gl_headless_create(&gl, &err), STA_OK);
+    const int w = 45, h = 31;
+    sta_view_params view = { w, h, 1.1f, 0.02f, 0.01f };
+    sta_image depth;
+    assert_int_equal(sta_image_init(&depth, w, h, 1, &err), STA_OK);
+    int drawn = 0;
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            float d = (x * 3 + y) % 5 == 0 ? 0.0f : 0.02f / (0.3f + 0.7f * x + 1.3f * y);
+            *sta_image_at(&depth, x, y) = d;
+            drawn += d > 0.0f;
+        }
+    }
+    GLuint depth_texture;
+    assert_int_equal(sta_gl_texture_from_image(&depth, &depth_texture, &err), STA_OK);
+    sta_image by_image, by_buffer;
+    unproject_with(false, &view, depth_texture, &by_image);
+    unproject_with(true, &view, depth_texture, &by_buffer);
+    assert_memory_equal(by_image.data, by_buffer.data, (size_t)w * h * 4 * sizeof(float));
+    int written = 0;
+    for (int i = 0; i < w * h; i++) {
+        written += by_buffer.data[4 * i + 3] > 0.0f;
+    }
+    assert_int_equal(written, drawn);
+    sta_image_release(&by_image);
+    sta_image_release(&by_buffer);
+    sta_image_release(&depth);
+    glDeleteTextures(1, &depth_texture);
+    sta_gl_headless_destroy(&gl);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(shader_matches_cpu_twin_and_camera),
+    cmocka_unit_test(staged_and_image_stores_write_the_same_positions),
 };
 
 STA_TEST_MAIN(tests)

@@ -416,12 +416,13 @@ static void unproject_mark_matches_plain_and_twin(void **state)
     in.nodes = nodes;
     set_class(in.class_set, 3);
     set_class(in.class_set, 5);
-    sta_unproject_pass_run(&pass, &view, tdepth, plain);
+    assert_int_equal(sta_unproject_pass_run(&pass, &view, tdepth, plain, &err), STA_OK);
     sta_volumetric_pass vol;
     assert_int_equal(sta_volumetric_pass_init(&vol, &err), STA_OK);
     sta_unproject_mark mark = { tclass, in.class_set, 0 };
     assert_int_equal(sta_volumetric_pass_tile_flags(&vol, w, h, &mark.tile_flags, &err), STA_OK);
-    sta_unproject_pass_run_marked(&pass, &view, tdepth, &mark, fused);
+    assert_int_equal(sta_unproject_pass_run_marked(&pass, &view, tdepth, &mark, fused, &err),
+                     STA_OK);
 
     sta_image expected;
     assert_int_equal(sta_gl_texture_to_image(plain, 0, 4, &expected, &err), STA_OK);

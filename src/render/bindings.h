@@ -60,10 +60,11 @@
 #define STA_RASTER_STEP_PACKED       2           /* one pass, 64-bit atomics */
 
 /* Unproject (unproject.comp). */
-#define STA_UNPROJECT_SAMPLER_DEPTH  0 /* reverse-Z depth */
-#define STA_UNPROJECT_IMAGE_POSITION 0 /* RGBA32F out: camera-space positions */
-#define STA_UNPROJECT_IMAGE_CLASS    1 /* R8UI point classes (STA_UNPROJECT_MARK) */
-#define STA_UNPROJECT_IMAGE_TILES    2 /* R32UI out: 1 per tile with a marked pixel (MARK) */
+#define STA_UNPROJECT_SAMPLER_DEPTH   0 /* reverse-Z depth */
+#define STA_UNPROJECT_IMAGE_POSITION  0 /* RGBA32F out: camera-space positions */
+#define STA_UNPROJECT_IMAGE_CLASS     1 /* R8UI point classes (STA_UNPROJECT_MARK) */
+#define STA_UNPROJECT_IMAGE_TILES     2 /* R32UI out: 1 per tile with a marked pixel (MARK) */
+#define STA_UNPROJECT_BUFFER_POSITION 0 /* vec4 per pixel out (STA_STAGED_STORES, gl_staged.h) */
 
 /* Colour conversion of the pipeline's input (colour_to_float.comp). */
 #define STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8 0 /* RGBA8 colour of the geometry pass */
@@ -111,6 +112,8 @@
 #define STA_PULLPUSH_IMAGE_COARSE_COLOUR   6
 #define STA_PULLPUSH_IMAGE_LAST            6 /* highest image unit above */
 #define STA_PULLPUSH_SAMPLER_INPUT_COLOUR  1 /* RGBA32F or RGBA8 input colour */
+#define STA_PULLPUSH_BUFFER_OUT_POSITION   0 /* vec4 per texel out (STA_STAGED_STORES) */
+#define STA_PULLPUSH_BUFFER_OUT_COLOUR     1 /* vec4 per texel out (STA_STAGED_STORES) */
 
 /* Screen-space normals (normals_screen.comp) and their smoothing (normals_smooth.comp). */
 #define STA_NORMALS_SCREEN_IMAGE_NORMAL   0 /* RGBA32F out */
@@ -205,6 +208,7 @@
  X(STA_UNPROJECT_IMAGE_POSITION)                                                                   \
  X(STA_UNPROJECT_IMAGE_CLASS)                                                                      \
  X(STA_UNPROJECT_IMAGE_TILES)                                                                      \
+ X(STA_UNPROJECT_BUFFER_POSITION)                                                                  \
  X(STA_COLOUR_TO_FLOAT_SAMPLER_COLOUR8)                                                            \
  X(STA_COLOUR_TO_FLOAT_IMAGE_COLOUR)                                                               \
  X(STA_DISPLAY_IMAGE_POSITION)                                                                     \
@@ -234,6 +238,8 @@
  X(STA_PULLPUSH_IMAGE_COARSE_COLOUR)                                                               \
  X(STA_PULLPUSH_IMAGE_LAST)                                                                        \
  X(STA_PULLPUSH_SAMPLER_INPUT_COLOUR)                                                              \
+ X(STA_PULLPUSH_BUFFER_OUT_POSITION)                                                               \
+ X(STA_PULLPUSH_BUFFER_OUT_COLOUR)                                                                 \
  X(STA_NORMALS_SCREEN_IMAGE_NORMAL)                                                                \
  X(STA_NORMALS_SCREEN_IMAGE_POSITION)                                                              \
  X(STA_NORMALS_SMOOTH_IMAGE_SMOOTHED)                                                              \

@@ -10,6 +10,7 @@
 #include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/gl_staged.h"
 
 const char *sta_pullpush_shader_defines(void)
 {
@@ -28,11 +29,12 @@ const char *sta_pullpush_shader_defines(void)
     return defines;
 }
 
-static sta_status build(const char *stage, const char *variant, sta_pullpush_program *out,
-                        sta_error *err)
+static sta_status build(const char *stage, const char *variant, bool staged,
+                        sta_pullpush_program *out, sta_error *err)
 {
-    char defines[512];
-    snprintf(defines, sizeof(defines), "%s%s", sta_pullpush_shader_defines(), variant);
+    char defines[576];
+    snprintf(defines, sizeof(defines), "%s%s%s", sta_pullpush_shader_defines(),
+             sta_gl_staged_define(staged), variant);
     const char *names[] = { "pullpush_common.glsl", stage };
     sta_status status = sta_gl_program_create(names, 2, defines, &out->program, err);
     if (status != STA_OK) {
@@ -49,20 +51,22 @@ static sta_status build(const char *stage, const char *variant, sta_pullpush_pro
 sta_status sta_pullpush_pass_init(sta_pullpush_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
+    bool staged = pass->staged = sta_gl_staged_stores();
     sta_status status =
-        build("pullpush_pull.comp", "#define PP_FROM_INPUT 1\n", &pass->pull_input, err);
+        build("pullpush_pull.comp", "#define PP_FROM_INPUT 1\n", staged, &pass->pull_input, err);
     if (status == STA_OK) {
-        status = build("pullpush_pull.comp", "#define PP_FROM_INPUT 1\n#define PP_BOX 1\n",
+        status = build("pullpush_pull.comp", "#define PP_FROM_INPUT 1\n#define PP_BOX 1\n", staged,
                        &pass->pull_box, err);
     }
     if (status == STA_OK) {
-        status = build("pullpush_pull.comp", "", &pass->pull_level, err);
+        status = build("pullpush_pull.comp", "", staged, &pass->pull_level, err);
     }
     if (status == STA_OK) {
-        status = build("pullpush_push.comp", "", &pass->push_level, err);
+        status = build("pullpush_push.comp", "", staged, &pass->push_level, err);
     }
     if (status == STA_OK) {
-        status = build("pullpush_push.comp", "#define PP_LEVEL0 1\n", &pass->push_output, err);
+        status =
+            build("pullpush_push.comp", "#define PP_LEVEL0 1\n", staged, &pass->push_output, err);
     }
     if (status != STA_OK) {
         sta_pullpush_pass_release(pass);
@@ -93,6 +97,8 @@ void sta_pullpush_pass_release(sta_pullpush_pass *pass)
         }
     }
     release_pyramid(&pass->pyramid);
+    sta_gl_staging_release(&pass->staged_position);
+    sta_gl_staging_release(&pass->staged_colour);
     memset(pass, 0, sizeof(*pass));
 }
 
@@ -141,6 +147,33 @@ static void set_sizes(const sta_pullpush_program *p, const sta_pullpush_pyramid 
                        pyr->height_px[coarse_level]);
 }
 
+// One dispatch over a w x h level whose results are `position` and `colour` (0: the
+// shader stores the colour itself): bound as images, or staged through the pass's buffers
+// and copied in afterwards (render/gl_staged.h).
+static sta_status dispatch_level(sta_pullpush_pass *pass, int w, int h, GLuint position,
+                                 GLuint colour, sta_error *err)
+{
+    if (!pass->staged) {
+        sta_gl_dispatch_2d(w, h);
+        return STA_OK;
+    }
+    sta_status status =
+        sta_gl_staging_bind(&pass->staged_position, STA_PULLPUSH_BUFFER_OUT_POSITION, w, h, err);
+    if (status == STA_OK && colour) {
+        status =
+            sta_gl_staging_bind(&pass->staged_colour, STA_PULLPUSH_BUFFER_OUT_COLOUR, w, h, err);
+    }
+    if (status != STA_OK) {
+        return status;
+    }
+    sta_gl_dispatch_2d(w, h);
+    sta_gl_staging_copy(&pass->staged_position, position, 0, w, h);
+    if (colour) {
+        sta_gl_staging_copy(&pass->staged_colour, colour, 0, w, h);
+    }
+    return STA_OK;
+}
+
 sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params *view,
                                  GLuint position_tex, GLuint colour_tex, GLuint label_tex,
                                  GLuint out_position_tex, GLuint out_colour_tex, sta_error *err)
@@ -173,7 +206,11 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
         bind_image(STA_PULLPUSH_IMAGE_OUT_POSITION, pyr->position[l], GL_WRITE_ONLY, GL_RGBA32F);
         bind_image(STA_PULLPUSH_IMAGE_OUT_COLOUR, pyr->colour[l], GL_WRITE_ONLY, GL_RGBA32F);
         set_sizes(p, pyr, l - 1, l);
-        sta_gl_dispatch_2d(pyr->width_px[l], pyr->height_px[l]);
+        status = dispatch_level(pass, pyr->width_px[l], pyr->height_px[l], pyr->position[l],
+                                pyr->colour[l], err);
+        if (status != STA_OK) {
+            return status;
+        }
     }
 
     // Push: level l from the pushed level l + 1, in place, down to level 1.
@@ -187,7 +224,11 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
                    GL_RGBA32F);
         bind_image(STA_PULLPUSH_IMAGE_COARSE_COLOUR, pyr->colour[l + 1], GL_READ_ONLY, GL_RGBA32F);
         set_sizes(p, pyr, l, l + 1);
-        sta_gl_dispatch_2d(pyr->width_px[l], pyr->height_px[l]);
+        status = dispatch_level(pass, pyr->width_px[l], pyr->height_px[l], pyr->position[l],
+                                pyr->colour[l], err);
+        if (status != STA_OK) {
+            return status;
+        }
     }
 
     // Level 0: the inputs over level 1, into the outputs, background restored. A 1 x 1
@@ -204,7 +245,10 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
     bind_image(STA_PULLPUSH_IMAGE_COARSE_COLOUR, count > 1 ? pyr->colour[1] : 0, GL_READ_ONLY,
                GL_RGBA32F);
     set_sizes(p, pyr, 0, count > 1 ? 1 : 0);
-    sta_gl_dispatch_2d(pyr->width_px[0], pyr->height_px[0]);
+    status = dispatch_level(pass, pyr->width_px[0], pyr->height_px[0], out_position_tex, 0, err);
+    if (status != STA_OK) {
+        return status;
+    }
 
     glBindTextureUnit(STA_PULLPUSH_SAMPLER_INPUT_COLOUR, 0);
     for (GLuint unit = 0; unit <= STA_PULLPUSH_IMAGE_LAST; unit++) {

@@ -16,6 +16,7 @@
 #include <epoxy/gl.h>
 
 #include "core/status.h"
+#include "render/gl_staged.h"
 #include "render/ref/pullpush_ref.h"
 #include "render/ref/screen_space.h"
 
@@ -43,6 +44,8 @@ typedef struct sta_pullpush_pass {
     sta_pullpush_program push_level;  /* level l >= 1 in place */
     sta_pullpush_program push_output; /* level 0 into the outputs */
     sta_pullpush_pyramid pyramid;     /* owned */
+    bool staged; /* RGBA32F results through the staging buffers (render/gl_staged.h) */
+    sta_gl_staging staged_position, staged_colour;
 } sta_pullpush_pass;
 
 /* Compiles the shaders. Errors: STA_ERR_GL with the compiler's log. */

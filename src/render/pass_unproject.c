@@ -9,19 +9,23 @@
 #include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/gl_staged.h"
 
 sta_status sta_unproject_pass_init(sta_unproject_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
+    pass->staged = sta_gl_staged_stores();
     const char *names[] = { "unproject_pixel.glsl", "unproject.comp" };
-    char mark[96];
+    const char *staged = sta_gl_staged_define(pass->staged);
+    char plain[64], mark[160];
+    snprintf(plain, sizeof(plain), "%s", staged);
     snprintf(mark, sizeof(mark),
-             "#define STA_UNPROJECT_MARK 1\n#define STA_POSITION_W_MARKED %.1f\n",
+             "%s#define STA_UNPROJECT_MARK 1\n#define STA_POSITION_W_MARKED %.1f\n", staged,
              (double)STA_POSITION_W_MARKED);
     // Variant v: 0 plain, 1 with the volumetric mark.
     for (int v = 0; v < 2; v++) {
         sta_status status =
-            sta_gl_program_create(names, 2, v ? mark : NULL, &pass->programs[v], err);
+            sta_gl_program_create(names, 2, v ? mark : plain, &pass->programs[v], err);
         if (status != STA_OK) {
             sta_unproject_pass_release(pass);
             return status;
@@ -41,18 +45,19 @@ void sta_unproject_pass_release(sta_unproject_pass *pass)
             glDeleteProgram(pass->programs[v]);
         }
     }
+    sta_gl_staging_release(&pass->staging);
     memset(pass, 0, sizeof(*pass));
 }
 
-void sta_unproject_pass_run(const sta_unproject_pass *pass, const sta_view_params *view,
-                            GLuint depth_texture, GLuint position_texture)
+sta_status sta_unproject_pass_run(sta_unproject_pass *pass, const sta_view_params *view,
+                                  GLuint depth_texture, GLuint position_texture, sta_error *err)
 {
-    sta_unproject_pass_run_marked(pass, view, depth_texture, NULL, position_texture);
+    return sta_unproject_pass_run_marked(pass, view, depth_texture, NULL, position_texture, err);
 }
 
-void sta_unproject_pass_run_marked(const sta_unproject_pass *pass, const sta_view_params *view,
-                                   GLuint depth_texture, const sta_unproject_mark *mark,
-                                   GLuint position_texture)
+sta_status sta_unproject_pass_run_marked(sta_unproject_pass *pass, const sta_view_params *view,
+                                         GLuint depth_texture, const sta_unproject_mark *mark,
+                                         GLuint position_texture, sta_error *err)
 {
     float size[2], tan_half[2];
     sta_unproject_uniforms(view, size, tan_half);
@@ -69,9 +74,21 @@ void sta_unproject_pass_run_marked(const sta_unproject_pass *pass, const sta_vie
                            GL_WRITE_ONLY, GL_R32UI);
     }
     glBindTextureUnit(STA_UNPROJECT_SAMPLER_DEPTH, depth_texture);
-    glBindImageTexture(STA_UNPROJECT_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RGBA32F);
+    if (pass->staged) {
+        sta_status status = sta_gl_staging_bind(&pass->staging, STA_UNPROJECT_BUFFER_POSITION,
+                                                view->width_px, view->height_px, err);
+        if (status != STA_OK) {
+            return status;
+        }
+    } else {
+        glBindImageTexture(STA_UNPROJECT_IMAGE_POSITION, position_texture, 0, GL_FALSE, 0,
+                           GL_WRITE_ONLY, GL_RGBA32F);
+    }
     sta_gl_dispatch_2d(view->width_px, view->height_px);
+    if (pass->staged) {
+        sta_gl_staging_copy(&pass->staging, position_texture, 0, view->width_px, view->height_px);
+    }
+    return STA_OK;
 }
 
 void sta_unproject_uniforms(const sta_view_params *view, float size[2], float tan_half[2])

@@ -348,8 +348,11 @@ sta_status sta_pipeline_run(sta_pipeline *p, const sta_pipeline_options *o,
                 return s;
             }
         }
-        sta_unproject_pass_run_marked(&p->unproject, view, depth, mark_in_unproject ? &fused : NULL,
-                                      p->position);
+        s = sta_unproject_pass_run_marked(&p->unproject, view, depth,
+                                          mark_in_unproject ? &fused : NULL, p->position, err);
+        if (s != STA_OK) {
+            return s;
+        }
     }
     if (o->mode == STA_PIPELINE_EDL || o->mode == STA_PIPELINE_HPR) {
         glUseProgram(p->colour_program);

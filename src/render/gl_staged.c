@@ -1,0 +1,82 @@
+/* SPDX-License-Identifier: MIT
+ * Staged stores (gl_staged.h). */
+#include "render/gl_staged.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static int forced = -1;
+static int decided = -1;
+
+static bool renderer_is_software(void)
+{
+    const char *renderer = (const char *)glGetString(GL_RENDERER);
+    return renderer && (strstr(renderer, "llvmpipe") || strstr(renderer, "softpipe"));
+}
+
+bool sta_gl_staged_stores(void)
+{
+    if (forced >= 0) {
+        return forced != 0;
+    }
+    if (decided < 0) {
+        const char *env = getenv("STRATA_STAGED_STORES");
+        if (env && (strcmp(env, "0") == 0 || strcmp(env, "1") == 0)) {
+            decided = env[0] == '1';
+        } else {
+            decided = renderer_is_software() ? 1 : 0;
+        }
+    }
+    return decided != 0;
+}
+
+void sta_gl_staged_stores_force(int on)
+{
+    forced = on < 0 ? -1 : on != 0;
+}
+
+const char *sta_gl_staged_define(bool staged)
+{
+    return staged ? "#define STA_STAGED_STORES 1\n" : "";
+}
+
+sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint binding, int width, int height,
+                               sta_error *err)
+{
+    GLsizeiptr bytes = (GLsizeiptr)width * (GLsizeiptr)height * 4 * (GLsizeiptr)sizeof(float);
+    if (bytes > staging->bytes) {
+        GLuint buffer = 0;
+        glCreateBuffers(1, &buffer);
+        glNamedBufferStorage(buffer, bytes, NULL, 0);
+        if (glGetError() != GL_NO_ERROR) {
+            glDeleteBuffers(1, &buffer);
+            return sta_fail(err, STA_ERR_GL, "cannot allocate a %lld-byte staging buffer",
+                            (long long)bytes);
+        }
+        sta_gl_staging_release(staging);
+        staging->buffer = buffer;
+        staging->bytes = bytes;
+    }
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, binding, staging->buffer, 0, bytes);
+    return STA_OK;
+}
+
+void sta_gl_staging_copy(const sta_gl_staging *staging, GLuint texture, int level, int width,
+                         int height)
+{
+    glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging->buffer);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glTextureSubImage2D(texture, level, 0, 0, width, height, GL_RGBA, GL_FLOAT, NULL);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+}
+
+void sta_gl_staging_release(sta_gl_staging *staging)
+{
+    if (staging->buffer) {
+        glDeleteBuffers(1, &staging->buffer);
+    }
+    staging->buffer = 0;
+    staging->bytes = 0;
+}

@@ -1,0 +1,52 @@
+/* SPDX-License-Identifier: MIT
+ * Staged stores: a compute shader that writes a whole RGBA32F texture writes its texels
+ * into a shader storage buffer instead (row by row, vec4 per texel), and the buffer is
+ * copied into the texture after the dispatch (a pixel unpack from the buffer).
+ *
+ * Why (issue 15, nineteenth round, docs/BENCHMARKS.md): on llvmpipe an imageStore of an
+ * RGBA32F texel is stored channel by channel, lane by lane: 46 CPU ms for a 1920x1080
+ * dispatch that stores a constant, against 11 ms for the same vec4s into a storage
+ * buffer and 2.4 ms for the copy (bench/llvmpipe_cost.sh). A GPU stores images natively,
+ * so staging is the default on llvmpipe (and softpipe) only; STRATA_STAGED_STORES=1 or 0
+ * forces it. The texels are the same floats either way (tested).
+ */
+#ifndef STA_RENDER_GL_STAGED_H
+#define STA_RENDER_GL_STAGED_H
+
+#include <epoxy/gl.h>
+#include <stdbool.h>
+
+#include "core/status.h"
+
+/* Whether the passes stage their RGBA32F stores in this process: STRATA_STAGED_STORES
+ * (1 or 0) when set, else whether the current context's renderer is llvmpipe or
+ * softpipe. Decided on the first call (a context must be current) unless forced. */
+bool sta_gl_staged_stores(void);
+
+/* Tests: 1 or 0 forces the decision for the passes initialised from now on, -1 goes back
+ * to the automatic one. */
+void sta_gl_staged_stores_force(int on);
+
+/* The #define that selects the staged variant of a shader ("#define STA_STAGED_STORES 1\n"),
+ * or "" when `staged` is false. */
+const char *sta_gl_staged_define(bool staged);
+
+/* A storage buffer that one pass's dispatches write their texels into, grown on demand. */
+typedef struct sta_gl_staging {
+    GLuint buffer;
+    GLsizeiptr bytes;
+} sta_gl_staging;
+
+/* Grows the buffer to width x height vec4s if needed and binds it to storage buffer
+ * binding `binding`. */
+sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint binding, int width, int height,
+                               sta_error *err);
+
+/* After the dispatch that wrote it: copies the buffer's width x height vec4s into level
+ * `level` of the RGBA32F `texture` (a barrier for the buffer's writes first). */
+void sta_gl_staging_copy(const sta_gl_staging *staging, GLuint texture, int level, int width,
+                         int height);
+
+void sta_gl_staging_release(sta_gl_staging *staging);
+
+#endif
