@@ -7,7 +7,15 @@
 // image, or of the pyramid image bound a second time), level l written at u_dst_origin.
 layout(local_size_x = STA_WORKGROUP_SIZE_X, local_size_y = STA_WORKGROUP_SIZE_Y) in;
 layout(binding = STA_HPR_PYRAMID_IMAGE_SRC, rgba32f) readonly uniform image2D u_src;  // level l - 1
+#ifdef STA_STAGED_STORES
+// Staged (render/gl_staged.h): level l's texels, row by row; the pass copies them to
+// u_dst_origin.
+layout(std430, binding = STA_HPR_PYRAMID_BUFFER_DST) writeonly restrict buffer Staged {
+    vec4 u_staged[];
+};
+#else
 layout(binding = STA_HPR_PYRAMID_IMAGE_DST, rgba32f) writeonly uniform image2D u_dst; // level l
+#endif
 uniform ivec2 u_src_size; // logical size of level l - 1
 uniform ivec2 u_dst_size; // logical size of level l
 uniform ivec2 u_src_origin;
@@ -34,5 +42,9 @@ void main()
             }
         }
     }
+#ifdef STA_STAGED_STORES
+    u_staged[p.y * u_dst_size.x + p.x] = best;
+#else
     imageStore(u_dst, u_dst_origin + p, best);
+#endif
 }

@@ -16,6 +16,7 @@
 #include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/gl_staged.h"
 #include "render/pass_hpr.h"
 #include "render/ref/hpr_ref.h"
 
@@ -704,6 +705,45 @@ static void sparse_operator_matches_twin(void **state)
         sta_image_release(&sparse);
         sta_image_release(&expected);
     }
+}
+
+/* Staged stores (render/gl_staged.h: the pyramid's levels through a storage buffer copied
+ * into the atlas, the default on llvmpipe) and image stores (a GPU's default) build the same
+ * pyramid and the same labels, bit for bit. */
+static void staged_and_image_stores_build_the_same_pyramid(void **state)
+{
+    (void)state;
+    sta_view_params view = make_view(157, 101);
+    sta_image position;
+    static unsigned char truth[157 * 101];
+    make_two_planes(&view, &position, truth);
+    sta_image label[2];
+    sta_hpr_pyramid pyramid[2];
+    sta_error err = { 0 };
+    for (int staged = 0; staged < 2; staged++) {
+        sta_hpr_pass_release(&pass);
+        sta_gl_staged_stores_force(staged);
+        assert_int_equal(sta_hpr_pass_init(&pass, &err), STA_OK);
+        sta_gl_staged_stores_force(-1);
+        assert_int_equal(pass.staged, staged);
+        gpu_pyramid(&view, NULL, &position, &label[staged], &pyramid[staged]);
+    }
+    assert_int_equal(pyramid[0].level_count, pyramid[1].level_count);
+    int points = 0;
+    for (int l = 1; l < pyramid[0].level_count; l++) {
+        const sta_image *a = &pyramid[0].levels[l], *b = &pyramid[1].levels[l];
+        assert_memory_equal(a->data, b->data, (size_t)a->width * (size_t)a->height * 16);
+        for (int i = 0; i < a->width * a->height; i++) {
+            points += b->data[4 * i + 3] > 0.5f;
+        }
+    }
+    assert_true(points > 100); // levels with points, not two empty atlases
+    assert_memory_equal(label[0].data, label[1].data, (size_t)157 * 101 * sizeof(float));
+    for (int staged = 0; staged < 2; staged++) {
+        sta_image_release(&label[staged]);
+        sta_hpr_ref_pyramid_release(&pyramid[staged]);
+    }
+    sta_image_release(&position);
 }
 
 static void near_plane_over_far_plane_known_truth(void **state)
@@ -1833,6 +1873,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(adaptive_level_is_rounded_eq1),
     cmocka_unit_test_setup_teardown(shader_matches_twin_on_random_buffers, setup, teardown),
     cmocka_unit_test_setup_teardown(near_plane_over_far_plane_known_truth, setup, teardown),
+    cmocka_unit_test_setup_teardown(staged_and_image_stores_build_the_same_pyramid, setup,
+                                    teardown),
     cmocka_unit_test(sparse_copy_step_rules),
     cmocka_unit_test(sparse_copy_steps_in_turn),
     cmocka_unit_test_setup_teardown(sparse_operator_matches_twin, setup, teardown),

@@ -455,6 +455,7 @@ static void staged_and_image_stores_give_the_same_fill(void **state)
         sta_gl_staged_stores_force(staged);
         init_passes(&pp[staged], &np[staged]);
         assert_int_equal(pp[staged].staged, staged);
+        assert_int_equal(np[staged].staged, staged);
     }
     sta_gl_staged_stores_force(-1);
     for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {

@@ -79,8 +79,9 @@
 #define STA_DISPLAY_IMAGE_FILLED_COLOUR 5 /* RGBA8 pull-push colour, alpha 1: the overlay's */
 
 /* HPR point pyramid, one level per dispatch (hpr_pyramid.comp). */
-#define STA_HPR_PYRAMID_IMAGE_SRC 0 /* RGBA32F level l - 1 */
-#define STA_HPR_PYRAMID_IMAGE_DST 1 /* RGBA32F out: level l */
+#define STA_HPR_PYRAMID_IMAGE_SRC  0 /* RGBA32F level l - 1 */
+#define STA_HPR_PYRAMID_IMAGE_DST  1 /* RGBA32F out: level l */
+#define STA_HPR_PYRAMID_BUFFER_DST 0 /* vec4 per texel out: level l (STA_STAGED_STORES) */
 
 /* HPR pyramidal occlusion (hpr_occlusion.comp). Positions and pyramid are read as images,
  * not sampled: llvmpipe's imageLoad costs ~2.5x less than its texelFetch (issue 15,
@@ -126,6 +127,7 @@
  * is declared by their shared library pullpush_normals.glsl. */
 #define STA_NORMALS_PYRAMID_IMAGE_POINTS          1 /* RGBA32F points of the level */
 #define STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS     0 /* RGBA32F out: normals of levels >= 1 */
+#define STA_NORMALS_PYRAMID_LEVEL_BUFFER_ATLAS    0 /* vec4 per texel out (STA_STAGED_STORES) */
 #define STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL   0 /* RGBA32F out */
 #define STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS    2
 #define STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL 0 /* RGBA32F out */
@@ -219,6 +221,7 @@
  X(STA_DISPLAY_IMAGE_FILLED_COLOUR)                                                                \
  X(STA_HPR_PYRAMID_IMAGE_SRC)                                                                      \
  X(STA_HPR_PYRAMID_IMAGE_DST)                                                                      \
+ X(STA_HPR_PYRAMID_BUFFER_DST)                                                                     \
  X(STA_HPR_OCCLUSION_IMAGE_LABEL)                                                                  \
  X(STA_HPR_OCCLUSION_IMAGE_POSITION)                                                               \
  X(STA_HPR_OCCLUSION_IMAGE_PYRAMID)                                                                \
@@ -247,6 +250,7 @@
  X(STA_NORMALS_SMOOTH_IMAGE_NORMAL)                                                                \
  X(STA_NORMALS_PYRAMID_IMAGE_POINTS)                                                               \
  X(STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS)                                                          \
+ X(STA_NORMALS_PYRAMID_LEVEL_BUFFER_ATLAS)                                                         \
  X(STA_NORMALS_PYRAMID_GATHER_IMAGE_NORMAL)                                                        \
  X(STA_NORMALS_PYRAMID_GATHER_IMAGE_ATLAS)                                                         \
  X(STA_NORMALS_PYRAMID_UPSAMPLE_IMAGE_NORMAL)                                                      \

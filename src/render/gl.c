@@ -3,6 +3,7 @@
 #include "render/gl.h"
 
 #include <epoxy/egl.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -181,14 +182,31 @@ static GLenum stage_of(const char *name)
 }
 
 // "#version 450 core" + one #define per entry of STA_BINDING_DEFINES, built by the
-// preprocessor: each value is spelled as bindings.h spells it.
+// preprocessor: each value is spelled as bindings.h spells it. Joined once at run time:
+// as one literal it outgrew the 4095 characters C99 promises.
 #define STRINGIFY(text)  #text
 #define VALUE_TEXT(name) STRINGIFY(name)
-static const char preamble[] = "#version 450 core\n"
-#define X(name) "#define " #name " " VALUE_TEXT(name) "\n"
-    STA_BINDING_DEFINES
+static const char *const preamble_lines[] = { "#version 450 core\n",
+#define X(name) "#define " #name " " VALUE_TEXT(name) "\n",
+                                              STA_BINDING_DEFINES
 #undef X
-    ;
+};
+static char preamble[8192];
+static pthread_once_t preamble_once = PTHREAD_ONCE_INIT;
+
+static void join_preamble(void)
+{
+    size_t used = 0;
+    for (size_t i = 0; i < sizeof(preamble_lines) / sizeof(preamble_lines[0]); i++) {
+        size_t n = strlen(preamble_lines[i]);
+        if (used + n >= sizeof(preamble)) {
+            abort(); // bindings.h outgrew the buffer: a programming error, caught by every GL test
+        }
+        memcpy(preamble + used, preamble_lines[i], n);
+        used += n;
+    }
+    preamble[used] = '\0';
+}
 
 sta_status sta_gl_program_create(const char *const *names, size_t count, const char *extra_defines,
                                  GLuint *out_program, sta_error *err)
@@ -200,6 +218,7 @@ sta_status sta_gl_program_create(const char *const *names, size_t count, const c
     };
     const char *parts[MAX_PARTS];
     int part_count = 0;
+    pthread_once(&preamble_once, join_preamble);
     parts[part_count++] = preamble;
     if (extra_defines) {
         parts[part_count++] = extra_defines;

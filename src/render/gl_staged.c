@@ -61,14 +61,14 @@ sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint binding, int widt
     return STA_OK;
 }
 
-void sta_gl_staging_copy(const sta_gl_staging *staging, GLuint texture, int level, int width,
+void sta_gl_staging_copy(const sta_gl_staging *staging, GLuint texture, int x, int y, int width,
                          int height)
 {
     glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging->buffer);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-    glTextureSubImage2D(texture, level, 0, 0, width, height, GL_RGBA, GL_FLOAT, NULL);
+    glTextureSubImage2D(texture, 0, x, y, width, height, GL_RGBA, GL_FLOAT, NULL);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
 }
 

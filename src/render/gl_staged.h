@@ -42,9 +42,10 @@ typedef struct sta_gl_staging {
 sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint binding, int width, int height,
                                sta_error *err);
 
-/* After the dispatch that wrote it: copies the buffer's width x height vec4s into level
- * `level` of the RGBA32F `texture` (a barrier for the buffer's writes first). */
-void sta_gl_staging_copy(const sta_gl_staging *staging, GLuint texture, int level, int width,
+/* After the dispatch that wrote it: copies the buffer's width x height vec4s (rows of
+ * `width`) into the RGBA32F `texture` (mip level 0) at (x, y); a barrier for the buffer's
+ * writes first. */
+void sta_gl_staging_copy(const sta_gl_staging *staging, GLuint texture, int x, int y, int width,
                          int height);
 
 void sta_gl_staging_release(sta_gl_staging *staging);

@@ -12,6 +12,7 @@
 #include "render/bindings.h"
 #include "render/gl.h"
 #include "render/gl_image.h"
+#include "render/gl_staged.h"
 
 /* Entries of the refinement list per dispatch row. */
 #define STA_HPR_LIST_WIDTH           1024
@@ -74,7 +75,12 @@ sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)
     const char *pyramid[] = { "hpr_pyramid.comp" };
     const char *exhaustive[] = { "hpr_common.glsl", "hpr_exhaustive.comp" };
     const char *classify[] = { "hpr_sparse_classify.comp" };
-    sta_status status = sta_gl_program_create(pyramid, 1, defines, &pass->pyramid_program, err);
+    pass->staged = sta_gl_staged_stores();
+    char pyramid_defines[STA_HPR_DEFINES_SIZE + 64];
+    snprintf(pyramid_defines, sizeof(pyramid_defines), "%s%s", defines,
+             sta_gl_staged_define(pass->staged));
+    sta_status status =
+        sta_gl_program_create(pyramid, 1, pyramid_defines, &pass->pyramid_program, err);
     if (status == STA_OK) {
         status = sta_gl_program_create(exhaustive, 2, defines, &pass->exhaustive_program, err);
     }
@@ -123,6 +129,7 @@ void sta_hpr_pass_release(sta_hpr_pass *pass)
     if (pass->dispatch_buffer) {
         glDeleteBuffers(1, &pass->dispatch_buffer);
     }
+    sta_gl_staging_release(&pass->staging);
     memset(pass, 0, sizeof(*pass));
 }
 
@@ -181,7 +188,7 @@ static sta_status check_size(GLuint texture, int level, int width, int height, c
     return STA_OK;
 }
 
-sta_status sta_hpr_pass_build_pyramid(const sta_hpr_pass *pass, const sta_view_params *view,
+sta_status sta_hpr_pass_build_pyramid(sta_hpr_pass *pass, const sta_view_params *view,
                                       GLuint position_texture, GLuint pyramid_texture,
                                       sta_error *err)
 {
@@ -200,8 +207,10 @@ sta_status sta_hpr_pass_build_pyramid(const sta_hpr_pass *pass, const sta_view_p
         return status;
     }
     glUseProgram(pass->pyramid_program);
-    glBindImageTexture(STA_HPR_PYRAMID_IMAGE_DST, pyramid_texture, 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       GL_RGBA32F);
+    if (!pass->staged) {
+        glBindImageTexture(STA_HPR_PYRAMID_IMAGE_DST, pyramid_texture, 0, GL_FALSE, 0,
+                           GL_WRITE_ONLY, GL_RGBA32F);
+    }
     int src_origin[2] = { 0, 0 }, dst_origin[2];
     for (int l = 1; l < levels; l++) {
         // Level 1 from the positions, level l from level l - 1 of the same texture (the
@@ -215,7 +224,18 @@ sta_status sta_hpr_pass_build_pyramid(const sta_hpr_pass *pass, const sta_view_p
         glUniform2i(pass->pyr_dst_origin, dst_origin[0], dst_origin[1]);
         glBindImageTexture(STA_HPR_PYRAMID_IMAGE_SRC, src, 0, GL_FALSE, 0, GL_READ_ONLY,
                            GL_RGBA32F);
+        if (pass->staged) {
+            status =
+                sta_gl_staging_bind(&pass->staging, STA_HPR_PYRAMID_BUFFER_DST, dst_w, dst_h, err);
+            if (status != STA_OK) {
+                return status;
+            }
+        }
         sta_gl_dispatch_2d(dst_w, dst_h);
+        if (pass->staged) {
+            sta_gl_staging_copy(&pass->staging, pyramid_texture, dst_origin[0], dst_origin[1],
+                                dst_w, dst_h);
+        }
         src_origin[0] = dst_origin[0];
         src_origin[1] = dst_origin[1];
     }

@@ -19,6 +19,7 @@
 #include <epoxy/gl.h>
 
 #include "core/status.h"
+#include "render/gl_staged.h"
 #include "render/ref/hpr_ref.h"
 #include "render/ref/screen_space.h"
 
@@ -44,6 +45,8 @@ typedef struct sta_hpr_pass {
     GLuint dispatch_buffer; /* the refinements' two indirect dispatches, sized by the copy step */
     GLint pyr_src_size, pyr_dst_size, pyr_src_origin, pyr_dst_origin;
     GLint exh_size, exh_radius, exh_tan_half, exh_far, exh_threshold;
+    bool staged; /* the pyramid's levels through `staging` (render/gl_staged.h) */
+    sta_gl_staging staging;
 } sta_hpr_pass;
 
 /* Compiles the pyramid, exhaustive and copy-step programs (the occlusion programs are
@@ -69,7 +72,7 @@ sta_status sta_hpr_pyramid_texture_create(int width_px, int height_px, GLuint *o
 /* Builds pyramid levels 1 .. sta_hpr_pyramid_levels - 1 of `position_texture` (RGBA32F,
  * view's size) into `pyramid_texture` (made by sta_hpr_pyramid_texture_create for the
  * same size). Errors: STA_ERR_ARG for mismatched sizes, STA_ERR_GL. */
-sta_status sta_hpr_pass_build_pyramid(const sta_hpr_pass *pass, const sta_view_params *view,
+sta_status sta_hpr_pass_build_pyramid(sta_hpr_pass *pass, const sta_view_params *view,
                                       GLuint position_texture, GLuint pyramid_texture,
                                       sta_error *err);
 

@@ -12,6 +12,7 @@
 sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_error *err)
 {
     memset(pass, 0, sizeof(*pass));
+    pass->staged = sta_gl_staged_stores();
     const char *level[] = { "normals_exact.glsl", "pullpush_normals.glsl",
                             "normals_pyramid_level.comp" };
     const char *gather[] = { "normals_exact.glsl", "pullpush_normals.glsl",
@@ -19,7 +20,8 @@ sta_status sta_normals_pyramid_pass_init(sta_normals_pyramid_pass *pass, sta_err
     const char *upsample[] = { "normals_exact.glsl", "pullpush_normals.glsl",
                                "normals_upsample.glsl",
                                "normals_pyramid_upsample.comp" }; // u_points, np_upsample
-    sta_status status = sta_gl_program_create(level, 3, NULL, &pass->level_program, err);
+    sta_status status = sta_gl_program_create(level, 3, sta_gl_staged_define(pass->staged),
+                                              &pass->level_program, err);
     if (status == STA_OK) {
         status = sta_gl_program_create(gather, 3, NULL, &pass->gather_program, err);
     }
@@ -73,6 +75,7 @@ void sta_normals_pyramid_pass_release(sta_normals_pyramid_pass *pass)
     if (pass->atlas) {
         glDeleteTextures(1, &pass->atlas);
     }
+    sta_gl_staging_release(&pass->staging);
     if (pass->half) {
         glDeleteTextures(1, &pass->half);
     }
@@ -181,15 +184,28 @@ static sta_status run(sta_normals_pyramid_pass *pass, const sta_view_params *vie
     GLuint lp = pass->level_program;
     glUseProgram(lp);
     glProgramUniform1f(lp, pass->level_jump2, jump2);
-    glBindImageTexture(STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS, pass->atlas, 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RGBA32F);
+    if (!pass->staged) {
+        glBindImageTexture(STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS, pass->atlas, 0, GL_FALSE, 0,
+                           GL_WRITE_ONLY, GL_RGBA32F);
+    }
     for (int l = 1; l < count; l++) {
         glBindImageTexture(STA_NORMALS_PYRAMID_IMAGE_POINTS, pyramid->position[l], 0, GL_FALSE, 0,
                            GL_READ_ONLY, GL_RGBA32F);
         glProgramUniform2i(lp, pass->level_size, sizes[2 * l], sizes[2 * l + 1]);
         glProgramUniform2i(lp, pass->level_offset, offsets[2 * l], offsets[2 * l + 1]);
         glProgramUniform1f(lp, pass->level_texel_m, sta_normals_pyramid_texel_m(view, l));
+        if (pass->staged) {
+            status = sta_gl_staging_bind(&pass->staging, STA_NORMALS_PYRAMID_LEVEL_BUFFER_ATLAS,
+                                         sizes[2 * l], sizes[2 * l + 1], err);
+            if (status != STA_OK) {
+                return status;
+            }
+        }
         sta_gl_dispatch_2d(sizes[2 * l], sizes[2 * l + 1]);
+        if (pass->staged) {
+            sta_gl_staging_copy(&pass->staging, pass->atlas, offsets[2 * l], offsets[2 * l + 1],
+                                sizes[2 * l], sizes[2 * l + 1]);
+        }
     }
 
     // Full resolution: the gather on every pixel. Half resolution: the gather on the

@@ -18,6 +18,7 @@
 #include <epoxy/gl.h>
 
 #include "core/status.h"
+#include "render/gl_staged.h"
 #include "render/pass_pullpush.h"
 #include "render/ref/normals_pyramid_ref.h"
 #include "render/ref/screen_space.h"
@@ -61,6 +62,8 @@ typedef struct sta_normals_pyramid_pass {
     int view_width_px, view_height_px;     /* the size the atlas was made for */
     int offset_x[STA_PULLPUSH_MAX_LEVELS]; /* level origins in the atlas */
     int offset_y[STA_PULLPUSH_MAX_LEVELS];
+    bool staged; /* the levels' normals through `staging` (render/gl_staged.h) */
+    sta_gl_staging staging;
 } sta_normals_pyramid_pass;
 
 /* Compiles the shaders. Errors: STA_ERR_GL with the compiler's log. */

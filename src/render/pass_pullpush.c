@@ -167,9 +167,9 @@ static sta_status dispatch_level(sta_pullpush_pass *pass, int w, int h, GLuint p
         return status;
     }
     sta_gl_dispatch_2d(w, h);
-    sta_gl_staging_copy(&pass->staged_position, position, 0, w, h);
+    sta_gl_staging_copy(&pass->staged_position, position, 0, 0, w, h);
     if (colour) {
-        sta_gl_staging_copy(&pass->staged_colour, colour, 0, w, h);
+        sta_gl_staging_copy(&pass->staged_colour, colour, 0, 0, w, h);
     }
     return STA_OK;
 }

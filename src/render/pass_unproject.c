@@ -86,7 +86,8 @@ sta_status sta_unproject_pass_run_marked(sta_unproject_pass *pass, const sta_vie
     }
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     if (pass->staged) {
-        sta_gl_staging_copy(&pass->staging, position_texture, 0, view->width_px, view->height_px);
+        sta_gl_staging_copy(&pass->staging, position_texture, 0, 0, view->width_px,
+                            view->height_px);
     }
     return STA_OK;
 }
