@@ -4,7 +4,9 @@
  * process's CPU clock around glFinish, median of N repeats; then the cost of one tiny
  * (1 x 1) dispatch. Written to tell which rewrites of the screen-space passes can pay on
  * llvmpipe: image loads against texel fetches, RGBA32F stores against narrower ones,
- * per-lane atomics. Not part of the build: bench/llvmpipe_cost.sh compiles and runs it.
+ * per-lane atomics; and (issue 15, nineteenth round) vec4 stores into a storage buffer and
+ * that buffer's copy into an RGBA32F texture, the two halves of the staged stores
+ * (src/render/gl_staged.h). Not part of the build: bench/llvmpipe_cost.sh compiles and runs it.
  * usage: llvmpipe_cost [REPEATS]   (EGL_PLATFORM=surfaceless for a headless run) */
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
@@ -42,6 +44,9 @@ static GLuint program(const char *body)
         "layout(binding = 0) uniform sampler2D s4;\n" /* RGBA32F, 11 mip levels */
         "layout(binding = 1) uniform sampler2D s8;\n" /* RGBA8 */
         "layout(std430, binding = 0) buffer List { uint count; uint list[]; };\n"
+        "layout(std430, binding = 1) buffer Staged { vec4 staged[]; };\n"
+        "layout(binding = 6, rgba16f) writeonly uniform image2D o16;\n"
+        "layout(binding = 7, rg32f) writeonly uniform image2D o2;\n"
         "uniform ivec2 u_offset[16];\n"
         "#define PIXEL ivec2 p = ivec2(gl_GlobalInvocationID.xy); "
         "if (p.x >= 1920 || p.y >= 1080) return;\n";
@@ -85,6 +90,10 @@ static const struct {
 } probes[] = {
     { "empty (bounds test only)", "void main() { PIXEL }" },
     { "store RGBA32F", "void main() { PIXEL imageStore(o4, p, vec4(p.x)); }" },
+    { "store RGBA16F", "void main() { PIXEL imageStore(o16, p, vec4(p.x)); }" },
+    { "store RG32F", "void main() { PIXEL imageStore(o2, p, vec4(p.x)); }" },
+    { "store vec4 into a storage buffer (staged)",
+      "void main() { PIXEL staged[p.y * 1920 + p.x] = vec4(p.x); }" },
     { "store R32F", "void main() { PIXEL imageStore(o1, p, vec4(p.x)); }" },
     { "store RGBA8", "void main() { PIXEL imageStore(o8, p, vec4(p.x * 1e-3)); }" },
     { "9 imageLoad RGBA32F + store R32F",
@@ -149,10 +158,12 @@ int main(int argc, char **argv)
         return 1;
     }
     printf("%s, %dx%d, median of %d\n", (const char *)glGetString(GL_RENDERER), W, H, repeats);
-    GLuint textures[6] = { texture(GL_RGBA32F, 11), texture(GL_R32F, 1),  texture(GL_RGBA32F, 1),
-                           texture(GL_R32F, 1),     texture(GL_RGBA8, 1), texture(GL_RGBA8, 1) };
-    const GLenum formats[6] = { GL_RGBA32F, GL_R32F, GL_RGBA32F, GL_R32F, GL_RGBA8, GL_RGBA8 };
-    for (GLuint unit = 0; unit < 6; unit++) {
+    GLuint textures[8] = { texture(GL_RGBA32F, 11), texture(GL_R32F, 1),  texture(GL_RGBA32F, 1),
+                           texture(GL_R32F, 1),     texture(GL_RGBA8, 1), texture(GL_RGBA8, 1),
+                           texture(GL_RGBA16F, 1),  texture(GL_RG32F, 1) };
+    const GLenum formats[8] = { GL_RGBA32F, GL_R32F,  GL_RGBA32F, GL_R32F,
+                                GL_RGBA8,   GL_RGBA8, GL_RGBA16F, GL_RG32F };
+    for (GLuint unit = 0; unit < 8; unit++) {
         glBindImageTexture(unit, textures[unit], 0, GL_FALSE, 0, GL_READ_WRITE, formats[unit]);
     }
     glBindTextureUnit(0, textures[0]);
@@ -161,6 +172,11 @@ int main(int argc, char **argv)
     glCreateBuffers(1, &list);
     glNamedBufferStorage(list, ((1 << 20) + 1) * sizeof(GLuint), NULL, GL_DYNAMIC_STORAGE_BIT);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, list);
+    // The staged stores' buffer (render/gl_staged.h), also the copy's source below.
+    GLuint staged;
+    glCreateBuffers(1, &staged);
+    glNamedBufferStorage(staged, (GLsizeiptr)W * H * 16, NULL, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, staged);
     GLint offsets[32];
     for (int k = 0; k < 16; k++) {
         offsets[2 * k] = (k * 37) % 900;
@@ -190,6 +206,21 @@ int main(int argc, char **argv)
         printf("%-48s %7.2f CPU ms (min %.2f, max %.2f)\n", probes[i].name, ms[i][repeats / 2],
                ms[i][0], ms[i][repeats - 1]);
     }
+    // The staged stores' second half: the buffer copied into an RGBA32F texture.
+    double copy[MAX_REPEATS];
+    for (int r = 0; r < repeats; r++) {
+        glFinish();
+        double t = cpu_ms();
+        glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staged);
+        glTextureSubImage2D(textures[2], 0, 0, 0, W, H, GL_RGBA, GL_FLOAT, NULL);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+        glFinish();
+        copy[r] = cpu_ms() - t;
+    }
+    qsort(copy, (size_t)repeats, sizeof(double), by_value);
+    printf("%-48s %7.2f CPU ms (min %.2f, max %.2f)\n", "storage buffer -> RGBA32F texture copy",
+           copy[repeats / 2], copy[0], copy[repeats - 1]);
     glUseProgram(programs[0]);
     glFinish();
     double t0 = cpu_ms();
