@@ -40,10 +40,25 @@ const char *sta_gl_staged_define(bool staged)
     return staged ? "#define STA_STAGED_STORES 1\n" : "";
 }
 
-sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint binding, int width, int height,
-                               sta_error *err)
+// The bytes of one range of width x height vec4s, rounded up to the offset alignment.
+static GLsizeiptr range_bytes(sta_gl_staging *staging, int width, int height)
 {
+    if (staging->alignment <= 0) {
+        glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &staging->alignment);
+        if (staging->alignment <= 0) {
+            staging->alignment = 256;
+        }
+    }
     GLsizeiptr bytes = (GLsizeiptr)width * (GLsizeiptr)height * 4 * (GLsizeiptr)sizeof(float);
+    GLsizeiptr a = staging->alignment;
+    return (bytes + a - 1) / a * a;
+}
+
+sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint first_binding, int count, int width,
+                               int height, sta_error *err)
+{
+    GLsizeiptr range = range_bytes(staging, width, height);
+    GLsizeiptr bytes = range * count;
     if (bytes > staging->bytes) {
         GLuint buffer = 0;
         glCreateBuffers(1, &buffer);
@@ -53,22 +68,31 @@ sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint binding, int widt
             return sta_fail(err, STA_ERR_GL, "cannot allocate a %lld-byte staging buffer",
                             (long long)bytes);
         }
+        GLint alignment = staging->alignment;
         sta_gl_staging_release(staging);
         staging->buffer = buffer;
         staging->bytes = bytes;
+        staging->alignment = alignment;
     }
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, binding, staging->buffer, 0, bytes);
+    for (int i = 0; i < count; i++) {
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, first_binding + (GLuint)i, staging->buffer,
+                          range * i, range);
+    }
     return STA_OK;
 }
 
-void sta_gl_staging_copy(const sta_gl_staging *staging, GLuint texture, int x, int y, int width,
-                         int height)
+void sta_gl_staging_copy(const sta_gl_staging *staging, int index, GLuint texture, int x, int y,
+                         int width, int height)
 {
+    // The range's offset as sta_gl_staging_bind laid it out (the alignment is known by then).
+    GLsizeiptr bytes = (GLsizeiptr)width * (GLsizeiptr)height * 4 * (GLsizeiptr)sizeof(float);
+    GLsizeiptr a = staging->alignment;
+    GLsizeiptr offset = (bytes + a - 1) / a * a * index;
     glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging->buffer);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-    glTextureSubImage2D(texture, 0, x, y, width, height, GL_RGBA, GL_FLOAT, NULL);
+    glTextureSubImage2D(texture, 0, x, y, width, height, GL_RGBA, GL_FLOAT, (const void *)offset);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
 }
 
@@ -79,4 +103,5 @@ void sta_gl_staging_release(sta_gl_staging *staging)
     }
     staging->buffer = 0;
     staging->bytes = 0;
+    staging->alignment = 0;
 }

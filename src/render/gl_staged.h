@@ -31,23 +31,33 @@ void sta_gl_staged_stores_force(int on);
  * or "" when `staged` is false. */
 const char *sta_gl_staged_define(bool staged);
 
-/* A storage buffer that one pass's dispatches write their texels into, grown on demand. */
+/* A storage buffer that dispatches write their texels into, grown on demand. One serves every
+ * pass of a pipeline (they run one after the other; sta_pipeline shares its own with them),
+ * so that it costs one frame's RGBA32F (33 MB at 1920x1080), not one per pass. */
 typedef struct sta_gl_staging {
     GLuint buffer;
     GLsizeiptr bytes;
+    GLint alignment; /* GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, read on first use */
 } sta_gl_staging;
 
-/* Grows the buffer to width x height vec4s if needed and binds it to storage buffer
- * binding `binding`. */
-sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint binding, int width, int height,
-                               sta_error *err);
+/* Binds `count` ranges of width x height vec4s, one after the other, to the storage buffer
+ * bindings first_binding .. first_binding + count - 1, growing the buffer if needed. */
+sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint first_binding, int count, int width,
+                               int height, sta_error *err);
 
-/* After the dispatch that wrote it: copies the buffer's width x height vec4s (rows of
- * `width`) into the RGBA32F `texture` (mip level 0) at (x, y); a barrier for the buffer's
- * writes first. */
-void sta_gl_staging_copy(const sta_gl_staging *staging, GLuint texture, int x, int y, int width,
-                         int height);
+/* After the dispatch that wrote it: copies range `index` of the last bind (width x height
+ * vec4s, rows of `width`) into the RGBA32F `texture` (mip level 0) at (x, y); a barrier for
+ * the buffer's writes first. */
+void sta_gl_staging_copy(const sta_gl_staging *staging, int index, GLuint texture, int x, int y,
+                         int width, int height);
 
 void sta_gl_staging_release(sta_gl_staging *staging);
+
+/* The staging a pass writes through: `shared` where its owner gave one (a pipeline shares
+ * one with all its passes), else the pass's own. */
+static inline sta_gl_staging *sta_gl_staging_pick(sta_gl_staging *own, sta_gl_staging *shared)
+{
+    return shared ? shared : own;
+}
 
 #endif

@@ -129,7 +129,7 @@ void sta_hpr_pass_release(sta_hpr_pass *pass)
     if (pass->dispatch_buffer) {
         glDeleteBuffers(1, &pass->dispatch_buffer);
     }
-    sta_gl_staging_release(&pass->staging);
+    sta_gl_staging_release(&pass->own_staging);
     memset(pass, 0, sizeof(*pass));
 }
 
@@ -207,6 +207,7 @@ sta_status sta_hpr_pass_build_pyramid(sta_hpr_pass *pass, const sta_view_params 
         return status;
     }
     glUseProgram(pass->pyramid_program);
+    sta_gl_staging *staging = sta_gl_staging_pick(&pass->own_staging, pass->shared_staging);
     if (!pass->staged) {
         glBindImageTexture(STA_HPR_PYRAMID_IMAGE_DST, pyramid_texture, 0, GL_FALSE, 0,
                            GL_WRITE_ONLY, GL_RGBA32F);
@@ -225,16 +226,15 @@ sta_status sta_hpr_pass_build_pyramid(sta_hpr_pass *pass, const sta_view_params 
         glBindImageTexture(STA_HPR_PYRAMID_IMAGE_SRC, src, 0, GL_FALSE, 0, GL_READ_ONLY,
                            GL_RGBA32F);
         if (pass->staged) {
-            status =
-                sta_gl_staging_bind(&pass->staging, STA_HPR_PYRAMID_BUFFER_DST, dst_w, dst_h, err);
+            status = sta_gl_staging_bind(staging, STA_HPR_PYRAMID_BUFFER_DST, 1, dst_w, dst_h, err);
             if (status != STA_OK) {
                 return status;
             }
         }
         sta_gl_dispatch_2d(dst_w, dst_h);
         if (pass->staged) {
-            sta_gl_staging_copy(&pass->staging, pyramid_texture, dst_origin[0], dst_origin[1],
-                                dst_w, dst_h);
+            sta_gl_staging_copy(staging, 0, pyramid_texture, dst_origin[0], dst_origin[1], dst_w,
+                                dst_h);
         }
         src_origin[0] = dst_origin[0];
         src_origin[1] = dst_origin[1];

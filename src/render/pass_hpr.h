@@ -45,8 +45,9 @@ typedef struct sta_hpr_pass {
     GLuint dispatch_buffer; /* the refinements' two indirect dispatches, sized by the copy step */
     GLint pyr_src_size, pyr_dst_size, pyr_src_origin, pyr_dst_origin;
     GLint exh_size, exh_radius, exh_tan_half, exh_far, exh_threshold;
-    bool staged; /* the pyramid's levels through `staging` (render/gl_staged.h) */
-    sta_gl_staging staging;
+    bool staged; /* the pyramid's levels through a staging buffer (render/gl_staged.h) */
+    sta_gl_staging own_staging;
+    sta_gl_staging *shared_staging; /* NULL: own_staging (the pipeline sets its own) */
 } sta_hpr_pass;
 
 /* Compiles the pyramid, exhaustive and copy-step programs (the occlusion programs are

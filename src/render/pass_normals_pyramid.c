@@ -75,7 +75,7 @@ void sta_normals_pyramid_pass_release(sta_normals_pyramid_pass *pass)
     if (pass->atlas) {
         glDeleteTextures(1, &pass->atlas);
     }
-    sta_gl_staging_release(&pass->staging);
+    sta_gl_staging_release(&pass->own_staging);
     if (pass->half) {
         glDeleteTextures(1, &pass->half);
     }
@@ -184,6 +184,7 @@ static sta_status run(sta_normals_pyramid_pass *pass, const sta_view_params *vie
     GLuint lp = pass->level_program;
     glUseProgram(lp);
     glProgramUniform1f(lp, pass->level_jump2, jump2);
+    sta_gl_staging *staging = sta_gl_staging_pick(&pass->own_staging, pass->shared_staging);
     if (!pass->staged) {
         glBindImageTexture(STA_NORMALS_PYRAMID_LEVEL_IMAGE_ATLAS, pass->atlas, 0, GL_FALSE, 0,
                            GL_WRITE_ONLY, GL_RGBA32F);
@@ -195,7 +196,7 @@ static sta_status run(sta_normals_pyramid_pass *pass, const sta_view_params *vie
         glProgramUniform2i(lp, pass->level_offset, offsets[2 * l], offsets[2 * l + 1]);
         glProgramUniform1f(lp, pass->level_texel_m, sta_normals_pyramid_texel_m(view, l));
         if (pass->staged) {
-            status = sta_gl_staging_bind(&pass->staging, STA_NORMALS_PYRAMID_LEVEL_BUFFER_ATLAS,
+            status = sta_gl_staging_bind(staging, STA_NORMALS_PYRAMID_LEVEL_BUFFER_ATLAS, 1,
                                          sizes[2 * l], sizes[2 * l + 1], err);
             if (status != STA_OK) {
                 return status;
@@ -203,7 +204,7 @@ static sta_status run(sta_normals_pyramid_pass *pass, const sta_view_params *vie
         }
         sta_gl_dispatch_2d(sizes[2 * l], sizes[2 * l + 1]);
         if (pass->staged) {
-            sta_gl_staging_copy(&pass->staging, pass->atlas, offsets[2 * l], offsets[2 * l + 1],
+            sta_gl_staging_copy(staging, 0, pass->atlas, offsets[2 * l], offsets[2 * l + 1],
                                 sizes[2 * l], sizes[2 * l + 1]);
         }
     }

@@ -62,8 +62,9 @@ typedef struct sta_normals_pyramid_pass {
     int view_width_px, view_height_px;     /* the size the atlas was made for */
     int offset_x[STA_PULLPUSH_MAX_LEVELS]; /* level origins in the atlas */
     int offset_y[STA_PULLPUSH_MAX_LEVELS];
-    bool staged; /* the levels' normals through `staging` (render/gl_staged.h) */
-    sta_gl_staging staging;
+    bool staged; /* the levels' normals through a staging buffer (render/gl_staged.h) */
+    sta_gl_staging own_staging;
+    sta_gl_staging *shared_staging; /* NULL: own_staging (the pipeline sets its own) */
 } sta_normals_pyramid_pass;
 
 /* Compiles the shaders. Errors: STA_ERR_GL with the compiler's log. */

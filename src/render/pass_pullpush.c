@@ -97,8 +97,7 @@ void sta_pullpush_pass_release(sta_pullpush_pass *pass)
         }
     }
     release_pyramid(&pass->pyramid);
-    sta_gl_staging_release(&pass->staged_position);
-    sta_gl_staging_release(&pass->staged_colour);
+    sta_gl_staging_release(&pass->own_staging);
     memset(pass, 0, sizeof(*pass));
 }
 
@@ -148,8 +147,9 @@ static void set_sizes(const sta_pullpush_program *p, const sta_pullpush_pyramid 
 }
 
 // One dispatch over a w x h level whose results are `position` and `colour` (0: the
-// shader stores the colour itself): bound as images, or staged through the pass's buffers
-// and copied in afterwards (render/gl_staged.h).
+// shader stores the colour itself): bound as images, or staged through two ranges of the
+// staging buffer (position, then colour: their bindings are consecutive) and copied in
+// afterwards (render/gl_staged.h).
 static sta_status dispatch_level(sta_pullpush_pass *pass, int w, int h, GLuint position,
                                  GLuint colour, sta_error *err)
 {
@@ -157,19 +157,18 @@ static sta_status dispatch_level(sta_pullpush_pass *pass, int w, int h, GLuint p
         sta_gl_dispatch_2d(w, h);
         return STA_OK;
     }
+    _Static_assert(STA_PULLPUSH_BUFFER_OUT_COLOUR == STA_PULLPUSH_BUFFER_OUT_POSITION + 1,
+                   "the staged colour's range follows the position's");
+    sta_gl_staging *staging = sta_gl_staging_pick(&pass->own_staging, pass->shared_staging);
     sta_status status =
-        sta_gl_staging_bind(&pass->staged_position, STA_PULLPUSH_BUFFER_OUT_POSITION, w, h, err);
-    if (status == STA_OK && colour) {
-        status =
-            sta_gl_staging_bind(&pass->staged_colour, STA_PULLPUSH_BUFFER_OUT_COLOUR, w, h, err);
-    }
+        sta_gl_staging_bind(staging, STA_PULLPUSH_BUFFER_OUT_POSITION, colour ? 2 : 1, w, h, err);
     if (status != STA_OK) {
         return status;
     }
     sta_gl_dispatch_2d(w, h);
-    sta_gl_staging_copy(&pass->staged_position, position, 0, 0, w, h);
+    sta_gl_staging_copy(staging, 0, position, 0, 0, w, h);
     if (colour) {
-        sta_gl_staging_copy(&pass->staged_colour, colour, 0, 0, w, h);
+        sta_gl_staging_copy(staging, 1, colour, 0, 0, w, h);
     }
     return STA_OK;
 }

@@ -44,8 +44,9 @@ typedef struct sta_pullpush_pass {
     sta_pullpush_program push_level;  /* level l >= 1 in place */
     sta_pullpush_program push_output; /* level 0 into the outputs */
     sta_pullpush_pyramid pyramid;     /* owned */
-    bool staged; /* RGBA32F results through the staging buffers (render/gl_staged.h) */
-    sta_gl_staging staged_position, staged_colour;
+    bool staged; /* RGBA32F results through a staging buffer (render/gl_staged.h) */
+    sta_gl_staging own_staging;
+    sta_gl_staging *shared_staging; /* NULL: own_staging (the pipeline sets its own) */
 } sta_pullpush_pass;
 
 /* Compiles the shaders. Errors: STA_ERR_GL with the compiler's log. */

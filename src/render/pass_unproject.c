@@ -45,7 +45,7 @@ void sta_unproject_pass_release(sta_unproject_pass *pass)
             glDeleteProgram(pass->programs[v]);
         }
     }
-    sta_gl_staging_release(&pass->staging);
+    sta_gl_staging_release(&pass->own_staging);
     memset(pass, 0, sizeof(*pass));
 }
 
@@ -74,8 +74,9 @@ sta_status sta_unproject_pass_run_marked(sta_unproject_pass *pass, const sta_vie
                            GL_WRITE_ONLY, GL_R32UI);
     }
     glBindTextureUnit(STA_UNPROJECT_SAMPLER_DEPTH, depth_texture);
+    sta_gl_staging *staging = sta_gl_staging_pick(&pass->own_staging, pass->shared_staging);
     if (pass->staged) {
-        sta_status status = sta_gl_staging_bind(&pass->staging, STA_UNPROJECT_BUFFER_POSITION,
+        sta_status status = sta_gl_staging_bind(staging, STA_UNPROJECT_BUFFER_POSITION, 1,
                                                 view->width_px, view->height_px, err);
         if (status != STA_OK) {
             return status;
@@ -86,8 +87,7 @@ sta_status sta_unproject_pass_run_marked(sta_unproject_pass *pass, const sta_vie
     }
     sta_gl_dispatch_2d(view->width_px, view->height_px);
     if (pass->staged) {
-        sta_gl_staging_copy(&pass->staging, position_texture, 0, 0, view->width_px,
-                            view->height_px);
+        sta_gl_staging_copy(staging, 0, position_texture, 0, 0, view->width_px, view->height_px);
     }
     return STA_OK;
 }

@@ -18,8 +18,9 @@ typedef struct sta_unproject_pass {
     GLuint programs[2]; /* 0: plain, 1: with the volumetric mark (STA_UNPROJECT_MARK) */
     GLint u_size[2], u_tan_half[2], u_near[2];
     GLint u_classes; /* of programs[1] */
-    bool staged;     /* stores through `staging` (render/gl_staged.h), decided at init */
-    sta_gl_staging staging;
+    bool staged;     /* stores through a staging buffer (render/gl_staged.h), decided at init */
+    sta_gl_staging own_staging;
+    sta_gl_staging *shared_staging; /* NULL: own_staging (the pipeline sets its own) */
 } sta_unproject_pass;
 
 sta_status sta_unproject_pass_init(sta_unproject_pass *pass, sta_error *err);

@@ -66,6 +66,12 @@ sta_status sta_pipeline_init(sta_pipeline *p, sta_error *err)
     if (s == STA_OK) {
         s = sta_normals_pyramid_pass_init(&p->normals_pyramid, err);
     }
+    // One staging buffer for the passes that stage their stores (render/gl_staged.h): they
+    // run one after the other.
+    p->unproject.shared_staging = &p->staging;
+    p->hpr.shared_staging = &p->staging;
+    p->pullpush.shared_staging = &p->staging;
+    p->normals_pyramid.shared_staging = &p->staging;
     if (s == STA_OK) {
         s = sta_normals_screen_pass_init(&p->normals_screen, err);
     }
@@ -114,6 +120,7 @@ void sta_pipeline_release(sta_pipeline *p)
     sta_hpr_pass_release(&p->hpr);
     sta_pullpush_pass_release(&p->pullpush);
     sta_normals_pyramid_pass_release(&p->normals_pyramid);
+    sta_gl_staging_release(&p->staging);
     sta_normals_screen_pass_release(&p->normals_screen);
     sta_shade_pass_release(&p->shade);
     sta_volumetric_pass_release(&p->volumetric);

@@ -119,6 +119,7 @@ typedef struct sta_pipeline {
     sta_shade_pass shade;
     sta_volumetric_pass volumetric;
     sta_volumetric_points points_source; /* sta_pipeline_set_points; id_texture 0: none */
+    sta_gl_staging staging; /* shared by the passes that stage their stores (gl_staged.h) */
     GLuint display_program, colour_program;
     GLint display_size, display_mode, colour_size;
     int width_px, height_px; /* texture size */
