@@ -41,7 +41,14 @@ const char *sta_gl_staged_define(bool staged)
 }
 
 // The bytes of one range of width x height vec4s, rounded up to the offset alignment.
-static GLsizeiptr range_bytes(sta_gl_staging *staging, int width, int height)
+static GLsizeiptr range_bytes(GLint alignment, int width, int height)
+{
+    GLsizeiptr bytes = (GLsizeiptr)width * (GLsizeiptr)height * 4 * (GLsizeiptr)sizeof(float);
+    return (bytes + alignment - 1) / alignment * alignment;
+}
+
+sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint first_binding, int count, int width,
+                               int height, sta_error *err)
 {
     if (staging->alignment <= 0) {
         glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &staging->alignment);
@@ -49,15 +56,7 @@ static GLsizeiptr range_bytes(sta_gl_staging *staging, int width, int height)
             staging->alignment = 256;
         }
     }
-    GLsizeiptr bytes = (GLsizeiptr)width * (GLsizeiptr)height * 4 * (GLsizeiptr)sizeof(float);
-    GLsizeiptr a = staging->alignment;
-    return (bytes + a - 1) / a * a;
-}
-
-sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint first_binding, int count, int width,
-                               int height, sta_error *err)
-{
-    GLsizeiptr range = range_bytes(staging, width, height);
+    GLsizeiptr range = range_bytes(staging->alignment, width, height);
     GLsizeiptr bytes = range * count;
     if (bytes > staging->bytes) {
         GLuint buffer = 0;
@@ -84,10 +83,8 @@ sta_status sta_gl_staging_bind(sta_gl_staging *staging, GLuint first_binding, in
 void sta_gl_staging_copy(const sta_gl_staging *staging, int index, GLuint texture, int x, int y,
                          int width, int height)
 {
-    // The range's offset as sta_gl_staging_bind laid it out (the alignment is known by then).
-    GLsizeiptr bytes = (GLsizeiptr)width * (GLsizeiptr)height * 4 * (GLsizeiptr)sizeof(float);
-    GLsizeiptr a = staging->alignment;
-    GLsizeiptr offset = (bytes + a - 1) / a * a * index;
+    // The range's offset as sta_gl_staging_bind laid it out.
+    GLsizeiptr offset = range_bytes(staging->alignment, width, height) * index;
     glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging->buffer);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
