@@ -13,7 +13,8 @@
 # of that share whose filled depth is off by more than the truth tolerance (normal_off_fill_share:
 # the fill's, not the estimator's), the share of pixels without a normal (unknown, shaded
 # flat) and the errors as shaded, the unknown ones lit as facing the camera
-# (normal_unknown_share, normal_shaded_*). strata-bench runs the
+# (normal_unknown_share, normal_shaded_*); since the nineteenth round the F1 under the
+# volumetric rule (hpr_volumetric_f1). strata-bench runs the
 # viewer's volumetric classes; EXTRA=--fill-every-class gives the measure before. One
 # line per view; errors are deterministic on llvmpipe, so two builds are compared by
 # running the script once per build.
@@ -50,6 +51,8 @@ run() { # scene, views option, size
         NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
         { glass = ("depth_glass_rel_p95" in col) ? sprintf("%.2f %%", 100 * $col["depth_glass_rel_p95"]) : "n/a"
           face_f1 = ("hpr_face_f1" in col) ? sprintf("%.4f / %.4f", $col["hpr_face_f1"], $col["hpr_face_glass_f1"]) : "n/a"
+          if ("hpr_volumetric_f1" in col)
+              face_f1 = face_f1 sprintf("; volumetric rule %.4f", $col["hpr_volumetric_f1"])
           face_n = ("normal_face_p95_deg" in col) ? sprintf("%.2f / %.1f", $col["normal_face_median_deg"], $col["normal_face_p95_deg"]) : "n/a"
           off = ("normal_off_share" in col) ? sprintf(", off > 30 deg %.2f %% (facing %.2f %%, other %.2f %%; face rule %.2f %%)",
               100 * $col["normal_off_share"], 100 * $col["normal_off_facing_share"],

@@ -195,7 +195,54 @@ static void hpr_rules_leave_out_what_the_data_cannot_show(void **state)
     sta_image_release(&label);
 }
 
+// Row 3: a visible point on the wall (column 0, labelled visible: tp); a point behind a
+// crown (column 1, class 5: truly hidden, labelled visible: fp, left out by the volumetric
+// rule); a crown's own point (column 2, truly visible, labelled hidden: fn, kept: visible
+// points are always scored); a point behind the wall (column 5, class 6: truly hidden,
+// labelled visible: fp, kept).
+static void volumetric_rule_leaves_out_points_hidden_by_vegetation(void **state)
+{
+    (void)state;
+    hand_view v;
+    hand_view_init(&v);
+    const int y = 3;
+    v.classification[y * W + 1] = 5;
+    v.classification[y * W + 2] = 5;
+    add_point(&v, 0, y, 10.0, true);
+    add_point(&v, 1, y, 20.0, false);
+    add_point(&v, 2, y, 10.0, true);
+    add_point(&v, 5, y, 20.0, false);
+    uint32_t set[1] = { (1u << 3) | (1u << 4) | (1u << 5) };
+    sta_pixel_masks m;
+    sta_error err = { 0 };
+    assert_int_equal(sta_pixel_masks_compute(&v.truth, &v.camera, &v.points, 2.0, set, 1, &m, &err),
+                     STA_OK);
+    assert_non_null(m.hpr_volumetric);
+    for (int x = 0; x < W; x++) {
+        assert_int_equal(m.hpr_volumetric[y * W + x], x != 1);
+    }
+    sta_image label = { 0 };
+    assert_int_equal(sta_image_init(&label, W, H, 1, &err), STA_OK);
+    const float labels[W] = {
+        STA_LABEL_VISIBLE, STA_LABEL_VISIBLE, STA_LABEL_HIDDEN, 0, 0, STA_LABEL_VISIBLE, 0, 0
+    };
+    memcpy(sta_image_at(&label, 0, y), labels, sizeof(labels));
+    sta_confusion raw, ruled;
+    sta_eval_hpr_masked(&v.points, &label, NULL, &raw);
+    sta_eval_hpr_masked(&v.points, &label, m.hpr_volumetric, &ruled);
+    assert_true(raw.tp == 1 && raw.fp == 2 && raw.fn == 1 && raw.tn == 0);
+    assert_true(ruled.tp == 1 && ruled.fp == 1 && ruled.fn == 1 && ruled.tn == 0);
+    // Without classes (--fill-every-class) every point is scored.
+    sta_pixel_masks_release(&m);
+    assert_int_equal(
+        sta_pixel_masks_compute(&v.truth, &v.camera, &v.points, 2.0, NULL, 1, &m, &err), STA_OK);
+    assert_null(m.hpr_volumetric);
+    sta_pixel_masks_release(&m);
+    sta_image_release(&label);
+}
+
 static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(volumetric_rule_leaves_out_points_hidden_by_vegetation),
     cmocka_unit_test(volumetric_truth_is_left_out_of_the_fill),
     cmocka_unit_test(face_rule_needs_a_point_on_the_face),
     cmocka_unit_test(hpr_rules_leave_out_what_the_data_cannot_show),

@@ -16,6 +16,7 @@ void sta_pixel_masks_release(sta_pixel_masks *m)
     sta_free(m->face_counted);
     sta_free(m->hpr_face);
     sta_free(m->hpr_face_glass);
+    sta_free(m->hpr_volumetric);
     memset(m, 0, sizeof(*m));
 }
 
@@ -33,9 +34,10 @@ sta_status sta_pixel_masks_compute(const sta_view_truth *v, const sta_camera *ca
     out->hpr_face_glass = sta_alloc_array(bytes, 1);
     if (volumetric) {
         out->counted = sta_alloc_array(bytes, 1);
+        out->hpr_volumetric = sta_alloc_array(bytes, 1);
     }
     if (!out->sampled || !out->sampled_counted || !out->face_counted || !out->hpr_face ||
-        !out->hpr_face_glass || (volumetric && !out->counted)) {
+        !out->hpr_face_glass || (volumetric && (!out->counted || !out->hpr_volumetric))) {
         sta_pixel_masks_release(out);
         return sta_fail(err, STA_ERR_NOMEM, "out of memory for the scored pixels of %dx%d",
                         v->width, v->height);
@@ -64,6 +66,11 @@ sta_status sta_pixel_masks_compute(const sta_view_truth *v, const sta_camera *ca
                                                          out->sampled_counted);
         for (size_t i = 0; i < n; i++) {
             out->face_counted[i] = out->face_counted[i] && out->counted[i];
+        }
+        memset(out->hpr_volumetric, 1, n);
+        for (size_t k = 0; k < points->count; k++) {
+            uint32_t p = points->pixel[k];
+            out->hpr_volumetric[p] = points->visible[k] || out->counted[p];
         }
     }
     return STA_OK;

@@ -3,7 +3,8 @@
  * the fill metrics leave out the true surfaces of the viewer's volumetric classes (drawn
  * as points, never filled); the "sampled" and "face" rules keep only surfaces the drawn
  * points sample; the ruled HPR F1 leaves out points whose truth the data cannot show
- * (an occluder no point samples, a room seen through sampled window glass). CPU only.
+ * (an occluder no point samples, a room seen through sampled window glass), and the
+ * volumetric rule points hidden by a volumetric class's true surface. CPU only.
  */
 #ifndef STA_BENCH_PIXEL_MASKS_H
 #define STA_BENCH_PIXEL_MASKS_H
@@ -26,6 +27,11 @@ typedef struct sta_pixel_masks {
                                  no drawn point samples */
     uint8_t *hpr_face_glass;  /* the face rule and the glass rule: also leaves out a truly
                                  visible point behind window glass (either label is right) */
+    uint8_t *hpr_volumetric;  /* the volumetric rule: all but a truly hidden point whose
+                                 pixel's true surface has a volumetric class (a crown or a
+                                 wire, which the viewer draws as points and the synth's
+                                 scanner sees through: either label is right); NULL
+                                 without classes (every point scored) */
     uint64_t left_out;        /* pixels with a truth hit of a volumetric class */
 } sta_pixel_masks;
 

@@ -88,6 +88,8 @@ static const column columns[] = {
     COL(hpr_face_f1, COL_F64),
     COL(hpr_face_glass_points, COL_U64),
     COL(hpr_face_glass_f1, COL_F64),
+    COL(hpr_volumetric_points, COL_U64),
+    COL(hpr_volumetric_f1, COL_F64),
     COL(normal_count, COL_U64),
     COL(normal_mean_deg, COL_F64),
     COL(normal_median_deg, COL_F64),

@@ -426,6 +426,9 @@ static sta_status score_buffers(scene_run *run, sta_scene *scene, const sta_benc
             sta_eval_hpr_masked(points, &image, masks->hpr_face_glass, &c);
             row->hpr_face_glass_points = c.tp + c.fp + c.fn + c.tn;
             row->hpr_face_glass_f1 = sta_confusion_f1(&c);
+            sta_eval_hpr_masked(points, &image, masks->hpr_volumetric, &c);
+            row->hpr_volumetric_points = c.tp + c.fp + c.fn + c.tn;
+            row->hpr_volumetric_f1 = sta_confusion_f1(&c);
             row->gap_blocks_8 = sta_eval_gap_block_ratio(&image, 8);
             row->gap_blocks_16 = sta_eval_gap_block_ratio(&image, 16);
             row->gap_blocks_32 = sta_eval_gap_block_ratio(&image, 32);
@@ -533,7 +536,7 @@ static void clear_errors(sta_bench_row *row)
         row->normal_face_off_share = row->normal_off_fill_share = row->normal_unknown_share =
             row->normal_shaded_median_deg = row->normal_shaded_p95_deg =
                 row->normal_shaded_off_share = (double)NAN;
-    row->hpr_face_f1 = row->hpr_face_glass_f1 = (double)NAN;
+    row->hpr_face_f1 = row->hpr_face_glass_f1 = row->hpr_volumetric_f1 = (double)NAN;
     row->depth_rel_mean = row->depth_rel_median = row->depth_rel_p95 = (double)NAN;
     row->depth_sampled_rel_mean = row->depth_sampled_rel_median = row->depth_sampled_rel_p95 =
         (double)NAN;

@@ -126,6 +126,8 @@ typedef struct sta_bench_row {
     double hpr_face_f1;
     uint64_t hpr_face_glass_points; /* ... by the face and glass rules (hpr_face_glass) */
     double hpr_face_glass_f1;
+    uint64_t hpr_volumetric_points; /* ... by the volumetric rule (hpr_volumetric) */
+    double hpr_volumetric_f1;
     uint64_t normal_count;
     double normal_mean_deg, normal_median_deg, normal_p95_deg;
     uint64_t normal_sampled_count; /* the same over pixels whose true surface the drawn
