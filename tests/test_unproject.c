@@ -169,7 +169,21 @@ static void staged_and_image_stores_write_the_same_positions(void **state)
     sta_gl_headless_destroy(&gl);
 }
 
+// STRATA_STAGED_STORES: "1" and "0" force staging; none, an empty value or a wrong one
+// leaves it to the renderer (a wrong one is named on stderr).
+static void staged_stores_setting_reads_only_0_and_1(void **state)
+{
+    (void)state;
+    assert_int_equal(sta_gl_staged_stores_from_env("1"), 1);
+    assert_int_equal(sta_gl_staged_stores_from_env("0"), 0);
+    assert_int_equal(sta_gl_staged_stores_from_env(NULL), -1);
+    assert_int_equal(sta_gl_staged_stores_from_env(""), -1);
+    assert_int_equal(sta_gl_staged_stores_from_env("yes"), -1);
+    assert_int_equal(sta_gl_staged_stores_from_env("10"), -1);
+}
+
 static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(staged_stores_setting_reads_only_0_and_1),
     cmocka_unit_test(shader_matches_cpu_twin_and_camera),
     cmocka_unit_test(staged_and_image_stores_write_the_same_positions),
 };

@@ -2,6 +2,7 @@
  * Staged stores (gl_staged.h). */
 #include "render/gl_staged.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,16 +15,27 @@ static bool renderer_is_software(void)
     return renderer && (strstr(renderer, "llvmpipe") || strstr(renderer, "softpipe"));
 }
 
+int sta_gl_staged_stores_from_env(const char *value)
+{
+    if (!value) {
+        return -1;
+    }
+    if (strcmp(value, "0") == 0 || strcmp(value, "1") == 0) {
+        return value[0] == '1';
+    }
+    fprintf(stderr, "strata: STRATA_STAGED_STORES=%s is neither 0 nor 1; the renderer decides\n",
+            value);
+    return -1;
+}
+
 bool sta_gl_staged_stores(void)
 {
     if (forced >= 0) {
         return forced != 0;
     }
     if (decided < 0) {
-        const char *env = getenv("STRATA_STAGED_STORES");
-        if (env && (strcmp(env, "0") == 0 || strcmp(env, "1") == 0)) {
-            decided = env[0] == '1';
-        } else {
+        decided = sta_gl_staged_stores_from_env(getenv("STRATA_STAGED_STORES"));
+        if (decided < 0) {
             decided = renderer_is_software() ? 1 : 0;
         }
     }

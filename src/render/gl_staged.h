@@ -23,6 +23,10 @@
  * softpipe. Decided on the first call (a context must be current) unless forced. */
 bool sta_gl_staged_stores(void);
 
+/* STRATA_STAGED_STORES's value: 1 or 0 for "1" or "0", -1 (the renderer decides) for none
+ * or anything else, which is named on stderr once. */
+int sta_gl_staged_stores_from_env(const char *value);
+
 /* Tests: 1 or 0 forces the decision for the passes initialised from now on, -1 goes back
  * to the automatic one. */
 void sta_gl_staged_stores_force(int on);
