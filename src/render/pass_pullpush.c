@@ -202,8 +202,11 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
             bind_image(STA_PULLPUSH_IMAGE_FINE_COLOUR, pyr->colour[l - 1], GL_READ_ONLY,
                        GL_RGBA32F);
         }
-        bind_image(STA_PULLPUSH_IMAGE_OUT_POSITION, pyr->position[l], GL_WRITE_ONLY, GL_RGBA32F);
-        bind_image(STA_PULLPUSH_IMAGE_OUT_COLOUR, pyr->colour[l], GL_WRITE_ONLY, GL_RGBA32F);
+        if (!pass->staged) { // staged: dispatch_level binds the staging ranges instead
+            bind_image(STA_PULLPUSH_IMAGE_OUT_POSITION, pyr->position[l], GL_WRITE_ONLY,
+                       GL_RGBA32F);
+            bind_image(STA_PULLPUSH_IMAGE_OUT_COLOUR, pyr->colour[l], GL_WRITE_ONLY, GL_RGBA32F);
+        }
         set_sizes(p, pyr, l - 1, l);
         status = dispatch_level(pass, pyr->width_px[l], pyr->height_px[l], pyr->position[l],
                                 pyr->colour[l], err);
@@ -237,7 +240,9 @@ sta_status sta_pullpush_pass_run(sta_pullpush_pass *pass, const sta_view_params 
     glProgramUniform1i(p->program, p->has_label, has_label);
     glProgramUniform1i(p->program, p->has_coarse, count > 1);
     bind_image(STA_PULLPUSH_IMAGE_FINE_POSITION, position_tex, GL_READ_ONLY, GL_RGBA32F);
-    bind_image(STA_PULLPUSH_IMAGE_OUT_POSITION, out_position_tex, GL_WRITE_ONLY, GL_RGBA32F);
+    if (!pass->staged) {
+        bind_image(STA_PULLPUSH_IMAGE_OUT_POSITION, out_position_tex, GL_WRITE_ONLY, GL_RGBA32F);
+    }
     bind_image(STA_PULLPUSH_IMAGE_OUT_COLOUR, out_colour_tex, GL_WRITE_ONLY, GL_RGBA8);
     bind_image(STA_PULLPUSH_IMAGE_COARSE_POSITION, count > 1 ? pyr->position[1] : 0, GL_READ_ONLY,
                GL_RGBA32F);
