@@ -207,6 +207,42 @@ HprSurface fit_own_surface(vec4 own, ivec2 p, bool on, vec4 nb[8])
     return hpr_surface_solve(v0, d0, u_surface_tol, n, sums);
 }
 
+// The depth of texel q of the coarse level (clamped to that level): its point's, else
+// that of the first ancestor above holding a point, else the far depth.
+float coarse_depth(ivec2 q)
+{
+    ivec2 last = ((u_size + (1 << u_coarse_level) - 1) >> u_coarse_level) - 1;
+    q = clamp(q, ivec2(0), last);
+    for (int k = u_coarse_level; k < u_level_count; k++) {
+        vec4 a = imageLoad(u_pyramid, u_level_origin[k] + (q >> (k - u_coarse_level)));
+        if (a.w > 0.5) {
+            return -a.z;
+        }
+    }
+    return u_far;
+}
+
+// An empty pixel's coarse depth (issue 15, part 2, twentieth round): the depths of the
+// four coarse texels nearest the pixel's centre, interpolated bilinearly in 1 / z. With
+// one coarse texel's depth for its whole block, the level, the cut and so the hole or
+// background decision changed at the 16-px block lines, and scan-shadow gaps kept square
+// notches and stair steps there; interpolated, the reach varies smoothly from pixel to
+// pixel. The weights are exact (multiples of 2^-2c), so the twin gets the same sum.
+float empty_coarse_depth(ivec2 p)
+{
+    precise vec2 f = (vec2(p) + 0.5) / float(1 << u_coarse_level) - 0.5;
+    ivec2 b = ivec2(floor(f));
+    precise vec2 t = f - vec2(b);
+    precise float inv = 0.0;
+    for (int j = 0; j < 4; j++) {
+        precise float wx = (j & 1) != 0 ? t.x : 1.0 - t.x;
+        precise float wy = (j & 2) != 0 ? t.y : 1.0 - t.y;
+        precise float w = wx * wy;
+        inv += w / coarse_depth(b + ivec2(j & 1, j >> 1));
+    }
+    return 1.0 / inv;
+}
+
 void main()
 {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
@@ -234,27 +270,6 @@ void main()
     if (p.x >= u_size.x || p.y >= u_size.y) {
         return;
     }
-    // Coarse depth: the ancestor at the coarse level, else the first one above with a
-    // point, else the far depth. Level: the largest l with z <= u_level_depth[l].
-    float z = u_far;
-    for (int k = u_coarse_level; k < u_level_count; k++) {
-        vec4 a = imageLoad(u_pyramid, u_level_origin[k] + (p >> k));
-        if (a.w > 0.5) {
-            z = -a.z;
-            break;
-        }
-    }
-    int level = 0;
-    for (int l = 1; l < u_level_count; l++) {
-        if (z <= u_level_depth[l]) {
-            level = l;
-        }
-    }
-    // The neighbourhood radius K / z (eq. 1 unrounded) and the cut radius.
-    precise float radius = u_radius_k / z;
-    precise float cut = STA_HPR_CUT_FACTOR * radius;
-    precise float cut2 = cut * cut;
-
 #ifdef HPR_EMPTY_LIST
     // Known empty (listed so by the copy step): no position to load.
     vec4 own = vec4(0.0);
@@ -267,6 +282,22 @@ void main()
 #else
     bool is_point = own.w > 0.5;
 #endif
+#endif
+    // Coarse depth: a point's from its ancestor at the coarse level; an empty pixel's
+    // (with SMOOTH_GAPS) interpolated between the four coarse texels nearest it
+    // (empty_coarse_depth). Level: the largest l with z <= u_level_depth[l].
+    float z = !is_point && SMOOTH_GAPS ? empty_coarse_depth(p) : coarse_depth(p >> u_coarse_level);
+    int level = 0;
+    for (int l = 1; l < u_level_count; l++) {
+        if (z <= u_level_depth[l]) {
+            level = l;
+        }
+    }
+    // The neighbourhood radius K / z (eq. 1 unrounded) and the cut radius.
+    precise float radius = u_radius_k / z;
+    precise float cut = STA_HPR_CUT_FACTOR * radius;
+    precise float cut2 = cut * cut;
+#ifndef HPR_EMPTY_LIST
     bool on = u_surface_tol > 0.0 && hpr_occludes(own.w) && -own.z > 0.0;
 #endif
     vec3 x = hpr_centre_point(own, p, u_size, u_tan_half, u_far);

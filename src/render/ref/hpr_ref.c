@@ -499,6 +499,47 @@ static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *p
     return n > 0 ? (float)__builtin_popcount(known & ~closed) / (float)n : 1.0f;
 }
 
+// The depth of texel (qx, qy) of the coarse level (clamped to that level): its point's,
+// else that of the first ancestor above holding a point, else the far depth (shader:
+// coarse_depth).
+static float coarse_depth(const occlusion_frame *f, const sta_hpr_pyramid *pyramid, int coarse,
+                          int qx, int qy)
+{
+    const sta_image *lc = &pyramid->levels[coarse];
+    qx = qx < 0 ? 0 : qx >= lc->width ? lc->width - 1 : qx;
+    qy = qy < 0 ? 0 : qy >= lc->height ? lc->height - 1 : qy;
+    for (int k = coarse; k < pyramid->level_count; k++) {
+        const float *a = sta_image_at(&pyramid->levels[k], qx >> (k - coarse), qy >> (k - coarse));
+        if (a[3] > 0.5f) {
+            return -a[2];
+        }
+    }
+    return f->far_m;
+}
+
+// An empty pixel's coarse depth (issue 15, part 2, twentieth round; shader:
+// empty_coarse_depth): the four coarse texels nearest the pixel's centre, their depths
+// interpolated bilinearly in 1 / z, so that the level and the cut, and with them the hole
+// or background decision, vary smoothly instead of changing at the coarse block lines.
+// The weights are exact (multiples of 2^-2c): the same sum as the shader's, in its order.
+static float empty_coarse_depth(const occlusion_frame *f, const sta_hpr_pyramid *pyramid,
+                                int coarse, int px, int py)
+{
+    float scale = (float)(1 << coarse);
+    float fx = ((float)px + 0.5f) / scale - 0.5f;
+    float fy = ((float)py + 0.5f) / scale - 0.5f;
+    int bx = (int)floorf(fx), by = (int)floorf(fy);
+    float tx = fx - (float)bx, ty = fy - (float)by;
+    float inv = 0.0f;
+    for (int j = 0; j < 4; j++) {
+        float wx = (j & 1) ? tx : 1.0f - tx;
+        float wy = (j & 2) ? ty : 1.0f - ty;
+        float w = wx * wy;
+        inv += w / coarse_depth(f, pyramid, coarse, bx + (j & 1), by + (j >> 1));
+    }
+    return 1.0f / inv;
+}
+
 void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_params *params,
                                 const sta_hpr_pyramid *pyramid, sta_image *out_label,
                                 sta_image *out_mean, sta_image *out_level)
@@ -522,16 +563,13 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             const float *own = sta_image_at(&pyramid->levels[0], px, py);
             float x[3];
             centre_point(&f, own, px, py, x);
-            // Coarse depth: the nearest point of the ancestor block at the coarse level,
-            // else of the first ancestor above holding one, else the far depth.
-            float z = f.far_m;
-            for (int k = coarse; k < level_count; k++) {
-                const float *a = sta_image_at(&pyramid->levels[k], px >> k, py >> k);
-                if (a[3] > 0.5f) {
-                    z = -a[2];
-                    break;
-                }
-            }
+            // Coarse depth: a point's is the nearest point of its ancestor block at the
+            // coarse level, else of the first ancestor above holding one, else the far
+            // depth; an empty pixel's (smooth gaps) is interpolated between the four
+            // coarse texels nearest it (empty_coarse_depth).
+            bool empty_smooth = !(own[3] > 0.5f) && !p.block_gaps;
+            float z = empty_smooth ? empty_coarse_depth(&f, pyramid, coarse, px, py)
+                                   : coarse_depth(&f, pyramid, coarse, px >> coarse, py >> coarse);
             int level = 0;
             for (int l = 1; l < level_count; l++) {
                 if (z <= level_depth[l]) {
@@ -548,7 +586,7 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             float cut2 = cut * cut;
             // Only neighbours nearer than the centre point by more than the gap occlude.
             float occluder_limit = -x[2] - gap_m;
-            if (!(own[3] > 0.5f) && !p.block_gaps) {
+            if (empty_smooth) {
                 float mean =
                     empty_pixel_mean(&f, pyramid, px, py, level, cut, occluder_limit, marked_reach);
                 *sta_image_at(out_label, px, py) = label_of(false, mean, f.threshold);
