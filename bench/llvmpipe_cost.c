@@ -45,6 +45,7 @@ static GLuint program(const char *body)
         "layout(binding = 1) uniform sampler2D s8;\n" /* RGBA8 */
         "layout(std430, binding = 0) buffer List { uint count; uint list[]; };\n"
         "layout(std430, binding = 1) buffer Staged { vec4 staged[]; };\n"
+        "layout(std430, binding = 2) buffer StagedU { uint staged_u[]; };\n"
         "layout(binding = 6, rgba16f) writeonly uniform image2D o16;\n"
         "layout(binding = 7, rg32f) writeonly uniform image2D o2;\n"
         "uniform ivec2 u_offset[16];\n"
@@ -96,6 +97,8 @@ static const struct {
       "void main() { PIXEL staged[p.y * 1920 + p.x] = vec4(p.x); }" },
     { "store R32F", "void main() { PIXEL imageStore(o1, p, vec4(p.x)); }" },
     { "store RGBA8", "void main() { PIXEL imageStore(o8, p, vec4(p.x * 1e-3)); }" },
+    { "store packUnorm4x8 into a storage buffer (staged RGBA8)",
+      "void main() { PIXEL staged_u[p.y * 1920 + p.x] = packUnorm4x8(vec4(p.x * 1e-3)); }" },
     { "9 imageLoad RGBA32F + store R32F",
       "void main() { PIXEL float a = 0.0; for (int i = 0; i < 9; i++) {"
       " vec4 v = imageLoad(i4, p + ivec2(i % 3 - 1, i / 3 - 1)); a += v.z * v.w; }"
@@ -177,6 +180,11 @@ int main(int argc, char **argv)
     glCreateBuffers(1, &staged);
     glNamedBufferStorage(staged, (GLsizeiptr)W * H * 16, NULL, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, staged);
+    // The staged RGBA8 stores' buffer: one packed uint per texel.
+    GLuint staged_u;
+    glCreateBuffers(1, &staged_u);
+    glNamedBufferStorage(staged_u, (GLsizeiptr)W * H * 4, NULL, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, staged_u);
     GLint offsets[32];
     for (int k = 0; k < 16; k++) {
         offsets[2 * k] = (k * 37) % 900;
@@ -220,6 +228,20 @@ int main(int argc, char **argv)
     }
     qsort(copy, (size_t)repeats, sizeof(double), by_value);
     printf("%-48s %7.2f CPU ms (min %.2f, max %.2f)\n", "storage buffer -> RGBA32F texture copy",
+           copy[repeats / 2], copy[0], copy[repeats - 1]);
+    // The same for the packed RGBA8 texels into an RGBA8 texture.
+    for (int r = 0; r < repeats; r++) {
+        glFinish();
+        double t = cpu_ms();
+        glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staged_u);
+        glTextureSubImage2D(textures[4], 0, 0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+        glFinish();
+        copy[r] = cpu_ms() - t;
+    }
+    qsort(copy, (size_t)repeats, sizeof(double), by_value);
+    printf("%-48s %7.2f CPU ms (min %.2f, max %.2f)\n", "storage buffer -> RGBA8 texture copy",
            copy[repeats / 2], copy[0], copy[repeats - 1]);
     glUseProgram(programs[0]);
     glFinish();

@@ -46,6 +46,35 @@ int hpr_landing_sectors(vec2 v)
     return (shifted | (shifted >> 8)) & 255;
 }
 
+// The sector whose axis lies nearest direction v: within 22.5 deg of it (the borders as
+// hpr_sector's, in float; twin: nearest_sector).
+int hpr_nearest_sector(vec2 v)
+{
+    vec2 a = abs(v);
+    precise float num_x = float(STA_HPR_SECTOR_TAN_NUM) * a.x;
+    precise float num_y = float(STA_HPR_SECTOR_TAN_NUM) * a.y;
+    precise float den_x = float(STA_HPR_SECTOR_TAN_DEN) * a.x;
+    precise float den_y = float(STA_HPR_SECTOR_TAN_DEN) * a.y;
+    if (den_y <= num_x) {
+        return v.x >= 0.0 ? 0 : 4;
+    }
+    if (den_x <= num_y) {
+        return v.y > 0.0 ? 2 : 6;
+    }
+    if (v.x > 0.0) {
+        return v.y > 0.0 ? 1 : 7;
+    }
+    return v.y > 0.0 ? 3 : 5;
+}
+
+// The unknown sectors (bits of `outside`) next to a known one: the flanks of the unknown
+// runs (twin: flanks).
+int hpr_flanks(int outside)
+{
+    int known = ~outside & 255;
+    return outside & ((known << 1) | (known >> 1) | (known << 7) | (known >> 7)) & 255;
+}
+
 // An empty pixel's mean: the share of its known sectors that are open (bits: `closed`
 // by a candidate, `outside` unknown unless closed); 1 when none is known. Twin:
 // empty_mean.

@@ -175,6 +175,109 @@ vec2 screen_offset(vec4 y, ivec2 p)
     return vec2(vx, vy);
 }
 
+// The 8 direct neighbours (ring level 0), from `nb` where the own-surface rule loaded them
+// (`on`), else from the position texture; those outside the image mark their sectors in
+// `outside`.
+void add_direct_neighbours(ivec2 p, vec3 x, bool on, vec4 nb[8], float cut2, float limit,
+                           bool by_landing, inout int closed, inout vec4 min_lo,
+                           inout vec4 min_hi, inout int outside)
+{
+    for (int i = 0; i < 8; i++) {
+        ivec2 n = p + RING[i];
+        if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
+            vec4 y = on ? nb[i] : imageLoad(u_position, n);
+            add_neighbour(y, RING[i], p, x, false, cut2, limit, by_landing, closed, min_lo,
+                          min_hi);
+        } else {
+            outside |= 1 << hpr_sector(2 * RING[i]);
+        }
+    }
+}
+
+// What an empty pixel's candidate tells the border rule's flank test (add_neighbour's
+// landing path): the sectors it closes go to `closed`, and, for `gather`, the sector whose
+// axis lies nearest its direction to `axis_closed` and its squared distance to `near2`.
+void flank_candidate(vec4 y, ivec2 p, bool cut, float cut2, float limit, bool gather,
+                     inout int closed, inout int axis_closed, inout float near2)
+{
+    if (!(y.w > 0.5) || !(-y.z > 0.0) || !(-y.z < limit)) {
+        return;
+    }
+    vec2 v = screen_offset(y, p);
+    precise float dist2 = v.x * v.x + v.y * v.y;
+    if (hpr_reach_limited(y.w)) {
+        precise float reach = u_marked_reach * (1.0 / -y.z);
+        if (!(dist2 <= reach * reach)) {
+            return;
+        }
+    }
+    if (!(!cut || dist2 <= cut2)) {
+        return;
+    }
+    closed |= hpr_landing_sectors(v);
+    if (gather) {
+        axis_closed |= 1 << hpr_nearest_sector(v);
+        near2 = min(near2, dist2);
+    }
+}
+
+// The border rule's flank test (issue 15, part 2, twentieth round; twin: the flank test in
+// empty_pixel_mean). An empty pixel that is a hole only by the border rule (an unknown
+// sector open, `outside`) lies in open space between a silhouette and the border, not in a
+// surface running off-screen, when one of its `flanks` has no candidate within 22.5 deg of
+// its axis and no candidate lies within sqrt(near2) pixels: among every level's ring and
+// axis texels within the reach and the direct neighbours, and then among the top level's
+// 5 x 5 texels within twice the reach (these inform the test only). The candidates are
+// walked again here, since the main walk may have settled early; the sectors they close
+// (`closed` on entry: the main walk's) decide whether an unknown sector stays open.
+bool flank_test_fires(ivec2 p, int level, float cut, float limit, int outside, int flanks,
+                      float near2, int closed)
+{
+    int axis_closed = 0;
+    float near = 3.0e38;
+    precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(1 << level));
+    precise float cut2 = reach * reach;
+    for (int k = level; k >= 1; k--) {
+        ivec2 a = p >> k;
+        ivec2 size_k = (u_size + (1 << k) - 1) >> k;
+        for (int i = 0; i < 12; i++) {
+            // the ring, then (below the top level) the texels 2 away along the axes
+            ivec2 n = i < 8 ? a + RING[i] : a + 2 * AXES[i - 8];
+            if ((i < 8 || k < level) && all(greaterThanEqual(n, ivec2(0))) &&
+                all(lessThan(n, size_k))) {
+                flank_candidate(imageLoad(u_pyramid, u_level_origin[k] + n), p, true, cut2, limit,
+                                true, closed, axis_closed, near);
+            }
+        }
+    }
+    for (int i = 0; i < 8; i++) {
+        ivec2 n = p + RING[i];
+        if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
+            flank_candidate(imageLoad(u_position, n), p, false, cut2, limit, true, closed,
+                            axis_closed, near);
+        }
+    }
+    bool open_space = (flanks & ~axis_closed) != 0 && near > near2;
+    if (open_space && level > 0 && (outside & ~closed) != 0) {
+        precise float wide = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(2 << level));
+        ivec2 a = p >> level;
+        ivec2 size_k = (u_size + (1 << level) - 1) >> level;
+        int unused = 0;
+        for (int dy = -2; dy <= 2; dy++) {
+            for (int dx = -2; dx <= 2; dx++) {
+                ivec2 n = a + ivec2(dx, dy);
+                if ((dx != 0 || dy != 0) && all(greaterThanEqual(n, ivec2(0))) &&
+                    all(lessThan(n, size_k))) {
+                    flank_candidate(imageLoad(u_pyramid, u_level_origin[level] + n), p, true,
+                                    wide * wide, limit, true, unused, axis_closed, near);
+                }
+            }
+        }
+        open_space = (flanks & ~axis_closed) != 0 && near > near2;
+    }
+    return open_space && (outside & ~closed) != 0;
+}
+
 // The pixel's own surface from its 8 direct neighbours `nb` (hpr_surface_solve; texels
 // outside the image hold w = 0); not ok for an empty pixel, a marked point or with the
 // rule off (`on` false). Twin: fit_own_surface.
@@ -329,11 +432,14 @@ void main()
     // from the ring texels outside, which are block-shaped).
     int closed = 0;
     int empty_outside = 0;
+    // The border rule's flanks (hpr_flanks), for the flank test below.
+    int flanks = 0;
     if (by_landing) {
         precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(1 << level));
         cut2 = reach * reach;
         float border = clamp(reach, STA_HPR_MIN_REACH_PX, u_empty_border);
         empty_outside = hpr_wedge_outside(hpr_reach_outside(p, u_size, border), false);
+        flanks = hpr_flanks(empty_outside);
     }
     // Levels level..1, coarse first (their rings close an empty pixel inside a surface
     // at once, so it settles early): the ring around the ancestor, from the pyramid. An
@@ -377,21 +483,16 @@ void main()
 #else
         vec4 lo = min_lo, hi = min_hi;
 #endif
-        settled = by_landing ? closed != 0 && (closed | empty_outside) == 255 : hpr_settled(lo, hi, is_point, outside, bound);
+        settled = by_landing ? closed != 0 && (closed | empty_outside) == 255
+                             : hpr_settled(lo, hi, is_point, outside, bound);
     }
 #ifdef HPR_SEE_THROUGH
     g_solid_level = true;
 #endif
     // Level 0: the 8 direct neighbours, from the position texture.
-    for (int i = 0; i < 8 && !settled; i++) {
-        ivec2 n = p + RING[i];
-        if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
-            vec4 y = on ? nb[i] : imageLoad(u_position, n);
-            add_neighbour(y, RING[i], p, x, false, cut2, limit, by_landing, closed, min_lo,
-                          min_hi);
-        } else {
-            outside |= 1 << hpr_sector(2 * RING[i]);
-        }
+    if (!settled) {
+        add_direct_neighbours(p, x, on, nb, cut2, limit, by_landing, closed, min_lo, min_hi,
+                              outside);
     }
     // A sparse surface (issue 15, part 2, sixteenth round): an empty pixel without unknown
     // sectors whose open ones form one run of at most STA_HPR_EMPTY_WIDEN_OPEN also takes
@@ -404,6 +505,19 @@ void main()
         bitCount(open) <= STA_HPR_EMPTY_WIDEN_OPEN) {
         precise float reach = min(cut, STA_HPR_EMPTY_CUT_BLOCKS * float(2 << level));
         closed |= wide_closed(p, x, level, reach * reach, limit);
+    }
+    // The border rule beside the data only (issue 15, part 2, twentieth round): a pixel that
+    // is a hole only by the border rule (an unknown sector open) lies in open space between
+    // a silhouette and the border, not in a surface running off-screen, when a flank has no
+    // candidate near its axis, also among the top level's 5 x 5 texels within twice the
+    // reach, and no candidate lands within `near` (fragments of fill floated there): its
+    // unknown sectors count as open (flank_test_fires); few pixels get here.
+    if (by_landing && flanks != 0 && closed != 0 && (closed | empty_outside) == 255 &&
+        (empty_outside & ~closed) != 0) {
+        precise float near = max(STA_HPR_EMPTY_NEAR_RADII * radius, STA_HPR_EMPTY_NEAR_MIN_PX);
+        if (flank_test_fires(p, level, cut, limit, empty_outside, flanks, near * near, closed)) {
+            empty_outside = 0;
+        }
     }
     // See-through returns close an empty pixel's sectors, and a point's where a solid
     // candidate is near (the point lies behind a wall, not only behind the glass).

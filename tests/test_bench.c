@@ -34,7 +34,7 @@ static void near_at(double a, double b, double eps, const char *file, int line)
 #define assert_near(a, b, eps) near_at((double)(a), (double)(b), (eps), __FILE__, __LINE__)
 
 /* default_gaps_follow_the_points_street: the 16-px block-line ratio of the default at
- * most, of the rule by blocks at least (measured at 480x270, views 0 / 1: 3.19 / 2.74 and
+ * most, of the rule by blocks at least (measured at 480x270, views 0 / 1: 1.97 / 1.74 and
  * 100 / 24.7; 1 = no block structure). With one coarse depth per 16-px block for the empty
  * pixels (before issue 15's twentieth round) the default read 5.63 / 4.90. */
 #define STREET_GAPS_DEFAULT_MAX 4.0

@@ -1122,6 +1122,66 @@ static float distance_to(const unsigned char *inside, int w, int h, int x, int y
     return best;
 }
 
+// Open space between a silhouette and the image border (issue 15, part 2, twentieth
+// round): a densely sampled disc whose top lies 12 px below the top border, nothing else.
+// The border band's pixels above it have only their lower sectors known, which the disc
+// closes; before the flank test they were holes, and fragments of fill floated over the
+// silhouette (the bunny's default view). Now no empty pixel more than 8 px from the disc
+// is a hole, while a surface running off the border keeps its band filled
+// (surfaces_fill_to_the_image_edge).
+static void border_band_leaves_open_space_beside_a_silhouette(void **state)
+{
+    (void)state;
+    enum {
+        W = 192,
+        H = 144
+    };
+    sta_view_params view = make_view(W, H);
+    view.s0 = 0.035f; // neighbourhood radius K / z about 30 px at 2 m, as the bunny's
+    sta_image position;
+    make_plane(&view, 2.0f, 0.0f, &position);
+    static unsigned char disc[W * H];
+    const float cx = 96.0f, cy = 100.0f, radius = 31.0f; // top at y = 131, border at 143
+    for (int y = 0; y < H; y++) {
+        for (int x = 0; x < W; x++) {
+            unsigned hash = ((unsigned)x * 73856093u) ^ ((unsigned)y * 19349663u);
+            float dx = (float)x - cx, dy = (float)y - cy;
+            disc[y * W + x] = dx * dx + dy * dy < radius * radius && (hash % 1000u) < 600u;
+            if (!disc[y * W + x]) {
+                float *p = sta_image_at(&position, x, y);
+                p[0] = p[1] = p[2] = p[3] = 0.0f;
+            }
+        }
+    }
+    both_result r;
+    run_both("disc below the border", &view, NULL, &position, -1, &r);
+    int open = 0, open_holes = 0, inner = 0, inner_holes = 0;
+    for (int y = 0; y < H; y++) {
+        for (int x = 0; x < W; x++) {
+            if (disc[y * W + x]) {
+                continue;
+            }
+            float dx = (float)x - cx, dy = (float)y - cy;
+            bool hole = *sta_image_at(&r.pyramid_label, x, y) == STA_LABEL_HOLE;
+            if (dx * dx + dy * dy < (radius - 3.0f) * (radius - 3.0f)) {
+                inner++; // the disc's own holes stay holes
+                inner_holes += hole;
+            } else if (distance_to(disc, W, H, x, y) > 8.0f) {
+                open++;
+                open_holes += hole;
+            }
+        }
+    }
+    printf("disc below the border %dx%d: %d of %d empty pixels more than 8 px off the disc holes; "
+           "%d of %d inside it\n",
+           W, H, open_holes, open, inner_holes, inner);
+    assert_true(open > 10000 && inner > 500);
+    assert_int_equal(open_holes, 0);
+    assert_int_equal(inner_holes, inner);
+    both_release(&r);
+    sta_image_release(&position);
+}
+
 static void street_gaps_follow_the_points(void **state)
 {
     (void)state;
@@ -1886,6 +1946,8 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(coincident_points_are_skipped, setup, teardown),
     cmocka_unit_test_setup_teardown(early_exit_keeps_every_label, setup, teardown),
     cmocka_unit_test_setup_teardown(surfaces_fill_to_the_image_edge, setup, teardown),
+    cmocka_unit_test_setup_teardown(border_band_leaves_open_space_beside_a_silhouette, setup,
+                                    teardown),
     cmocka_unit_test_setup_teardown(gaps_have_no_block_edges, setup, teardown),
     cmocka_unit_test_setup_teardown(street_gaps_follow_the_points, setup, teardown),
     cmocka_unit_test_setup_teardown(sparse_surfaces_fill_between_far_apart_points, setup, teardown),

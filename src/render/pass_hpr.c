@@ -21,7 +21,7 @@
 /* Tiles per workgroup of the copy step: a row of them. */
 #define STA_HPR_CLASSIFY_GROUP_TILES (STA_WORKGROUP_SIZE_X * STA_WORKGROUP_SIZE_Y)
 /* Room for the shader defines (shader_defines) and a variant's own. */
-#define STA_HPR_DEFINES_SIZE         1536
+#define STA_HPR_DEFINES_SIZE         2048
 
 // The constants of hpr_ref.h and screen_space.h the shaders use, as #defines.
 static void shader_defines(char *out, size_t size)
@@ -53,7 +53,9 @@ static void shader_defines(char *out, size_t size)
              "#define STA_POSITION_W_SEE_THROUGH_MIN %.9e\n"
              "#define STA_HPR_SOLID_LEVELS %d\n"
              "#define STA_HPR_SOLID_VALUE %.9e\n"
-             "#define STA_HPR_EMPTY_WIDEN_OPEN %d\n",
+             "#define STA_HPR_EMPTY_WIDEN_OPEN %d\n"
+             "#define STA_HPR_EMPTY_NEAR_RADII %.9e\n"
+             "#define STA_HPR_EMPTY_NEAR_MIN_PX %.9e\n",
              STA_HPR_MAX_LEVELS, STA_HPR_SECTOR_TAN_NUM, STA_HPR_SECTOR_TAN_DEN,
              (double)STA_HPR_MIN_LENGTH2_M2, (double)STA_LABEL_BACKGROUND,
              (double)STA_LABEL_VISIBLE, (double)STA_LABEL_HIDDEN, (double)STA_LABEL_HOLE,
@@ -64,7 +66,8 @@ static void shader_defines(char *out, size_t size)
              (double)STA_HPR_SURFACE_MIN_DET, (double)STA_HPR_SURFACE_FRONT_SHARE,
              STA_HPR_CLASSIFY_TILE, STA_HPR_CLASSIFY_GROUP_TILES,
              (double)STA_POSITION_W_SEE_THROUGH_MIN, STA_HPR_SOLID_LEVELS,
-             (double)STA_HPR_SOLID_VALUE, STA_HPR_EMPTY_WIDEN_OPEN);
+             (double)STA_HPR_SOLID_VALUE, STA_HPR_EMPTY_WIDEN_OPEN,
+             (double)STA_HPR_EMPTY_NEAR_RADII, (double)STA_HPR_EMPTY_NEAR_MIN_PX);
 }
 
 sta_status sta_hpr_pass_init(sta_hpr_pass *pass, sta_error *err)

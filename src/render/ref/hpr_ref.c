@@ -265,6 +265,25 @@ static unsigned landing_sectors(const float v[2])
     return (shifted | (shifted >> 8)) & 255u;
 }
 
+// The sector whose axis lies nearest direction v: within 22.5 deg of it (the borders as
+// sta_hpr_sector's, in float; shader: hpr_nearest_sector).
+static int nearest_sector(const float v[2])
+{
+    float ax = fabsf(v[0]), ay = fabsf(v[1]);
+    float num_x = (float)STA_HPR_SECTOR_TAN_NUM * ax, num_y = (float)STA_HPR_SECTOR_TAN_NUM * ay;
+    float den_x = (float)STA_HPR_SECTOR_TAN_DEN * ax, den_y = (float)STA_HPR_SECTOR_TAN_DEN * ay;
+    if (den_y <= num_x) {
+        return v[0] >= 0.0f ? 0 : 4;
+    }
+    if (den_x <= num_y) {
+        return v[1] > 0.0f ? 2 : 6;
+    }
+    if (v[0] > 0.0f) {
+        return v[1] > 0.0f ? 1 : 7;
+    }
+    return v[1] > 0.0f ? 3 : 5;
+}
+
 // Where point y lands on screen relative to pixel (px, py)'s centre, in pixels; false
 // for a point not in front of the eye.
 static bool screen_offset(const occlusion_frame *f, const float *y, int px, int py, float v[2])
@@ -415,10 +434,17 @@ static unsigned wedge_outside(const occlusion_frame *f, int px, int py, float re
 // and, with `axes2`, the 4 texels 2 away along the axes; a candidate closes the sectors
 // around where it lands (landing_sectors) when it is drawn, nearer than
 // `occluder_limit`, within `cut2` (squared pixels) and, for a marked point, within its
-// reach.
+// reach; `extra` gathers what they tell the flank test.
+// What an empty pixel's closing candidates tell the border rule's flank test (shader:
+// g_axis_closed, g_near2).
+typedef struct landing_extra {
+    unsigned axis_closed; /* sectors whose axis lies nearest a candidate's direction */
+    float near2;          /* least squared distance of a candidate, pixels */
+} landing_extra;
+
 static unsigned closed_by_level(const occlusion_frame *f, const sta_image *lk, int k, int span,
                                 bool axes2, int px, int py, float cut2, float occluder_limit,
-                                float marked_reach)
+                                float marked_reach, landing_extra *extra)
 {
     unsigned closed = 0;
     int ax = px >> k, ay = py >> k;
@@ -441,6 +467,8 @@ static unsigned closed_by_level(const occlusion_frame *f, const sta_image *lk, i
             bool reached = !sta_position_reach_limited(y[3]) || dist2 <= marked * marked;
             if (reached && dist2 <= cut2) {
                 closed |= landing_sectors(v);
+                extra->axis_closed |= 1u << nearest_sector(v);
+                extra->near2 = fminf(extra->near2, dist2);
             }
         }
     }
@@ -460,15 +488,23 @@ static unsigned empty_outside(const occlusion_frame *f, int px, int py, float re
 // (levels >= 1; level 0: the direct neighbours, no cut).
 static unsigned empty_closed(const occlusion_frame *f, const sta_hpr_pyramid *pyramid, int px,
                              int py, int level, float reach, float occluder_limit,
-                             float marked_reach)
+                             float marked_reach, landing_extra *extra)
 {
     unsigned closed = 0;
     for (int k = 0; k <= level; k++) {
         float cut2 = k > 0 ? reach * reach : INFINITY;
         closed |= closed_by_level(f, &pyramid->levels[k], k, 1, k > 0 && k < level, px, py, cut2,
-                                  occluder_limit, marked_reach);
+                                  occluder_limit, marked_reach, extra);
     }
     return closed;
+}
+
+// The unknown sectors (bits of `outside`) next to a known one: the flanks of the unknown
+// runs (shader: hpr_flanks).
+static unsigned flanks_of(unsigned outside)
+{
+    unsigned known = ~outside & 255u;
+    return outside & ((known << 1) | (known >> 1) | (known << 7) | (known >> 7)) & 255u;
 }
 
 // An empty pixel's mean (shader: empty_pixel_mean, docs/HPR.md "Empty pixels"): the
@@ -480,19 +516,41 @@ static unsigned empty_closed(const occlusion_frame *f, const sta_hpr_pyramid *py
 // a band; near the image border (unknown sectors) the wider reach filled the gaps that
 // touch the border up to the band's edge, in straight lines.
 static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *pyramid, int px,
-                              int py, int level, float cut, float occluder_limit,
+                              int py, int level, float radius, float occluder_limit,
                               float marked_reach)
 {
+    float cut = STA_HPR_CUT_FACTOR * radius;
+    float near = fmaxf(STA_HPR_EMPTY_NEAR_RADII * radius, STA_HPR_EMPTY_NEAR_MIN_PX);
+    float near2 = near * near;
+    landing_extra extra = { 0u, 3.0e38f };
     float reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(1 << level));
     unsigned outside = empty_outside(f, px, py, reach);
-    unsigned closed = empty_closed(f, pyramid, px, py, level, reach, occluder_limit, marked_reach);
+    unsigned flanks = flanks_of(outside);
+    unsigned closed =
+        empty_closed(f, pyramid, px, py, level, reach, occluder_limit, marked_reach, &extra);
     unsigned open = ~(closed | outside) & 255u;
     unsigned starts = open & ~((open << 1) | (open >> 7)); // first sectors of open runs
     if (level > 0 && (outside & ~closed) == 0 && __builtin_popcount(starts) == 1 &&
         __builtin_popcount(open) <= STA_HPR_EMPTY_WIDEN_OPEN) {
         reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(2 << level));
         closed |= closed_by_level(f, &pyramid->levels[level], level, 2, false, px, py,
-                                  reach * reach, occluder_limit, marked_reach);
+                                  reach * reach, occluder_limit, marked_reach, &extra);
+    }
+    // The border rule beside the data only (STA_HPR_EMPTY_NEAR_RADII; shader:
+    // flank_test_answered): a hole only by the border rule (an unknown sector open) with a
+    // flank without a candidate near its axis, also among the top level's 5 x 5 texels
+    // within twice the reach (which inform this test only), and no candidate within `near`:
+    // the unknown sectors count as open.
+    if (flanks != 0 && closed != 0 && ((closed | outside) & 255u) == 255u &&
+        (outside & ~closed) != 0 && (flanks & ~extra.axis_closed) != 0 && extra.near2 > near2) {
+        if (level > 0) {
+            float wide = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(2 << level));
+            (void)closed_by_level(f, &pyramid->levels[level], level, 2, false, px, py, wide * wide,
+                                  occluder_limit, marked_reach, &extra);
+        }
+        if ((flanks & ~extra.axis_closed) != 0 && extra.near2 > near2) {
+            outside = 0;
+        }
     }
     unsigned known = closed | (~outside & 255u);
     int n = __builtin_popcount(known);
@@ -587,8 +645,8 @@ void sta_hpr_ref_pyramid_labels(const sta_view_params *view, const sta_hpr_param
             // Only neighbours nearer than the centre point by more than the gap occlude.
             float occluder_limit = -x[2] - gap_m;
             if (empty_smooth) {
-                float mean =
-                    empty_pixel_mean(&f, pyramid, px, py, level, cut, occluder_limit, marked_reach);
+                float mean = empty_pixel_mean(&f, pyramid, px, py, level, radius, occluder_limit,
+                                              marked_reach);
                 *sta_image_at(out_label, px, py) = label_of(false, mean, f.threshold);
                 if (out_mean) {
                     *sta_image_at(out_mean, px, py) = mean;

@@ -64,6 +64,18 @@
  * several pixels apart) a wedge finds no candidate within 2^level, in a gap more do
  * (issue 15, part 2, sixteenth round: sparse surfaces; docs/HPR.md "Empty pixels"). */
 #define STA_HPR_EMPTY_WIDEN_OPEN     1
+/* Pyramidal operator, empty pixels at the image border: the border rule (unknown sectors
+ * left out of the mean) makes a hole only beside the data. When a flank of the unknown
+ * sectors (an unknown sector next to a known one: for the top border, left and right) has
+ * no candidate landing within 22.5 deg of its axis, also among its top level's 5 x 5
+ * texels within twice the reach, and no candidate lands within this many neighbourhood
+ * radii K / z (0.2: 2 s0 at the coarse depth), the unknown sectors count as open: the pixel
+ * lies in open space between a silhouette and the border, not in a surface running
+ * off-screen, whose points lie along the border beside it (issue 15, part 2, twentieth
+ * round; docs/HPR.md "Empty pixels"). */
+#define STA_HPR_EMPTY_NEAR_RADII     0.2f
+/* ... and never nearer than this many pixels (small views, where K / z is a few pixels). */
+#define STA_HPR_EMPTY_NEAR_MIN_PX    3.0f
 /* Pyramidal operator, empty pixels: a candidate landing within this tangent of a sector's
  * axis closes the three sectors around that axis, not two (points on a regular grid
  * land on the axes, and rounding would pick either pair). */
