@@ -131,6 +131,26 @@ static const struct {
       " list[i & 0xfffffu] = uint(p.x); } }" },
 };
 
+// Times (median of `repeats`, CPU ms) the copy of `buffer` into `texture` as a pixel unpack
+// buffer of RGBA texels of `type`, W x H.
+static void time_copy(GLuint buffer, GLuint texture, GLenum type, int repeats, const char *name)
+{
+    double copy[MAX_REPEATS];
+    for (int r = 0; r < repeats; r++) {
+        glFinish();
+        double t = cpu_ms();
+        glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, buffer);
+        glTextureSubImage2D(texture, 0, 0, 0, W, H, GL_RGBA, type, NULL);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+        glFinish();
+        copy[r] = cpu_ms() - t;
+    }
+    qsort(copy, (size_t)repeats, sizeof(double), by_value);
+    printf("%-48s %7.2f CPU ms (min %.2f, max %.2f)\n", name, copy[repeats / 2], copy[0],
+           copy[repeats - 1]);
+}
+
 int main(int argc, char **argv)
 {
     int repeats = argc > 1 ? atoi(argv[1]) : 7;
@@ -214,35 +234,11 @@ int main(int argc, char **argv)
         printf("%-48s %7.2f CPU ms (min %.2f, max %.2f)\n", probes[i].name, ms[i][repeats / 2],
                ms[i][0], ms[i][repeats - 1]);
     }
-    // The staged stores' second half: the buffer copied into an RGBA32F texture.
-    double copy[MAX_REPEATS];
-    for (int r = 0; r < repeats; r++) {
-        glFinish();
-        double t = cpu_ms();
-        glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staged);
-        glTextureSubImage2D(textures[2], 0, 0, 0, W, H, GL_RGBA, GL_FLOAT, NULL);
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-        glFinish();
-        copy[r] = cpu_ms() - t;
-    }
-    qsort(copy, (size_t)repeats, sizeof(double), by_value);
-    printf("%-48s %7.2f CPU ms (min %.2f, max %.2f)\n", "storage buffer -> RGBA32F texture copy",
-           copy[repeats / 2], copy[0], copy[repeats - 1]);
-    // The same for the packed RGBA8 texels into an RGBA8 texture.
-    for (int r = 0; r < repeats; r++) {
-        glFinish();
-        double t = cpu_ms();
-        glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staged_u);
-        glTextureSubImage2D(textures[4], 0, 0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-        glFinish();
-        copy[r] = cpu_ms() - t;
-    }
-    qsort(copy, (size_t)repeats, sizeof(double), by_value);
-    printf("%-48s %7.2f CPU ms (min %.2f, max %.2f)\n", "storage buffer -> RGBA8 texture copy",
-           copy[repeats / 2], copy[0], copy[repeats - 1]);
+    // The staged stores' second half: the buffer copied into the texture (vec4 texels into
+    // RGBA32F, packed RGBA8 texels into RGBA8).
+    time_copy(staged, textures[2], GL_FLOAT, repeats, "storage buffer -> RGBA32F texture copy");
+    time_copy(staged_u, textures[4], GL_UNSIGNED_BYTE, repeats,
+              "storage buffer -> RGBA8 texture copy");
     glUseProgram(programs[0]);
     glFinish();
     double t0 = cpu_ms();
