@@ -175,30 +175,11 @@ vec2 screen_offset(vec4 y, ivec2 p)
     return vec2(vx, vy);
 }
 
-// The 8 direct neighbours (ring level 0), from `nb` where the own-surface rule loaded them
-// (`on`), else from the position texture; those outside the image mark their sectors in
-// `outside`.
-void add_direct_neighbours(ivec2 p, vec3 x, bool on, vec4 nb[8], float cut2, float limit,
-                           bool by_landing, inout int closed, inout vec4 min_lo,
-                           inout vec4 min_hi, inout int outside)
-{
-    for (int i = 0; i < 8; i++) {
-        ivec2 n = p + RING[i];
-        if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
-            vec4 y = on ? nb[i] : imageLoad(u_position, n);
-            add_neighbour(y, RING[i], p, x, false, cut2, limit, by_landing, closed, min_lo,
-                          min_hi);
-        } else {
-            outside |= 1 << hpr_sector(2 * RING[i]);
-        }
-    }
-}
-
 // What an empty pixel's candidate tells the border rule's flank test (add_neighbour's
-// landing path): the sectors it closes go to `closed`, and, for `gather`, the sector whose
-// axis lies nearest its direction to `axis_closed` and its squared distance to `near2`.
-void flank_candidate(vec4 y, ivec2 p, bool cut, float cut2, float limit, bool gather,
-                     inout int closed, inout int axis_closed, inout float near2)
+// landing path): the sectors it closes go to `closed`, the sector whose axis lies nearest
+// its direction to `axis_closed`, and its squared distance to `near2`.
+void flank_candidate(vec4 y, ivec2 p, bool cut, float cut2, float limit, inout int closed,
+                     inout int axis_closed, inout float near2)
 {
     if (!(y.w > 0.5) || !(-y.z > 0.0) || !(-y.z < limit)) {
         return;
@@ -215,10 +196,8 @@ void flank_candidate(vec4 y, ivec2 p, bool cut, float cut2, float limit, bool ga
         return;
     }
     closed |= hpr_landing_sectors(v);
-    if (gather) {
-        axis_closed |= 1 << hpr_nearest_sector(v);
-        near2 = min(near2, dist2);
-    }
+    axis_closed |= 1 << hpr_nearest_sector(v);
+    near2 = min(near2, dist2);
 }
 
 // The border rule's flank test (issue 15, part 2, twentieth round; twin: the flank test in
@@ -246,15 +225,15 @@ bool flank_test_fires(ivec2 p, int level, float cut, float limit, int outside, i
             if ((i < 8 || k < level) && all(greaterThanEqual(n, ivec2(0))) &&
                 all(lessThan(n, size_k))) {
                 flank_candidate(imageLoad(u_pyramid, u_level_origin[k] + n), p, true, cut2, limit,
-                                true, closed, axis_closed, near);
+                                closed, axis_closed, near);
             }
         }
     }
     for (int i = 0; i < 8; i++) {
         ivec2 n = p + RING[i];
         if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
-            flank_candidate(imageLoad(u_position, n), p, false, cut2, limit, true, closed,
-                            axis_closed, near);
+            flank_candidate(imageLoad(u_position, n), p, false, cut2, limit, closed, axis_closed,
+                            near);
         }
     }
     bool open_space = (flanks & ~axis_closed) != 0 && near > near2;
@@ -269,7 +248,7 @@ bool flank_test_fires(ivec2 p, int level, float cut, float limit, int outside, i
                 if ((dx != 0 || dy != 0) && all(greaterThanEqual(n, ivec2(0))) &&
                     all(lessThan(n, size_k))) {
                     flank_candidate(imageLoad(u_pyramid, u_level_origin[level] + n), p, true,
-                                    wide * wide, limit, true, unused, axis_closed, near);
+                                    wide * wide, limit, unused, axis_closed, near);
                 }
             }
         }
@@ -490,9 +469,15 @@ void main()
     g_solid_level = true;
 #endif
     // Level 0: the 8 direct neighbours, from the position texture.
-    if (!settled) {
-        add_direct_neighbours(p, x, on, nb, cut2, limit, by_landing, closed, min_lo, min_hi,
-                              outside);
+    for (int i = 0; i < 8 && !settled; i++) {
+        ivec2 n = p + RING[i];
+        if (all(greaterThanEqual(n, ivec2(0))) && all(lessThan(n, u_size))) {
+            vec4 y = on ? nb[i] : imageLoad(u_position, n);
+            add_neighbour(y, RING[i], p, x, false, cut2, limit, by_landing, closed, min_lo,
+                          min_hi);
+        } else {
+            outside |= 1 << hpr_sector(2 * RING[i]);
+        }
     }
     // A sparse surface (issue 15, part 2, sixteenth round): an empty pixel without unknown
     // sectors whose open ones form one run of at most STA_HPR_EMPTY_WIDEN_OPEN also takes

@@ -436,7 +436,7 @@ static unsigned wedge_outside(const occlusion_frame *f, int px, int py, float re
 // `occluder_limit`, within `cut2` (squared pixels) and, for a marked point, within its
 // reach; `extra` gathers what they tell the flank test.
 // What an empty pixel's closing candidates tell the border rule's flank test (shader:
-// g_axis_closed, g_near2).
+// flank_candidate's axis_closed and near2).
 typedef struct landing_extra {
     unsigned axis_closed; /* sectors whose axis lies nearest a candidate's direction */
     float near2;          /* least squared distance of a candidate, pixels */
@@ -537,7 +537,7 @@ static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *p
                                   reach * reach, occluder_limit, marked_reach, &extra);
     }
     // The border rule beside the data only (STA_HPR_EMPTY_NEAR_RADII; shader:
-    // flank_test_answered): a hole only by the border rule (an unknown sector open) with a
+    // flank_test_fires): a hole only by the border rule (an unknown sector open) with a
     // flank without a candidate near its axis, also among the top level's 5 x 5 texels
     // within twice the reach (which inform this test only), and no candidate within `near`:
     // the unknown sectors count as open.
