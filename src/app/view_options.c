@@ -169,7 +169,9 @@ static sta_status parse_pick(const sta_cli_option *option, const char *value, st
 static void show_camera(const sta_cli_option *option, char *out_text, size_t size)
 {
     const sta_view_args *a = option->dest;
-    snprintf(out_text, size, "the whole scene, seen from the south-west; FOV %g", a->camera[5]);
+    snprintf(out_text, size,
+             "the whole scene: a street along its axis, else from the south-west; FOV %g",
+             a->camera[5]);
 }
 
 // --frames-out PATTERN: exactly one %d-style conversion, as the pattern reaches snprintf.

@@ -4,8 +4,10 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "app/view_sample.h"
 #include "core/alloc.h"
 #include "core/camera_frame.h"
 #include "format/strata_reader.h"
@@ -15,8 +17,9 @@ static const double degrees = 3.14159265358979323846 / 180.0;
 
 // The root node's points inside the robust box grown by STA_VIEW_FRAME_GROW of its
 // size on every side (far strays stay out, a model's extremities that the percentiles
-// cut, such as the bunny's ear tips, come back in); world metres, *out owned by the
-// caller. 0 when the file cannot be read here (the caller falls back to the box).
+// cut, such as the bunny's ear tips, come back in), resampled by the density they stand
+// for (sta_view_density_sample); world metres, *out owned by the caller. 0 when the file
+// cannot be read here (the caller falls back to the box).
 static size_t root_points(const sta_strata_info *info, const double box_min[3],
                           const double box_max[3], double (**out)[3])
 {
@@ -28,29 +31,9 @@ static size_t root_points(const sta_strata_info *info, const double box_min[3],
     }
     *out = NULL;
     sta_strata_reader *reader = NULL;
-    sta_strata_decoder *decoder = NULL;
-    sta_strata_points points;
     size_t kept = 0;
-    if (sta_strata_open(info->path, NULL, &reader, NULL) == STA_OK &&
-        sta_strata_decoder_create(&decoder, NULL) == STA_OK &&
-        sta_strata_decode_node(reader, 0, decoder, &points, NULL) == STA_OK &&
-        (*out = sta_alloc_array(points.count ? points.count : 1, sizeof(**out)))) {
-        const sta_grid *grid = &sta_strata_reader_info(reader)->geometry.grid;
-        for (size_t i = 0; i < points.count; i++) {
-            const int32_t xyz[3] = { points.points[i].X, points.points[i].Y, points.points[i].Z };
-            double *p = (*out)[kept];
-            bool inside = true;
-            for (int a = 0; a < 3; a++) {
-                p[a] = sta_grid_apply(grid, a, xyz[a]);
-                inside = inside && p[a] >= min[a] && p[a] <= max[a];
-            }
-            kept += inside;
-        }
-    }
-    if (decoder) {
-        sta_strata_decoder_destroy(decoder);
-    }
-    if (reader) {
+    if (sta_strata_open(info->path, NULL, &reader, NULL) == STA_OK) {
+        kept = sta_view_density_sample(reader, min, max, out);
         sta_strata_close(reader);
     }
     return kept;
@@ -81,14 +64,16 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
         c->near_m = extent * 1e-5 > 1e-3 ? extent * 1e-5 : 1e-3;
         return;
     }
-    c->pitch = STA_VIEW_DEFAULT_PITCH_DEG * degrees;
     double(*points)[3] = NULL;
     size_t count = root_points(info, frame_min, frame_max, &points);
-    c->yaw = sta_view_default_yaw(c, points ? &points[0][0] : NULL, count);
+    c->yaw = sta_view_default_yaw(c, points ? &points[0][0] : NULL, count, &c->pitch);
     if (count > 0) {
-        const double centre[3] = { 0.5 * (frame_min[0] + frame_max[0]),
-                                   0.5 * (frame_min[1] + frame_max[1]),
-                                   0.5 * (frame_min[2] + frame_max[2]) };
+        double centre[3] = { 0.0, 0.0, 0.0 };
+        for (size_t i = 0; i < count; i++) {
+            for (int a = 0; a < 3; a++) {
+                centre[a] += points[i][a] / (double)count;
+            }
+        }
         sta_camera_frame_points(c, centre, &points[0][0], count, STA_VIEW_FRAME_KEEP);
     } else {
         sta_camera_frame_box(c, frame_min, frame_max);
@@ -96,17 +81,61 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
     sta_free(points);
 }
 
-double sta_view_default_yaw(const sta_camera *c, const double *points, size_t count)
+static int compare_doubles(const void *a, const void *b)
 {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+// The 5-95 % spread of the points' heights over that of their horizontal positions
+// across `yaw` (in the camera's z-up frame); 0 when it cannot be told.
+static double depth_across(const sta_camera *c, const double *points, size_t count, double yaw)
+{
+    double *across = sta_alloc_array(count ? count : 1, sizeof(double));
+    double *height = sta_alloc_array(count ? count : 1, sizeof(double));
+    double ratio = 0.0;
+    if (across && height && count >= 20) {
+        for (size_t i = 0; i < count; i++) {
+            double f[3];
+            sta_camera_to_frame(c, points + 3 * i, f);
+            across[i] = -sin(yaw) * f[0] + cos(yaw) * f[1];
+            height[i] = f[2];
+        }
+        qsort(across, count, sizeof(double), compare_doubles);
+        qsort(height, count, sizeof(double), compare_doubles);
+        size_t lo = count / 20, hi = count - 1 - count / 20;
+        double width = across[hi] - across[lo];
+        ratio = width > 0.0 ? (height[hi] - height[lo]) / width : 0.0;
+    }
+    sta_free(across);
+    sta_free(height);
+    return ratio;
+}
+
+double sta_view_default_yaw(const sta_camera *c, const double *points, size_t count,
+                            double *out_pitch)
+{
+    *out_pitch = STA_VIEW_DEFAULT_PITCH_DEG * degrees;
     double elongation = 1.0;
     double long_yaw = sta_camera_points_long_yaw(c, points, count, &elongation);
     if (!(elongation > STA_VIEW_ELONGATED_RATIO)) {
         return STA_VIEW_DEFAULT_YAW_DEG * degrees;
     }
-    // Elongated (a street, a corridor scan): look across the long axis, turned by
-    // STA_VIEW_ACROSS_TURN_DEG so that depth still shows, and the long axis spans the
-    // width of the view instead of running away from the eye.
-    return long_yaw + (90.0 - STA_VIEW_ACROSS_TURN_DEG) * degrees;
+    if (!(depth_across(c, points, count, long_yaw) > STA_VIEW_CORRIDOR_DEPTH)) {
+        // An airborne strip: across the long axis, turned so that depth still shows,
+        // and the long axis spans the width of the view.
+        return long_yaw + (90.0 - STA_VIEW_ACROSS_TURN_DEG) * degrees;
+    }
+    // A corridor (a street): along it from one end, as from the vehicle that scanned
+    // it, but from above. Seen across, the near side showed its backs, which a mobile
+    // scan never samples, and the far side beyond them.
+    *out_pitch = STA_VIEW_ALONG_PITCH_DEG * degrees;
+    const double half_turn = 180.0 * degrees;
+    double yaw = fmod(long_yaw, half_turn); // the axis, either way along it
+    if (yaw < 0.0) {
+        yaw += half_turn;
+    }
+    return yaw < 0.5 * half_turn ? yaw + half_turn : yaw;
 }
 
 int sta_view_initial_colour(const sta_view_args *args, const sta_strata_info *info)
