@@ -15,20 +15,63 @@
 
 static const double degrees = 3.14159265358979323846 / 180.0;
 
-// The root node's points inside the robust box grown by STA_VIEW_FRAME_GROW of its
-// size on every side (far strays stay out, a model's extremities that the percentiles
-// cut, such as the bunny's ear tips, come back in), resampled by the density they stand
-// for (sta_view_density_sample); world metres, *out owned by the caller. 0 when the file
-// cannot be read here (the caller falls back to the box).
-static size_t root_points(const sta_strata_info *info, const double box_min[3],
-                          const double box_max[3], double (**out)[3])
+// The robust box grown by STA_VIEW_FRAME_GROW of its size on every side.
+static void grown_box(const double box_min[3], const double box_max[3], double min[3],
+                      double max[3])
 {
-    double min[3], max[3];
     for (int a = 0; a < 3; a++) {
         double grow = STA_VIEW_FRAME_GROW * (box_max[a] - box_min[a]);
         min[a] = box_min[a] - grow;
         max[a] = box_max[a] + grow;
     }
+}
+
+// The root node's points inside the robust box grown by STA_VIEW_FRAME_GROW of its
+// size on every side (far strays stay out, a model's extremities that the percentiles
+// cut, such as the bunny's ear tips, come back in); world metres, *out owned by the
+// caller. 0 when the file cannot be read here (the caller falls back to the box).
+static size_t root_points(const sta_strata_info *info, const double box_min[3],
+                          const double box_max[3], double (**out)[3])
+{
+    double min[3], max[3];
+    grown_box(box_min, box_max, min, max);
+    *out = NULL;
+    sta_strata_reader *reader = NULL;
+    sta_strata_decoder *decoder = NULL;
+    sta_strata_points points;
+    size_t kept = 0;
+    if (sta_strata_open(info->path, NULL, &reader, NULL) == STA_OK &&
+        sta_strata_decoder_create(&decoder, NULL) == STA_OK &&
+        sta_strata_decode_node(reader, 0, decoder, &points, NULL) == STA_OK &&
+        (*out = sta_alloc_array(points.count ? points.count : 1, sizeof(**out)))) {
+        const sta_grid *grid = &sta_strata_reader_info(reader)->geometry.grid;
+        for (size_t i = 0; i < points.count; i++) {
+            const int32_t xyz[3] = { points.points[i].X, points.points[i].Y, points.points[i].Z };
+            double *p = (*out)[kept];
+            bool inside = true;
+            for (int a = 0; a < 3; a++) {
+                p[a] = sta_grid_apply(grid, a, xyz[a]);
+                inside = inside && p[a] >= min[a] && p[a] <= max[a];
+            }
+            kept += inside;
+        }
+    }
+    if (decoder) {
+        sta_strata_decoder_destroy(decoder);
+    }
+    if (reader) {
+        sta_strata_close(reader);
+    }
+    return kept;
+}
+
+// The same box's density-weighted sample (sta_view_density_sample): what decides the
+// direction, and what frames a corridor. 0 when the file cannot be read here.
+static size_t density_points(const sta_strata_info *info, const double box_min[3],
+                             const double box_max[3], double (**out)[3])
+{
+    double min[3], max[3];
+    grown_box(box_min, box_max, min, max);
     *out = NULL;
     sta_strata_reader *reader = NULL;
     size_t kept = 0;
@@ -64,20 +107,32 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
         c->near_m = extent * 1e-5 > 1e-3 ? extent * 1e-5 : 1e-3;
         return;
     }
+    double(*sample)[3] = NULL;
+    size_t sampled = density_points(info, frame_min, frame_max, &sample);
+    c->yaw = sta_view_default_yaw(c, sample ? &sample[0][0] : NULL, sampled, &c->pitch);
+    bool corridor = sampled > 0 && c->pitch == STA_VIEW_ALONG_PITCH_DEG * degrees;
+    // A corridor is framed on the sample around its mean (the root's even spread gave the
+    // ground streaks of a street's cross streets as much room as the street); other
+    // scenes as before the sample, on the root's points around the robust box's centre
+    // (the sample's extremities are thinner, and it framed models tighter, cut at the top).
     double(*points)[3] = NULL;
-    size_t count = root_points(info, frame_min, frame_max, &points);
-    c->yaw = sta_view_default_yaw(c, points ? &points[0][0] : NULL, count, &c->pitch);
-    if (count > 0) {
-        double centre[3] = { 0.0, 0.0, 0.0 };
-        for (size_t i = 0; i < count; i++) {
-            for (int a = 0; a < 3; a++) {
-                centre[a] += points[i][a] / (double)count;
+    size_t count = corridor ? 0 : root_points(info, frame_min, frame_max, &points);
+    double centre[3] = { 0.5 * (frame_min[0] + frame_max[0]), 0.5 * (frame_min[1] + frame_max[1]),
+                         0.5 * (frame_min[2] + frame_max[2]) };
+    if (corridor) {
+        for (int a = 0; a < 3; a++) {
+            centre[a] = 0.0;
+            for (size_t i = 0; i < sampled; i++) {
+                centre[a] += sample[i][a] / (double)sampled;
             }
         }
+        sta_camera_frame_points(c, centre, &sample[0][0], sampled, STA_VIEW_FRAME_KEEP);
+    } else if (count > 0) {
         sta_camera_frame_points(c, centre, &points[0][0], count, STA_VIEW_FRAME_KEEP);
     } else {
         sta_camera_frame_box(c, frame_min, frame_max);
     }
+    sta_free(sample);
     sta_free(points);
 }
 
