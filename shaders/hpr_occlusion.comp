@@ -501,7 +501,10 @@ void main()
     // unknown sectors count as open (flank_test_fires); few pixels get here.
     if (by_landing && flanks != 0 && closed != 0 && (closed | empty_outside) == 255 &&
         (empty_outside & ~closed) != 0) {
-        precise float near = max(STA_HPR_EMPTY_NEAR_RADII * radius, STA_HPR_EMPTY_NEAR_MIN_PX);
+        // At most the band's width: in a sparse scene K / z spans the image, and a band
+        // pixel never found its far points beyond `near` (a frame of fill round the view).
+        precise float near = min(max(STA_HPR_EMPTY_NEAR_RADII * radius, STA_HPR_EMPTY_NEAR_MIN_PX),
+                                 u_empty_border);
         if (flank_test_fires(p, level, cut, limit, empty_outside, flanks, near * near, closed)) {
             empty_outside = 0;
         }

@@ -1182,6 +1182,52 @@ static void border_band_leaves_open_space_beside_a_silhouette(void **state)
     sta_image_release(&position);
 }
 
+// A scene of a few points (issue 15, part 2, twenty-first round): six points near the
+// centre of a view whose neighbourhood radius K / z spans the whole image (s0 3 m at
+// 10 m, as a 5-point LAS file's). Every border-band pixel had its known sectors, those
+// facing the image, closed by the far points and the flank test's `near` (0.2 K / z)
+// reached them all: the band was a hole, and pull-push painted a frame of colour round
+// an empty view. `near` is now at most the band's width: no empty pixel more than the
+// band's width from a point is a hole.
+static void border_band_leaves_a_sparse_scene_open(void **state)
+{
+    (void)state;
+    enum {
+        W = 192,
+        H = 144
+    };
+    sta_view_params view = make_view(W, H);
+    view.s0 = 3.0f;
+    sta_image position;
+    new_image(&position, W, H, 4);
+    static const int pts[][2] = { { 96, 72 }, { 84, 66 },  { 106, 80 },
+                                  { 90, 78 }, { 101, 65 }, { 95, 86 } };
+    static unsigned char point[W * H];
+    memset(point, 0, sizeof(point));
+    for (size_t i = 0; i < sizeof(pts) / sizeof(pts[0]); i++) {
+        set_point(&view, &position, pts[i][0], pts[i][1], 10.0f);
+        point[pts[i][1] * W + pts[i][0]] = 1;
+    }
+    both_result r;
+    run_both("six points", &view, NULL, &position, -1, &r);
+    float band = sta_hpr_empty_border_px(H);
+    int far = 0, far_holes = 0;
+    for (int y = 0; y < H; y++) {
+        for (int x = 0; x < W; x++) {
+            if (!point[y * W + x] && distance_to(point, W, H, x, y) > band) {
+                far++;
+                far_holes += *sta_image_at(&r.pyramid_label, x, y) == STA_LABEL_HOLE;
+            }
+        }
+    }
+    printf("six points %dx%d: %d of %d empty pixels more than %.0f px from a point are holes\n", W,
+           H, far_holes, far, (double)band);
+    assert_true(far > 10000);
+    assert_int_equal(far_holes, 0);
+    both_release(&r);
+    sta_image_release(&position);
+}
+
 static void street_gaps_follow_the_points(void **state)
 {
     (void)state;
@@ -1946,6 +1992,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test_setup_teardown(coincident_points_are_skipped, setup, teardown),
     cmocka_unit_test_setup_teardown(early_exit_keeps_every_label, setup, teardown),
     cmocka_unit_test_setup_teardown(surfaces_fill_to_the_image_edge, setup, teardown),
+    cmocka_unit_test_setup_teardown(border_band_leaves_a_sparse_scene_open, setup, teardown),
     cmocka_unit_test_setup_teardown(border_band_leaves_open_space_beside_a_silhouette, setup,
                                     teardown),
     cmocka_unit_test_setup_teardown(gaps_have_no_block_edges, setup, teardown),

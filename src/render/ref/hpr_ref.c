@@ -520,7 +520,9 @@ static float empty_pixel_mean(const occlusion_frame *f, const sta_hpr_pyramid *p
                               float marked_reach)
 {
     float cut = STA_HPR_CUT_FACTOR * radius;
-    float near = fmaxf(STA_HPR_EMPTY_NEAR_RADII * radius, STA_HPR_EMPTY_NEAR_MIN_PX);
+    // At most the border band's width (shader: the same min with u_empty_border).
+    float near = fminf(fmaxf(STA_HPR_EMPTY_NEAR_RADII * radius, STA_HPR_EMPTY_NEAR_MIN_PX),
+                       sta_hpr_empty_border_px(f->height));
     float near2 = near * near;
     landing_extra extra = { 0u, 3.0e38f };
     float reach = fminf(cut, STA_HPR_EMPTY_CUT_BLOCKS * (float)(1 << level));
