@@ -54,44 +54,43 @@ static double *box_points(size_t n, double length, double width, double height)
     return p;
 }
 
+// The default direction (yaw, *pitch) for 4000 points in a length x width x height box.
+static double default_direction(double length, double width, double height, double *pitch)
+{
+    sta_camera c = z_up_camera();
+    double *p = box_points(4000, length, width, height);
+    double yaw = sta_view_default_yaw(&c, p, 4000, pitch);
+    free(p);
+    return yaw;
+}
+
 static void corridor_is_seen_along_from_its_end(void **state)
 {
     (void)state;
-    sta_camera c = z_up_camera();
-    // 100 m long, 30 m across, 20 m high: a street between facades.
-    double *p = box_points(4000, 100.0, 30.0, 20.0);
-    double pitch = 0.0;
-    double yaw = sta_view_default_yaw(&c, p, 4000, &pitch);
+    double pitch = 0.0; // 100 m long, 30 m across, 20 m high: a street between facades
+    double yaw = default_direction(100.0, 30.0, 20.0, &pitch);
     assert_true(fabs(pitch - STA_VIEW_ALONG_PITCH_DEG * degrees) < 1e-12);
     assert_true(axis_gap_deg(yaw, 0.0) < 3.0);
     // Looking west along an east-west axis: yaw in [90, 270) degrees.
     assert_true(yaw >= 90.0 * degrees && yaw < 270.0 * degrees);
-    free(p);
 }
 
 static void flat_strip_is_seen_across(void **state)
 {
     (void)state;
-    sta_camera c = z_up_camera();
-    // 1000 m by 300 m, 30 m of relief: an airborne strip.
-    double *p = box_points(4000, 1000.0, 300.0, 30.0);
-    double pitch = 0.0;
-    double yaw = sta_view_default_yaw(&c, p, 4000, &pitch);
+    double pitch = 0.0; // 1000 m by 300 m, 30 m of relief: an airborne strip
+    double yaw = default_direction(1000.0, 300.0, 30.0, &pitch);
     assert_true(fabs(pitch - STA_VIEW_DEFAULT_PITCH_DEG * degrees) < 1e-12);
     assert_true(fabs(axis_gap_deg(yaw, 0.0) - (90.0 - STA_VIEW_ACROSS_TURN_DEG)) < 3.0);
-    free(p);
 }
 
 static void round_scene_is_seen_from_the_south_west(void **state)
 {
     (void)state;
-    sta_camera c = z_up_camera();
-    double *p = box_points(4000, 100.0, 90.0, 40.0);
     double pitch = 0.0;
-    double yaw = sta_view_default_yaw(&c, p, 4000, &pitch);
+    double yaw = default_direction(100.0, 90.0, 40.0, &pitch);
     assert_true(fabs(yaw - STA_VIEW_DEFAULT_YAW_DEG * degrees) < 1e-12);
     assert_true(fabs(pitch - STA_VIEW_DEFAULT_PITCH_DEG * degrees) < 1e-12);
-    free(p);
 }
 
 static void convert_or_fail(const char *in, const char *out)
