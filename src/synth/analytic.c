@@ -91,7 +91,7 @@ static void split_counts(synth_analytic *an, uint64_t n)
 
 static sta_status init_mesh(synth_analytic *an, const char *path, sta_error *err)
 {
-    sta_status status = sta_ply_load_mesh(path, &an->mesh, err);
+    sta_status status = sta_mesh_load(path, &an->mesh, err);
     if (status != STA_OK) {
         return status;
     }

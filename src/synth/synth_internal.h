@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "io/obj.h"
 #include "io/ply.h"
 #include "synth/mesh_bvh.h"
 #include "synth/mirror_room.h"
