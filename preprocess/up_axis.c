@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include "format/strata.h"
+#include "io/model_up.h"
 
 int sta_inputs_up_axis(const sta_input_set *set, char *why, size_t why_size)
 {
@@ -31,19 +32,7 @@ int sta_inputs_up_axis(const sta_input_set *set, char *why, size_t why_size)
         snprintf(why, why_size, "no inputs: +Z up");
         return STA_STRATA_UP_Z;
     }
-    double ex = hi[0] - lo[0], ey = hi[1] - lo[1], ez = hi[2] - lo[2];
-    double horizontal = fmax(ex, ey);
-    if (ez >= horizontal) {
-        snprintf(why, why_size, "PLY model, z its largest extent (%.3g x %.3g x %.3g): +Z up", ex,
-                 ey, ez);
-        return STA_STRATA_UP_Z;
-    }
-    if (ez < STA_UP_AXIS_FLAT_RATIO * horizontal) {
-        snprintf(why, why_size, "PLY data flat in z (%.3g x %.3g x %.3g, map-like): +Z up", ex, ey,
-                 ez);
-        return STA_STRATA_UP_Z;
-    }
-    snprintf(why, why_size, "PLY model (%.3g x %.3g x %.3g): +Y up, the PLY models' convention", ex,
-             ey, ez);
-    return STA_STRATA_UP_Y;
+    bool y_up =
+        sta_model_is_y_up(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], "PLY", why, why_size);
+    return y_up ? STA_STRATA_UP_Y : STA_STRATA_UP_Z;
 }

@@ -19,6 +19,7 @@
 #include "bench/view_eval.h"
 #include "convert.h"
 #include "format/strata_reader.h"
+#include "io/cloud.h"
 #include "render/gl.h"
 #include "render/ref/screen_space.h"
 #include "stream/gpu_points.h"
@@ -247,6 +248,68 @@ static void truth_sidecar_rebuilds_scene(void **state)
     sta_test_write_file(bad, "{\"format\": \"x\"}", 15);
     assert_int_equal(sta_bench_truth_load(bad, &t, &err), STA_ERR_FORMAT);
     assert_non_null(strstr(err.message, "bench_not_truth.json"));
+}
+
+// The LAS's vertical extent over its larger horizontal one.
+static double las_height_ratio(const char *las)
+{
+    sta_cloud_reader *reader = NULL;
+    sta_error err = { 0 };
+    assert_int_equal(sta_cloud_open(las, NULL, &reader, &err), STA_OK);
+    const sta_cloud_info *info = sta_cloud_reader_info(reader);
+    double e[3];
+    for (int a = 0; a < 3; a++) {
+        e[a] = info->header_max[a] - info->header_min[a];
+    }
+    sta_cloud_close(reader);
+    return e[2] / fmax(e[0], e[1]);
+}
+
+// The y-up bunny (issue 15, part 6) stands on +Z in the synth's LAS, as the sidecar says;
+// --mesh-up z keeps its axes (it lies on its side); a sidecar from before "up" existed
+// rebuilds with the axes kept, as its LAS was written.
+static void mesh_scene_stands_up_and_its_truth_follows(void **state)
+{
+    (void)state;
+    char las[4096], truth[4096];
+    snprintf(las, sizeof(las), "%s", sta_test_tmp_path("bench_bunny_up.las"));
+    snprintf(truth, sizeof(truth), "%s", sta_test_tmp_path("bench_bunny_up.truth.json"));
+    sta_synth_params p = { .kind = STA_SYNTH_MESH,
+                           .seed = 3,
+                           .point_count = 20000,
+                           .mesh_path = sta_test_shared_path("models/bun_zipper.ply") };
+    sta_error err = { 0 };
+    bool y_up = false;
+    char why[256];
+    assert_int_equal(sta_synth_mesh_up_axis(&p, &y_up, why, sizeof(why), &err), STA_OK);
+    assert_true(y_up);
+    assert_non_null(strstr(why, "+Y up"));
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    // The bunny is 0.156 x 0.154 x 0.121 (x, y, z) as stored: standing, about 0.154 high.
+    double standing = las_height_ratio(las);
+    sta_bench_truth t;
+    assert_int_equal(sta_bench_truth_load(truth, &t, &err), STA_OK);
+    assert_int_equal(sta_synth_scene_params(t.scene)->mesh_up, STA_SYNTH_MESH_UP_Y);
+    sta_bench_truth_release(&t);
+    // An old sidecar: no "up" field.
+    size_t size = 0;
+    char *text = (char *)sta_test_read_file(truth, &size);
+    char *up = strstr(text, "    \"up\": \"y\",\n");
+    assert_non_null(up);
+    size_t cut = strlen("    \"up\": \"y\",\n");
+    memmove(up, up + cut, size - (size_t)(up - text) - cut);
+    sta_test_write_file(truth, text, size - cut);
+    free(text);
+    assert_int_equal(sta_bench_truth_load(truth, &t, &err), STA_OK);
+    assert_int_equal(sta_synth_scene_params(t.scene)->mesh_up, STA_SYNTH_MESH_UP_Z);
+    sta_bench_truth_release(&t);
+    p.mesh_up = STA_SYNTH_MESH_UP_Z;
+    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    double lying = las_height_ratio(las);
+    print_message("bunny height / width: %.3f standing, %.3f with its axes kept\n", standing,
+                  lying);
+    assert_true(standing > 0.95 && standing < 1.0);
+    assert_true(lying > 0.74 && lying < 0.80);
 }
 
 static void metrics_confusion_counts(void **state)
@@ -1365,6 +1428,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(katz_on_drawn_points_sphere),
     cmocka_unit_test(truth_sphere_ray_depth_and_normal),
     cmocka_unit_test(truth_sidecar_rebuilds_scene),
+    cmocka_unit_test(mesh_scene_stands_up_and_its_truth_follows),
     cmocka_unit_test(metrics_confusion_counts),
     cmocka_unit_test(metrics_error_summary_and_angles),
     cmocka_unit_test(metrics_psnr),

@@ -3,6 +3,7 @@
  * geometry, exact ray casts, and uniform-by-area sampling.
  */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "core/alloc.h"
@@ -89,7 +90,21 @@ static void split_counts(synth_analytic *an, uint64_t n)
     }
 }
 
-static sta_status init_mesh(synth_analytic *an, const char *path, sta_error *err)
+bool synth_mesh_y_up(sta_synth_mesh_up requested, const double extent[3], char *why,
+                     size_t why_size)
+{
+    if (requested == STA_SYNTH_MESH_UP_AUTO) {
+        return sta_model_is_y_up(extent[0], extent[1], extent[2], "mesh", why, why_size);
+    }
+    if (why && why_size > 0) {
+        snprintf(why, why_size, "mesh: %s up, as asked",
+                 requested == STA_SYNTH_MESH_UP_Y ? "+Y" : "+Z");
+    }
+    return requested == STA_SYNTH_MESH_UP_Y;
+}
+
+static sta_status init_mesh(synth_analytic *an, const char *path, sta_synth_mesh_up mesh_up,
+                            sta_error *err)
 {
     sta_status status = sta_mesh_load(path, &an->mesh, err);
     if (status != STA_OK) {
@@ -115,10 +130,17 @@ static sta_status init_mesh(synth_analytic *an, const char *path, sta_error *err
     for (int a = 0; a < 3; a++) {
         an->mesh_centre[a] = 0.5 * (lo[a] + hi[a]);
     }
+    const double extents[3] = { hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] };
+    an->mesh_y_up = synth_mesh_y_up(mesh_up, extents, NULL, 0);
     for (size_t i = 0; i < m->vertex_count; i++) {
+        double *x = &m->positions[3 * i];
         for (int a = 0; a < 3; a++) {
-            double *x = &m->positions[3 * i + (size_t)a];
-            *x = (*x - an->mesh_centre[a]) * an->mesh_scale;
+            x[a] = (x[a] - an->mesh_centre[a]) * an->mesh_scale;
+        }
+        if (an->mesh_y_up) { // LAS is z up: a y-up model would lie on its side
+            double y = x[1];
+            x[1] = -x[2];
+            x[2] = y;
         }
     }
     an->area_cdf = sta_alloc_array(m->triangle_count, sizeof(double));
@@ -168,7 +190,7 @@ sta_status sta_synth_analytic_init(sta_synth_scene *scene, sta_error *err)
         an->sphere_id = 6;
         break;
     case STA_SYNTH_MESH:
-        return init_mesh(an, scene->params.mesh_path, err);
+        return init_mesh(an, scene->params.mesh_path, scene->params.mesh_up, err);
     case STA_SYNTH_STREET:
     case STA_SYNTH_MIRROR:
         return sta_fail(err, STA_ERR_ARG, "scene kind %d is not analytic", (int)scene->params.kind);
@@ -390,4 +412,29 @@ void sta_analytic_source_fill(synth_source *src, sta_point *out, size_t count)
         p->gps_time = (double)src->emitted * 1e-6;
         src->emitted++;
     }
+}
+
+sta_status sta_synth_mesh_up_axis(const sta_synth_params *params, bool *out_y_up, char *why,
+                                  size_t why_size, sta_error *err)
+{
+    *out_y_up = false;
+    if (params->kind != STA_SYNTH_MESH || !params->mesh_path) {
+        return sta_fail(err, STA_ERR_ARG, "the up axis is the mesh scene's (no mesh given)");
+    }
+    sta_mesh mesh;
+    sta_status status = sta_mesh_load(params->mesh_path, &mesh, err);
+    if (status != STA_OK) {
+        return status;
+    }
+    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (size_t i = 0; i < mesh.vertex_count; i++) {
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(lo[a], mesh.positions[3 * i + (size_t)a]);
+            hi[a] = fmax(hi[a], mesh.positions[3 * i + (size_t)a]);
+        }
+    }
+    sta_mesh_release(&mesh);
+    const double extents[3] = { hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] };
+    *out_y_up = synth_mesh_y_up(params->mesh_up, extents, why, why_size);
+    return STA_OK;
 }

@@ -70,18 +70,26 @@ enum {
     STA_SYNTH_RAY_GLASS = 1u << 0, /* report window glass (otherwise rays pass through) */
 };
 
+/* Which way is up in the mesh scene's model (the LAS it writes is z up). */
+typedef enum sta_synth_mesh_up {
+    STA_SYNTH_MESH_UP_AUTO = 0, /* from its extents, the converter's rule (io/model_up.h) */
+    STA_SYNTH_MESH_UP_Z,        /* z up: its axes kept */
+    STA_SYNTH_MESH_UP_Y,        /* y up: turned so that +Y becomes +Z, (x, y, z) -> (x, -z, y) */
+} sta_synth_mesh_up;
+
 /* Generation parameters. Zero means default for each field. */
 typedef struct sta_synth_params {
     sta_synth_kind kind;
-    uint64_t seed;           /* any value */
-    uint64_t point_count;    /* points to write, > 0 (the LAS holds exactly this many) */
-    int point_format;        /* 3 (LAS 1.2) or 7 (LAS 1.4); 0 means 7 */
-    sta_synth_origin origin; /* see sta_synth_origin */
-    const char *mesh_path;   /* PLY for STA_SYNTH_MESH (borrowed, copied by create) */
-    bool has_noise;          /* noise_m given; otherwise street 0.015 m, others 0 */
-    double noise_m;          /* Gaussian sigma: range noise (street), along the normal */
-    double street_length_m;  /* street: run length the ray caster covers; 0 means the
-                                nominal length for point_count (see docs/SYNTH.md) */
+    uint64_t seed;             /* any value */
+    uint64_t point_count;      /* points to write, > 0 (the LAS holds exactly this many) */
+    int point_format;          /* 3 (LAS 1.2) or 7 (LAS 1.4); 0 means 7 */
+    sta_synth_origin origin;   /* see sta_synth_origin */
+    const char *mesh_path;     /* PLY or OBJ for STA_SYNTH_MESH (borrowed, copied by create) */
+    sta_synth_mesh_up mesh_up; /* STA_SYNTH_MESH: which way the model's up is */
+    bool has_noise;            /* noise_m given; otherwise street 0.015 m, others 0 */
+    double noise_m;            /* Gaussian sigma: range noise (street), along the normal */
+    double street_length_m;    /* street: run length the ray caster covers; 0 means the
+                                  nominal length for point_count (see docs/SYNTH.md) */
 } sta_synth_params;
 
 /* Where the scene sits in the world and on which integer grid. */
@@ -154,6 +162,12 @@ bool sta_synth_scene_raycast_ex(sta_synth_scene *scene, const double origin[3], 
  * `gps_time`. STA_ERR_ARG for other scenes. */
 sta_status sta_synth_scene_scanner_position(const sta_synth_scene *scene, double gps_time,
                                             double out_position[3], sta_error *err);
+
+/* Mesh scene: whether `params->mesh_path`'s model is turned from y up to z up
+ * (*out_y_up) and in `why` (may be NULL) one line saying how that was decided, as
+ * sta_synth_scene_create decides it (the mesh is loaded for its extents). */
+sta_status sta_synth_mesh_up_axis(const sta_synth_params *params, bool *out_y_up, char *why,
+                                  size_t why_size, sta_error *err);
 
 /* Called between batches with the points written so far; return false to stop
  * (sta_synth_generate then fails with STA_ERR_CANCELLED). */

@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "io/model_up.h"
 #include "io/obj.h"
 #include "io/ply.h"
 #include "synth/mesh_bvh.h"
@@ -30,6 +31,11 @@ typedef struct synth_rect {
 
 /* The analytic scenes' geometry. Primitive ids: rects 0..rect_count-1, then the
  * sphere (nested: 6; sphere scene: 0); mesh: the triangle index. */
+/* Whether a mesh with these extents is turned from y up to z up (`requested`, or the
+ * model rule for STA_SYNTH_MESH_UP_AUTO); `why` as sta_synth_mesh_up_axis. */
+bool synth_mesh_y_up(sta_synth_mesh_up requested, const double extent[3], char *why,
+                     size_t why_size);
+
 typedef struct synth_analytic {
     synth_rect rects[SYNTH_MAX_RECTS];
     int rect_count;
@@ -42,8 +48,9 @@ typedef struct synth_analytic {
     sta_bvh bvh;                          /* over mesh */
     double *area_cdf;                     /* cumulative triangle areas (mesh) */
     double mesh_area_m2;                  /* total */
-    double mesh_scale;                    /* local = (ply - mesh_centre) * mesh_scale */
-    double mesh_centre[3];                /* bounding-box centre of the PLY vertices */
+    double mesh_scale;                    /* local = R (mesh - mesh_centre) * mesh_scale */
+    double mesh_centre[3];                /* bounding-box centre of the mesh's vertices */
+    bool mesh_y_up;                       /* R turns +Y to +Z: (x, y, z) -> (x, -z, y) */
 } synth_analytic;
 
 /* Scanner settings of a street run (functions of point_count; see docs/SYNTH.md). */

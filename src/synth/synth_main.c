@@ -50,6 +50,10 @@ static int parse(int argc, char **argv, synth_args *c)
     static const int origin_values[] = { STA_SYNTH_ORIGIN_ZERO, STA_SYNTH_ORIGIN_UTM,
                                          STA_SYNTH_ORIGIN_ECEF };
     int origin = (int)c->params.origin;
+    static const char *const ups[] = { "auto", "z", "y", NULL };
+    static const int up_values[] = { STA_SYNTH_MESH_UP_AUTO, STA_SYNTH_MESH_UP_Z,
+                                     STA_SYNTH_MESH_UP_Y };
+    int mesh_up = STA_SYNTH_MESH_UP_AUTO;
     const sta_cli_option options[] = {
         { .name = "output",
           .short_name = 'o',
@@ -90,6 +94,14 @@ static int parse(int argc, char **argv, synth_args *c)
           .dest = &c->params.mesh_path,
           .metavar = "FILE",
           .help = "triangle mesh for the mesh scene: PLY or Wavefront OBJ (by content)" },
+        { .name = "mesh-up",
+          .kind = STA_CLI_CHOICE,
+          .dest = &mesh_up,
+          .metavar = "auto|z|y",
+          .choices = ups,
+          .choice_values = up_values,
+          .help = "the mesh's up axis; y turns it to stand on z, as the LAS is z up (auto: y "
+                  "unless z is its largest extent or it is flat in z, the converter's rule)" },
         { .name = "noise",
           .kind = STA_CLI_DOUBLE,
           .dest = &c->params.noise_m,
@@ -116,6 +128,7 @@ static int parse(int argc, char **argv, synth_args *c)
         return rc;
     }
     c->params.origin = (sta_synth_origin)origin;
+    c->params.mesh_up = (sta_synth_mesh_up)mesh_up;
     c->params.has_noise = c->params.noise_m >= 0.0;
     if (!c->params.has_noise) {
         c->params.noise_m = 0.0;
@@ -136,7 +149,7 @@ static int parse(int argc, char **argv, synth_args *c)
         return sta_cli_usage_error(&cli, "no output given (-o OUT.las)");
     }
     if (c->params.kind == STA_SYNTH_MESH && !c->params.mesh_path) {
-        return sta_cli_usage_error(&cli, "the mesh scene needs --mesh FILE.ply");
+        return sta_cli_usage_error(&cli, "the mesh scene needs --mesh FILE (PLY or OBJ)");
     }
     if (c->params.kind != STA_SYNTH_MESH && c->params.mesh_path) {
         return sta_cli_usage_error(&cli, "--mesh is only for the mesh scene, not '%s'", scene);
@@ -198,6 +211,13 @@ int main(int argc, char **argv)
             truth ? truth : "its truth sidecar", elapsed,
             elapsed > 0.0 ? (double)c.params.point_count / elapsed / 1e6 : 0.0);
         sta_free(truth);
+        bool y_up = false;
+        char why[256];
+        if (c.params.kind == STA_SYNTH_MESH &&
+            sta_synth_mesh_up_axis(&c.params, &y_up, why, sizeof(why), NULL) == STA_OK) {
+            fprintf(stderr, "strata-synth: up axis: %s%s\n", why,
+                    y_up ? "; turned to stand on +Z (the LAS is z up)" : "");
+        }
     }
     return 0;
 }

@@ -51,7 +51,10 @@ static sta_status check_params(const sta_synth_params *p, sta_error *err)
         return sta_fail(err, STA_ERR_ARG, "unknown origin %d", (int)p->origin);
     }
     if (p->kind == STA_SYNTH_MESH && (!p->mesh_path || !p->mesh_path[0])) {
-        return sta_fail(err, STA_ERR_ARG, "the mesh scene needs a PLY file (--mesh FILE)");
+        return sta_fail(err, STA_ERR_ARG, "the mesh scene needs a PLY or OBJ file (--mesh FILE)");
+    }
+    if (p->mesh_up < STA_SYNTH_MESH_UP_AUTO || p->mesh_up > STA_SYNTH_MESH_UP_Y) {
+        return sta_fail(err, STA_ERR_ARG, "unknown mesh up axis %d", (int)p->mesh_up);
     }
     if (p->has_noise && !(p->noise_m >= 0.0 && p->noise_m <= 10.0)) {
         return sta_fail(err, STA_ERR_ARG, "noise %g m out of range (0 .. 10)", p->noise_m);

@@ -181,7 +181,10 @@ static void put_analytic(FILE *f, const sta_synth_scene *scene, const char *side
         char mesh[4096];
         sidecar_mesh_path(sidecar, scene->params.mesh_path, mesh, sizeof(mesh));
         put_string(f, mesh);
-        fputs(",\n    \"transform\": \"local = (ply - centre) * scale\",\n", f);
+        fputs(",\n    \"transform\": \"local = R (mesh - centre) * scale; R = identity when up "
+              "is z, (x, y, z) -> (x, -z, y) when up is y\",\n",
+              f);
+        fprintf(f, "    \"up\": \"%s\",\n", an->mesh_y_up ? "y" : "z");
         fputs("    \"centre\": ", f);
         put_vec(f, an->mesh_centre, 3);
         fputs(",\n", f);
