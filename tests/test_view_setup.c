@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT
  * Tests for the viewer's default camera (src/app/view_setup.c, view_sample.c, compiled
- * in): a street is seen along its axis from its end; an airborne strip across; a round
- * scene from the south-west; the sample it frames follows the points' density, not the
- * root node's even spread in space.
+ * in): a street is seen along its axis from its end; an airborne strip and an elongated
+ * solid across; a round scene from the south-west; the sample it frames follows the points'
+ * density, not the root node's even spread in space.
  */
 #include "test_support.h"
 
@@ -54,32 +54,58 @@ static double *box_points(size_t n, double length, double width, double height)
     return p;
 }
 
-// The default direction (yaw, *pitch) for 4000 points in a length x width x height box.
-static double default_direction(double length, double width, double height, double *pitch)
+// A street between facades: 4000 points on the ground (0..length x 0..width) and on two
+// walls at y = 0 and y = width, 0..height high; a third on each.
+static double *corridor_points(double length, double width, double height)
+{
+    double *p = malloc(3 * 4000 * sizeof(double));
+    assert_non_null(p);
+    uint64_t rng = 777;
+    for (size_t i = 0; i < 4000; i++) {
+        double u = length * (double)sta_test_frand(&rng), v = (double)sta_test_frand(&rng);
+        double *q = p + 3 * i;
+        q[0] = u;
+        q[1] = i % 3 == 0 ? width * v : (i % 3 == 1 ? 0.0 : width);
+        q[2] = i % 3 == 0 ? 0.0 : height * v;
+    }
+    return p;
+}
+
+// The default direction (yaw, *pitch) for 4000 points, then freed.
+static double default_direction(double *points, double *pitch)
 {
     sta_camera c = z_up_camera();
-    double *p = box_points(4000, length, width, height);
-    double yaw = sta_view_default_yaw(&c, p, 4000, pitch);
-    free(p);
+    double yaw = sta_view_default_yaw(&c, points, 4000, pitch);
+    free(points);
     return yaw;
 }
 
 static void corridor_is_seen_along_from_its_end(void **state)
 {
     (void)state;
-    double pitch = 0.0; // 100 m long, 30 m across, 20 m high: a street between facades
-    double yaw = default_direction(100.0, 30.0, 20.0, &pitch);
+    double pitch = 0.0; // 100 m long, 30 m across, 20 m high
+    double yaw = default_direction(corridor_points(100.0, 30.0, 20.0), &pitch);
     assert_true(fabs(pitch - STA_VIEW_ALONG_PITCH_DEG * degrees) < 1e-12);
     assert_true(axis_gap_deg(yaw, 0.0) < 3.0);
     // Looking west along an east-west axis: yaw in [90, 270) degrees.
     assert_true(yaw >= 90.0 * degrees && yaw < 270.0 * degrees);
 }
 
+// As elongated and as tall, but solid: an elongated model (the dragon), seen across.
+static void elongated_solid_is_seen_across(void **state)
+{
+    (void)state;
+    double pitch = 0.0;
+    double yaw = default_direction(box_points(4000, 100.0, 30.0, 20.0), &pitch);
+    assert_true(fabs(pitch - STA_VIEW_DEFAULT_PITCH_DEG * degrees) < 1e-12);
+    assert_true(fabs(axis_gap_deg(yaw, 0.0) - (90.0 - STA_VIEW_ACROSS_TURN_DEG)) < 3.0);
+}
+
 static void flat_strip_is_seen_across(void **state)
 {
     (void)state;
     double pitch = 0.0; // 1000 m by 300 m, 30 m of relief: an airborne strip
-    double yaw = default_direction(1000.0, 300.0, 30.0, &pitch);
+    double yaw = default_direction(box_points(4000, 1000.0, 300.0, 30.0), &pitch);
     assert_true(fabs(pitch - STA_VIEW_DEFAULT_PITCH_DEG * degrees) < 1e-12);
     assert_true(fabs(axis_gap_deg(yaw, 0.0) - (90.0 - STA_VIEW_ACROSS_TURN_DEG)) < 3.0);
 }
@@ -88,7 +114,7 @@ static void round_scene_is_seen_from_the_south_west(void **state)
 {
     (void)state;
     double pitch = 0.0;
-    double yaw = default_direction(100.0, 90.0, 40.0, &pitch);
+    double yaw = default_direction(box_points(4000, 100.0, 90.0, 40.0), &pitch);
     assert_true(fabs(yaw - STA_VIEW_DEFAULT_YAW_DEG * degrees) < 1e-12);
     assert_true(fabs(pitch - STA_VIEW_DEFAULT_PITCH_DEG * degrees) < 1e-12);
 }
@@ -250,6 +276,7 @@ int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(corridor_is_seen_along_from_its_end),
+        cmocka_unit_test(elongated_solid_is_seen_across),
         cmocka_unit_test(flat_strip_is_seen_across),
         cmocka_unit_test(round_scene_is_seen_from_the_south_west),
         cmocka_unit_test(density_sample_follows_the_points),

@@ -142,29 +142,52 @@ static int compare_doubles(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-// The 5-95 % spread of the points' heights over that of their horizontal positions
-// across `yaw` (in the camera's z-up frame); 0 when it cannot be told.
-static double depth_across(const sta_camera *c, const double *points, size_t count, double yaw)
+// 5-95 % quantiles of `values` (sorted in place).
+static void spread(double *values, size_t count, double *lo, double *hi)
+{
+    qsort(values, count, sizeof(double), compare_doubles);
+    *lo = values[count / 20];
+    *hi = values[count - 1 - count / 20];
+}
+
+// Whether points elongated along `yaw` (in the camera's z-up frame) make a corridor: the
+// 5-95 % spread of their heights more than STA_VIEW_CORRIDOR_DEPTH times that across the
+// axis, and open above the axis: of the points in the middle third across it, at most
+// STA_VIEW_CORRIDOR_OPEN in the upper half of the heights (a street: the road in the
+// middle, the facades at the sides; an elongated model such as the dragon is solid there).
+static bool is_corridor(const sta_camera *c, const double *points, size_t count, double yaw)
 {
     double *across = sta_alloc_array(count ? count : 1, sizeof(double));
     double *height = sta_alloc_array(count ? count : 1, sizeof(double));
-    double ratio = 0.0;
-    if (across && height && count >= 20) {
+    double *sorted = sta_alloc_array(count ? count : 1, sizeof(double));
+    bool corridor = false;
+    if (across && height && sorted && count >= 20) {
         for (size_t i = 0; i < count; i++) {
             double f[3];
             sta_camera_to_frame(c, points + 3 * i, f);
             across[i] = -sin(yaw) * f[0] + cos(yaw) * f[1];
             height[i] = f[2];
         }
-        qsort(across, count, sizeof(double), compare_doubles);
-        qsort(height, count, sizeof(double), compare_doubles);
-        size_t lo = count / 20, hi = count - 1 - count / 20;
-        double width = across[hi] - across[lo];
-        ratio = width > 0.0 ? (height[hi] - height[lo]) / width : 0.0;
+        double a_lo, a_hi, z_lo, z_hi;
+        memcpy(sorted, across, count * sizeof(double));
+        spread(sorted, count, &a_lo, &a_hi);
+        memcpy(sorted, height, count * sizeof(double));
+        spread(sorted, count, &z_lo, &z_hi);
+        double width = a_hi - a_lo, third = width / 3.0, mid_z = 0.5 * (z_lo + z_hi);
+        size_t middle = 0, upper = 0;
+        for (size_t i = 0; i < count; i++) {
+            if (across[i] > a_lo + third && across[i] < a_hi - third) {
+                middle++;
+                upper += height[i] > mid_z;
+            }
+        }
+        corridor = width > 0.0 && (z_hi - z_lo) > STA_VIEW_CORRIDOR_DEPTH * width && middle > 0 &&
+                   (double)upper <= STA_VIEW_CORRIDOR_OPEN * (double)middle;
     }
     sta_free(across);
     sta_free(height);
-    return ratio;
+    sta_free(sorted);
+    return corridor;
 }
 
 double sta_view_default_yaw(const sta_camera *c, const double *points, size_t count,
@@ -176,9 +199,9 @@ double sta_view_default_yaw(const sta_camera *c, const double *points, size_t co
     if (!(elongation > STA_VIEW_ELONGATED_RATIO)) {
         return STA_VIEW_DEFAULT_YAW_DEG * degrees;
     }
-    if (!(depth_across(c, points, count, long_yaw) > STA_VIEW_CORRIDOR_DEPTH)) {
-        // An airborne strip: across the long axis, turned so that depth still shows,
-        // and the long axis spans the width of the view.
+    if (!is_corridor(c, points, count, long_yaw)) {
+        // An airborne strip, an elongated model: across the long axis, turned so that
+        // depth still shows, and the long axis spans the width of the view.
         return long_yaw + (90.0 - STA_VIEW_ACROSS_TURN_DEG) * degrees;
     }
     // A corridor (a street): along it from one end, as from the vehicle that scanned

@@ -17,15 +17,17 @@
 #define STA_VIEW_ELONGATED_RATIO   1.5   /* longer / shorter horizontal side beyond this */
 #define STA_VIEW_ALONG_PITCH_DEG   -20.0 /* a corridor: along its axis, this far down */
 #define STA_VIEW_CORRIDOR_DEPTH    0.25  /* elongated, and its height over its width above this */
+#define STA_VIEW_CORRIDOR_OPEN     0.15  /* and its middle third at most this much upper half */
 #define STA_VIEW_ACROSS_TURN_DEG   25.0  /* other elongated: this far from square-on */
 #define STA_VIEW_FRAME_GROW        0.5   /* the robust box grown by this share per side */
 #define STA_VIEW_FRAME_KEEP        0.995 /* share of the sample inside each view edge */
 
 /* The camera the arguments ask for, or a default one: yaw and pitch from
- * sta_view_default_yaw, looking at the mean of the root node's points inside the robust
- * bounds `frame_min`..`frame_max` (grown by STA_VIEW_FRAME_GROW), weighted by the density
- * they stand for (sta_view_density_sample), and backed off until STA_VIEW_FRAME_KEEP of
- * them fill the view (the box itself when the root cannot be read). Its up axis is the
+ * sta_view_default_yaw on the density-weighted sample (sta_view_density_sample) of the
+ * points inside the robust bounds `frame_min`..`frame_max` grown by STA_VIEW_FRAME_GROW;
+ * backed off until STA_VIEW_FRAME_KEEP of the points fill the view: for a corridor the
+ * sample's, around its mean; otherwise the root node's (inside the grown bounds), around
+ * the bounds' centre (the box itself when the root cannot be read). Its up axis is the
  * file's (info->up_axis): given yaw and pitch are about it too. */
 void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *info,
                              const double frame_min[3], const double frame_max[3],
@@ -33,12 +35,14 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
 
 /* The default direction for points seen by `camera` (its up axis), as its yaw (the
  * return value) and *out_pitch (radians). Points whose horizontal spread is more than
- * STA_VIEW_ELONGATED_RATIO times longer one way than across are elongated. A corridor
- * (elongated, and the 5-95 % spread of its heights more than STA_VIEW_CORRIDOR_DEPTH
- * times that across its axis: a street between facades, a tunnel) is seen along its axis
- * from its end, STA_VIEW_ALONG_PITCH_DEG from above, looking west when the axis runs
- * east-west (yaw in [90, 270) degrees). Other elongated scenes (an airborne strip) are
- * seen across the long axis, STA_VIEW_ACROSS_TURN_DEG off square-on, so that it spans the
+ * STA_VIEW_ELONGATED_RATIO times longer one way than across are elongated. A corridor is
+ * elongated, the 5-95 % spread of its heights more than STA_VIEW_CORRIDOR_DEPTH times
+ * that across its axis, and open above the axis: at most STA_VIEW_CORRIDOR_OPEN of the
+ * points of the middle third across it lie in the upper half of the heights (a street
+ * between facades; not an elongated model). It is seen along its axis from its end,
+ * STA_VIEW_ALONG_PITCH_DEG from above, looking west when the axis runs east-west (yaw in
+ * [90, 270) degrees). Other elongated scenes (an airborne strip, the dragon) are seen
+ * across the long axis, STA_VIEW_ACROSS_TURN_DEG off square-on, so that it spans the
  * width; the rest from the south-west (yaw 45 degrees); both STA_VIEW_DEFAULT_PITCH_DEG
  * from above. */
 double sta_view_default_yaw(const sta_camera *camera, const double *points, size_t count,
