@@ -212,19 +212,6 @@ sta_status sta_obj_load_mesh_memory(const uint8_t *data, size_t size, const char
     return STA_OK;
 }
 
-sta_status sta_obj_load_mesh(const char *path, sta_mesh *out_mesh, sta_error *err)
-{
-    sta_file_map map = { 0 };
-    memset(out_mesh, 0, sizeof(*out_mesh));
-    sta_status status = sta_file_map_open(path, &map, err);
-    if (status != STA_OK) {
-        return status;
-    }
-    status = sta_obj_load_mesh_memory(map.data, map.size, map.path, out_mesh, err);
-    sta_file_map_close(&map);
-    return status;
-}
-
 // Whether `data` looks like OBJ: its first statement (after blank lines) is a comment or
 // one of the usual keywords.
 static bool looks_like_obj(const uint8_t *data, size_t size)

@@ -25,10 +25,7 @@
 sta_status sta_obj_load_mesh_memory(const uint8_t *data, size_t size, const char *name,
                                     sta_mesh *out_mesh, sta_error *err);
 
-/* As sta_obj_load_mesh_memory, from a file (mapped). */
-sta_status sta_obj_load_mesh(const char *path, sta_mesh *out_mesh, sta_error *err);
-
-/* A mesh from `path` by its content: PLY when it starts with "ply", otherwise OBJ when
+/* A mesh from `path` (mapped) by its content: PLY when it starts with "ply", otherwise OBJ when
  * its first statement is one (v, vn, vt, f, o, g, s, usemtl, mtllib or a comment);
  * anything else is STA_ERR_FORMAT naming the file ("neither a PLY nor an OBJ mesh"). */
 sta_status sta_mesh_load(const char *path, sta_mesh *out_mesh, sta_error *err);
