@@ -20,12 +20,15 @@
 # running the script once per build.
 # usage: bench/screen_quality.sh [BUILD=build/release] [LABEL]
 #   (EXTRA: more strata-bench options; BENCH_DIR: work folder, default /tmp/strata-quality;
-#    BUNNY: the bunny PLY, default ../shared/data/models/bun_zipper.ply)
+#    BUNNY: the bunny PLY, default ../shared/data/models/bun_zipper.ply; DRAGON: the
+#    dragon OBJ, default ../shared/data/models/dragon_vrip_res3.obj, since issue 15's
+#    twenty-first round, standing on +Z as the synth now stands y-up models)
 set -euo pipefail
 build=${1:-build/release}
 label=${2:-$(basename "$build")}
 work=${BENCH_DIR:-/tmp/strata-quality}
 bunny=${BUNNY:-$(dirname "$0")/../../shared/data/models/bun_zipper.ply}
+dragon=${DRAGON:-$(dirname "$0")/../../shared/data/models/dragon_vrip_res3.obj}
 mkdir -p "$work"
 synth=$build/src/strata-synth
 convert=$build/preprocess/strata-convert
@@ -42,6 +45,7 @@ make_scene street street --points 2000000
 make_scene sphere sphere --points 200000
 make_scene nested nested --points 200000
 make_scene bunny mesh --mesh "$bunny" --points 200000
+make_scene dragon mesh --mesh "$dragon" --points 200000
 run() { # scene, views option, size
     local out="$work/out-$label-$1"
     # shellcheck disable=SC2086
@@ -68,6 +72,6 @@ run() { # scene, views option, size
               $col["normal_median_deg"], $col["normal_p95_deg"], face_n, off, fill }' "$out/results.csv"
 }
 run street "--street 3" 960x540
-for scene in sphere nested bunny; do
+for scene in sphere nested bunny dragon; do
     run $scene "--orbit 2" 640x480
 done
