@@ -75,9 +75,10 @@ static double *corridor_points(double length, double width, double height)
 static double default_direction(double *points, double *pitch)
 {
     sta_camera c = z_up_camera();
-    double yaw = sta_view_default_yaw(&c, points, 4000, pitch);
+    sta_view_direction d = sta_view_default_direction(&c, points, 4000);
     free(points);
-    return yaw;
+    *pitch = d.pitch;
+    return d.yaw;
 }
 
 static void corridor_is_seen_along_from_its_end(void **state)
@@ -164,8 +165,10 @@ static void density_sample_follows_the_points(void **state)
     sta_error err = { 0 };
     assert_int_equal(sta_strata_open(strata, NULL, &reader, &err), STA_OK);
     const sta_strata_info *info = sta_strata_reader_info(reader);
-    double(*sample)[3] = NULL;
-    size_t count = sta_view_density_sample(reader, info->bounds_min, info->bounds_max, &sample);
+    sta_view_sample samples;
+    assert_true(sta_view_sample_build(reader, info->bounds_min, info->bounds_max, &samples));
+    size_t count = samples.weighted_count;
+    double(*sample)[3] = samples.weighted;
     assert_true(count > 100);
     // The file's axes are the PLY's (a y-up model keeps its coordinates).
     size_t in_square = 0;
@@ -188,7 +191,7 @@ static void density_sample_follows_the_points(void **state)
     assert_true(root_share < 0.5);
     assert_true(share > 0.85 && share < 1.0);
     sta_strata_decoder_destroy(decoder);
-    sta_free(sample);
+    sta_view_sample_release(&samples);
     sta_strata_close(reader);
 }
 

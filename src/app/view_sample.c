@@ -1,17 +1,19 @@
 /* SPDX-License-Identifier: MIT
- * The default view's sample of points, weighted by the density they stand for. */
+ * The default view's samples of points: the root's, and all decoded ones weighted by the
+ * density they stand for. */
 #include "app/view_sample.h"
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "core/alloc.h"
 
-typedef struct root_point {
+typedef struct decoded_point {
     double world[3];
     int32_t grid[3];   /* the file's integers */
     uint32_t frontier; /* first node not decoded on its way down, or NO_FRONTIER */
-} root_point;
+} decoded_point;
 
 #define NO_FRONTIER UINT32_MAX
 #define BAD_TABLE   (UINT32_MAX - 1)
@@ -55,8 +57,8 @@ static uint32_t frontier_node(const sta_strata_reader *reader, const int64_t xyz
 // node (none decoded) shared among the decoded points inside that node's box. A
 // frontier node with no decoded point in its box is left out (the coarse levels keep
 // a point in nearly every occupied part of their box). false when the table is unusable.
-static bool point_weights(const sta_strata_reader *reader, const root_point *points, size_t count,
-                          double *out_weights)
+static bool point_weights(const sta_strata_reader *reader, const decoded_point *points,
+                          size_t count, double *out_weights)
 {
     const sta_strata_info *info = sta_strata_reader_info(reader);
     uint32_t n = info->node_count;
@@ -94,7 +96,7 @@ static bool point_weights(const sta_strata_reader *reader, const root_point *poi
 // Appends node `index`'s points inside box_min..box_max to *points (grown as needed).
 static bool append_node(const sta_strata_reader *reader, uint32_t index,
                         sta_strata_decoder *decoder, const double box_min[3],
-                        const double box_max[3], root_point **points, size_t *count,
+                        const double box_max[3], decoded_point **points, size_t *count,
                         size_t *capacity)
 {
     const sta_grid *grid = &sta_strata_reader_info(reader)->geometry.grid;
@@ -104,7 +106,7 @@ static bool append_node(const sta_strata_reader *reader, uint32_t index,
     }
     if (*count + decoded.count > *capacity) {
         size_t grown = 2 * (*count + decoded.count);
-        root_point *more = sta_realloc_array(*points, grown, sizeof(**points));
+        decoded_point *more = sta_realloc_array(*points, grown, sizeof(**points));
         if (!more) {
             return false;
         }
@@ -113,7 +115,7 @@ static bool append_node(const sta_strata_reader *reader, uint32_t index,
     }
     for (size_t i = 0; i < decoded.count; i++) {
         const int64_t xyz[3] = { decoded.points[i].X, decoded.points[i].Y, decoded.points[i].Z };
-        root_point *p = &(*points)[*count];
+        decoded_point *p = &(*points)[*count];
         bool inside = true;
         for (int a = 0; a < 3; a++) {
             p->grid[a] = (int32_t)xyz[a];
@@ -125,69 +127,97 @@ static bool append_node(const sta_strata_reader *reader, uint32_t index,
     return true;
 }
 
-size_t sta_view_density_sample(const sta_strata_reader *reader, const double box_min[3],
-                               const double box_max[3], double (**out)[3])
+// Copies `count` points' world coordinates into a new array (NULL when count is 0 or
+// memory is short).
+static double (*world_copy(const decoded_point *points, size_t count))[3]
 {
-    *out = NULL;
-    const sta_strata_info *info = sta_strata_reader_info(reader);
-    sta_strata_decoder *decoder = NULL;
-    root_point *points = NULL;
-    double *weights = NULL;
-    size_t kept = 0, capacity = 0, decoded = 0;
-    if (sta_strata_decoder_create(&decoder, NULL) != STA_OK) {
-        goto done;
-    }
-    // The nodes in table order (breadth first: the coarse levels) within the budget.
-    uint32_t nodes = 0;
-    for (uint32_t i = 0; i < info->node_count; i++, nodes++) {
-        uint64_t n = sta_strata_reader_node(reader, i)->point_count;
-        if (i > 0 && decoded + n > STA_VIEW_SAMPLE_DECODE_POINTS) {
-            break;
+    double(*out)[3] = count ? sta_alloc_array(count, sizeof(*out)) : NULL;
+    for (size_t i = 0; out && i < count; i++) {
+        for (int a = 0; a < 3; a++) {
+            out[i][a] = points[i].world[a];
         }
-        if (!append_node(reader, i, decoder, box_min, box_max, &points, &kept, &capacity)) {
-            kept = 0;
-            goto done;
-        }
-        decoded += n;
     }
-    size_t want = kept < STA_VIEW_SAMPLE_POINTS ? kept : STA_VIEW_SAMPLE_POINTS;
-    if (want == 0 || !(weights = sta_alloc_array(kept, sizeof(*weights))) ||
-        !(*out = sta_alloc_array(want, sizeof(**out)))) {
-        kept = 0;
-        goto done;
-    }
-    for (size_t i = 0; i < kept; i++) {
-        const int64_t xyz[3] = { points[i].grid[0], points[i].grid[1], points[i].grid[2] };
-        points[i].frontier = frontier_node(reader, xyz, nodes);
-    }
-    bool weighted = point_weights(reader, points, kept, weights);
+    return out;
+}
+
+// Resamples `points` by `weights` (systematic: sample j at (j + 1/2) total / want along
+// the weights' sum) into out[want].
+static void resample(const decoded_point *points, const double *weights, size_t count, size_t want,
+                     double (*out)[3])
+{
     double total = 0.0;
-    for (size_t i = 0; i < kept; i++) {
-        weights[i] = weighted ? weights[i] : 1.0;
+    for (size_t i = 0; i < count; i++) {
         total += weights[i];
     }
-    // Systematic resampling: sample j at (j + 1/2) total / want along the weights' sum.
     size_t source = 0;
     double reached = weights[0];
     for (size_t j = 0; j < want; j++) {
         double at = ((double)j + 0.5) * total / (double)want;
-        while (reached < at && source + 1 < kept) {
+        while (reached < at && source + 1 < count) {
             reached += weights[++source];
         }
         for (int a = 0; a < 3; a++) {
-            (*out)[j][a] = points[source].world[a];
+            out[j][a] = points[source].world[a];
         }
     }
-    kept = want;
-done:
-    if (kept == 0) {
-        sta_free(*out);
-        *out = NULL;
+}
+
+void sta_view_sample_release(sta_view_sample *sample)
+{
+    sta_free(sample->root);
+    sta_free(sample->weighted);
+    memset(sample, 0, sizeof(*sample));
+}
+
+bool sta_view_sample_build(const sta_strata_reader *reader, const double box_min[3],
+                           const double box_max[3], sta_view_sample *out)
+{
+    memset(out, 0, sizeof(*out));
+    const sta_strata_info *info = sta_strata_reader_info(reader);
+    sta_strata_decoder *decoder = NULL;
+    decoded_point *points = NULL;
+    double *weights = NULL;
+    size_t kept = 0, capacity = 0, decoded = 0, root_kept = 0;
+    bool ok = sta_strata_decoder_create(&decoder, NULL) == STA_OK;
+    // The nodes in table order (breadth first: the coarse levels) within the budget.
+    uint32_t nodes = 0;
+    for (uint32_t i = 0; ok && i < info->node_count; i++, nodes++) {
+        uint64_t n = sta_strata_reader_node(reader, i)->point_count;
+        if (i > 0 && decoded + n > STA_VIEW_SAMPLE_DECODE_POINTS) {
+            break;
+        }
+        ok = append_node(reader, i, decoder, box_min, box_max, &points, &kept, &capacity);
+        decoded += n;
+        root_kept = i == 0 ? kept : root_kept;
+    }
+    size_t want = kept < STA_VIEW_SAMPLE_POINTS ? kept : STA_VIEW_SAMPLE_POINTS;
+    if (ok && kept > 0) {
+        weights = sta_alloc_array(kept, sizeof(*weights));
+        out->root = world_copy(points, root_kept);
+        out->weighted = sta_alloc_array(want, sizeof(*out->weighted));
+        ok = weights && out->weighted && (out->root || root_kept == 0);
+    }
+    if (ok && kept > 0) {
+        for (size_t i = 0; i < kept; i++) {
+            const int64_t xyz[3] = { points[i].grid[0], points[i].grid[1], points[i].grid[2] };
+            points[i].frontier = frontier_node(reader, xyz, nodes);
+        }
+        if (!point_weights(reader, points, kept, weights)) {
+            for (size_t i = 0; i < kept; i++) {
+                weights[i] = 1.0;
+            }
+        }
+        resample(points, weights, kept, want, out->weighted);
+        out->root_count = root_kept;
+        out->weighted_count = want;
+    }
+    if (!ok) {
+        sta_view_sample_release(out);
     }
     sta_free(points);
     sta_free(weights);
     if (decoder) {
         sta_strata_decoder_destroy(decoder);
     }
-    return kept;
+    return ok;
 }

@@ -26,60 +26,21 @@ static void grown_box(const double box_min[3], const double box_max[3], double m
     }
 }
 
-// The root node's points inside the robust box grown by STA_VIEW_FRAME_GROW of its
-// size on every side (far strays stay out, a model's extremities that the percentiles
-// cut, such as the bunny's ear tips, come back in); world metres, *out owned by the
-// caller. 0 when the file cannot be read here (the caller falls back to the box).
-static size_t root_points(const sta_strata_info *info, const double box_min[3],
-                          const double box_max[3], double (**out)[3])
+// The samples (sta_view_sample_build) of the points inside the robust box grown by
+// STA_VIEW_FRAME_GROW of its size on every side (far strays stay out, a model's
+// extremities that the percentiles cut, such as the bunny's ear tips, come back in).
+// Empty when the file cannot be read here (the caller falls back to the box).
+static void scene_sample(const sta_strata_info *info, const double box_min[3],
+                         const double box_max[3], sta_view_sample *out)
 {
     double min[3], max[3];
     grown_box(box_min, box_max, min, max);
-    *out = NULL;
+    memset(out, 0, sizeof(*out));
     sta_strata_reader *reader = NULL;
-    sta_strata_decoder *decoder = NULL;
-    sta_strata_points points;
-    size_t kept = 0;
-    if (sta_strata_open(info->path, NULL, &reader, NULL) == STA_OK &&
-        sta_strata_decoder_create(&decoder, NULL) == STA_OK &&
-        sta_strata_decode_node(reader, 0, decoder, &points, NULL) == STA_OK &&
-        (*out = sta_alloc_array(points.count ? points.count : 1, sizeof(**out)))) {
-        const sta_grid *grid = &sta_strata_reader_info(reader)->geometry.grid;
-        for (size_t i = 0; i < points.count; i++) {
-            const int32_t xyz[3] = { points.points[i].X, points.points[i].Y, points.points[i].Z };
-            double *p = (*out)[kept];
-            bool inside = true;
-            for (int a = 0; a < 3; a++) {
-                p[a] = sta_grid_apply(grid, a, xyz[a]);
-                inside = inside && p[a] >= min[a] && p[a] <= max[a];
-            }
-            kept += inside;
-        }
-    }
-    if (decoder) {
-        sta_strata_decoder_destroy(decoder);
-    }
-    if (reader) {
-        sta_strata_close(reader);
-    }
-    return kept;
-}
-
-// The same box's density-weighted sample (sta_view_density_sample): what decides the
-// direction, and what frames a corridor. 0 when the file cannot be read here.
-static size_t density_points(const sta_strata_info *info, const double box_min[3],
-                             const double box_max[3], double (**out)[3])
-{
-    double min[3], max[3];
-    grown_box(box_min, box_max, min, max);
-    *out = NULL;
-    sta_strata_reader *reader = NULL;
-    size_t kept = 0;
     if (sta_strata_open(info->path, NULL, &reader, NULL) == STA_OK) {
-        kept = sta_view_density_sample(reader, min, max, out);
+        (void)sta_view_sample_build(reader, min, max, out);
         sta_strata_close(reader);
     }
-    return kept;
 }
 
 void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *info,
@@ -107,33 +68,35 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
         c->near_m = extent * 1e-5 > 1e-3 ? extent * 1e-5 : 1e-3;
         return;
     }
-    double(*sample)[3] = NULL;
-    size_t sampled = density_points(info, frame_min, frame_max, &sample);
-    c->yaw = sta_view_default_yaw(c, sample ? &sample[0][0] : NULL, sampled, &c->pitch);
-    bool corridor = sampled > 0 && c->pitch == STA_VIEW_ALONG_PITCH_DEG * degrees;
-    // A corridor is framed on the sample around its mean (the root's even spread gave the
-    // ground streaks of a street's cross streets as much room as the street); other
-    // scenes as before the sample, on the root's points around the robust box's centre
-    // (the sample's extremities are thinner, and it framed models tighter, cut at the top).
-    double(*points)[3] = NULL;
-    size_t count = corridor ? 0 : root_points(info, frame_min, frame_max, &points);
+    sta_view_sample sample;
+    scene_sample(info, frame_min, frame_max, &sample);
+    sta_view_direction d = sta_view_default_direction(
+        c, sample.weighted ? &sample.weighted[0][0] : NULL, sample.weighted_count);
+    c->yaw = d.yaw;
+    c->pitch = d.pitch;
+    // A corridor is framed on the weighted sample around its mean (the root's even spread
+    // gave the ground streaks of a street's cross streets as much room as the street);
+    // other scenes as before the sample, on the root's points around the robust box's
+    // centre (the weighted sample's extremities are thinner: it framed models tighter,
+    // cut at the top).
     double centre[3] = { 0.5 * (frame_min[0] + frame_max[0]), 0.5 * (frame_min[1] + frame_max[1]),
                          0.5 * (frame_min[2] + frame_max[2]) };
-    if (corridor) {
+    if (d.along && sample.weighted_count > 0) {
         for (int a = 0; a < 3; a++) {
             centre[a] = 0.0;
-            for (size_t i = 0; i < sampled; i++) {
-                centre[a] += sample[i][a] / (double)sampled;
+            for (size_t i = 0; i < sample.weighted_count; i++) {
+                centre[a] += sample.weighted[i][a] / (double)sample.weighted_count;
             }
         }
-        sta_camera_frame_points(c, centre, &sample[0][0], sampled, STA_VIEW_FRAME_KEEP);
-    } else if (count > 0) {
-        sta_camera_frame_points(c, centre, &points[0][0], count, STA_VIEW_FRAME_KEEP);
+        sta_camera_frame_points(c, centre, &sample.weighted[0][0], sample.weighted_count,
+                                STA_VIEW_FRAME_KEEP);
+    } else if (sample.root_count > 0) {
+        sta_camera_frame_points(c, centre, &sample.root[0][0], sample.root_count,
+                                STA_VIEW_FRAME_KEEP);
     } else {
         sta_camera_frame_box(c, frame_min, frame_max);
     }
-    sta_free(sample);
-    sta_free(points);
+    sta_view_sample_release(&sample);
 }
 
 static int compare_doubles(const void *a, const void *b)
@@ -190,30 +153,34 @@ static bool is_corridor(const sta_camera *c, const double *points, size_t count,
     return corridor;
 }
 
-double sta_view_default_yaw(const sta_camera *c, const double *points, size_t count,
-                            double *out_pitch)
+sta_view_direction sta_view_default_direction(const sta_camera *c, const double *points,
+                                              size_t count)
 {
-    *out_pitch = STA_VIEW_DEFAULT_PITCH_DEG * degrees;
+    sta_view_direction d = { STA_VIEW_DEFAULT_YAW_DEG * degrees,
+                             STA_VIEW_DEFAULT_PITCH_DEG * degrees, false };
     double elongation = 1.0;
     double long_yaw = sta_camera_points_long_yaw(c, points, count, &elongation);
     if (!(elongation > STA_VIEW_ELONGATED_RATIO)) {
-        return STA_VIEW_DEFAULT_YAW_DEG * degrees;
+        return d;
     }
     if (!is_corridor(c, points, count, long_yaw)) {
         // An airborne strip, an elongated model: across the long axis, turned so that
         // depth still shows, and the long axis spans the width of the view.
-        return long_yaw + (90.0 - STA_VIEW_ACROSS_TURN_DEG) * degrees;
+        d.yaw = long_yaw + (90.0 - STA_VIEW_ACROSS_TURN_DEG) * degrees;
+        return d;
     }
     // A corridor (a street): along it from one end, as from the vehicle that scanned
     // it, but from above. Seen across, the near side showed its backs, which a mobile
     // scan never samples, and the far side beyond them.
-    *out_pitch = STA_VIEW_ALONG_PITCH_DEG * degrees;
     const double half_turn = 180.0 * degrees;
     double yaw = fmod(long_yaw, half_turn); // the axis, either way along it
     if (yaw < 0.0) {
         yaw += half_turn;
     }
-    return yaw < 0.5 * half_turn ? yaw + half_turn : yaw;
+    d.yaw = yaw < 0.5 * half_turn ? yaw + half_turn : yaw;
+    d.pitch = STA_VIEW_ALONG_PITCH_DEG * degrees;
+    d.along = true;
+    return d;
 }
 
 int sta_view_initial_colour(const sta_view_args *args, const sta_strata_info *info)

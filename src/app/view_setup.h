@@ -23,19 +23,19 @@
 #define STA_VIEW_FRAME_KEEP        0.995 /* share of the sample inside each view edge */
 
 /* The camera the arguments ask for, or a default one: yaw and pitch from
- * sta_view_default_yaw on the density-weighted sample (sta_view_density_sample) of the
- * points inside the robust bounds `frame_min`..`frame_max` grown by STA_VIEW_FRAME_GROW;
- * backed off until STA_VIEW_FRAME_KEEP of the points fill the view: for a corridor the
- * sample's, around its mean; otherwise the root node's (inside the grown bounds), around
- * the bounds' centre (the box itself when the root cannot be read). Its up axis is the
+ * sta_view_default_direction on the weighted sample (sta_view_sample_build) of the points
+ * inside the robust bounds `frame_min`..`frame_max` grown by STA_VIEW_FRAME_GROW; backed
+ * off until STA_VIEW_FRAME_KEEP of the points fill the view: for a corridor the weighted
+ * sample's, around its mean; otherwise the root node's, around the bounds' centre (the
+ * box itself when the file cannot be read). Its up axis is the
  * file's (info->up_axis): given yaw and pitch are about it too. */
 void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *info,
                              const double frame_min[3], const double frame_max[3],
                              sta_camera *out_camera);
 
-/* The default direction for points seen by `camera` (its up axis), as its yaw (the
- * return value) and *out_pitch (radians). Points whose horizontal spread is more than
- * STA_VIEW_ELONGATED_RATIO times longer one way than across are elongated. A corridor is
+/* The default direction for points seen by `camera` (its up axis), yaw and pitch in
+ * radians. Points whose horizontal spread is more than STA_VIEW_ELONGATED_RATIO times
+ * longer one way than across are elongated. A corridor is
  * elongated, the 5-95 % spread of its heights more than STA_VIEW_CORRIDOR_DEPTH times
  * that across its axis, and open above the axis: at most STA_VIEW_CORRIDOR_OPEN of the
  * points of the middle third across it lie in the upper half of the heights (a street
@@ -45,8 +45,12 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
  * across the long axis, STA_VIEW_ACROSS_TURN_DEG off square-on, so that it spans the
  * width; the rest from the south-west (yaw 45 degrees); both STA_VIEW_DEFAULT_PITCH_DEG
  * from above. */
-double sta_view_default_yaw(const sta_camera *camera, const double *points, size_t count,
-                            double *out_pitch);
+typedef struct sta_view_direction {
+    double yaw, pitch;
+    bool along; /* a corridor, seen along its axis (framed on the weighted sample) */
+} sta_view_direction;
+sta_view_direction sta_view_default_direction(const sta_camera *camera, const double *points,
+                                              size_t count);
 
 /* The screen-space pipeline options the arguments ask for. */
 void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *out);
