@@ -90,9 +90,27 @@ static void split_counts(synth_analytic *an, uint64_t n)
     }
 }
 
-bool synth_mesh_y_up(sta_synth_mesh_up requested, const double extent[3], char *why,
-                     size_t why_size)
+// The bounding box of a mesh's vertices (empty: lo +inf, hi -inf).
+static void mesh_bounds(const sta_mesh *m, double lo[3], double hi[3])
 {
+    for (int a = 0; a < 3; a++) {
+        lo[a] = INFINITY;
+        hi[a] = -INFINITY;
+    }
+    for (size_t i = 0; i < m->vertex_count; i++) {
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(lo[a], m->positions[3 * i + (size_t)a]);
+            hi[a] = fmax(hi[a], m->positions[3 * i + (size_t)a]);
+        }
+    }
+}
+
+// Whether a mesh with these extents is turned from y up to z up (`requested`, or the
+// model rule for STA_SYNTH_MESH_UP_AUTO); `why` as sta_synth_mesh_up_axis.
+static bool mesh_y_up(sta_synth_mesh_up requested, const double lo[3], const double hi[3],
+                      char *why, size_t why_size)
+{
+    const double extent[3] = { hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] };
     if (requested == STA_SYNTH_MESH_UP_AUTO) {
         return sta_model_is_y_up(extent[0], extent[1], extent[2], "mesh", why, why_size);
     }
@@ -115,13 +133,7 @@ static sta_status init_mesh(synth_analytic *an, const char *path, sta_synth_mesh
         return sta_fail(err, STA_ERR_FORMAT, "%s: mesh has no triangles to sample", path);
     }
     double lo[3], hi[3];
-    for (size_t i = 0; i < m->vertex_count; i++) {
-        for (int a = 0; a < 3; a++) {
-            double x = m->positions[3 * i + (size_t)a];
-            lo[a] = i == 0 ? x : fmin(lo[a], x);
-            hi[a] = i == 0 ? x : fmax(hi[a], x);
-        }
-    }
+    mesh_bounds(m, lo, hi);
     double extent = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
     if (!(extent > 0.0)) {
         return sta_fail(err, STA_ERR_FORMAT, "%s: mesh has zero extent", path);
@@ -130,8 +142,7 @@ static sta_status init_mesh(synth_analytic *an, const char *path, sta_synth_mesh
     for (int a = 0; a < 3; a++) {
         an->mesh_centre[a] = 0.5 * (lo[a] + hi[a]);
     }
-    const double extents[3] = { hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] };
-    an->mesh_y_up = synth_mesh_y_up(mesh_up, extents, NULL, 0);
+    an->mesh_y_up = mesh_y_up(mesh_up, lo, hi, NULL, 0);
     for (size_t i = 0; i < m->vertex_count; i++) {
         double *x = &m->positions[3 * i];
         for (int a = 0; a < 3; a++) {
@@ -426,15 +437,9 @@ sta_status sta_synth_mesh_up_axis(const sta_synth_params *params, bool *out_y_up
     if (status != STA_OK) {
         return status;
     }
-    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
-    for (size_t i = 0; i < mesh.vertex_count; i++) {
-        for (int a = 0; a < 3; a++) {
-            lo[a] = fmin(lo[a], mesh.positions[3 * i + (size_t)a]);
-            hi[a] = fmax(hi[a], mesh.positions[3 * i + (size_t)a]);
-        }
-    }
+    double lo[3], hi[3];
+    mesh_bounds(&mesh, lo, hi);
     sta_mesh_release(&mesh);
-    const double extents[3] = { hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] };
-    *out_y_up = synth_mesh_y_up(params->mesh_up, extents, why, why_size);
+    *out_y_up = mesh_y_up(params->mesh_up, lo, hi, why, why_size);
     return STA_OK;
 }

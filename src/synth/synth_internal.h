@@ -31,11 +31,6 @@ typedef struct synth_rect {
 
 /* The analytic scenes' geometry. Primitive ids: rects 0..rect_count-1, then the
  * sphere (nested: 6; sphere scene: 0); mesh: the triangle index. */
-/* Whether a mesh with these extents is turned from y up to z up (`requested`, or the
- * model rule for STA_SYNTH_MESH_UP_AUTO); `why` as sta_synth_mesh_up_axis. */
-bool synth_mesh_y_up(sta_synth_mesh_up requested, const double extent[3], char *why,
-                     size_t why_size);
-
 typedef struct synth_analytic {
     synth_rect rects[SYNTH_MAX_RECTS];
     int rect_count;
