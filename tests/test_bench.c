@@ -303,6 +303,23 @@ static void mesh_scene_stands_up_and_its_truth_follows(void **state)
     assert_int_equal(sta_bench_truth_load(truth, &t, &err), STA_OK);
     assert_int_equal(sta_synth_scene_params(t.scene)->mesh_up, STA_SYNTH_MESH_UP_Z);
     sta_bench_truth_release(&t);
+    // A sidecar whose "up" says something else: an error naming the file and the field.
+    text = (char *)sta_test_read_file(truth, &size);
+    char *path_field = strstr(text, "    \"path\"");
+    assert_non_null(path_field);
+    const char bad_up[] = "    \"up\": \"x\",\n";
+    char *edited = malloc(size + sizeof(bad_up));
+    assert_non_null(edited);
+    size_t head = (size_t)(path_field - text);
+    memcpy(edited, text, head);
+    memcpy(edited + head, bad_up, sizeof(bad_up) - 1);
+    memcpy(edited + head + sizeof(bad_up) - 1, path_field, size - head);
+    sta_test_write_file(truth, edited, size + sizeof(bad_up) - 1);
+    free(edited);
+    free(text);
+    assert_int_equal(sta_bench_truth_load(truth, &t, &err), STA_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "bench_bunny_up.truth.json"));
+    assert_non_null(strstr(err.message, "mesh.up"));
     p.mesh_up = STA_SYNTH_MESH_UP_Z;
     assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
     double lying = las_height_ratio(las);

@@ -164,8 +164,13 @@ sta_status sta_bench_truth_load(const char *path, sta_bench_truth *out, sta_erro
         // The model's up as the synth applied it; sidecars from before "up" kept the
         // model's axes.
         const cJSON *up = field(field(root, "mesh"), "up");
-        p.mesh_up = cJSON_IsString(up) && strcmp(up->valuestring, "y") == 0 ? STA_SYNTH_MESH_UP_Y
-                                                                            : STA_SYNTH_MESH_UP_Z;
+        bool y = cJSON_IsString(up) && strcmp(up->valuestring, "y") == 0;
+        bool z = !up || (cJSON_IsString(up) && strcmp(up->valuestring, "z") == 0);
+        if (!y && !z) {
+            bad = "field \"mesh.up\" is neither \"y\" nor \"z\"";
+            goto out_close;
+        }
+        p.mesh_up = y ? STA_SYNTH_MESH_UP_Y : STA_SYNTH_MESH_UP_Z;
     }
     const cJSON *scanner = field(root, "scanner");
     if (p.kind == STA_SYNTH_STREET) {
