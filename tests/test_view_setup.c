@@ -221,7 +221,9 @@ static void street_default_view_looks_along_it(void **state)
     args.camera[5] = 60.0;
     sta_camera c;
     memset(&c, 0, sizeof(c));
-    sta_view_initial_camera(&args, info, info->bounds_min, info->bounds_max, &c);
+    char why[256];
+    sta_view_initial_camera(&args, info, info->bounds_min, info->bounds_max, &c, why, sizeof(why));
+    print_message("street: %s\n", why);
 
     // Every point of the file: its mean and principal horizontal axis.
     sta_strata_decoder *decoder = NULL;

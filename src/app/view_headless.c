@@ -392,7 +392,9 @@ int sta_view_run_headless(const sta_view_args *args)
         sta_camera camera;
         double frame_min[3], frame_max[3];
         sta_scene_robust_bounds(scene, frame_min, frame_max);
-        sta_view_initial_camera(args, info, frame_min, frame_max, &camera);
+        char default_view[256];
+        sta_view_initial_camera(args, info, frame_min, frame_max, &camera, default_view,
+                                sizeof(default_view));
         sta_scene_set_colour_mode(scene, sta_view_initial_colour(args, info));
         sta_scene_set_ramps(scene, args->elevation_range[0], args->elevation_range[1],
                             args->intensity_max);
@@ -408,6 +410,9 @@ int sta_view_run_headless(const sta_view_args *args)
         if (args->stats) {
             char renderer[256];
             printf("renderer: %s\n", sta_gl_describe(renderer, sizeof(renderer)));
+            if (default_view[0]) {
+                printf("default view: %s\n", default_view);
+            }
         }
         sta_geometry_options raster = { .raster = args->raster,
                                         .force_32bit_atomics = args->raster_32bit };

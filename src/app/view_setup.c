@@ -44,8 +44,12 @@ static void scene_sample(const sta_strata_info *info, const double box_min[3],
 }
 
 void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *info,
-                             const double frame_min[3], const double frame_max[3], sta_camera *c)
+                             const double frame_min[3], const double frame_max[3], sta_camera *c,
+                             char *why, size_t why_size)
 {
+    if (why && why_size > 0) {
+        why[0] = '\0';
+    }
     c->width_px = args->width_px;
     c->height_px = args->height_px;
     c->fov_y = args->camera[5] * degrees;
@@ -74,6 +78,9 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
         c, sample.weighted ? &sample.weighted[0][0] : NULL, sample.weighted_count);
     c->yaw = d.yaw;
     c->pitch = d.pitch;
+    if (why) {
+        sta_view_direction_describe(&d, why, why_size);
+    }
     // A corridor is framed on the weighted sample around its mean (the root's even spread
     // gave the ground streaks of a street's cross streets as much room as the street);
     // other scenes as before the sample, on the root's points around the robust box's
@@ -157,10 +164,10 @@ sta_view_direction sta_view_default_direction(const sta_camera *c, const double 
                                               size_t count)
 {
     sta_view_direction d = { STA_VIEW_DEFAULT_YAW_DEG * degrees,
-                             STA_VIEW_DEFAULT_PITCH_DEG * degrees, false };
-    double elongation = 1.0;
-    double long_yaw = sta_camera_points_long_yaw(c, points, count, &elongation);
-    if (!(elongation > STA_VIEW_ELONGATED_RATIO)) {
+                             STA_VIEW_DEFAULT_PITCH_DEG * degrees, false, 0.0, 1.0 };
+    double long_yaw = sta_camera_points_long_yaw(c, points, count, &d.elongation);
+    d.axis_yaw = long_yaw;
+    if (!(d.elongation > STA_VIEW_ELONGATED_RATIO)) {
         return d;
     }
     if (!is_corridor(c, points, count, long_yaw)) {
@@ -181,6 +188,18 @@ sta_view_direction sta_view_default_direction(const sta_camera *c, const double 
     d.pitch = STA_VIEW_ALONG_PITCH_DEG * degrees;
     d.along = true;
     return d;
+}
+
+void sta_view_direction_describe(const sta_view_direction *d, char *out, size_t size)
+{
+    const char *kind = d->along                                   ? "a corridor"
+                       : d->elongation > STA_VIEW_ELONGATED_RATIO ? "elongated"
+                                                                  : "not elongated";
+    const char *view = d->along                                   ? "along it from its end"
+                       : d->elongation > STA_VIEW_ELONGATED_RATIO ? "across its axis"
+                                                                  : "from the south-west";
+    snprintf(out, size, "%s (axis %.1f deg, elongation %.2f): %s, %.0f deg from above", kind,
+             d->axis_yaw / degrees, d->elongation, view, -d->pitch / degrees);
 }
 
 int sta_view_initial_colour(const sta_view_args *args, const sta_strata_info *info)

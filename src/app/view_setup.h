@@ -28,10 +28,11 @@
  * off until STA_VIEW_FRAME_KEEP of the points fill the view: for a corridor the weighted
  * sample's, around its mean; otherwise the root node's, around the bounds' centre (the
  * box itself when the file cannot be read). Its up axis is the
- * file's (info->up_axis): given yaw and pitch are about it too. */
+ * file's (info->up_axis): given yaw and pitch are about it too. `why` (may be NULL)
+ * gets sta_view_direction_describe's line for a default camera, "" for a given one. */
 void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *info,
                              const double frame_min[3], const double frame_max[3],
-                             sta_camera *out_camera);
+                             sta_camera *out_camera, char *why, size_t why_size);
 
 /* The default direction for points seen by `camera` (its up axis), yaw and pitch in
  * radians. Points whose horizontal spread is more than STA_VIEW_ELONGATED_RATIO times
@@ -47,8 +48,14 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
  * from above. */
 typedef struct sta_view_direction {
     double yaw, pitch;
-    bool along; /* a corridor, seen along its axis (framed on the weighted sample) */
+    bool along;        /* a corridor, seen along its axis (framed on the weighted sample) */
+    double axis_yaw;   /* the points' principal horizontal axis (sta_camera_points_long_yaw) */
+    double elongation; /* spread along it over spread across it */
 } sta_view_direction;
+
+/* One line saying which default view `d` is and why, e.g. "a corridor (axis -19.5 deg,
+ * elongation 2.44): along it from its end, 20 deg from above". */
+void sta_view_direction_describe(const sta_view_direction *d, char *out, size_t size);
 sta_view_direction sta_view_default_direction(const sta_camera *camera, const double *points,
                                               size_t count);
 

@@ -640,7 +640,12 @@ int sta_view_run_window(const sta_view_args *args)
     s.info = sta_scene_info(s.scene);
     double frame_min[3], frame_max[3];
     sta_scene_robust_bounds(s.scene, frame_min, frame_max);
-    sta_view_initial_camera(args, s.info, frame_min, frame_max, &s.camera);
+    char default_view[256];
+    sta_view_initial_camera(args, s.info, frame_min, frame_max, &s.camera, default_view,
+                            sizeof(default_view));
+    if (default_view[0]) {
+        fprintf(stderr, "default view: %s\n", default_view);
+    }
     s.home = s.camera;
     s.colour_mode = sta_view_initial_colour(args, s.info);
     sta_view_pipeline_options(args, &s.pipeline);
