@@ -423,7 +423,8 @@ static void camera_frames_points(void **state)
     c.yaw = yaw + 1.2;
     c.pitch = -0.5;
     const double centre[3] = { 1010.0, 995.0, 1000.0 }; // off the cloud's middle
-    sta_camera_frame_points(&c, centre, p, N, 1.0);
+    const sta_camera_frame_rule all = { .keep = 1.0 };
+    sta_camera_frame_points(&c, centre, p, N, &all);
     double lo[2] = { 1e9, 1e9 }, hi[2] = { -1e9, -1e9 };
     for (int i = 0; i < N; i++) {
         double x, y, d;
@@ -438,8 +439,77 @@ static void camera_frames_points(void **state)
     assert_true(fabs(0.5 * (lo[1] + hi[1]) - 120.0) < 8.0);
     assert_true(c.near_m > 0.0);
     // No points: one metre back, no crash.
-    sta_camera_frame_points(&c, centre, NULL, 0, 1.0);
+    sta_camera_frame_points(&c, centre, NULL, 0, &all);
     assert_true(isfinite(c.position[0]));
+    free(p);
+}
+
+// A ball of 4000 points with an ear of 30 points (0.7 %) sticking up 1.5 radii and one
+// stray 40 radii out: keeping 99.5 % at each edge cuts the ear's tip; the stray-gap rule
+// takes the ear back in and still cuts the stray, and the margin keeps the whole framed
+// set that many pixels inside the view.
+static void camera_frame_keeps_extremities_and_cuts_strays(void **state)
+{
+    (void)state;
+    enum {
+        BALL = 4000,
+        EAR = 30,
+        N = BALL + EAR + 1
+    };
+    double *p = malloc(N * 3 * sizeof(double));
+    assert_non_null(p);
+    uint64_t seed = 11;
+    for (int i = 0; i < BALL; i++) {
+        double v[3], len2;
+        do { // uniform in the unit ball, by rejection
+            len2 = 0.0;
+            for (int a = 0; a < 3; a++) {
+                seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+                v[a] = 2.0 * ((double)(seed >> 11) / 9007199254740992.0) - 1.0;
+                len2 += v[a] * v[a];
+            }
+        } while (len2 > 1.0);
+        for (int a = 0; a < 3; a++) {
+            p[3 * i + a] = 500.0 + v[a];
+        }
+    }
+    for (int i = 0; i < EAR; i++) { // straight up from the ball's top, to 2.5 radii
+        double *q = p + 3 * (BALL + i);
+        q[0] = 500.0, q[1] = 500.0, q[2] = 501.0 + 1.5 * (i + 1) / EAR;
+    }
+    double *stray = p + 3 * (N - 1);
+    stray[0] = 500.0, stray[1] = 540.0, stray[2] = 500.0; // across the view
+    const double centre[3] = { 500.0, 500.0, 500.0 };
+    const double *tip = p + 3 * (N - 2);
+    enum {
+        W = 640,
+        H = 360
+    };
+    sta_camera c = { .fov_y = 1.0, .width_px = W, .height_px = H, .yaw = 0.0, .pitch = -0.4 };
+    double x, y, d;
+
+    const sta_camera_frame_rule share = { .keep = 0.995 };
+    sta_camera_frame_points(&c, centre, p, N, &share);
+    assert_true(sta_camera_project(&c, tip, &x, &y, &d));
+    assert_true(y < 0.0); // the ear's tip cut at the top edge
+
+    const sta_camera_frame_rule model = { .keep = 0.995, .stray_gap = 0.05, .margin_px = 40.0 };
+    sta_camera_frame_points(&c, centre, p, N, &model);
+    double lo[2] = { 1e9, 1e9 }, hi[2] = { -1e9, -1e9 };
+    for (int i = 0; i < N - 1; i++) {
+        assert_true(sta_camera_project(&c, p + 3 * i, &x, &y, &d));
+        lo[0] = fmin(lo[0], x), hi[0] = fmax(hi[0], x);
+        lo[1] = fmin(lo[1], y), hi[1] = fmax(hi[1], y);
+    }
+    // Every point but the stray at least 40 px inside (half a pixel for rounding), the
+    // ear's tip on top, and tight: one edge within a few pixels of the margin.
+    assert_true(lo[0] >= 39.5 && lo[1] >= 39.5 && hi[0] <= W - 39.5 && hi[1] <= H - 39.5);
+    assert_true(sta_camera_project(&c, tip, &x, &y, &d));
+    assert_true(fabs(y - lo[1]) < 1.0);
+    assert_true(lo[1] < 46.0 || hi[1] > H - 46.0);
+    bool stray_seen =
+        sta_camera_project(&c, stray, &x, &y, &d) && x >= 0.0 && x <= W && y >= 0.0 && y <= H;
+    assert_false(stray_seen);
     free(p);
 }
 
@@ -460,6 +530,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(file_map_reads_file_and_names_missing_one),
     cmocka_unit_test(camera_y_up_basis),
     cmocka_unit_test(camera_frames_points),
+    cmocka_unit_test(camera_frame_keeps_extremities_and_cuts_strays),
 };
 
 STA_TEST_MAIN(tests)

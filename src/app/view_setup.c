@@ -12,6 +12,7 @@
 #include "core/camera_frame.h"
 #include "format/strata_reader.h"
 #include "render/bindings.h"
+#include "render/ref/hpr_ref.h"
 
 static const double degrees = 3.14159265358979323846 / 180.0;
 
@@ -95,11 +96,20 @@ void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *i
                 centre[a] += sample.weighted[i][a] / (double)sample.weighted_count;
             }
         }
+        // The weighted sample's tails (ground streaks down the cross streets) run on in
+        // small steps too: cut at the share alone; the street runs off the edges.
+        const sta_camera_frame_rule corridor = { .keep = STA_VIEW_FRAME_KEEP };
         sta_camera_frame_points(c, centre, &sample.weighted[0][0], sample.weighted_count,
-                                STA_VIEW_FRAME_KEEP);
+                                &corridor);
     } else if (sample.root_count > 0) {
-        sta_camera_frame_points(c, centre, &sample.root[0][0], sample.root_count,
-                                STA_VIEW_FRAME_KEEP);
+        // The whole scene, clear of the border band (where the screen passes fill
+        // surfaces as if they ran on past the edge).
+        const sta_camera_frame_rule whole = {
+            .keep = STA_VIEW_FRAME_KEEP,
+            .stray_gap = STA_VIEW_FRAME_STRAY_GAP,
+            .margin_px = (double)sta_hpr_empty_border_px(c->height_px) + STA_VIEW_FRAME_CLEAR_PX,
+        };
+        sta_camera_frame_points(c, centre, &sample.root[0][0], sample.root_count, &whole);
     } else {
         sta_camera_frame_box(c, frame_min, frame_max);
     }

@@ -21,13 +21,18 @@
 #define STA_VIEW_ACROSS_TURN_DEG   25.0  /* other elongated: this far from square-on */
 #define STA_VIEW_FRAME_GROW        0.5   /* the robust box grown by this share per side */
 #define STA_VIEW_FRAME_KEEP        0.995 /* share of the sample inside each view edge */
+#define STA_VIEW_FRAME_STRAY_GAP   0.05  /* and beyond it, but for strays (not a corridor) */
+#define STA_VIEW_FRAME_CLEAR_PX    8.0   /* not a corridor: this far inside the border band */
 
 /* The camera the arguments ask for, or a default one: yaw and pitch from
  * sta_view_default_direction on the weighted sample (sta_view_sample_build) of the points
  * inside the robust bounds `frame_min`..`frame_max` grown by STA_VIEW_FRAME_GROW; backed
  * off until STA_VIEW_FRAME_KEEP of the points fill the view: for a corridor the weighted
- * sample's, around its mean; otherwise the root node's, around the bounds' centre (the
- * box itself when the file cannot be read). Its up axis is the
+ * sample's, around its mean; otherwise the root node's, around the bounds' centre, with
+ * the points beyond that share that run on in steps of at most STA_VIEW_FRAME_STRAY_GAP of
+ * the distance (a model's ear tips and horns; sta_camera_frame_points), clear of the
+ * screen passes' border band by STA_VIEW_FRAME_CLEAR_PX (the box itself when the file
+ * cannot be read). Its up axis is the
  * file's (info->up_axis): given yaw and pitch are about it too. `why` (may be NULL)
  * gets sta_view_direction_describe's line for a default camera, "" for a given one. */
 void sta_view_initial_camera(const sta_view_args *args, const sta_strata_info *info,

@@ -53,35 +53,48 @@ static int compare_doubles(const void *a, const void *b)
 }
 
 // The distance from `centre` along -f at which, for each edge of the view, the k-th
-// smallest requirement (a `k` of n points inside it) is met; need: n doubles scratch.
+// smallest requirement (a `k` of n points inside it) is met, and then every requirement
+// beyond it up to the first jump of more than `stray_gap` times the k-th distance; cut[side]: how
+// many points the edge leaves out (sides +r, -r, +u, -u); need: 4 n doubles scratch.
 static double fit_distance(const double *p, size_t n, size_t k, const double centre[3],
                            const double f[3], const double r[3], const double u[3], double tan_x,
-                           double tan_y, double *need)
+                           double tan_y, double stray_gap, double *need, size_t cut[4])
 {
     // Point i is inside the right edge of the view from distance D along -f when
     // x <= tan_x (D + z), i.e. D >= x / tan_x - z; likewise the other three edges.
-    double distance = 0.0;
+    double base = 0.0;
     for (int side = 0; side < 4; side++) {
         const double *axis = side < 2 ? r : u;
         double sign = side % 2 ? -1.0 : 1.0, t = side < 2 ? tan_x : tan_y;
+        double *side_need = need + (size_t)side * n;
         for (size_t i = 0; i < n; i++) {
             const double *q = p + 3 * i;
             double d[3] = { q[0] - centre[0], q[1] - centre[1], q[2] - centre[2] };
             double s = sign * (d[0] * axis[0] + d[1] * axis[1] + d[2] * axis[2]);
             double z = d[0] * f[0] + d[1] * f[1] + d[2] * f[2];
-            need[i] = s / t - z;
+            side_need[i] = s / t - z;
         }
-        qsort(need, n, sizeof(double), compare_doubles);
-        distance = fmax(distance, need[k - 1]);
+        qsort(side_need, n, sizeof(double), compare_doubles);
+        base = fmax(base, side_need[k - 1]);
+    }
+    double gap = stray_gap * base, distance = base;
+    for (int side = 0; side < 4; side++) {
+        const double *side_need = need + (size_t)side * n;
+        size_t last = k - 1;
+        while (gap > 0.0 && last + 1 < n && side_need[last + 1] - side_need[last] <= gap) {
+            last++;
+        }
+        cut[side] = n - 1 - last;
+        distance = fmax(distance, side_need[last]);
     }
     return distance;
 }
 
-// Moves `centre` across the view so that the points' screen extent (the k-th smallest
-// and largest normalised coordinates seen from `distance`) is centred.
-static void centre_extent(const double *p, size_t n, size_t k, double centre[3], double distance,
-                          const double f[3], const double r[3], const double u[3], double tan_x,
-                          double tan_y, double *need)
+// Moves `centre` across the view so that the points' screen extent seen from `distance`,
+// less the points each edge cuts (cut[side], sides as fit_distance's), is centred.
+static void centre_extent(const double *p, size_t n, const size_t cut[4], double centre[3],
+                          double distance, const double f[3], const double r[3], const double u[3],
+                          double tan_x, double tan_y, double *need)
 {
     double shift[2];
     for (int axis_index = 0; axis_index < 2; axis_index++) {
@@ -101,8 +114,11 @@ static void centre_extent(const double *p, size_t n, size_t k, double centre[3],
             return;
         }
         qsort(need, m, sizeof(double), compare_doubles);
-        size_t cut = n - k < m ? n - k : m - 1;
-        shift[axis_index] = 0.5 * (need[cut] + need[m - 1 - cut]) * distance * t;
+        // The low end is the -r (-u) edge's, the high end the +r (+u) edge's.
+        size_t cut_low = cut[2 * axis_index + 1], cut_high = cut[2 * axis_index];
+        cut_low = cut_low < m ? cut_low : m - 1;
+        cut_high = cut_high < m ? cut_high : m - 1;
+        shift[axis_index] = 0.5 * (need[cut_low] + need[m - 1 - cut_high]) * distance * t;
     }
     for (int a = 0; a < 3; a++) {
         centre[a] += r[a] * shift[0] + u[a] * shift[1];
@@ -110,29 +126,39 @@ static void centre_extent(const double *p, size_t n, size_t k, double centre[3],
 }
 
 void sta_camera_frame_points(sta_camera *c, const double centre_in[3], const double *p, size_t n,
-                             double keep)
+                             const sta_camera_frame_rule *rule)
 {
     double f[3], r[3], u[3];
     sta_camera_basis(c, f, r, u);
-    double aspect = (double)c->width_px / (double)(c->height_px > 0 ? c->height_px : 1);
-    double tan_y = tan(c->fov_y * 0.5), tan_x = tan_y * aspect;
+    int width = c->width_px > 0 ? c->width_px : 1, height = c->height_px > 0 ? c->height_px : 1;
+    double tan_y = tan(c->fov_y * 0.5), tan_x = tan_y * (double)width / (double)height;
     double centre[3] = { centre_in[0], centre_in[1], centre_in[2] };
     double distance = 1.0;
-    double *need = n ? sta_alloc_array(n, sizeof(double)) : NULL;
+    double *need = n ? sta_alloc_array(n, 4 * sizeof(double)) : NULL;
     if (need) {
         // Each edge is placed so that a `keep` share of the points lies on its inner
         // side (the outliers cut are those beyond that edge); then the view is moved
         // across to centre what it frames, and fitted again.
-        double share = keep > 0.0 && keep <= 1.0 ? keep : 1.0;
+        double share = rule->keep > 0.0 && rule->keep <= 1.0 ? rule->keep : 1.0;
         size_t k = (size_t)ceil(share * (double)n);
         k = k > 0 ? k : 1;
+        size_t cut[4];
         for (int round = 0; round < STA_CAMERA_FRAME_ROUNDS; round++) {
-            distance = fit_distance(p, n, k, centre, f, r, u, tan_x, tan_y, need);
+            distance =
+                fit_distance(p, n, k, centre, f, r, u, tan_x, tan_y, rule->stray_gap, need, cut);
             if (round + 1 < STA_CAMERA_FRAME_ROUNDS) {
-                centre_extent(p, n, k, centre, distance, f, r, u, tan_x, tan_y, need);
+                centre_extent(p, n, cut, centre, distance, f, r, u, tan_x, tan_y, need);
             }
         }
         distance *= 1.05; // a small margin
+        if (rule->margin_px > 0.0) {
+            // The same fit in a view narrowed by the margin on every side (at most to a
+            // tenth of the view), if that stands farther back.
+            double keep_x = fmax(0.1, 1.0 - 2.0 * rule->margin_px / (double)width);
+            double keep_y = fmax(0.1, 1.0 - 2.0 * rule->margin_px / (double)height);
+            distance = fmax(distance, fit_distance(p, n, k, centre, f, r, u, tan_x * keep_x,
+                                                   tan_y * keep_y, rule->stray_gap, need, cut));
+        }
         sta_free(need);
     }
     if (!(distance > 1e-3) || !isfinite(distance)) {
