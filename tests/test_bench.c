@@ -284,7 +284,10 @@ static void mesh_scene_stands_up_and_its_truth_follows(void **state)
     assert_int_equal(sta_synth_mesh_up_axis(&p, &y_up, why, sizeof(why), &err), STA_OK);
     assert_true(y_up);
     assert_non_null(strstr(why, "+Y up"));
-    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    sta_synth_report report;
+    assert_int_equal(sta_synth_generate_reported(&p, las, NULL, NULL, &report, &err), STA_OK);
+    assert_true(report.mesh_y_up); // the generator's own decision, as strata-synth prints it
+    assert_string_equal(report.mesh_up_why, why);
     // The bunny is 0.156 x 0.154 x 0.121 (x, y, z) as stored: standing, about 0.154 high.
     double standing = las_height_ratio(las);
     sta_bench_truth t;
@@ -321,7 +324,9 @@ static void mesh_scene_stands_up_and_its_truth_follows(void **state)
     assert_non_null(strstr(err.message, "bench_bunny_up.truth.json"));
     assert_non_null(strstr(err.message, "mesh.up"));
     p.mesh_up = STA_SYNTH_MESH_UP_Z;
-    assert_int_equal(sta_synth_generate(&p, las, NULL, NULL, &err), STA_OK);
+    assert_int_equal(sta_synth_generate_reported(&p, las, NULL, NULL, &report, &err), STA_OK);
+    assert_false(report.mesh_y_up);
+    assert_non_null(strstr(report.mesh_up_why, "+Z up, as asked"));
     double lying = las_height_ratio(las);
     print_message("bunny height / width: %.3f standing, %.3f with its axes kept\n", standing,
                   lying);

@@ -142,7 +142,7 @@ static sta_status init_mesh(synth_analytic *an, const char *path, sta_synth_mesh
     for (int a = 0; a < 3; a++) {
         an->mesh_centre[a] = 0.5 * (lo[a] + hi[a]);
     }
-    an->mesh_y_up = mesh_y_up(mesh_up, lo, hi, NULL, 0);
+    an->mesh_y_up = mesh_y_up(mesh_up, lo, hi, an->mesh_up_why, sizeof(an->mesh_up_why));
     for (size_t i = 0; i < m->vertex_count; i++) {
         double *x = &m->positions[3 * i];
         for (int a = 0; a < 3; a++) {

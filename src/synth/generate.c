@@ -114,6 +114,16 @@ static sta_status write_mirror_file(const sta_synth_scene *scene, const sta_synt
 sta_status sta_synth_generate(const sta_synth_params *params, const char *las_path,
                               sta_synth_progress_fn progress, void *user, sta_error *err)
 {
+    return sta_synth_generate_reported(params, las_path, progress, user, NULL, err);
+}
+
+sta_status sta_synth_generate_reported(const sta_synth_params *params, const char *las_path,
+                                       sta_synth_progress_fn progress, void *user,
+                                       sta_synth_report *out_report, sta_error *err)
+{
+    if (out_report) {
+        memset(out_report, 0, sizeof(*out_report));
+    }
     sta_synth_scene *scene = NULL;
     sta_las_writer *writer = NULL;
     sta_point *batch = NULL;
@@ -123,6 +133,11 @@ sta_status sta_synth_generate(const sta_synth_params *params, const char *las_pa
     sta_status status = sta_synth_scene_create(params, &scene, err);
     if (status != STA_OK) {
         return status;
+    }
+    if (out_report && params->kind == STA_SYNTH_MESH) {
+        out_report->mesh_y_up = scene->analytic.mesh_y_up;
+        snprintf(out_report->mesh_up_why, sizeof(out_report->mesh_up_why), "%s",
+                 scene->analytic.mesh_up_why);
     }
     const sta_synth_params *p = sta_synth_scene_params(scene);
     sta_synth_georef georef;

@@ -180,6 +180,18 @@ typedef bool (*sta_synth_progress_fn)(void *user, uint64_t done, uint64_t total)
 sta_status sta_synth_generate(const sta_synth_params *params, const char *las_path,
                               sta_synth_progress_fn progress, void *user, sta_error *err);
 
+/* What sta_synth_generate_reported decided on the way. */
+typedef struct sta_synth_report {
+    bool mesh_y_up;        /* mesh scene: the model was turned from y up to z up */
+    char mesh_up_why[256]; /* mesh scene: how that was decided, one line; "" otherwise */
+} sta_synth_report;
+
+/* sta_synth_generate, and in *out_report (may be NULL) what it decided (filled once the
+ * scene is made, even when writing fails later). */
+sta_status sta_synth_generate_reported(const sta_synth_params *params, const char *las_path,
+                                       sta_synth_progress_fn progress, void *user,
+                                       sta_synth_report *out_report, sta_error *err);
+
 /* The sidecar path of a LAS path: "x.las" -> "x.truth.json" (".las" in any case is
  * replaced; other names get ".truth.json" appended). *out_path is owned by the
  * caller (sta_free). */

@@ -46,6 +46,7 @@ typedef struct synth_analytic {
     double mesh_scale;                    /* local = R (mesh - mesh_centre) * mesh_scale */
     double mesh_centre[3];                /* bounding-box centre of the mesh's vertices */
     bool mesh_y_up;                       /* R turns +Y to +Z: (x, y, z) -> (x, -z, y) */
+    char mesh_up_why[256];                /* how mesh_y_up was decided, one line */
 } synth_analytic;
 
 /* Scanner settings of a street run (functions of point_count; see docs/SYNTH.md). */

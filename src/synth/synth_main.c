@@ -192,7 +192,9 @@ int main(int argc, char **argv)
     progress_state ps = { .start_s = sta_clock_s() };
     bool draw = !c.quiet && sta_log_is_terminal();
     sta_error err = { 0 };
-    sta_status s = sta_synth_generate(&c.params, c.output, draw ? show_progress : NULL, &ps, &err);
+    sta_synth_report report;
+    sta_status s = sta_synth_generate_reported(&c.params, c.output, draw ? show_progress : NULL,
+                                               &ps, &report, &err);
     if (ps.drawn) {
         fputc('\n', stderr);
     }
@@ -211,12 +213,9 @@ int main(int argc, char **argv)
             truth ? truth : "its truth sidecar", elapsed,
             elapsed > 0.0 ? (double)c.params.point_count / elapsed / 1e6 : 0.0);
         sta_free(truth);
-        bool y_up = false;
-        char why[256];
-        if (c.params.kind == STA_SYNTH_MESH &&
-            sta_synth_mesh_up_axis(&c.params, &y_up, why, sizeof(why), NULL) == STA_OK) {
-            fprintf(stderr, "strata-synth: up axis: %s%s\n", why,
-                    y_up ? "; turned to stand on +Z (the LAS is z up)" : "");
+        if (c.params.kind == STA_SYNTH_MESH) {
+            fprintf(stderr, "strata-synth: up axis: %s%s\n", report.mesh_up_why,
+                    report.mesh_y_up ? "; turned to stand on +Z (the LAS is z up)" : "");
         }
     }
     return 0;
