@@ -152,10 +152,11 @@ void sta_camera_frame_points(sta_camera *c, const double centre_in[3], const dou
         }
         distance *= 1.05; // a small margin
         if (rule->margin_px > 0.0) {
-            // The same fit in a view narrowed by the margin on every side (at most to a
-            // tenth of the view), if that stands farther back.
-            double keep_x = fmax(0.1, 1.0 - 2.0 * rule->margin_px / (double)width);
-            double keep_y = fmax(0.1, 1.0 - 2.0 * rule->margin_px / (double)height);
+            // The same fit in a view narrowed by the margin on every side, if that stands
+            // farther back; at most a quarter of the view per side (a thumbnail smaller
+            // than the band would show a speck).
+            double keep_x = fmax(0.5, 1.0 - 2.0 * rule->margin_px / (double)width);
+            double keep_y = fmax(0.5, 1.0 - 2.0 * rule->margin_px / (double)height);
             distance = fmax(distance, fit_distance(p, n, k, centre, f, r, u, tan_x * keep_x,
                                                    tan_y * keep_y, rule->stray_gap, need, cut));
         }

@@ -29,7 +29,7 @@ typedef struct sta_camera_frame_rule {
      * far out is cut. 0: the share alone. */
     double stray_gap;
     /* > 0: the points framed stay at least this many pixels inside every edge (clear of
-     * a border band). */
+     * a border band), at most a quarter of the view's width or height. */
     double margin_px;
 } sta_camera_frame_rule;
 
