@@ -38,6 +38,8 @@ typedef struct view_state {
     sta_scene *scene;
     sta_camera camera;
     sta_camera home; /* R resets to it */
+    const sta_view_args *args;
+    double frame_min[3], frame_max[3]; /* the robust bounds the default view frames */
     sta_render_target target;
     const sta_strata_info *info;
     double pivot[3]; /* orbit centre, world */
@@ -423,6 +425,16 @@ static void splat_key(view_state *s, int key)
     fprintf(stderr, "splat scale %.3g\n", (double)s->splats.scale);
 }
 
+// The initial camera (the arguments' or the default view) for a w x h framebuffer, as
+// s->home; `why` as sta_view_initial_camera's.
+static void frame_default_view(view_state *s, int w, int h, char *why, size_t why_size)
+{
+    sta_view_args sized = *s->args;
+    sized.width_px = w > 0 ? w : s->args->width_px;
+    sized.height_px = h > 0 ? h : s->args->height_px;
+    sta_view_initial_camera(&sized, s->info, s->frame_min, s->frame_max, &s->home, why, why_size);
+}
+
 static void on_key(GLFWwindow *window, int key, int scancode, int action, int mods)
 {
     (void)scancode;
@@ -443,6 +455,11 @@ static void on_key(GLFWwindow *window, int key, int scancode, int action, int mo
     } else if (key == GLFW_KEY_R) {
         s->animating = false;
         int w = s->camera.width_px, h = s->camera.height_px;
+        if (!s->args->has_camera && (w != s->home.width_px || h != s->home.height_px)) {
+            // The window changed size since the default view was framed: frame it again
+            // for this one (its edges and the border margin are in pixels).
+            frame_default_view(s, w, h, NULL, 0);
+        }
         s->camera = s->home;
         s->camera.width_px = w;
         s->camera.height_px = h;
@@ -638,15 +655,17 @@ int sta_view_run_window(const sta_view_args *args)
         return 1;
     }
     s.info = sta_scene_info(s.scene);
-    double frame_min[3], frame_max[3];
-    sta_scene_robust_bounds(s.scene, frame_min, frame_max);
+    s.args = args;
+    sta_scene_robust_bounds(s.scene, s.frame_min, s.frame_max);
+    // Framed for the framebuffer (larger than the window on HiDPI screens).
+    int framebuffer_w = 0, framebuffer_h = 0;
+    glfwGetFramebufferSize(window, &framebuffer_w, &framebuffer_h);
     char default_view[256];
-    sta_view_initial_camera(args, s.info, frame_min, frame_max, &s.camera, default_view,
-                            sizeof(default_view));
+    frame_default_view(&s, framebuffer_w, framebuffer_h, default_view, sizeof(default_view));
     if (default_view[0]) {
         fprintf(stderr, "default view: %s\n", default_view);
     }
-    s.home = s.camera;
+    s.camera = s.home;
     s.colour_mode = sta_view_initial_colour(args, s.info);
     sta_view_pipeline_options(args, &s.pipeline);
     sta_scene_set_pipeline(s.scene, &s.pipeline);
