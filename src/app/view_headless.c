@@ -411,7 +411,9 @@ int sta_view_run_headless(const sta_view_args *args)
             char renderer[256];
             printf("renderer: %s\n", sta_gl_describe(renderer, sizeof(renderer)));
             if (default_view[0]) {
-                printf("default view: %s\n", default_view);
+                char option[256];
+                sta_view_camera_option(&camera, option, sizeof(option));
+                printf("default view: %s\ndefault camera: %s\n", default_view, option);
             }
         }
         sta_geometry_options raster = { .raster = args->raster,

@@ -170,7 +170,8 @@ static void show_camera(const sta_cli_option *option, char *out_text, size_t siz
 {
     const sta_view_args *a = option->dest;
     snprintf(out_text, size,
-             "the whole scene: a street along its axis, else from the south-west; FOV %g",
+             "the whole scene: a street along its axis, else from the south-west; FOV %g; "
+             "--stats prints it as a --camera option",
              a->camera[5]);
 }
 

@@ -10,6 +10,7 @@
 #include "app/view_sample.h"
 #include "core/alloc.h"
 #include "core/camera_frame.h"
+#include "core/json_out.h"
 #include "format/strata_reader.h"
 #include "render/bindings.h"
 #include "render/ref/hpr_ref.h"
@@ -198,6 +199,24 @@ sta_view_direction sta_view_default_direction(const sta_camera *c, const double 
     d.pitch = STA_VIEW_ALONG_PITCH_DEG * degrees;
     d.along = true;
     return d;
+}
+
+void sta_view_camera_option(const sta_camera *c, char *out, size_t size)
+{
+    // Angles to a nanodegree: 45 rather than 45.000000000000007 (45 reads back to the
+    // very radians the default view computed from 45).
+    const double values[6] = { c->position[0],
+                               c->position[1],
+                               c->position[2],
+                               round(c->yaw / degrees * 1e9) / 1e9,
+                               round(c->pitch / degrees * 1e9) / 1e9,
+                               round(c->fov_y / degrees * 1e9) / 1e9 };
+    size_t used = (size_t)snprintf(out, size, "--camera=");
+    for (int i = 0; i < 6 && used < size; i++) {
+        char number[40];
+        used += (size_t)snprintf(out + used, size - used, "%s%s", i ? "," : "",
+                                 sta_format_double(values[i], number, sizeof(number)));
+    }
 }
 
 void sta_view_direction_describe(const sta_view_direction *d, char *out, size_t size)

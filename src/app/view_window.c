@@ -663,7 +663,9 @@ int sta_view_run_window(const sta_view_args *args)
     char default_view[256];
     frame_default_view(&s, framebuffer_w, framebuffer_h, default_view, sizeof(default_view));
     if (default_view[0]) {
-        fprintf(stderr, "default view: %s\n", default_view);
+        char option[256];
+        sta_view_camera_option(&s.home, option, sizeof(option));
+        fprintf(stderr, "default view: %s\ndefault camera: %s\n", default_view, option);
     }
     s.camera = s.home;
     s.colour_mode = sta_view_initial_colour(args, s.info);
