@@ -7,24 +7,15 @@
 # extent), which moves a few nearest-point picks: at most 0.1 % of the pixels may differ.
 # A camera one degree off differs in far more.
 # usage: check_default_camera.py BUILD-DIR
-import atexit, os, re, shutil, subprocess, sys, tempfile
+import os, re, subprocess, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from png_rows import png  # noqa: E402
+from view_checks import Build, Checks  # noqa: E402
 
-build = sys.argv[1]
-synth = os.path.join(build, "src", "strata-synth")
-convert = os.path.join(build, "preprocess", "strata-convert")
-view = os.path.join(build, "src", "strata-view")
-work = tempfile.mkdtemp()
-atexit.register(shutil.rmtree, work, True)
-failures = []
-
-
-def check(ok, what):
-    print(("ok: " if ok else "FAIL: ") + what)
-    if not ok:
-        failures.append(what)
+build = Build(sys.argv[1])
+view, work = build.view, build.work
+check = Checks()
 
 
 def render(scene, out, *options):
@@ -39,10 +30,7 @@ def differing(a, b):
 
 
 for kind, points in (("sphere", "60000"), ("street", "200000")):
-    las, scene = os.path.join(work, kind + ".las"), os.path.join(work, kind + ".strata")
-    subprocess.run([synth, kind, "--points", points, "--seed", "1", "-o", las, "--quiet"],
-                   check=True)
-    subprocess.run([convert, "-q", las, "-o", scene], check=True)
+    scene = build.scene(kind, points)
     default = os.path.join(work, kind + "_default.png")
     stats = render(scene, default)
     m = re.search(r"^default camera: (--camera=([-0-9.e]+(,[-0-9.e]+){5}))$", stats, re.M)
@@ -62,4 +50,4 @@ for kind, points in (("sphere", "60000"), ("street", "200000")):
     diff, total = differing(default, turned)
     check(diff > total // 100, f"{kind}: a camera one degree off shows another view "
           f"({diff} pixels differ)")
-sys.exit(1 if failures else 0)
+check.exit()

@@ -5,30 +5,17 @@
 # more of the raw picture than 1 px and the same pixels with both rasterisers; adaptive
 # sizes change the raw picture too; the shaded pipeline ignores the size.
 # usage: check_view_point_size.py BUILD-DIR
-import atexit, os, shutil, subprocess, sys, tempfile
+import os, subprocess, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from png_rows import png  # noqa: E402
+from view_checks import Build, Checks  # noqa: E402
 
-build = sys.argv[1]
-synth = os.path.join(build, "src", "strata-synth")
-convert = os.path.join(build, "preprocess", "strata-convert")
-view = os.path.join(build, "src", "strata-view")
-
-work = tempfile.mkdtemp()
-atexit.register(shutil.rmtree, work, True)
-las, scene = os.path.join(work, "s.las"), os.path.join(work, "s.strata")
-subprocess.run([synth, "street", "--points", "200000", "--seed", "1", "-o", las], check=True,
-               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-subprocess.run([convert, "-q", las, "-o", scene], check=True)
+build = Build(sys.argv[1])
+view, work = build.view, build.work
+scene = build.scene("street", 200000)
 cam = "--camera=650235,5401873.6,105.5,180,-8,70"
-failures = []
-
-
-def check(ok, what):
-    print(("ok: " if ok else "FAIL: ") + what)
-    if not ok:
-        failures.append(what)
+check = Checks()
 
 
 for bad, named in (
@@ -66,4 +53,4 @@ check(png(three) == png(three_points), "3 px: compute and GL_POINTS draw the sam
 shaded = render("shaded", "--pipeline", "shaded")
 shaded3 = render("shaded3", "--pipeline", "shaded", "--point-size", "3")
 check(png(shaded) == png(shaded3), "the shaded pipeline ignores --point-size")
-sys.exit(1 if failures else 0)
+check.exit()

@@ -5,15 +5,14 @@
 # drawn under the pixel (its class colour is the pixel's), --measure lists values,
 # --hud changes only the readout's corner.
 # usage: check_view_survey.py BUILD-DIR
-import os, subprocess, sys, tempfile
+import os, subprocess, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from png_rows import png  # noqa: E402
+from view_checks import Build  # noqa: E402
 
-build = sys.argv[1]
-synth = os.path.join(build, "src", "strata-synth")
-convert = os.path.join(build, "preprocess", "strata-convert")
-view = os.path.join(build, "src", "strata-view")
+build = Build(sys.argv[1])
+view, work = build.view, build.work
 
 def colour(r, g, b):  # shaders/geometry.vert's class colours, 8-bit
     return tuple(int(v * 255 + 0.5) for v in (r, g, b))
@@ -23,13 +22,7 @@ GROUND, BUILDING = colour(0.65, 0.50, 0.35), colour(0.85, 0.35, 0.25)
 def near(a, b, tol=3):
     return all(abs(x - y) <= tol for x, y in zip(a, b))
 
-import atexit, shutil
-work = tempfile.mkdtemp()
-atexit.register(shutil.rmtree, work, True)
-las, scene = os.path.join(work, "s.las"), os.path.join(work, "s.strata")
-subprocess.run([synth, "street", "--points", "300000", "--seed", "1", "-o", las], check=True,
-               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-subprocess.run([convert, "-q", las, "-o", scene], check=True)
+scene = build.scene("street", 300000)
 cam = "--camera=650235,5401873.6,105.5,180,-8,70"
 base = [view, "--headless", scene, cam, "--size", "320x180", "--pipeline", "raw", "--colour", "class"]
 
