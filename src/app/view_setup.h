@@ -62,12 +62,13 @@ typedef struct sta_view_direction {
  * elongation 2.44): along it from its end, 20 deg from above". */
 void sta_view_direction_describe(const sta_view_direction *d, char *out, size_t size);
 
-/* The `--camera=X,Y,Z,YAW,PITCH,FOV` option that gives `camera` (world position, angles
- * in degrees, each number the shortest text that reads back exactly), so that a default
- * view can be given back and changed. */
-void sta_view_camera_option(const sta_camera *camera, char *out, size_t size);
 sta_view_direction sta_view_default_direction(const sta_camera *camera, const double *points,
                                               size_t count);
+
+/* The `--camera=X,Y,Z,YAW,PITCH,FOV` option that gives `camera` back, so that a default
+ * view can be given again and changed: the world position exactly (the shortest text that
+ * reads back to the same double), the angles in degrees to a nanodegree. */
+void sta_view_camera_option(const sta_camera *camera, char *out, size_t size);
 
 /* The screen-space pipeline options the arguments ask for. */
 void sta_view_pipeline_options(const sta_view_args *args, sta_pipeline_options *out);
