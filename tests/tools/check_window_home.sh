@@ -13,8 +13,7 @@ mkdir -p "$work"
 # shellcheck source=window_session.sh
 source "$(dirname "$0")/window_session.sh"
 window_session_start 2300
-"$bin/src/strata-synth" sphere --points 60000 --seed 3 -o "$work/sphere.las" --quiet
-"$bin/preprocess/strata-convert" "$work/sphere.las" -o "$work/sphere.strata" --force -q
+window_scene sphere "sphere --points 60000 --seed 3"
 
 start_viewer() { # WxH
     "$bin/src/strata-view" "$work/sphere.strata" --size "$1" --pipeline raw --no-readout \

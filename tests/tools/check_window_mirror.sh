@@ -12,9 +12,7 @@ mkdir -p "$work"
 # shellcheck source=window_session.sh
 source "$(dirname "$0")/window_session.sh"
 window_session_start 900
-"$bin/src/strata-synth" mirror --points 600000 --origin zero -o "$work/room.las" --quiet
-"$bin/preprocess/strata-convert" "$work/room.las" -o "$work/room.strata" --force -q \
-    --mirrors "$work/room.mirrors.json"
+window_scene room "mirror --points 600000 --origin zero" --mirrors "$work/room.mirrors.json"
 rm -f "$work/mirrors.json"
 (cd "$work" && exec "$bin/src/strata-view" "$work/room.strata" --camera=5,4,1.6,0,0,75 \
     --size 640x400 --pipeline raw >"$work/viewer.log" 2>&1) &

@@ -11,8 +11,7 @@ mkdir -p "$work"
 # shellcheck source=window_session.sh
 source "$(dirname "$0")/window_session.sh"
 window_session_start 900
-"$bin/src/strata-synth" street --points 200000 --seed 3 -o "$work/street.las" --quiet
-"$bin/preprocess/strata-convert" "$work/street.las" -o "$work/street.strata" --normals --force -q
+window_scene street "street --points 200000 --seed 3" --normals
 camera=650235,5401873.6,105.5,180,-8,70
 "$bin/src/strata-view" "$work/street.strata" --camera=$camera --size 400x300 --pipeline raw \
     --no-readout >"$work/viewer.log" 2>&1 &

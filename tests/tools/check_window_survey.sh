@@ -12,8 +12,7 @@ mkdir -p "$work"
 # shellcheck source=window_session.sh
 source "$(dirname "$0")/window_session.sh"
 window_session_start 500
-"$bin/src/strata-synth" street --points 300000 --seed 1 -o "$work/street.las" --quiet
-"$bin/preprocess/strata-convert" "$work/street.las" -o "$work/street.strata" --force -q
+window_scene street "street --points 300000 --seed 1"
 camera=650235,5401873.6,105.5,180,-8,70
 rm -f "$work/m.json"
 

@@ -42,6 +42,15 @@ window_session_start() { # FIRST
     exit 1
 }
 
+# A synth scene converted for the viewer: $work/NAME.strata (needs $bin, the build folder).
+window_scene() { # NAME "SYNTH ARGUMENTS" [CONVERTER OPTIONS...]
+    local name=$1 synth_args=$2
+    shift 2
+    # shellcheck disable=SC2086 # the synth's arguments are several words
+    "${bin:?}/src/strata-synth" $synth_args -o "${work:?}/$name.las" --quiet
+    "$bin/preprocess/strata-convert" "$work/$name.las" -o "$work/$name.strata" --force -q "$@"
+}
+
 window_session_stop() {
     [ -n "${viewer:-}" ] && kill "$viewer" 2>/dev/null || true
     [ -n "${xvfb:-}" ] && kill "$xvfb" 2>/dev/null || true
